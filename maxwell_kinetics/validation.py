@@ -1,0 +1,118 @@
+"""Input checks shared by both packages (NumPy only).
+
+Every public entry point checks its arguments once, here, and a failure names the
+argument and shows the value received.  ``InvalidArgumentError`` subclasses
+``ValueError`` so callers may catch either.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+__all__ = [
+    "InvalidArgumentError",
+    "check_restitution",
+    "check_times",
+    "check_count",
+    "check_positive",
+    "check_nonnegative",
+    "parse_float_list",
+]
+
+
+class InvalidArgumentError(ValueError):
+    """A public function received an argument outside its domain."""
+
+    def __init__(self, name: str, value, expected: str):
+        self.name = name
+        self.value = value
+        self.expected = expected
+        super().__init__(f"argument {name!s}={value!r} is invalid: expected {expected}")
+
+
+def _as_float(name: str, value) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(name, value, "a real number") from None
+    if not math.isfinite(x):
+        raise InvalidArgumentError(name, value, "a finite real number")
+    return x
+
+
+def check_restitution(r, name: str = "restitution") -> float:
+    """Restitution coefficient r must be finite and lie in [0, 1]."""
+    x = _as_float(name, r)
+    if not 0.0 <= x <= 1.0:
+        raise InvalidArgumentError(name, r, "a number in [0, 1]")
+    return x
+
+
+def check_positive(value, name: str) -> float:
+    x = _as_float(name, value)
+    if x <= 0.0:
+        raise InvalidArgumentError(name, value, "a finite number > 0")
+    return x
+
+
+def check_nonnegative(value, name: str) -> float:
+    x = _as_float(name, value)
+    if x < 0.0:
+        raise InvalidArgumentError(name, value, "a finite number >= 0")
+    return x
+
+
+def check_count(value, name: str, minimum: int) -> int:
+    """An integer count (number of particles, grid points) of at least ``minimum``."""
+    if isinstance(value, bool):
+        raise InvalidArgumentError(name, value, f"an integer >= {minimum}")
+    try:
+        as_int = int(value)
+    except (TypeError, ValueError, OverflowError):
+        raise InvalidArgumentError(name, value, f"an integer >= {minimum}") from None
+    if as_int != value or as_int < minimum:
+        raise InvalidArgumentError(name, value, f"an integer >= {minimum}")
+    return as_int
+
+
+def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarray:
+    """A non-empty list of finite, non-negative, increasing times.
+
+    ``strictly=True`` demands strictly increasing values (no repeats).
+    """
+    if np.isscalar(times):
+        times = [times]
+    try:
+        arr = np.asarray(times, dtype=float)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(name, times, "a list of real numbers") from None
+    shown = times if not isinstance(times, np.ndarray) else times.tolist()
+    if arr.ndim != 1 or arr.size == 0:
+        raise InvalidArgumentError(name, shown, "a non-empty one-dimensional list of times")
+    if not np.all(np.isfinite(arr)):
+        raise InvalidArgumentError(name, shown, "finite times")
+    if np.any(arr < 0):
+        raise InvalidArgumentError(name, shown, "times >= 0")
+    steps = np.diff(arr)
+    if np.any(steps <= 0 if strictly else steps < 0):
+        raise InvalidArgumentError(name, shown, "increasing times")
+    return arr
+
+
+def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
+    """Parse a comma-separated list such as ``"1,10,100"`` (for the command line)."""
+    if not isinstance(text, str):
+        return [float(x) for x in text]
+    parts = [p.strip() for p in text.split(",") if p.strip()]
+    if not parts:
+        raise InvalidArgumentError(name, text, "a comma-separated list of numbers")
+    out = []
+    for part in parts:
+        try:
+            out.append(float(part))
+        except ValueError:
+            raise InvalidArgumentError(name, text, "a comma-separated list of numbers") from None
+    return out

@@ -1,0 +1,1 @@
+"""particles: exact stochastic counterparts of the kinetic theory (NumPy only)."""
