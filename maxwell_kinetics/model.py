@@ -1,0 +1,60 @@
+"""The collision rule and the constants of the pseudo-Maxwell (Ulam) model (SPEC §1–2).
+
+A colliding pair (i, j), Δ = v_i − v_j, becomes v_i' = v_i − pΔ, v_j' = v_j + pΔ with
+p = (1 + r)/2.  Constants: β = 1/p (the paper's β = 2/(1+r)) and λ = p(1 − p) = (1 − r²)/4.
+Time τ counts collisions per particle.  With unit initial variance the energy decays as
+⟨v²⟩(τ) = e^{−2λτ}.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from .validation import check_restitution
+
+__all__ = ["MaxwellModel"]
+
+
+@dataclass(frozen=True)
+class MaxwellModel:
+    """Constants of the model with restitution coefficient ``restitution`` = r ∈ [0, 1]."""
+
+    restitution: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "restitution", check_restitution(self.restitution))
+
+    @property
+    def p(self) -> float:
+        """Momentum-transfer fraction p = (1 + r)/2 ∈ [1/2, 1]."""
+        return 0.5 * (1.0 + self.restitution)
+
+    @property
+    def beta(self) -> float:
+        """β = 2/(1 + r) = 1/p, as in the paper's velocity-space master equation."""
+        return 1.0 / self.p
+
+    @property
+    def lam(self) -> float:
+        """λ = p(1 − p) = (1 − r²)/4: the energy decays as e^{−2λτ}."""
+        return 0.25 * (1.0 - self.restitution**2)
+
+    def moment_rate(self, n: float) -> float:
+        """Leading decay rate a_n = 1 − pⁿ − (1 − p)ⁿ of the moment M_n (Ben-Naim & Krapivsky)."""
+        return 1.0 - self.p**n - (1.0 - self.p) ** n
+
+    def growth_rate(self, s: float) -> float:
+        """g(s) = λs − 1 + p^s + (1 − p)^s: growth rate of a perturbation ∝ q^s of G near q = 0."""
+        return self.lam * s - 1.0 + self.p**s + (1.0 - self.p) ** s
+
+    def contraction_rate(self, s: float) -> float:
+        """γ(s) = −g(s) = 1 − λs − p^s − (1 − p)^s, positive for s ∈ (2, 3) when r < 1.
+
+        d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂) (Bobylev–Cercignani–Toscani).
+        """
+        return -self.growth_rate(s)
+
+    def energy(self, tau: float) -> float:
+        """⟨v²⟩(τ) for unit initial variance and zero mean."""
+        return math.exp(-2.0 * self.lam * tau)
