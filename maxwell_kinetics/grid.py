@@ -11,7 +11,7 @@ points (even), whose error is O(h^order) for smooth G(s).
 
 Outside the grid:
 
-* q < q_min: the small-q expansion G = 1 − q²/2 − i m₃ q³/6, with m₃ = ⟨x³⟩ conserved in time
+* q < q_min: the small-q expansion G = 1 − q²/2 − i m₃ q³/6 + O(q³), with m₃ = ⟨x³⟩ conserved
   (SPEC §2).  Omitted terms are O(q_min³) (the |q|³/3 of f̂ that builds up at late times) and
   O(m₄(τ) q_min⁴).
 * q > q_max: G is taken from the free-streaming asymptotics e^{−τ} φ(q e^{λτ}) of the initial
@@ -38,7 +38,7 @@ class Resolution:
     name: str
     h: float
     order: int = 8
-    s_min: float = -10.0
+    s_min: float = -24.0
     s_max: float = math.log(36.0)
 
     def __post_init__(self):

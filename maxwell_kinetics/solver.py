@@ -9,21 +9,32 @@ initial variance,
 for q ≥ 0; G(−q) = conj G(q).  G(0) = 1 and G''(0) = −1 are conserved, and every solution with
 finite variance tends to the scaling solution f̂(q) = (1 + |q|) e^{−|q|}.
 
-Method: semi-Lagrangian in s = ln q.  In s the transport term λ ∂s G is a shift at constant
-speed λ toward small q, so along the characteristics (the comoving points s + λ(τ − τ_w))
-the equation is the unscaled one, ∂τ u = −u + u(s + ln p) u(s + ln(1 − p)), whose shifts are
-fixed stencils on the uniform s grid (:mod:`maxwell_kinetics.grid`).  The solver integrates
-that ODE with diffrax (Dopri8, adaptive PID steps, tolerances ``rtol``/``atol`` in diffrax's RMS
+Method: semi-Lagrangian in s = ln q, for the deviation w = G − g from the reference
+
+    g(q) = exp(−q²/2 − i m₃ q³/6),        m₃ = ⟨x³⟩ (conserved; 0 for symmetric laws),
+
+which has the same small-q expansion as G to O(q³).  Storing w instead of G matters near q = 0:
+there G ≈ 1 and a round-off error δ at q₀ is a variance error δ/q₀² that the dynamics keeps
+(the q² mode is neutral, SPEC §2), whereas w = O(q³) is stored to relative precision.  The
+source g(pq)g((1−p)q) − g + λ q g' = g (e^z − 1 − z), z = λq² + iλm₃q³/2, is evaluated in
+closed form (by its series for small |z|), so no O(1) terms cancel.
+
+In s the transport term λ ∂s G is a shift at constant speed λ toward small q, so along the
+characteristics (the comoving points s + λ(τ − τ_w)) the equation is the unscaled one,
+∂τ u = −u + u(s + ln p) u(s + ln(1 − p)), whose shifts of w are fixed stencils on the uniform s
+grid (:mod:`maxwell_kinetics.grid`) while g is evaluated exactly.  The solver integrates that
+ODE with diffrax (Dopri8, adaptive PID steps, tolerances ``rtol``/``atol`` in diffrax's RMS
 norm) over windows of length Δτ = m h / λ, after which the comoving grid has moved by exactly
 m cells: the values are shifted by m (no interpolation), m points leave through the outflow end
 q_min and m enter at the inflow end q_max.  Transport is therefore exact, the ODE is not stiff
 (its rates are O(1), independent of h), and the only spatial error is the Lagrange
-interpolation of order ``resolution.order`` in the gain term.  Outputs between window ends are
-interpolated from the comoving grid back to the fixed grid with the same stencils.
+interpolation of w, of order ``resolution.order``, in the gain term.  Outputs between window
+ends are interpolated from the comoving grid back to the fixed grid with the same stencils.
 
-Boundaries: below q_min the small-q expansion 1 − q²/2 − i m₃ q³/6 is imposed (exact to
-O(q_min³) at all times; m₃ = ⟨x³⟩ is conserved); above q_max the free-streaming value
-e^{−τ} φ(q e^{λτ}) of the initial law φ enters (zero for user laws that JAX cannot trace).
+Boundaries: below q_min, w = 0, i.e. G = g (exact to O(q_min³) at all times; the default
+q_min = e^{−24} makes this, and the variance error q_min/3 it implies, negligible); above q_max
+the free-streaming value e^{−τ} φ(q e^{λτ}) of the initial law φ enters (zero for user laws
+that JAX cannot trace).
 
 For r = 1 (elastic, λ = 0) collisions only exchange velocities: G(q, τ) = φ(q) for all τ.
 """
@@ -74,6 +85,76 @@ def _check_skewness_finite(law: InitialLaw) -> float:
     return m3
 
 
+def reference(q, m3: float, xp=np):
+    """The reference g(q) = exp(−q²/2 − i m₃ q³/6) (real when m₃ = 0)."""
+    if m3 == 0.0:
+        return xp.exp(-0.5 * q * q)
+    return xp.exp(-0.5 * q * q - 1j * (m3 / 6.0) * q**3)
+
+
+def _expm1_minus_z(z, xp):
+    """e^z − 1 − z without cancellation: Taylor series (Horner, 15 terms) for |z| < 0.5."""
+    small = xp.abs(z) < 0.5
+    series = xp.zeros_like(z) + 1.0 / math.factorial(16)
+    for n in range(15, 1, -1):
+        series = series * z + 1.0 / math.factorial(n)
+    series = series * z * z
+    direct = xp.exp(xp.where(small, 0.0 * z, z)) - 1.0 - z
+    return xp.where(small, series, direct)
+
+
+def source(q, lam: float, m3: float, xp=np):
+    """S = g(pq) g((1−p)q) − g(q) + λ q g'(q) = g (e^z − 1 − z), z = λq² + iλm₃q³/2.
+
+    Uses p² + (1−p)² = 1 − 2λ and p³ + (1−p)³ = 1 − 3λ.
+    """
+    z = lam * q * q if m3 == 0.0 else lam * q * q + 0.5j * lam * m3 * q**3
+    return reference(q, m3, xp) * _expm1_minus_z(z, xp)
+
+
+def initial_deviation(law: InitialLaw, q: np.ndarray, q_fit: float = 2e-3) -> np.ndarray:
+    """w(q, 0) = φ(q) − g(q), accurate to relative round-off also where both are ≈ 1.
+
+    For q ≥ q_fit the difference is taken directly (absolute error ~1e-16, i.e. a variance
+    error below 1e-16 / q_fit² ≈ 3e-11).  Below q_fit, w is the least-squares series
+    c₄q⁴ + c₅q⁵ + c₆q⁶ + c₇q⁷ fitted on q ∈ [q_fit, 8 q_fit].
+    """
+    m3 = law.skewness
+    q = np.asarray(q, dtype=float)
+    w = law.phi(q) - reference(q, m3).astype(complex)
+    small = q < q_fit
+    if np.any(small):
+        qf = np.geomspace(q_fit, 8 * q_fit, 64)
+        wf = law.phi(qf) - reference(qf, m3).astype(complex)
+        powers = np.arange(4, 8)
+        basis = (qf[:, None] / q_fit) ** powers
+        coef, *_ = np.linalg.lstsq(basis.astype(complex), wf, rcond=None)
+        w[small] = ((q[small, None] / q_fit) ** powers) @ coef
+    return w
+
+
+def deviation_from_f_hat(q: np.ndarray, m3: float) -> np.ndarray:
+    """g(q) − f̂(q) without cancellation at small q (Taylor series below q = 0.05)."""
+    q = np.asarray(q, dtype=float)
+    out = reference(q, m3).astype(complex) - f_hat(q)
+    small = q < 0.05
+    if np.any(small):
+        nmax = 20
+        # Taylor coefficients of f̂ = (1 + q) e^{-q}: (−1)^n (1 − n) / n!
+        fc = np.array([(-1) ** n * (1 - n) / math.factorial(n) for n in range(nmax)])
+        # Taylor coefficients of g = exp(P), P = −q²/2 − i m3 q³/6, by series exponentiation.
+        P = np.zeros(nmax, dtype=complex)
+        P[2], P[3] = -0.5, -1j * m3 / 6.0
+        gc = np.zeros(nmax, dtype=complex)
+        gc[0] = 1.0
+        for n in range(1, nmax):  # n g_n = Σ_k k P_k g_{n−k}
+            gc[n] = sum(k * P[k] * gc[n - k] for k in range(1, n + 1)) / n
+        diff = gc - fc
+        diff[:3] = 0.0  # identical through q²
+        out[small] = np.polynomial.polynomial.polyval(q[small], diff)
+    return out
+
+
 class _Stepper:
     """The jitted pieces of the semi-Lagrangian scheme for one (model, law, grid, options)."""
 
@@ -86,58 +167,65 @@ class _Stepper:
 
         self.model, self.law, self.grid, self.opts = model, law, grid, opts
         p, lam, h, order, n = model.p, model.lam, grid.h, grid.order, grid.n
-        self.complex = not law.symmetric
-        self.m3 = _check_skewness_finite(law)
+        self.m3 = m3 = _check_skewness_finite(law)
+        self.complex = is_complex = m3 != 0.0 or not law.symmetric
         # Cells moved per window and window length in τ.
-        self.cells = max(1, round(opts.window * lam / h))
-        self.dtau = self.cells * h / lam
+        self.cells = cells = max(1, round(opts.window * lam / h))
+        self.dtau = dtau = cells * h / lam
         first_a, w_a = lagrange_weights(math.log(p) / h, order)
         first_b, w_b = lagrange_weights(math.log1p(-p) / h, order)
+        # The state holds the n grid nodes plus the `cells` nodes beyond q_max that enter the
+        # grid during the next window, so that every node on the grid has been integrated.
+        self.n_state = ns = n + cells
         # Ghost cells: left for the gain stencils, right for them and for mid-window output.
-        self.n_left = max(0, -first_a, -first_b)
-        self.n_right = max(first_a + order - 1, first_b + order - 1, 0) + self.cells + order
-        nl, nr = self.n_left, self.n_right
-        j_all = jnp.arange(-nl, n + nr, dtype=jnp.float64)
-        s_min, m3, traceable = grid.s_min, self.m3, law.traceable
-        characteristic = law.characteristic
-        is_complex = self.complex
+        self.n_left = nl = max(0, -first_a, -first_b)
+        self.n_right = nr = max(first_a + order - 1, first_b + order - 1, 0) + cells + order
+        j_right = jnp.arange(ns, ns + nr, dtype=jnp.float64)
+        j_grid = jnp.arange(ns, dtype=jnp.float64)
+        s_min, traceable, characteristic = grid.s_min, law.traceable, law.characteristic
+        log_p, log_1mp = math.log(p), math.log1p(-p)
+        dtype = jnp.complex128 if is_complex else jnp.float64
 
-        def ghosts(tau, tau_w):
-            """Extension values at comoving positions s_min + j h − λ (τ − τ_w)."""
-            s = s_min + j_all * h - lam * (tau - tau_w)
-            q = jnp.exp(s)
-            small = 1.0 - 0.5 * q * q
-            if is_complex:
-                small = small - 1j * (m3 / 6.0) * q**3
+        def q_at(j, tau, tau_w):
+            """q of comoving node j at time τ in the window that started at τ_w."""
+            return jnp.exp(s_min + j * h - lam * (tau - tau_w))
+
+        def inflow(tau, tau_w):
+            """w at the right ghosts: e^{−τ} φ(q e^{λτ}) − g(q)."""
+            q = q_at(j_right, tau, tau_w)
             if traceable:
                 k = jnp.minimum(q * jnp.exp(jnp.minimum(lam * tau, 690.0)), 1e30)
-                free = jnp.exp(-tau) * characteristic(k, jnp)
-                free = jnp.where(tau < 700.0, free, 0.0)
-                if not is_complex:
-                    free = jnp.real(free)
+                free = jnp.where(tau < 700.0, jnp.exp(-tau) * characteristic(k, jnp), 0.0)
             else:
-                free = jnp.zeros_like(small)
-            return small[:nl], free[nl + n :]
+                free = jnp.zeros_like(q)
+            w = free - reference(q, m3, jnp)
+            return (w if is_complex else jnp.real(w)).astype(dtype)
 
         def to_c(y):
             return y[0] + 1j * y[1] if is_complex else y
 
-        def from_c(g):
-            return jnp.stack([g.real, g.imag]) if is_complex else g
+        def from_c(w):
+            return jnp.stack([w.real, w.imag]) if is_complex else w
 
-        def extended(g, tau, tau_w):
-            left, right = ghosts(tau, tau_w)
-            return jnp.concatenate([left, g, right])
+        def extended(w, tau, tau_w):
+            return jnp.concatenate([jnp.zeros(nl, dtype), w, inflow(tau, tau_w)])
 
-        def stencil(ext, first, w):
+        def stencil(ext, first, weights):
             start = nl + first
-            return sum(w[k] * ext[start + k : start + k + n] for k in range(order))
+            return sum(weights[k] * ext[start + k : start + k + ns] for k in range(order))
 
         def rhs(tau, y, tau_w):
-            g = to_c(y)
-            ext = extended(g, tau, tau_w)
-            return from_c(-g + stencil(ext, first_a, w_a) * stencil(ext, first_b, w_b))
+            w = to_c(y)
+            ext = extended(w, tau, tau_w)
+            q = q_at(j_grid, tau, tau_w)
+            w_p = stencil(ext, first_a, w_a)  # w(p q)
+            w_1mp = stencil(ext, first_b, w_b)  # w((1 − p) q)
+            g_p = reference(q * math.exp(log_p), m3, jnp)
+            g_1mp = reference(q * math.exp(log_1mp), m3, jnp)
+            dw = source(q, lam, m3, jnp) - w + g_p * w_1mp + w_p * g_1mp + w_p * w_1mp
+            return from_c(dw)
 
+        self.rhs = rhs
         term = diffrax.ODETerm(rhs)
         solver = diffrax.Dopri8()
         controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol)
@@ -157,46 +245,38 @@ class _Stepper:
             )
             return sol.ys[0]
 
-        cells, dtau = self.cells, self.dtau
-
         def window(i, y):
             tau_w = i * dtau
-            y1 = integrate(y, tau_w, tau_w + dtau)
-            g1 = to_c(y1)
-            _, right = ghosts(tau_w + dtau, tau_w)
-            return from_c(jnp.concatenate([g1[cells:], right[:cells]]))
+            w1 = to_c(integrate(y, tau_w, tau_w + dtau))
+            right = inflow(tau_w + dtau, tau_w)  # nodes ns.. now sit at ns − cells..
+            return from_c(jnp.concatenate([w1[cells:], right[:cells]]))
 
         def advance(y, i_start, count):
             return jax.lax.fori_loop(i_start, i_start + count, window, y)
 
         def output(y, i_window, tau):
-            """G on the fixed grid at τ ≥ τ_w = i_window Δτ, from the state at τ_w."""
+            """w on the fixed grid at τ ≥ τ_w = i_window Δτ, from the state at τ_w."""
             tau_w = i_window * dtau
-            y_tau = jax.lax.cond(
-                tau > tau_w, lambda: integrate(y, tau_w, tau), lambda: y
-            )
+            y_tau = jax.lax.cond(tau > tau_w, lambda: integrate(y, tau_w, tau), lambda: y)
             ext = extended(to_c(y_tau), tau, tau_w)
             shift = lam * (tau - tau_w) / h  # fixed node j sits at comoving j + shift
             base = jnp.floor(shift)
             frac = shift - base
-            nodes = jnp.arange(order) - (order // 2 - 1)
-            out = 0.0
+            nodes = np.arange(order) - (order // 2 - 1)
+            out = jnp.zeros(n, dtype)
             for k in range(order):
                 wk = 1.0
                 for m in range(order):
                     if m != k:
                         wk = wk * (frac - nodes[m]) / (nodes[k] - nodes[m])
-                start = (nl + base.astype(jnp.int32) + nodes[k]).astype(jnp.int32)
+                start = (nl + nodes[k] + base).astype(jnp.int32)
                 out = out + wk * jax.lax.dynamic_slice(ext, (start,), (n,))
             return out
 
         self.advance = jax.jit(advance)
         self.output = jax.jit(output)
-        q = grid.q
-        g0 = law.phi(q)
-        self.y0 = (
-            jnp.asarray(np.stack([g0.real, g0.imag])) if self.complex else jnp.asarray(g0.real)
-        )
+        w0 = initial_deviation(law, np.exp(grid.s_min + h * np.arange(ns)))
+        self.y0 = jnp.asarray(np.stack([w0.real, w0.imag]) if is_complex else w0.real)
 
 
 def solve(
@@ -227,10 +307,16 @@ def solve(
     start = time.perf_counter()
     q = grid.q
     saved = np.empty((taus.size, grid.n), dtype=complex)
+    deviation = np.empty_like(saved)
+    m3 = _check_skewness_finite(law)
+    g_ref = reference(q, m3).astype(complex)
+    g_minus_fhat = deviation_from_f_hat(q, m3)
     if model.lam == 0.0:
         # Elastic collisions exchange velocities: P and hence G never change.
-        saved[:] = law.phi(q)[None, :]
-        return Solution(model.restitution, law.name, grid, taus, saved, law.skewness, opts,
+        w0 = initial_deviation(law, q)
+        saved[:] = (w0 + g_ref)[None, :]
+        deviation[:] = (w0 + g_minus_fhat)[None, :]
+        return Solution(model.restitution, law.name, grid, taus, saved, deviation, m3, opts,
                         time.perf_counter() - start)
 
     stepper = _Stepper(model, law, grid, opts)
@@ -253,15 +339,16 @@ def solve(
                 n_full -= step
                 if bar is not None:
                     bar.update(i_window * stepper.dtau - bar.n)
-            g = np.asarray(stepper.output(y, i_window, float(target)))
-            saved[k] = g[0] + 1j * g[1] if stepper.complex else g
+            w = np.asarray(stepper.output(y, i_window, float(target)))
+            deviation[k] = w + g_minus_fhat
+            saved[k] = w + g_ref
             if not np.all(np.isfinite(saved[k])):
                 raise FloatingPointError(f"solver produced non-finite G at tau={target}")
     finally:
         if bar is not None:
             bar.update(float(taus[-1]) - bar.n)
             bar.close()
-    return Solution(model.restitution, law.name, grid, taus, saved, stepper.m3, opts,
+    return Solution(model.restitution, law.name, grid, taus, saved, deviation, m3, opts,
                     time.perf_counter() - start)
 
 
@@ -270,6 +357,8 @@ class Solution:
     """G(q, τ) on the grid at the saved τ, with evaluation and diagnostics.
 
     ``G[k, j]`` is G(q_j, tau[k]) for the grid q_j = e^{s_min + j h} (q ≥ 0; G(−q) = conj G(q)).
+    ``deviation[k, j]`` is G − f̂ at the same points, computed without the cancellation of
+    G − f̂ ≈ (1 − q²/2) − (1 − q²/2) at small q (it is what the diagnostics use).
     """
 
     restitution: float
@@ -277,6 +366,7 @@ class Solution:
     resolution: Resolution
     tau: np.ndarray
     G: np.ndarray = field(repr=False)
+    deviation: np.ndarray = field(repr=False)
     skewness: float = 0.0
     options: SolverOptions = field(default_factory=SolverOptions)
     seconds: float = 0.0
@@ -298,7 +388,8 @@ class Solution:
     def evaluate(self, q, tau_index: int = -1) -> np.ndarray:
         """G(q) at arbitrary real q, |q| ≤ q_max, by Lagrange interpolation in s = ln|q|.
 
-        Accuracy O(h^order) inside the grid; below q_min the small-q expansion is used.
+        Inside the grid G = f̂ + (G − f̂), the deviation interpolated at O(h^order) accuracy;
+        below q_min, G = g (the reference, exact to O(q³)).
         """
         grid = self.resolution
         q = np.asarray(q, dtype=float)
@@ -308,25 +399,27 @@ class Solution:
             raise InvalidArgumentError(
                 "q", bad.tolist(), f"|q| <= q_max={grid.q_max:.6g} (the grid's end)"
             )
-        g = self.G[self._index(tau_index)]
-        order = grid.order
-        small = 1.0 - 0.5 * a**2 - 1j * (self.skewness / 6.0) * a**3
-        out = np.array(small, dtype=complex)
+        out = np.array(reference(a, self.skewness), dtype=complex)  # G = g below q_min
         inside = a >= grid.q_min
-        if np.any(inside):
-            pos = (np.log(a[inside]) - grid.s_min) / grid.h
-            base = np.floor(pos)
-            first = np.clip(base - order // 2 + 1, 0, grid.n - order).astype(int)
-            x = pos - first  # position within the stencil, in cells
-            vals = np.zeros(x.shape, dtype=complex)
-            for k in range(order):
-                wk = np.ones_like(x)
-                for m in range(order):
-                    if m != k:
-                        wk *= (x - m) / (k - m)
-                vals += wk * g[first + k]
-            out[inside] = vals
+        dev = self.deviation[self._index(tau_index)]
+        out[inside] = f_hat(a[inside]) + self._interpolate(dev, a[inside])
         return np.where(q < 0, np.conj(out), out)
+
+    def _interpolate(self, values: np.ndarray, q: np.ndarray) -> np.ndarray:
+        """Lagrange interpolation in s = ln q of grid ``values`` at q_min ≤ q ≤ q_max."""
+        grid = self.resolution
+        order = grid.order
+        pos = (np.log(q) - grid.s_min) / grid.h
+        first = np.clip(np.floor(pos) - order // 2 + 1, 0, grid.n - order).astype(int)
+        x = pos - first  # position within the stencil, in cells
+        out = np.zeros(x.shape, dtype=complex)
+        for k in range(order):
+            wk = np.ones_like(x)
+            for m in range(order):
+                if m != k:
+                    wk *= (x - m) / (k - m)
+            out += wk * values[first + k]
+        return out
 
     def sup_error(self, tau_index: int | None = None) -> np.ndarray | float:
         """sup over q ≥ 0 of |G(q, τ) − f̂(q)|: on the grid, refined 16× around the maximum."""
@@ -349,12 +442,12 @@ class Solution:
     def _weighted_sup(self, k: int, s: float, q_low: float) -> float:
         q = self.q
         keep = q >= q_low
-        diff = np.abs(self.G[k][keep] - f_hat(q[keep])) / q[keep] ** s
+        diff = np.abs(self.deviation[k][keep]) / q[keep] ** s
         j = int(np.argmax(diff))
         qk = q[keep]
         lo, hi = qk[max(j - 1, 0)], qk[min(j + 1, qk.size - 1)]
         fine = np.exp(np.linspace(np.log(lo), np.log(hi), 33))
-        fine_diff = np.abs(self.evaluate(fine, k) - f_hat(fine)) / fine**s
+        fine_diff = np.abs(self._interpolate(self.deviation[k], fine)) / fine**s
         return float(max(diff[j], fine_diff.max()))
 
     def density(self, x=None, tau_index: int = -1):
@@ -379,14 +472,17 @@ class Solution:
             "seconds": self.seconds,
         }
         with open(path, "wb") as fh:
-            np.savez(fh, meta=np.array(json.dumps(meta)), tau=self.tau, G=self.G)
+            np.savez(
+                fh, meta=np.array(json.dumps(meta)), tau=self.tau, G=self.G,
+                deviation=self.deviation,
+            )
 
     @classmethod
     def load(cls, path) -> Solution:
         try:
             with np.load(path, allow_pickle=False) as data:
                 meta = json.loads(str(data["meta"]))
-                tau, G = data["tau"], data["G"]
+                tau, G, deviation = data["tau"], data["G"], data["deviation"]
             if meta.get("format") != "maxwell_kinetics.Solution/1":
                 raise ValueError(f"unknown format {meta.get('format')!r}")
             return cls(
@@ -395,6 +491,7 @@ class Solution:
                 Resolution(**meta["resolution"]),
                 tau,
                 G,
+                deviation,
                 meta["skewness"],
                 SolverOptions(**meta["options"]),
                 meta["seconds"],
