@@ -52,6 +52,8 @@ def moment_hierarchy(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
         return out
 
     taus = np.atleast_1d(np.asarray(tau, dtype=float))
+    if taus.max() == 0.0:
+        return np.tile(m0, (taus.size, 1))
     sol = solve_ivp(rhs, (0.0, float(taus.max())), m0, t_eval=taus, rtol=1e-12, atol=1e-300,
                     method="DOP853")
     return sol.y.T

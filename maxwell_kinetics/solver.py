@@ -92,24 +92,22 @@ def reference(q, m3: float, xp=np):
     return xp.exp(-0.5 * q * q - 1j * (m3 / 6.0) * q**3)
 
 
-def _expm1_minus_z(z, xp):
-    """e^z − 1 − z without cancellation: Taylor series (Horner, 15 terms) for |z| < 0.5."""
-    small = xp.abs(z) < 0.5
-    series = xp.zeros_like(z) + 1.0 / math.factorial(16)
-    for n in range(15, 1, -1):
-        series = series * z + 1.0 / math.factorial(n)
-    series = series * z * z
-    direct = xp.exp(xp.where(small, 0.0 * z, z)) - 1.0 - z
-    return xp.where(small, series, direct)
-
-
 def source(q, lam: float, m3: float, xp=np):
     """S = g(pq) g((1−p)q) − g(q) + λ q g'(q) = g (e^z − 1 − z), z = λq² + iλm₃q³/2.
 
-    Uses p² + (1−p)² = 1 − 2λ and p³ + (1−p)³ = 1 − 3λ.
+    (Uses p² + (1−p)² = 1 − 2λ and p³ + (1−p)³ = 1 − 3λ.)  For |z| < 0.5 the bracket is its
+    Taylor series, so nothing cancels as q → 0; otherwise S = e^{P+z} − e^P (1 + z) with
+    g = e^P, which does not overflow at large q.
     """
+    log_g = -0.5 * q * q if m3 == 0.0 else -0.5 * q * q - 1j * (m3 / 6.0) * q**3
     z = lam * q * q if m3 == 0.0 else lam * q * q + 0.5j * lam * m3 * q**3
-    return reference(q, m3, xp) * _expm1_minus_z(z, xp)
+    small = xp.abs(z) < 0.5
+    series = xp.zeros_like(z) + 1.0 / math.factorial(16)
+    for n in range(15, 1, -1):  # Horner for Σ_{n≥2} z^n/n!, truncation < 1e-17 relative
+        series = series * z + 1.0 / math.factorial(n)
+    series = xp.exp(log_g) * series * z * z
+    direct = xp.exp(log_g + z) - xp.exp(log_g) * (1.0 + z)
+    return xp.where(small, series, direct)
 
 
 def initial_deviation(law: InitialLaw, q: np.ndarray, q_fit: float = 2e-3) -> np.ndarray:

@@ -1,0 +1,68 @@
+"""Figures of the kinetic solver (matplotlib, non-interactive Agg backend).
+
+Each function returns a ``matplotlib.figure.Figure``; the caller saves or shows it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["plot_solution", "plot_convergence"]
+
+
+def _figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    import matplotlib.pyplot as plt
+
+    return plt.subplots(1, ncols, figsize=(width * ncols, height), squeeze=False)
+
+
+def plot_solution(solution):
+    """Left: Re G(q, τ) against q with f̂.  Right: |G − f̂| against q on log axes."""
+    from .exact import f_hat
+
+    fig, axes = _figure(2)
+    left, right = axes[0]
+    q = solution.q
+    show = q > 1e-3
+    colors = __import__("matplotlib").colormaps["viridis"](np.linspace(0, 0.9, len(solution.tau)))
+    for k, tau in enumerate(solution.tau):
+        left.plot(q[show], solution.G[k, show].real, color=colors[k], label=f"τ = {tau:g}")
+        right.loglog(q[show], np.abs(solution.deviation[k, show]) + 1e-300, color=colors[k])
+    left.plot(q[show], f_hat(q[show]), "k--", label="f̂ = (1+q)e^{-q}")
+    left.set_xscale("log")
+    left.set(xlabel="q", ylabel="Re G(q, τ)", title=f"r = {solution.restitution:g}, "
+             f"initial {solution.initial}")
+    left.legend(fontsize=7)
+    right.set(xlabel="q", ylabel="|G − f̂|", ylim=(1e-16, 2), title="distance to the scaling solution")
+    fig.tight_layout()
+    return fig
+
+
+def plot_convergence(runs):
+    """sup_q |G − f̂| against τ for each (r, resolution), and the floor against h."""
+    fig, axes = _figure(2)
+    left, right = axes[0]
+    rs = sorted({run.restitution for run in runs})
+    styles = ["-", "--", ":", "-."]
+    for i, r in enumerate(rs):
+        sel = [run for run in runs if run.restitution == r]
+        for j, run in enumerate(sel):
+            left.loglog(run.tau, run.sup_error, styles[i % 4], color=f"C{j}",
+                        label=f"r={r:g} {run.resolution}")
+        h = np.array([run.h for run in sel])
+        floor = np.array([run.floor for run in sel])
+        right.loglog(h, floor, "o" + styles[i % 4], label=f"r = {r:g}")
+    if runs:
+        h = np.array(sorted({run.h for run in runs}))
+        order = runs[0].order
+        ref = np.array([run.floor for run in runs if run.h == h[-1]]).max()
+        right.loglog(h, ref * (h / h[-1]) ** order, "k:", label=f"h^{order}")
+    left.set(xlabel="τ", ylabel="sup_q |G − f̂|", title="approach to f̂")
+    left.legend(fontsize=6, ncol=2)
+    right.set(xlabel="h (grid spacing in ln q)", ylabel="error floor", title="floor against resolution")
+    right.legend(fontsize=7)
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,211 @@
+"""The time-dependent kinetic solver against the exact results of SPEC §2.
+
+Solves are shared through module-level fixtures: each new (r, law, resolution) costs a JIT
+compilation of several seconds.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics.exact import f_hat, rescaled_moments
+from maxwell_kinetics.grid import Resolution
+from maxwell_kinetics.initial import get_law, law_from_characteristic
+from maxwell_kinetics.model import MaxwellModel
+from maxwell_kinetics.solver import (
+    Solution,
+    deviation_from_f_hat,
+    initial_deviation,
+    solve,
+)
+from maxwell_kinetics.validation import InvalidArgumentError
+
+TAUS = [0.0, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 150.0, 200.0]
+
+
+@pytest.fixture(scope="module")
+def gaussian_half():
+    return solve(0.5, "gaussian", TAUS, "default")
+
+
+@pytest.fixture(scope="module")
+def uniform_half():
+    return solve(0.5, "uniform", [0.0, 1.0, 2.0, 5.0], "default")
+
+
+@pytest.fixture(scope="module")
+def asymmetric_zero():
+    return solve(0.0, "asymmetric", [0.0, 1.0, 5.0, 20.0, 100.0], "default")
+
+
+def small_q_deviation(sol: Solution, k: int):
+    """w = G − g on the grid, from the cancellation-free deviation G − f̂."""
+    return sol.deviation[k] - deviation_from_f_hat(sol.q, sol.skewness)
+
+
+def test_spec_measured_distances(gaussian_half):
+    # SPEC §2 (measured by two independent methods, three digits): r = 0.5, unit Gaussian.
+    # The issue asks for agreement to 1 %.
+    measured = {10.0: 8.7e-2, 50.0: 1.37e-2, 100.0: 3.37e-3}
+    for tau, value in measured.items():
+        k = TAUS.index(tau)
+        assert gaussian_half.sup_error(k) == pytest.approx(value, rel=0.01)
+
+
+def test_normalisation_and_unit_variance_are_kept(gaussian_half):
+    # G = g + w with g = e^{−q²/2}: G(0) = 1 and G''(0) = −1 hold iff w = o(q²).  The true w is
+    # O(q³) (at most the q³/3 of f̂), so |w|/q² ≤ q/3 ≤ 3.4e-9 on q ≤ 1e-8; a drift ε of the
+    # variance would add ε/2 there, and a drift of G(0) would dominate everything.
+    q = gaussian_half.q
+    sel = (q > 1e-10) & (q < 1e-8)
+    assert sel.sum() > 10
+    for k in range(len(TAUS)):
+        w = small_q_deviation(gaussian_half, k)[sel]
+        assert np.max(np.abs(w) / q[sel] ** 2) < 1e-8, TAUS[k]
+
+
+@pytest.mark.parametrize("fixture, m4_initial", [("gaussian_half", 3.0), ("uniform_half", 9 / 5)])
+def test_fourth_moment_follows_the_hierarchy(request, fixture, m4_initial):
+    # Re G = 1 − q²/2 + m4 q⁴/24 − m6 q⁶/720 + …, and g = e^{−q²/2} contributes 3 q⁴/24, so
+    # w = G − g = (m4 − 3) q⁴/24 + O(q⁶).  Fit w/q⁴ against q² on 0.01 < q < 0.08.
+    # The hierarchy (SPEC §2) is integrated independently by scipy at rtol 1e-12.
+    sol = request.getfixturevalue(fixture)
+    model = MaxwellModel(0.5)
+    initial = [1.0, 0.0, 1.0, 0.0, m4_initial]
+    q = sol.q
+    sel = (q > 0.01) & (q < 0.08)
+    for k, tau in enumerate(sol.tau):
+        if tau > 5:
+            continue
+        w = small_q_deviation(sol, k).real[sel]
+        coef = np.polyfit(q[sel] ** 2, w / q[sel] ** 4, 2)
+        m4_solver = 3.0 + 24.0 * coef[-1]
+        m4_exact = rescaled_moments(model, initial, [tau])[0, 4]
+        assert m4_solver == pytest.approx(m4_exact, rel=1e-6), tau
+    # multiscaling: the rescaled fourth moment grows
+    assert rescaled_moments(model, initial, [5.0])[0, 4] > m4_initial
+
+
+@pytest.mark.parametrize("s", [2.25, 2.5, 2.75])
+def test_contraction_bound(gaussian_half, s):
+    # d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂) (Bobylev–Cercignani–Toscani, SPEC §2).
+    # d_s(G(0), f̂) is computed exactly from φ on a dense grid down to q = 1e-12.  The solver's
+    # d_s is a sup over its grid; the tolerance is the solver's absolute error (< 1e-9, see
+    # test_error_floor_and_order) divided by q^s at the smallest q where it matters, here
+    # bounded by evaluating on q ≥ 1e-3: 1e-9 / 1e-3^2.75 ≈ 2e-1 would be useless, so instead
+    # the check is done on q ≥ 0.05 (tolerance 1e-9/0.05^2.75 ≈ 4e-6) AND on the whole grid
+    # with the looser tolerance 1e-3, which still fails for any real violation at τ ≤ 200.
+    model = MaxwellModel(0.5)
+    gamma = model.contraction_rate(s)
+    assert gamma > 0
+    law = get_law("gaussian")
+    qd = np.geomspace(1e-12, 36.0, 200_001)
+    d0 = np.max(np.abs(initial_deviation(law, qd) + deviation_from_f_hat(qd, 0.0)) / qd**s)
+    for k, tau in enumerate(TAUS):
+        bound = math.exp(-gamma * tau) * d0
+        assert gaussian_half.fourier_distance(s, k, q_low=0.05) <= bound + 4e-6, tau
+        assert gaussian_half.fourier_distance(s, k) <= bound + 1e-3, tau
+    # and the distance really falls (not only stays bounded)
+    assert gaussian_half.fourier_distance(s, len(TAUS) - 1) < 0.5 * gaussian_half.fourier_distance(s, 0)
+
+
+def test_asymmetric_data(asymmetric_zero):
+    sol = asymmetric_zero
+    assert sol.skewness == 2.0
+    # G(−q) = conj G(q)
+    q = np.array([0.3, 1.0, 4.0])
+    assert np.allclose(sol.evaluate(-q, 2), np.conj(sol.evaluate(q, 2)), rtol=0, atol=1e-15)
+    # Im G = −m3 q³/6 + O(m5 q⁵) with m3 = ⟨x³⟩ constant in time (SPEC §2).  Im g carries
+    # exactly −m3 q³/6, so Im w / q³ on 1e-8 < q < 1e-6 measures the drift of m3/6.  The q⁵
+    # term grows with the rescaled m5 (multiscaling): measured 1.9e-10 at τ = 20 there.  Later
+    # the analytic region shrinks like e^{−λτ} below the grid's q_min = e^{−24}, so the check
+    # stops at τ = 20.
+    sel = (sol.q > 1e-8) & (sol.q < 1e-6)
+    for k in range(len(sol.tau)):
+        if sol.tau[k] > 20:
+            continue
+        im_w = small_q_deviation(sol, k)[sel].imag
+        assert np.max(np.abs(im_w) / sol.q[sel] ** 3) < 1e-9, sol.tau[k]
+    # ... and G still approaches the real f̂: the imaginary part dies away from q = 0.
+    assert np.max(np.abs(sol.G[-1].imag)) < 0.1 * np.max(np.abs(sol.G[0].imag))
+    assert sol.sup_error(len(sol.tau) - 1) < 0.2 * sol.sup_error(0)
+
+
+def test_initial_state_is_the_law(gaussian_half, asymmetric_zero):
+    # Off-node evaluation carries the order-8 interpolation error in s = ln q.  For the
+    # oscillating φ = e^{−iq}/(1 − iq) the phase turns by q h = 0.45 rad per cell at q = 9
+    # (default h = 0.05): measured error 4e-8 there, hence the looser tolerance at q = 9.
+    q = np.array([0.1, 0.7, 2.0])
+    for sol, name in ((gaussian_half, "gaussian"), (asymmetric_zero, "asymmetric")):
+        assert np.allclose(sol.evaluate(q, 0), get_law(name).phi(q), rtol=0, atol=1e-10)
+    assert abs(gaussian_half.evaluate([9.0], 0) - get_law("gaussian").phi([9.0]))[0] < 1e-10
+    assert abs(asymmetric_zero.evaluate([9.0], 0) - get_law("asymmetric").phi([9.0]))[0] < 1e-7
+
+
+def test_interpolation_between_nodes_is_high_order(gaussian_half):
+    # f̂ + deviation interpolated at midpoints versus the same solve's nodes is smooth; check
+    # evaluate() against f̂ at late time where G ≈ f̂ to the floor, off the nodes.
+    q = np.geomspace(0.01, 30, 301)
+    assert np.max(np.abs(gaussian_half.evaluate(q, -1) - f_hat(q))) < 1.5 * gaussian_half.sup_error(-1)
+
+
+def test_elastic_case_is_frozen():
+    sol = solve(1.0, "bimodal", [0.0, 5.0, 50.0], "coarse")
+    assert np.array_equal(sol.G[0], sol.G[-1])
+
+
+def test_save_and_load_round_trip(gaussian_half, tmp_path):
+    path = tmp_path / "sol.npz"
+    gaussian_half.save(path)
+    back = Solution.load(path)
+    assert back.restitution == gaussian_half.restitution
+    assert np.array_equal(back.G, gaussian_half.G)
+    assert np.array_equal(back.tau, gaussian_half.tau)
+    assert back.sup_error(3) == gaussian_half.sup_error(3)
+
+
+def test_load_rejects_garbage(tmp_path):
+    path = tmp_path / "bad.npz"
+    path.write_bytes(b"not a solution")
+    with pytest.raises(InvalidArgumentError, match="path="):
+        Solution.load(path)
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"restitution": 1.2}, "restitution=1.2"),
+        ({"restitution": float("nan")}, "restitution=nan"),
+        ({"tau": [-1.0, 2.0]}, "tau="),
+        ({"tau": [5.0, 2.0]}, "increasing"),
+        ({"tau": [1.0, float("inf")]}, "finite"),
+        ({"initial": "maxwellian"}, "initial='maxwellian'"),
+        ({"resolution": "ultra"}, "resolution='ultra'"),
+    ],
+)
+def test_bad_input(kwargs, match):
+    args = {"restitution": 0.5, "initial": "gaussian", "tau": [1.0], "resolution": "coarse"}
+    args.update(kwargs)
+    with pytest.raises(InvalidArgumentError, match=match):
+        solve(args.pop("restitution"), **args)
+
+
+def test_q_outside_grid_is_rejected(gaussian_half):
+    with pytest.raises(InvalidArgumentError, match="q="):
+        gaussian_half.evaluate([1.0, 1e3])
+
+
+def test_user_characteristic_function():
+    # A user law equal to the Gaussian of variance 4 (rescaled to unit variance) must give the
+    # same solution as the built-in gaussian, apart from the inflow boundary (zero for user
+    # laws, e^{−τ} φ for built-ins: both ≈ 0 at q_max for a Gaussian).
+    law = law_from_characteristic(lambda k: np.exp(-2.0 * k**2), variance=4.0)
+    a = solve(0.5, law, [3.0], "coarse")
+    b = solve(0.5, "gaussian", [3.0], "coarse")
+    assert np.max(np.abs(a.G - b.G)) < 1e-12
+
+
+def test_coarse_grid_reaches_q_below_resolution_limit():
+    with pytest.raises(InvalidArgumentError, match="order"):
+        Resolution("odd", h=0.1, order=5)
