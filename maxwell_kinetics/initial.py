@@ -3,7 +3,9 @@
 Every law has zero mean and unit variance.  A law carries
 
 * its characteristic function ``phi(k) = E[exp(i k v)]`` (the sign convention of SPEC §2:
-  ``P̂(k) = ∫ e^{ikv} P(v) dv``), evaluated by NumPy on any array of real ``k``;
+  ``P̂(k) = ∫ e^{ikv} P(v) dv``), evaluated by NumPy on any array of real ``k``.  The built-in
+  laws write it against an array module ``xp`` (``characteristic(k, xp)``) so that the kinetic
+  solver can also evaluate it inside JAX with ``xp = jax.numpy``;
 * a sampler ``sample(rng, n)`` drawing ``n`` independent velocities from a
   ``numpy.random.Generator``;
 * its standardised third moment ``skewness = E[v^3]`` (zero for symmetric laws), which fixes the
@@ -35,7 +37,7 @@ from .validation import InvalidArgumentError, check_positive
 
 __all__ = ["InitialLaw", "LAWS", "get_law", "law_from_characteristic", "law_names"]
 
-CharacteristicFunction = Callable[[np.ndarray], np.ndarray]
+CharacteristicFunction = Callable[..., np.ndarray]  # characteristic(k, xp) -> phi(k)
 Sampler = Callable[[np.random.Generator, int], np.ndarray]
 
 
@@ -48,11 +50,13 @@ class InitialLaw:
     sampler: Sampler | None = field(repr=False, default=None)
     skewness: float = 0.0
     description: str = ""
+    #: True when ``characteristic(k, xp)`` works for ``xp = jax.numpy`` (built-in laws).
+    traceable: bool = True
 
     def phi(self, k) -> np.ndarray:
         """Characteristic function E[e^{ikv}] as a complex array of the shape of ``k``."""
         k = np.asarray(k, dtype=float)
-        return np.asarray(self.characteristic(k), dtype=complex)
+        return np.asarray(self.characteristic(k, np), dtype=complex)
 
     def sample(self, rng: np.random.Generator, n: int) -> np.ndarray:
         """Draw ``n`` independent velocities with ``rng`` (a ``numpy.random.Generator``)."""
@@ -74,9 +78,9 @@ _B_LAPLACE = 1.0 / np.sqrt(2.0)
 _MU_BIMODAL, _VAR_BIMODAL = 0.9, 0.19
 
 
-def _uniform_phi(k):
-    # sin(√3 k)/(√3 k) written with np.sinc(x) = sin(πx)/(πx) so that k = 0 is exact.
-    return np.sinc(_S3 * k / np.pi)
+def _uniform_phi(k, xp):
+    # sin(√3 k)/(√3 k) written with sinc(x) = sin(πx)/(πx) so that k = 0 is exact.
+    return xp.sinc(_S3 * k / np.pi)
 
 
 def _bimodal_sample(rng, n):
@@ -89,7 +93,7 @@ LAWS: dict[str, InitialLaw] = {
     for law in (
         InitialLaw(
             "gaussian",
-            lambda k: np.exp(-0.5 * k**2),
+            lambda k, xp: xp.exp(-0.5 * k**2),
             lambda rng, n: rng.standard_normal(n),
             0.0,
             "N(0, 1)",
@@ -103,21 +107,21 @@ LAWS: dict[str, InitialLaw] = {
         ),
         InitialLaw(
             "laplace",
-            lambda k: 1.0 / (1.0 + (_B_LAPLACE * k) ** 2),
+            lambda k, xp: 1.0 / (1.0 + (_B_LAPLACE * k) ** 2),
             lambda rng, n: rng.laplace(0.0, _B_LAPLACE, n),
             0.0,
             "Laplace, scale 1/sqrt(2)",
         ),
         InitialLaw(
             "bimodal",
-            lambda k: np.cos(_MU_BIMODAL * k) * np.exp(-0.5 * _VAR_BIMODAL * k**2),
+            lambda k, xp: xp.cos(_MU_BIMODAL * k) * xp.exp(-0.5 * _VAR_BIMODAL * k**2),
             _bimodal_sample,
             0.0,
             "equal mixture of N(+0.9, 0.19) and N(-0.9, 0.19)",
         ),
         InitialLaw(
             "asymmetric",
-            lambda k: np.exp(-1j * k) / (1.0 - 1j * k),
+            lambda k, xp: xp.exp(-1j * k) / (1.0 - 1j * k),
             lambda rng, n: rng.exponential(1.0, n) - 1.0,
             2.0,
             "shifted exponential X - 1, X ~ Exp(1): E[v^3] = 2",
@@ -155,7 +159,7 @@ def law_from_characteristic(
         raise InvalidArgumentError("characteristic", characteristic, "a callable phi(k)")
     sigma = np.sqrt(check_positive(variance, "variance"))
 
-    def phi(k):
+    def phi(k, xp=np):
         return np.asarray(characteristic(np.asarray(k, dtype=float) / sigma), dtype=complex)
 
     try:
@@ -169,4 +173,6 @@ def law_from_characteristic(
         raise InvalidArgumentError("characteristic", f"phi(0)={at_zero}", "phi(0) = 1")
     kk = 1e-2
     skew = float(-6.0 * phi(np.array([kk])).imag[0] / kk**3)
-    return InitialLaw(name, phi, None, skew, f"user characteristic function, variance {variance}")
+    return InitialLaw(
+        name, phi, None, skew, f"user characteristic function, variance {variance}", traceable=False
+    )

@@ -1,0 +1,114 @@
+"""The log-uniform q grid of the kinetic solver and local Lagrange interpolation on it.
+
+The rescaled characteristic function G(q, τ) is stored for q ≥ 0 on the grid
+
+    s_j = ln q_j = s_min + j h,   j = 0 .. n − 1,   q_min = e^{s_min},  q_max = e^{s_max}.
+
+In s the transport term of the rescaled equation is a shift at constant speed λ and the gain
+term samples G at s + ln p and s + ln(1 − p) (SPEC §2): on a uniform s grid every shift is a
+fixed stencil.  Values between nodes come from centred Lagrange interpolation of ``order``
+points (even), whose error is O(h^order) for smooth G(s).
+
+Outside the grid:
+
+* q < q_min: the small-q expansion G = 1 − q²/2 − i m₃ q³/6, with m₃ = ⟨x³⟩ conserved in time
+  (SPEC §2).  Omitted terms are O(q_min³) (the |q|³/3 of f̂ that builds up at late times) and
+  O(m₄(τ) q_min⁴).
+* q > q_max: G is taken from the free-streaming asymptotics e^{−τ} φ(q e^{λτ}) of the initial
+  law (the gain term there is of second order in the small values of G); once this is below
+  round-off it is zero.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .validation import InvalidArgumentError
+
+__all__ = ["Resolution", "RESOLUTIONS", "get_resolution", "lagrange_weights"]
+
+
+@dataclass(frozen=True)
+class Resolution:
+    """A named discretisation of s = ln q: spacing ``h``, interpolation ``order``, range."""
+
+    name: str
+    h: float
+    order: int = 8
+    s_min: float = -10.0
+    s_max: float = math.log(36.0)
+
+    def __post_init__(self):
+        if not (self.h > 0 and math.isfinite(self.h)):
+            raise InvalidArgumentError("h", self.h, "a finite spacing > 0")
+        if self.order < 2 or self.order % 2:
+            raise InvalidArgumentError("order", self.order, "an even number of points >= 2")
+        if not self.s_min < self.s_max:
+            raise InvalidArgumentError("s_min", self.s_min, f"a value below s_max={self.s_max}")
+
+    @property
+    def n(self) -> int:
+        """Number of grid points."""
+        return int(math.floor((self.s_max - self.s_min) / self.h + 1e-9)) + 1
+
+    @property
+    def s(self) -> np.ndarray:
+        return self.s_min + self.h * np.arange(self.n)
+
+    @property
+    def q(self) -> np.ndarray:
+        return np.exp(self.s)
+
+    @property
+    def q_min(self) -> float:
+        return math.exp(self.s_min)
+
+    @property
+    def q_max(self) -> float:
+        return math.exp(self.s_min + self.h * (self.n - 1))
+
+
+#: The offered resolutions, coarse to fine (spacing halves at fixed order).
+RESOLUTIONS: dict[str, Resolution] = {
+    r.name: r
+    for r in (
+        Resolution("coarse", h=0.1),
+        Resolution("default", h=0.05),
+        Resolution("fine", h=0.025),
+        Resolution("finest", h=0.0125),
+    )
+}
+
+
+def get_resolution(resolution) -> Resolution:
+    """A ``Resolution`` passes through; a name is looked up in :data:`RESOLUTIONS`."""
+    if isinstance(resolution, Resolution):
+        return resolution
+    try:
+        return RESOLUTIONS[resolution]
+    except (KeyError, TypeError):
+        raise InvalidArgumentError(
+            "resolution", resolution, "one of " + ", ".join(RESOLUTIONS)
+        ) from None
+
+
+def lagrange_weights(offset: float, order: int) -> tuple[int, np.ndarray]:
+    """Weights for interpolating at fractional grid position ``j + offset`` from its neighbours.
+
+    Returns ``(first, w)``: value ≈ Σ_k w[k] · G[j + first + k], k = 0 .. order − 1, with the
+    stencil centred on the interval that contains the target.  Exact for polynomials of degree
+    ``order − 1``.
+    """
+    base = math.floor(offset)
+    frac = offset - base
+    first = base - order // 2 + 1
+    nodes = np.arange(order) - (order // 2 - 1)  # positions relative to `base`
+    w = np.ones(order)
+    for k in range(order):
+        for m in range(order):
+            if m != k:
+                w[k] *= (frac - nodes[m]) / (nodes[k] - nodes[m])
+    return first, w
