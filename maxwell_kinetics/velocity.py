@@ -47,7 +47,7 @@ import pyfftw.builders
 
 from .validation import InvalidArgumentError, check_positive
 
-__all__ = ["inverse_transform", "density_at", "tail_exponent"]
+__all__ = ["inverse_transform", "density_at", "invert", "tail_exponent"]
 
 _PLANS: dict[int, pyfftw.FFTW] = {}
 
@@ -149,3 +149,18 @@ def tail_exponent(x, P, window: tuple[float, float]) -> float:
         raise InvalidArgumentError("P", "non-positive values in the window", "P > 0 to fit ln P")
     slope, _ = np.polyfit(np.log(x[sel]), np.log(P[sel]), 1)
     return float(slope)
+
+
+def invert(
+    G: Callable, q_max: float = 50.0, x=None, period: float = 1000.0
+) -> tuple[np.ndarray, np.ndarray]:
+    """Density of x = v / v0 from G: ``(x, P)``.
+
+    ``x=None``: the FFT grid of :func:`inverse_transform` (cut-off ≥ ``q_max``, period
+    ``period``).  Otherwise P at the given x by :func:`density_at` (no aliasing, cut-off exactly
+    ``q_max``), returned as ``(x, P)`` with x as a float array.
+    """
+    if x is None:
+        return inverse_transform(G, q_max=q_max, period=period)
+    x = np.asarray(x, dtype=float)
+    return x, density_at(G, x, q_max=q_max)
