@@ -73,7 +73,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import jax
 
@@ -318,10 +318,12 @@ def fixed_point(
     dG = barycentric_matrix(q, fine) @ (D @ G)
     check = lam * fine * dG - fp(fine) + fp(model.p * fine) * fp((1.0 - model.p) * fine)
     err = max(float(np.max(np.abs(G - f_hat(q)))), float(np.max(np.abs(fp(fine) - f_hat(fine)))))
-    object.__setattr__(fp, "check_residual", float(np.max(np.abs(check))))
-    object.__setattr__(fp, "max_error", err)
-    object.__setattr__(fp, "seconds", time.perf_counter() - t0)
-    return fp
+    return replace(
+        fp,
+        check_residual=float(np.max(np.abs(check))),
+        max_error=err,
+        seconds=time.perf_counter() - t0,
+    )
 
 
 # --------------------------------------------------------------------------------------------
