@@ -449,13 +449,25 @@ class Solution:
         return float(max(diff[j], fine_diff.max()))
 
     def density(self, x=None, tau_index: int = -1):
-        """Velocity-space density P(x, τ) of x = v / v0 (inverse Fourier transform via pyfftw).
+        """Velocity-space density P(x, τ) of x = v / v0: returns ``(x, P)``.
 
-        See :mod:`maxwell_kinetics.velocity` for the transform conventions.
+        ``x=None`` gives the pyfftw grid of :func:`maxwell_kinetics.velocity.inverse_transform`;
+        given x, P is computed by quadrature there.  G is cut at the grid's end q_max.  See
+        :mod:`maxwell_kinetics.velocity` for the sign, normalisation and error sources.
         """
         from .velocity import invert
 
-        return invert(lambda q: self.evaluate(q, tau_index), q_max=self.resolution.q_max, x=x)
+        q_max = self.resolution.q_max
+        k = self._index(tau_index)
+
+        def G(q):  # G is truncated at the grid's end (|G| < 1e-13 there once near f̂)
+            q = np.asarray(q, dtype=float)
+            out = np.zeros(q.shape, dtype=complex)
+            inside = np.abs(q) <= q_max
+            out[inside] = self.evaluate(q[inside], k)
+            return out
+
+        return invert(G, q_max=q_max, x=x)
 
     # -- persistence --------------------------------------------------------------------
     def save(self, path) -> None:
