@@ -89,7 +89,7 @@ class Histogram:
         }
 
 
-def rescaled_histogram(v, bins=None) -> Histogram:
+def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     """Histogram of the rescaled velocity x = v / v0, v0 = √E, E = ⟨v²⟩ of the same array.
 
     ``v`` may be one run ``(N,)`` or several runs ``(R, N)``; each run is rescaled by its own v0
@@ -110,7 +110,12 @@ def rescaled_histogram(v, bins=None) -> Histogram:
         if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
             raise InvalidArgumentError("bins", bins, "at least two strictly increasing edges")
     rows = arr.reshape(-1, arr.shape[-1])
-    v0 = np.sqrt(np.mean(rows * rows, axis=1))
+    if v0 is None:
+        v0 = np.sqrt(np.mean(rows * rows, axis=1))
+    else:
+        if not (np.isscalar(v0) and float(v0) > 0 and np.isfinite(float(v0))):
+            raise InvalidArgumentError("v0", v0, "a finite number > 0")
+        v0 = np.full(rows.shape[0], float(v0))
     if np.any(v0 <= 0) or not np.all(np.isfinite(v0)):
         raise InvalidArgumentError("v", f"energy {v0**2}", "a finite, non-zero energy per run")
     x = (rows / v0[:, None]).ravel()
