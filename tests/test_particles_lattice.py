@@ -94,7 +94,8 @@ def test_initial_energy_slope(constraint, rate):
     design = np.stack([taus, taus**2], axis=1)
     slopes = []
     for seed in range(24):
-        energy = simulate(Lattice(200_000, r, constraint=constraint), taus, seed, progress=False).energy
+        engine = Lattice(200_000, r, constraint=constraint)
+        energy = simulate(engine, taus, seed, progress=False).energy
         slopes.append(np.linalg.lstsq(design, energy - 1.0, rcond=None)[0][0])
     slopes = np.array(slopes)
     se = slopes.std(ddof=1) / np.sqrt(len(slopes))
