@@ -46,13 +46,14 @@ __all__ = [
 ]
 
 #: Events per window aimed at: large enough to amortise NumPy call overhead, small enough that
-#: a particle has few events per window (few rounds).  Measured best near 1e5 at N = 1e6.
-TARGET_EVENTS = 100_000
+#: a particle has few events per window (few rounds).  Measured best near 2.5e4 at N = 1e6
+#: (2.3e7 events/s, against 1.9e7 with 1e5 and 1.1e7 with 2e5).
+TARGET_EVENTS = 25_000
 
 
 def _window_for(n: int) -> float:
-    """Window length in τ: the power of two nearest to 2·TARGET_EVENTS/N, clipped to [2⁻⁶, 2]."""
-    exponent = int(np.clip(np.round(np.log2(2.0 * TARGET_EVENTS / n)), -6, 1))
+    """Window length in τ: the power of two nearest to 2·TARGET_EVENTS/N, clipped to [2⁻¹², 2]."""
+    exponent = int(np.clip(np.round(np.log2(2.0 * TARGET_EVENTS / n)), -12, 1))
     return 2.0**exponent
 
 
@@ -100,7 +101,8 @@ def _fire_rounds(
     rounds = 0
     while packed.size:
         m = packed.size
-        flat = packed.view(np.int32)  # a_0, b_0, a_1, b_1, ... (reverse time order)
+        # a_0, b_0, a_1, b_1, ... (reverse time order); intp indices index ~2x faster than int32
+        flat = packed.view(np.int32).astype(np.intp)
         occ = occurrence[: 2 * m]
         first[flat] = occ  # the last write per particle = its largest occurrence = earliest event
         own = first[flat]
@@ -113,7 +115,7 @@ def _fire_rounds(
         row = occurrence[:m]
         fire = pair_own[:, 0] == row
         fire &= pair_own[:, 1] == row
-        fired = packed[fire].view(np.int32)
+        fired = packed[fire].view(np.int32).astype(np.intp)
         vv = v[fired]
         vv2 = vv.reshape(-1, 2)
         collide_arrays(vv2[:, 0], vv2[:, 1], p)
@@ -183,7 +185,7 @@ class Ulam:
 
     @property
     def window(self) -> float:
-        """τ-length of an event window (a power of two): about 1e5 events per window."""
+        """τ-length of an event window (a power of two): about 2.5e4 events per window."""
         return _window_for(self.n)
 
     @property

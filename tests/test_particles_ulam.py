@@ -110,13 +110,17 @@ def test_late_histogram_is_the_scaling_solution_with_its_power_law_tail(r, law):
     The bulk: 40 bins of width 0.2 on [-4, 4].  v/√E is compared with f after fitting one scale
     s (x → s x): in a finite system √E is set by the few largest particles of an x⁻⁴ tail, which
     is cut near X ≈ (4N/3π)^{1/3} ≈ 44 (missing variance 4/(πX) ≈ 3%) and fluctuates from run to
-    run (±5-10% in E, measured over 6 seeds).  So |s - 1| < 0.08, and with s fitted the counts
-    must be Poisson/binomial-consistent: χ²/bin < 1 + 5·sqrt(2/40) = 2.1 (5 standard deviations
-    of χ²/dof).  A Gaussian of any width fails this by far (χ²/bin ≈ 850 measured); this is
-    asserted too.
+    run (±5-10% in E, measured over 6 seeds).  So |s - 1| < 0.08.
+    The velocities of a run are not independent samples: a collision leaves two correlated
+    velocities (identical ones at r = 0), so bin counts are overdispersed with respect to the
+    binomial law.  Measured over 6 seeds (N = 2e5, τ = 100): χ²/bin between 0.75 and 2.16, mean
+    1.3, for r = 0 and 0.5, without any pattern across bins.  Bound: an overdispersion factor
+    φ = 1.5 times the 5-standard-deviation bound of χ²/dof, 1.5·(1 + 5·sqrt(2/40)) = 3.2.  A 1.5%
+    deviation of the density in every bin (~10⁴ counts each) would exceed it; a Gaussian of any
+    width fails by far (χ²/bin ≈ 850 measured), which is asserted too.
     The tail: counts of |s x| in [3, 5), [5, 8), [8, 13), [13, 30) against the exact tail
-    probabilities of f (2·10³, 4·10², 10², 30 expected), |z| < 4 with Poisson errors.  A
-    Gaussian has no particle beyond 5.
+    probabilities of f (2·10³, 4·10², 10², 30 expected), |z| < 4 with errors sqrt(φ·expected).
+    A Gaussian has no particle beyond 5.
     """
     from scipy.special import ndtr
 
@@ -140,14 +144,15 @@ def test_late_histogram_is_the_scaling_solution_with_its_power_law_tail(r, law):
         i = int(np.argmin(chi2))
         return chi2[i], scales[i]
 
+    dispersion = 1.5
     chi2, s = best_chi2(scaling_cdf)
     assert abs(s - 1) < 0.08, s
-    assert chi2 < 1 + 5 * np.sqrt(2 / 40), chi2
+    assert chi2 < dispersion * (1 + 5 * np.sqrt(2 / 40)), chi2
     assert best_chi2(ndtr)[0] > 100
     tail_edges = np.array([3.0, 5.0, 8.0, 13.0, 30.0])
     tail = np.histogram(np.abs(s * x), tail_edges)[0]
     expected = n * 2 * np.diff(scaling_cdf(tail_edges))
-    z = (tail - expected) / np.sqrt(expected)
+    z = (tail - expected) / np.sqrt(dispersion * expected)
     assert np.all(np.abs(z) < 4), (tail, expected)
 
 
@@ -177,7 +182,8 @@ def test_bad_parameters_are_named(kwargs, match):
 
 def test_windows_are_a_fixed_grid():
     engine = Ulam(1_000_000, 0.5)
-    assert engine.window == 0.25 and engine.stop_step == 1.0
-    assert engine.windows(0.0, 1.0) == [(0.0, 0.25), (0.25, 0.5), (0.5, 0.75), (0.75, 1.0)]
-    assert engine.windows(0.3, 0.9) == [(0.3, 0.5), (0.5, 0.75), (0.75, 0.9)]
+    assert engine.window == 2.0**-4 and engine.stop_step == 1.0
+    windows = engine.windows(0.0, 1.0)
+    assert len(windows) == 16 and windows[0] == (0.0, 0.0625) and windows[-1] == (0.9375, 1.0)
+    assert engine.windows(0.1, 0.2) == [(0.1, 0.125), (0.125, 0.1875), (0.1875, 0.2)]
     assert Ulam(10, 0.5).window == 2.0
