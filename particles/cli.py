@@ -1,10 +1,160 @@
-"""``maxwell-kinetics simulate {ulam,lattice,md}``: the particle models on the command line."""
+"""``maxwell-kinetics simulate {ulam,lattice,md}``: the particle models on the command line.
+
+Each model is one sub-subcommand, added by a small ``_add_<model>`` function that declares its
+own options, calls :func:`add_common_options` for the shared ones (size, restitution, initial
+law, times, seed, output, checkpointing) and sets ``handler``; the handler builds the engine and
+hands it to :func:`run_engine`, which runs it and prints the result.  A new model (MD) adds one
+``_add_md`` function and one line in :func:`register`.
+
+``--json`` prints one object with keys ``tau`` (the requested times; ``t`` for MD), ``energy``
+(⟨v²⟩ at each time), ``collisions`` (the total), ``seconds`` (wall clock), ``histogram``
+(``centres``, ``density``, ``error`` of x = v/√E at the last time) and, with
+``--structure-factor``, ``k`` and ``S`` (S(k) = |v̂(k)|²/N at the last time); also ``model``,
+``params`` and ``seed``.  Bad input raises ``InvalidArgumentError`` before anything is written,
+which the top-level command turns into exit status 2.
+"""
 
 from __future__ import annotations
+
+import argparse
+import sys
+
+from maxwell_kinetics.validation import InvalidArgumentError, check_count, parse_float_list
+
+__all__ = ["register", "add_common_options", "run_engine", "parse_count"]
+
+
+def parse_count(text, name: str, minimum: int) -> int:
+    """An integer option given as ``200000`` or ``2e5``; errors name the option and the value."""
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(name, text, f"an integer >= {minimum}") from None
+    if value != value or value in (float("inf"), float("-inf")):
+        raise InvalidArgumentError(name, text, f"an integer >= {minimum}")
+    if value != int(value) or int(value) < minimum:
+        raise InvalidArgumentError(name, text, f"an integer >= {minimum}")
+    return check_count(int(value), name, minimum)
+
+
+def add_common_options(parser: argparse.ArgumentParser, *, time_option: str = "--tau") -> None:
+    """Options shared by every particle model.  Values stay strings here; they are checked by
+    the engines and :func:`run_engine`, so errors name the option and the value received."""
+    parser.add_argument("--n", required=True, help="number of particles / sites (e.g. 2e5)")
+    parser.add_argument("--restitution", required=True, help="restitution coefficient r in [0, 1]")
+    parser.add_argument(
+        "--initial", default="gaussian", help="initial velocity law (default: gaussian)"
+    )
+    parser.add_argument(
+        time_option,
+        dest="times",
+        required=True,
+        metavar="T1,T2,...",
+        help="increasing, non-negative times at which to record",
+    )
+    parser.add_argument("--seed", default="0", help="integer seed >= 0 (default 0)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument(
+        "--structure-factor", action="store_true", help="also output S(k) at the last time"
+    )
+    parser.add_argument("--checkpoint", metavar="FILE", help="write checkpoints to FILE")
+    parser.add_argument("--resume", metavar="FILE", help="continue the run saved in FILE")
+    parser.add_argument("--save", metavar="FILE", help="save the full result (.npz) to FILE")
+    parser.add_argument(
+        "--checkpoint-interval",
+        default="60",
+        metavar="SECONDS",
+        help="wall-clock seconds between checkpoints (default 60)",
+    )
+    parser.add_argument(
+        "--progress",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="progress bar on stderr (default: when stderr is a terminal)",
+    )
+
+
+def run_engine(engine, args, *, time_key: str = "tau") -> int:
+    """Run ``engine`` with the common options in ``args`` and print the result."""
+    from maxwell_kinetics.cli import emit_json
+
+    from .driver import simulate
+
+    times = parse_float_list(args.times, time_key)
+    seed = parse_count(args.seed, "seed", 0)
+    progress = sys.stderr.isatty() if args.progress is None else args.progress
+    try:
+        result = simulate(
+            engine,
+            times,
+            seed,
+            progress=progress,
+            checkpoint=args.checkpoint,
+            resume=args.resume,
+            structure_factor=args.structure_factor,
+            checkpoint_interval=args.checkpoint_interval,
+        )
+    except KeyboardInterrupt:
+        if args.checkpoint:
+            print(f"checkpoint saved to {args.checkpoint}", file=sys.stderr)
+        raise
+    if args.save:
+        result.save(args.save)
+    payload = result.summary()
+    payload[time_key] = payload.pop("tau")
+    payload.update({"params": result.params, "seed": result.seed})
+    if args.structure_factor:
+        payload["k"] = result.structure[0].tolist()
+        payload["S"] = result.structure[1][-1].tolist()
+    if args.json:
+        emit_json(payload)
+    else:
+        print(f"{engine.name}: {result.params}  seed {seed}")
+        print(f"{time_key:>12} {'energy':>14} {'collisions':>14}")
+        for t, e, c in zip(result.times, result.energy, result.collisions, strict=True):
+            print(f"{t:12.6g} {e:14.6e} {c:14d}")
+        print(f"{result.seconds:.3f} s")
+    return 0
+
+
+def _run_ulam(args) -> int:
+    from .ulam import Ulam
+
+    engine = Ulam(parse_count(args.n, "n", 2), args.restitution, args.initial)
+    return run_engine(engine, args)
+
+
+def _add_ulam(models) -> None:
+    parser = models.add_parser(
+        "ulam", help="mean-field pseudo-Maxwell (Ulam) model, exact continuous time in τ"
+    )
+    add_common_options(parser)
+    parser.set_defaults(handler=_run_ulam)
+
+
+def _run_lattice(args) -> int:
+    from .lattice import Lattice
+
+    engine = Lattice(
+        parse_count(args.n, "n", 3), args.restitution, args.initial, not args.no_constraint
+    )
+    return run_engine(engine, args)
+
+
+def _add_lattice(models) -> None:
+    parser = models.add_parser("lattice", help="ring lattice model, τ = attempts / N")
+    add_common_options(parser)
+    parser.add_argument(
+        "--no-constraint",
+        action="store_true",
+        help="collide every chosen bond (default: only approaching pairs, v_i > v_{i+1})",
+    )
+    parser.set_defaults(handler=_run_lattice)
 
 
 def register(subparsers) -> None:
     """Add the ``simulate`` subcommand to the top-level parser's ``subparsers``."""
     simulate = subparsers.add_parser("simulate", help="run a particle model")
     models = simulate.add_subparsers(dest="model", required=True)
-    del models  # the models register themselves here as they land
+    _add_ulam(models)
+    _add_lattice(models)

@@ -1,0 +1,493 @@
+"""The run driver shared by every particle model: initial velocities, the run loop, progress bar,
+checkpoint / resume, Ctrl-C, and saving / loading results.
+
+Engine protocol
+---------------
+An engine (``particles.ulam.Ulam``, ``particles.lattice.Lattice``, the MD engine) is an object with
+
+* ``name: str`` — ``"ulam"``, ``"lattice"``, ``"md"``;
+* ``params() -> dict`` — JSON-able parameters; a checkpoint written with other parameters is
+  rejected;
+* ``initial_state(rng) -> state``;
+* ``advance(state, until, rng) -> state`` — the exact dynamics from ``state.time`` up to ``until``
+  (τ for Ulam and lattice, t for MD).  It must not modify ``state`` (the driver keeps the last
+  completed state for Ctrl-C), and its result may depend on ``until`` only through the exact
+  dynamics and the RNG stream, so the driver only calls it with deterministic stopping points;
+* ``next_stop(time) -> float`` — the next deterministic stopping point strictly after ``time``
+  (a fixed grid of the model's time): the driver advances to ``min(next_stop(t), next requested
+  time)``.  Because stops never depend on wall-clock time, a resumed run repeats an uninterrupted
+  one bit for bit;
+* ``state_from_arrays(arrays) -> state`` — rebuild a state from ``state.to_arrays()``;
+* optionally ``observe(state) -> dict[str, float]`` — extra scalars recorded at each requested
+  time (e.g. τ(t) for MD).
+
+A state is a frozen dataclass with at least ``time: float``, ``velocities: ndarray``,
+``collisions: int`` and ``to_arrays() -> dict[str, ndarray]``.
+
+All randomness comes from one ``np.random.default_rng(seed)``.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tempfile
+import time as _time
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Protocol
+
+import numpy as np
+
+from maxwell_kinetics.initial import get_law
+from maxwell_kinetics.validation import (
+    InvalidArgumentError,
+    check_count,
+    check_nonnegative,
+    check_times,
+)
+
+from . import observables as obs
+
+__all__ = [
+    "CheckpointError",
+    "Engine",
+    "RunResult",
+    "initial_velocities",
+    "simulate",
+    "next_grid_point",
+]
+
+FORMAT_VERSION = 1
+
+
+class CheckpointError(InvalidArgumentError):
+    """A checkpoint or result file that cannot be read or belongs to another run."""
+
+    def __init__(self, path, reason: str, argument: str = "resume"):
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(argument, self.path, f"a readable checkpoint of this run ({reason})")
+
+
+class Engine(Protocol):  # pragma: no cover - typing only
+    name: str
+
+    def params(self) -> dict: ...
+
+    def initial_state(self, rng: np.random.Generator) -> Any: ...
+
+    def advance(self, state: Any, until: float, rng: np.random.Generator) -> Any: ...
+
+    def next_stop(self, time: float) -> float: ...
+
+    def state_from_arrays(self, arrays: dict[str, np.ndarray]) -> Any: ...
+
+
+def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
+    """Draw ``n`` velocities from ``law`` (a name or an ``InitialLaw``), then subtract their mean
+    and rescale them so that the mean is 0 and ⟨v²⟩ = 1 up to round-off."""
+    n = check_count(n, "n", 2)
+    v = get_law(law).sample(rng, n)
+    v = v - v.mean()
+    e = float(np.mean(v * v))
+    if not e > 0.0:
+        raise InvalidArgumentError(
+            "initial", getattr(law, "name", law), "a law with non-zero variance"
+        )
+    v *= 1.0 / math.sqrt(e)
+    return v
+
+
+def next_grid_point(time: float, step: float) -> float:
+    """Smallest ``m * step`` (m an integer) strictly greater than ``time``."""
+    m = math.floor(time / step) + 1
+    while m * step <= time:
+        m += 1
+    while m > 1 and (m - 1) * step > time:
+        m -= 1
+    return m * step
+
+
+# --------------------------------------------------------------------------- files
+
+
+def _write_npz(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
+    """Write ``arrays`` and a JSON ``meta`` entry atomically (temporary file, then rename)."""
+    path = Path(path)
+    payload = dict(arrays)
+    payload["meta"] = np.array(json.dumps(meta))
+    directory = path.parent if str(path.parent) else Path(".")
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **payload)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def _read_npz(path, argument: str, kind: str) -> tuple[dict, dict[str, np.ndarray]]:
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            arrays = {key: data[key] for key in data.files}
+        meta = json.loads(str(arrays.pop("meta")[()]))
+    except FileNotFoundError:
+        raise CheckpointError(path, "no such file", argument) from None
+    except (
+        OSError,
+        ValueError,
+        KeyError,
+        EOFError,
+        zipfile.BadZipFile,
+        json.JSONDecodeError,
+    ) as exc:
+        raise CheckpointError(
+            path, f"not a {kind} file: {type(exc).__name__}: {exc}", argument
+        ) from None
+    if not isinstance(meta, dict) or meta.get("kind") != kind:
+        raise CheckpointError(path, f"not a {kind} file", argument)
+    if meta.get("format") != FORMAT_VERSION:
+        raise CheckpointError(
+            path, f"format {meta.get('format')!r}, expected {FORMAT_VERSION}", argument
+        )
+    return meta, arrays
+
+
+# --------------------------------------------------------------------------- results
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """What a run recorded at its requested times ``times`` (τ, or t for MD).
+
+    ``energy[i]`` = ⟨v²⟩, ``momentum[i]`` = ⟨v⟩, ``collisions[i]`` = total collisions so far;
+    ``histogram`` is the rescaled histogram at the last time; ``structure`` is ``(k, S)`` with
+    ``S[i]`` the structure factor at ``times[i]`` (when requested); ``snapshots[i]`` the
+    velocities at ``times[i]`` (when requested); ``velocities`` the final velocities;
+    ``extras`` engine-specific scalars per time; ``seconds`` the wall-clock time of the run
+    (of all its resumed pieces).
+    """
+
+    model: str
+    params: dict
+    seed: int
+    times: np.ndarray
+    energy: np.ndarray
+    momentum: np.ndarray
+    collisions: np.ndarray
+    velocities: np.ndarray
+    histogram: obs.Histogram | None
+    seconds: float
+    structure: tuple[np.ndarray, np.ndarray] | None = None
+    snapshots: np.ndarray | None = None
+    extras: dict[str, np.ndarray] = field(default_factory=dict)
+
+    def _arrays(self) -> dict[str, np.ndarray]:
+        out = {
+            "times": self.times,
+            "energy": self.energy,
+            "momentum": self.momentum,
+            "collisions": self.collisions,
+            "velocities": self.velocities,
+        }
+        if self.histogram is not None:
+            h = self.histogram
+            out.update(
+                {
+                    "hist.edges": h.edges,
+                    "hist.density": h.density,
+                    "hist.error": h.error,
+                    "hist.count": h.count,
+                }
+            )
+        if self.structure is not None:
+            out["structure.k"], out["structure.S"] = self.structure
+        if self.snapshots is not None:
+            out["snapshots"] = self.snapshots
+        for key, value in self.extras.items():
+            out["extra." + key] = value
+        return out
+
+    def save(self, path) -> None:
+        """Save to ``path`` (an ``.npz`` archive with a JSON ``meta`` entry)."""
+        meta = {
+            "kind": "result",
+            "format": FORMAT_VERSION,
+            "model": self.model,
+            "params": self.params,
+            "seed": self.seed,
+            "seconds": self.seconds,
+        }
+        if self.histogram is not None:
+            meta["hist"] = {"samples": self.histogram.samples, "v0": self.histogram.v0}
+        _write_npz(path, self._arrays(), meta)
+
+    @classmethod
+    def load(cls, path) -> RunResult:
+        """Reload a result written by :meth:`save`."""
+        meta, a = _read_npz(path, "path", "result")
+        try:
+            hist = None
+            if "hist.edges" in a:
+                edges = a["hist.edges"]
+                hist = obs.Histogram(
+                    edges,
+                    0.5 * (edges[1:] + edges[:-1]),
+                    a["hist.density"],
+                    a["hist.error"],
+                    a["hist.count"],
+                    int(meta["hist"]["samples"]),
+                    float(meta["hist"]["v0"]),
+                )
+            structure = (a["structure.k"], a["structure.S"]) if "structure.k" in a else None
+            extras = {k[len("extra.") :]: v for k, v in a.items() if k.startswith("extra.")}
+            return cls(
+                meta["model"],
+                meta["params"],
+                int(meta["seed"]),
+                a["times"],
+                a["energy"],
+                a["momentum"],
+                a["collisions"],
+                a["velocities"],
+                hist,
+                float(meta["seconds"]),
+                structure,
+                a.get("snapshots"),
+                extras,
+            )
+        except KeyError as exc:
+            raise CheckpointError(path, f"missing entry {exc}", "path") from None
+
+    def summary(self) -> dict:
+        """JSON-able summary (the ``--json`` output of ``simulate`` without the extras)."""
+        out = {
+            "model": self.model,
+            "tau": self.times.tolist(),
+            "energy": self.energy.tolist(),
+            "collisions": int(self.collisions[-1]),
+            "seconds": self.seconds,
+        }
+        if self.histogram is not None:
+            out["histogram"] = self.histogram.to_dict()
+        return out
+
+
+# --------------------------------------------------------------------------- the run loop
+
+
+class _Records:
+    """Per-time records of a run in progress (also what a checkpoint stores)."""
+
+    def __init__(self, nt: int, n: int, structure: bool, snapshots: bool):
+        self.done = 0
+        self.energy = np.full(nt, np.nan)
+        self.momentum = np.full(nt, np.nan)
+        self.collisions = np.zeros(nt, dtype=np.int64)
+        self.structure = np.full((nt, n // 2 + 1), np.nan) if structure else None
+        self.snapshots = np.full((nt, n), np.nan) if snapshots else None
+        self.extras: dict[str, np.ndarray] = {}
+        self.seconds = 0.0
+
+    def record(self, engine, state, nt: int) -> None:
+        i = self.done
+        v = state.velocities
+        self.energy[i] = obs.energy(v)
+        self.momentum[i] = obs.momentum(v)
+        self.collisions[i] = int(state.collisions)
+        if self.structure is not None:
+            self.structure[i] = obs.structure_factor(v)[1]
+        if self.snapshots is not None:
+            self.snapshots[i] = v
+        observe = getattr(engine, "observe", None)
+        if observe is not None:
+            for key, value in observe(state).items():
+                self.extras.setdefault(key, np.full(nt, np.nan))[i] = value
+        self.done += 1
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        out = {
+            "rec.energy": self.energy,
+            "rec.momentum": self.momentum,
+            "rec.collisions": self.collisions,
+        }
+        if self.structure is not None:
+            out["rec.structure"] = self.structure
+        if self.snapshots is not None:
+            out["rec.snapshots"] = self.snapshots
+        for key, value in self.extras.items():
+            out["rec.extra." + key] = value
+        return out
+
+    def restore(self, arrays: dict[str, np.ndarray], done: int, seconds: float) -> None:
+        self.done = done
+        self.seconds = seconds
+        self.energy = arrays["rec.energy"]
+        self.momentum = arrays["rec.momentum"]
+        self.collisions = arrays["rec.collisions"]
+        if self.structure is not None:
+            self.structure = arrays["rec.structure"]
+        if self.snapshots is not None:
+            self.snapshots = arrays["rec.snapshots"]
+        prefix = "rec.extra."
+        self.extras = {k[len(prefix) :]: v for k, v in arrays.items() if k.startswith(prefix)}
+
+
+def _run_identity(engine, times, seed, edges, structure, snapshots) -> dict:
+    identity = {
+        "model": engine.name,
+        "params": engine.params(),
+        "times": [float(t) for t in times],
+        "seed": int(seed),
+        "options": {
+            "bins": [float(e) for e in edges],
+            "structure_factor": bool(structure),
+            "snapshots": bool(snapshots),
+        },
+    }
+    return json.loads(json.dumps(identity))  # normalise tuples, numpy scalars
+
+
+def _save_checkpoint(path, identity, state, rng_state, records: _Records) -> None:
+    arrays = {"state." + k: np.asarray(v) for k, v in state.to_arrays().items()}
+    arrays.update(records.arrays())
+    meta = {
+        "kind": "checkpoint",
+        "format": FORMAT_VERSION,
+        "run": identity,
+        "rng": rng_state,
+        "done": records.done,
+        "seconds": records.seconds,
+    }
+    _write_npz(path, arrays, meta)
+
+
+def _load_checkpoint(path, engine, identity, records: _Records):
+    meta, arrays = _read_npz(path, "resume", "checkpoint")
+    run = meta.get("run", {})
+    diffs = [key for key in identity if run.get(key) != identity[key]]
+    if diffs:
+        shown = ", ".join(f"{k}: file {run.get(k)!r} vs run {identity[k]!r}" for k in diffs)
+        if len(shown) > 400:
+            shown = shown[:400] + "..."
+        raise CheckpointError(path, f"written for a different run; {shown}")
+    try:
+        state = engine.state_from_arrays(
+            {k[len("state.") :]: v for k, v in arrays.items() if k.startswith("state.")}
+        )
+        records.restore(arrays, int(meta["done"]), float(meta["seconds"]))
+        rng = np.random.default_rng(identity["seed"])
+        rng.bit_generator.state = meta["rng"]
+    except (KeyError, TypeError, ValueError) as exc:
+        raise CheckpointError(path, f"incomplete checkpoint: {type(exc).__name__}: {exc}") from None
+    return state, rng
+
+
+def simulate(
+    engine,
+    times,
+    seed,
+    *,
+    progress: bool = True,
+    checkpoint=None,
+    resume=None,
+    bins=None,
+    structure_factor: bool = False,
+    snapshots: bool = False,
+    checkpoint_interval: float = 60.0,
+) -> RunResult:
+    """Run ``engine`` from its initial state through the requested ``times`` (increasing, ≥ 0).
+
+    Records at every requested time the energy ⟨v²⟩, the mean velocity, the total number of
+    collisions, the structure factor (``structure_factor=True``) and the velocities
+    (``snapshots=True``); at the last time the rescaled histogram on ``bins`` (edges in
+    x = v/√E, default :data:`particles.observables.DEFAULT_EDGES`).
+
+    ``seed`` (an integer ≥ 0) seeds the one ``np.random.default_rng`` of the run.  With
+    ``checkpoint=PATH`` the state, the RNG state and the records so far are written to PATH
+    every ``checkpoint_interval`` wall-clock seconds (at the engine's stops), at the end, and on
+    Ctrl-C before the ``KeyboardInterrupt`` propagates.  ``resume=PATH`` continues from such a
+    file; the run (model, parameters, times, seed, options) must be the one that wrote it, else
+    :class:`CheckpointError`.  A resumed run equals an uninterrupted one bit for bit.
+    """
+    times = check_times(times, "tau")
+    seed = check_count(seed, "seed", 0)
+    hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
+    checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
+    identity = _run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
+    n = int(engine.params()["n"])
+    records = _Records(len(times), n, structure_factor, snapshots)
+
+    if resume is not None:
+        state, rng = _load_checkpoint(resume, engine, identity, records)
+    else:
+        rng = np.random.default_rng(seed)
+        state = engine.initial_state(rng)
+    rng_state = rng.bit_generator.state
+
+    started = _time.perf_counter()
+    seconds_before = records.seconds
+    last_save = _time.monotonic()
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(
+            total=float(times[-1]),
+            initial=float(state.time),
+            unit="τ",
+            leave=False,
+            desc=engine.name,
+            bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} [{elapsed}<{remaining}]",
+        )
+    try:
+        while records.done < len(times):
+            target = float(times[records.done])
+            while state.time < target:
+                stop = min(float(engine.next_stop(state.time)), target)
+                new = engine.advance(state, stop, rng)
+                if bar is not None:
+                    bar.update(new.time - state.time)
+                state = new
+                rng_state = rng.bit_generator.state
+                if checkpoint is not None and _time.monotonic() - last_save >= checkpoint_interval:
+                    records.seconds = seconds_before + _time.perf_counter() - started
+                    _save_checkpoint(checkpoint, identity, state, rng_state, records)
+                    last_save = _time.monotonic()
+            records.record(engine, state, len(times))
+    except KeyboardInterrupt:
+        if checkpoint is not None:
+            records.seconds = seconds_before + _time.perf_counter() - started
+            _save_checkpoint(checkpoint, identity, state, rng_state, records)
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+    records.seconds = seconds_before + _time.perf_counter() - started
+    if checkpoint is not None:
+        _save_checkpoint(checkpoint, identity, state, rng_state, records)
+
+    v = state.velocities
+    structure = None
+    if records.structure is not None:
+        structure = (obs.structure_factor(v)[0], records.structure)
+    return RunResult(
+        model=engine.name,
+        params=identity["params"],
+        seed=seed,
+        times=times,
+        energy=records.energy,
+        momentum=records.momentum,
+        collisions=records.collisions,
+        velocities=v,
+        histogram=obs.rescaled_histogram(v, hist_edges),
+        seconds=records.seconds,
+        structure=structure,
+        snapshots=records.snapshots,
+        extras=records.extras,
+    )

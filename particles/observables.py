@@ -1,0 +1,203 @@
+"""Observables of a velocity field v(i) on N particles or sites (NumPy + pyfftw).
+
+Every function takes a velocity array ``v`` whose last axis runs over the particles (for the
+lattice and MD, over the site / particle label i = 0..N-1 on a ring).  Functions that accept a
+two-dimensional array ``(runs, N)`` average over the runs, as stated in each docstring.
+
+Conventions
+-----------
+* Energy is ⟨v²⟩ = (1/N) Σ_i v_i², per particle, *not* ½⟨v²⟩; it is 1 at τ = 0 for every run.
+* Discrete Fourier transform (ring of N sites, lattice spacing 1):
+  v̂(k) = Σ_{j=0}^{N-1} v_j e^{-i k j}, with k = 2π m / N.  Only m = 0 .. ⌊N/2⌋ is returned
+  (``rfft`` ordering, increasing k) because v is real and S(−k) = S(k).
+* The profile v(i) is simply the velocity array itself, in label order: no function is needed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pyfftw.interfaces.numpy_fft as _fft
+
+from maxwell_kinetics.validation import InvalidArgumentError
+
+__all__ = [
+    "Histogram",
+    "energy",
+    "momentum",
+    "rescaled_histogram",
+    "structure_factor",
+    "correlation",
+    "log_bin",
+    "DEFAULT_EDGES",
+]
+
+#: Default bin edges for the rescaled velocity x = v / √E: 121 edges, width 0.1, on [-6, 6].
+DEFAULT_EDGES = np.linspace(-6.0, 6.0, 121)
+
+
+def _as_velocities(v, *, min_dims=1, max_dims=2) -> np.ndarray:
+    arr = np.asarray(v, dtype=float)
+    if not min_dims <= arr.ndim <= max_dims or arr.shape[-1] < 1:
+        raise InvalidArgumentError(
+            "v",
+            f"array of shape {arr.shape}",
+            f"a {min_dims}..{max_dims}-dimensional velocity array",
+        )
+    return arr
+
+
+def energy(v) -> np.ndarray | float:
+    """Energy per particle ⟨v²⟩ = (1/N) Σ_i v_i² along the last axis (no factor ½)."""
+    arr = _as_velocities(v)
+    out = np.mean(arr * arr, axis=-1)
+    return float(out) if out.ndim == 0 else out
+
+
+def momentum(v) -> np.ndarray | float:
+    """Mean velocity (1/N) Σ_i v_i (momentum per particle, unit masses) along the last axis."""
+    arr = _as_velocities(v)
+    out = np.mean(arr, axis=-1)
+    return float(out) if out.ndim == 0 else out
+
+
+@dataclass(frozen=True)
+class Histogram:
+    """A density estimate of x = v / v0 on fixed bins, with its statistical error.
+
+    ``density[b] = count[b] / (n · width[b])`` integrates to the fraction of samples inside the
+    edges.  ``error[b] = sqrt(n p (1 − p)) / (n · width[b])`` with ``p = count[b] / n`` is the
+    binomial (≈ Poisson for small p) standard error of one bin for n independent samples.  For a
+    correlated field (lattice, MD late times) the velocities are not independent and the true
+    error is larger; averaging over independent runs is then the honest estimate.
+    """
+
+    edges: np.ndarray
+    centres: np.ndarray
+    density: np.ndarray
+    error: np.ndarray
+    count: np.ndarray
+    samples: int
+    v0: float
+
+    def to_dict(self) -> dict:
+        return {
+            "centres": self.centres.tolist(),
+            "density": self.density.tolist(),
+            "error": self.error.tolist(),
+        }
+
+
+def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
+    """Histogram of the rescaled velocity x = v / v0, v0 = √E, E = ⟨v²⟩ of the same array.
+
+    ``v`` may be one run ``(N,)`` or several runs ``(R, N)``; each run is rescaled by its own v0
+    and all R·N values are pooled (the reported ``v0`` is the mean over runs).  ``bins`` is an
+    array of increasing edges in x, or an integer number of equal bins on [-6, 6]; the default is
+    :data:`DEFAULT_EDGES`.  The density is normalised by the total number of samples (including
+    those outside the edges), so it estimates the probability density of x directly.
+    """
+    arr = _as_velocities(v)
+    if bins is None:
+        edges = DEFAULT_EDGES
+    elif np.isscalar(bins):
+        if isinstance(bins, bool) or int(bins) != bins or int(bins) < 1:
+            raise InvalidArgumentError("bins", bins, "a positive integer or an array of edges")
+        edges = np.linspace(-6.0, 6.0, int(bins) + 1)
+    else:
+        edges = np.asarray(bins, dtype=float)
+        if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
+            raise InvalidArgumentError("bins", bins, "at least two strictly increasing edges")
+    rows = arr.reshape(-1, arr.shape[-1])
+    if v0 is None:
+        v0 = np.sqrt(np.mean(rows * rows, axis=1))
+    else:
+        if not (np.isscalar(v0) and float(v0) > 0 and np.isfinite(float(v0))):
+            raise InvalidArgumentError("v0", v0, "a finite number > 0")
+        v0 = np.full(rows.shape[0], float(v0))
+    if np.any(v0 <= 0) or not np.all(np.isfinite(v0)):
+        raise InvalidArgumentError("v", f"energy {v0**2}", "a finite, non-zero energy per run")
+    x = (rows / v0[:, None]).ravel()
+    count, _ = np.histogram(x, bins=edges)
+    n = x.size
+    width = np.diff(edges)
+    prob = count / n
+    density = prob / width
+    error = np.sqrt(n * prob * (1.0 - prob)) / (n * width)
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    return Histogram(edges, centres, density, error, count, n, float(np.mean(v0)))
+
+
+def _spectrum(arr: np.ndarray) -> np.ndarray:
+    """|v̂(k)|² for k = 2πm/N, m = 0..⌊N/2⌋, for every row (pyfftw, one thread)."""
+    vhat = _fft.rfft(arr, axis=-1, threads=1)
+    return vhat.real**2 + vhat.imag**2
+
+
+def structure_factor(v) -> tuple[np.ndarray, np.ndarray]:
+    """Structure factor S(k) = |v̂(k)|² / N of a ring of N sites, averaged over runs.
+
+    Sign and normalisation: v̂(k) = Σ_j v_j e^{−ikj} (forward FFT, no 1/N), S(k) = |v̂(k)|²/N.
+    Returns ``(k, S)`` with k = 2πm/N for m = 0, 1, …, ⌊N/2⌋, increasing.
+
+    * k = 0: S(0) = (Σ_j v_j)²/N = N ⟨v⟩², zero up to round-off at zero total momentum; it is
+      returned but is not part of any scaling range (:func:`log_bin` drops it).
+    * Nyquist (even N only, m = N/2, k = π): v̂ = Σ_j (−1)^j v_j is real; it is returned once.
+    * Parseval: averaging S over the full circle of N modes (each m ≠ 0, N/2 counted twice) gives
+      ⟨v²⟩; uncorrelated velocities of energy E have S(k) = E for every k ≠ 0.
+
+    ``v`` of shape ``(R, N)`` gives the average of S over the R runs (all of the same N).
+    """
+    arr = _as_velocities(v)
+    n = arr.shape[-1]
+    power = _spectrum(arr) / n
+    if power.ndim == 2:
+        power = power.mean(axis=0)
+    k = 2.0 * np.pi * np.arange(power.shape[-1]) / n
+    return k, power
+
+
+def correlation(v) -> np.ndarray:
+    """Velocity correlation C(r) = (1/N) Σ_i v_i v_{i+r} on the ring (indices mod N), averaged
+    over runs.
+
+    Returns C(r) for r = 0..N−1 (C(N − r) = C(r)); C(0) = ⟨v²⟩.  Computed through the FFT as
+    C(r) = (1/N²) Σ_m |v̂(k_m)|² e^{+i k_m r} (Wiener–Khinchin), i.e. the inverse transform of S(k)
+    divided by N; it is not normalised by C(0).
+    """
+    arr = _as_velocities(v)
+    n = arr.shape[-1]
+    power = _spectrum(arr)
+    c = _fft.irfft(power, n=n, axis=-1, threads=1) / n
+    if c.ndim == 2:
+        c = c.mean(axis=0)
+    return c
+
+
+def log_bin(k, s, bins_per_decade: int = 10) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Average ``s(k)`` in logarithmically spaced bins of k > 0 (k = 0 is dropped).
+
+    Bin edges are 10^(j / bins_per_decade).  Returns ``(k_mean, s_mean, count)`` for the non-empty
+    bins: the arithmetic means of k and of s over the modes in each bin and the number of modes.
+    """
+    k = np.asarray(k, dtype=float)
+    s = np.asarray(s, dtype=float)
+    if k.shape != s.shape or k.ndim != 1:
+        raise InvalidArgumentError("s", f"shape {s.shape}", f"the shape of k, {k.shape}")
+    if isinstance(bins_per_decade, bool) or int(bins_per_decade) < 1:
+        raise InvalidArgumentError("bins_per_decade", bins_per_decade, "a positive integer")
+    keep = k > 0
+    k, s = k[keep], s[keep]
+    if k.size == 0:
+        return np.empty(0), np.empty(0), np.empty(0, dtype=int)
+    b = int(bins_per_decade)
+    lo = np.floor(np.log10(k.min()) * b)
+    hi = np.ceil(np.log10(k.max()) * b) + 1
+    edges = 10.0 ** (np.arange(lo, hi + 1) / b)
+    index = np.clip(np.searchsorted(edges, k, side="right") - 1, 0, edges.size - 2)
+    count = np.bincount(index, minlength=edges.size - 1)
+    ksum = np.bincount(index, weights=k, minlength=edges.size - 1)
+    ssum = np.bincount(index, weights=s, minlength=edges.size - 1)
+    full = count > 0
+    return ksum[full] / count[full], ssum[full] / count[full], count[full]

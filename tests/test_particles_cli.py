@@ -1,0 +1,135 @@
+"""``maxwell-kinetics simulate ulam|lattice``: JSON contract, checkpoint/resume, bad input."""
+
+import json
+import re
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics.cli import main
+
+
+def run_json(capsys, argv):
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert out.count("\n") == 1  # exactly one JSON object on one line
+    return json.loads(out)
+
+
+@pytest.mark.parametrize("model", ["ulam", "lattice"])
+def test_json_output_contract(capsys, model):
+    argv = [
+        "simulate",
+        model,
+        "--n",
+        "2000",
+        "--restitution",
+        "0.5",
+        "--initial",
+        "uniform",
+        "--tau",
+        "0.5,1,2",
+        "--seed",
+        "4",
+        "--json",
+        "--structure-factor",
+    ]
+    out = run_json(capsys, argv)
+    assert {"tau", "energy", "collisions", "seconds", "histogram", "k", "S"} <= set(out)
+    assert out["tau"] == [0.5, 1.0, 2.0]
+    assert len(out["energy"]) == 3 and 0 < out["energy"][-1] < out["energy"][0] < 1
+    assert isinstance(out["collisions"], int) and out["collisions"] > 0
+    assert set(out["histogram"]) == {"centres", "density", "error"}
+    assert len(out["histogram"]["centres"]) == len(out["histogram"]["density"])
+    assert len(out["k"]) == len(out["S"]) == 2000 // 2 + 1
+    again = run_json(capsys, argv)  # same seed, same numbers
+    assert again["energy"] == out["energy"] and again["S"] == out["S"]
+
+
+def test_no_constraint_changes_the_lattice_and_text_output(capsys):
+    base = ["simulate", "lattice", "--n", "5000", "--restitution", "0.5", "--tau", "0.5", "--json"]
+    with_c = run_json(capsys, base)
+    without = run_json(capsys, base + ["--no-constraint"])
+    assert without["params"]["constraint"] is False
+    # initial cooling twice as fast without the constraint
+    assert 1 - without["energy"][0] > 1.5 * (1 - with_c["energy"][0])
+    assert main(base[:-1]) == 0
+    text = capsys.readouterr().out
+    assert "energy" in text and "lattice" in text
+
+
+def test_checkpoint_then_resume_gives_the_same_numbers(capsys, tmp_path):
+    ckpt = tmp_path / "run.ckpt"
+    saved = tmp_path / "result.npz"
+    argv = [
+        "simulate",
+        "ulam",
+        "--n",
+        "3000",
+        "--restitution",
+        "0.3",
+        "--tau",
+        "1,3",
+        "--seed",
+        "2",
+        "--json",
+    ]
+    plain = run_json(capsys, argv)
+    first = run_json(capsys, argv + ["--checkpoint", str(ckpt), "--save", str(saved)])
+    assert ckpt.exists() and saved.exists()
+    resumed = run_json(capsys, argv + ["--resume", str(ckpt)])
+    assert plain["energy"] == first["energy"] == resumed["energy"]
+    assert plain["histogram"] == resumed["histogram"]
+    from particles.driver import RunResult
+
+    assert np.allclose(RunResult.load(saved).energy, plain["energy"], rtol=0, atol=0)
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["ulam", "--n", "1", "--restitution", "0.5", "--tau", "1"], "n='1'"),
+        (["lattice", "--n", "2", "--restitution", "0.5", "--tau", "1"], "n='2'"),
+        (["ulam", "--n", "ten", "--restitution", "0.5", "--tau", "1"], "n='ten'"),
+        (["ulam", "--n", "10", "--restitution", "1.5", "--tau", "1"], "restitution='1.5'"),
+        (["lattice", "--n", "10", "--restitution", "-0.2", "--tau", "1"], "restitution='-0.2'"),
+        (
+            ["ulam", "--n", "10", "--restitution", "0.5", "--tau=-1,2"],
+            r"tau=\[-1.0, 2.0\].*>= 0",
+        ),
+        (["ulam", "--n", "10", "--restitution", "0.5", "--tau", "2,1"], "tau=.*increasing"),
+        (["ulam", "--n", "10", "--restitution", "0.5", "--tau", "a,b"], "tau='a,b'"),
+        (
+            ["ulam", "--n", "10", "--restitution", "0.5", "--tau", "1", "--initial", "cauchy"],
+            "initial='cauchy'",
+        ),
+        (["ulam", "--n", "10", "--restitution", "0.5", "--tau", "1", "--seed", "-3"], "seed='-3'"),
+    ],
+)
+def test_bad_input_exits_2_naming_argument_and_value(capsys, tmp_path, argv, message):
+    ckpt = tmp_path / "never.ckpt"
+    saved = tmp_path / "never.npz"
+    code = main(["simulate", *argv, "--checkpoint", str(ckpt), "--save", str(saved)])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "error" in err and re.search(message, err), err
+    assert not ckpt.exists() and not saved.exists()
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_corrupt_or_mismatched_checkpoint_exits_2(capsys, tmp_path):
+    bad = tmp_path / "bad.ckpt"
+    bad.write_text("not a checkpoint")
+    base = ["simulate", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1"]
+    assert main(base + ["--resume", str(bad)]) == 2
+    assert "bad.ckpt" in capsys.readouterr().err
+    good = tmp_path / "good.ckpt"
+    assert main(base + ["--checkpoint", str(good)]) == 0
+    capsys.readouterr()
+    mismatched = ["simulate", "ulam", "--n", "100", "--restitution", "0.6", "--tau", "1"]
+    assert main(mismatched + ["--resume", str(good)]) == 2
+    err = capsys.readouterr().err
+    assert "good.ckpt" in err and "restitution" in err
+    lattice = ["simulate", "lattice", "--n", "100", "--restitution", "0.5", "--tau", "1"]
+    assert main(lattice + ["--resume", str(good)]) == 2
+    assert "model" in capsys.readouterr().err

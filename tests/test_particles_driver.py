@@ -1,0 +1,169 @@
+"""The run driver: initial velocities, reproducibility, checkpoint/resume, Ctrl-C, results."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics.initial import law_names
+from maxwell_kinetics.validation import InvalidArgumentError
+from particles.driver import (
+    CheckpointError,
+    RunResult,
+    initial_velocities,
+    next_grid_point,
+    simulate,
+)
+from particles.lattice import Lattice
+from particles.ulam import Ulam
+
+
+@pytest.mark.parametrize("law", law_names())
+def test_initial_velocities_have_zero_momentum_and_unit_energy(law):
+    v = initial_velocities(law, 1001, np.random.default_rng(0))
+    assert v.shape == (1001,)
+    assert abs(v.mean()) < 1e-15
+    assert np.mean(v**2) == pytest.approx(1.0, abs=1e-14)
+
+
+def test_next_grid_point_is_strictly_after():
+    assert next_grid_point(0.0, 0.25) == 0.25
+    assert next_grid_point(0.25, 0.25) == 0.5
+    assert next_grid_point(0.3, 0.25) == 0.5
+    assert next_grid_point(0.1 * 3, 0.1) > 0.1 * 3
+
+
+def _assert_same_run(a: RunResult, b: RunResult):
+    assert np.array_equal(a.times, b.times)
+    assert np.array_equal(a.energy, b.energy)
+    assert np.array_equal(a.momentum, b.momentum)
+    assert np.array_equal(a.collisions, b.collisions)
+    assert np.array_equal(a.velocities, b.velocities)
+    assert np.array_equal(a.histogram.count, b.histogram.count)
+    assert (a.structure is None) == (b.structure is None)
+    if a.structure is not None:
+        assert np.array_equal(a.structure[1], b.structure[1])
+    assert a.extras.keys() == b.extras.keys()
+    for key in a.extras:
+        assert np.array_equal(a.extras[key], b.extras[key])
+
+
+ENGINES = [Ulam(3000, 0.5, "uniform"), Lattice(3000, 0.7, "bimodal")]
+
+
+@pytest.mark.parametrize("engine", ENGINES, ids=lambda e: e.name)
+def test_same_seed_same_result_other_seed_other_result(engine):
+    times = [0.0, 0.5, 3.0, 9.5]
+    a = simulate(engine, times, 7, progress=False, structure_factor=True)
+    b = simulate(engine, times, 7, progress=False, structure_factor=True)
+    _assert_same_run(a, b)
+    c = simulate(engine, times, 8, progress=False)
+    assert not np.array_equal(a.velocities, c.velocities)
+    assert a.energy[0] == pytest.approx(1.0, abs=1e-14)
+    assert a.collisions[0] == 0 and np.all(np.diff(a.collisions) > 0)
+
+
+@dataclasses.dataclass(frozen=True)
+class Interrupting:
+    """Wraps an engine and raises KeyboardInterrupt in its ``after``-th advance (mid-run)."""
+
+    inner: object
+    after: int
+    calls: list = dataclasses.field(default_factory=list)
+
+    @property
+    def name(self):
+        return self.inner.name
+
+    def __getattr__(self, item):
+        return getattr(self.inner, item)
+
+    def advance(self, state, until, rng):
+        self.calls.append(until)
+        if len(self.calls) == self.after:
+            rng.random(17)  # the interrupted advance has consumed randomness: must not matter
+            raise KeyboardInterrupt
+        return self.inner.advance(state, until, rng)
+
+
+@pytest.mark.parametrize("engine", ENGINES, ids=lambda e: e.name)
+def test_ctrl_c_checkpoint_then_resume_is_bit_identical(engine, tmp_path):
+    times = [1.0, 6.5, 13.0]
+    path = tmp_path / "run.ckpt"
+    reference = simulate(engine, times, 3, progress=False, structure_factor=True)
+    with pytest.raises(KeyboardInterrupt):
+        simulate(
+            Interrupting(engine, after=3),
+            times,
+            3,
+            progress=False,
+            structure_factor=True,
+            checkpoint=path,
+        )
+    assert path.exists()
+    resumed = simulate(
+        engine, times, 3, progress=False, structure_factor=True, resume=path, checkpoint=path
+    )
+    _assert_same_run(reference, resumed)
+    # The final checkpoint holds the finished run: resuming it again changes nothing.
+    again = simulate(engine, times, 3, progress=False, structure_factor=True, resume=path)
+    _assert_same_run(reference, again)
+
+
+def test_periodic_checkpoints_do_not_change_the_run(tmp_path):
+    engine = Ulam(500, 0.3)
+    times = [2.0, 7.0]
+    plain = simulate(engine, times, 11, progress=False)
+    path = tmp_path / "c.npz"
+    saved = simulate(engine, times, 11, progress=False, checkpoint=path, checkpoint_interval=0)
+    _assert_same_run(plain, saved)
+
+
+def test_bad_checkpoints_are_named(tmp_path):
+    engine = Ulam(200, 0.5)
+    good = tmp_path / "good.ckpt"
+    simulate(engine, [1.0], 1, progress=False, checkpoint=good)
+    garbage = tmp_path / "garbage.ckpt"
+    garbage.write_bytes(b"this is not a checkpoint")
+    with pytest.raises(CheckpointError, match="garbage.ckpt"):
+        simulate(engine, [1.0], 1, progress=False, resume=garbage)
+    with pytest.raises(CheckpointError, match="missing.ckpt.*no such file"):
+        simulate(engine, [1.0], 1, progress=False, resume=tmp_path / "missing.ckpt")
+    with pytest.raises(CheckpointError, match="good.ckpt.*restitution"):
+        simulate(Ulam(200, 0.6), [1.0], 1, progress=False, resume=good)
+    with pytest.raises(CheckpointError, match="good.ckpt.*model"):
+        simulate(Lattice(200, 0.5), [1.0], 1, progress=False, resume=good)
+    with pytest.raises(CheckpointError, match="seed"):
+        simulate(engine, [1.0], 2, progress=False, resume=good)
+    result = tmp_path / "result.npz"
+    simulate(engine, [1.0], 1, progress=False).save(result)
+    with pytest.raises(CheckpointError, match="result.npz.*not a checkpoint"):
+        simulate(engine, [1.0], 1, progress=False, resume=result)
+    assert issubclass(CheckpointError, InvalidArgumentError)
+
+
+def test_result_save_and_load_round_trip(tmp_path):
+    res = simulate(
+        Lattice(256, 0.5), [1.0, 4.0], 5, progress=False, structure_factor=True, snapshots=True
+    )
+    path = tmp_path / "res.npz"
+    res.save(path)
+    back = RunResult.load(path)
+    _assert_same_run(res, back)
+    assert back.params == res.params and back.model == "lattice" and back.seed == 5
+    assert np.array_equal(back.snapshots, res.snapshots)
+    assert np.array_equal(back.snapshots[-1], res.velocities)
+    assert back.summary() == res.summary()
+
+
+@pytest.mark.parametrize(
+    "times, match", [([1.0, 0.5], "tau"), ([-1.0], "tau"), ([], "tau"), ([np.nan], "tau")]
+)
+def test_bad_times_are_rejected(times, match):
+    with pytest.raises(InvalidArgumentError, match=match):
+        simulate(Ulam(10, 0.5), times, 0, progress=False)
+
+
+def test_bad_seed_is_rejected():
+    with pytest.raises(InvalidArgumentError, match="seed=-1"):
+        simulate(Ulam(10, 0.5), [1.0], -1, progress=False)

@@ -1,0 +1,89 @@
+"""Observables of particles.observables against direct formulas and exact statistics."""
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics.validation import InvalidArgumentError
+from particles import observables as obs
+
+
+def test_energy_and_momentum_per_particle():
+    v = np.array([1.0, -3.0, 2.0, 0.0])
+    assert obs.energy(v) == pytest.approx(14.0 / 4)
+    assert obs.momentum(v) == 0.0
+    assert obs.energy(np.stack([v, 2 * v])) == pytest.approx([3.5, 14.0])
+
+
+def test_structure_factor_matches_direct_dft_and_parseval():
+    rng = np.random.default_rng(0)
+    for n in (16, 17):  # even N has a Nyquist mode, odd N does not
+        v = rng.standard_normal(n)
+        k, s = obs.structure_factor(v)
+        m = np.arange(n // 2 + 1)
+        assert np.allclose(k, 2 * np.pi * m / n)
+        direct = np.abs(np.exp(-1j * np.outer(k, np.arange(n))) @ v) ** 2 / n
+        assert np.allclose(s, direct, rtol=1e-12, atol=1e-12)
+        assert s[0] == pytest.approx(v.sum() ** 2 / n)
+        # Parseval over the full circle: modes other than 0 and Nyquist appear twice.
+        weights = np.full(s.size, 2.0)
+        weights[0] = 1.0
+        if n % 2 == 0:
+            weights[-1] = 1.0
+        assert np.sum(weights * s) / n == pytest.approx(np.mean(v**2), rel=1e-12)
+
+
+def test_structure_factor_of_white_noise_is_flat_at_the_energy():
+    # 64 runs of N = 4096 unit Gaussians: each S(k) (k != 0, Nyquist) is E * Exp(1); the mean
+    # over 64 runs and 2047 modes has relative error 1/sqrt(64*2047) = 2.8e-3: 5 sigma = 1.4e-2.
+    rng = np.random.default_rng(1)
+    v = rng.standard_normal((64, 4096))
+    k, s = obs.structure_factor(v)
+    assert np.mean(s[1:-1]) == pytest.approx(1.0, abs=1.4e-2)
+    kb, sb, count = obs.log_bin(k, s, bins_per_decade=4)
+    assert np.all(kb > 0) and np.all(np.diff(kb) > 0)
+    assert count.sum() == k.size - 1  # every k > 0 mode lands in exactly one bin
+    # the smallest bins hold one mode of 64 runs: relative error 1/8; the rest far less.
+    assert np.all(np.abs(sb - 1.0) < 5.0 / np.sqrt(64 * count))
+
+
+def test_correlation_is_the_ring_autocorrelation():
+    rng = np.random.default_rng(2)
+    v = rng.standard_normal(50)
+    c = obs.correlation(v)
+    direct = np.array([np.mean(v * np.roll(v, -r)) for r in range(50)])
+    assert np.allclose(c, direct, atol=1e-13)
+    assert c[0] == pytest.approx(obs.energy(v))
+    both = obs.correlation(np.stack([v, -2 * v]))
+    assert np.allclose(both, 2.5 * direct, atol=1e-12)
+
+
+def test_rescaled_histogram_density_and_binomial_error():
+    # 2e5 unit Gaussians, bins of width 0.1: every bin density within 5 binomial errors of the
+    # exact Gaussian bin probability / width (the error is the binomial standard deviation).
+    from scipy.special import ndtr
+
+    rng = np.random.default_rng(3)
+    v = 3.0 * rng.standard_normal(200_000)
+    h = obs.rescaled_histogram(v)
+    assert h.v0 == pytest.approx(np.sqrt(np.mean(v**2)))
+    x = v / h.v0
+    assert h.count.sum() == np.count_nonzero((x >= -6) & (x <= 6))
+    assert np.sum(h.density * np.diff(h.edges)) == pytest.approx(h.count.sum() / v.size)
+    exact = np.diff(ndtr(h.edges)) / np.diff(h.edges)
+    inner = exact > 1e-3
+    assert np.all(np.abs(h.density - exact)[inner] < 5 * h.error[inner])
+    p = h.count / v.size
+    assert np.allclose(h.error, np.sqrt(v.size * p * (1 - p)) / (v.size * 0.1))
+
+
+def test_rescaled_histogram_scale_and_bins_arguments():
+    v = np.array([-2.0, -1.0, 1.0, 2.0])
+    h = obs.rescaled_histogram(v, bins=[-3, 0, 3], v0=1.0)
+    assert h.count.tolist() == [2, 2]
+    assert obs.rescaled_histogram(v, bins=4).edges.tolist() == [-6, -3, 0, 3, 6]
+    with pytest.raises(InvalidArgumentError, match="bins"):
+        obs.rescaled_histogram(v, bins=[1.0, 0.0])
+    with pytest.raises(InvalidArgumentError, match="v0"):
+        obs.rescaled_histogram(v, v0=-1.0)
+    with pytest.raises(InvalidArgumentError, match="energy"):
+        obs.rescaled_histogram(np.zeros(4))
