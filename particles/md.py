@@ -97,6 +97,8 @@ __all__ = [
 
 # Relative round-off margin of the light-cone tests (in units of the largest key magnitude).
 _CONE_MARGIN = 64 * np.finfo(float).eps
+# With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
+_STALL_STREAK = 100_000
 
 
 class InelasticCollapseError(RuntimeError):
@@ -306,7 +308,10 @@ class MDEngine:
     scheme) or ``"reference"`` (sequential heap).
 
     ``collapse_dt`` (in units of the initial mean free time 1/n) and ``collapse_streak`` tune the
-    inelastic-collapse detector (module docstring).
+    inelastic-collapse detector (module docstring).  Tuning of the fast path (results do not
+    depend on it): ``target_candidates`` collisions per horizon slab (default N/8), and
+    ``sequential_below``: when a vectorised pass fires fewer collisions than this, the rest of the
+    slab runs in the scalar event loop (same formulas, same order).
     """
 
     name = "md"
@@ -319,6 +324,7 @@ class MDEngine:
         collapse_dt: float = 1e-9,
         collapse_streak: int = 200,
         target_candidates: int | None = None,
+        sequential_below: int = 24,
     ):
         if not isinstance(params, MDParams):
             raise InvalidArgumentError("params", params, "an MDParams")
@@ -331,7 +337,8 @@ class MDEngine:
         if target_candidates is None:
             target_candidates = max(256, params.n // 8)
         self.target_candidates = check_count(target_candidates, "target_candidates", 1)
-        self.stats = {"passes": 0, "slabs": 0}
+        self.sequential_below = check_count(sequential_below, "sequential_below", 0)
+        self.stats = {"passes": 0, "slabs": 0, "sequential": 0}
 
     # -- driver interface ---------------------------------------------------------------------
 
@@ -371,6 +378,19 @@ class MDEngine:
 
     # shared helpers ------------------------------------------------------------------------
 
+    def _watch(self):
+        """(dt_tiny, streak limit, message) of the collapse watch.
+
+        With δ > 0 (or r = 1) collapse is impossible in exact arithmetic: every inelastic
+        collision dissipates at least (1 − r²)δ²/4 and elastic collisions alone are finitely many
+        in finite time.  Only a stall (a particle colliding again and again with no time
+        advance at all) is then reported, after ``_STALL_STREAK`` collisions.
+        """
+        if self.p.delta > 0.0 or self.p.restitution == 1.0:
+            return 0.0, _STALL_STREAK, f"{_STALL_STREAK} collisions of one particle at one time"
+        dt, k = self.collapse_dt, self.collapse_streak
+        return dt, k, f"{k} collisions of one particle, each within {dt:g} of the previous"
+
     def _collapse(self, t, particles, collisions, detail=""):
         raise InelasticCollapseError(t, particles, collisions, detail)
 
@@ -393,8 +413,7 @@ def _advance_reference(engine: MDEngine, state: MDState, until: float):
     count = int(state.collisions)
     inf = math.inf
     streak = [0] * n
-    dt_tiny = engine.collapse_dt
-    limit = engine.collapse_streak
+    dt_tiny, limit, detail = engine._watch()
 
     def predict(b):
         i = b
@@ -427,13 +446,12 @@ def _advance_reference(engine: MDEngine, state: MDState, until: float):
         j = b + 1 if b < n - 1 else 0
         # collapse watch: time advance of each particle since its previous collision
         for k in (i, j):
-            if c - tl[k] < dt_tiny:
+            if c - tl[k] <= dt_tiny:
                 streak[k] += 1
             else:
                 streak[k] = 0
         if streak[i] >= limit or streak[j] >= limit:
             involved = [k for k in range(n) if streak[k] > 0]
-            detail = f"{limit} collisions within {dt_tiny:g} of each other"
             engine._collapse(c, involved, count, detail)
         vi = v[i]
         vj = v[j]
@@ -469,6 +487,113 @@ def _advance_reference(engine: MDEngine, state: MDState, until: float):
 
 # ---------------------------------------------------------------------------------------------
 # Fast path: the light-cone scheme, vectorised.
+
+
+def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
+    """Process, in time order, every collision up to ``horizon`` starting from the candidate
+    pairs ``cand`` (all pairs with c ≤ horizon), with scalar Python floats: the reference loop on
+    the few particles involved, loaded lazily into dicts and written back at the end.
+    Returns the number of collisions processed."""
+    prm = engine.p
+    n = prm.n
+    lr = prm.reduced_length
+    p = prm.p
+    delta = prm.delta
+    elastic_only = prm.restitution == 1.0
+    dt_tiny, limit, detail = engine._watch()
+    inf = math.inf
+    parts = np.unique(np.concatenate((cand, (cand + 1) % n)))
+    keys = parts.tolist()
+    X = dict(zip(keys, x[parts].tolist()))
+    TL = dict(zip(keys, tl[parts].tolist()))
+    V = dict(zip(keys, v[parts].tolist()))
+    ST = dict(zip(keys, streak[parts].tolist()))
+    C = dict(zip(cand.tolist(), c[cand].tolist()))
+    VER = {}
+
+    def load(k):
+        X[k] = float(x[k])
+        TL[k] = float(tl[k])
+        V[k] = float(v[k])
+        ST[k] = int(streak[k])
+
+    def predict(b):
+        i = b
+        j = b + 1 if b < n - 1 else 0
+        if i not in X:
+            load(i)
+        if j not in X:
+            load(j)
+        vi = V[i]
+        vj = V[j]
+        if not vi > vj:
+            return inf
+        ti = TL[i]
+        tj = TL[j]
+        tt = ti if ti > tj else tj
+        xi = X[i] + vi * (tt - ti)
+        xj = X[j] + vj * (tt - tj)
+        if j == 0:
+            xj = xj + lr
+        g = xj - xi
+        if g < 0.0:
+            g = 0.0
+        return tt + g / (vi - vj)
+
+    heap = [(cb, b, 0) for b, cb in C.items()]
+    heapq.heapify(heap)
+    done = 0
+    while heap:
+        cb, b, ver = heapq.heappop(heap)
+        if ver != VER.get(b, 0):
+            continue
+        i = b
+        j = b + 1 if b < n - 1 else 0
+        for k in (i, j):
+            ST[k] = ST[k] + 1 if cb - TL[k] <= dt_tiny else 0
+        if ST[i] >= limit or ST[j] >= limit:
+            involved = [k for k, s in ST.items() if s > 0]
+            engine._collapse(cb, involved, count + done, detail)
+        vi = V[i]
+        vj = V[j]
+        xc = X[i] + vi * (cb - TL[i])
+        X[i] = xc
+        X[j] = xc - lr if j == 0 else xc
+        TL[i] = cb
+        TL[j] = cb
+        d = vi - vj
+        if elastic_only or d < delta:
+            V[i] = vj
+            V[j] = vi
+        else:
+            pd = p * d
+            a = vi - pd
+            e = vj + pd
+            a = min(max(a, vj), vi)
+            e = min(max(e, vj), vi)
+            if a > e:
+                a, e = e, a
+            V[i] = a
+            V[j] = e
+        done += 1
+        for bb in (b - 1 if b > 0 else n - 1, b, b + 1 if b < n - 1 else 0):
+            cc = predict(bb)
+            old = C.get(bb)
+            if old is None:
+                old = float(c[bb])
+            if cc != old or bb == b:
+                VER[bb] = VER.get(bb, 0) + 1
+                C[bb] = cc
+                if cc <= horizon:
+                    heapq.heappush(heap, (cc, bb, VER[bb]))
+    idx = np.fromiter(X.keys(), dtype=np.int64, count=len(X))
+    x[idx] = np.fromiter(X.values(), dtype=float, count=len(X))
+    tl[idx] = np.fromiter(TL.values(), dtype=float, count=len(X))
+    v[idx] = np.fromiter(V.values(), dtype=float, count=len(X))
+    streak[idx] = np.fromiter(ST.values(), dtype=np.int64, count=len(X))
+    idx = np.fromiter(C.keys(), dtype=np.int64, count=len(C))
+    c[idx] = np.fromiter(C.values(), dtype=float, count=len(C))
+    return done
 
 
 def _predict(x, tl, v, idx, n, lr):
@@ -507,9 +632,9 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
     v = state.velocities.copy()
     count = int(state.collisions)
     streak = np.zeros(n, dtype=np.int64)
-    dt_tiny = engine.collapse_dt
-    limit = engine.collapse_streak
+    dt_tiny, limit, detail = engine._watch()
     target = engine.target_candidates
+    seq_below = engine.sequential_below
     stats = engine.stats
 
     allpairs = np.arange(n)
@@ -572,8 +697,8 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
             # collapse watch
             dti = tev - tl[i]
             dtj = tev - tl[j]
-            si = np.where(dti < dt_tiny, streak[i] + 1, 0)
-            sj = np.where(dtj < dt_tiny, streak[j] + 1, 0)
+            si = np.where(dti <= dt_tiny, streak[i] + 1, 0)
+            sj = np.where(dtj <= dt_tiny, streak[j] + 1, 0)
             streak[i] = si
             streak[j] = sj
             if si.max() >= limit or sj.max() >= limit:
@@ -582,7 +707,7 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
                     tev[bad],
                     np.flatnonzero(streak > 0),
                     count + bad,
-                    f"{limit} collisions within {dt_tiny:g} of each other",
+                    detail,
                 )
             xcol = x[i] + vi * dti
             x[i] = xcol
@@ -626,6 +751,13 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
                 cand = cand[c[cand] <= horizon]
             else:
                 cand = rest
+            if ev.size < seq_below and cand.size:
+                # little parallelism left: finish the slab with the scalar event loop
+                done = _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count)
+                count += done
+                done_in_slab += done
+                stats["sequential"] += done
+                cand = cand[:0]
         # adapt the horizon width to the number of collisions that fitted in the slab
         if done_in_slab > 0 and width > 0:
             width *= min(2.0, max(0.5, target / done_in_slab))
