@@ -504,11 +504,11 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     inf = math.inf
     parts = np.unique(np.concatenate((cand, (cand + 1) % n)))
     keys = parts.tolist()
-    X = dict(zip(keys, x[parts].tolist()))
-    TL = dict(zip(keys, tl[parts].tolist()))
-    V = dict(zip(keys, v[parts].tolist()))
-    ST = dict(zip(keys, streak[parts].tolist()))
-    C = dict(zip(cand.tolist(), c[cand].tolist()))
+    X = dict(zip(keys, x[parts].tolist(), strict=True))
+    TL = dict(zip(keys, tl[parts].tolist(), strict=True))
+    V = dict(zip(keys, v[parts].tolist(), strict=True))
+    ST = dict(zip(keys, streak[parts].tolist(), strict=True))
+    C = dict(zip(cand.tolist(), c[cand].tolist(), strict=True))
     VER = {}
 
     def load(k):
