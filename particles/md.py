@@ -67,6 +67,7 @@ from __future__ import annotations
 
 import heapq
 import math
+import time as _time
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -93,6 +94,11 @@ __all__ = [
     "profile_i",
     "haff_energy",
     "initial_cooling_rate",
+    "velocity_histogram",
+    "structure_factor",
+    "save_state",
+    "load_state",
+    "simulate",
 ]
 
 # Relative round-off margin of the light-cone tests (in units of the largest key magnitude).
@@ -283,6 +289,32 @@ def profile_i(state: MDState):
     return np.arange(state.velocities.size), state.velocities.copy()
 
 
+def velocity_histogram(state: MDState, bins: int = 100, vmax: float = 5.0):
+    """Rescaled velocity histogram: density of c = v / √E on ``bins`` equal bins of
+    [−vmax, vmax] (counts outside are dropped, the density is normalised by all N).
+    Returns (bin centres, density)."""
+    e = energy(state)
+    c = state.velocities / math.sqrt(e) if e > 0 else state.velocities
+    edges = np.linspace(-vmax, vmax, bins + 1)
+    counts, _ = np.histogram(c, edges)
+    return 0.5 * (edges[1:] + edges[:-1]), counts / (c.size * (edges[1] - edges[0]))
+
+
+def structure_factor(state: MDState):
+    """S(k) = |Σ_j v_j e^{−2πi k j/N}|² / N over particle labels j, for k = 0 … ⌊N/2⌋
+    (``np.fft.rfft`` order; k = 0 is N times the squared mean velocity, zero up to round-off),
+    and C(r) = (1/N) Σ_j v_j v_{j+r} (labels mod N), r = 0 … N − 1, its inverse transform.
+
+    TODO(lead): switch to the shared ``particles/observables.py`` (pyfftw, lattice conventions)
+    once it is on main; this local ``np.fft`` version follows the formulas above.
+    """
+    v = state.velocities
+    n = v.size
+    s = np.abs(np.fft.rfft(v)) ** 2 / n
+    c = np.fft.irfft(s, n) if n > 1 else s
+    return np.arange(s.size), s, c
+
+
 def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
     """Haff's law T₀ / (1 + t/t₀)², t₀ = √π / ((1 − r²) n √T₀) (SPEC §4)."""
     t = np.asarray(t, dtype=float)
@@ -293,6 +325,40 @@ def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
 def initial_cooling_rate(restitution: float, density: float, t0_energy: float = 1.0) -> float:
     """dT/dt at t = 0⁺ for Gaussian velocities: −(2/√π)(1 − r²) n T₀^{3/2} (SPEC §4)."""
     return -2.0 / math.sqrt(math.pi) * (1.0 - restitution**2) * density * t0_energy**1.5
+
+
+def save_state(path, state: MDState, params: MDParams) -> None:
+    """Write ``state`` and ``params`` to an ``.npz`` checkpoint."""
+    extra = {f"param_{k}": np.array(v) for k, v in params.to_dict().items()}
+    np.savez(path, **state.to_dict(), **extra)
+
+
+def load_state(path, params: MDParams | None = None):
+    """Read a checkpoint written by :func:`save_state`: returns (state, params).
+
+    A missing, unreadable or inconsistent file raises ``InvalidArgumentError`` naming
+    ``checkpoint``; if ``params`` is given it must equal the stored parameters.
+    """
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            raw = {k: data[k] for k in data.files}
+    except Exception as exc:  # any unreadable file is bad input
+        expected = f"a readable MD checkpoint ({exc})"
+        raise InvalidArgumentError("checkpoint", str(path), expected) from None
+    try:
+        stored = MDParams(
+            n=int(raw["param_n"]),
+            density=float(raw["param_density"]),
+            restitution=float(raw["param_restitution"]),
+            delta=float(raw["param_delta"]),
+            rod_length=float(raw["param_rod_length"]),
+            initial=str(raw["param_initial"]),
+        )
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InvalidArgumentError("checkpoint", str(path), f"MD parameters ({exc})") from None
+    if params is not None and params != stored:
+        raise InvalidArgumentError("checkpoint", str(path), f"a checkpoint of {params}")
+    return MDState.from_dict(raw, stored), stored
 
 
 # ---------------------------------------------------------------------------------------------
@@ -311,7 +377,8 @@ class MDEngine:
     inelastic-collapse detector (module docstring).  Tuning of the fast path (results do not
     depend on it): ``target_candidates`` collisions per horizon slab (default N/8), and
     ``sequential_below``: when a vectorised pass fires fewer collisions than this, the rest of the
-    slab runs in the scalar event loop (same formulas, same order).
+    slab runs in the scalar event loop (same formulas, same order).  ``record=True`` keeps every
+    processed collision as ``(time, pair)`` in ``self.record`` (for tests; see :meth:`events`).
     """
 
     name = "md"
@@ -325,6 +392,7 @@ class MDEngine:
         collapse_streak: int = 200,
         target_candidates: int | None = None,
         sequential_below: int = 24,
+        record: bool = False,
     ):
         if not isinstance(params, MDParams):
             raise InvalidArgumentError("params", params, "an MDParams")
@@ -339,6 +407,7 @@ class MDEngine:
         self.target_candidates = check_count(target_candidates, "target_candidates", 1)
         self.sequential_below = check_count(sequential_below, "sequential_below", 0)
         self.stats = {"passes": 0, "slabs": 0, "sequential": 0}
+        self.record = [] if record else None
 
     # -- driver interface ---------------------------------------------------------------------
 
@@ -375,6 +444,13 @@ class MDEngine:
         run = _advance_reference if self.method == "reference" else _advance_fast
         x, tl, v, count = run(self, state, until)
         return MDState(float(until), x, tl, v, int(count))
+
+    def events(self) -> np.ndarray:
+        """Recorded collisions as an array of rows (time, pair), sorted (order-independent)."""
+        if self.record is None:
+            raise InvalidArgumentError("record", False, "an engine built with record=True")
+        rows = np.array(self.record, dtype=float).reshape(-1, 2)
+        return rows[np.lexsort((rows[:, 1], rows[:, 0]))]
 
     # shared helpers ------------------------------------------------------------------------
 
@@ -414,6 +490,7 @@ def _advance_reference(engine: MDEngine, state: MDState, until: float):
     inf = math.inf
     streak = [0] * n
     dt_tiny, limit, detail = engine._watch()
+    record = engine.record
 
     def predict(b):
         i = b
@@ -475,6 +552,8 @@ def _advance_reference(engine: MDEngine, state: MDState, until: float):
             v[i] = a
             v[j] = e
         count += 1
+        if record is not None:
+            record.append((c, b))
         for bb in (b - 1 if b > 0 else n - 1, b, b + 1 if b < n - 1 else 0):
             cc = predict(bb)
             if cc != ctime[bb] or bb == b:
@@ -501,6 +580,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     delta = prm.delta
     elastic_only = prm.restitution == 1.0
     dt_tiny, limit, detail = engine._watch()
+    record = engine.record
     inf = math.inf
     parts = np.unique(np.concatenate((cand, (cand + 1) % n)))
     keys = parts.tolist()
@@ -576,6 +656,8 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             V[i] = a
             V[j] = e
         done += 1
+        if record is not None:
+            record.append((cb, b))
         for bb in (b - 1 if b > 0 else n - 1, b, b + 1 if b < n - 1 else 0):
             cc = predict(bb)
             old = C.get(bb)
@@ -633,6 +715,7 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
     count = int(state.collisions)
     streak = np.zeros(n, dtype=np.int64)
     dt_tiny, limit, detail = engine._watch()
+    record = engine.record
     target = engine.target_candidates
     seq_below = engine.sequential_below
     stats = engine.stats
@@ -737,6 +820,8 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
             v[i] = a
             v[j] = e
             count += ev.size
+            if record is not None:
+                record.extend(zip(tev.tolist(), ev.tolist(), strict=True))
             done_in_slab += ev.size
             # -- new predictions for the pairs touching changed particles ---------------
             aff = np.concatenate((ev - 1, ev, ev + 1))
@@ -764,3 +849,66 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
         elif width == 0.0:
             width = None
     return x, tl, v, count
+
+
+# ---------------------------------------------------------------------------------------------
+# A plain run: observables at the requested times.
+
+
+def simulate(
+    params: MDParams,
+    times,
+    seed: int = 0,
+    *,
+    method: str = "fast",
+    structure: bool = False,
+    profile: bool = False,
+    progress: bool = False,
+    state: MDState | None = None,
+) -> dict:
+    """Run from a fresh start (or from ``state``) and measure at ``times`` (increasing, ≥ 0).
+
+    Returns a JSON-able dict: ``t``, ``energy``, ``collisions_per_particle``, ``momentum``,
+    ``collisions``, ``seconds`` (one entry per time), ``histogram`` (rescaled, last time:
+    ``{"c": centres, "density": values}``), optionally ``structure_factor`` (``k``, ``S``) and
+    ``profile`` (``x``, ``v_x``, ``v_i``) at the last time, and ``state`` (the final MDState,
+    not JSON-able; pop it before dumping).
+    """
+    from maxwell_kinetics.validation import check_times
+
+    times = check_times(times, "t")
+    engine = MDEngine(params, method)
+    if state is None:
+        state = engine.initial_state(np.random.default_rng(seed))
+    if times[0] < state.time:
+        raise InvalidArgumentError("t", times.tolist(), f"times >= the state's time {state.time}")
+    out = {k: [] for k in ("t", "energy", "collisions_per_particle", "momentum", "collisions")}
+    out["seconds"] = []
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=float(times[-1]), unit="t", desc="md")
+    start = _time.perf_counter()
+    for t in times:
+        state = engine.advance(state, float(t))
+        out["t"].append(float(t))
+        out["energy"].append(energy(state))
+        out["collisions_per_particle"].append(collisions_per_particle(state))
+        out["momentum"].append(momentum(state))
+        out["collisions"].append(int(state.collisions))
+        out["seconds"].append(_time.perf_counter() - start)
+        if bar is not None:
+            bar.update(float(t) - bar.n)
+    if bar is not None:
+        bar.close()
+    centres, density = velocity_histogram(state)
+    out["histogram"] = {"c": centres.tolist(), "density": density.tolist()}
+    if structure:
+        k, s, _ = structure_factor(state)
+        out["structure_factor"] = {"k": k.tolist(), "S": s.tolist()}
+    if profile:
+        x, vx = profile_x(state, params)
+        out["profile"] = {"x": x.tolist(), "v_x": vx.tolist(), "v_i": state.velocities.tolist()}
+    out["state"] = state
+    return out
