@@ -105,6 +105,8 @@ __all__ = [
 _CONE_MARGIN = 64 * np.finfo(float).eps
 # With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
 _STALL_STREAK = 100_000
+# The scalar fallback copies the whole state to lists up to this N (else loads lazily).
+_FULL_COPY_N = 65_536
 
 
 class InelasticCollapseError(RuntimeError):
@@ -406,7 +408,7 @@ class MDEngine:
             target_candidates = max(256, params.n // 8)
         self.target_candidates = check_count(target_candidates, "target_candidates", 1)
         self.sequential_below = check_count(sequential_below, "sequential_below", 0)
-        self.stats = {"passes": 0, "slabs": 0, "sequential": 0}
+        self.stats = {"passes": 0, "slabs": 0, "sequential": 0, "sequential_seconds": 0.0}
         self.record = [] if record else None
 
     # -- driver interface ---------------------------------------------------------------------
@@ -568,11 +570,35 @@ def _advance_reference(engine: MDEngine, state: MDState, until: float):
 # Fast path: the light-cone scheme, vectorised.
 
 
+class _Lazy(dict):
+    """A dict view of a NumPy array that copies an entry to a Python scalar on first use."""
+
+    __slots__ = ("array",)
+
+    def __init__(self, array):
+        super().__init__()
+        self.array = array
+
+    def __missing__(self, k):
+        value = self.array[k].item()
+        self[k] = value
+        return value
+
+    def write_back(self):
+        if self:
+            idx = np.fromiter(self.keys(), dtype=np.int64, count=len(self))
+            self.array[idx] = np.fromiter(self.values(), dtype=self.array.dtype, count=len(self))
+
+
 def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     """Process, in time order, every collision up to ``horizon`` starting from the candidate
-    pairs ``cand`` (all pairs with c ≤ horizon), with scalar Python floats: the reference loop on
-    the few particles involved, loaded lazily into dicts and written back at the end.
-    Returns the number of collisions processed."""
+    pairs ``cand`` (all pairs with c ≤ horizon), with scalar Python floats: the reference loop.
+
+    With many candidates (clustered gas, small N) the whole state is copied to lists; with few
+    (the sparse tail of a slab at large N) only the particles touched are loaded, lazily, into
+    dicts.  Either way the results are written back to the arrays.  Returns the number of
+    collisions processed.
+    """
     prm = engine.p
     n = prm.n
     lr = prm.reduced_length
@@ -582,28 +608,17 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     dt_tiny, limit, detail = engine._watch()
     record = engine.record
     inf = math.inf
-    parts = np.unique(np.concatenate((cand, (cand + 1) % n)))
-    keys = parts.tolist()
-    X = dict(zip(keys, x[parts].tolist(), strict=True))
-    TL = dict(zip(keys, tl[parts].tolist(), strict=True))
-    V = dict(zip(keys, v[parts].tolist(), strict=True))
-    ST = dict(zip(keys, streak[parts].tolist(), strict=True))
-    C = dict(zip(cand.tolist(), c[cand].tolist(), strict=True))
-    VER = {}
-
-    def load(k):
-        X[k] = float(x[k])
-        TL[k] = float(tl[k])
-        V[k] = float(v[k])
-        ST[k] = int(streak[k])
+    full = n <= _FULL_COPY_N or cand.size * 64 >= n
+    if full:
+        X, TL, V, ST, C = x.tolist(), tl.tolist(), v.tolist(), streak.tolist(), c.tolist()
+        VER = [0] * n
+    else:
+        X, TL, V, ST, C = _Lazy(x), _Lazy(tl), _Lazy(v), _Lazy(streak), _Lazy(c)
+        VER = _Lazy(np.zeros(n, dtype=np.int64))  # only read, never written back
 
     def predict(b):
         i = b
         j = b + 1 if b < n - 1 else 0
-        if i not in X:
-            load(i)
-        if j not in X:
-            load(j)
         vi = V[i]
         vj = V[j]
         if not vi > vj:
@@ -620,23 +635,26 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             g = 0.0
         return tt + g / (vi - vj)
 
-    heap = [(cb, b, 0) for b, cb in C.items()]
+    heap = [(C[b], b, 0) for b in cand.tolist()]
     heapq.heapify(heap)
     done = 0
     while heap:
         cb, b, ver = heapq.heappop(heap)
-        if ver != VER.get(b, 0):
+        if ver != VER[b]:
             continue
         i = b
         j = b + 1 if b < n - 1 else 0
-        for k in (i, j):
-            ST[k] = ST[k] + 1 if cb - TL[k] <= dt_tiny else 0
-        if ST[i] >= limit or ST[j] >= limit:
-            involved = [k for k, s in ST.items() if s > 0]
+        ti = TL[i]
+        si = ST[i] + 1 if cb - ti <= dt_tiny else 0
+        sj = ST[j] + 1 if cb - TL[j] <= dt_tiny else 0
+        ST[i] = si
+        ST[j] = sj
+        if si >= limit or sj >= limit:
+            involved = [k for k in (range(n) if full else ST.keys()) if ST[k] > 0]
             engine._collapse(cb, involved, count + done, detail)
         vi = V[i]
         vj = V[j]
-        xc = X[i] + vi * (cb - TL[i])
+        xc = X[i] + vi * (cb - ti)
         X[i] = xc
         X[j] = xc - lr if j == 0 else xc
         TL[i] = cb
@@ -660,21 +678,20 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             record.append((cb, b))
         for bb in (b - 1 if b > 0 else n - 1, b, b + 1 if b < n - 1 else 0):
             cc = predict(bb)
-            old = C.get(bb)
-            if old is None:
-                old = float(c[bb])
-            if cc != old or bb == b:
-                VER[bb] = VER.get(bb, 0) + 1
+            if cc != C[bb] or bb == b:
+                VER[bb] += 1
                 C[bb] = cc
                 if cc <= horizon:
                     heapq.heappush(heap, (cc, bb, VER[bb]))
-    idx = np.fromiter(X.keys(), dtype=np.int64, count=len(X))
-    x[idx] = np.fromiter(X.values(), dtype=float, count=len(X))
-    tl[idx] = np.fromiter(TL.values(), dtype=float, count=len(X))
-    v[idx] = np.fromiter(V.values(), dtype=float, count=len(X))
-    streak[idx] = np.fromiter(ST.values(), dtype=np.int64, count=len(X))
-    idx = np.fromiter(C.keys(), dtype=np.int64, count=len(C))
-    c[idx] = np.fromiter(C.values(), dtype=float, count=len(C))
+    if full:
+        x[:] = X
+        tl[:] = TL
+        v[:] = V
+        streak[:] = ST
+        c[:] = C
+    else:
+        for store in (X, TL, V, ST, C):
+            store.write_back()
     return done
 
 
@@ -838,7 +855,9 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
                 cand = rest
             if ev.size < seq_below and cand.size:
                 # little parallelism left: finish the slab with the scalar event loop
+                t_seq = _time.perf_counter()
                 done = _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count)
+                stats["sequential_seconds"] += _time.perf_counter() - t_seq
                 count += done
                 done_in_slab += done
                 stats["sequential"] += done
