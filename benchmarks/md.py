@@ -10,7 +10,7 @@ directory; it is a yardstick, not a dependency.  It uses the same formulas as
 bit (``identical``).  Rates count pair collisions per second of the event loop only.
 
 1. Homogeneous stage: N = 1e6, r = 0.9, delta = 1e-3, n = 1, t in [0, 2].  The sequential Python
-   reference runs the first part [0, 0.25] of the same run (a heap of 1e6 pairs).
+   reference runs the first part [0, 0.5] of the same run (a heap of 1e6 pairs).
 2. Clustered stage: r = 0.5, delta = 1e-4, n = 1, N = 2e4 (late times at N = 1e6 would take the
    C loop minutes to reach): the C loop brings the gas to t = 20 (about 1100 collisions per
    particle, E ~ 0.06 against E_Haff = 0.011), then all three engines run [20, 20.2].
@@ -121,7 +121,7 @@ def main(argv=None):
         workdir = Path(tmp)
         exe = compile_baseline(workdir)
         homogeneous = regime(
-            exe, workdir, MDParams(n_h, 1.0, 0.9, delta=1e-3), 0.0, 2.0, 0.25, seed=1,
+            exe, workdir, MDParams(n_h, 1.0, 0.9, delta=1e-3), 0.0, 2.0, 0.5, seed=1,
             profile=args.profile,
         )
         clustered = regime(

@@ -676,9 +676,10 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
         done += 1
         if record is not None:
             record.append((cb, b))
-        for bb in (b - 1 if b > 0 else n - 1, b, b + 1 if b < n - 1 else 0):
+        C[b] = inf  # the pair separates (v_i' <= v_j'); its popped entry was the live one
+        for bb in (b - 1 if b > 0 else n - 1, b + 1 if b < n - 1 else 0):
             cc = predict(bb)
-            if cc != C[bb] or bb == b:
+            if cc != C[bb]:
                 VER[bb] += 1
                 C[bb] = cc
                 if cc <= horizon:
@@ -841,7 +842,9 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
                 record.extend(zip(tev.tolist(), ev.tolist(), strict=True))
             done_in_slab += ev.size
             # -- new predictions for the pairs touching changed particles ---------------
-            aff = np.concatenate((ev - 1, ev, ev + 1))
+            # the pair itself now separates (v_i' <= v_j' by construction): no prediction
+            c[ev] = np.inf
+            aff = np.concatenate((ev - 1, ev + 1))
             aff[aff < 0] += n
             aff[aff >= n] -= n
             c[aff] = _predict(x, tl, v, aff, n, lr)
