@@ -41,7 +41,10 @@ correction).  Two engines share one prediction formula and one collision formula
   processed in one NumPy pass.  The globally earliest collision is always safe, so the scheme
   never stalls.  Only collisions earlier than a moving horizon H are candidates; a later
   collision (c_a > H ≥ c_b) cannot reach an earlier one, so leaving it out is exact, and it keeps
-  a pass at O(candidates) instead of O(N).
+  a pass at O(candidates) instead of O(N).  When a pass fires only a handful of collisions (a
+  clustered gas, where a few hot clusters carry long causal chains) the rest of the slab runs in
+  the scalar heap loop on the same data, which is exact as well: it is the reference restricted
+  to the events before H.
 
 Both engines apply the same floating-point operations to the same data, so in non-chaotic
 settings they agree bit for bit (tested).  Floating-point traps and how they are handled:
