@@ -1,0 +1,159 @@
+"""MD benchmark: the NumPy light-cone engine against a sequential C event loop, side by side.
+
+    python benchmarks/md.py                 # both regimes, default sizes (about a minute)
+    python benchmarks/md.py --quick         # smaller N, a few seconds
+    python benchmarks/md.py --json          # one JSON object on stdout
+
+The C loop (``benchmarks/md_baseline.c``) is compiled here with ``cc -O2`` into a temporary
+directory; it is a yardstick, not a dependency.  It uses the same formulas as
+``particles/md.py`` in the same order, so runs from the same initial state are compared bit for
+bit (``identical``).  Rates count pair collisions per second of the event loop only.
+
+1. Homogeneous stage: N = 1e6, r = 0.9, delta = 1e-3, n = 1, t in [0, 2].  The sequential Python
+   reference runs the first part [0, 0.5] of the same run (a heap of 1e6 pairs).
+2. Clustered stage: r = 0.5, delta = 1e-4, n = 1, N = 2e4 (late times at N = 1e6 would take the
+   C loop minutes to reach): the C loop brings the gas to t = 20 (about 1100 collisions per
+   particle, E ~ 0.06 against E_Haff = 0.011), then all three engines run [20, 20.2].
+"""
+
+from __future__ import annotations
+
+import argparse
+import cProfile
+import io
+import json
+import pstats
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+
+from particles.md import MDEngine, MDParams, MDState, energy  # noqa: E402
+
+
+def compile_baseline(workdir: Path) -> Path:
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        raise SystemExit("benchmarks/md.py: no C compiler (cc) found")
+    exe = workdir / "md_baseline"
+    subprocess.run([cc, "-O2", "-o", str(exe), str(HERE / "md_baseline.c"), "-lm"], check=True)
+    return exe
+
+
+def run_c(exe: Path, workdir: Path, prm: MDParams, state: MDState, until: float):
+    fin, fout = workdir / "in.bin", workdir / "out.bin"
+    np.concatenate([state.positions, state.t_last, state.velocities]).tofile(fin)
+    args = [str(exe), str(fin), str(fout), repr(prm.reduced_length), repr(prm.restitution)]
+    args += [repr(prm.delta), repr(float(until))]
+    out = subprocess.run(args, check=True, capture_output=True, text=True).stdout.split()
+    count, seconds = int(out[0]), float(out[1])
+    x, tl, v = np.fromfile(fout).reshape(3, prm.n)
+    return MDState(float(until), x, tl, v, state.collisions + count), count, seconds
+
+
+def run_py(prm, method, state, until, profile=False):
+    engine = MDEngine(prm, method)
+    prof = cProfile.Profile() if profile else None
+    start = time.perf_counter()
+    if prof is not None:
+        prof.enable()
+    out = engine.advance(state, until)
+    if prof is not None:
+        prof.disable()
+    seconds = time.perf_counter() - start
+    top = None
+    if prof is not None:
+        buf = io.StringIO()
+        pstats.Stats(prof, stream=buf).sort_stats("tottime").print_stats(8)
+        top = buf.getvalue()
+    return out, out.collisions - state.collisions, seconds, engine.stats, top
+
+
+def same(a: MDState, b: MDState) -> bool:
+    return bool(
+        a.collisions == b.collisions
+        and np.array_equal(a.velocities, b.velocities)
+        and np.array_equal(a.positions, b.positions)
+    )
+
+
+def regime(exe, workdir, prm, t_start, t_end, t_ref, seed, warm_c_to=None, profile=False):
+    engine = MDEngine(prm)
+    s0 = engine.initial_state(np.random.default_rng(seed))
+    row = {"n": prm.n, "restitution": prm.restitution, "delta": prm.delta}
+    row["window"] = [t_start, t_end]
+    if t_start > 0:
+        s0, count, secs = run_c(exe, workdir, prm, s0, t_start)
+        row["warmup_c"] = {"collisions": count, "seconds": secs, "energy": energy(s0)}
+    sc, cc, csec = run_c(exe, workdir, prm, s0, t_end)
+    sf, cf, fsec, stats, top = run_py(prm, "fast", s0, t_end, profile=profile)
+    row["c"] = {"collisions": cc, "seconds": csec, "rate": cc / csec}
+    row["fast"] = {"collisions": cf, "seconds": fsec, "rate": cf / fsec, "stats": stats}
+    row["ratio_fast_over_c"] = (cf / fsec) / (cc / csec)
+    row["identical"] = same(sc, sf)
+    row["energy_end"] = energy(sf)
+    if t_ref is not None:
+        _, cr, rsec, _, _ = run_py(prm, "reference", s0, t_ref)
+        row["reference"] = {"collisions": cr, "seconds": rsec, "rate": cr / rsec, "until": t_ref}
+        row["ratio_fast_over_reference"] = (cf / fsec) / (cr / rsec)
+    if top is not None:
+        row["profile"] = top
+    return row
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="N = 1e5 and 5e3 instead of 1e6 and 2e4")
+    ap.add_argument("--json", action="store_true")
+    ap.add_argument("--profile", action="store_true", help="cProfile the fast runs")
+    ap.add_argument("--clustered-n", type=int, default=None)
+    args = ap.parse_args(argv)
+    n_h = 100_000 if args.quick else 1_000_000
+    n_c = args.clustered_n or (5_000 if args.quick else 20_000)
+    with tempfile.TemporaryDirectory() as tmp:
+        workdir = Path(tmp)
+        exe = compile_baseline(workdir)
+        homogeneous = regime(
+            exe, workdir, MDParams(n_h, 1.0, 0.9, delta=1e-3), 0.0, 2.0, 0.5, seed=1,
+            profile=args.profile,
+        )
+        clustered = regime(
+            exe, workdir, MDParams(n_c, 1.0, 0.5, delta=1e-4), 20.0, 20.2, 20.2, seed=1,
+            profile=args.profile,
+        )
+    result = {"homogeneous": homogeneous, "clustered": clustered}
+    if args.json:
+        json.dump(result, sys.stdout, indent=1)
+        print()
+        return
+    for name, row in result.items():
+        print(f"== {name}: N={row['n']} r={row['restitution']} delta={row['delta']} "
+              f"t in {row['window']}")
+        if "warmup_c" in row:
+            w = row["warmup_c"]
+            print(f"   warm-up (C): {w['collisions']} collisions, {w['seconds']:.2f} s, "
+                  f"E = {w['energy']:.4g}")
+        for key in ("c", "fast", "reference"):
+            if key in row:
+                r = row[key]
+                print(f"   {key:9s} {r['collisions']:>10d} collisions {r['seconds']:8.3f} s "
+                      f"{r['rate']:10.3g} /s")
+        print(f"   fast/C = {row['ratio_fast_over_c']:.3f}   fast/reference = "
+              f"{row.get('ratio_fast_over_reference', float('nan')):.2f}   identical to C: "
+              f"{row['identical']}   E_end = {row['energy_end']:.5g}")
+        st = row["fast"]["stats"]
+        print(f"   passes {st['passes']}, slabs {st['slabs']}, scalar-loop collisions "
+              f"{st['sequential']} ({st['sequential_seconds']:.2f} s)")
+        if "profile" in row:
+            print(row["profile"])
+
+
+if __name__ == "__main__":
+    main()

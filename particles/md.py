@@ -1,0 +1,939 @@
+"""Exact event-driven molecular dynamics of inelastic hard rods on a ring (SPEC §4, §6).
+
+Model
+-----
+N rods of length σ on a ring of length L = N / n fly freely between collisions.  A collision of
+the left rod i with its right neighbour j = i + 1 (they collide only when approaching,
+v_i > v_j) uses the rule of SPEC §1 with Δ = v_i − v_j:
+
+    v_i' = v_i − p Δ,    v_j' = v_j + p Δ,    p = (1 + r)/2,
+
+except that a collision with Δ < δ is elastic (p = 1, the Ben-Naim et al. regularisation); δ = 0
+switches the regularisation off.  Elastic collisions (r = 1 or Δ < δ) are carried out as an exact
+swap of the two velocities, so they conserve momentum and energy bit for bit.
+
+Coordinates
+-----------
+Everything is done with point particles on the reduced ring of length L_r = L − N σ
+(SPEC §4): the rod i sits at y_i = x_i + i σ.  Point coordinates are *unwrapped* and particle
+labels never change order, so at any common time
+
+    x_0 ≤ x_1 ≤ … ≤ x_{N−1} ≤ x_0 + L_r .
+
+Pair b is the neighbour pair (b, b + 1); the seam pair N − 1 is (N − 1, 0) with the partner seen
+at x_0 + L_r.  Each particle is stored lazily: its position ``x[i]`` at its own last-update time
+``t_last[i]``; at a time t it is at x[i] + v[i] (t − t_last[i]).
+
+Exactness
+---------
+Every collision is processed at its true time in causal order (no time step, no overlap
+correction).  Two engines share one prediction formula and one collision formula, written once:
+
+* ``method="reference"``: a plain sequential loop, a binary heap (``heapq``) over the N pair
+  predictions with lazy invalidation, ties broken by the pair index.
+* ``method="fast"``: the light-cone scheme of SPEC §6.  Velocities stay in [v_min, v_max] forever
+  (collisions make convex combinations), so a pending collision at (c_a, X_a) cannot influence
+  anything outside the cone X_a + [v_min, v_max] (t − c_a).  A prediction (c_b, X_b) is *safe*
+  when it is earlier than both neighbouring pairs' predictions and no other pending collision's
+  cone reaches it: v_max c_b − X_b < min_{a left of b} (v_max c_a − X_a) and
+  X_b − v_min c_b < min_{a right of b} (X_a − v_min c_a), prefix and suffix minima by
+  ``np.minimum.accumulate`` (the ring enters as one extra lap, + L_r).  All safe collisions are
+  processed in one NumPy pass.  The globally earliest collision is always safe, so the scheme
+  never stalls.  Only collisions earlier than a moving horizon H are candidates; a later
+  collision (c_a > H ≥ c_b) cannot reach an earlier one, so leaving it out is exact, and it keeps
+  a pass at O(candidates) instead of O(N).  When a pass fires only a handful of collisions (a
+  clustered gas, where a few hot clusters carry long causal chains) the rest of the slab runs in
+  the scalar heap loop on the same data, which is exact as well: it is the reference restricted
+  to the events before H.
+
+Both engines apply the same floating-point operations to the same data, so in non-chaotic
+settings they agree bit for bit (tested).  Floating-point traps and how they are handled:
+
+* a gap that round-off made negative is treated as zero (the pair collides at once);
+* simultaneous collisions: the sequential heap orders ties by pair index, the fast scheme lets a
+  pair fire only if it precedes both neighbours in (time, index) order;
+* repeated collisions of one pair: after an inelastic collision the pair must separate, so the
+  two new velocities are clipped to the old interval and swapped if round-off left them
+  approaching;
+* the cone tests carry a relative round-off margin (``_CONE_MARGIN``); erring on "unsafe" costs
+  only parallelism.
+
+Inelastic collapse
+------------------
+With δ = 0 a group of particles can collide infinitely often in finite time.  Both engines watch
+every particle: a collision whose time advance since that particle's previous collision is below
+``collapse_dt`` (relative to the mean free time) extends the particle's streak, any other resets
+it; a streak of ``collapse_streak`` collisions raises :class:`InelasticCollapseError`.
+"""
+
+from __future__ import annotations
+
+import heapq
+import math
+import time as _time
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from maxwell_kinetics.initial import get_law
+from maxwell_kinetics.validation import (
+    InvalidArgumentError,
+    check_count,
+    check_nonnegative,
+    check_positive,
+    check_restitution,
+)
+
+__all__ = [
+    "InelasticCollapseError",
+    "MDParams",
+    "MDState",
+    "MDEngine",
+    "energy",
+    "collisions_per_particle",
+    "momentum",
+    "rod_positions",
+    "profile_x",
+    "profile_i",
+    "haff_energy",
+    "initial_cooling_rate",
+    "velocity_histogram",
+    "structure_factor",
+    "save_state",
+    "load_state",
+    "simulate",
+]
+
+# Relative round-off margin of the light-cone tests (in units of the largest key magnitude).
+_CONE_MARGIN = 64 * np.finfo(float).eps
+# With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
+_STALL_STREAK = 100_000
+# The scalar fallback copies the whole state to lists up to this N (else loads lazily).
+_FULL_COPY_N = 65_536
+
+
+class InelasticCollapseError(RuntimeError):
+    """Collisions piled up in finite time (δ = 0): the run cannot go on.
+
+    Attributes: ``time`` (the time of the runaway), ``particles`` (labels of the particles
+    involved), ``collisions`` (total number of collisions processed so far).
+    """
+
+    def __init__(self, time: float, particles, collisions: int, detail: str = ""):
+        self.time = float(time)
+        self.particles = np.unique(np.asarray(particles, dtype=np.int64))
+        self.collisions = int(collisions)
+        shown = self.particles[:10].tolist()
+        more = "" if self.particles.size <= 10 else f" (+{self.particles.size - 10} more)"
+        super().__init__(
+            f"inelastic collapse at t={self.time!r} after {self.collisions} collisions, "
+            f"particles {shown}{more}{': ' + detail if detail else ''}; "
+            "set delta > 0 (e.g. --delta 1e-4) to regularise collisions with small relative "
+            "velocity"
+        )
+
+
+@dataclass(frozen=True)
+class MDParams:
+    """Parameters of the hard-rod gas, checked at construction.
+
+    ``n`` particles (N ≥ 2), number ``density`` N/L > 0, ``restitution`` r ∈ [0, 1],
+    regularisation ``delta`` δ ≥ 0 (0: none), ``rod_length`` σ ≥ 0 with N σ < L, and the name of
+    the ``initial`` velocity law (:mod:`maxwell_kinetics.initial`).
+    """
+
+    n: int
+    density: float
+    restitution: float
+    delta: float = 0.0
+    rod_length: float = 0.0
+    initial: str = "gaussian"
+
+    def __post_init__(self):
+        object.__setattr__(self, "n", check_count(self.n, "n", 2))
+        object.__setattr__(self, "density", check_positive(self.density, "density"))
+        object.__setattr__(self, "restitution", check_restitution(self.restitution))
+        object.__setattr__(self, "delta", check_nonnegative(self.delta, "delta"))
+        object.__setattr__(self, "rod_length", check_nonnegative(self.rod_length, "rod_length"))
+        law = get_law(self.initial)
+        if law.sampler is None:
+            raise InvalidArgumentError("initial", self.initial, "a law with a sampler")
+        object.__setattr__(self, "initial", law.name)
+        if not self.reduced_length > 0.0:
+            raise InvalidArgumentError(
+                "rod_length",
+                self.rod_length,
+                f"rods that fit: n*rod_length < L = n/density = {self.length!r}",
+            )
+
+    @property
+    def length(self) -> float:
+        """Ring length L = N / n."""
+        return self.n / self.density
+
+    @property
+    def reduced_length(self) -> float:
+        """Length L − Nσ of the ring of point particles (SPEC §4)."""
+        return self.length - self.n * self.rod_length
+
+    @property
+    def reduced_density(self) -> float:
+        """Density N / (L − Nσ) of the equivalent point particles."""
+        return self.n / self.reduced_length
+
+    @property
+    def p(self) -> float:
+        """Momentum-transfer fraction p = (1 + r)/2 of an inelastic collision."""
+        return 0.5 * (1.0 + self.restitution)
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass(frozen=True, eq=False)
+class MDState:
+    """A snapshot of the gas at ``time`` (everything needed to continue bit for bit).
+
+    ``positions[i]`` is the point coordinate (reduced ring, unwrapped) of particle i at its own
+    last-update time ``t_last[i]``; ``velocities[i]`` its velocity since then; ``collisions`` the
+    total number of pair collisions since t = 0.
+    """
+
+    time: float
+    positions: np.ndarray
+    t_last: np.ndarray
+    velocities: np.ndarray
+    collisions: int
+
+    def positions_at(self, t: float | None = None) -> np.ndarray:
+        """Point coordinates (reduced ring, unwrapped) at time ``t`` (default: ``self.time``)."""
+        t = self.time if t is None else float(t)
+        return self.positions + self.velocities * (t - self.t_last)
+
+    def to_dict(self) -> dict:
+        """A dict of NumPy arrays (for ``np.savez``)."""
+        return {
+            "time": np.array(self.time, dtype=float),
+            "positions": np.array(self.positions, dtype=float),
+            "t_last": np.array(self.t_last, dtype=float),
+            "velocities": np.array(self.velocities, dtype=float),
+            "collisions": np.array(self.collisions, dtype=np.int64),
+        }
+
+    @classmethod
+    def from_dict(cls, data, params: MDParams | None = None) -> MDState:
+        """Inverse of :meth:`to_dict`; a corrupt checkpoint raises ``InvalidArgumentError``."""
+        keys = ("time", "positions", "t_last", "velocities", "collisions")
+        try:
+            missing = [k for k in keys if k not in data]
+        except TypeError:
+            raise InvalidArgumentError("checkpoint", type(data).__name__, "a mapping") from None
+        if missing:
+            raise InvalidArgumentError("checkpoint", f"missing {missing}", "an MD state")
+        try:
+            t = float(np.asarray(data["time"]))
+            x = np.array(data["positions"], dtype=float)
+            tl = np.array(data["t_last"], dtype=float)
+            v = np.array(data["velocities"], dtype=float)
+            count = int(np.asarray(data["collisions"]))
+        except (TypeError, ValueError) as exc:
+            raise InvalidArgumentError("checkpoint", str(exc), "an MD state") from None
+        n = x.shape[0] if x.ndim == 1 else -1
+        if x.ndim != 1 or tl.shape != x.shape or v.shape != x.shape or n < 2:
+            shapes = (x.shape, tl.shape, v.shape)
+            raise InvalidArgumentError("checkpoint", f"shapes {shapes}", "three arrays of length N")
+        if params is not None and n != params.n:
+            raise InvalidArgumentError("checkpoint", f"N={n}", f"N={params.n} as in the parameters")
+        finite = all(np.all(np.isfinite(a)) for a in (x, tl, v)) and math.isfinite(t)
+        if not finite or count < 0 or np.any(tl > t):
+            raise InvalidArgumentError(
+                "checkpoint", "non-finite values, negative count or t_last > time", "an MD state"
+            )
+        if params is not None:
+            xt = x + v * (t - tl)
+            gaps = np.diff(np.append(xt, xt[0] + params.reduced_length))
+            if np.any(gaps < -1e-9 * (params.reduced_length + np.max(np.abs(xt)))):
+                raise InvalidArgumentError("checkpoint", "particles out of order", "an MD state")
+        return cls(t, x, tl, v, count)
+
+
+# ---------------------------------------------------------------------------------------------
+# Observables
+
+
+def energy(state: MDState) -> float:
+    """E(t) = ⟨v²⟩ (mean over particles; unit masses, no factor 1/2)."""
+    return float(np.mean(state.velocities**2))
+
+
+def collisions_per_particle(state: MDState) -> float:
+    """τ(t) = 2 · collisions / N (each pair collision involves two particles)."""
+    return 2.0 * state.collisions / state.velocities.size
+
+
+def momentum(state: MDState) -> float:
+    """Total momentum Σ v_i (zero at t = 0 by construction)."""
+    return float(np.sum(state.velocities))
+
+
+def rod_positions(state: MDState, params: MDParams, t: float | None = None) -> np.ndarray:
+    """Real positions y_i = x_i + i σ of the rods at time t, reduced mod L into [0, L)."""
+    x = state.positions_at(t) + np.arange(params.n) * params.rod_length
+    return np.mod(x, params.length)
+
+
+def profile_x(state: MDState, params: MDParams, t: float | None = None):
+    """The profile v(x, t): rod positions in [0, L) sorted increasingly, and their velocities."""
+    y = rod_positions(state, params, t)
+    order = np.argsort(y, kind="stable")
+    return y[order], state.velocities[order]
+
+
+def profile_i(state: MDState):
+    """The profile v(i, t) against particle label i (labels keep their order on the ring)."""
+    return np.arange(state.velocities.size), state.velocities.copy()
+
+
+def velocity_histogram(state: MDState, bins: int = 100, vmax: float = 5.0):
+    """Rescaled velocity histogram: density of c = v / √E on ``bins`` equal bins of
+    [−vmax, vmax] (counts outside are dropped, the density is normalised by all N).
+    Returns (bin centres, density)."""
+    e = energy(state)
+    c = state.velocities / math.sqrt(e) if e > 0 else state.velocities
+    edges = np.linspace(-vmax, vmax, bins + 1)
+    counts, _ = np.histogram(c, edges)
+    return 0.5 * (edges[1:] + edges[:-1]), counts / (c.size * (edges[1] - edges[0]))
+
+
+def structure_factor(state: MDState):
+    """S(k) = |Σ_j v_j e^{−2πi k j/N}|² / N over particle labels j, for k = 0 … ⌊N/2⌋
+    (``np.fft.rfft`` order; k = 0 is N times the squared mean velocity, zero up to round-off),
+    and C(r) = (1/N) Σ_j v_j v_{j+r} (labels mod N), r = 0 … N − 1, its inverse transform.
+
+    TODO(lead): switch to the shared ``particles/observables.py`` (pyfftw, lattice conventions)
+    once it is on main; this local ``np.fft`` version follows the formulas above.
+    """
+    v = state.velocities
+    n = v.size
+    s = np.abs(np.fft.rfft(v)) ** 2 / n
+    c = np.fft.irfft(s, n) if n > 1 else s
+    return np.arange(s.size), s, c
+
+
+def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
+    """Haff's law T₀ / (1 + t/t₀)², t₀ = √π / ((1 − r²) n √T₀) (SPEC §4)."""
+    t = np.asarray(t, dtype=float)
+    lam = (1.0 - restitution**2) * density * math.sqrt(t0_energy)
+    return t0_energy / (1.0 + t * lam / math.sqrt(math.pi)) ** 2
+
+
+def initial_cooling_rate(restitution: float, density: float, t0_energy: float = 1.0) -> float:
+    """dT/dt at t = 0⁺ for Gaussian velocities: −(2/√π)(1 − r²) n T₀^{3/2} (SPEC §4)."""
+    return -2.0 / math.sqrt(math.pi) * (1.0 - restitution**2) * density * t0_energy**1.5
+
+
+def save_state(path, state: MDState, params: MDParams) -> None:
+    """Write ``state`` and ``params`` to an ``.npz`` checkpoint."""
+    extra = {f"param_{k}": np.array(v) for k, v in params.to_dict().items()}
+    np.savez(path, **state.to_dict(), **extra)
+
+
+def load_state(path, params: MDParams | None = None):
+    """Read a checkpoint written by :func:`save_state`: returns (state, params).
+
+    A missing, unreadable or inconsistent file raises ``InvalidArgumentError`` naming
+    ``checkpoint``; if ``params`` is given it must equal the stored parameters.
+    """
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            raw = {k: data[k] for k in data.files}
+    except Exception as exc:  # any unreadable file is bad input
+        expected = f"a readable MD checkpoint ({exc})"
+        raise InvalidArgumentError("checkpoint", str(path), expected) from None
+    try:
+        stored = MDParams(
+            n=int(raw["param_n"]),
+            density=float(raw["param_density"]),
+            restitution=float(raw["param_restitution"]),
+            delta=float(raw["param_delta"]),
+            rod_length=float(raw["param_rod_length"]),
+            initial=str(raw["param_initial"]),
+        )
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InvalidArgumentError("checkpoint", str(path), f"MD parameters ({exc})") from None
+    if params is not None and params != stored:
+        raise InvalidArgumentError("checkpoint", str(path), f"a checkpoint of {params}")
+    return MDState.from_dict(raw, stored), stored
+
+
+# ---------------------------------------------------------------------------------------------
+# The engine
+
+
+class MDEngine:
+    """Event-driven MD of inelastic hard rods; the interface of the particle run driver.
+
+    ``name = "md"``; ``params()`` is a JSON-able dict; ``initial_state(rng)`` draws the start;
+    ``advance(state, until, rng)`` returns the exact state at time ``until`` (time unit t, the
+    rng is unused: the dynamics is deterministic).  ``method`` is ``"fast"`` (light-cone
+    scheme) or ``"reference"`` (sequential heap).
+
+    ``collapse_dt`` (in units of the initial mean free time 1/n) and ``collapse_streak`` tune the
+    inelastic-collapse detector (module docstring).  Tuning of the fast path (results do not
+    depend on it): ``target_candidates`` collisions per horizon slab (default N/8), and
+    ``sequential_below``: when a vectorised pass fires fewer collisions than this, the rest of the
+    slab runs in the scalar event loop (same formulas, same order).  ``record=True`` keeps every
+    processed collision as ``(time, pair)`` in ``self.record`` (for tests; see :meth:`events`).
+    """
+
+    name = "md"
+
+    def __init__(
+        self,
+        params: MDParams,
+        method: str = "fast",
+        *,
+        collapse_dt: float = 1e-9,
+        collapse_streak: int = 200,
+        target_candidates: int | None = None,
+        sequential_below: int = 24,
+        record: bool = False,
+    ):
+        if not isinstance(params, MDParams):
+            raise InvalidArgumentError("params", params, "an MDParams")
+        if method not in ("fast", "reference"):
+            raise InvalidArgumentError("method", method, "'fast' or 'reference'")
+        self.p = params
+        self.method = method
+        self.collapse_dt = check_positive(collapse_dt, "collapse_dt") / params.reduced_density
+        self.collapse_streak = check_count(collapse_streak, "collapse_streak", 2)
+        if target_candidates is None:
+            target_candidates = max(256, params.n // 8)
+        self.target_candidates = check_count(target_candidates, "target_candidates", 1)
+        self.sequential_below = check_count(sequential_below, "sequential_below", 0)
+        self.stats = {"passes": 0, "slabs": 0, "sequential": 0, "sequential_seconds": 0.0}
+        self.record = [] if record else None
+
+    # -- driver interface ---------------------------------------------------------------------
+
+    def params(self) -> dict:
+        out = self.p.to_dict()
+        out["model"] = self.name
+        out["method"] = self.method
+        return out
+
+    def initial_state(self, rng: np.random.Generator) -> MDState:
+        """Equilibrium hard-rod positions, velocities from the law with zero momentum, ⟨v²⟩ = 1.
+
+        Points: N sorted uniform draws on [0, L − Nσ) (rod i at x_i + iσ).  Velocities: drawn
+        after the positions, shifted to zero mean and scaled to mean square exactly 1.
+        """
+        if not isinstance(rng, np.random.Generator):
+            raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
+        p = self.p
+        x = np.sort(rng.uniform(0.0, p.reduced_length, p.n))
+        v = get_law(p.initial).sample(rng, p.n)
+        v = v - v.mean()
+        v = v / math.sqrt(float(np.mean(v**2)))
+        return MDState(0.0, x, np.zeros(p.n), v, 0)
+
+    def advance(self, state: MDState, until: float, rng: np.random.Generator | None = None):
+        """Exact dynamics from ``state.time`` to ``until`` (all collisions with time ≤ until)."""
+        if not isinstance(state, MDState):
+            raise InvalidArgumentError("state", type(state).__name__, "an MDState")
+        until = check_nonnegative(until, "until")
+        if until < state.time:
+            raise InvalidArgumentError("until", until, f"a time >= the state's time {state.time}")
+        if state.velocities.size != self.p.n:
+            raise InvalidArgumentError("state", f"N={state.velocities.size}", f"N={self.p.n}")
+        run = _advance_reference if self.method == "reference" else _advance_fast
+        x, tl, v, count = run(self, state, until)
+        return MDState(float(until), x, tl, v, int(count))
+
+    def events(self) -> np.ndarray:
+        """Recorded collisions as an array of rows (time, pair), sorted (order-independent)."""
+        if self.record is None:
+            raise InvalidArgumentError("record", False, "an engine built with record=True")
+        rows = np.array(self.record, dtype=float).reshape(-1, 2)
+        return rows[np.lexsort((rows[:, 1], rows[:, 0]))]
+
+    # shared helpers ------------------------------------------------------------------------
+
+    def _watch(self):
+        """(dt_tiny, streak limit, message) of the collapse watch.
+
+        With δ > 0 (or r = 1) collapse is impossible in exact arithmetic: every inelastic
+        collision dissipates at least (1 − r²)δ²/4 and elastic collisions alone are finitely many
+        in finite time.  Only a stall (a particle colliding again and again with no time
+        advance at all) is then reported, after ``_STALL_STREAK`` collisions.
+        """
+        if self.p.delta > 0.0 or self.p.restitution == 1.0:
+            return 0.0, _STALL_STREAK, f"{_STALL_STREAK} collisions of one particle at one time"
+        dt, k = self.collapse_dt, self.collapse_streak
+        return dt, k, f"{k} collisions of one particle, each within {dt:g} of the previous"
+
+    def _collapse(self, t, particles, collisions, detail=""):
+        raise InelasticCollapseError(t, particles, collisions, detail)
+
+
+# ---------------------------------------------------------------------------------------------
+# Sequential reference: a binary heap over the N pairs (pure Python floats; IEEE double, the
+# same operations in the same order as the vectorised engine).
+
+
+def _advance_reference(engine: MDEngine, state: MDState, until: float):
+    prm = engine.p
+    n = prm.n
+    lr = prm.reduced_length
+    p = prm.p
+    delta = prm.delta
+    elastic_only = prm.restitution == 1.0
+    x = state.positions.tolist()
+    tl = state.t_last.tolist()
+    v = state.velocities.tolist()
+    count = int(state.collisions)
+    inf = math.inf
+    streak = [0] * n
+    dt_tiny, limit, detail = engine._watch()
+    record = engine.record
+
+    def predict(b):
+        i = b
+        j = b + 1 if b < n - 1 else 0
+        vi = v[i]
+        vj = v[j]
+        if not vi > vj:
+            return inf
+        ti = tl[i]
+        tj = tl[j]
+        tt = ti if ti > tj else tj
+        xi = x[i] + vi * (tt - ti)
+        xj = x[j] + vj * (tt - tj)
+        if j == 0:
+            xj = xj + lr
+        g = xj - xi
+        if g < 0.0:
+            g = 0.0
+        return tt + g / (vi - vj)
+
+    ctime = [predict(b) for b in range(n)]
+    version = [0] * n
+    heap = [(c, b, 0) for b, c in enumerate(ctime) if c <= until]
+    heapq.heapify(heap)
+    while heap:
+        c, b, ver = heapq.heappop(heap)
+        if ver != version[b]:
+            continue
+        i = b
+        j = b + 1 if b < n - 1 else 0
+        # collapse watch: time advance of each particle since its previous collision
+        for k in (i, j):
+            if c - tl[k] <= dt_tiny:
+                streak[k] += 1
+            else:
+                streak[k] = 0
+        if streak[i] >= limit or streak[j] >= limit:
+            involved = [k for k in range(n) if streak[k] > 0]
+            engine._collapse(c, involved, count, detail)
+        vi = v[i]
+        vj = v[j]
+        xc = x[i] + vi * (c - tl[i])
+        x[i] = xc
+        x[j] = xc - lr if j == 0 else xc
+        tl[i] = c
+        tl[j] = c
+        d = vi - vj
+        if elastic_only or d < delta:
+            v[i] = vj
+            v[j] = vi
+        else:
+            pd = p * d
+            a = vi - pd
+            e = vj + pd
+            a = min(max(a, vj), vi)
+            e = min(max(e, vj), vi)
+            if a > e:
+                a, e = e, a
+            v[i] = a
+            v[j] = e
+        count += 1
+        if record is not None:
+            record.append((c, b))
+        for bb in (b - 1 if b > 0 else n - 1, b, b + 1 if b < n - 1 else 0):
+            cc = predict(bb)
+            if cc != ctime[bb] or bb == b:
+                version[bb] += 1
+                ctime[bb] = cc
+                if cc <= until:
+                    heapq.heappush(heap, (cc, bb, version[bb]))
+    return np.array(x), np.array(tl), np.array(v), count
+
+
+# ---------------------------------------------------------------------------------------------
+# Fast path: the light-cone scheme, vectorised.
+
+
+class _Lazy(dict):
+    """A dict view of a NumPy array that copies an entry to a Python scalar on first use."""
+
+    __slots__ = ("array",)
+
+    def __init__(self, array):
+        super().__init__()
+        self.array = array
+
+    def __missing__(self, k):
+        value = self.array[k].item()
+        self[k] = value
+        return value
+
+    def write_back(self):
+        if self:
+            idx = np.fromiter(self.keys(), dtype=np.int64, count=len(self))
+            self.array[idx] = np.fromiter(self.values(), dtype=self.array.dtype, count=len(self))
+
+
+def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
+    """Process, in time order, every collision up to ``horizon`` starting from the candidate
+    pairs ``cand`` (all pairs with c ≤ horizon), with scalar Python floats: the reference loop.
+
+    With many candidates (clustered gas, small N) the whole state is copied to lists; with few
+    (the sparse tail of a slab at large N) only the particles touched are loaded, lazily, into
+    dicts.  Either way the results are written back to the arrays.  Returns the number of
+    collisions processed.
+    """
+    prm = engine.p
+    n = prm.n
+    lr = prm.reduced_length
+    p = prm.p
+    delta = prm.delta
+    elastic_only = prm.restitution == 1.0
+    dt_tiny, limit, detail = engine._watch()
+    record = engine.record
+    inf = math.inf
+    full = n <= _FULL_COPY_N or cand.size * 64 >= n
+    if full:
+        X, TL, V, ST, C = x.tolist(), tl.tolist(), v.tolist(), streak.tolist(), c.tolist()
+        VER = [0] * n
+    else:
+        X, TL, V, ST, C = _Lazy(x), _Lazy(tl), _Lazy(v), _Lazy(streak), _Lazy(c)
+        VER = _Lazy(np.zeros(n, dtype=np.int64))  # only read, never written back
+
+    def predict(b):
+        i = b
+        j = b + 1 if b < n - 1 else 0
+        vi = V[i]
+        vj = V[j]
+        if not vi > vj:
+            return inf
+        ti = TL[i]
+        tj = TL[j]
+        tt = ti if ti > tj else tj
+        xi = X[i] + vi * (tt - ti)
+        xj = X[j] + vj * (tt - tj)
+        if j == 0:
+            xj = xj + lr
+        g = xj - xi
+        if g < 0.0:
+            g = 0.0
+        return tt + g / (vi - vj)
+
+    heap = [(C[b], b, 0) for b in cand.tolist()]
+    heapq.heapify(heap)
+    done = 0
+    while heap:
+        cb, b, ver = heapq.heappop(heap)
+        if ver != VER[b]:
+            continue
+        i = b
+        j = b + 1 if b < n - 1 else 0
+        ti = TL[i]
+        si = ST[i] + 1 if cb - ti <= dt_tiny else 0
+        sj = ST[j] + 1 if cb - TL[j] <= dt_tiny else 0
+        ST[i] = si
+        ST[j] = sj
+        if si >= limit or sj >= limit:
+            involved = [k for k in (range(n) if full else ST.keys()) if ST[k] > 0]
+            engine._collapse(cb, involved, count + done, detail)
+        vi = V[i]
+        vj = V[j]
+        xc = X[i] + vi * (cb - ti)
+        X[i] = xc
+        X[j] = xc - lr if j == 0 else xc
+        TL[i] = cb
+        TL[j] = cb
+        d = vi - vj
+        if elastic_only or d < delta:
+            V[i] = vj
+            V[j] = vi
+        else:
+            pd = p * d
+            a = vi - pd
+            e = vj + pd
+            a = min(max(a, vj), vi)
+            e = min(max(e, vj), vi)
+            if a > e:
+                a, e = e, a
+            V[i] = a
+            V[j] = e
+        done += 1
+        if record is not None:
+            record.append((cb, b))
+        C[b] = inf  # the pair separates (v_i' <= v_j'); its popped entry was the live one
+        for bb in (b - 1 if b > 0 else n - 1, b + 1 if b < n - 1 else 0):
+            cc = predict(bb)
+            if cc != C[bb]:
+                VER[bb] += 1
+                C[bb] = cc
+                if cc <= horizon:
+                    heapq.heappush(heap, (cc, bb, VER[bb]))
+    if full:
+        x[:] = X
+        tl[:] = TL
+        v[:] = V
+        streak[:] = ST
+        c[:] = C
+    else:
+        for store in (X, TL, V, ST, C):
+            store.write_back()
+    return done
+
+
+def _predict(x, tl, v, idx, n, lr):
+    """Predicted collision times of pairs ``idx`` (inf where the pair is not approaching)."""
+    i = idx
+    j = idx + 1
+    seam = j == n
+    j[seam] = 0
+    vi = v[i]
+    vj = v[j]
+    ti = tl[i]
+    tj = tl[j]
+    app = vi > vj
+    tt = np.maximum(ti, tj)
+    xi = x[i] + vi * (tt - ti)
+    xj = x[j] + vj * (tt - tj)
+    if seam.any():
+        xj[seam] = xj[seam] + lr
+    g = xj - xi
+    np.maximum(g, 0.0, out=g)
+    dv = np.where(app, vi - vj, 1.0)
+    c = tt + g / dv
+    c[~app] = np.inf
+    return c
+
+
+def _advance_fast(engine: MDEngine, state: MDState, until: float):
+    prm = engine.p
+    n = prm.n
+    lr = prm.reduced_length
+    p = prm.p
+    delta = prm.delta
+    elastic_only = prm.restitution == 1.0
+    x = state.positions.copy()
+    tl = state.t_last.copy()
+    v = state.velocities.copy()
+    count = int(state.collisions)
+    streak = np.zeros(n, dtype=np.int64)
+    dt_tiny, limit, detail = engine._watch()
+    record = engine.record
+    target = engine.target_candidates
+    seq_below = engine.sequential_below
+    stats = engine.stats
+
+    allpairs = np.arange(n)
+    c = _predict(x, tl, v, allpairs, n, lr)
+    # horizon width, adapted so that about ``target`` collisions are candidates per slab
+    width = None
+    while True:
+        cmin = c.min()
+        if not cmin <= until:
+            break
+        vmax = float(v.max())
+        vmin = float(v.min())
+        if width is None:
+            sample = c[np.isfinite(c)]
+            k = min(target, sample.size) - 1
+            width = float(np.partition(sample, k)[k] - cmin) if k > 0 else 0.0
+        horizon = min(cmin + width, until)
+        cand = np.flatnonzero(c <= horizon)
+        stats["slabs"] += 1
+        done_in_slab = 0
+        while cand.size:
+            stats["passes"] += 1
+            cc = c[cand]
+            # local minimum in (time, index) order among the neighbouring pairs
+            left = cand - 1
+            left[left < 0] = n - 1
+            right = cand + 1
+            right[right == n] = 0
+            cl = c[left]
+            cr = c[right]
+            safe = ((cc < cl) | ((cc == cl) & (cand < left))) & (
+                (cc < cr) | ((cc == cr) & (cand < right))
+            )
+            if cand.size > 1:
+                xc = x[cand] + v[cand] * (cc - tl[cand])
+                kl = vmax * cc - xc
+                kr = xc - vmin * cc
+                tol = _CONE_MARGIN * (
+                    (abs(vmax) + abs(vmin)) * np.abs(cc).max() + np.abs(xc).max() + lr
+                )
+                pre = np.empty_like(kl)
+                pre[0] = np.inf
+                np.minimum.accumulate(kl[:-1], out=pre[1:])
+                np.minimum(pre, kl.min() + lr, out=pre)
+                suf = np.empty_like(kr)
+                suf[-1] = np.inf
+                suf[:-1] = np.minimum.accumulate(kr[:0:-1])[::-1]
+                np.minimum(suf, kr.min() + lr, out=suf)
+                safe &= (kl < pre - tol) & (kr < suf - tol)
+            safe[np.argmin(cc)] = True  # the earliest collision is always safe
+            ev = cand[safe]
+            tev = cc[safe]
+            # -- collisions -----------------------------------------------------------
+            i = ev
+            j = ev + 1
+            seam = j == n
+            j[seam] = 0
+            vi = v[i]
+            vj = v[j]
+            # collapse watch
+            dti = tev - tl[i]
+            dtj = tev - tl[j]
+            si = np.where(dti <= dt_tiny, streak[i] + 1, 0)
+            sj = np.where(dtj <= dt_tiny, streak[j] + 1, 0)
+            streak[i] = si
+            streak[j] = sj
+            if si.max() >= limit or sj.max() >= limit:
+                bad = np.flatnonzero((si >= limit) | (sj >= limit))[0]
+                engine._collapse(
+                    tev[bad],
+                    np.flatnonzero(streak > 0),
+                    count + bad,
+                    detail,
+                )
+            xcol = x[i] + vi * dti
+            x[i] = xcol
+            if seam.any():
+                xj = xcol.copy()
+                xj[seam] -= lr
+                x[j] = xj
+            else:
+                x[j] = xcol
+            tl[i] = tev
+            tl[j] = tev
+            d = vi - vj
+            if elastic_only:
+                a = vj
+                e = vi
+            else:
+                pd = p * d
+                a = np.minimum(np.maximum(vi - pd, vj), vi)
+                e = np.minimum(np.maximum(vj + pd, vj), vi)
+                flip = a > e
+                if flip.any():
+                    a, e = np.where(flip, e, a), np.where(flip, a, e)
+                el = d < delta
+                if el.any():
+                    a = np.where(el, vj, a)
+                    e = np.where(el, vi, e)
+            v[i] = a
+            v[j] = e
+            count += ev.size
+            if record is not None:
+                record.extend(zip(tev.tolist(), ev.tolist(), strict=True))
+            done_in_slab += ev.size
+            # -- new predictions for the pairs touching changed particles ---------------
+            # the pair itself now separates (v_i' <= v_j' by construction): no prediction
+            c[ev] = np.inf
+            aff = np.concatenate((ev - 1, ev + 1))
+            aff[aff < 0] += n
+            aff[aff >= n] -= n
+            c[aff] = _predict(x, tl, v, aff, n, lr)
+            # candidates: the unfired ones and the new predictions inside the horizon
+            rest = cand[~safe]
+            newc = aff[c[aff] <= horizon]
+            if newc.size:
+                cand = np.unique(np.concatenate((rest, newc)))
+                cand = cand[c[cand] <= horizon]
+            else:
+                cand = rest
+            if ev.size < seq_below and cand.size:
+                # little parallelism left: finish the slab with the scalar event loop
+                t_seq = _time.perf_counter()
+                done = _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count)
+                stats["sequential_seconds"] += _time.perf_counter() - t_seq
+                count += done
+                done_in_slab += done
+                stats["sequential"] += done
+                cand = cand[:0]
+        # adapt the horizon width to the number of collisions that fitted in the slab
+        if done_in_slab > 0 and width > 0:
+            width *= min(2.0, max(0.5, target / done_in_slab))
+        elif width == 0.0:
+            width = None
+    return x, tl, v, count
+
+
+# ---------------------------------------------------------------------------------------------
+# A plain run: observables at the requested times.
+
+
+def simulate(
+    params: MDParams,
+    times,
+    seed: int = 0,
+    *,
+    method: str = "fast",
+    structure: bool = False,
+    profile: bool = False,
+    progress: bool = False,
+    state: MDState | None = None,
+) -> dict:
+    """Run from a fresh start (or from ``state``) and measure at ``times`` (increasing, ≥ 0).
+
+    Returns a JSON-able dict: ``t``, ``energy``, ``collisions_per_particle``, ``momentum``,
+    ``collisions``, ``seconds`` (one entry per time), ``histogram`` (rescaled, last time:
+    ``{"c": centres, "density": values}``), optionally ``structure_factor`` (``k``, ``S``) and
+    ``profile`` (``x``, ``v_x``, ``v_i``) at the last time, and ``state`` (the final MDState,
+    not JSON-able; pop it before dumping).
+    """
+    from maxwell_kinetics.validation import check_times
+
+    times = check_times(times, "t")
+    engine = MDEngine(params, method)
+    if state is None:
+        state = engine.initial_state(np.random.default_rng(seed))
+    if times[0] < state.time:
+        raise InvalidArgumentError("t", times.tolist(), f"times >= the state's time {state.time}")
+    out = {k: [] for k in ("t", "energy", "collisions_per_particle", "momentum", "collisions")}
+    out["seconds"] = []
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=float(times[-1]), unit="t", desc="md")
+    start = _time.perf_counter()
+    for t in times:
+        state = engine.advance(state, float(t))
+        out["t"].append(float(t))
+        out["energy"].append(energy(state))
+        out["collisions_per_particle"].append(collisions_per_particle(state))
+        out["momentum"].append(momentum(state))
+        out["collisions"].append(int(state.collisions))
+        out["seconds"].append(_time.perf_counter() - start)
+        if bar is not None:
+            bar.update(float(t) - bar.n)
+    if bar is not None:
+        bar.close()
+    centres, density = velocity_histogram(state)
+    out["histogram"] = {"c": centres.tolist(), "density": density.tolist()}
+    if structure:
+        k, s, _ = structure_factor(state)
+        out["structure_factor"] = {"k": k.tolist(), "S": s.tolist()}
+    if profile:
+        x, vx = profile_x(state, params)
+        out["profile"] = {"x": x.tolist(), "v_x": vx.tolist(), "v_i": state.velocities.tolist()}
+    out["state"] = state
+    return out
