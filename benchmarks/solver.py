@@ -1,0 +1,133 @@
+"""Benchmarks of the kinetic solver (run on demand; results go to benchmarks/README.md).
+
+    python benchmarks/solver.py timing      # compile time and wall time for τ ∈ [0, 1000]
+    python benchmarks/solver.py stability   # r ∈ {0, .5, .9, .99} × every law × every resolution to τ = 1e4
+    python benchmarks/solver.py floor       # error floor: long runs (r = 0, 0.5) and from the fixed point (every r)
+
+Each mode prints a Markdown table and writes JSON next to this file (benchmarks/solver_<mode>.json).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from maxwell_kinetics.grid import RESOLUTIONS, get_resolution
+from maxwell_kinetics.initial import LAWS, get_law, law_from_characteristic
+from maxwell_kinetics.model import MaxwellModel
+from maxwell_kinetics.solver import SolverOptions, _Stepper, solve
+
+HERE = Path(__file__).resolve().parent
+
+
+def timing(restitutions=(0.5, 0.0), resolutions=("default", "finest"), tau_end=1000.0):
+    rows = []
+    for r in restitutions:
+        for name in resolutions:
+            grid = get_resolution(name)
+            t0 = time.perf_counter()
+            st = _Stepper(MaxwellModel(r), get_law("gaussian"), grid, SolverOptions())
+            t1 = time.perf_counter()
+            y = st.advance(st.y0, 0, 1).block_until_ready()
+            st.output(y, 1, 1.5 * st.dtau).block_until_ready()
+            t2 = time.perf_counter()
+            windows = int(math.floor(tau_end / st.dtau + 1e-12))
+            best = math.inf
+            for _ in range(3):
+                t3 = time.perf_counter()
+                y = st.advance(st.y0, 0, windows)
+                np.asarray(st.output(y, windows, tau_end))
+                best = min(best, time.perf_counter() - t3)
+            rows.append({"restitution": r, "resolution": name, "points": grid.n,
+                         "setup_s": t1 - t0, "compile_s": t2 - t1, "run_s": best,
+                         "windows": windows})
+    print("| r | resolution | points | compile (s) | τ ∈ [0, 1000] after JIT (s, best of 3) |")
+    print("|---|---|---|---|---|")
+    for row in rows:
+        print(f"| {row['restitution']:g} | {row['resolution']} | {row['points']} | "
+              f"{row['compile_s']:.2f} | {row['run_s']:.2f} |")
+    return rows
+
+
+def _stable(err):
+    err = np.asarray(err)
+    if not np.all(np.isfinite(err)):
+        return False
+    running_min = np.minimum.accumulate(err)
+    return bool(np.all(err <= 10.0 * running_min + 1e-14))
+
+
+def stability(restitutions=(0.0, 0.5, 0.9, 0.99), laws=tuple(sorted(LAWS)),
+              resolutions=tuple(RESOLUTIONS), tau_max=1e4):
+    taus = np.unique(np.round(np.geomspace(1.0, tau_max, 25), 6))
+    rows = []
+    for r in restitutions:
+        for law in laws:
+            for name in resolutions:
+                t0 = time.perf_counter()
+                try:
+                    sol = solve(r, law, taus, name)
+                    err = sol.sup_error()
+                    ok = _stable(err)
+                    final = float(err[-1])
+                except Exception as exc:  # report, do not hide, a failure
+                    err, ok, final = [], False, repr(exc)
+                rows.append({"restitution": r, "initial": law, "resolution": name,
+                             "stable": ok, "final_sup_error": final,
+                             "min_sup_error": float(np.min(err)) if len(err) else None,
+                             "seconds": time.perf_counter() - t0,
+                             "tau": taus.tolist(), "sup_error": np.asarray(err).tolist()})
+                print(json.dumps({k: rows[-1][k] for k in
+                                  ("restitution", "initial", "resolution", "stable",
+                                   "final_sup_error", "seconds")}), flush=True)
+    return rows
+
+
+def floor(long_restitutions=(0.0, 0.5), fp_restitutions=(0.0, 0.5, 0.9, 0.99),
+          resolutions=tuple(RESOLUTIONS), tau_max=1e4, fp_tau=(10.0, 100.0, 1000.0)):
+    from maxwell_kinetics.stationary import fixed_point
+
+    rows = []
+    taus = np.unique(np.round(np.geomspace(100.0, tau_max, 11), 6))
+    for r in long_restitutions:
+        for name in resolutions:
+            sol = solve(r, "gaussian", taus, name)
+            err = sol.sup_error()
+            rows.append({"method": "long run from gaussian", "restitution": r,
+                         "resolution": name, "h": get_resolution(name).h,
+                         "floor": float(np.median(err[-4:])), "tau": taus.tolist(),
+                         "sup_error": err.tolist()})
+            print(json.dumps({k: rows[-1][k] for k in ("method", "restitution", "resolution",
+                                                        "floor")}), flush=True)
+    for r in fp_restitutions:
+        fp = fixed_point(r)
+        law = law_from_characteristic(lambda k, fp=fp: fp.evaluate(np.asarray(k)), 1.0,
+                                      name=f"fixed-point r={r:g}")
+        for name in resolutions:
+            sol = solve(r, law, list(fp_tau), name)
+            err = sol.sup_error()
+            rows.append({"method": "from the fixed point", "restitution": r,
+                         "resolution": name, "h": get_resolution(name).h,
+                         "fixed_point_error": fp.max_error,
+                         "floor": float(err.max()), "tau": list(fp_tau),
+                         "sup_error": err.tolist()})
+            print(json.dumps({k: rows[-1][k] for k in ("method", "restitution", "resolution",
+                                                        "floor")}), flush=True)
+    return rows
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("mode", choices=["timing", "stability", "floor"])
+    args = parser.parse_args()
+    rows = {"timing": timing, "stability": stability, "floor": floor}[args.mode]()
+    (HERE / f"solver_{args.mode}.json").write_text(json.dumps(rows, indent=1))
+
+
+if __name__ == "__main__":
+    main()
