@@ -91,7 +91,7 @@ def _run_solve(args) -> int:
     else:
         print(f"r = {model.restitution:g}, initial {law.name}, resolution {grid.name} "
               f"({grid.n} points), {seconds:.2f} s")
-        for tau, err in zip(taus, sup):
+        for tau, err in zip(taus, sup, strict=True):
             print(f"  tau = {tau:<10g} sup_q |G - f_hat| = {err:.3e}")
     return 0
 
@@ -185,7 +185,9 @@ def _run_convergence(args) -> int:
     runs = convergence_study(rs, names, tau_max, progress=not args.json)
     summary = write_results(runs, args.out)
     if args.json:
-        emit_json({"out": str(args.out), "table": summary["table"], "order_fit": summary["order_fit"]})
+        emit_json(
+            {"out": str(args.out), "table": summary["table"], "order_fit": summary["order_fit"]}
+        )
     else:
         print(f"{'r':>5} {'resolution':>10} {'h':>8} {'floor':>10} {'stable':>7} {'seconds':>8}")
         for row in summary["table"]:

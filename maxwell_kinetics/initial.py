@@ -62,7 +62,7 @@ class InitialLaw:
         """Draw ``n`` independent velocities with ``rng`` (a ``numpy.random.Generator``)."""
         if self.sampler is None:
             raise InvalidArgumentError(
-                "initial", self.name, "a law with a sampler (user characteristic functions have none)"
+                "initial", self.name, "a law with a sampler (user laws have none)"
             )
         return np.asarray(self.sampler(rng, int(n)), dtype=float)
 
@@ -166,7 +166,9 @@ def law_from_characteristic(
         at_zero = complex(np.ravel(phi(np.zeros(1)))[0])
         probe = phi(np.linspace(-30.0, 30.0, 601))
     except Exception as exc:  # a user function may fail in any way; report it as bad input
-        raise InvalidArgumentError("characteristic", characteristic, f"a callable phi(k) ({exc})") from exc
+        raise InvalidArgumentError(
+            "characteristic", characteristic, f"a callable phi(k) ({exc})"
+        ) from exc
     if not np.all(np.isfinite(probe)) or not np.isfinite(at_zero):
         raise InvalidArgumentError("characteristic", characteristic, "finite values phi(k)")
     if abs(at_zero - 1.0) > 1e-12:

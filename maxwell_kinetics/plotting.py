@@ -27,7 +27,9 @@ def plot_solution(solution):
     left, right = axes[0]
     q = solution.q
     show = q > 1e-3
-    colors = __import__("matplotlib").colormaps["viridis"](np.linspace(0, 0.9, len(solution.tau)))
+    from matplotlib import colormaps
+
+    colors = colormaps["viridis"](np.linspace(0, 0.9, len(solution.tau)))
     for k, tau in enumerate(solution.tau):
         left.plot(q[show], solution.G[k, show].real, color=colors[k], label=f"τ = {tau:g}")
         right.loglog(q[show], np.abs(solution.deviation[k, show]) + 1e-300, color=colors[k])
@@ -36,7 +38,8 @@ def plot_solution(solution):
     left.set(xlabel="q", ylabel="Re G(q, τ)", title=f"r = {solution.restitution:g}, "
              f"initial {solution.initial}")
     left.legend(fontsize=7)
-    right.set(xlabel="q", ylabel="|G − f̂|", ylim=(1e-16, 2), title="distance to the scaling solution")
+    right.set(xlabel="q", ylabel="|G − f̂|", ylim=(1e-16, 2),
+              title="distance to the scaling solution")
     fig.tight_layout()
     return fig
 
@@ -62,7 +65,8 @@ def plot_convergence(runs):
         right.loglog(h, ref * (h / h[-1]) ** order, "k:", label=f"h^{order}")
     left.set(xlabel="τ", ylabel="sup_q |G − f̂|", title="approach to f̂")
     left.legend(fontsize=6, ncol=2)
-    right.set(xlabel="h (grid spacing in ln q)", ylabel="error floor", title="floor against resolution")
+    right.set(xlabel="h (grid spacing in ln q)", ylabel="error floor",
+              title="floor against resolution")
     right.legend(fontsize=7)
     fig.tight_layout()
     return fig

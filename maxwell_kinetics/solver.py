@@ -115,7 +115,8 @@ def initial_deviation(law: InitialLaw, q: np.ndarray, q_fit: float = 2e-3) -> np
 
     For q ≥ q_fit the difference is taken directly (absolute error ~1e-16, i.e. a variance
     error below 1e-16 / q_fit² ≈ 3e-11).  Below q_fit, w is the least-squares series
-    c₄q⁴ + c₅q⁵ + c₆q⁶ + c₇q⁷ fitted on q ∈ [q_fit, 8 q_fit].
+    c₃q³ + … + c₇q⁷ fitted on q ∈ [q_fit, 8 q_fit] (c₃ is zero for laws with a finite
+    third absolute moment; a heavy x⁻⁴ tail, as in f̂ itself, gives the real |q|³ term).
     """
     m3 = law.skewness
     q = np.asarray(q, dtype=float)
@@ -124,7 +125,7 @@ def initial_deviation(law: InitialLaw, q: np.ndarray, q_fit: float = 2e-3) -> np
     if np.any(small):
         qf = np.geomspace(q_fit, 8 * q_fit, 64)
         wf = law.phi(qf) - reference(qf, m3).astype(complex)
-        powers = np.arange(4, 8)
+        powers = np.arange(3, 8)
         basis = (qf[:, None] / q_fit) ** powers
         coef, *_ = np.linalg.lstsq(basis.astype(complex), wf, rcond=None)
         w[small] = ((q[small, None] / q_fit) ** powers) @ coef
