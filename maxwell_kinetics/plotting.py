@@ -33,7 +33,7 @@ def plot_solution(solution):
     for k, tau in enumerate(solution.tau):
         left.plot(q[show], solution.G[k, show].real, color=colors[k], label=f"τ = {tau:g}")
         right.loglog(q[show], np.abs(solution.deviation[k, show]) + 1e-300, color=colors[k])
-    left.plot(q[show], f_hat(q[show]), "k--", label="f̂ = (1+q)e^{-q}")
+    left.plot(q[show], f_hat(q[show]), "k--", label=r"$\hat f=(1+q)\,e^{-q}$")
     left.set_xscale("log")
     left.set(xlabel="q", ylabel="Re G(q, τ)", title=f"r = {solution.restitution:g}, "
              f"initial {solution.initial}")
