@@ -224,7 +224,6 @@ class _Stepper:
             dw = source(q, lam, m3, jnp) - w + g_p * w_1mp + w_p * g_1mp + w_p * w_1mp
             return from_c(dw)
 
-        self.rhs = rhs
         term = diffrax.ODETerm(rhs)
         solver = diffrax.Dopri8()
         controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol)
