@@ -110,11 +110,10 @@ def _fire_rounds(
             first[flat] = -1
             np.maximum.at(first, flat, occ)
             own = first[flat]
-        own >>= 1
-        pair_own = own.reshape(m, 2)
-        row = occurrence[:m]
-        fire = pair_own[:, 0] == row
-        fire &= pair_own[:, 1] == row
+        # Event r (occurrences 2r, 2r+1) fires iff it is the earliest of both its particles.
+        own_is_first = own == occ
+        fire = own_is_first[0::2]
+        fire &= own_is_first[1::2]
         fired = packed[fire].view(np.int32).astype(np.intp)
         vv = v[fired]
         vv2 = vv.reshape(-1, 2)
@@ -190,8 +189,10 @@ class Ulam:
 
     @property
     def stop_step(self) -> float:
-        """Driver stops (progress, checkpoints) every max(1, window) in τ (a power of two)."""
-        return max(1.0, self.window)
+        """Driver stops (progress, checkpoints) every max(4, window) in τ (a power of two).  Each
+        ``advance`` copies the velocities (the previous state must survive Ctrl-C); stops 4 apart
+        keep that copy below ~3% of the run time at N = 1e6."""
+        return max(4.0, self.window)
 
     def params(self) -> dict:
         return {

@@ -182,7 +182,7 @@ def test_bad_parameters_are_named(kwargs, match):
 
 def test_windows_are_a_fixed_grid():
     engine = Ulam(1_000_000, 0.5)
-    assert engine.window == 2.0**-4 and engine.stop_step == 1.0
+    assert engine.window == 2.0**-4 and engine.stop_step == 4.0
     windows = engine.windows(0.0, 1.0)
     assert len(windows) == 16 and windows[0] == (0.0, 0.0625) and windows[-1] == (0.9375, 1.0)
     assert engine.windows(0.1, 0.2) == [(0.1, 0.125), (0.125, 0.1875), (0.1875, 0.2)]
