@@ -103,6 +103,8 @@ def run_engine(engine, args, *, time_key: str = "tau") -> int:
     payload = result.summary()
     payload[time_key] = payload.pop("tau")
     payload.update({"params": result.params, "seed": result.seed})
+    for key, values in result.extras.items():  # e.g. lattice attempts, MD τ(t)
+        payload.setdefault(key, values.tolist())
     if args.structure_factor:
         payload["k"] = result.structure[0].tolist()
         payload["S"] = result.structure[1][-1].tolist()

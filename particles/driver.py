@@ -451,10 +451,11 @@ def simulate(
             while state.time < target:
                 stop = min(float(engine.next_stop(state.time)), target)
                 new = engine.advance(state, stop, rng)
+                new_rng_state = rng.bit_generator.state
+                # One statement: Ctrl-C cannot separate the state from its RNG state.
+                state, rng_state, previous = new, new_rng_state, state
                 if bar is not None:
-                    bar.update(new.time - state.time)
-                state = new
-                rng_state = rng.bit_generator.state
+                    bar.update(state.time - previous.time)
                 if checkpoint is not None and _time.monotonic() - last_save >= checkpoint_interval:
                     records.seconds = seconds_before + _time.perf_counter() - started
                     _save_checkpoint(checkpoint, identity, state, rng_state, records)
