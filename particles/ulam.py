@@ -114,13 +114,14 @@ def _fire_rounds(
         own_is_first = own == occ
         fire = own_is_first[0::2]
         fire &= own_is_first[1::2]
-        fired = packed[fire].view(np.int32).astype(np.intp)
+        # np.compress, not packed[fire]: boolean indexing is ~5x slower on random masks.
+        fired = np.compress(fire, packed).view(np.int32).astype(np.intp)
         vv = v[fired]
         vv2 = vv.reshape(-1, 2)
         collide_arrays(vv2[:, 0], vv2[:, 1], p)
         v[fired] = vv
         np.logical_not(fire, out=fire)
-        packed = packed[fire]
+        packed = np.compress(fire, packed)
         rounds += 1
     return rounds
 
