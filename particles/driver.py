@@ -6,8 +6,8 @@ Engine protocol
 An engine (``particles.ulam.Ulam``, ``particles.lattice.Lattice``, the MD engine) is an object with
 
 * ``name: str`` — ``"ulam"``, ``"lattice"``, ``"md"``;
-* ``params() -> dict`` — JSON-able parameters; a checkpoint written with other parameters is
-  rejected;
+* ``params() -> dict`` — JSON-able parameters, including ``"n"`` (the number of particles);
+  a checkpoint written with other parameters is rejected;
 * ``initial_state(rng) -> state``;
 * ``advance(state, until, rng) -> state`` — the exact dynamics from ``state.time`` up to ``until``
   (τ for Ulam and lattice, t for MD).  It must not modify ``state`` (the driver keeps the last
@@ -19,7 +19,7 @@ An engine (``particles.ulam.Ulam``, ``particles.lattice.Lattice``, the MD engine
   one bit for bit;
 * ``state_from_arrays(arrays) -> state`` — rebuild a state from ``state.to_arrays()``;
 * optionally ``observe(state) -> dict[str, float]`` — extra scalars recorded at each requested
-  time (e.g. τ(t) for MD).
+  time (e.g. τ(t) for MD), and ``time_name`` (default ``"τ"``) for the progress bar.
 
 A state is a frozen dataclass with at least ``time: float``, ``velocities: ndarray``,
 ``collisions: int`` and ``to_arrays() -> dict[str, ndarray]``.
@@ -440,7 +440,7 @@ def simulate(
         bar = tqdm(
             total=float(times[-1]),
             initial=float(state.time),
-            unit="τ",
+            unit=getattr(engine, "time_name", "τ"),
             leave=False,
             desc=engine.name,
             bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} [{elapsed}<{remaining}]",
