@@ -9,7 +9,7 @@ process (and the C programs it starts) is pinned to one CPU.
 1. Side by side at N = 1e6: collisions/s (Ulam, r = 0.5) and attempts/s (lattice, r = 0.5,
    constraint on) of the NumPy engines (``advance`` through the driver's stops, as ``simulate``
    runs them) and of ``benchmarks/particles_baseline.c`` compiled now with ``cc -O2``, in two
-   variants: xoshiro256** random numbers (fast) and the C library's drand48().  Best of 3
+   variants: xoshiro256** random numbers (fast) and the C library's drand48().  Best of 5
    interleaved repetitions each.  The C loop is the discrete model (a fixed number of
    collisions / attempts); the NumPy engines run the exact continuous-time models (a Poisson
    number of events; the lattice also draws one Exp(1) clock per attempt).
@@ -111,7 +111,7 @@ def scaling(sizes, work: float, taus_at_1e5) -> dict:
     for model in out:
         cases = [(n, work / n) for n in sizes] + [(100_000, t) for t in taus_at_1e5]
         for n, tau in cases:
-            # r = 0.99 for Ulam keeps the energy far above underflow at τ up to 2e3.
+            # r = 0.99 for Ulam keeps the energy well above the round-off floor at τ up to 4e3.
             engine = Ulam(n, 0.99) if model == "ulam" else Lattice(n, 0.5)
             seconds, events = run_numpy(engine, tau)
             out[model].append(
@@ -160,10 +160,10 @@ def main(argv=None) -> int:
         n_main, tau_main, repeats = 100_000, 4.0, 2
         sizes, work, taus, mem_n = [10_000, 100_000], 1e6, [4.0, 16.0], 1_000_000
     else:
-        n_main, tau_main, repeats = 1_000_000, 8.0, 3
+        n_main, tau_main, repeats = 1_000_000, 8.0, 5
         sizes, work, taus, mem_n = (
             [10_000, 100_000, 1_000_000, 10_000_000],
-            2e7,
+            4e7,
             [4.0, 16.0, 64.0],
             10_000_000,
         )
