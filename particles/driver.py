@@ -114,6 +114,17 @@ def next_grid_point(time: float, step: float) -> float:
 # --------------------------------------------------------------------------- files
 
 
+def check_writable(path, name: str) -> Path:
+    """``path`` must name a file (not a directory) in an existing, writable directory."""
+    path = Path(path)
+    directory = path.parent if str(path.parent) else Path(".")
+    if path.is_dir() or not directory.is_dir() or not os.access(directory, os.W_OK):
+        raise InvalidArgumentError(
+            name, str(path), "a file path in an existing, writable directory"
+        )
+    return path
+
+
 def _write_npz(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
     """Write ``arrays`` and a JSON ``meta`` entry atomically (temporary file, then rename)."""
     path = Path(path)
@@ -419,6 +430,8 @@ def simulate(
     seed = check_count(seed, "seed", 0)
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
+    if checkpoint is not None:
+        checkpoint = check_writable(checkpoint, "checkpoint")
     identity = _run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
     n = int(engine.params()["n"])
     records = _Records(len(times), n, structure_factor, snapshots)

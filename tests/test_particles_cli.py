@@ -117,6 +117,16 @@ def test_bad_input_exits_2_naming_argument_and_value(capsys, tmp_path, argv, mes
     assert list(tmp_path.iterdir()) == []
 
 
+def test_unwritable_output_paths_exit_2_before_running(capsys, tmp_path):
+    base = ["simulate", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1"]
+    missing = tmp_path / "no" / "such" / "dir.ckpt"
+    assert main(base + ["--checkpoint", str(missing)]) == 2
+    assert "checkpoint=" in capsys.readouterr().err
+    assert main(base + ["--save", str(tmp_path)]) == 2  # a directory, not a file
+    assert "save=" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_corrupt_or_mismatched_checkpoint_exits_2(capsys, tmp_path):
     bad = tmp_path / "bad.ckpt"
     bad.write_text("not a checkpoint")
