@@ -37,6 +37,19 @@ def test_fast_path_equals_sequential_loop_on_the_same_events(n, k, r):
     assert abs(fast.sum() - v.sum()) < 1e-12 * n
 
 
+def test_scatter_max_matches_the_order_independent_fallback():
+    from particles.ulam import _largest_occurrence, _largest_occurrence_ufunc
+
+    rng = np.random.default_rng(3)
+    flat = rng.integers(0, 500, 4000).astype(np.intp)  # many repeats per particle
+    occ = np.arange(4000, dtype=np.int32)
+    fast = _largest_occurrence(np.empty(500, np.int32), flat, occ)
+    exact = _largest_occurrence_ufunc(np.empty(500, np.int32), flat, occ)
+    assert np.array_equal(fast, exact)
+    direct = np.array([occ[flat == p].max() for p in flat])
+    assert np.array_equal(exact, direct)
+
+
 def test_engine_applies_the_drawn_events_exactly():
     # Replay the engine's draws (window by window: Poisson count, then pairs; the drawn pairs
     # read backwards are the events in time order) with the sequential loop.
