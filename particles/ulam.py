@@ -185,6 +185,8 @@ class Ulam:
 
     def __post_init__(self):
         object.__setattr__(self, "n", check_count(self.n, "n", 2))
+        if self.n > 2**31 - 1:  # particle ids are int32 in the event arrays
+            raise InvalidArgumentError("n", self.n, "an integer <= 2**31 - 1")
         object.__setattr__(self, "restitution", check_restitution(self.restitution))
         law = get_law(self.initial)
         if law.sampler is None:

@@ -183,6 +183,7 @@ def test_energy_and_momentum_bookkeeping():
     [
         ({"n": 1, "restitution": 0.5}, "n=1"),
         ({"n": 2.5, "restitution": 0.5}, "n=2.5"),
+        ({"n": 2**31, "restitution": 0.5}, "n=2147483648"),
         ({"n": 10, "restitution": 1.5}, "restitution=1.5"),
         ({"n": 10, "restitution": -0.1}, "restitution=-0.1"),
         ({"n": 10, "restitution": 0.5, "initial": "cauchy"}, "initial='cauchy'"),
