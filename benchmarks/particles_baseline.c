@@ -6,7 +6,8 @@
  *
  * Collision rule: d = (v_a - v_b) * p; v_a -= d; v_b += d; p = (1 + r) / 2.
  * Random numbers: xoshiro256** (one 64-bit draw per index, mapped to [0, m) by a 128-bit
- * multiply).  Prints "seconds energy" for the timed loop only (initialisation excluded).
+ * multiply), or with -DUSE_DRAND48 the C library's drand48() scaled to [0, m).
+ * Prints "seconds energy" for the timed loop only (initialisation excluded).
  */
 #include <math.h>
 #include <stdint.h>
@@ -31,7 +32,11 @@ static inline uint64_t next(void) {
     return result;
 }
 
+#ifdef USE_DRAND48
+static inline uint64_t below(uint64_t m) { return (uint64_t)(drand48() * (double)m); }
+#else
 static inline uint64_t below(uint64_t m) { return (uint64_t)(((__uint128_t)next() * m) >> 64); }
+#endif
 
 static double uniform(void) { return (next() >> 11) * 0x1.0p-53; }
 
@@ -57,6 +62,9 @@ int main(int argc, char **argv) {
         z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
         s[i] = z ^ (z >> 31);
     }
+#ifdef USE_DRAND48
+    srand48((long)s[0]);
+#endif
     double *v = malloc(n * sizeof(double));
     for (uint64_t i = 0; i < n; i++) { /* Box-Muller, not timed */
         double u1 = uniform(), u2 = uniform();

@@ -78,11 +78,13 @@ def run_engine(engine, args, *, time_key: str = "tau") -> int:
     """Run ``engine`` with the common options in ``args`` and print the result."""
     from maxwell_kinetics.cli import emit_json
 
-    from .driver import simulate
+    from .driver import check_writable, simulate
 
     times = parse_float_list(args.times, time_key)
     seed = parse_count(args.seed, "seed", 0)
     progress = sys.stderr.isatty() if args.progress is None else args.progress
+    if args.save:
+        check_writable(args.save, "save")
     try:
         result = simulate(
             engine,
@@ -103,6 +105,8 @@ def run_engine(engine, args, *, time_key: str = "tau") -> int:
     payload = result.summary()
     payload[time_key] = payload.pop("tau")
     payload.update({"params": result.params, "seed": result.seed})
+    for key, values in result.extras.items():  # e.g. lattice attempts, MD τ(t)
+        payload.setdefault(key, values.tolist())
     if args.structure_factor:
         payload["k"] = result.structure[0].tolist()
         payload["S"] = result.structure[1][-1].tolist()

@@ -6,8 +6,8 @@ Engine protocol
 An engine (``particles.ulam.Ulam``, ``particles.lattice.Lattice``, the MD engine) is an object with
 
 * ``name: str`` — ``"ulam"``, ``"lattice"``, ``"md"``;
-* ``params() -> dict`` — JSON-able parameters; a checkpoint written with other parameters is
-  rejected;
+* ``params() -> dict`` — JSON-able parameters, including ``"n"`` (the number of particles);
+  a checkpoint written with other parameters is rejected;
 * ``initial_state(rng) -> state``;
 * ``advance(state, until, rng) -> state`` — the exact dynamics from ``state.time`` up to ``until``
   (τ for Ulam and lattice, t for MD).  It must not modify ``state`` (the driver keeps the last
@@ -19,7 +19,7 @@ An engine (``particles.ulam.Ulam``, ``particles.lattice.Lattice``, the MD engine
   one bit for bit;
 * ``state_from_arrays(arrays) -> state`` — rebuild a state from ``state.to_arrays()``;
 * optionally ``observe(state) -> dict[str, float]`` — extra scalars recorded at each requested
-  time (e.g. τ(t) for MD).
+  time (e.g. τ(t) for MD), and ``time_name`` (default ``"τ"``) for the progress bar.
 
 A state is a frozen dataclass with at least ``time: float``, ``velocities: ndarray``,
 ``collisions: int`` and ``to_arrays() -> dict[str, ndarray]``.
@@ -114,6 +114,17 @@ def next_grid_point(time: float, step: float) -> float:
 # --------------------------------------------------------------------------- files
 
 
+def check_writable(path, name: str) -> Path:
+    """``path`` must name a file (not a directory) in an existing, writable directory."""
+    path = Path(path)
+    directory = path.parent if str(path.parent) else Path(".")
+    if path.is_dir() or not directory.is_dir() or not os.access(directory, os.W_OK):
+        raise InvalidArgumentError(
+            name, str(path), "a file path in an existing, writable directory"
+        )
+    return path
+
+
 def _write_npz(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
     """Write ``arrays`` and a JSON ``meta`` entry atomically (temporary file, then rename)."""
     path = Path(path)
@@ -124,6 +135,9 @@ def _write_npz(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
     try:
         with os.fdopen(fd, "wb") as fh:
             np.savez(fh, **payload)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
@@ -419,6 +433,8 @@ def simulate(
     seed = check_count(seed, "seed", 0)
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
+    if checkpoint is not None:
+        checkpoint = check_writable(checkpoint, "checkpoint")
     identity = _run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
     n = int(engine.params()["n"])
     records = _Records(len(times), n, structure_factor, snapshots)
@@ -440,7 +456,7 @@ def simulate(
         bar = tqdm(
             total=float(times[-1]),
             initial=float(state.time),
-            unit="τ",
+            unit=getattr(engine, "time_name", "τ"),
             leave=False,
             desc=engine.name,
             bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} [{elapsed}<{remaining}]",
@@ -451,10 +467,11 @@ def simulate(
             while state.time < target:
                 stop = min(float(engine.next_stop(state.time)), target)
                 new = engine.advance(state, stop, rng)
+                new_rng_state = rng.bit_generator.state
+                # One statement: Ctrl-C cannot separate the state from its RNG state.
+                state, rng_state, previous = new, new_rng_state, state
                 if bar is not None:
-                    bar.update(new.time - state.time)
-                state = new
-                rng_state = rng.bit_generator.state
+                    bar.update(state.time - previous.time)
                 if checkpoint is not None and _time.monotonic() - last_save >= checkpoint_interval:
                     records.seconds = seconds_before + _time.perf_counter() - started
                     _save_checkpoint(checkpoint, identity, state, rng_state, records)

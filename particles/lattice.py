@@ -128,7 +128,7 @@ def run_clocks(
             own = c[candidates]
             cfire = own < c[candidates - 1]  # index -1 wraps to bond N-1
             cfire &= own <= c[candidates_right]
-            bonds = candidates[cfire]
+            bonds = np.compress(cfire, candidates)
         if bonds.size == 0:
             break
         passes += 1
@@ -156,7 +156,7 @@ def run_clocks(
             if bonds.size * sparse_ratio < n:
                 candidates = np.flatnonzero(c < until)
         else:
-            candidates = candidates[c[candidates] < until]
+            candidates = np.compress(c[candidates] < until, candidates)
         if candidates is not None:
             if candidates.size == 0:
                 break

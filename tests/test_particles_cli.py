@@ -117,6 +117,16 @@ def test_bad_input_exits_2_naming_argument_and_value(capsys, tmp_path, argv, mes
     assert list(tmp_path.iterdir()) == []
 
 
+def test_unwritable_output_paths_exit_2_before_running(capsys, tmp_path):
+    base = ["simulate", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1"]
+    missing = tmp_path / "no" / "such" / "dir.ckpt"
+    assert main(base + ["--checkpoint", str(missing)]) == 2
+    assert "checkpoint=" in capsys.readouterr().err
+    assert main(base + ["--save", str(tmp_path)]) == 2  # a directory, not a file
+    assert "save=" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_corrupt_or_mismatched_checkpoint_exits_2(capsys, tmp_path):
     bad = tmp_path / "bad.ckpt"
     bad.write_text("not a checkpoint")
@@ -133,3 +143,55 @@ def test_corrupt_or_mismatched_checkpoint_exits_2(capsys, tmp_path):
     lattice = ["simulate", "lattice", "--n", "100", "--restitution", "0.5", "--tau", "1"]
     assert main(lattice + ["--resume", str(good)]) == 2
     assert "model" in capsys.readouterr().err
+
+
+def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
+    # End to end with a real SIGINT: exit status 130, a checkpoint on disk, and the resumed run
+    # prints exactly the numbers of an uninterrupted one.
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    ckpt = tmp_path / "run.ckpt"
+    argv = [
+        sys.executable,
+        "-m",
+        "maxwell_kinetics.cli",
+        "simulate",
+        "lattice",
+        "--n",
+        "200000",
+        "--restitution",
+        "0.5",
+        "--tau",
+        "4,400",
+        "--seed",
+        "3",
+        "--json",
+        "--no-progress",
+    ]
+    root = str(__import__("pathlib").Path(__file__).resolve().parents[1])
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([root, os.environ.get("PYTHONPATH", "")]))
+    proc = subprocess.Popen(
+        argv + ["--checkpoint", str(ckpt), "--checkpoint-interval", "0"],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    deadline = time.monotonic() + 60
+    while not ckpt.exists() and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "checkpoint saved" in err and ckpt.exists()
+    resumed = subprocess.run(
+        argv + ["--resume", str(ckpt)], env=env, capture_output=True, text=True, check=True
+    )
+    full = subprocess.run(argv, env=env, capture_output=True, text=True, check=True)
+    a, b = json.loads(resumed.stdout), json.loads(full.stdout)
+    assert a["energy"] == b["energy"] and a["histogram"] == b["histogram"]
+    assert a["collisions"] == b["collisions"] and a["attempts"] == b["attempts"]

@@ -167,3 +167,22 @@ def test_bad_times_are_rejected(times, match):
 def test_bad_seed_is_rejected():
     with pytest.raises(InvalidArgumentError, match="seed=-1"):
         simulate(Ulam(10, 0.5), [1.0], -1, progress=False)
+
+
+def test_particles_never_imports_jax():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, particles, particles.cli, particles.ulam, particles.lattice\n"
+        "assert 'jax' not in sys.modules, sorted(m for m in sys.modules if 'jax' in m)\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_progress_bar_runs_on_stderr(capsys):
+    quiet = simulate(Lattice(300, 0.5), [2.0, 9.0], 1, progress=False)
+    loud = simulate(Lattice(300, 0.5), [2.0, 9.0], 1, progress=True)
+    _assert_same_run(quiet, loud)
+    captured = capsys.readouterr()
+    assert captured.out == "" and "lattice" in captured.err

@@ -37,6 +37,19 @@ def test_fast_path_equals_sequential_loop_on_the_same_events(n, k, r):
     assert abs(fast.sum() - v.sum()) < 1e-12 * n
 
 
+def test_scatter_max_matches_the_order_independent_fallback():
+    from particles.ulam import _largest_occurrence, _largest_occurrence_ufunc
+
+    rng = np.random.default_rng(3)
+    flat = rng.integers(0, 500, 4000).astype(np.intp)  # many repeats per particle
+    occ = np.arange(4000, dtype=np.int32)
+    fast = _largest_occurrence(np.empty(500, np.int32), flat, occ)
+    exact = _largest_occurrence_ufunc(np.empty(500, np.int32), flat, occ)
+    assert np.array_equal(fast, exact)
+    direct = np.array([occ[flat == p].max() for p in flat])
+    assert np.array_equal(exact, direct)
+
+
 def test_engine_applies_the_drawn_events_exactly():
     # Replay the engine's draws (window by window: Poisson count, then pairs; the drawn pairs
     # read backwards are the events in time order) with the sequential loop.
@@ -170,6 +183,7 @@ def test_energy_and_momentum_bookkeeping():
     [
         ({"n": 1, "restitution": 0.5}, "n=1"),
         ({"n": 2.5, "restitution": 0.5}, "n=2.5"),
+        ({"n": 2**31, "restitution": 0.5}, "n=2147483648"),
         ({"n": 10, "restitution": 1.5}, "restitution=1.5"),
         ({"n": 10, "restitution": -0.1}, "restitution=-0.1"),
         ({"n": 10, "restitution": 0.5, "initial": "cauchy"}, "initial='cauchy'"),
@@ -182,7 +196,7 @@ def test_bad_parameters_are_named(kwargs, match):
 
 def test_windows_are_a_fixed_grid():
     engine = Ulam(1_000_000, 0.5)
-    assert engine.window == 2.0**-4 and engine.stop_step == 1.0
+    assert engine.window == 2.0**-4 and engine.stop_step == 4.0
     windows = engine.windows(0.0, 1.0)
     assert len(windows) == 16 and windows[0] == (0.0, 0.0625) and windows[-1] == (0.9375, 1.0)
     assert engine.windows(0.1, 0.2) == [(0.1, 0.125), (0.125, 0.1875), (0.1875, 0.2)]
