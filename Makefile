@@ -27,7 +27,9 @@ lint: install
 	$(VENV)/bin/ruff check maxwell_kinetics particles tests benchmarks
 
 bench: install
-	$(PY) benchmarks/run_all.py
+	$(PY) benchmarks/solver.py timing
+	$(PY) benchmarks/particles_ulam_lattice.py
+	$(PY) benchmarks/md.py
 
 clean:
 	rm -rf $(VENV) $(RESULTS) build *.egg-info
