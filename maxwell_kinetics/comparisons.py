@@ -427,3 +427,313 @@ def ulam_collapse(size=None, progress=False, **overrides) -> Comparison:
                "seconds": time.perf_counter() - start}
     return Comparison("ulam_collapse", summary, {"rows": rows, "histograms": hists,
                                                   "edges": edges})
+
+
+# ==================================================================== particle runs (cached)
+
+_RUNS: dict = {}
+
+
+def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian",
+                 progress=False) -> dict:
+    """Lattice runs (one per seed) recorded at ``times``: ``energy`` (R, T), ``structure``
+    (R, T, ⌊N/2⌋+1) with ``k``, ``snapshots`` (R, T, N).  Cached per arguments."""
+    from particles.driver import simulate
+    from particles.lattice import Lattice
+
+    key = ("lattice", restitution, n, tuple(times), tuple(seeds), constraint, law)
+    if key not in _RUNS:
+        engine = Lattice(int(n), restitution, law, constraint)
+        res = [simulate(engine, list(times), int(s), progress=progress, structure_factor=True,
+                        snapshots=True) for s in seeds]
+        _RUNS[key] = {
+            "times": np.asarray(times, dtype=float),
+            "energy": np.array([r.energy for r in res]),
+            "k": res[0].structure[0],
+            "structure": np.array([r.structure[1] for r in res]),
+            "snapshots": np.array([r.snapshots for r in res]),
+            "seconds": float(sum(r.seconds for r in res)),
+        }
+    return _RUNS[key]
+
+
+def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False) -> dict:
+    """Event-driven MD runs (density 1, one per seed) recorded at ``times``: ``energy`` and
+    ``tau`` (collisions per particle) (R, T), ``snapshots`` (R, T, N) of v(i), ``positions``
+    (R, T, N) of the rods in [0, L).  Uses :class:`particles.md.MDEngine` directly."""
+    from particles import md
+
+    key = ("md", restitution, n, delta, tuple(times), tuple(seeds), law)
+    if key not in _RUNS:
+        prm = md.MDParams(n=int(n), density=1.0, restitution=restitution, delta=delta,
+                          initial=law)
+        t_all = np.asarray(times, dtype=float)
+        energy = np.empty((len(seeds), t_all.size))
+        tau = np.empty_like(energy)
+        snaps = np.empty((len(seeds), t_all.size, int(n)))
+        pos = np.empty_like(snaps)
+        start = time.perf_counter()
+        bar = None
+        if progress:
+            from tqdm import tqdm
+
+            bar = tqdm(total=len(seeds) * float(t_all[-1]), unit="t", desc=f"md r={restitution:g}",
+                       leave=False)
+        for i, seed in enumerate(seeds):
+            engine = md.MDEngine(prm)
+            state = engine.initial_state(np.random.default_rng(int(seed)))
+            for j, t in enumerate(t_all):
+                old = state.time
+                state = engine.advance(state, float(t))
+                energy[i, j] = md.energy(state)
+                tau[i, j] = md.collisions_per_particle(state)
+                snaps[i, j] = state.velocities
+                pos[i, j] = md.rod_positions(state, prm)
+                if bar is not None:
+                    bar.update(float(t) - old)
+        if bar is not None:
+            bar.close()
+        _RUNS[key] = {"times": t_all, "energy": energy, "tau": tau, "snapshots": snaps,
+                      "positions": pos, "seconds": time.perf_counter() - start}
+    return _RUNS[key]
+
+
+def _equal_energy_index(energy_curve, target) -> int:
+    """Index of the recorded time whose energy is closest to ``target`` (in log)."""
+    return int(np.argmin(np.abs(np.log(energy_curve) - math.log(target))))
+
+
+# ==================================================================== 5. energy decay
+
+_ENERGY = {
+    "small": {"restitution": 0.5, "delta": 1e-4, "md_n": 1000, "md_t_max": 40.0, "md_seeds": 3,
+              "md_haff_window": (0.3, 2.0), "md_late_window": (12.0, 40.0),
+              "lattice_n": 20_000, "lattice_tau_max": 400.0, "lattice_seeds": 4,
+              "lattice_early_window": (0.0, 0.25), "lattice_late_window": (40.0, 400.0)},
+    "default": {"restitution": 0.5, "delta": 1e-4, "md_n": 2000, "md_t_max": 100.0,
+                "md_seeds": 3, "md_haff_window": (0.3, 2.0), "md_late_window": (25.0, 100.0),
+                "lattice_n": 100_000, "lattice_tau_max": 2000.0, "lattice_seeds": 4,
+                "lattice_early_window": (0.0, 0.25), "lattice_late_window": (100.0, 2000.0)},
+    "full": {"restitution": 0.5, "delta": 1e-4, "md_n": 20_000, "md_t_max": 287.0,
+             "md_seeds": 2, "md_haff_window": (0.3, 2.0), "md_late_window": (48.0, 287.0),
+             "lattice_n": 1_000_000, "lattice_tau_max": 4000.0, "lattice_seeds": 4,
+             "lattice_early_window": (0.0, 0.25), "lattice_late_window": (200.0, 4000.0)},
+}
+
+
+def _md_times(t_max):
+    return tuple(float(t) for t in np.round(np.geomspace(0.05, t_max, 36), 6))
+
+
+def _lattice_times(tau_max):
+    early = np.linspace(0.025, 0.25, 10)
+    late = np.geomspace(0.35, tau_max, 40)
+    return tuple(float(t) for t in np.round(np.concatenate([early, late]), 6))
+
+
+def energy_decay(size=None, progress=False, **overrides) -> Comparison:
+    """Comparison 5: E(t) of MD (Haff's t⁻², then t^{−2/3}) and E(τ) of the lattice
+    (exponential, then τ^{−1/2}), r = ``restitution``.
+
+    Fits, each run separately, mean ± standard error over the runs (seeds):
+
+    * MD Haff: slope of ln E against ln(1 + t/t₀), t₀ = √π/((1 − r²) n) (SPEC §4), on
+      ``md_haff_window`` (expected −2 while the gas is homogeneous);
+    * MD late: slope of ln E against ln t on ``md_late_window`` (expected −2/3);
+    * lattice early: slope of ln E against τ on ``lattice_early_window`` (exact initial rate
+      −(1 − r²)/2, SPEC §3);
+    * lattice late: slope of ln E against ln τ on ``lattice_late_window`` (expected −1/2).
+
+    The late exponents' ``uncertainty`` adds in quadrature the seeds' standard error and the
+    window drift (half the difference of the slopes on the two halves of the window): the local
+    exponent still drifts there (measured for the lattice, N = 10⁵, 2 seeds: −0.474 at τ ≈ 30,
+    −0.491 at τ ≈ 300, −0.484 at τ ≈ 2000), so the seeds' error alone understates it.
+    """
+    start = time.perf_counter()
+    prm = _preset(_ENERGY, size, overrides)
+    r = prm["restitution"]
+    md = md_runs(r, prm["md_n"], prm["delta"], _md_times(prm["md_t_max"]),
+                 tuple(range(prm["md_seeds"])), progress=progress)
+    lat = lattice_runs(r, prm["lattice_n"], _lattice_times(prm["lattice_tau_max"]),
+                       tuple(range(prm["lattice_seeds"])), progress=progress)
+    t, e = md["times"], md["energy"]
+    t0 = math.sqrt(math.pi) / (1.0 - r * r)
+    lo, hi = prm["md_haff_window"]
+    w = (t >= lo) & (t <= hi)
+    haff = st.seed_slope(np.log1p(t[w] / t0), np.log(e[:, w]))
+    lo, hi = prm["md_late_window"]
+    w = (t >= lo) & (t <= hi)
+    md_late = st.seed_slope(np.log(t[w]), np.log(e[:, w]))
+    md_late_xy = (np.log(t[w]), np.log(e[:, w]))
+    tau, el = lat["times"], lat["energy"]
+    lo, hi = prm["lattice_early_window"]
+    w = (tau >= lo) & (tau <= hi)
+    lat_early = st.seed_slope(np.concatenate([[0.0], tau[w]]),
+                              np.log(np.column_stack([np.ones(len(el)), el[:, w]])))
+    lo, hi = prm["lattice_late_window"]
+    w = (tau >= lo) & (tau <= hi)
+    lat_late = st.seed_slope(np.log(tau[w]), np.log(el[:, w]))
+    lat_late_xy = (np.log(tau[w]), np.log(el[:, w]))
+
+    def fit(res, expected, x=None, ys=None):
+        out = {"slope": [res[0], res[1]], "per_run": res[2].tolist(), "expected": expected}
+        err = res[1]
+        if x is not None:
+            # Window systematic: half the difference of the slopes fitted on the two halves of
+            # the window (the drift of the local exponent), added in quadrature to the seeds'.
+            h = x.size // 2
+            drift = 0.5 * abs(st.seed_slope(x[h:], ys[:, h:])[0] - st.seed_slope(x[:h + 1],
+                                                                                  ys[:, :h + 1])[0])
+            err = math.hypot(res[1], drift)
+            out["window_drift"] = drift
+        out["uncertainty"] = err
+        out["deviation_in_sigma"] = (res[0] - expected) / err if err > 0 else None
+        return out
+
+    summary = {
+        "parameters": _jsonable(prm),
+        "md_haff_exponent": fit(haff, -2.0),
+        "md_late_exponent": fit(md_late, -2.0 / 3.0, *md_late_xy),
+        "md_collisions_per_particle_at_end": md["tau"][:, -1].tolist(),
+        "md_seconds": md["seconds"],
+        "lattice_initial_rate": fit(lat_early, -(1.0 - r * r) / 2.0),
+        "lattice_late_exponent": fit(lat_late, -0.5, *lat_late_xy),
+        "lattice_seconds": lat["seconds"],
+        "seconds": time.perf_counter() - start,
+    }
+    data = {"md_t": t, "md_energy": e, "t0": t0, "lattice_tau": tau, "lattice_energy": el,
+            "windows": {k: prm[k] for k in ("md_haff_window", "md_late_window",
+                                            "lattice_early_window", "lattice_late_window")},
+            "restitution": r}
+    return Comparison("energy_decay", summary, data)
+
+
+# ==================================================================== 6. Fig. 3: S(k)
+
+_STRUCTURE = {
+    "small": {"restitution": 0.5, "lattice_n": 20_000, "lattice_tau": (25.0, 50.0, 100.0, 200.0),
+              "lattice_seeds": 4, "porod_x": (3.0, 15.0), "k_max": 0.6,
+              "md_n": 1000, "md_t_max": 40.0, "md_seeds": 3, "md_delta": 1e-4,
+              "md_times": (10.0, 20.0, 40.0)},
+    "default": {"restitution": 0.5, "lattice_n": 100_000,
+                "lattice_tau": (50.0, 100.0, 200.0, 400.0, 800.0), "lattice_seeds": 4,
+                "porod_x": (3.0, 15.0), "k_max": 0.6, "md_n": 2000, "md_t_max": 100.0,
+                "md_seeds": 3, "md_delta": 1e-4, "md_times": (25.0, 50.0, 100.0)},
+    "full": {"restitution": 0.5, "lattice_n": 1_000_000,
+             "lattice_tau": (50.0, 100.0, 200.0, 400.0, 800.0, 1600.0), "lattice_seeds": 2,
+             "porod_x": (3.0, 15.0), "k_max": 0.6, "md_n": 20_000, "md_t_max": 287.0,
+             "md_seeds": 2, "md_delta": 1e-4, "md_times": (48.0, 100.0, 287.0)},
+}
+
+
+def _collapse_spread(k, spectra, times, z, x_range):
+    """rms over scaled x = k·t^z in ``x_range`` (log grid of 40 points) of the spread (std over
+    times) of ln S, each curve interpolated in ln x."""
+    xs = np.geomspace(*x_range, 40)
+    curves = []
+    for s, t in zip(spectra, times, strict=True):
+        kb, sb, _ = _log_binned(k, s)
+        curves.append(np.interp(np.log(xs), np.log(kb * t**z), np.log(sb)))
+    return float(np.sqrt(np.mean(np.var(np.array(curves), axis=0, ddof=1))))
+
+
+def _log_binned(k, s):
+    from particles.observables import log_bin
+
+    kb, sb, _ = log_bin(k, s, 10)
+    return kb, sb, _
+
+
+def _porod(k, s, t, z, x_window, k_max):
+    """Slope of ln S against ln k over k·t^z in ``x_window`` and k ≤ ``k_max``."""
+    kb, sb, _ = _log_binned(k, s)
+    x = kb * t**z
+    sel = (x >= x_window[0]) & (x <= x_window[1]) & (kb <= k_max)
+    if sel.sum() < 3:
+        return None
+    return float(np.polyfit(np.log(kb[sel]), np.log(sb[sel]), 1)[0])
+
+
+def structure_factors(size=None, progress=False, **overrides) -> Comparison:
+    """Comparison 6 (paper Fig. 3): S(k, τ) of the lattice against k τ^{1/2} (with and without the
+    kinematic constraint) and S(k, t) of MD against k t^{2/3}, r = 0.5.
+
+    S(k) = |v̂(k)|²/N over labels (:func:`particles.observables.structure_factor`), averaged over
+    seeds and log-binned (10 bins per decade).  Numbers:
+
+    * collapse quality: rms over x = k t^z ∈ [0.5, porod_x[1]] of the spread (std over the
+      times) of ln S, at the theory's z and at z = 0 (no rescaling), and the z that minimises
+      it (scan in steps of 0.01), its uncertainty the jackknife over seeds;
+    * Porod slope: ln S against ln k on x ∈ ``porod_x`` and k ≤ ``k_max`` at each time, mean and
+      standard error over the times and over seeds (per-seed fits at the last time).
+    """
+    start = time.perf_counter()
+    prm = _preset(_STRUCTURE, size, overrides)
+    r = prm["restitution"]
+    seeds = tuple(range(prm["lattice_seeds"]))
+    out, data = {}, {}
+    x_range = (0.5, prm["porod_x"][1])
+    zs = np.round(np.arange(0.0, 1.0001, 0.01), 2)
+    for label, constraint in (("lattice", True), ("lattice_no_constraint", False)):
+        runs = lattice_runs(r, prm["lattice_n"], prm["lattice_tau"], seeds, constraint,
+                            progress=progress)
+        k, spec = runs["k"], runs["structure"]  # (R, T, K)
+        mean = spec.mean(axis=0)
+        times = runs["times"]
+        out[label] = _structure_numbers(k, spec, mean, times, 0.5, zs, x_range, prm)
+        data[label] = {"k": k, "S": mean, "times": times, "z": 0.5}
+    md = md_runs(r, prm["md_n"], prm["md_delta"], _md_times(prm["md_t_max"]),
+                 tuple(range(prm["md_seeds"])), progress=progress)
+    from particles.observables import structure_factor
+
+    idx = [int(np.argmin(np.abs(md["times"] - t))) for t in prm["md_times"]]
+    times = md["times"][idx]
+    spec = np.array([[structure_factor(md["snapshots"][i, j])[1] for j in idx]
+                     for i in range(md["snapshots"].shape[0])])
+    k = structure_factor(md["snapshots"][0, 0])[0]
+    mean = spec.mean(axis=0)
+    out["md"] = _structure_numbers(k, spec, mean, times, 2.0 / 3.0, zs, x_range, prm)
+    data["md"] = {"k": k, "S": mean, "times": times, "z": 2.0 / 3.0}
+    summary = {"parameters": _jsonable(prm), **out, "seconds": time.perf_counter() - start}
+    return Comparison("structure_factors", summary, data)
+
+
+def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm) -> dict:
+    spread = [_collapse_spread(k, mean, times, z, x_range) for z in zs]
+    z_best = float(zs[int(np.argmin(spread))])
+    jack = []
+    n_runs = spec.shape[0]
+    if n_runs >= 3:
+        for i in range(n_runs):
+            sub = np.delete(spec, i, axis=0).mean(axis=0)
+            sp = [_collapse_spread(k, sub, times, z, x_range) for z in zs]
+            jack.append(float(zs[int(np.argmin(sp))]))
+    z_err = (float(np.sqrt((n_runs - 1) / n_runs * np.sum((np.array(jack) - np.mean(jack)) ** 2)))
+             if jack else None)
+    slopes = [_porod(k, s, t, z_theory, prm["porod_x"], prm["k_max"]) for s, t in
+              zip(mean, times, strict=True)]
+    per_seed = [_porod(k, spec[i, -1], times[-1], z_theory, prm["porod_x"], prm["k_max"])
+                for i in range(n_runs)]
+    per_seed = [p for p in per_seed if p is not None]
+    return {
+        "times": list(map(float, times)),
+        "z_theory": z_theory,
+        "collapse_spread_at_z_theory": _collapse_spread(k, mean, times, z_theory, x_range),
+        "collapse_spread_unscaled": _collapse_spread(k, mean, times, 0.0, x_range),
+        "z_best": [z_best, z_err],
+        "porod_slope_per_time": slopes,
+        "porod_slope_last_time": [
+            float(np.mean(per_seed)) if per_seed else None,
+            float(np.std(per_seed, ddof=1) / math.sqrt(len(per_seed))) if len(per_seed) > 1
+            else None,
+        ],
+    }
+
+
+COMPARISONS = {
+    "kinetic_theory": kinetic_theory,
+    "kinetic_vs_ulam": kinetic_vs_ulam,
+    "ulam_collapse": ulam_collapse,
+    "energy_decay": energy_decay,
+    "structure_factors": structure_factors,
+}
