@@ -41,7 +41,8 @@ def _kinetic_theory(c):
     a1.semilogy(tau[pos], np.asarray(s["sup_error"])[pos], "k-o", ms=3, label="sup|G − f̂|")
     for i, (sv, dist) in enumerate(d["distances"].items()):
         a1.semilogy(tau[pos], dist[pos], "-", color=f"C{i}", label=f"d_{sv}")
-        a1.semilogy(tau[pos], d["bounds"][sv][pos], ":", color=f"C{i}", label=f"bound e^(−γτ) d_{sv}(0)")
+        a1.semilogy(tau[pos], d["bounds"][sv][pos], ":", color=f"C{i}",
+                    label=f"bound e^(−γτ) d_{sv}(0)")
     a1.set(xscale="log", xlabel="τ", title="distances and contraction bounds")
     a1.legend(fontsize=6)
     for n in (4, 6, 8):
@@ -49,7 +50,7 @@ def _kinetic_theory(c):
     a2.set(xlabel="τ", title="multiscaling of the moments")
     a2.legend(fontsize=7)
     x = d["x"]
-    for k, tau_k in enumerate(sol.tau):
+    for k in range(len(sol.tau)):
         pk = d["density"][k]
         ok = pk > 1e-14
         a3.loglog(x[ok], pk[ok], color=cols[k])
@@ -70,7 +71,8 @@ def _kinetic_vs_ulam(c):
         for i, row in enumerate(case["rows"]):
             h = row["comparison"]
             ax.errorbar(h.centres, h.density, yerr=h.error, fmt=".", ms=3, color=cols[i],
-                        label=f"τ={row['tau']:g}: χ²/dof={h.chi2_dof:.2f} (φ={h.overdispersion:.2f})")
+                        label=f"τ={row['tau']:g}: χ²/dof={h.chi2_dof:.2f} "
+                        f"(φ={h.overdispersion:.2f})")
             ax.plot(h.centres, h.predicted, "-", color=cols[i], lw=1)
         ax.set(xlabel="x = v/v0", ylabel="P(x, τ)",
                title=f"r={case['restitution']:g}, {case['initial']}: solver (lines) vs Ulam")
@@ -154,7 +156,8 @@ def _structure_factors(c):
         xr = np.array([3.0, 15.0])
         s = c.summary[lab]
         ax.loglog(xr, 3 * xr**-2.0, "k--", label="k⁻² (Porod)")
-        ax.set(xlabel="scaled k", ylabel="S(k)", title=f"{title}\nspread {s['collapse_spread_at_z_theory']:.2f}"
+        ax.set(xlabel="scaled k", ylabel="S(k)",
+               title=f"{title}\nspread {s['collapse_spread_at_z_theory']:.2f}"
                f" (unscaled {s['collapse_spread_unscaled']:.2f})")
         ax.legend(fontsize=6)
     fig.tight_layout()

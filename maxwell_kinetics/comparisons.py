@@ -38,11 +38,15 @@ __all__ = [
     "kinetic_theory",
     "kinetic_vs_ulam",
     "ulam_collapse",
-    "velocity_distributions",
     "energy_decay",
     "structure_factors",
-    "profiles",
     "COMPARISONS",
+    "kinetic_solution",
+    "solution_bin_probabilities",
+    "law_cdf",
+    "lattice_runs",
+    "md_runs",
+    "ulam_snapshots",
 ]
 
 SIZES = ("small", "default", "full")
@@ -737,3 +741,10 @@ COMPARISONS = {
     "energy_decay": energy_decay,
     "structure_factors": structure_factors,
 }
+
+
+def f_hat_callable(q):
+    """f̂ as a callable of q (for :func:`statistics.interval_probabilities`)."""
+    from .exact import f_hat
+
+    return f_hat(q)
