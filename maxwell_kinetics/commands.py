@@ -20,6 +20,9 @@ def register(subparsers) -> None:
     _register_fixed_point(subparsers)
     _add_convergence(subparsers)
     _add_demo(subparsers)
+    from .reproduce import register as _register_reproduce
+
+    _register_reproduce(subparsers)
 
 
 # -- solve --------------------------------------------------------------------------------

@@ -1,0 +1,173 @@
+"""Figures of the comparisons in :mod:`maxwell_kinetics.comparisons` (matplotlib, Agg).
+
+``plot(comparison)`` dispatches on ``comparison.name`` and returns a ``Figure``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .exact import f_density, f_hat
+from .plotting import _figure
+
+__all__ = ["plot"]
+
+
+def plot(comparison):
+    return _PLOTS[comparison.name](comparison)
+
+
+def _colors(n):
+    import matplotlib
+
+    return matplotlib.colormaps["viridis"](np.linspace(0, 0.9, max(n, 1)))
+
+
+def _kinetic_theory(c):
+    d, s = c.data, c.summary
+    sol = d["solution"]
+    fig, axes = _figure(4, width=4.2)
+    a0, a1, a2, a3 = axes[0]
+    q = sol.q
+    show = (q > 1e-2) & (q < 20)
+    cols = _colors(len(sol.tau))
+    for k, tau in enumerate(sol.tau):
+        a0.plot(q[show], sol.G[k, show].real, color=cols[k], label=f"τ={tau:g}")
+    a0.plot(q[show], f_hat(q[show]), "k--", label="f̂")
+    a0.set(xscale="log", xlabel="q", ylabel="G(q, τ)", title="G → f̂")
+    a0.legend(fontsize=6)
+    tau = np.asarray(s["tau"])
+    pos = tau > 0
+    a1.semilogy(tau[pos], np.asarray(s["sup_error"])[pos], "k-o", ms=3, label="sup|G − f̂|")
+    for i, (sv, dist) in enumerate(d["distances"].items()):
+        a1.semilogy(tau[pos], dist[pos], "-", color=f"C{i}", label=f"d_{sv}")
+        a1.semilogy(tau[pos], d["bounds"][sv][pos], ":", color=f"C{i}",
+                    label=f"bound e^(−γτ) d_{sv}(0)")
+    a1.set(xscale="log", xlabel="τ", title="distances and contraction bounds")
+    a1.legend(fontsize=6)
+    for n in (4, 6, 8):
+        a2.semilogy(d["moment_tau"], d["moments"][:, n], label=f"M_{n}/M_2^{n // 2}")
+    a2.set(xlabel="τ", title="multiscaling of the moments")
+    a2.legend(fontsize=7)
+    x = d["x"]
+    for k in range(len(sol.tau)):
+        pk = d["density"][k]
+        ok = pk > 1e-14
+        a3.loglog(x[ok], pk[ok], color=cols[k])
+    a3.loglog(x, f_density(x), "k--", label="f = 2/(π(1+x²)²)")
+    a3.loglog(x, 0.05 * x**-4.0, "k:", label="x⁻⁴")
+    a3.set(ylim=(1e-10, 1), xlabel="x = v/v0", ylabel="P(x, τ)", title="the x⁻⁴ tail")
+    a3.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def _kinetic_vs_ulam(c):
+    d = c.data
+    cases = d["cases"]
+    fig, axes = _figure(len(cases) + 1, width=4.0)
+    for ax, case in zip(axes[0], cases, strict=False):
+        cols = _colors(len(case["rows"]))
+        for i, row in enumerate(case["rows"]):
+            h = row["comparison"]
+            ax.errorbar(h.centres, h.density, yerr=h.error, fmt=".", ms=3, color=cols[i],
+                        label=f"τ={row['tau']:g}: χ²/dof={h.chi2_dof:.2f} "
+                        f"(φ={h.overdispersion:.2f})")
+            ax.plot(h.centres, h.predicted, "-", color=cols[i], lw=1)
+        ax.set(xlabel="x = v/v0", ylabel="P(x, τ)",
+               title=f"r={case['restitution']:g}, {case['initial']}: solver (lines) vs Ulam")
+        ax.legend(fontsize=5)
+    ax = axes[0][-1]
+    n = d["scan_n"]
+    ax.errorbar(n, d["scan_ks"], yerr=d["scan_ks_error"], fmt="o", label="mean KS distance")
+    slope, icpt = d["scan_fit"]
+    ax.loglog(n, np.exp(icpt) * n**slope, "k-", label=f"fit slope {slope:.3f}")
+    ax.loglog(n, 0.8687 / np.sqrt(n), "k:", label="0.87/√N (iid)")
+    ax.set(xscale="log", yscale="log", xlabel="N", ylabel="D_KS", title="distance against N")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def _ulam_collapse(c):
+    d = c.data
+    fig, axes = _figure(2, width=5.0)
+    lin, lg = axes[0]
+    for i, (row, h) in enumerate(zip(d["rows"], d["histograms"], strict=True)):
+        lab = f"r={row['restitution']:g}, τ={row['tau']:g}"
+        lin.errorbar(h.centres, h.density, yerr=h.error, fmt=".", ms=3, color=f"C{i}", label=lab)
+        pos = h.centres > 0
+        lg.errorbar(h.centres[pos], h.density[pos], yerr=h.error[pos], fmt=".", ms=3,
+                    color=f"C{i}", label=lab)
+    x = np.linspace(d["edges"][0], d["edges"][-1], 400)
+    lin.plot(x, f_density(x), "k-", label="f(x) = 2/(π(1+x²)²)")
+    xp = x[x > 0.05]
+    lg.loglog(xp, f_density(xp), "k-")
+    lin.set(xlabel="v/v0", ylabel="P", title="Ulam model: collapse onto f (paper Fig. 2)")
+    lg.set(xlabel="v/v0", ylabel="P", title="log-log: the x⁻⁴ tail")
+    lin.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def _energy_decay(c):
+    d = c.data
+    fig, axes = _figure(2, width=5.0)
+    a, b = axes[0]
+    t, e = d["md_t"], d["md_energy"]
+    for i in range(e.shape[0]):
+        a.loglog(t, e[i], color="C0", alpha=0.6, lw=1)
+    a.loglog(t, 1.0 / (1.0 + t / d["t0"]) ** 2, "k--", label="Haff (1 + t/t₀)⁻²")
+    lo, hi = d["windows"]["md_late_window"]
+    ref = np.exp(np.mean(np.log(e[:, -1])))
+    a.loglog([lo, hi], [ref * (lo / hi) ** (-2 / 3), ref], "r-", lw=2, label="t^(−2/3)")
+    s = c.summary
+    a.set(xlabel="t", ylabel="E(t)", title=f"MD, r={d['restitution']:g}: late slope "
+          f"{s['md_late_exponent']['slope'][0]:.3f} ± {s['md_late_exponent']['uncertainty']:.3f}")
+    a.legend(fontsize=7)
+    tau, el = d["lattice_tau"], d["lattice_energy"]
+    for i in range(el.shape[0]):
+        b.loglog(tau, el[i], color="C1", alpha=0.6, lw=1)
+    b.loglog(tau, np.exp(-(1 - d["restitution"] ** 2) / 2 * tau), "k--", label="exp(−(1−r²)τ/2)")
+    lo, hi = d["windows"]["lattice_late_window"]
+    ref = np.exp(np.mean(np.log(el[:, -1])))
+    b.loglog([lo, hi], [ref * (lo / hi) ** -0.5, ref], "r-", lw=2, label="τ^(−1/2)")
+    b.set(ylim=(el.min() / 2, 1.5), xlabel="τ", ylabel="E(τ)",
+          title=f"lattice: late slope {s['lattice_late_exponent']['slope'][0]:.3f} ± "
+          f"{s['lattice_late_exponent']['uncertainty']:.3f}")
+    b.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def _structure_factors(c):
+    from particles.observables import log_bin
+
+    d = c.data
+    labels = ("md", "lattice", "lattice_no_constraint")
+    titles = ("MD: S vs k t^(2/3)", "lattice: S vs k τ^(1/2)", "lattice, no constraint")
+    fig, axes = _figure(3, width=4.2)
+    for ax, lab, title in zip(axes[0], labels, titles, strict=True):
+        dd = d[lab]
+        cols = _colors(len(dd["times"]))
+        for i, t in enumerate(dd["times"]):
+            kb, sb, _ = log_bin(dd["k"], dd["S"][i], 10)
+            ax.loglog(kb * t ** dd["z"], sb, "o-", ms=2, color=cols[i], label=f"{t:g}")
+        xr = np.array([3.0, 15.0])
+        s = c.summary[lab]
+        ax.loglog(xr, 3 * xr**-2.0, "k--", label="k⁻² (Porod)")
+        ax.set(xlabel="scaled k", ylabel="S(k)",
+               title=f"{title}\nspread {s['collapse_spread_at_z_theory']:.2f}"
+               f" (unscaled {s['collapse_spread_unscaled']:.2f})")
+        ax.legend(fontsize=6)
+    fig.tight_layout()
+    return fig
+
+
+_PLOTS = {
+    "kinetic_theory": _kinetic_theory,
+    "kinetic_vs_ulam": _kinetic_vs_ulam,
+    "ulam_collapse": _ulam_collapse,
+    "energy_decay": _energy_decay,
+    "structure_factors": _structure_factors,
+}

@@ -1,0 +1,233 @@
+"""Statistics for comparing particle samples with a predicted law (NumPy/SciPy only).
+
+Conventions.  A predicted law is given either by its rescaled characteristic function G(q)
+(P̂(k) = ∫ e^{ikv} P(v) dv, x = v / v0; G(−q) = conj G(q)) or directly by bin probabilities.
+The probability of a bin [a, b] is
+
+    Pr(a ≤ x < b) = (1/π) Re ∫_0^∞ G(q) · 2 sin(q h)/q · e^{−iqm} dq,   m = (a+b)/2, h = (b−a)/2,
+
+computed by composite Gauss–Legendre quadrature on [0, q_max] (the integrand is smooth at
+q = 0).  Unlike a density evaluated at points, a bin probability converges even for laws with a
+jump (G ~ 1/q): the integrand then decays like 1/q², so the cut at q_max costs O(1/q_max²).
+
+Distances, all with their expectation under the null hypothesis "the samples were drawn from the
+predicted law":
+
+* ``ks``: the Kolmogorov–Smirnov distance sup_x |F_emp(x) − F(x)|, evaluated on the bin edges.
+  For M independent samples its mean is ≈ 0.8687/√M (the mean of Kolmogorov's law,
+  √(π/2) ln 2), so √M · D_KS ≈ 0.87 and D_KS falls like 1/√M.
+* ``chi2``: Pearson's χ² over the bins with at least 5 expected counts (the rest pooled into one
+  bin), divided by its degrees of freedom (bins − 1); expectation 1, standard deviation
+  √(2/dof), for independent samples.  Velocities of one particle run are *not* independent
+  (collisions correlate them), which inflates the bin variances by an overdispersion factor φ.
+  φ is measured from the scatter of the counts between independent runs (seeds), without using
+  the prediction, and the pooled χ²/dof is compared with φ.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "interval_probabilities",
+    "f_cdf",
+    "f_interval_probabilities",
+    "bin_counts",
+    "HistogramComparison",
+    "compare_histograms",
+    "ks_distance",
+    "KS_MEAN",
+    "weighted_slope",
+    "seed_slope",
+]
+
+#: Mean of Kolmogorov's distribution: E[√M · D_KS] → √(π/2) ln 2 for M independent samples.
+KS_MEAN = math.sqrt(math.pi / 2.0) * math.log(2.0)
+
+
+def _gauss_nodes(q_max: float, width: float, nodes_per_panel: int = 16):
+    panels = max(1, math.ceil(q_max / width))
+    t, w = np.polynomial.legendre.leggauss(nodes_per_panel)
+    edges = np.linspace(0.0, q_max, panels + 1)
+    half = 0.5 * np.diff(edges)
+    q = (edges[:-1, None] + half[:, None] * (t[None, :] + 1.0)).ravel()
+    return q, (half[:, None] * w[None, :]).ravel()
+
+
+def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
+    """Pr(edges[i] ≤ x < edges[i+1]) for the law with rescaled characteristic function ``G``.
+
+    ``G`` is a callable of an array of q ≥ 0 (it is only evaluated on [0, q_max]).  Finite edges
+    only; the panels are narrow enough that each sees at most half an oscillation of the
+    integrand (width ≤ π / (|m| + h)).
+    """
+    edges = np.asarray(edges, dtype=float)
+    a, b = edges[:-1], edges[1:]
+    m, h = 0.5 * (a + b), 0.5 * (b - a)
+    out = np.empty(a.size)
+    # Ordinary bins share one node set; very wide bins (|m| + h large) get their own.
+    reach = np.abs(m) + h
+    shared = reach <= 64.0
+    groups = [(shared, float(reach[shared].max(initial=1.0)))]
+    groups += [(np.arange(a.size) == i, float(reach[i])) for i in np.flatnonzero(~shared)]
+    for sel, r in groups:
+        if not np.any(sel):
+            continue
+        q, w = _gauss_nodes(q_max, min(0.5, math.pi / max(r, 1.0)))
+        wg = w * np.asarray(G(q), dtype=complex)
+        kernel = 2.0 * np.sin(np.outer(h[sel], q)) / q[None, :] * np.exp(-1j * np.outer(m[sel], q))
+        out[sel] = (kernel @ wg).real / math.pi
+    return out
+
+
+def f_cdf(x) -> np.ndarray:
+    """CDF of the scaling solution f(x) = 2/(π(1+x²)²): 1/2 + (arctan x + x/(1+x²))/π."""
+    x = np.asarray(x, dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        ratio = np.where(np.isfinite(x), x / (1.0 + x * x), 0.0)
+    return 0.5 + (np.arctan(x) + ratio) / math.pi
+
+
+def f_interval_probabilities(edges) -> np.ndarray:
+    """Exact bin probabilities of f (edges may include ±inf)."""
+    return np.diff(f_cdf(edges))
+
+
+def bin_counts(samples, edges) -> np.ndarray:
+    """Counts per bin for each run: ``samples`` (R, M) → (R, len(edges) − 1)."""
+    rows = np.atleast_2d(np.asarray(samples, dtype=float))
+    return np.stack([np.histogram(r, bins=edges)[0] for r in rows]).astype(float)
+
+
+def ks_distance(samples, edges, cdf_at_edges) -> float:
+    """sup over the edges of |F_emp − F| for one run of samples (edges increasing, finite)."""
+    x = np.sort(np.asarray(samples, dtype=float).ravel())
+    emp = np.searchsorted(x, edges, side="left") / x.size
+    return float(np.max(np.abs(emp - np.asarray(cdf_at_edges))))
+
+
+@dataclass(frozen=True)
+class HistogramComparison:
+    """Pooled histogram of R runs against predicted bin probabilities.
+
+    ``density``/``error``: pooled density and its standard error from the scatter between runs;
+    ``chi2_dof``: Pearson χ²/dof of the pooled counts (binomial variances); ``dof``;
+    ``overdispersion``: φ, the mean over bins of (between-run variance of the counts) /
+    (binomial variance), with its standard error ``overdispersion_error`` (φ = 1 for
+    independent samples); ``ks``: mean KS distance of the single runs and its standard error,
+    ``ks_scaled`` = √M · ks (≈ 0.87 √φ under the null), ``samples`` = M per run, ``runs`` = R.
+    """
+
+    centres: np.ndarray
+    density: np.ndarray
+    error: np.ndarray
+    predicted: np.ndarray
+    chi2_dof: float
+    dof: int
+    overdispersion: float
+    overdispersion_error: float
+    ks: float
+    ks_error: float
+    samples: int
+    runs: int
+
+    @property
+    def ks_scaled(self) -> float:
+        return self.ks * math.sqrt(self.samples)
+
+    @property
+    def chi2_over_phi(self) -> float:
+        """χ²/dof divided by φ: ≈ 1 ± √(2/dof) when the prediction is right."""
+        return self.chi2_dof / self.overdispersion
+
+    def summary(self) -> dict:
+        return {
+            "chi2_dof": self.chi2_dof,
+            "dof": self.dof,
+            "chi2_dof_expected": [1.0, math.sqrt(2.0 / self.dof)],
+            "overdispersion": [self.overdispersion, self.overdispersion_error],
+            "chi2_over_overdispersion": self.chi2_over_phi,
+            "ks": [self.ks, self.ks_error],
+            "ks_sqrt_M": self.ks * math.sqrt(self.samples),
+            "ks_sqrt_M_expected_iid": KS_MEAN,
+            "samples_per_run": self.samples,
+            "runs": self.runs,
+        }
+
+
+def compare_histograms(samples, edges, probabilities, mass_below: float, *,
+                       min_expected: float = 5.0) -> HistogramComparison:
+    """Compare R runs of M samples (array (R, M)) with the predicted ``probabilities`` of the bins
+    ``edges`` (finite edges; the mass outside them, 1 − Σ probabilities, is one extra bin).
+    ``mass_below`` = F(edges[0]), the predicted mass below the first edge (for the KS distance)."""
+    rows = np.atleast_2d(np.asarray(samples, dtype=float))
+    runs, m = rows.shape
+    edges = np.asarray(edges, dtype=float)
+    prob = np.asarray(probabilities, dtype=float)
+    counts = bin_counts(rows, edges)
+    outside = m - counts.sum(axis=1)
+    counts = np.column_stack([counts, outside])
+    prob_all = np.append(prob, max(0.0, 1.0 - prob.sum()))
+    pooled = counts.sum(axis=0)
+    total = runs * m
+    expected = total * prob_all
+    big = expected >= min_expected
+    obs_b = np.append(pooled[big], pooled[~big].sum())
+    exp_b = np.append(expected[big], expected[~big].sum())
+    keep = exp_b > 0
+    chi2 = float(np.sum((obs_b[keep] - exp_b[keep]) ** 2 / exp_b[keep]))
+    dof = int(keep.sum() - 1)
+    # Overdispersion from the scatter between runs (needs R ≥ 2), over bins with ≥ 5 expected
+    # counts per run; the prediction only sets the binomial reference variance.
+    per_run = m * prob_all
+    good = per_run >= min_expected
+    if runs >= 2 and np.any(good):
+        ratio = counts[:, good].var(axis=0, ddof=1) / (per_run[good] * (1.0 - prob_all[good]))
+        phi = float(ratio.mean())
+        # Each ratio has ≈ 2/(R − 1) relative variance; bins are nearly independent.
+        phi_err = float(phi * math.sqrt(2.0 / ((runs - 1) * good.sum())))
+    else:
+        phi, phi_err = float("nan"), float("nan")
+    width = np.diff(edges)
+    density = pooled[:-1] / (total * width)
+    if runs >= 2:
+        err = counts[:, :-1].std(axis=0, ddof=1) / math.sqrt(runs) / (m * width)
+    else:
+        err = np.sqrt(pooled[:-1]) / (total * width)
+    cdf = np.concatenate([[0.0], np.cumsum(prob)]) + float(mass_below)
+    ks = np.array([ks_distance(r, edges, cdf) for r in rows])
+    ks_err = float(ks.std(ddof=1) / math.sqrt(runs)) if runs >= 2 else float("nan")
+    return HistogramComparison(
+        0.5 * (edges[1:] + edges[:-1]), density, err, prob / width, chi2 / max(dof, 1), dof,
+        phi, phi_err, float(ks.mean()), ks_err, m, runs,
+    )
+
+
+def weighted_slope(x, y, sigma=None) -> tuple[float, float, float]:
+    """Least-squares line y = a + b x with standard errors ``sigma`` (None: unweighted, error
+    from the residuals).  Returns (slope, slope standard error, intercept)."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    if sigma is None:
+        coef, cov = np.polyfit(x, y, 1, cov=True) if x.size > 3 else (np.polyfit(x, y, 1), None)
+        err = math.sqrt(cov[0, 0]) if cov is not None else float("nan")
+        return float(coef[0]), err, float(coef[1])
+    w = 1.0 / np.asarray(sigma, dtype=float) ** 2
+    sw, sx, sy = w.sum(), (w * x).sum(), (w * y).sum()
+    sxx, sxy = (w * x * x).sum(), (w * x * y).sum()
+    det = sw * sxx - sx * sx
+    slope = (sw * sxy - sx * sy) / det
+    return float(slope), float(math.sqrt(sw / det)), float((sxx * sy - sx * sxy) / det)
+
+
+def seed_slope(x, ys) -> tuple[float, float, np.ndarray]:
+    """Fit a slope to each run's ``ys[i]`` against ``x`` and return (mean slope, its standard
+    error from the scatter between runs, the per-run slopes)."""
+    ys = np.atleast_2d(np.asarray(ys, dtype=float))
+    slopes = np.array([np.polyfit(x, y, 1)[0] for y in ys])
+    err = float(slopes.std(ddof=1) / math.sqrt(len(slopes))) if len(slopes) > 1 else float("nan")
+    return float(slopes.mean()), err, slopes

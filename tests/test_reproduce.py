@@ -1,0 +1,159 @@
+"""The comparisons of ``maxwell-kinetics reproduce`` at the small size, with their quantitative
+checks.  Every statistical tolerance is derived from the sample sizes and seeds of the run; the
+small-size parameters are in ``maxwell_kinetics.comparisons`` (presets ``small``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics import comparisons as cmp
+from maxwell_kinetics import statistics as st
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture(scope="module")
+def kinetic():
+    return cmp.kinetic_theory("small")
+
+
+@pytest.fixture(scope="module")
+def vs_ulam():
+    return cmp.kinetic_vs_ulam("small")
+
+
+@pytest.fixture(scope="module")
+def collapse():
+    return cmp.ulam_collapse("small")
+
+
+@pytest.fixture(scope="module")
+def energy():
+    return cmp.energy_decay("small")
+
+
+@pytest.fixture(scope="module")
+def structure():
+    return cmp.structure_factors("small")
+
+
+def _chi2_tolerance(row) -> float:
+    """χ²/(dof φ) is 1 under the null; its relative standard deviation combines √(2/dof) (χ²)
+    and φ's own standard error (between-seed variance, see statistics.compare_histograms).
+    Tolerance: 4 standard deviations (one-sided false-failure probability ~3e-5 per check)."""
+    phi, phi_err = row["overdispersion"]
+    return 1.0 + 4.0 * math.sqrt(2.0 / row["dof"] + (phi_err / phi) ** 2)
+
+
+def test_statistics_exact_bins_of_f():
+    """interval_probabilities of f̂ against the exact CDF of f (quadrature, no statistics)."""
+    edges = np.linspace(-6, 6, 49)
+    got = st.interval_probabilities(cmp.f_hat_callable, edges, 200.0)
+    assert np.max(np.abs(got - st.f_interval_probabilities(edges))) < 1e-8
+
+
+def test_contraction_bound_holds(kinetic):
+    """d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂) (rigorous); 1e-9 relative slack for round-off."""
+    for s, ratio in kinetic.summary["max_distance_over_bound"].items():
+        assert ratio <= 1.0 + 1e-9, s
+
+
+def test_moment_multiscaling(kinetic):
+    """ln(M_n/M_2^{n/2}) grows at n a_2/2 − a_n: the slope fitted on the second half of the
+    τ range carries the subleading exponentials, measured 0.35 % for n = 4 at τ ≤ 100."""
+    for n, g in kinetic.summary["moment_growth_rates"].items():
+        assert g["fitted"] == pytest.approx(g["predicted"], rel=0.01), n
+
+
+def test_tail_develops(kinetic):
+    """At the last τ the fitted tail slope on [5, 15] approaches the one of f on the same window
+    (−3.94); at τ = 0 (Gaussian) there is no power-law tail to fit at all."""
+    s = kinetic.summary
+    assert abs(s["tail_slope"][-1] - s["tail_slope_of_f"]) < 0.05
+    assert s["tail_slope"][0] is None or s["tail_slope"][0] < -8
+
+
+def test_kinetic_matches_ulam_within_statistics(vs_ulam):
+    for case in vs_ulam.summary["cases"]:
+        for row in case["rows"]:
+            assert row["chi2_over_overdispersion"] < _chi2_tolerance(row), (case["initial"], row)
+
+
+def test_kinetic_vs_ulam_distance_falls_like_inverse_sqrt_n(vs_ulam):
+    """Slope of ln D_KS against ln N; its standard error comes from the seed scatter of each
+    point (8 seeds per N at the small size).  3 standard errors."""
+    slope, err = vs_ulam.summary["n_scan"]["slope"]
+    assert abs(slope + 0.5) < 3 * err
+    assert err < 0.1  # the check has teeth: a slope of 0 (no convergence) would fail
+
+
+def test_ulam_collapse_within_statistical_error(collapse):
+    """Shape of P(v, τ) (median-rescaled) against f within the statistical error, each r."""
+    for row in collapse.summary["rows"]:
+        shape = row["median_scaled"]
+        assert shape["chi2_over_overdispersion"] < _chi2_tolerance(shape), row["restitution"]
+
+
+def test_lattice_energy_exponents(energy):
+    s = energy.summary
+    early = s["lattice_initial_rate"]
+    assert abs(early["deviation_in_sigma"]) < 3
+    late = s["lattice_late_exponent"]
+    assert abs(late["deviation_in_sigma"]) < 3
+
+
+def test_md_late_exponent(energy):
+    """N = 1000, 3 seeds, t ≤ 40: the uncertainty is large (≈ 0.1) at this size; the value
+    measured at N = 2·10⁴, t ≤ 287 is in SPEC §6 (−0.665)."""
+    late = energy.summary["md_late_exponent"]
+    assert abs(late["deviation_in_sigma"]) < 3
+    assert late["uncertainty"] < 0.2
+
+
+def test_structure_factor_collapse(structure):
+    """The theory's rescaling k τ^{1/2} (lattice) and k t^{2/3} (MD) brings the curves of different
+    times together: the spread of ln S at the theory's z is below the unscaled spread."""
+    for lab in ("lattice", "md"):
+        s = structure.summary[lab]
+        assert s["collapse_spread_at_z_theory"] < 0.5 * s["collapse_spread_unscaled"], lab
+
+
+def test_no_porod_tail_without_constraint(structure):
+    """Without the kinematic constraint the slope on the Porod window is far from −2 (more than
+    5 seed standard errors)."""
+    slope, err = structure.summary["lattice_no_constraint"]["porod_slope_last_time"]
+    assert abs(slope + 2.0) > 5 * err
+
+
+@pytest.mark.xfail(strict=True, reason="measured −2.17 ± 0.02 (4 seeds, N = 2e4, τ = 200, window "
+                   "k τ^{1/2} ∈ [3, 15], k ≤ 0.6): steeper than −2 beyond the seed error; the "
+                   "window/lattice-scale systematic is not yet understood")
+def test_porod_slope_with_constraint(structure):
+    slope, err = structure.summary["lattice"]["porod_slope_last_time"]
+    assert abs(slope + 2.0) < 3 * err
+
+
+def test_reproduce_cli_small(tmp_path, capsys):
+    from maxwell_kinetics.cli import main
+
+    out = tmp_path / "res"
+    assert main(["reproduce", "--small", "--only", "kinetic_theory", "--out", str(out),
+                 "--json"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert payload["comparisons"] == ["kinetic_theory"]
+    summary = json.loads((out / "summary.json").read_text())
+    assert "max_distance_over_bound" in summary["comparisons"]["kinetic_theory"]
+    assert (out / "kinetic_theory.png").stat().st_size > 0
+
+
+def test_reproduce_cli_bad_only(tmp_path, capsys):
+    from maxwell_kinetics.cli import main
+
+    assert main(["reproduce", "--only", "nope", "--out", str(tmp_path / "x")]) == 2
+    assert "only" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()
