@@ -11,13 +11,13 @@ finite variance tends to the scaling solution f̂(q) = (1 + |q|) e^{−|q|}.
 
 Method: semi-Lagrangian in s = ln q, for the deviation w = G − g from the reference
 
-    g(q) = exp(−q²/2 − i m₃ q³/6),        m₃ = ⟨x³⟩ (conserved; 0 for symmetric laws),
+    g(q) = e^{−q²/2} (1 − i m₃ q³/6),        m₃ = ⟨x³⟩ (conserved; 0 for symmetric laws),
 
 which has the same small-q expansion as G to O(q³).  Storing w instead of G matters near q = 0:
 there G ≈ 1 and a round-off error δ at q₀ is a variance error δ/q₀² that the dynamics keeps
 (the q² mode is neutral, SPEC §2), whereas w = O(q³) is stored to relative precision.  The
-source g(pq)g((1−p)q) − g + λ q g' = g (e^z − 1 − z), z = λq² + iλm₃q³/2, is evaluated in
-closed form (by its series for small |z|), so no O(1) terms cancel.
+source g(pq)g((1−p)q) − g + λ q g' is evaluated in closed form (:func:`source`, with the
+series of e^x − 1 − x for small x = λq²), so no O(1) terms cancel.
 
 In s the transport term λ ∂s G is a shift at constant speed λ toward small q, so along the
 characteristics (the comoving points s + λ(τ − τ_w)) the equation is the unscaled one,
@@ -86,28 +86,47 @@ def _check_skewness_finite(law: InitialLaw) -> float:
 
 
 def reference(q, m3: float, xp=np):
-    """The reference g(q) = exp(−q²/2 − i m₃ q³/6) (real when m₃ = 0)."""
+    """The reference g(q) = e^{−q²/2} (1 − i m₃ q³/6) (real when m₃ = 0).
+
+    Its imaginary part is not a phase e^{−i m₃q³/6}: that would oscillate ever faster in
+    s = ln q (q³ radians per unit s) and could not be interpolated on the grid.
+    """
+    gauss = xp.exp(-0.5 * q * q)
     if m3 == 0.0:
-        return xp.exp(-0.5 * q * q)
-    return xp.exp(-0.5 * q * q - 1j * (m3 / 6.0) * q**3)
+        return gauss
+    return gauss * (1.0 - 1j * (m3 / 6.0) * q**3)
+
+
+def _expm1_minus_x(x, xp):
+    """e^x − 1 − x for real x ≥ 0: Taylor series (Horner, 15 terms) below 0.5, else directly."""
+    small = x < 0.5
+    series = xp.zeros_like(x) + 1.0 / math.factorial(16)
+    for n in range(15, 1, -1):  # truncation < 1e-17 relative for x < 0.5
+        series = series * x + 1.0 / math.factorial(n)
+    return xp.where(small, series * x * x, xp.expm1(x) - x)
 
 
 def source(q, lam: float, m3: float, xp=np):
-    """S = g(pq) g((1−p)q) − g(q) + λ q g'(q) = g (e^z − 1 − z), z = λq² + iλm₃q³/2.
+    """S = g(pq) g((1−p)q) − g(q) + λ q g'(q) for the reference g = e^{−q²/2}(1 + i a q³).
 
-    (Uses p² + (1−p)² = 1 − 2λ and p³ + (1−p)³ = 1 − 3λ.)  For |z| < 0.5 the bracket is its
-    Taylor series, so nothing cancels as q → 0; otherwise S = e^{P+z} − e^P (1 + z) with
-    g = e^P, which does not overflow at large q.
+    With a = −m₃/6, x = λq², p² + (1−p)² = 1 − 2λ, p³ + (1−p)³ = 1 − 3λ, p(1−p) = λ:
+
+        Re S = e^{−q²/2} (e^x − 1 − x) − a² λ³ q⁶ e^{−(1−2λ)q²/2},
+        Im S = a q³ e^{−q²/2} [(1 − 3λ)(e^x − 1 − x) − 3λ² q²].
+
+    Both are O(q⁴) as q → 0 and are evaluated without cancellation (series for e^x − 1 − x);
+    e^{−q²/2} e^x = e^{−(1−2λ)q²/2} never overflows.
     """
-    log_g = -0.5 * q * q if m3 == 0.0 else -0.5 * q * q - 1j * (m3 / 6.0) * q**3
-    z = lam * q * q if m3 == 0.0 else lam * q * q + 0.5j * lam * m3 * q**3
-    small = xp.abs(z) < 0.5
-    series = xp.zeros_like(z) + 1.0 / math.factorial(16)
-    for n in range(15, 1, -1):  # Horner for Σ_{n≥2} z^n/n!, truncation < 1e-17 relative
-        series = series * z + 1.0 / math.factorial(n)
-    series = xp.exp(log_g) * series * z * z
-    direct = xp.exp(log_g + z) - xp.exp(log_g) * (1.0 + z)
-    return xp.where(small, series, direct)
+    x = lam * q * q
+    gauss = xp.exp(-0.5 * q * q)
+    phi2 = xp.where(x < 0.5, gauss * _expm1_minus_x(x, xp),
+                    xp.exp(-0.5 * (1.0 - 2.0 * lam) * q * q) - gauss * (1.0 + x))
+    if m3 == 0.0:
+        return phi2
+    a = -m3 / 6.0
+    re = phi2 - a * a * lam**3 * q**6 * xp.exp(-0.5 * (1.0 - 2.0 * lam) * q * q)
+    im = a * q**3 * ((1.0 - 3.0 * lam) * phi2 - 3.0 * lam * lam * q * q * gauss)
+    return re + 1j * im
 
 
 def initial_deviation(law: InitialLaw, q: np.ndarray, q_fit: float = 2e-3) -> np.ndarray:
@@ -133,24 +152,21 @@ def initial_deviation(law: InitialLaw, q: np.ndarray, q_fit: float = 2e-3) -> np
 
 
 def deviation_from_f_hat(q: np.ndarray, m3: float) -> np.ndarray:
-    """g(q) − f̂(q) without cancellation at small q (Taylor series below q = 0.05)."""
+    """g(q) − f̂(q) without cancellation at small q (Taylor series of e^{−q²/2} − f̂ below 0.05)."""
     q = np.asarray(q, dtype=float)
     out = reference(q, m3).astype(complex) - f_hat(q)
     small = q < 0.05
     if np.any(small):
         nmax = 20
-        # Taylor coefficients of f̂ = (1 + q) e^{-q}: (−1)^n (1 − n) / n!
-        fc = np.array([(-1) ** n * (1 - n) / math.factorial(n) for n in range(nmax)])
-        # Taylor coefficients of g = exp(P), P = −q²/2 − i m3 q³/6, by series exponentiation.
-        P = np.zeros(nmax, dtype=complex)
-        P[2], P[3] = -0.5, -1j * m3 / 6.0
-        gc = np.zeros(nmax, dtype=complex)
-        gc[0] = 1.0
-        for n in range(1, nmax):  # n g_n = Σ_k k P_k g_{n−k}
-            gc[n] = sum(k * P[k] * gc[n - k] for k in range(1, n + 1)) / n
-        diff = gc - fc
+        # Taylor coefficients of e^{−q²/2} − (1 + q) e^{−q}; those of f̂ are (−1)^n (1 − n)/n!.
+        diff = np.array([(-1) ** n * (n - 1) / math.factorial(n) for n in range(nmax)])
+        for m in range(nmax // 2):
+            diff[2 * m] += (-0.5) ** m / math.factorial(m)
         diff[:3] = 0.0  # identical through q²
-        out[small] = np.polynomial.polynomial.polyval(q[small], diff)
+        qs = q[small]
+        out[small] = np.polynomial.polynomial.polyval(qs, diff) - 1j * (m3 / 6.0) * qs**3 * np.exp(
+            -0.5 * qs * qs
+        )
     return out
 
 
