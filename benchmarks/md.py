@@ -35,7 +35,12 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from particles.md import MDEngine, MDParams, MDState, energy  # noqa: E402
+from particles.md import MDEngine, MDParams, MDState  # noqa: E402
+from particles.observables import energy as _energy  # noqa: E402
+
+
+def energy(state: MDState) -> float:
+    return _energy(state.velocities)
 
 
 def compile_baseline(workdir: Path) -> Path:

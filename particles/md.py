@@ -58,6 +58,14 @@ settings they agree bit for bit (tested).  Floating-point traps and how they are
 * the cone tests carry a relative round-off margin (``_CONE_MARGIN``); erring on "unsafe" costs
   only parallelism.
 
+Runs
+----
+:class:`MDEngine` is an engine of the shared run driver (:func:`particles.driver.simulate`: stops,
+progress bar, checkpoint / resume bit for bit, Ctrl-C, :class:`particles.driver.RunResult`).
+Energy, histogram, S(k) and C(r) are those of :mod:`particles.observables` applied to the
+velocities in label order (the lattice conventions); this module adds what is MD-specific: τ(t),
+the total momentum, rod positions, the profiles v(x, t) and v(i, t) and Haff's law.
+
 Inelastic collapse
 ------------------
 With δ = 0 a group of particles can collide infinitely often in finite time.  Both engines watch
@@ -84,24 +92,21 @@ from maxwell_kinetics.validation import (
     check_restitution,
 )
 
+from .collision import collide_arrays, transfer_fraction
+from .driver import initial_velocities, next_grid_point
+
 __all__ = [
     "InelasticCollapseError",
     "MDParams",
     "MDState",
     "MDEngine",
-    "energy",
     "collisions_per_particle",
-    "momentum",
+    "total_momentum",
     "rod_positions",
     "profile_x",
     "profile_i",
     "haff_energy",
     "initial_cooling_rate",
-    "velocity_histogram",
-    "structure_factor",
-    "save_state",
-    "load_state",
-    "simulate",
 ]
 
 # Relative round-off margin of the light-cone tests (in units of the largest key magnitude).
@@ -184,7 +189,7 @@ class MDParams:
     @property
     def p(self) -> float:
         """Momentum-transfer fraction p = (1 + r)/2 of an inelastic collision."""
-        return 0.5 * (1.0 + self.restitution)
+        return transfer_fraction(self.restitution)
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -210,8 +215,8 @@ class MDState:
         t = self.time if t is None else float(t)
         return self.positions + self.velocities * (t - self.t_last)
 
-    def to_dict(self) -> dict:
-        """A dict of NumPy arrays (for ``np.savez``)."""
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """The state as a dict of NumPy arrays (what the driver's checkpoints store)."""
         return {
             "time": np.array(self.time, dtype=float),
             "positions": np.array(self.positions, dtype=float),
@@ -221,8 +226,10 @@ class MDState:
         }
 
     @classmethod
-    def from_dict(cls, data, params: MDParams | None = None) -> MDState:
-        """Inverse of :meth:`to_dict`; a corrupt checkpoint raises ``InvalidArgumentError``."""
+    def from_arrays(cls, data, params: MDParams | None = None) -> MDState:
+        """Inverse of :meth:`to_arrays`, with consistency checks; a corrupt state raises
+        ``InvalidArgumentError`` naming ``checkpoint`` (a ``ValueError``, which the driver turns
+        into its ``CheckpointError`` naming the file)."""
         keys = ("time", "positions", "t_last", "velocities", "collisions")
         try:
             missing = [k for k in keys if k not in data]
@@ -258,12 +265,8 @@ class MDState:
 
 
 # ---------------------------------------------------------------------------------------------
-# Observables
-
-
-def energy(state: MDState) -> float:
-    """E(t) = ⟨v²⟩ (mean over particles; unit masses, no factor 1/2)."""
-    return float(np.mean(state.velocities**2))
+# MD-specific observables (energy, histogram, S(k), C(r) are those of particles.observables, on
+# ``state.velocities`` in label order: the same conventions as the lattice model).
 
 
 def collisions_per_particle(state: MDState) -> float:
@@ -271,8 +274,8 @@ def collisions_per_particle(state: MDState) -> float:
     return 2.0 * state.collisions / state.velocities.size
 
 
-def momentum(state: MDState) -> float:
-    """Total momentum Σ v_i (zero at t = 0 by construction)."""
+def total_momentum(state: MDState) -> float:
+    """Total momentum Σ_i v_i (unit masses; zero at t = 0 up to round-off)."""
     return float(np.sum(state.velocities))
 
 
@@ -294,32 +297,6 @@ def profile_i(state: MDState):
     return np.arange(state.velocities.size), state.velocities.copy()
 
 
-def velocity_histogram(state: MDState, bins: int = 100, vmax: float = 5.0):
-    """Rescaled velocity histogram: density of c = v / √E on ``bins`` equal bins of
-    [−vmax, vmax] (counts outside are dropped, the density is normalised by all N).
-    Returns (bin centres, density)."""
-    e = energy(state)
-    c = state.velocities / math.sqrt(e) if e > 0 else state.velocities
-    edges = np.linspace(-vmax, vmax, bins + 1)
-    counts, _ = np.histogram(c, edges)
-    return 0.5 * (edges[1:] + edges[:-1]), counts / (c.size * (edges[1] - edges[0]))
-
-
-def structure_factor(state: MDState):
-    """S(k) = |Σ_j v_j e^{−2πi k j/N}|² / N over particle labels j, for k = 0 … ⌊N/2⌋
-    (``np.fft.rfft`` order; k = 0 is N times the squared mean velocity, zero up to round-off),
-    and C(r) = (1/N) Σ_j v_j v_{j+r} (labels mod N), r = 0 … N − 1, its inverse transform.
-
-    TODO(lead): switch to the shared ``particles/observables.py`` (pyfftw, lattice conventions)
-    once it is on main; this local ``np.fft`` version follows the formulas above.
-    """
-    v = state.velocities
-    n = v.size
-    s = np.abs(np.fft.rfft(v)) ** 2 / n
-    c = np.fft.irfft(s, n) if n > 1 else s
-    return np.arange(s.size), s, c
-
-
 def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
     """Haff's law T₀ / (1 + t/t₀)², t₀ = √π / ((1 − r²) n √T₀) (SPEC §4)."""
     t = np.asarray(t, dtype=float)
@@ -332,51 +309,27 @@ def initial_cooling_rate(restitution: float, density: float, t0_energy: float = 
     return -2.0 / math.sqrt(math.pi) * (1.0 - restitution**2) * density * t0_energy**1.5
 
 
-def save_state(path, state: MDState, params: MDParams) -> None:
-    """Write ``state`` and ``params`` to an ``.npz`` checkpoint."""
-    extra = {f"param_{k}": np.array(v) for k, v in params.to_dict().items()}
-    np.savez(path, **state.to_dict(), **extra)
-
-
-def load_state(path, params: MDParams | None = None):
-    """Read a checkpoint written by :func:`save_state`: returns (state, params).
-
-    A missing, unreadable or inconsistent file raises ``InvalidArgumentError`` naming
-    ``checkpoint``; if ``params`` is given it must equal the stored parameters.
-    """
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            raw = {k: data[k] for k in data.files}
-    except Exception as exc:  # any unreadable file is bad input
-        expected = f"a readable MD checkpoint ({exc})"
-        raise InvalidArgumentError("checkpoint", str(path), expected) from None
-    try:
-        stored = MDParams(
-            n=int(raw["param_n"]),
-            density=float(raw["param_density"]),
-            restitution=float(raw["param_restitution"]),
-            delta=float(raw["param_delta"]),
-            rod_length=float(raw["param_rod_length"]),
-            initial=str(raw["param_initial"]),
-        )
-    except (KeyError, TypeError, ValueError) as exc:
-        raise InvalidArgumentError("checkpoint", str(path), f"MD parameters ({exc})") from None
-    if params is not None and params != stored:
-        raise InvalidArgumentError("checkpoint", str(path), f"a checkpoint of {params}")
-    return MDState.from_dict(raw, stored), stored
-
-
 # ---------------------------------------------------------------------------------------------
 # The engine
 
 
 class MDEngine:
-    """Event-driven MD of inelastic hard rods; the interface of the particle run driver.
+    """Event-driven MD of inelastic hard rods: an engine of :func:`particles.driver.simulate`.
 
-    ``name = "md"``; ``params()`` is a JSON-able dict; ``initial_state(rng)`` draws the start;
-    ``advance(state, until, rng)`` returns the exact state at time ``until`` (time unit t, the
-    rng is unused: the dynamics is deterministic).  ``method`` is ``"fast"`` (light-cone
+    Driver protocol: ``name = "md"``; ``params()`` is a JSON-able dict; ``initial_state(rng)``
+    draws the start; ``advance(state, until, rng)`` returns the exact state at time ``until``
+    (time unit t; the rng is unused, the dynamics is deterministic); ``next_stop(t)`` is the
+    next point of the grid ``stop_step · m`` (m integer); ``state_from_arrays`` rebuilds a
+    checkpointed :class:`MDState`; ``observe(state)`` gives τ(t) (``collisions_per_particle``)
+    and the ``total_momentum`` Σ v_i, and remembers the state in ``last_state`` (for the
+    position profile v(x, t) of the last requested time).  ``method`` is ``"fast"`` (light-cone
     scheme) or ``"reference"`` (sequential heap).
+
+    Stopping at intermediate times changes nothing: ``advance`` never moves a particle except
+    at its collisions (positions are stored lazily), so advance(advance(s, t1), t2) equals
+    advance(s, t2) bit for bit, and a resumed run repeats an uninterrupted one.  ``stop_step``
+    (default 1 in units of t) only sets how often the driver may checkpoint and update its
+    progress bar; each stop costs O(N) (the pair predictions are rebuilt).
 
     ``collapse_dt`` (in units of the initial mean free time 1/n) and ``collapse_streak`` tune the
     inelastic-collapse detector (module docstring).  Tuning of the fast path (results do not
@@ -387,6 +340,7 @@ class MDEngine:
     """
 
     name = "md"
+    time_name = "t"
 
     def __init__(
         self,
@@ -398,6 +352,7 @@ class MDEngine:
         target_candidates: int | None = None,
         sequential_below: int = 24,
         record: bool = False,
+        stop_step: float = 1.0,
     ):
         if not isinstance(params, MDParams):
             raise InvalidArgumentError("params", params, "an MDParams")
@@ -413,6 +368,8 @@ class MDEngine:
         self.sequential_below = check_count(sequential_below, "sequential_below", 0)
         self.stats = {"passes": 0, "slabs": 0, "sequential": 0, "sequential_seconds": 0.0}
         self.record = [] if record else None
+        self.stop_step = check_positive(stop_step, "stop_step")
+        self.last_state: MDState | None = None
 
     # -- driver interface ---------------------------------------------------------------------
 
@@ -420,21 +377,33 @@ class MDEngine:
         out = self.p.to_dict()
         out["model"] = self.name
         out["method"] = self.method
+        out["stop_step"] = self.stop_step
         return out
+
+    def next_stop(self, time: float) -> float:
+        return next_grid_point(time, self.stop_step)
+
+    def state_from_arrays(self, arrays) -> MDState:
+        return MDState.from_arrays(arrays, self.p)
+
+    def observe(self, state: MDState) -> dict[str, float]:
+        self.last_state = state
+        return {
+            "collisions_per_particle": collisions_per_particle(state),
+            "total_momentum": total_momentum(state),
+        }
 
     def initial_state(self, rng: np.random.Generator) -> MDState:
         """Equilibrium hard-rod positions, velocities from the law with zero momentum, ⟨v²⟩ = 1.
 
         Points: N sorted uniform draws on [0, L − Nσ) (rod i at x_i + iσ).  Velocities: drawn
-        after the positions, shifted to zero mean and scaled to mean square exactly 1.
+        after the positions by :func:`particles.driver.initial_velocities` (zero mean, ⟨v²⟩ = 1).
         """
         if not isinstance(rng, np.random.Generator):
             raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
         p = self.p
         x = np.sort(rng.uniform(0.0, p.reduced_length, p.n))
-        v = get_law(p.initial).sample(rng, p.n)
-        v = v - v.mean()
-        v = v / math.sqrt(float(np.mean(v**2)))
+        v = initial_velocities(p.initial, p.n, rng)
         return MDState(0.0, x, np.zeros(p.n), v, 0)
 
     def advance(self, state: MDState, until: float, rng: np.random.Generator | None = None):
@@ -547,6 +516,8 @@ def _advance_reference(engine: MDEngine, state: MDState, until: float):
             v[i] = vj
             v[j] = vi
         else:
+            # the rule of particles.collision (collide_scalar: d = (v_i - v_j) p, then v_i - d
+            # and v_j + d), inlined for speed; then the separation guard
             pd = p * d
             a = vi - pd
             e = vj + pd
@@ -667,6 +638,8 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             V[i] = vj
             V[j] = vi
         else:
+            # the rule of particles.collision (collide_scalar: d = (v_i - v_j) p, then v_i - d
+            # and v_j + d), inlined for speed; then the separation guard
             pd = p * d
             a = vi - pd
             e = vj + pd
@@ -828,9 +801,11 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
                 a = vj
                 e = vi
             else:
-                pd = p * d
-                a = np.minimum(np.maximum(vi - pd, vj), vi)
-                e = np.minimum(np.maximum(vj + pd, vj), vi)
+                a = vi.copy()
+                e = vj.copy()
+                collide_arrays(a, e, p)  # the rule of particles.collision, in place
+                np.minimum(np.maximum(a, vj, out=a), vi, out=a)
+                np.minimum(np.maximum(e, vj, out=e), vi, out=e)
                 flip = a > e
                 if flip.any():
                     a, e = np.where(flip, e, a), np.where(flip, a, e)
@@ -874,66 +849,3 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
         elif width == 0.0:
             width = None
     return x, tl, v, count
-
-
-# ---------------------------------------------------------------------------------------------
-# A plain run: observables at the requested times.
-
-
-def simulate(
-    params: MDParams,
-    times,
-    seed: int = 0,
-    *,
-    method: str = "fast",
-    structure: bool = False,
-    profile: bool = False,
-    progress: bool = False,
-    state: MDState | None = None,
-) -> dict:
-    """Run from a fresh start (or from ``state``) and measure at ``times`` (increasing, ≥ 0).
-
-    Returns a JSON-able dict: ``t``, ``energy``, ``collisions_per_particle``, ``momentum``,
-    ``collisions``, ``seconds`` (one entry per time), ``histogram`` (rescaled, last time:
-    ``{"c": centres, "density": values}``), optionally ``structure_factor`` (``k``, ``S``) and
-    ``profile`` (``x``, ``v_x``, ``v_i``) at the last time, and ``state`` (the final MDState,
-    not JSON-able; pop it before dumping).
-    """
-    from maxwell_kinetics.validation import check_times
-
-    times = check_times(times, "t")
-    engine = MDEngine(params, method)
-    if state is None:
-        state = engine.initial_state(np.random.default_rng(seed))
-    if times[0] < state.time:
-        raise InvalidArgumentError("t", times.tolist(), f"times >= the state's time {state.time}")
-    out = {k: [] for k in ("t", "energy", "collisions_per_particle", "momentum", "collisions")}
-    out["seconds"] = []
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=float(times[-1]), unit="t", desc="md")
-    start = _time.perf_counter()
-    for t in times:
-        state = engine.advance(state, float(t))
-        out["t"].append(float(t))
-        out["energy"].append(energy(state))
-        out["collisions_per_particle"].append(collisions_per_particle(state))
-        out["momentum"].append(momentum(state))
-        out["collisions"].append(int(state.collisions))
-        out["seconds"].append(_time.perf_counter() - start)
-        if bar is not None:
-            bar.update(float(t) - bar.n)
-    if bar is not None:
-        bar.close()
-    centres, density = velocity_histogram(state)
-    out["histogram"] = {"c": centres.tolist(), "density": density.tolist()}
-    if structure:
-        k, s, _ = structure_factor(state)
-        out["structure_factor"] = {"k": k.tolist(), "S": s.tolist()}
-    if profile:
-        x, vx = profile_x(state, params)
-        out["profile"] = {"x": x.tolist(), "v_x": vx.tolist(), "v_i": state.velocities.tolist()}
-    out["state"] = state
-    return out
