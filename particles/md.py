@@ -111,6 +111,8 @@ __all__ = [
 
 # Relative round-off margin of the light-cone tests (in units of the largest key magnitude).
 _CONE_MARGIN = 64 * np.finfo(float).eps
+# Candidates closer than this many cone margins form one tie group (see ``_advance_fast``).
+_GROUP_GAP = 1024.0
 # With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
 _STALL_STREAK = 100_000
 # The scalar fallback copies the whole state to lists up to this N (else loads lazily).
@@ -760,7 +762,29 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
                 suf[-1] = np.inf
                 suf[:-1] = np.minimum.accumulate(kr[:0:-1])[::-1]
                 np.minimum(suf, kr.min() + lr, out=suf)
-                safe &= (kl < pre - tol) & (kr < suf - tol)
+                cone = (kl < pre - tol) & (kr < suf - tol)
+                # Ties: zero gaps in a cluster give several pending collisions at one time and
+                # place; their keys agree within ``tol``, so the cone test blocks all of them
+                # (only the global earliest used to fire: one collision per pass for the whole
+                # gas).  Tie groups: runs of consecutive candidates within ``_GROUP_GAP * tol``
+                # of each other.  The earliest of a group in (time, index) order is safe when
+                # no candidate outside its group reaches it (the cone test against the prefix
+                # minimum up to the group's start and the suffix minimum after its end): the
+                # other members come later in (time, index) order, so they (and all their
+                # consequences) run after it in the sequential order as well.
+                brk = np.abs(np.diff(xc)) > _GROUP_GAP * tol
+                if not brk.all():
+                    k = cc.size
+                    starts = np.flatnonzero(np.concatenate(([True], brk)))
+                    gid = np.cumsum(np.concatenate(([0], brk)))
+                    first = np.minimum.reduceat(
+                        np.where(cc == np.minimum.reduceat(cc, starts)[gid], np.arange(k), k),
+                        starts,
+                    )
+                    ends = np.append(starts[1:], k) - 1
+                    g_ok = (kl[first] < pre[starts] - tol) & (kr[first] < suf[ends] - tol)
+                    cone[first[g_ok]] = True
+                safe &= cone
             safe[np.argmin(cc)] = True  # the earliest collision is always safe
             ev = cand[safe]
             tev = cc[safe]
