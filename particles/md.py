@@ -339,6 +339,8 @@ class MDEngine:
     ``sequential_below``: when a vectorised pass fires fewer collisions than this, the rest of the
     slab runs in the scalar event loop (same formulas, same order).  ``record=True`` keeps every
     processed collision as ``(time, pair)`` in ``self.record`` (for tests; see :meth:`events`).
+    ``stats`` (fast path) counts vectorised ``passes``, horizon ``slabs``, collisions of the
+    scalar loop (``sequential``, ``sequential_seconds``) and ``elastic`` collisions (|Δ| < δ).
     """
 
     name = "md"
@@ -368,7 +370,13 @@ class MDEngine:
             target_candidates = max(256, params.n // 8)
         self.target_candidates = check_count(target_candidates, "target_candidates", 1)
         self.sequential_below = check_count(sequential_below, "sequential_below", 0)
-        self.stats = {"passes": 0, "slabs": 0, "sequential": 0, "sequential_seconds": 0.0}
+        self.stats = {
+            "passes": 0,
+            "slabs": 0,
+            "sequential": 0,
+            "sequential_seconds": 0.0,
+            "elastic": 0,
+        }
         self.record = [] if record else None
         self.stop_step = check_positive(stop_step, "stop_step")
         self.last_state: MDState | None = None
@@ -614,6 +622,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     heap = [(C[b], b, 0) for b in cand.tolist()]
     heapq.heapify(heap)
     done = 0
+    elastic = 0
     while heap:
         cb, b, ver = heapq.heappop(heap)
         if ver != VER[b]:
@@ -639,6 +648,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
         if elastic_only or d < delta:
             V[i] = vj
             V[j] = vi
+            elastic += 1
         else:
             # the rule of particles.collision (collide_scalar: d = (v_i - v_j) p, then v_i - d
             # and v_j + d), inlined for speed; then the separation guard
@@ -671,6 +681,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     else:
         for store in (X, TL, V, ST, C):
             store.write_back()
+    engine.stats["elastic"] += elastic
     return done
 
 
@@ -824,6 +835,7 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
             if elastic_only:
                 a = vj
                 e = vi
+                stats["elastic"] += ev.size
             else:
                 a = vi.copy()
                 e = vj.copy()
@@ -834,6 +846,7 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
                 if flip.any():
                     a, e = np.where(flip, e, a), np.where(flip, a, e)
                 el = d < delta
+                stats["elastic"] += int(np.count_nonzero(el))
                 if el.any():
                     a = np.where(el, vj, a)
                     e = np.where(el, vi, e)
