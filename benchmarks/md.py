@@ -132,7 +132,7 @@ def main(argv=None):
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--profile", action="store_true", help="cProfile the fast runs")
     ap.add_argument("--clustered-n", type=int, default=None)
-    ap.add_argument("--sequential-below", type=int, default=24, help="MDEngine option (default 24)")
+    ap.add_argument("--sequential-below", type=int, default=64, help="MDEngine option (default 64)")
     ap.add_argument(
         "--critical-path",
         action="store_true",

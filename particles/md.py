@@ -115,8 +115,9 @@ _CONE_MARGIN = 64 * np.finfo(float).eps
 _GROUP_GAP = 1024.0
 # With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
 _STALL_STREAK = 100_000
-# The scalar fallback copies the whole state to lists up to this N (else loads lazily).
-_FULL_COPY_N = 65_536
+# The scalar fallback works on lazy dict views of the arrays, and on lists of the whole state
+# from N / _FULL_COPY_RATIO collisions on (or at once with more than that many candidates).
+_FULL_COPY_RATIO = 4
 
 
 class InelasticCollapseError(RuntimeError):
@@ -354,7 +355,7 @@ class MDEngine:
         collapse_dt: float = 1e-9,
         collapse_streak: int = 200,
         target_candidates: int | None = None,
-        sequential_below: int = 24,
+        sequential_below: int = 64,
         record: bool = False,
         stop_step: float = 1.0,
     ):
@@ -578,10 +579,11 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     """Process, in time order, every collision up to ``horizon`` starting from the candidate
     pairs ``cand`` (all pairs with c ≤ horizon), with scalar Python floats: the reference loop.
 
-    With many candidates (clustered gas, small N) the whole state is copied to lists; with few
-    (the sparse tail of a slab at large N) only the particles touched are loaded, lazily, into
-    dicts.  Either way the results are written back to the arrays.  Returns the number of
-    collisions processed.
+    The loop starts on lazy dict views of the arrays (only the particles touched are loaded:
+    cheap for the sparse tail of a slab, a few collisions) and switches to plain lists of the
+    whole state once it has processed N / ``_FULL_COPY_RATIO`` collisions (a hot cluster's long
+    chain, where list access is about twice as fast and pays for the copy).  Either way the
+    results are written back to the arrays.  Returns the number of collisions processed.
     """
     prm = engine.p
     n = prm.n
@@ -592,46 +594,40 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     dt_tiny, limit, detail = engine._watch()
     record = engine.record
     inf = math.inf
-    full = n <= _FULL_COPY_N or cand.size * 64 >= n
+    full = cand.size * _FULL_COPY_RATIO >= n
     if full:
         X, TL, V, ST, C = x.tolist(), tl.tolist(), v.tolist(), streak.tolist(), c.tolist()
-        VER = [0] * n
+        switch_at = -1
     else:
         X, TL, V, ST, C = _Lazy(x), _Lazy(tl), _Lazy(v), _Lazy(streak), _Lazy(c)
-        VER = _Lazy(np.zeros(n, dtype=np.int64))  # only read, never written back
+        switch_at = n // _FULL_COPY_RATIO
 
-    def predict(b):
-        i = b
-        j = b + 1 if b < n - 1 else 0
-        vi = V[i]
-        vj = V[j]
-        if not vi > vj:
-            return inf
-        ti = TL[i]
-        tj = TL[j]
-        tt = ti if ti > tj else tj
-        xi = X[i] + vi * (tt - ti)
-        xj = X[j] + vj * (tt - tj)
-        if j == 0:
-            xj = xj + lr
-        g = xj - xi
-        if g < 0.0:
-            g = 0.0
-        return tt + g / (vi - vj)
-
-    heap = [(C[b], b, 0) for b in cand.tolist()]
+    # Heap entries (time, pair); an entry is live while C[pair] still equals its time (a pair
+    # re-predicted to the very same time keeps one live entry: equal keys are processed once,
+    # after which C[pair] = inf).  Ties pop in pair order, as in the reference.
+    heap = [(C[b], b) for b in cand.tolist()]
     heapq.heapify(heap)
+    pop = heapq.heappop
+    push = heapq.heappush
+    last = n - 1
     done = 0
     elastic = 0
     while heap:
-        cb, b, ver = heapq.heappop(heap)
-        if ver != VER[b]:
+        if done == switch_at:
+            for store in (X, TL, V, ST, C):
+                store.write_back()
+            X, TL, V, ST, C = x.tolist(), tl.tolist(), v.tolist(), streak.tolist(), c.tolist()
+            full = True
+            switch_at = -1
+        cb, b = pop(heap)
+        if cb != C[b]:
             continue
         i = b
-        j = b + 1 if b < n - 1 else 0
+        j = b + 1 if b < last else 0
         ti = TL[i]
+        tj = TL[j]
         si = ST[i] + 1 if cb - ti <= dt_tiny else 0
-        sj = ST[j] + 1 if cb - TL[j] <= dt_tiny else 0
+        sj = ST[j] + 1 if cb - tj <= dt_tiny else 0
         ST[i] = si
         ST[j] = sj
         if si >= limit or sj >= limit:
@@ -649,6 +645,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             V[i] = vj
             V[j] = vi
             elastic += 1
+            vi, vj = vj, vi
         else:
             # the rule of particles.collision (collide_scalar: d = (v_i - v_j) p, then v_i - d
             # and v_j + d), inlined for speed; then the separation guard
@@ -661,17 +658,52 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
                 a, e = e, a
             V[i] = a
             V[j] = e
+            vi = a
+            vj = e
         done += 1
         if record is not None:
             record.append((cb, b))
         C[b] = inf  # the pair separates (v_i' <= v_j'); its popped entry was the live one
-        for bb in (b - 1 if b > 0 else n - 1, b + 1 if b < n - 1 else 0):
-            cc = predict(bb)
-            if cc != C[bb]:
-                VER[bb] += 1
-                C[bb] = cc
-                if cc <= horizon:
-                    heapq.heappush(heap, (cc, bb, VER[bb]))
+        # New predictions of the two neighbouring pairs: the operations of ``_predict``, inlined,
+        # with the fresh data of i and j (position xc at t_last = cb).
+        bb = b - 1 if b > 0 else last  # left pair (h, i), h = bb
+        vh = V[bb]
+        if vh > vi:
+            th = TL[bb]
+            tt = th if th > cb else cb
+            xh = X[bb] + vh * (tt - th)
+            xi = xc + vi * (tt - cb)
+            if i == 0:
+                xi = xi + lr
+            g = xi - xh
+            if g < 0.0:
+                g = 0.0
+            cc = tt + g / (vh - vi)
+        else:
+            cc = inf
+        if cc != C[bb]:
+            C[bb] = cc
+            if cc <= horizon:
+                push(heap, (cc, bb))
+        k = j + 1 if j < last else 0  # right pair (j, k), index j
+        vk = V[k]
+        if vj > vk:
+            tk = TL[k]
+            tt = tk if tk > cb else cb
+            xj = X[j] + vj * (tt - cb)
+            xk = X[k] + vk * (tt - tk)
+            if k == 0:
+                xk = xk + lr
+            g = xk - xj
+            if g < 0.0:
+                g = 0.0
+            cc = tt + g / (vj - vk)
+        else:
+            cc = inf
+        if cc != C[j]:
+            C[j] = cc
+            if cc <= horizon:
+                push(heap, (cc, j))
     if full:
         x[:] = X
         tl[:] = TL

@@ -125,6 +125,25 @@ def test_tied_collisions_in_separate_clusters_fire_in_parallel():
     assert fast.stats["passes"] < a.collisions / 5  # measured 13 passes
 
 
+@pytest.mark.parametrize("sequential_below", [0, 64, 10**9])
+def test_clustered_run_is_bit_for_bit_in_every_mode(sequential_below):
+    # r = 0.5, delta = 1e-3, N = 1000 up to t = 10: clusters form (10^4 collisions, many in
+    # long causal chains).  Pure vectorised passes (0), the default mix (64) and the scalar loop
+    # from the first pass on (1e9; it starts on lazy views of the arrays and switches to lists
+    # after N/4 collisions) must all process the same collisions as the sequential reference.
+    prm = MDParams(1000, 1.0, 0.5, delta=1e-3)
+    s0 = MDEngine(prm).initial_state(np.random.default_rng(2))
+    ref = MDEngine(prm, "reference", record=True)
+    a = ref.advance(s0, 10.0)
+    fast = MDEngine(prm, sequential_below=sequential_below, record=True)
+    b = fast.advance(s0, 10.0)
+    assert a.collisions > 5 * prm.n
+    assert_same_state(a, b)
+    np.testing.assert_array_equal(ref.events(), fast.events())
+    if sequential_below > 100:
+        assert fast.stats["sequential"] > prm.n // 4  # the lazy-to-list switch happened
+
+
 def test_fast_and_reference_agree_statistically_in_clustered_states():
     # r = 0.5, delta = 1e-3, N = 1000 at t = 10 (4 t0): the gas is clustered and cools much
     # slower than Haff (E ~ 0.1 against E_Haff = 0.037) after 20-50 collisions per particle,
