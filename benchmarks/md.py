@@ -139,6 +139,12 @@ def main(argv=None):
         help="also run the clustered window with vectorised passes only (slow)",
     )
     ap.add_argument("--skip-homogeneous", action="store_true")
+    ap.add_argument(
+        "--clustered-t",
+        type=float,
+        default=20.0,
+        help="start of the clustered window [T, T + 0.2] (default 20; the C loop warms up to T)",
+    )
     args = ap.parse_args(argv)
     n_h = 100_000 if args.quick else 1_000_000
     n_c = args.clustered_n or (5_000 if args.quick else 20_000)
@@ -155,9 +161,9 @@ def main(argv=None):
             exe,
             workdir,
             MDParams(n_c, 1.0, 0.5, delta=1e-4),
-            20.0,
-            20.2,
-            20.2,
+            args.clustered_t,
+            args.clustered_t + 0.2,
+            args.clustered_t + 0.2,
             1,
             critical_path=args.critical_path,
             **options,
