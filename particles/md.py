@@ -31,27 +31,32 @@ correction).  Two engines share one prediction formula and one collision formula
 
 * ``method="reference"``: a plain sequential loop, a binary heap (``heapq``) over the N pair
   predictions with lazy invalidation, ties broken by the pair index.
-* ``method="fast"``: the light-cone scheme of SPEC §6.  Velocities stay in [v_min, v_max] forever
+* ``method="fast"``: the light-cone scheme of SPEC §6. Velocities stay in [v_min, v_max] forever
   (collisions make convex combinations), so a pending collision at (c_a, X_a) cannot influence
-  anything outside the cone X_a + [v_min, v_max] (t − c_a).  A prediction (c_b, X_b) is *safe*
-  when it is earlier than both neighbouring pairs' predictions and no other pending collision's
-  cone reaches it: v_max c_b − X_b < min_{a left of b} (v_max c_a − X_a) and
-  X_b − v_min c_b < min_{a right of b} (X_a − v_min c_a), prefix and suffix minima by
-  ``np.minimum.accumulate`` (the ring enters as one extra lap, + L_r).  All safe collisions are
-  processed in one NumPy pass.  The globally earliest collision is always safe, so the scheme
-  never stalls.  Only collisions earlier than a moving horizon H are candidates; a later
-  collision (c_a > H ≥ c_b) cannot reach an earlier one, so leaving it out is exact, and it keeps
-  a pass at O(candidates) instead of O(N).  When a pass fires only a handful of collisions (a
+  anything outside the cone X_a + [v_min, v_max] (t − c_a). A prediction (c_b, X_b) is *safe* when
+  it is earlier than both neighbouring pairs' predictions and no other pending collision's cone
+  reaches it: v_max c_b − X_b < min_{a left of b} (v_max c_a − X_a) and X_b − v_min c_b < min_{a
+  right of b} (X_a − v_min c_a), prefix and suffix minima by ``np.minimum.accumulate`` (the ring
+  enters as one extra lap, + L_r). All safe collisions are processed in one NumPy pass. The
+  globally earliest collision is always safe, so the scheme never stalls; so is the earliest, in
+  (time, index) order, of a *tie group* (candidates within a few cone margins of each other, e.g. a
+  cluster with zero gaps) that no candidate outside the group reaches, so isolated clusters each
+  fire one collision per pass. Only collisions earlier than a moving horizon H are candidates; a
+  later collision (c_a > H ≥ c_b) cannot reach an earlier one, so leaving it out is exact, and it
+  keeps a pass at O(candidates) instead of O(N). When a pass fires only a handful of collisions (a
   clustered gas, where a few hot clusters carry long causal chains) the rest of the slab runs in
-  the scalar heap loop on the same data, which is exact as well: it is the reference restricted
-  to the events before H.
+  the scalar heap loop on the same data, which is exact as well: it is the reference restricted to
+  the events before H (a pass costs about as much as 100 scalar collisions). In a clustered gas
+  nearly all collisions run there: see ``benchmarks/README.md`` for the measured costs and why
+  neither batching across clusters nor skipping elastic exchanges rescues that regime at N = 2·10⁴.
 
 Both engines apply the same floating-point operations to the same data, so in non-chaotic
 settings they agree bit for bit (tested).  Floating-point traps and how they are handled:
 
 * a gap that round-off made negative is treated as zero (the pair collides at once);
 * simultaneous collisions: the sequential heap orders ties by pair index, the fast scheme lets a
-  pair fire only if it precedes both neighbours in (time, index) order;
+  pair fire only if it precedes both neighbours in (time, index) order, and within a tie group
+  only the group's earliest in that order;
 * repeated collisions of one pair: after an inelastic collision the pair must separate, so the
   two new velocities are clipped to the old interval and swapped if round-off left them
   approaching;
