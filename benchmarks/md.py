@@ -35,7 +35,12 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from particles.md import MDEngine, MDParams, MDState, energy  # noqa: E402
+from particles.md import MDEngine, MDParams, MDState  # noqa: E402
+from particles.observables import energy as _energy  # noqa: E402
+
+
+def energy(state: MDState) -> float:
+    return _energy(state.velocities)
 
 
 def compile_baseline(workdir: Path) -> Path:
@@ -58,8 +63,8 @@ def run_c(exe: Path, workdir: Path, prm: MDParams, state: MDState, until: float)
     return MDState(float(until), x, tl, v, state.collisions + count), count, seconds
 
 
-def run_py(prm, method, state, until, profile=False):
-    engine = MDEngine(prm, method)
+def run_py(prm, method, state, until, profile=False, **options):
+    engine = MDEngine(prm, method, **options)
     prof = cProfile.Profile() if profile else None
     start = time.perf_counter()
     if prof is not None:
@@ -84,7 +89,9 @@ def same(a: MDState, b: MDState) -> bool:
     )
 
 
-def regime(exe, workdir, prm, t_start, t_end, t_ref, seed, warm_c_to=None, profile=False):
+def regime(
+    exe, workdir, prm, t_start, t_end, t_ref, seed, profile=False, critical_path=False, **options
+):
     engine = MDEngine(prm)
     s0 = engine.initial_state(np.random.default_rng(seed))
     row = {"n": prm.n, "restitution": prm.restitution, "delta": prm.delta}
@@ -93,11 +100,22 @@ def regime(exe, workdir, prm, t_start, t_end, t_ref, seed, warm_c_to=None, profi
         s0, count, secs = run_c(exe, workdir, prm, s0, t_start)
         row["warmup_c"] = {"collisions": count, "seconds": secs, "energy": energy(s0)}
     sc, cc, csec = run_c(exe, workdir, prm, s0, t_end)
-    sf, cf, fsec, stats, top = run_py(prm, "fast", s0, t_end, profile=profile)
+    sf, cf, fsec, stats, top = run_py(prm, "fast", s0, t_end, profile=profile, **options)
     row["c"] = {"collisions": cc, "seconds": csec, "rate": cc / csec}
     row["fast"] = {"collisions": cf, "seconds": fsec, "rate": cf / fsec, "stats": stats}
     row["ratio_fast_over_c"] = (cf / fsec) / (cc / csec)
     row["identical"] = same(sc, sf)
+    row["elastic_fraction"] = stats["elastic"] / max(cf, 1)
+    if critical_path:
+        # vectorised passes only: the number of passes is the length of the longest causal
+        # chain the light-cone scheme can see (an upper bound on the true one)
+        sp, cp, psec, pstats, _ = run_py(prm, "fast", s0, t_end, sequential_below=0)
+        row["critical_path"] = {
+            "passes": pstats["passes"],
+            "collisions": cp,
+            "seconds": psec,
+            "identical": same(sc, sp),
+        }
     row["energy_end"] = energy(sf)
     if t_ref is not None:
         _, cr, rsec, _, _ = run_py(prm, "reference", s0, t_ref)
@@ -114,43 +132,81 @@ def main(argv=None):
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--profile", action="store_true", help="cProfile the fast runs")
     ap.add_argument("--clustered-n", type=int, default=None)
+    ap.add_argument("--sequential-below", type=int, default=64, help="MDEngine option (default 64)")
+    ap.add_argument(
+        "--critical-path",
+        action="store_true",
+        help="also run the clustered window with vectorised passes only (slow)",
+    )
+    ap.add_argument("--skip-homogeneous", action="store_true")
+    ap.add_argument(
+        "--clustered-t",
+        type=float,
+        default=20.0,
+        help="start of the clustered window [T, T + 0.2] (default 20; the C loop warms up to T)",
+    )
     args = ap.parse_args(argv)
     n_h = 100_000 if args.quick else 1_000_000
     n_c = args.clustered_n or (5_000 if args.quick else 20_000)
     with tempfile.TemporaryDirectory() as tmp:
         workdir = Path(tmp)
         exe = compile_baseline(workdir)
-        homogeneous = regime(
-            exe, workdir, MDParams(n_h, 1.0, 0.9, delta=1e-3), 0.0, 2.0, 0.5, seed=1,
-            profile=args.profile,
+        options = {"profile": args.profile, "sequential_below": args.sequential_below}
+        result = {}
+        if not args.skip_homogeneous:
+            result["homogeneous"] = regime(
+                exe, workdir, MDParams(n_h, 1.0, 0.9, delta=1e-3), 0.0, 2.0, 0.5, 1, **options
+            )
+        result["clustered"] = regime(
+            exe,
+            workdir,
+            MDParams(n_c, 1.0, 0.5, delta=1e-4),
+            args.clustered_t,
+            args.clustered_t + 0.2,
+            args.clustered_t + 0.2,
+            1,
+            critical_path=args.critical_path,
+            **options,
         )
-        clustered = regime(
-            exe, workdir, MDParams(n_c, 1.0, 0.5, delta=1e-4), 20.0, 20.2, 20.2, seed=1,
-            profile=args.profile,
-        )
-    result = {"homogeneous": homogeneous, "clustered": clustered}
     if args.json:
         json.dump(result, sys.stdout, indent=1)
         print()
         return
     for name, row in result.items():
-        print(f"== {name}: N={row['n']} r={row['restitution']} delta={row['delta']} "
-              f"t in {row['window']}")
+        print(
+            f"== {name}: N={row['n']} r={row['restitution']} delta={row['delta']} "
+            f"t in {row['window']}"
+        )
         if "warmup_c" in row:
             w = row["warmup_c"]
-            print(f"   warm-up (C): {w['collisions']} collisions, {w['seconds']:.2f} s, "
-                  f"E = {w['energy']:.4g}")
+            print(
+                f"   warm-up (C): {w['collisions']} collisions, {w['seconds']:.2f} s, "
+                f"E = {w['energy']:.4g}"
+            )
         for key in ("c", "fast", "reference"):
             if key in row:
                 r = row[key]
-                print(f"   {key:9s} {r['collisions']:>10d} collisions {r['seconds']:8.3f} s "
-                      f"{r['rate']:10.3g} /s")
-        print(f"   fast/C = {row['ratio_fast_over_c']:.3f}   fast/reference = "
-              f"{row.get('ratio_fast_over_reference', float('nan')):.2f}   identical to C: "
-              f"{row['identical']}   E_end = {row['energy_end']:.5g}")
+                print(
+                    f"   {key:9s} {r['collisions']:>10d} collisions {r['seconds']:8.3f} s "
+                    f"{r['rate']:10.3g} /s"
+                )
+        print(
+            f"   fast/C = {row['ratio_fast_over_c']:.3f}   fast/reference = "
+            f"{row.get('ratio_fast_over_reference', float('nan')):.2f}   identical to C: "
+            f"{row['identical']}   E_end = {row['energy_end']:.5g}"
+        )
         st = row["fast"]["stats"]
-        print(f"   passes {st['passes']}, slabs {st['slabs']}, scalar-loop collisions "
-              f"{st['sequential']} ({st['sequential_seconds']:.2f} s)")
+        print(
+            f"   passes {st['passes']}, slabs {st['slabs']}, scalar-loop collisions "
+            f"{st['sequential']} ({st['sequential_seconds']:.2f} s), elastic fraction "
+            f"{row['elastic_fraction']:.3f}"
+        )
+        if "critical_path" in row:
+            cp = row["critical_path"]
+            print(
+                f"   vectorised passes only: {cp['passes']} passes for {cp['collisions']} "
+                f"collisions ({cp['seconds']:.2f} s), identical to C: {cp['identical']}"
+            )
         if "profile" in row:
             print(row["profile"])
 

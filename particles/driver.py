@@ -19,7 +19,9 @@ An engine (``particles.ulam.Ulam``, ``particles.lattice.Lattice``, the MD engine
   one bit for bit;
 * ``state_from_arrays(arrays) -> state`` — rebuild a state from ``state.to_arrays()``;
 * optionally ``observe(state) -> dict[str, float]`` — extra scalars recorded at each requested
-  time (e.g. τ(t) for MD), and ``time_name`` (default ``"τ"``) for the progress bar.
+  time (e.g. τ(t) for MD).
+* optionally ``time_name: str`` — the name of the model's time in messages (default ``"tau"``;
+  ``"t"`` for MD).
 
 A state is a frozen dataclass with at least ``time: float``, ``velocities: ndarray``,
 ``collisions: int`` and ``to_arrays() -> dict[str, ndarray]``.
@@ -429,7 +431,7 @@ def simulate(
     file; the run (model, parameters, times, seed, options) must be the one that wrote it, else
     :class:`CheckpointError`.  A resumed run equals an uninterrupted one bit for bit.
     """
-    times = check_times(times, "tau")
+    times = check_times(times, getattr(engine, "time_name", "tau"))
     seed = check_count(seed, "seed", 0)
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")

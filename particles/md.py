@@ -31,32 +31,45 @@ correction).  Two engines share one prediction formula and one collision formula
 
 * ``method="reference"``: a plain sequential loop, a binary heap (``heapq``) over the N pair
   predictions with lazy invalidation, ties broken by the pair index.
-* ``method="fast"``: the light-cone scheme of SPEC §6.  Velocities stay in [v_min, v_max] forever
+* ``method="fast"``: the light-cone scheme of SPEC §6. Velocities stay in [v_min, v_max] forever
   (collisions make convex combinations), so a pending collision at (c_a, X_a) cannot influence
-  anything outside the cone X_a + [v_min, v_max] (t − c_a).  A prediction (c_b, X_b) is *safe*
-  when it is earlier than both neighbouring pairs' predictions and no other pending collision's
-  cone reaches it: v_max c_b − X_b < min_{a left of b} (v_max c_a − X_a) and
-  X_b − v_min c_b < min_{a right of b} (X_a − v_min c_a), prefix and suffix minima by
-  ``np.minimum.accumulate`` (the ring enters as one extra lap, + L_r).  All safe collisions are
-  processed in one NumPy pass.  The globally earliest collision is always safe, so the scheme
-  never stalls.  Only collisions earlier than a moving horizon H are candidates; a later
-  collision (c_a > H ≥ c_b) cannot reach an earlier one, so leaving it out is exact, and it keeps
-  a pass at O(candidates) instead of O(N).  When a pass fires only a handful of collisions (a
+  anything outside the cone X_a + [v_min, v_max] (t − c_a). A prediction (c_b, X_b) is *safe* when
+  it is earlier than both neighbouring pairs' predictions and no other pending collision's cone
+  reaches it: v_max c_b − X_b < min_{a left of b} (v_max c_a − X_a) and X_b − v_min c_b < min_{a
+  right of b} (X_a − v_min c_a), prefix and suffix minima by ``np.minimum.accumulate`` (the ring
+  enters as one extra lap, + L_r). All safe collisions are processed in one NumPy pass. The
+  globally earliest collision is always safe, so the scheme never stalls; so is the earliest, in
+  (time, index) order, of a *tie group* (candidates within a few cone margins of each other, e.g. a
+  cluster with zero gaps) that no candidate outside the group reaches, so isolated clusters each
+  fire one collision per pass. Only collisions earlier than a moving horizon H are candidates; a
+  later collision (c_a > H ≥ c_b) cannot reach an earlier one, so leaving it out is exact, and it
+  keeps a pass at O(candidates) instead of O(N). When a pass fires only a handful of collisions (a
   clustered gas, where a few hot clusters carry long causal chains) the rest of the slab runs in
-  the scalar heap loop on the same data, which is exact as well: it is the reference restricted
-  to the events before H.
+  the scalar heap loop on the same data, which is exact as well: it is the reference restricted to
+  the events before H (a pass costs about as much as 100 scalar collisions). In a clustered gas
+  nearly all collisions run there: see ``benchmarks/README.md`` for the measured costs and why
+  neither batching across clusters nor skipping elastic exchanges rescues that regime at N = 2·10⁴.
 
 Both engines apply the same floating-point operations to the same data, so in non-chaotic
 settings they agree bit for bit (tested).  Floating-point traps and how they are handled:
 
 * a gap that round-off made negative is treated as zero (the pair collides at once);
 * simultaneous collisions: the sequential heap orders ties by pair index, the fast scheme lets a
-  pair fire only if it precedes both neighbours in (time, index) order;
+  pair fire only if it precedes both neighbours in (time, index) order, and within a tie group
+  only the group's earliest in that order;
 * repeated collisions of one pair: after an inelastic collision the pair must separate, so the
   two new velocities are clipped to the old interval and swapped if round-off left them
   approaching;
 * the cone tests carry a relative round-off margin (``_CONE_MARGIN``); erring on "unsafe" costs
   only parallelism.
+
+Runs
+----
+:class:`MDEngine` is an engine of the shared run driver (:func:`particles.driver.simulate`: stops,
+progress bar, checkpoint / resume bit for bit, Ctrl-C, :class:`particles.driver.RunResult`).
+Energy, histogram, S(k) and C(r) are those of :mod:`particles.observables` applied to the
+velocities in label order (the lattice conventions); this module adds what is MD-specific: τ(t),
+the total momentum, rod positions, the profiles v(x, t) and v(i, t) and Haff's law.
 
 Inelastic collapse
 ------------------
@@ -84,32 +97,32 @@ from maxwell_kinetics.validation import (
     check_restitution,
 )
 
+from .collision import collide_arrays, transfer_fraction
+from .driver import initial_velocities, next_grid_point
+
 __all__ = [
     "InelasticCollapseError",
     "MDParams",
     "MDState",
     "MDEngine",
-    "energy",
     "collisions_per_particle",
-    "momentum",
+    "total_momentum",
     "rod_positions",
     "profile_x",
     "profile_i",
     "haff_energy",
     "initial_cooling_rate",
-    "velocity_histogram",
-    "structure_factor",
-    "save_state",
-    "load_state",
-    "simulate",
 ]
 
 # Relative round-off margin of the light-cone tests (in units of the largest key magnitude).
 _CONE_MARGIN = 64 * np.finfo(float).eps
+# Candidates closer than this many cone margins form one tie group (see ``_advance_fast``).
+_GROUP_GAP = 1024.0
 # With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
 _STALL_STREAK = 100_000
-# The scalar fallback copies the whole state to lists up to this N (else loads lazily).
-_FULL_COPY_N = 65_536
+# The scalar fallback works on lazy dict views of the arrays, and on lists of the whole state
+# from N / _FULL_COPY_RATIO collisions on (or at once with more than that many candidates).
+_FULL_COPY_RATIO = 4
 
 
 class InelasticCollapseError(RuntimeError):
@@ -184,7 +197,7 @@ class MDParams:
     @property
     def p(self) -> float:
         """Momentum-transfer fraction p = (1 + r)/2 of an inelastic collision."""
-        return 0.5 * (1.0 + self.restitution)
+        return transfer_fraction(self.restitution)
 
     def to_dict(self) -> dict:
         return asdict(self)
@@ -210,8 +223,8 @@ class MDState:
         t = self.time if t is None else float(t)
         return self.positions + self.velocities * (t - self.t_last)
 
-    def to_dict(self) -> dict:
-        """A dict of NumPy arrays (for ``np.savez``)."""
+    def to_arrays(self) -> dict[str, np.ndarray]:
+        """The state as a dict of NumPy arrays (what the driver's checkpoints store)."""
         return {
             "time": np.array(self.time, dtype=float),
             "positions": np.array(self.positions, dtype=float),
@@ -221,8 +234,10 @@ class MDState:
         }
 
     @classmethod
-    def from_dict(cls, data, params: MDParams | None = None) -> MDState:
-        """Inverse of :meth:`to_dict`; a corrupt checkpoint raises ``InvalidArgumentError``."""
+    def from_arrays(cls, data, params: MDParams | None = None) -> MDState:
+        """Inverse of :meth:`to_arrays`, with consistency checks; a corrupt state raises
+        ``InvalidArgumentError`` naming ``checkpoint`` (a ``ValueError``, which the driver turns
+        into its ``CheckpointError`` naming the file)."""
         keys = ("time", "positions", "t_last", "velocities", "collisions")
         try:
             missing = [k for k in keys if k not in data]
@@ -258,12 +273,8 @@ class MDState:
 
 
 # ---------------------------------------------------------------------------------------------
-# Observables
-
-
-def energy(state: MDState) -> float:
-    """E(t) = ⟨v²⟩ (mean over particles; unit masses, no factor 1/2)."""
-    return float(np.mean(state.velocities**2))
+# MD-specific observables (energy, histogram, S(k), C(r) are those of particles.observables, on
+# ``state.velocities`` in label order: the same conventions as the lattice model).
 
 
 def collisions_per_particle(state: MDState) -> float:
@@ -271,8 +282,8 @@ def collisions_per_particle(state: MDState) -> float:
     return 2.0 * state.collisions / state.velocities.size
 
 
-def momentum(state: MDState) -> float:
-    """Total momentum Σ v_i (zero at t = 0 by construction)."""
+def total_momentum(state: MDState) -> float:
+    """Total momentum Σ_i v_i (unit masses; zero at t = 0 up to round-off)."""
     return float(np.sum(state.velocities))
 
 
@@ -294,32 +305,6 @@ def profile_i(state: MDState):
     return np.arange(state.velocities.size), state.velocities.copy()
 
 
-def velocity_histogram(state: MDState, bins: int = 100, vmax: float = 5.0):
-    """Rescaled velocity histogram: density of c = v / √E on ``bins`` equal bins of
-    [−vmax, vmax] (counts outside are dropped, the density is normalised by all N).
-    Returns (bin centres, density)."""
-    e = energy(state)
-    c = state.velocities / math.sqrt(e) if e > 0 else state.velocities
-    edges = np.linspace(-vmax, vmax, bins + 1)
-    counts, _ = np.histogram(c, edges)
-    return 0.5 * (edges[1:] + edges[:-1]), counts / (c.size * (edges[1] - edges[0]))
-
-
-def structure_factor(state: MDState):
-    """S(k) = |Σ_j v_j e^{−2πi k j/N}|² / N over particle labels j, for k = 0 … ⌊N/2⌋
-    (``np.fft.rfft`` order; k = 0 is N times the squared mean velocity, zero up to round-off),
-    and C(r) = (1/N) Σ_j v_j v_{j+r} (labels mod N), r = 0 … N − 1, its inverse transform.
-
-    TODO(lead): switch to the shared ``particles/observables.py`` (pyfftw, lattice conventions)
-    once it is on main; this local ``np.fft`` version follows the formulas above.
-    """
-    v = state.velocities
-    n = v.size
-    s = np.abs(np.fft.rfft(v)) ** 2 / n
-    c = np.fft.irfft(s, n) if n > 1 else s
-    return np.arange(s.size), s, c
-
-
 def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
     """Haff's law T₀ / (1 + t/t₀)², t₀ = √π / ((1 − r²) n √T₀) (SPEC §4)."""
     t = np.asarray(t, dtype=float)
@@ -332,51 +317,27 @@ def initial_cooling_rate(restitution: float, density: float, t0_energy: float = 
     return -2.0 / math.sqrt(math.pi) * (1.0 - restitution**2) * density * t0_energy**1.5
 
 
-def save_state(path, state: MDState, params: MDParams) -> None:
-    """Write ``state`` and ``params`` to an ``.npz`` checkpoint."""
-    extra = {f"param_{k}": np.array(v) for k, v in params.to_dict().items()}
-    np.savez(path, **state.to_dict(), **extra)
-
-
-def load_state(path, params: MDParams | None = None):
-    """Read a checkpoint written by :func:`save_state`: returns (state, params).
-
-    A missing, unreadable or inconsistent file raises ``InvalidArgumentError`` naming
-    ``checkpoint``; if ``params`` is given it must equal the stored parameters.
-    """
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            raw = {k: data[k] for k in data.files}
-    except Exception as exc:  # any unreadable file is bad input
-        expected = f"a readable MD checkpoint ({exc})"
-        raise InvalidArgumentError("checkpoint", str(path), expected) from None
-    try:
-        stored = MDParams(
-            n=int(raw["param_n"]),
-            density=float(raw["param_density"]),
-            restitution=float(raw["param_restitution"]),
-            delta=float(raw["param_delta"]),
-            rod_length=float(raw["param_rod_length"]),
-            initial=str(raw["param_initial"]),
-        )
-    except (KeyError, TypeError, ValueError) as exc:
-        raise InvalidArgumentError("checkpoint", str(path), f"MD parameters ({exc})") from None
-    if params is not None and params != stored:
-        raise InvalidArgumentError("checkpoint", str(path), f"a checkpoint of {params}")
-    return MDState.from_dict(raw, stored), stored
-
-
 # ---------------------------------------------------------------------------------------------
 # The engine
 
 
 class MDEngine:
-    """Event-driven MD of inelastic hard rods; the interface of the particle run driver.
+    """Event-driven MD of inelastic hard rods: an engine of :func:`particles.driver.simulate`.
 
-    ``name = "md"``; ``params()`` is a JSON-able dict; ``initial_state(rng)`` draws the start;
-    ``advance(state, until, rng)`` returns the exact state at time ``until`` (time unit t, the
-    rng is unused: the dynamics is deterministic).  ``method`` is ``"fast"`` (light-cone
+    Driver protocol: ``name = "md"``; ``params()`` is a JSON-able dict; ``initial_state(rng)``
+    draws the start; ``advance(state, until, rng)`` returns the exact state at time ``until``
+    (time unit t; the rng is unused, the dynamics is deterministic); ``next_stop(t)`` is the
+    next point of the grid ``stop_step · m`` (m integer); ``state_from_arrays`` rebuilds a
+    checkpointed :class:`MDState`; ``observe(state)`` gives τ(t) (``collisions_per_particle``)
+    and the ``total_momentum`` Σ v_i, and remembers the state in ``last_state`` (for the
+    position profile v(x, t) of the last requested time).  ``method`` is ``"fast"`` (light-cone
     scheme) or ``"reference"`` (sequential heap).
+
+    Stopping at intermediate times changes nothing: ``advance`` never moves a particle except
+    at its collisions (positions are stored lazily), so advance(advance(s, t1), t2) equals
+    advance(s, t2) bit for bit, and a resumed run repeats an uninterrupted one.  ``stop_step``
+    (default 1 in units of t) only sets how often the driver may checkpoint and update its
+    progress bar; each stop costs O(N) (the pair predictions are rebuilt).
 
     ``collapse_dt`` (in units of the initial mean free time 1/n) and ``collapse_streak`` tune the
     inelastic-collapse detector (module docstring).  Tuning of the fast path (results do not
@@ -384,9 +345,12 @@ class MDEngine:
     ``sequential_below``: when a vectorised pass fires fewer collisions than this, the rest of the
     slab runs in the scalar event loop (same formulas, same order).  ``record=True`` keeps every
     processed collision as ``(time, pair)`` in ``self.record`` (for tests; see :meth:`events`).
+    ``stats`` (fast path) counts vectorised ``passes``, horizon ``slabs``, collisions of the
+    scalar loop (``sequential``, ``sequential_seconds``) and ``elastic`` collisions (|Δ| < δ).
     """
 
     name = "md"
+    time_name = "t"
 
     def __init__(
         self,
@@ -396,8 +360,9 @@ class MDEngine:
         collapse_dt: float = 1e-9,
         collapse_streak: int = 200,
         target_candidates: int | None = None,
-        sequential_below: int = 24,
+        sequential_below: int = 64,
         record: bool = False,
+        stop_step: float = 1.0,
     ):
         if not isinstance(params, MDParams):
             raise InvalidArgumentError("params", params, "an MDParams")
@@ -411,8 +376,16 @@ class MDEngine:
             target_candidates = max(256, params.n // 8)
         self.target_candidates = check_count(target_candidates, "target_candidates", 1)
         self.sequential_below = check_count(sequential_below, "sequential_below", 0)
-        self.stats = {"passes": 0, "slabs": 0, "sequential": 0, "sequential_seconds": 0.0}
+        self.stats = {
+            "passes": 0,
+            "slabs": 0,
+            "sequential": 0,
+            "sequential_seconds": 0.0,
+            "elastic": 0,
+        }
         self.record = [] if record else None
+        self.stop_step = check_positive(stop_step, "stop_step")
+        self.last_state: MDState | None = None
 
     # -- driver interface ---------------------------------------------------------------------
 
@@ -420,21 +393,33 @@ class MDEngine:
         out = self.p.to_dict()
         out["model"] = self.name
         out["method"] = self.method
+        out["stop_step"] = self.stop_step
         return out
+
+    def next_stop(self, time: float) -> float:
+        return next_grid_point(time, self.stop_step)
+
+    def state_from_arrays(self, arrays) -> MDState:
+        return MDState.from_arrays(arrays, self.p)
+
+    def observe(self, state: MDState) -> dict[str, float]:
+        self.last_state = state
+        return {
+            "collisions_per_particle": collisions_per_particle(state),
+            "total_momentum": total_momentum(state),
+        }
 
     def initial_state(self, rng: np.random.Generator) -> MDState:
         """Equilibrium hard-rod positions, velocities from the law with zero momentum, ⟨v²⟩ = 1.
 
         Points: N sorted uniform draws on [0, L − Nσ) (rod i at x_i + iσ).  Velocities: drawn
-        after the positions, shifted to zero mean and scaled to mean square exactly 1.
+        after the positions by :func:`particles.driver.initial_velocities` (zero mean, ⟨v²⟩ = 1).
         """
         if not isinstance(rng, np.random.Generator):
             raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
         p = self.p
         x = np.sort(rng.uniform(0.0, p.reduced_length, p.n))
-        v = get_law(p.initial).sample(rng, p.n)
-        v = v - v.mean()
-        v = v / math.sqrt(float(np.mean(v**2)))
+        v = initial_velocities(p.initial, p.n, rng)
         return MDState(0.0, x, np.zeros(p.n), v, 0)
 
     def advance(self, state: MDState, until: float, rng: np.random.Generator | None = None):
@@ -547,6 +532,8 @@ def _advance_reference(engine: MDEngine, state: MDState, until: float):
             v[i] = vj
             v[j] = vi
         else:
+            # the rule of particles.collision (collide_scalar: d = (v_i - v_j) p, then v_i - d
+            # and v_j + d), inlined for speed; then the separation guard
             pd = p * d
             a = vi - pd
             e = vj + pd
@@ -597,10 +584,11 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     """Process, in time order, every collision up to ``horizon`` starting from the candidate
     pairs ``cand`` (all pairs with c ≤ horizon), with scalar Python floats: the reference loop.
 
-    With many candidates (clustered gas, small N) the whole state is copied to lists; with few
-    (the sparse tail of a slab at large N) only the particles touched are loaded, lazily, into
-    dicts.  Either way the results are written back to the arrays.  Returns the number of
-    collisions processed.
+    The loop starts on lazy dict views of the arrays (only the particles touched are loaded:
+    cheap for the sparse tail of a slab, a few collisions) and switches to plain lists of the
+    whole state once it has processed N / ``_FULL_COPY_RATIO`` collisions (a hot cluster's long
+    chain, where list access is about twice as fast and pays for the copy).  Either way the
+    results are written back to the arrays.  Returns the number of collisions processed.
     """
     prm = engine.p
     n = prm.n
@@ -611,45 +599,40 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     dt_tiny, limit, detail = engine._watch()
     record = engine.record
     inf = math.inf
-    full = n <= _FULL_COPY_N or cand.size * 64 >= n
+    full = cand.size * _FULL_COPY_RATIO >= n
     if full:
         X, TL, V, ST, C = x.tolist(), tl.tolist(), v.tolist(), streak.tolist(), c.tolist()
-        VER = [0] * n
+        switch_at = -1
     else:
         X, TL, V, ST, C = _Lazy(x), _Lazy(tl), _Lazy(v), _Lazy(streak), _Lazy(c)
-        VER = _Lazy(np.zeros(n, dtype=np.int64))  # only read, never written back
+        switch_at = n // _FULL_COPY_RATIO
 
-    def predict(b):
-        i = b
-        j = b + 1 if b < n - 1 else 0
-        vi = V[i]
-        vj = V[j]
-        if not vi > vj:
-            return inf
-        ti = TL[i]
-        tj = TL[j]
-        tt = ti if ti > tj else tj
-        xi = X[i] + vi * (tt - ti)
-        xj = X[j] + vj * (tt - tj)
-        if j == 0:
-            xj = xj + lr
-        g = xj - xi
-        if g < 0.0:
-            g = 0.0
-        return tt + g / (vi - vj)
-
-    heap = [(C[b], b, 0) for b in cand.tolist()]
+    # Heap entries (time, pair); an entry is live while C[pair] still equals its time (a pair
+    # re-predicted to the very same time keeps one live entry: equal keys are processed once,
+    # after which C[pair] = inf).  Ties pop in pair order, as in the reference.
+    heap = [(C[b], b) for b in cand.tolist()]
     heapq.heapify(heap)
+    pop = heapq.heappop
+    push = heapq.heappush
+    last = n - 1
     done = 0
+    elastic = 0
     while heap:
-        cb, b, ver = heapq.heappop(heap)
-        if ver != VER[b]:
+        if done == switch_at:
+            for store in (X, TL, V, ST, C):
+                store.write_back()
+            X, TL, V, ST, C = x.tolist(), tl.tolist(), v.tolist(), streak.tolist(), c.tolist()
+            full = True
+            switch_at = -1
+        cb, b = pop(heap)
+        if cb != C[b]:
             continue
         i = b
-        j = b + 1 if b < n - 1 else 0
+        j = b + 1 if b < last else 0
         ti = TL[i]
+        tj = TL[j]
         si = ST[i] + 1 if cb - ti <= dt_tiny else 0
-        sj = ST[j] + 1 if cb - TL[j] <= dt_tiny else 0
+        sj = ST[j] + 1 if cb - tj <= dt_tiny else 0
         ST[i] = si
         ST[j] = sj
         if si >= limit or sj >= limit:
@@ -666,7 +649,11 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
         if elastic_only or d < delta:
             V[i] = vj
             V[j] = vi
+            elastic += 1
+            vi, vj = vj, vi
         else:
+            # the rule of particles.collision (collide_scalar: d = (v_i - v_j) p, then v_i - d
+            # and v_j + d), inlined for speed; then the separation guard
             pd = p * d
             a = vi - pd
             e = vj + pd
@@ -676,17 +663,52 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
                 a, e = e, a
             V[i] = a
             V[j] = e
+            vi = a
+            vj = e
         done += 1
         if record is not None:
             record.append((cb, b))
         C[b] = inf  # the pair separates (v_i' <= v_j'); its popped entry was the live one
-        for bb in (b - 1 if b > 0 else n - 1, b + 1 if b < n - 1 else 0):
-            cc = predict(bb)
-            if cc != C[bb]:
-                VER[bb] += 1
-                C[bb] = cc
-                if cc <= horizon:
-                    heapq.heappush(heap, (cc, bb, VER[bb]))
+        # New predictions of the two neighbouring pairs: the operations of ``_predict``, inlined,
+        # with the fresh data of i and j (position xc at t_last = cb).
+        bb = b - 1 if b > 0 else last  # left pair (h, i), h = bb
+        vh = V[bb]
+        if vh > vi:
+            th = TL[bb]
+            tt = th if th > cb else cb
+            xh = X[bb] + vh * (tt - th)
+            xi = xc + vi * (tt - cb)
+            if i == 0:
+                xi = xi + lr
+            g = xi - xh
+            if g < 0.0:
+                g = 0.0
+            cc = tt + g / (vh - vi)
+        else:
+            cc = inf
+        if cc != C[bb]:
+            C[bb] = cc
+            if cc <= horizon:
+                push(heap, (cc, bb))
+        k = j + 1 if j < last else 0  # right pair (j, k), index j
+        vk = V[k]
+        if vj > vk:
+            tk = TL[k]
+            tt = tk if tk > cb else cb
+            xj = X[j] + vj * (tt - cb)
+            xk = X[k] + vk * (tt - tk)
+            if k == 0:
+                xk = xk + lr
+            g = xk - xj
+            if g < 0.0:
+                g = 0.0
+            cc = tt + g / (vj - vk)
+        else:
+            cc = inf
+        if cc != C[j]:
+            C[j] = cc
+            if cc <= horizon:
+                push(heap, (cc, j))
     if full:
         x[:] = X
         tl[:] = TL
@@ -696,6 +718,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     else:
         for store in (X, TL, V, ST, C):
             store.write_back()
+    engine.stats["elastic"] += elastic
     return done
 
 
@@ -787,7 +810,29 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
                 suf[-1] = np.inf
                 suf[:-1] = np.minimum.accumulate(kr[:0:-1])[::-1]
                 np.minimum(suf, kr.min() + lr, out=suf)
-                safe &= (kl < pre - tol) & (kr < suf - tol)
+                cone = (kl < pre - tol) & (kr < suf - tol)
+                # Ties: zero gaps in a cluster give several pending collisions at one time and
+                # place; their keys agree within ``tol``, so the cone test blocks all of them
+                # (only the global earliest used to fire: one collision per pass for the whole
+                # gas).  Tie groups: runs of consecutive candidates within ``_GROUP_GAP * tol``
+                # of each other.  The earliest of a group in (time, index) order is safe when
+                # no candidate outside its group reaches it (the cone test against the prefix
+                # minimum up to the group's start and the suffix minimum after its end): the
+                # other members come later in (time, index) order, so they (and all their
+                # consequences) run after it in the sequential order as well.
+                brk = np.abs(np.diff(xc)) > _GROUP_GAP * tol
+                if not brk.all():
+                    k = cc.size
+                    starts = np.flatnonzero(np.concatenate(([True], brk)))
+                    gid = np.cumsum(np.concatenate(([0], brk)))
+                    first = np.minimum.reduceat(
+                        np.where(cc == np.minimum.reduceat(cc, starts)[gid], np.arange(k), k),
+                        starts,
+                    )
+                    ends = np.append(starts[1:], k) - 1
+                    g_ok = (kl[first] < pre[starts] - tol) & (kr[first] < suf[ends] - tol)
+                    cone[first[g_ok]] = True
+                safe &= cone
             safe[np.argmin(cc)] = True  # the earliest collision is always safe
             ev = cand[safe]
             tev = cc[safe]
@@ -827,14 +872,18 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
             if elastic_only:
                 a = vj
                 e = vi
+                stats["elastic"] += ev.size
             else:
-                pd = p * d
-                a = np.minimum(np.maximum(vi - pd, vj), vi)
-                e = np.minimum(np.maximum(vj + pd, vj), vi)
+                a = vi.copy()
+                e = vj.copy()
+                collide_arrays(a, e, p)  # the rule of particles.collision, in place
+                np.minimum(np.maximum(a, vj, out=a), vi, out=a)
+                np.minimum(np.maximum(e, vj, out=e), vi, out=e)
                 flip = a > e
                 if flip.any():
                     a, e = np.where(flip, e, a), np.where(flip, a, e)
                 el = d < delta
+                stats["elastic"] += int(np.count_nonzero(el))
                 if el.any():
                     a = np.where(el, vj, a)
                     e = np.where(el, vi, e)
@@ -874,66 +923,3 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
         elif width == 0.0:
             width = None
     return x, tl, v, count
-
-
-# ---------------------------------------------------------------------------------------------
-# A plain run: observables at the requested times.
-
-
-def simulate(
-    params: MDParams,
-    times,
-    seed: int = 0,
-    *,
-    method: str = "fast",
-    structure: bool = False,
-    profile: bool = False,
-    progress: bool = False,
-    state: MDState | None = None,
-) -> dict:
-    """Run from a fresh start (or from ``state``) and measure at ``times`` (increasing, ≥ 0).
-
-    Returns a JSON-able dict: ``t``, ``energy``, ``collisions_per_particle``, ``momentum``,
-    ``collisions``, ``seconds`` (one entry per time), ``histogram`` (rescaled, last time:
-    ``{"c": centres, "density": values}``), optionally ``structure_factor`` (``k``, ``S``) and
-    ``profile`` (``x``, ``v_x``, ``v_i``) at the last time, and ``state`` (the final MDState,
-    not JSON-able; pop it before dumping).
-    """
-    from maxwell_kinetics.validation import check_times
-
-    times = check_times(times, "t")
-    engine = MDEngine(params, method)
-    if state is None:
-        state = engine.initial_state(np.random.default_rng(seed))
-    if times[0] < state.time:
-        raise InvalidArgumentError("t", times.tolist(), f"times >= the state's time {state.time}")
-    out = {k: [] for k in ("t", "energy", "collisions_per_particle", "momentum", "collisions")}
-    out["seconds"] = []
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(total=float(times[-1]), unit="t", desc="md")
-    start = _time.perf_counter()
-    for t in times:
-        state = engine.advance(state, float(t))
-        out["t"].append(float(t))
-        out["energy"].append(energy(state))
-        out["collisions_per_particle"].append(collisions_per_particle(state))
-        out["momentum"].append(momentum(state))
-        out["collisions"].append(int(state.collisions))
-        out["seconds"].append(_time.perf_counter() - start)
-        if bar is not None:
-            bar.update(float(t) - bar.n)
-    if bar is not None:
-        bar.close()
-    centres, density = velocity_histogram(state)
-    out["histogram"] = {"c": centres.tolist(), "density": density.tolist()}
-    if structure:
-        k, s, _ = structure_factor(state)
-        out["structure_factor"] = {"k": k.tolist(), "S": s.tolist()}
-    if profile:
-        x, vx = profile_x(state, params)
-        out["profile"] = {"x": x.tolist(), "v_x": vx.tolist(), "v_i": state.velocities.tolist()}
-    out["state"] = state
-    return out

@@ -1,6 +1,7 @@
 """Event-driven MD of inelastic hard rods (particles/md.py): the light-cone fast path against the
 sequential heap reference, conservation laws, the exact t = 0⁺ cooling rates and Haff's law
-(SPEC §4), the rod/point mapping, inelastic collapse, checkpoints and bad input."""
+(SPEC §4), the rod/point mapping, inelastic collapse, the run driver (checkpoint / resume /
+Ctrl-C / save) and bad input."""
 
 import contextlib
 import math
@@ -10,25 +11,28 @@ import numpy as np
 import pytest
 
 from maxwell_kinetics.validation import InvalidArgumentError
+from particles import observables as obs
+from particles.driver import CheckpointError, RunResult, simulate
 from particles.md import (
     InelasticCollapseError,
     MDEngine,
     MDParams,
     MDState,
     collisions_per_particle,
-    energy,
     haff_energy,
     initial_cooling_rate,
-    load_state,
-    momentum,
     profile_i,
     profile_x,
     rod_positions,
-    save_state,
-    simulate,
-    structure_factor,
-    velocity_histogram,
+    total_momentum,
 )
+
+
+def energy(state):
+    return obs.energy(state.velocities)
+
+
+momentum = total_momentum
 
 
 @contextlib.contextmanager
@@ -98,6 +102,48 @@ def test_fast_path_is_parallel_and_uses_both_modes():
     assert engine.stats["passes"] < s.collisions / 100
 
 
+def test_tied_collisions_in_separate_clusters_fire_in_parallel():
+    # Ten far-apart clusters of five touching particles (zero gaps), all approaching: every
+    # pair of a cluster is predicted at t = 0 exactly, and the cascades of ties must run in
+    # (time, index) order.  The cone test alone blocks tied collisions against each other, so
+    # only the global earliest fired per pass (121 passes for 121 collisions, measured); the
+    # tie-group rule fires the earliest of each cluster at once.  Pure vectorised passes
+    # (sequential_below=0) must still reproduce the sequential reference bit for bit.
+    prm = MDParams(50, 1.0, 0.5, delta=1e-3)
+    rng = np.random.default_rng(0)
+    x = np.repeat(np.arange(10) * 5.0, 5)
+    v = np.tile([0.2, 0.1, 0.0, -0.1, -0.2], 10) + 0.01 * rng.standard_normal(50)
+    s0 = MDState(0.0, x, np.zeros(50), v - v.mean(), 0)
+    ref = MDEngine(prm, "reference", record=True)
+    a = ref.advance(s0, 0.5)
+    fast = MDEngine(prm, sequential_below=0, record=True)
+    b = fast.advance(s0, 0.5)
+    assert a.collisions > 100
+    assert_same_state(a, b)
+    np.testing.assert_array_equal(ref.events(), fast.events())
+    assert fast.stats["sequential"] == 0
+    assert fast.stats["passes"] < a.collisions / 5  # measured 13 passes
+
+
+@pytest.mark.parametrize("sequential_below", [0, 64, 10**9])
+def test_clustered_run_is_bit_for_bit_in_every_mode(sequential_below):
+    # r = 0.5, delta = 1e-3, N = 1000 up to t = 10: clusters form (10^4 collisions, many in
+    # long causal chains).  Pure vectorised passes (0), the default mix (64) and the scalar loop
+    # from the first pass on (1e9; it starts on lazy views of the arrays and switches to lists
+    # after N/4 collisions) must all process the same collisions as the sequential reference.
+    prm = MDParams(1000, 1.0, 0.5, delta=1e-3)
+    s0 = MDEngine(prm).initial_state(np.random.default_rng(2))
+    ref = MDEngine(prm, "reference", record=True)
+    a = ref.advance(s0, 10.0)
+    fast = MDEngine(prm, sequential_below=sequential_below, record=True)
+    b = fast.advance(s0, 10.0)
+    assert a.collisions > 5 * prm.n
+    assert_same_state(a, b)
+    np.testing.assert_array_equal(ref.events(), fast.events())
+    if sequential_below > 100:
+        assert fast.stats["sequential"] > prm.n // 4  # the lazy-to-list switch happened
+
+
 def test_fast_and_reference_agree_statistically_in_clustered_states():
     # r = 0.5, delta = 1e-3, N = 1000 at t = 10 (4 t0): the gas is clustered and cools much
     # slower than Haff (E ~ 0.1 against E_Haff = 0.037) after 20-50 collisions per particle,
@@ -119,19 +165,19 @@ def test_fast_and_reference_agree_statistically_in_clustered_states():
     assert np.all(np.abs(f.mean(axis=0) - g.mean(axis=0)) <= 4 * se + 1e-12)
 
 
-def test_resume_continues_bit_for_bit(tmp_path):
+def test_stops_do_not_change_the_dynamics():
+    # advance never moves a particle except at its collisions, so stopping anywhere (the
+    # driver's grid, a checkpoint) continues bit for bit, with either engine.
     prm = MDParams(3000, 1.0, 0.7, delta=1e-3)
     engine = MDEngine(prm)
     s0 = engine.initial_state(np.random.default_rng(3))
     direct = engine.advance(s0, 4.0)
     half = engine.advance(s0, 1.5)
-    save_state(tmp_path / "ck.npz", half, prm)
-    loaded, stored = load_state(tmp_path / "ck.npz", prm)
-    assert stored == prm
-    assert_same_state(engine.advance(loaded, 4.0), direct)
-    assert_same_state(engine.advance(MDState.from_dict(half.to_dict(), prm), 4.0), direct)
-    # the reference engine continues the fast one's checkpoint identically too
-    assert_same_state(MDEngine(prm, "reference").advance(loaded, 4.0), direct)
+    assert_same_state(engine.advance(half, 4.0), direct)
+    back = engine.state_from_arrays(half.to_arrays())
+    assert_same_state(engine.advance(back, 4.0), direct)
+    # the reference engine continues the fast one's state identically too
+    assert_same_state(MDEngine(prm, "reference").advance(back, 4.0), direct)
 
 
 # --- conservation laws ---------------------------------------------------------------------
@@ -200,8 +246,9 @@ def test_haff_law_through_the_homogeneous_stage():
     times = [0.05 * t0, 0.15 * t0, 0.5 * t0, t0]
     ratios = []
     for seed in (1, 2):
-        out = simulate(MDParams(20_000, 1.0, r, delta=1e-4), times, seed=seed)
-        ratios.append(np.array(out["energy"]) / haff_energy(np.array(times), r, 1.0))
+        engine = MDEngine(MDParams(20_000, 1.0, r, delta=1e-4), stop_step=20.0)
+        out = simulate(engine, times, seed, progress=False)
+        ratios.append(out.energy / haff_energy(np.array(times), r, 1.0))
     ratio = np.mean(ratios, axis=0)
     assert np.all(np.abs(ratio[:2] - 1) < 0.01)
     assert np.all(np.abs(ratio - 1) < 0.05)
@@ -266,27 +313,89 @@ def test_small_system_does_not_collapse():
     assert s.time == 200.0
 
 
-# --- observables ---------------------------------------------------------------------------
+# --- the run driver: observables, checkpoint / resume, Ctrl-C, save / load -------------------
 
 
-def test_observables_and_simulate_output():
+def test_driver_run_records_md_observables():
     prm = MDParams(2048, 1.0, 0.9, delta=1e-3)
-    out = simulate(prm, [0.0, 1.0, 2.0], seed=4, structure=True, profile=True)
-    state = out.pop("state")
-    assert out["t"] == [0.0, 1.0, 2.0]
-    assert out["energy"][0] == pytest.approx(1.0, rel=1e-14)
-    assert out["collisions"][0] == 0 and out["collisions"][-1] == state.collisions
-    assert out["collisions_per_particle"][-1] == 2 * state.collisions / 2048
-    assert len(out["seconds"]) == 3
-    c, dens = velocity_histogram(state)
-    assert np.sum(dens) * (c[1] - c[0]) == pytest.approx(1.0, abs=1e-3)
-    k, s, corr = structure_factor(state)
-    assert k.size == 1025 and corr[0] == pytest.approx(energy(state), rel=1e-12)
-    assert s[0] == pytest.approx(0.0, abs=1e-20)
-    assert np.mean(s) == pytest.approx(energy(state), rel=0.05)  # Parseval, half spectrum
+    engine = MDEngine(prm)
+    res = simulate(engine, [0.0, 1.0, 2.5], 4, progress=False, structure_factor=True)
+    state = engine.last_state
+    assert state.time == 2.5 and res.model == "md" and res.params["delta"] == 1e-3
+    np.testing.assert_array_equal(res.velocities, state.velocities)
+    assert res.energy[0] == pytest.approx(1.0, rel=1e-14)
+    assert res.collisions[0] == 0 and res.collisions[-1] == state.collisions
+    tau = res.extras["collisions_per_particle"]
+    np.testing.assert_array_equal(tau, 2 * res.collisions / 2048)
+    assert tau[-1] > 1
+    assert np.all(np.abs(res.extras["total_momentum"]) < 1e-11)
+    np.testing.assert_allclose(res.extras["total_momentum"], 2048 * res.momentum, atol=1e-12)
+    # the same observables (and conventions) as the lattice model
+    k, s = obs.structure_factor(state.velocities)
+    assert k.size == 1025 and s[0] == pytest.approx(0.0, abs=1e-20)
+    np.testing.assert_array_equal(res.structure[1][-1], s)
+    assert np.mean(s) == pytest.approx(res.energy[-1], rel=0.05)  # Parseval, half spectrum
+    corr = obs.correlation(state.velocities)
+    assert corr[0] == pytest.approx(res.energy[-1], rel=1e-12)
+    h = res.histogram
+    assert np.sum(h.density * np.diff(h.edges)) == pytest.approx(1.0, abs=1e-3)
     i, vi = profile_i(state)
     np.testing.assert_array_equal(vi, state.velocities)
-    assert len(out["profile"]["x"]) == 2048
+    x, vx = profile_x(state, prm)
+    assert x.size == 2048 and np.all(np.diff(x) >= 0)
+    # the driver's stops (grid of stop_step) change nothing: one advance gives the same state
+    direct = MDEngine(prm).advance(MDEngine(prm).initial_state(np.random.default_rng(4)), 2.5)
+    assert_same_state(direct, state)
+
+
+class Interrupting:
+    """An MD engine whose ``after``-th advance raises KeyboardInterrupt (a Ctrl-C mid-run)."""
+
+    def __init__(self, inner, after):
+        self.inner, self.after, self.calls = inner, after, 0
+
+    def __getattr__(self, item):
+        return getattr(self.inner, item)
+
+    def advance(self, state, until, rng):
+        self.calls += 1
+        if self.calls == self.after:
+            raise KeyboardInterrupt
+        return self.inner.advance(state, until, rng)
+
+
+@pytest.mark.parametrize("method", ["fast", "reference"])
+def test_ctrl_c_checkpoint_and_resume_are_bit_for_bit(tmp_path, method):
+    # r = 0.5, delta = 1e-3, N = 1000 up to t = 10 (4 t0): clustering sets in (chaotic, tens of
+    # collisions per particle), so any difference after the resume would show; stop_step 0.5
+    # gives 20 advances, the 8th is interrupted.
+    prm = MDParams(1000, 1.0, 0.5, delta=1e-3)
+    times = [0.7, 3.0, 10.0]
+    opts = {"progress": False, "structure_factor": True}
+    plain = simulate(MDEngine(prm, method, stop_step=0.5), times, 9, **opts)
+    path = tmp_path / "md.ckpt"
+    with pytest.raises(KeyboardInterrupt):
+        simulate(
+            Interrupting(MDEngine(prm, method, stop_step=0.5), after=8),
+            times,
+            9,
+            checkpoint=path,
+            **opts,
+        )
+    resumed = simulate(MDEngine(prm, method, stop_step=0.5), times, 9, resume=path, **opts)
+    for key in ("energy", "momentum", "collisions", "velocities"):
+        np.testing.assert_array_equal(getattr(resumed, key), getattr(plain, key))
+    np.testing.assert_array_equal(resumed.structure[1], plain.structure[1])
+    for key in plain.extras:
+        np.testing.assert_array_equal(resumed.extras[key], plain.extras[key])
+    assert plain.extras["collisions_per_particle"][-1] > 10
+    # save / load of the result keeps the MD extras
+    plain.save(tmp_path / "res.npz")
+    back = RunResult.load(tmp_path / "res.npz")
+    np.testing.assert_array_equal(
+        back.extras["collisions_per_particle"], plain.extras["collisions_per_particle"]
+    )
+    assert back.params == plain.params and back.model == "md"
 
 
 # --- bad input ------------------------------------------------------------------------------
@@ -316,18 +425,19 @@ def test_bad_parameters(kwargs, match):
 
 def test_bad_times_and_states(tmp_path):
     prm = MDParams(100, 1.0, 0.5, delta=1e-3)
-    with pytest.raises(InvalidArgumentError, match="t="):
-        simulate(prm, [1.0, 0.5])
-    with pytest.raises(InvalidArgumentError, match="t="):
-        simulate(prm, [-1.0])
+    for times in ([1.0, 0.5], [-1.0]):
+        with pytest.raises(InvalidArgumentError, match=r"argument t=\["):
+            simulate(MDEngine(prm), times, 0, progress=False)
     engine = MDEngine(prm)
     s = engine.advance(engine.initial_state(np.random.default_rng(0)), 2.0)
     with pytest.raises(InvalidArgumentError, match="until=1.0"):
         engine.advance(s, 1.0)
     with pytest.raises(InvalidArgumentError, match="method='heap'"):
         MDEngine(prm, "heap")
-    # corrupt checkpoints
-    good = s.to_dict()
+    with pytest.raises(InvalidArgumentError, match="stop_step=0"):
+        MDEngine(prm, stop_step=0)
+    # corrupt states
+    good = s.to_arrays()
     for bad, match in (
         ({k: v for k, v in good.items() if k != "velocities"}, "missing"),
         ({**good, "velocities": good["velocities"][:-1]}, "shapes"),
@@ -335,10 +445,22 @@ def test_bad_times_and_states(tmp_path):
         ({**good, "positions": good["positions"][::-1].copy()}, "out of order"),
     ):
         with pytest.raises(InvalidArgumentError, match=f"checkpoint.*{match}"):
-            MDState.from_dict(bad, prm)
-    (tmp_path / "junk.npz").write_bytes(b"not a checkpoint")
-    with pytest.raises(InvalidArgumentError, match="checkpoint="):
-        load_state(tmp_path / "junk.npz")
-    save_state(tmp_path / "ok.npz", s, prm)
-    with pytest.raises(InvalidArgumentError, match="checkpoint="):
-        load_state(tmp_path / "ok.npz", MDParams(100, 1.0, 0.6, delta=1e-3))
+            engine.state_from_arrays(bad)
+    # corrupt or foreign checkpoint files: CheckpointError naming the file
+    (tmp_path / "junk.ckpt").write_bytes(b"not a checkpoint")
+    with pytest.raises(CheckpointError, match="junk.ckpt"):
+        simulate(engine, [1.0], 0, progress=False, resume=tmp_path / "junk.ckpt")
+    ok = tmp_path / "ok.ckpt"
+    simulate(engine, [1.0], 0, progress=False, checkpoint=ok)
+    other = MDEngine(MDParams(100, 1.0, 0.6, delta=1e-3))
+    with pytest.raises(CheckpointError, match="ok.ckpt.*restitution"):
+        simulate(other, [1.0], 0, progress=False, resume=ok)
+    # a checkpoint whose state arrays were damaged (positions out of order)
+    with np.load(ok) as data:
+        arrays = {k: data[k] for k in data.files}
+    arrays["state.positions"] = arrays["state.positions"][::-1].copy()
+    damaged = tmp_path / "damaged.ckpt"
+    with open(damaged, "wb") as fh:
+        np.savez(fh, **arrays)
+    with pytest.raises(CheckpointError, match="damaged.ckpt.*out of order"):
+        simulate(engine, [1.0], 0, progress=False, resume=damaged)
