@@ -54,12 +54,17 @@ def timing(restitutions=(0.5, 0.0), resolutions=("default", "finest"), tau_end=1
     return rows
 
 
-def _stable(err):
+def _stable(taus, err):
+    """Finite everywhere, and over τ ∈ [1000, τ_max] never above 1.5 × its value at τ ≈ 1000.
+
+    (A running-minimum criterion is wrong here: while the physical error crosses the
+    discretisation floor the two can cancel, and the sup error dips below the floor.)
+    """
     err = np.asarray(err)
-    if not np.all(np.isfinite(err)):
+    if err.size == 0 or not np.all(np.isfinite(err)):
         return False
-    running_min = np.minimum.accumulate(err)
-    return bool(np.all(err <= 10.0 * running_min + 1e-14))
+    late = np.asarray(taus) >= 1000.0 - 1e-9
+    return bool(np.all(err[late] <= 1.5 * err[late][0] + 1e-15))
 
 
 def stability(restitutions=(0.0, 0.5, 0.9, 0.99), laws=None,
@@ -74,7 +79,7 @@ def stability(restitutions=(0.0, 0.5, 0.9, 0.99), laws=None,
                 try:
                     sol = solve(r, law, taus, name)
                     err = sol.sup_error()
-                    ok = _stable(err)
+                    ok = _stable(taus, err)
                     final = float(err[-1])
                 except Exception as exc:  # report, do not hide, a failure
                     err, ok, final = [], False, repr(exc)
