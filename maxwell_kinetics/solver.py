@@ -269,7 +269,11 @@ class _Stepper:
             g_p = reference_pair(p * q, gauss_p)
             g_1mp = reference_pair((1.0 - p) * q, gauss_1mp)
             re, im = source_parts(q, lam, m3, jnp, jnp.exp(-0.5 * q * q), gauss_p * gauss_1mp)
-            dw = (jnp.stack([re, im]) if is_complex else re[None]) - w
+            if is_complex:  # an asymmetric law may still have m₃ = 0: then Im S = 0
+                im = jnp.zeros_like(re) if im is None else im
+                dw = jnp.stack([re, im]) - w
+            else:
+                dw = re[None] - w
             dw = dw + mul(g_p, w_1mp) + mul(w_p, g_1mp) + mul(w_p, w_1mp)
             return dw.reshape(y.shape)
 
