@@ -40,6 +40,9 @@ __all__ = [
     "ulam_collapse",
     "energy_decay",
     "structure_factors",
+    "velocity_distributions",
+    "velocity_profiles",
+    "lattice_at_energy",
     "COMPARISONS",
     "kinetic_solution",
     "solution_bin_probabilities",
@@ -465,7 +468,7 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False)
     """Event-driven MD runs (density 1, one per seed) recorded at ``times``: ``energy`` and
     ``tau`` (collisions per particle) (R, T), ``snapshots`` (R, T, N) of v(i), ``positions``
     (R, T, N) of the rods in [0, L).  Uses :class:`particles.md.MDEngine` directly."""
-    from particles import md
+    from particles import md, observables
 
     key = ("md", restitution, n, delta, tuple(times), tuple(seeds), law)
     if key not in _RUNS:
@@ -489,7 +492,7 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False)
             for j, t in enumerate(t_all):
                 old = state.time
                 state = engine.advance(state, float(t))
-                energy[i, j] = md.energy(state)
+                energy[i, j] = observables.energy(state.velocities)
                 tau[i, j] = md.collisions_per_particle(state)
                 snaps[i, j] = state.velocities
                 pos[i, j] = md.rod_positions(state, prm)
@@ -734,12 +737,262 @@ def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm) -> dict
     }
 
 
+# ==================================================================== 4. Figs. 1a/1b: P(v) at equal energy
+
+_DISTRIBUTIONS = {
+    "small": {"restitution": 0.99, "delta": 1e-4, "md_n": 2000, "md_seeds": 4,
+              "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 2000, "lattice_seeds": 4,
+              "lattice_late_restitution": 0.5, "ulam_n": 2000, "ulam_seeds": 4,
+              "edges": (-4.0, 4.0, 0.25)},
+    "default": {"restitution": 0.99, "delta": 1e-4, "md_n": 20_000, "md_seeds": 4,
+                "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 20_000,
+                "lattice_seeds": 4, "lattice_late_restitution": 0.5, "ulam_n": 20_000,
+                "ulam_seeds": 4, "edges": (-4.0, 4.0, 0.2)},
+    "full": {"restitution": 0.99, "delta": 1e-4, "md_n": 100_000, "md_seeds": 4,
+             "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 1_000_000,
+             "lattice_seeds": 2, "lattice_late_restitution": 0.5, "ulam_n": 1_000_000,
+             "ulam_seeds": 2, "edges": (-4.0, 4.0, 0.1)},
+}
+
+#: ⟨|x|⟩ for x = v/v0 under f(x) = 2/(π(1+x²)²) (= 2/π; its ⟨x⁴⟩ diverges), a Gaussian
+#: (√(2/π)) and two symmetric δ peaks (1): a bounded measure of the shape.
+ABS_MEAN_F = 2.0 / math.pi
+ABS_MEAN_GAUSSIAN = math.sqrt(2.0 / math.pi)
+
+
+def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gaussian",
+                      progress=False) -> dict:
+    """Lattice runs (one per seed) stopped at the τ where each run's energy equals ``target``.
+
+    Each run advances on a geometric grid of τ (ratio 1.25) until E ≤ target; τ* is interpolated
+    linearly in (ln τ, ln E) between the two bracketing points (E is non-increasing: collisions
+    only dissipate), and the run continues from the earlier point to τ* with the same random
+    stream (exact: the state is Markov and the later draws are independent of the earlier ones).
+    Returns ``tau`` (R,), ``energy`` (R,) reached, ``snapshots`` (R, N), the traces and seconds.
+    Cached per arguments."""
+    from particles.lattice import Lattice
+
+    key = ("lattice_at_energy", restitution, n, float(target), tuple(seeds), constraint, law)
+    if key in _RUNS:
+        return _RUNS[key]
+    engine = Lattice(int(n), restitution, law, constraint)
+    start = time.perf_counter()
+    taus, energies, snaps, traces = [], [], [], []
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(seeds), unit="run", desc=f"lattice r={restitution:g} E={target:.2g}",
+                   leave=False)
+    for seed in seeds:
+        rng = np.random.default_rng(int(seed))
+        state = engine.initial_state(rng)
+        trace = [(0.0, float(np.mean(state.velocities ** 2)))]
+        prev = state
+        tau = 1.0
+        while True:
+            new = engine.advance(prev, tau, rng)
+            e = float(np.mean(new.velocities ** 2))
+            trace.append((tau, e))
+            if e <= target:
+                break
+            prev = new
+            tau *= 1.25
+        (ta, ea), (tb, eb) = trace[-2], trace[-1]
+        if ta <= 0.0 or ea <= eb:
+            t_star = tb
+        else:
+            w = (math.log(ea) - math.log(target)) / (math.log(ea) - math.log(eb))
+            t_star = math.exp(math.log(ta) + w * (math.log(tb) - math.log(ta)))
+        final = engine.advance(prev, max(t_star, prev.time), rng) if ta > 0 else new
+        taus.append(final.time)
+        energies.append(float(np.mean(final.velocities ** 2)))
+        snaps.append(final.velocities)
+        traces.append(np.array(trace))
+        if bar is not None:
+            bar.update(1)
+    if bar is not None:
+        bar.close()
+    _RUNS[key] = {"tau": np.array(taus), "energy": np.array(energies),
+                  "snapshots": np.array(snaps), "traces": traces,
+                  "seconds": time.perf_counter() - start}
+    return _RUNS[key]
+
+
+def _shape_numbers(v: np.ndarray, edges) -> dict:
+    """Per run (rows of ``v``): x = (v − ⟨v⟩)/√var, kurtosis ⟨x⁴⟩ and ⟨|x|⟩; mean ± standard
+    error over runs; pooled histogram density with its error from the run scatter."""
+    x = _rescaled(np.atleast_2d(v))
+    kurt = np.mean(x**4, axis=1)
+    absm = np.mean(np.abs(x), axis=1)
+    width = np.diff(edges)
+    dens = np.array([np.histogram(row, edges)[0] / (row.size * width) for row in x])
+    r = x.shape[0]
+
+    def ms(a):
+        return [float(a.mean()), float(a.std(ddof=1) / math.sqrt(r)) if r > 1 else None]
+
+    return {"kurtosis": ms(kurt), "abs_mean": ms(absm), "per_run_kurtosis": kurt.tolist(),
+            "per_run_abs_mean": absm.tolist(), "_density": dens.mean(axis=0),
+            "_density_error": (dens.std(axis=0, ddof=1) / math.sqrt(r) if r > 1
+                               else np.zeros(dens.shape[1]))}
+
+
+def _fig1_md(prm, progress):
+    return md_runs(prm["restitution"], prm["md_n"], prm["delta"],
+                   (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
+                   progress=progress)
+
+
+def velocity_distributions(size=None, progress=False, **overrides) -> Comparison:
+    """Comparison 4 (paper Figs. 1a/1b): rescaled P(x), x = (v − ⟨v⟩)/v0, of MD, the lattice and
+    the Ulam model at equal energy, early (MD homogeneous) and late (MD inhomogeneous).
+
+    Energy is the common clock: MD (r = ``restitution``, density 1, δ = ``delta``) is recorded
+    at ``md_t_early`` and ``md_t_late``; the lattice is stopped, run by run, where its energy
+    equals the MD mean energy at that time (:func:`lattice_at_energy`), at the same r and, late,
+    also at ``lattice_late_restitution`` (the paper's r = 0.5 for the lattice in the
+    inhomogeneous regime); the Ulam model at the same r is taken at the τ where its exact mean
+    energy e^{−2λτ N/(N−1)} equals the target, and f(x) = 2/(π(1+x²)²) is its τ → ∞ law.
+
+    Choice of the MD times (r = 0.99): Haff's time t₀ = √π/((1 − r²) n) ≈ 89.  At t = 400 the
+    gas is still close to Haff's homogeneous cooling (E/E_Haff is reported; 1.16 measured at
+    N = 2·10⁴) and the kurtosis of P(x) is near its minimum along the run (measured 1.97 at
+    t ≈ 400 against 3 for a Gaussian, rising again later): this is the two-hump precursor of the
+    homogeneous stage.  At t = 3000 the gas is clustered (E ≈ 3 E_Haff) and P(x) is back near a
+    Gaussian.
+
+    Numbers per model and stage (mean ± standard error over seeds): kurtosis ⟨x⁴⟩ (Gaussian 3,
+    two δ peaks 1, ∞ for f) and the bounded ⟨|x|⟩ (Gaussian 0.798, f 2/π = 0.637, two δ peaks 1).
+    """
+    from particles.md import haff_energy
+
+    start = time.perf_counter()
+    prm = _preset(_DISTRIBUTIONS, size, overrides)
+    edges = _edges(prm["edges"])
+    r = prm["restitution"]
+    md = _fig1_md(prm, progress)
+    stages = {}
+    for j, stage in enumerate(("early", "late")):
+        t = float(md["times"][j])
+        e_md = md["energy"][:, j]
+        target = float(np.mean(e_md))
+        models = {"md": _shape_numbers(md["snapshots"][:, j], edges)}
+        info = {"md_time": t, "energy": target,
+                "energy_md_per_run": e_md.tolist(),
+                "energy_over_haff": target / float(haff_energy(t, r, 1.0)),
+                "md_collisions_per_particle": md["tau"][:, j].tolist()}
+        lat_rs = [r] if stage == "early" else [r, prm["lattice_late_restitution"]]
+        for rl in lat_rs:
+            lat = lattice_at_energy(rl, prm["lattice_n"], target,
+                                    tuple(range(prm["lattice_seeds"])), progress=progress)
+            lab = f"lattice_r{rl:g}"
+            models[lab] = _shape_numbers(lat["snapshots"], edges)
+            info[lab + "_tau"] = lat["tau"].tolist()
+            info[lab + "_energy"] = lat["energy"].tolist()
+        lam = MaxwellModel(r).lam
+        n_u = int(prm["ulam_n"])
+        tau_u = -math.log(target) / (2.0 * lam) * (n_u - 1) / n_u
+        snaps = ulam_snapshots(r, "gaussian", n_u, [tau_u],
+                               list(range(prm["ulam_seeds"])), progress=progress)
+        models["ulam"] = _shape_numbers(snaps[0], edges)
+        info["ulam_tau"] = tau_u
+        stages[stage] = {"info": info, "models": models}
+    # Distances between the models' shape numbers in units of their combined standard error.
+    for st_ in stages.values():
+        m = st_["models"]
+        comp = {}
+        names = list(m)
+        for a_i, a in enumerate(names):
+            for b in names[a_i + 1:]:
+                for q in ("kurtosis", "abs_mean"):
+                    (va, ea), (vb, eb) = m[a][q], m[b][q]
+                    err = math.hypot(ea or 0.0, eb or 0.0)
+                    comp[f"{q}:{a}-{b}"] = (va - vb) / err if err > 0 else None
+        st_["differences_in_sigma"] = comp
+    summary = {
+        "parameters": _jsonable(prm),
+        "reference_values": {"abs_mean_f": ABS_MEAN_F, "abs_mean_gaussian": ABS_MEAN_GAUSSIAN,
+                             "kurtosis_gaussian": 3.0, "kurtosis_f": None},
+        "stages": {s: {"info": v["info"],
+                       "models": {k: {q: w for q, w in mm.items() if not q.startswith("_")}
+                                  for k, mm in v["models"].items()},
+                       "differences_in_sigma": v["differences_in_sigma"]}
+                   for s, v in stages.items()},
+        "md_seconds": md["seconds"],
+        "seconds": time.perf_counter() - start,
+    }
+    data = {"edges": edges, "stages": stages}
+    return Comparison("velocity_distributions", summary, data)
+
+
+# ==================================================================== 7. Fig. 4: profiles
+
+
+def _increment_skewness(dv: np.ndarray) -> float:
+    d = dv - dv.mean()
+    return float(np.mean(d**3) / np.mean(d**2) ** 1.5)
+
+
+def velocity_profiles(size=None, progress=False, **overrides) -> Comparison:
+    """Comparison 7 (paper Fig. 4): v(x, t) and v(i, t) of MD and v(i, τ) of the lattice at
+    equal energy, r = 0.99 — the late (clustered) stage of comparison 4, whose presets (and,
+    within one process, runs) it shares.
+
+    Shocks and pre-shocks, quantified by the sign asymmetry of the large gradients (paper:
+    v(x, t) has large negative gradients, v(i, t) large positive ones):
+
+    * MD v(x): the rods' velocities interpolated linearly in x (periodic) on a uniform grid of
+      spacing L/N; increments between grid points;
+    * MD v(i) and lattice v(i): increments between neighbouring labels (sites).
+
+    For each, the skewness of the increments per run, mean ± standard error over seeds.
+    """
+    start = time.perf_counter()
+    prm = _preset(_DISTRIBUTIONS, size, overrides)
+    r = prm["restitution"]
+    md = _fig1_md(prm, progress)
+    j = 1  # the late stage
+    target = float(np.mean(md["energy"][:, j]))
+    lat = lattice_at_energy(r, prm["lattice_n"], target, tuple(range(prm["lattice_seeds"])),
+                            progress=progress)
+    length = prm["md_n"] / 1.0  # density 1
+    skew = {"md_vx": [], "md_vi": [], "lattice_vi": []}
+    for i in range(md["snapshots"].shape[0]):
+        x = md["positions"][i, j]
+        v = md["snapshots"][i, j]
+        order = np.argsort(x, kind="stable")
+        xs, vs = x[order], v[order]
+        grid = np.arange(prm["md_n"]) * (length / prm["md_n"])
+        vg = np.interp(grid, xs, vs, period=length)
+        skew["md_vx"].append(_increment_skewness(np.diff(np.append(vg, vg[0]))))
+        skew["md_vi"].append(_increment_skewness(np.diff(np.append(v, v[0]))))
+    for v in lat["snapshots"]:
+        skew["lattice_vi"].append(_increment_skewness(np.diff(np.append(v, v[0]))))
+    out = {}
+    for k, vals in skew.items():
+        a = np.asarray(vals)
+        out[k] = {"skewness": [float(a.mean()),
+                               float(a.std(ddof=1) / math.sqrt(a.size)) if a.size > 1 else None],
+                  "per_run": a.tolist()}
+    summary = {"parameters": _jsonable(prm), "md_time": float(md["times"][j]),
+               "energy": target, "lattice_tau": lat["tau"].tolist(),
+               "lattice_energy": lat["energy"].tolist(), "increment_skewness": out,
+               "seconds": time.perf_counter() - start}
+    data = {"md_x": md["positions"][0, j], "md_v": md["snapshots"][0, j],
+            "lattice_v": lat["snapshots"][0], "length": length, "md_time": float(md["times"][j]),
+            "lattice_tau": float(lat["tau"][0]), "energy": target}
+    return Comparison("velocity_profiles", summary, data)
+
+
 COMPARISONS = {
     "kinetic_theory": kinetic_theory,
     "kinetic_vs_ulam": kinetic_vs_ulam,
     "ulam_collapse": ulam_collapse,
+    "velocity_distributions": velocity_distributions,
     "energy_decay": energy_decay,
     "structure_factors": structure_factors,
+    "velocity_profiles": velocity_profiles,
 }
 
 
