@@ -18,7 +18,7 @@ $(STAMP): pyproject.toml | $(PY)
 install: $(STAMP)
 
 demo: install
-	$(VENV)/bin/maxwell-kinetics demo --out $(RESULTS)
+	$(VENV)/bin/maxwell-kinetics reproduce --out $(RESULTS)
 
 test: install
 	$(PY) -m pytest -q
