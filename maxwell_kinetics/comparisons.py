@@ -737,7 +737,7 @@ def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm) -> dict
     }
 
 
-# ==================================================================== 4. Figs. 1a/1b: P(v) at equal energy
+# ==================================================================== 4. Figs. 1a/1b: P(v)
 
 _DISTRIBUTIONS = {
     "small": {"restitution": 0.99, "delta": 1e-4, "md_n": 2000, "md_seeds": 4,
