@@ -164,10 +164,54 @@ def _structure_factors(c):
     return fig
 
 
+def _velocity_distributions(c):
+    d = c.data
+    edges = d["edges"]
+    centres = 0.5 * (edges[1:] + edges[:-1])
+    fig, axes = _figure(2, width=5.0)
+    xf = np.linspace(edges[0], edges[-1], 400)
+    for ax, stage in zip(axes[0], ("early", "late"), strict=True):
+        st = d["stages"][stage]
+        for i, (name, m) in enumerate(st["models"].items()):
+            k, ke = m["kurtosis"]
+            ax.errorbar(centres, m["_density"], yerr=m["_density_error"], fmt=".-", ms=3, lw=0.8,
+                        color=f"C{i}", label=f"{name}: ⟨x⁴⟩={k:.2f}±{ke or 0:.2f}")
+        ax.plot(xf, f_density(xf), "k--", lw=1, label="Ulam τ→∞: f(x)")
+        ax.plot(xf, np.exp(-xf**2 / 2) / np.sqrt(2 * np.pi), "k:", lw=1, label="Gaussian")
+        info = st["info"]
+        ax.set(xlabel="x = (v − ⟨v⟩)/v0", ylabel="P(x)",
+               title=f"{stage}: MD t={info['md_time']:g}, equal energy E={info['energy']:.3g}")
+        ax.legend(fontsize=6)
+    fig.tight_layout()
+    return fig
+
+
+def _velocity_profiles(c):
+    d, s = c.data, c.summary
+    fig, axes = _figure(3, width=4.5)
+    a, b, e = axes[0]
+    n_show = min(2000, d["md_v"].size)
+    order = np.argsort(d["md_x"], kind="stable")
+    a.plot(d["md_x"][order][:n_show], d["md_v"][order][:n_show], ".-", ms=1, lw=0.3)
+    b.plot(np.arange(n_show), d["md_v"][:n_show], ".-", ms=1, lw=0.3)
+    e.plot(np.arange(n_show), d["lattice_v"][:n_show], ".-", ms=1, lw=0.3, color="C1")
+    sk = s["increment_skewness"]
+    a.set(xlabel="x", ylabel="v", title=f"MD v(x, t={d['md_time']:g}); increment skewness "
+          f"{sk['md_vx']['skewness'][0]:.2f}")
+    b.set(xlabel="label i", ylabel="v",
+          title=f"MD v(i, t); skewness {sk['md_vi']['skewness'][0]:.2f}")
+    e.set(xlabel="site i", ylabel="v", title=f"lattice v(i, τ={d['lattice_tau']:.0f}); skewness "
+          f"{sk['lattice_vi']['skewness'][0]:.2f}")
+    fig.tight_layout()
+    return fig
+
+
 _PLOTS = {
     "kinetic_theory": _kinetic_theory,
     "kinetic_vs_ulam": _kinetic_vs_ulam,
     "ulam_collapse": _ulam_collapse,
     "energy_decay": _energy_decay,
     "structure_factors": _structure_factors,
+    "velocity_distributions": _velocity_distributions,
+    "velocity_profiles": _velocity_profiles,
 }

@@ -737,7 +737,7 @@ def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm) -> dict
     }
 
 
-# ==================================================================== 4. Figs. 1a/1b: P(v) at equal energy
+# ==================================================================== 4. Figs. 1a/1b: P(v)
 
 _DISTRIBUTIONS = {
     "small": {"restitution": 0.99, "delta": 1e-4, "md_n": 2000, "md_seeds": 4,
@@ -856,11 +856,11 @@ def velocity_distributions(size=None, progress=False, **overrides) -> Comparison
     energy e^{−2λτ N/(N−1)} equals the target, and f(x) = 2/(π(1+x²)²) is its τ → ∞ law.
 
     Choice of the MD times (r = 0.99): Haff's time t₀ = √π/((1 − r²) n) ≈ 89.  At t = 400 the
-    gas is still close to Haff's homogeneous cooling (E/E_Haff is reported; 1.16 measured at
+    gas is still close to Haff's homogeneous cooling (E/E_Haff is reported; 1.13 measured at
     N = 2·10⁴) and the kurtosis of P(x) is near its minimum along the run (measured 1.97 at
     t ≈ 400 against 3 for a Gaussian, rising again later): this is the two-hump precursor of the
-    homogeneous stage.  At t = 3000 the gas is clustered (E ≈ 3 E_Haff) and P(x) is back near a
-    Gaussian.
+    homogeneous stage.  At t = 3000 the gas is clustered (E ≈ 2.3 E_Haff at N = 2·10⁴) and
+    P(x) is back near a Gaussian.
 
     Numbers per model and stage (mean ± standard error over seeds): kurtosis ⟨x⁴⟩ (Gaussian 3,
     two δ peaks 1, ∞ for f) and the bounded ⟨|x|⟩ (Gaussian 0.798, f 2/π = 0.637, two δ peaks 1).

@@ -131,8 +131,11 @@ def test_no_porod_tail_without_constraint(structure):
 
 
 @pytest.mark.xfail(strict=True, reason="measured −2.17 ± 0.02 (4 seeds, N = 2e4, τ = 200, window "
-                   "k τ^{1/2} ∈ [3, 15], k ≤ 0.6): steeper than −2 beyond the seed error; the "
-                   "window/lattice-scale systematic is not yet understood")
+                   "k τ^{1/2} ∈ [3, 15], k ≤ 0.6): steeper than −2 beyond the seed error.  Not a "
+                   "lattice-scale effect: against the lattice momentum 2 sin(k/2) it is "
+                   "−2.19 ± 0.02; the local slope overshoots to −2.9 at k τ^{1/2} ≈ 2 (the "
+                   "knee of the scaling function) and nears −2 only at k τ^{1/2} ≈ 8–13, so the "
+                   "window's low end carries the crossover (see notebooks/RESULTS.md)")
 def test_porod_slope_with_constraint(structure):
     slope, err = structure.summary["lattice"]["porod_slope_last_time"]
     assert abs(slope + 2.0) < 3 * err
@@ -157,3 +160,55 @@ def test_reproduce_cli_bad_only(tmp_path, capsys):
     assert main(["reproduce", "--only", "nope", "--out", str(tmp_path / "x")]) == 2
     assert "only" in capsys.readouterr().err
     assert not (tmp_path / "x").exists()
+
+
+@pytest.fixture(scope="module")
+def distributions():
+    return cmp.velocity_distributions("small")
+
+
+def _sigma(m, a, b, q):
+    """Difference of the shape number ``q`` of models a and b over their combined standard
+    error (each from the scatter between seeds, 4 seeds at the small size)."""
+    (va, ea), (vb, eb) = m[a][q], m[b][q]
+    return (va - vb) / math.hypot(ea, eb)
+
+
+def test_md_two_hump_precursor_in_homogeneous_cooling(distributions):
+    """Early stage (t = 400, r = 0.99, E within 20 % of Haff's law: homogeneous): the MD
+    distribution is platykurtic (two humps): ⟨x⁴⟩ below the Gaussian 3 by more than 4 standard
+    errors (seed scatter)."""
+    early = distributions.summary["stages"]["early"]
+    assert abs(early["info"]["energy_over_haff"] - 1.0) < 0.2
+    k, err = early["models"]["md"]["kurtosis"]
+    assert 3.0 - k > 4 * err
+
+
+def test_ulam_prediction_fails_at_equal_energy(distributions):
+    """⟨|x|⟩ (bounded, finite for f) of MD and of the lattice differ from the Ulam model's at the
+    same energy by more than 4 combined standard errors: early for both, late for MD.  The late
+    lattice is not asserted at this size: at N = 2000 and τ ≈ 600–5·10⁴ a run holds only a few
+    correlated domains, and its seed scatter (measured ±0.02 in ⟨|x|⟩, against ±0.004 at
+    N = 2·10⁴) does not resolve the difference (2.5σ measured)."""
+    early = distributions.summary["stages"]["early"]["models"]
+    for name in ("md", "lattice_r0.99"):
+        assert abs(_sigma(early, name, "ulam", "abs_mean")) > 4, name
+    late = distributions.summary["stages"]["late"]["models"]
+    assert abs(_sigma(late, "md", "ulam", "abs_mean")) > 4
+
+
+@pytest.mark.xfail(strict=True, reason="paper: MD and lattice agree at equal energy; measured at "
+                   "r = 0.99, E = 0.037: MD ⟨x⁴⟩ = 1.90 ± 0.01, lattice 2.94 ± 0.03 (small) — the "
+                   "lattice is still nearly Gaussian where MD has two humps")
+def test_md_and_lattice_agree_early(distributions):
+    m = distributions.summary["stages"]["early"]["models"]
+    assert abs(_sigma(m, "md", "lattice_r0.99", "kurtosis")) < 4
+
+
+def test_velocity_profiles_report_increment_skewness():
+    """Comparison 7 runs and reports the increment skewness of the three profiles with seed
+    errors; the sign test of the paper is not asserted (see notebooks/RESULTS.md)."""
+    res = cmp.velocity_profiles("small")
+    for key in ("md_vx", "md_vi", "lattice_vi"):
+        value, err = res.summary["increment_skewness"][key]["skewness"]
+        assert math.isfinite(value) and err > 0
