@@ -153,9 +153,9 @@ def _structure_factors(c):
         for i, t in enumerate(dd["times"]):
             kb, sb, _ = log_bin(dd["k"], dd["S"][i], 10)
             ax.loglog(kb * t ** dd["z"], sb, "o-", ms=2, color=cols[i], label=f"{t:g}")
-        xr = np.array([3.0, 15.0])
         s = c.summary[lab]
-        ax.loglog(xr, 3 * xr**-2.0, "k--", label="k⁻² (Porod)")
+        xr = np.array(s["porod_window"]["x"])
+        ax.loglog(xr, 3 * xr**-2.0, "k--", label="k⁻² on the Porod window")
         ax.set(xlabel="scaled k", ylabel="S(k)",
                title=f"{title}\nspread {s['collapse_spread_at_z_theory']:.2f}"
                f" (unscaled {s['collapse_spread_unscaled']:.2f})")
