@@ -204,7 +204,7 @@ def test_md_and_lattice_agree_early(distributions):
 
 def test_velocity_profiles_report_increment_skewness():
     """Comparison 7 runs and reports the increment skewness of the three profiles with seed
-    errors; the sign test of the paper is not asserted (see notebooks/RESULTS.md)."""
+    errors; the sign test of the paper is not asserted (see the README, comparison 7)."""
     res = cmp.velocity_profiles("small")
     for key in ("md_vx", "md_vi", "lattice_vi"):
         value, err = res.summary["increment_skewness"][key]["skewness"]
