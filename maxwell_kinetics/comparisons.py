@@ -700,7 +700,7 @@ def structure_factors(size=None, progress=False, **overrides) -> Comparison:
         k, spec = runs["k"], runs["structure"]  # (R, T, K)
         mean = spec.mean(axis=0)
         times = runs["times"]
-        out[label] = _structure_numbers(k, spec, mean, times, 0.5, zs, x_range, prm, True)
+        out[label] = _structure_numbers(k, spec, mean, times, 0.5, zs, x_range, prm, lattice=True)
         data[label] = {"k": k, "S": mean, "times": times, "z": 0.5}
     md = md_runs(r, prm["md_n"], prm["md_delta"], _md_times(prm["md_t_max"]),
                  tuple(range(prm["md_seeds"])), progress=progress)
@@ -712,13 +712,13 @@ def structure_factors(size=None, progress=False, **overrides) -> Comparison:
                      for i in range(md["snapshots"].shape[0])])
     k = structure_factor(md["snapshots"][0, 0])[0]
     mean = spec.mean(axis=0)
-    out["md"] = _structure_numbers(k, spec, mean, times, 2.0 / 3.0, zs, x_range, prm, False)
+    out["md"] = _structure_numbers(k, spec, mean, times, 2.0 / 3.0, zs, x_range, prm, lattice=False)
     data["md"] = {"k": k, "S": mean, "times": times, "z": 2.0 / 3.0}
     summary = {"parameters": _jsonable(prm), **out, "seconds": time.perf_counter() - start}
     return Comparison("structure_factors", summary, data)
 
 
-def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm, lattice) -> dict:
+def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm, *, lattice: bool) -> dict:
     spread = [_collapse_spread(k, mean, times, z, x_range) for z in zs]
     z_best = float(zs[int(np.argmin(spread))])
     jack = []
