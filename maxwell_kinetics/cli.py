@@ -5,7 +5,7 @@ Subcommands:
 ``solve``        integrate the rescaled Fourier-space equation (kinetic theory)
 ``fixed-point``  solve the stationary rescaled equation by Newton's method
 ``convergence``  error floor against resolution (writes a figure and JSON)
-``demo``         the main job run by ``make demo``
+``reproduce``    every comparison with the paper (the main job of ``make demo``)
 ``simulate``     particle models (``ulam``, ``lattice``, ``md``), from :mod:`particles.cli`
 
 Every subcommand takes ``--json`` and then prints exactly one JSON object on stdout.

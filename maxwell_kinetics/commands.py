@@ -1,4 +1,4 @@
-"""Kinetic-theory subcommands of the command line (``solve``, ``convergence``, ``demo``, ...).
+"""Kinetic-theory subcommands of the command line (``solve``, ``fixed-point``, ``convergence``).
 
 Every handler validates all of its input before computing or writing anything, so bad input
 writes no file.
@@ -19,7 +19,6 @@ def register(subparsers) -> None:
     _add_solve(subparsers)
     _register_fixed_point(subparsers)
     _add_convergence(subparsers)
-    _add_demo(subparsers)
     from .reproduce import register as _register_reproduce
 
     _register_reproduce(subparsers)
@@ -199,10 +198,3 @@ def _run_convergence(args) -> int:
         print("fitted order (slope of log floor vs log h):", summary["order_fit"])
         print(f"wrote {Path(args.out) / 'convergence.json'} and convergence.png")
     return 0
-
-
-# -- demo ---------------------------------------------------------------------------------
-def _add_demo(subparsers) -> None:
-    p = subparsers.add_parser("demo", help="the main job of `make demo`")
-    _convergence_options(p)
-    p.set_defaults(handler=_run_convergence)
