@@ -64,7 +64,12 @@ def default_size() -> str:
 
 @dataclass
 class Comparison:
-    """Result of one comparison: ``name``, JSON-able ``summary``, figure ``data``."""
+    """Result of one comparison: ``name``, JSON-able ``summary``, figure ``data``.
+
+    :meth:`save` writes both to one ``.npz`` file (no pickle) and :meth:`load` reads it back, so
+    a figure can be redrawn without running the comparison again:
+    ``Comparison.load("results/ulam_collapse.npz").figure()``.
+    """
 
     name: str
     summary: dict
@@ -75,6 +80,91 @@ class Comparison:
         from . import comparison_plots
 
         return comparison_plots.plot(self)
+
+    def save(self, path) -> None:
+        """Save to ``path`` (.npz): the arrays of ``data`` as entries, everything else as a
+        JSON skeleton that records dict keys, tuples, non-finite floats and the records of
+        this package (histogram comparisons, solver solutions) exactly."""
+        import json
+
+        arrays: dict[str, np.ndarray] = {}
+        skeleton = {"name": self.name, "summary": _encode(self.summary, arrays),
+                    "data": _encode(self.data, arrays)}
+        with open(path, "wb") as fh:
+            np.savez(fh, __skeleton__=np.array(json.dumps(skeleton, allow_nan=False)), **arrays)
+
+    @classmethod
+    def load(cls, path) -> Comparison:
+        """Read a file written by :meth:`save`; a file that is not one raises
+        :class:`~maxwell_kinetics.validation.InvalidArgumentError` naming ``path``."""
+        import json
+
+        try:
+            with np.load(path, allow_pickle=False) as npz:
+                arrays = {k: npz[k] for k in npz.files}
+            skeleton = json.loads(str(arrays.pop("__skeleton__")))
+            return cls(skeleton["name"], _decode(skeleton["summary"], arrays),
+                       _decode(skeleton["data"], arrays))
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            raise InvalidArgumentError(
+                "path", str(path), f"a file written by Comparison.save ({exc})"
+            ) from None
+
+
+def _encode(obj, arrays: dict):
+    """JSON skeleton of ``obj``; arrays go to ``arrays`` under fresh keys."""
+    import dataclasses
+    import io
+
+    from .solver import Solution
+
+    if obj is None or isinstance(obj, (bool, str)):
+        return obj
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else {"__float__": repr(float(obj))}
+    if isinstance(obj, np.ndarray):
+        key = f"a{len(arrays)}"
+        arrays[key] = obj
+        return {"__array__": key}
+    if isinstance(obj, dict):
+        return {"__dict__": [[_encode(k, arrays), _encode(v, arrays)] for k, v in obj.items()]}
+    if isinstance(obj, (list, tuple)):
+        items = [_encode(v, arrays) for v in obj]
+        return {"__tuple__": items} if isinstance(obj, tuple) else items
+    if isinstance(obj, st.HistogramComparison):
+        fields = {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
+        return {"__histogram__": _encode(fields, arrays)}
+    if isinstance(obj, Solution):
+        buf = io.BytesIO()
+        obj.save(buf)
+        return {"__solution__": _encode(np.frombuffer(buf.getvalue(), dtype=np.uint8), arrays)}
+    raise TypeError(f"cannot save an object of type {type(obj).__name__}")
+
+
+def _decode(node, arrays: dict):
+    import io
+
+    if isinstance(node, list):
+        return [_decode(v, arrays) for v in node]
+    if not isinstance(node, dict):
+        return node
+    if "__array__" in node:
+        return arrays[node["__array__"]]
+    if "__float__" in node:
+        return float(node["__float__"])
+    if "__dict__" in node:
+        return {_decode(k, arrays): _decode(v, arrays) for k, v in node["__dict__"]}
+    if "__tuple__" in node:
+        return tuple(_decode(v, arrays) for v in node["__tuple__"])
+    if "__histogram__" in node:
+        return st.HistogramComparison(**_decode(node["__histogram__"], arrays))
+    if "__solution__" in node:
+        from .solver import Solution
+
+        return Solution.load(io.BytesIO(_decode(node["__solution__"], arrays).tobytes()))
+    raise ValueError(f"unknown node {sorted(node)}")
 
 
 def _preset(presets: dict, size: str | None, overrides: dict) -> dict:

@@ -21,7 +21,8 @@ __all__ = ["register", "run_all"]
 def register(subparsers) -> None:
     p = subparsers.add_parser(
         "reproduce", help="reproduce the paper's figures and the kinetic-vs-particle comparisons",
-        description="Run every comparison and write <out>/<name>.png and <out>/summary.json.",
+        description="Run every comparison and write <out>/<name>.png, <out>/<name>.npz (data for "
+        "Comparison.load) and <out>/summary.json.",
     )
     p.add_argument("--out", default="results", help="output folder (default results/)")
     size = p.add_mutually_exclusive_group()
@@ -46,7 +47,9 @@ def _clean(obj):
 
 
 def run_all(out="results", size="default", only=None, progress=True) -> dict:
-    """Run the comparisons (``only``: a list of names), write figures and summary.json."""
+    """Run the comparisons (``only``: a list of names); write ``<name>.png``, ``<name>.npz``
+    (:meth:`Comparison.save`: summary and figure data, reload with ``Comparison.load``) and
+    ``summary.json``."""
     from .comparisons import COMPARISONS
 
     names = list(COMPARISONS) if only is None else list(only)
@@ -60,6 +63,7 @@ def run_all(out="results", size="default", only=None, progress=True) -> dict:
         result = COMPARISONS[name](size, progress=progress)
         fig = result.figure()
         fig.savefig(out / f"{name}.png", dpi=110)
+        result.save(out / f"{name}.npz")
         import matplotlib.pyplot as plt
 
         plt.close(fig)

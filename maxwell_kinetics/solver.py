@@ -532,7 +532,8 @@ class Solution:
 
     # -- persistence --------------------------------------------------------------------
     def save(self, path) -> None:
-        """Save to ``.npz`` (arrays plus a JSON header); reload with :meth:`Solution.load`."""
+        """Save to ``.npz`` (arrays plus a JSON header) at ``path`` (a path or a binary file
+        object); reload with :meth:`Solution.load`."""
         meta = {
             "format": "maxwell_kinetics.Solution/1",
             "restitution": self.restitution,
@@ -542,11 +543,13 @@ class Solution:
             "options": dataclasses.asdict(self.options),
             "seconds": self.seconds,
         }
-        with open(path, "wb") as fh:
-            np.savez(
-                fh, meta=np.array(json.dumps(meta)), tau=self.tau, G=self.G,
-                deviation=self.deviation,
-            )
+        arrays = {"meta": np.array(json.dumps(meta)), "tau": self.tau, "G": self.G,
+                  "deviation": self.deviation}
+        if hasattr(path, "write"):
+            np.savez(path, **arrays)
+        else:  # open it ourselves: np.savez would append ".npz" to other names
+            with open(path, "wb") as fh:
+                np.savez(fh, **arrays)
 
     @classmethod
     def load(cls, path) -> Solution:
