@@ -62,6 +62,9 @@ def default_size() -> str:
     return "small" if flag not in ("", "0") else "default"
 
 
+_COMPARISON_FORMAT = "maxwell_kinetics.Comparison/1"
+
+
 @dataclass
 class Comparison:
     """Result of one comparison: ``name``, JSON-able ``summary``, figure ``data``.
@@ -88,8 +91,8 @@ class Comparison:
         import json
 
         arrays: dict[str, np.ndarray] = {}
-        skeleton = {"name": self.name, "summary": _encode(self.summary, arrays),
-                    "data": _encode(self.data, arrays)}
+        skeleton = {"format": _COMPARISON_FORMAT, "name": self.name,
+                    "summary": _encode(self.summary, arrays), "data": _encode(self.data, arrays)}
         with open(path, "wb") as fh:
             np.savez(fh, __skeleton__=np.array(json.dumps(skeleton, allow_nan=False)), **arrays)
 
@@ -103,6 +106,8 @@ class Comparison:
             with np.load(path, allow_pickle=False) as npz:
                 arrays = {k: npz[k] for k in npz.files}
             skeleton = json.loads(str(arrays.pop("__skeleton__")))
+            if skeleton.get("format") != _COMPARISON_FORMAT:
+                raise ValueError(f"format {skeleton.get('format')!r}")
             return cls(skeleton["name"], _decode(skeleton["summary"], arrays),
                        _decode(skeleton["data"], arrays))
         except (OSError, ValueError, KeyError, TypeError) as exc:

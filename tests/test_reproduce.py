@@ -204,6 +204,10 @@ def test_comparison_load_rejects_other_files(tmp_path):
     np.savez(bad, x=np.arange(3))
     with pytest.raises(cmp.InvalidArgumentError, match="path"):
         cmp.Comparison.load(bad)
+    other = tmp_path / "other.npz"
+    np.savez(other, __skeleton__=np.array('{"format": "something else/9"}'))
+    with pytest.raises(cmp.InvalidArgumentError, match="something else"):
+        cmp.Comparison.load(other)
     (tmp_path / "junk.npz").write_bytes(b"not a zip")
     with pytest.raises(cmp.InvalidArgumentError, match="junk.npz"):
         cmp.Comparison.load(tmp_path / "junk.npz")
