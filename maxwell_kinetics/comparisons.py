@@ -612,11 +612,6 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False)
     return _RUNS[key]
 
 
-def _equal_energy_index(energy_curve, target) -> int:
-    """Index of the recorded time whose energy is closest to ``target`` (in log)."""
-    return int(np.argmin(np.abs(np.log(energy_curve) - math.log(target))))
-
-
 # ==================================================================== 5. energy decay
 
 _ENERGY = {
@@ -750,21 +745,22 @@ def _collapse_spread(k, spectra, times, z, x_range):
     xs = np.geomspace(*x_range, 40)
     curves = []
     for s, t in zip(spectra, times, strict=True):
-        kb, sb, _ = _log_binned(k, s)
+        kb, sb = _log_binned(k, s)
         curves.append(np.interp(np.log(xs), np.log(kb * t**z), np.log(sb)))
     return float(np.sqrt(np.mean(np.var(np.array(curves), axis=0, ddof=1))))
 
 
 def _log_binned(k, s):
+    """Log-binned S(k), 10 bins per decade: (bin centres, mean S)."""
     from particles.observables import log_bin
 
     kb, sb, _ = log_bin(k, s, 10)
-    return kb, sb, _
+    return kb, sb
 
 
 def _porod(k, s, t, z, x_window, k_max):
     """Slope of ln S against ln k over k·t^z in ``x_window`` and k ≤ ``k_max``."""
-    kb, sb, _ = _log_binned(k, s)
+    kb, sb = _log_binned(k, s)
     x = kb * t**z
     sel = (x >= x_window[0]) & (x <= x_window[1]) & (kb <= k_max)
     if sel.sum() < 3:
@@ -1116,10 +1112,3 @@ COMPARISONS = {
     "structure_factors": structure_factors,
     "velocity_profiles": velocity_profiles,
 }
-
-
-def f_hat_callable(q):
-    """f̂ as a callable of q (for :func:`statistics.interval_probabilities`)."""
-    from .exact import f_hat
-
-    return f_hat(q)

@@ -13,6 +13,7 @@ import pytest
 
 from maxwell_kinetics import comparisons as cmp
 from maxwell_kinetics import statistics as st
+from maxwell_kinetics.exact import f_hat
 
 pytestmark = pytest.mark.slow
 
@@ -53,7 +54,7 @@ def _chi2_tolerance(row) -> float:
 def test_statistics_exact_bins_of_f():
     """interval_probabilities of f̂ against the exact CDF of f (quadrature, no statistics)."""
     edges = np.linspace(-6, 6, 49)
-    got = st.interval_probabilities(cmp.f_hat_callable, edges, 200.0)
+    got = st.interval_probabilities(f_hat, edges, 200.0)
     assert np.max(np.abs(got - st.f_interval_probabilities(edges))) < 1e-8
 
 
