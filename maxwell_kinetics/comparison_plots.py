@@ -71,8 +71,8 @@ def _kinetic_vs_ulam(c):
         for i, row in enumerate(case["rows"]):
             h = row["comparison"]
             ax.errorbar(h.centres, h.density, yerr=h.error, fmt=".", ms=3, color=cols[i],
-                        label=f"τ={row['tau']:g}: χ²/dof={h.chi2_dof:.2f} "
-                        f"(φ={h.overdispersion:.2f})")
+                        label=f"τ={row['tau']:g}: χ²/(dof·φ)={row['chi2_over_overdispersion']:.2f}"
+                        f", smoothed {row['smoothed']['chi2_over_overdispersion']:.2f}")
             ax.plot(h.centres, h.predicted, "-", color=cols[i], lw=1)
         ax.set(xlabel="x = v/v0", ylabel="P(x, τ)",
                title=f"r={case['restitution']:g}, {case['initial']}: solver (lines) vs Ulam")

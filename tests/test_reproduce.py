@@ -82,9 +82,25 @@ def test_tail_develops(kinetic):
 
 
 def test_kinetic_matches_ulam_within_statistics(vs_ulam):
+    """Raw and smoothed (σ = 0.15, see comparisons.kinetic_vs_ulam) histograms of the Ulam
+    particles against the solver's prediction at the same τ, each row within the tolerance."""
     for case in vs_ulam.summary["cases"]:
         for row in case["rows"]:
             assert row["chi2_over_overdispersion"] < _chi2_tolerance(row), (case["initial"], row)
+            smoothed = row["smoothed"]
+            assert smoothed["chi2_over_overdispersion"] < _chi2_tolerance(smoothed), (
+                case["initial"], row["tau"], smoothed)
+
+
+def test_smoothed_comparison_detects_a_wrong_law(vs_ulam):
+    """The smoothed comparison has teeth: the particles at τ = 0.5 against the solver's law at
+    a later τ (r = 0.5, bimodal: the humps have moved) are far outside the tolerance."""
+    sol = cmp.kinetic_solution(0.5, "bimodal", vs_ulam.summary["parameters"]["tau"],
+                               "fine")
+    edges = cmp._edges(vs_ulam.summary["parameters"]["edges"])
+    x = cmp._rescaled(cmp.ulam_snapshots(0.5, "bimodal", 20_000, [0.5], list(range(6)))[0])
+    wrong = cmp._smoothed_comparison(sol, 1, x, edges, 0.15, seed=0).summary()
+    assert wrong["chi2_over_overdispersion"] > 10 * _chi2_tolerance(wrong)
 
 
 def test_kinetic_vs_ulam_distance_falls_like_inverse_sqrt_n(vs_ulam):
