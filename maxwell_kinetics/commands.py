@@ -54,7 +54,10 @@ def _run_solve(args) -> int:
 
     model = MaxwellModel(args.restitution)
     law = get_law(args.initial)
-    taus = check_times(parse_float_list(args.tau, "tau"), "tau")
+    try:
+        taus = check_times(parse_float_list(args.tau, "tau"), "tau")
+    except InvalidArgumentError as exc:  # show the text received, not the parsed list
+        raise InvalidArgumentError("tau", args.tau, exc.expected) from None
     grid = get_resolution(args.resolution)
     q = np.asarray(parse_float_list(args.q, "q"))
     if np.any(~np.isfinite(q)) or np.any(np.abs(q) > grid.q_max):
