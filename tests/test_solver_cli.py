@@ -10,7 +10,7 @@ import json
 import numpy as np
 import pytest
 
-from maxwell_kinetics.cli import main
+from maxwell_kinetics.cli import build_parser, join_negative_values, main
 
 SOLVE_KEYS = {"restitution", "initial", "resolution", "tau", "sup_error", "q", "G_real", "G_imag",
               "seconds"}
@@ -70,13 +70,17 @@ def test_solve_json_contract_and_spec_values(capsys, tmp_path):
 
 
 def test_solve_asymmetric_law_gives_imaginary_part(capsys):
+    # "--q -0.5,0.5,1,2": a value starting with '-' after a space reaches the solver.
     out = run_json(capsys, ["solve", "--restitution", "0", "--initial", "asymmetric",
-                            "--resolution", "coarse", "--tau", "0.5,1", "--q", "0.5,1,2",
+                            "--resolution", "coarse", "--tau", "0.5,1", "--q", "-0.5,0.5,1,2",
                             "--json"])
-    imag = np.asarray(out["G_imag"])
-    assert imag.shape == (2, 3) and np.asarray(out["G_real"]).shape == (2, 3)
+    assert out["q"] == [-0.5, 0.5, 1.0, 2.0]
+    real, imag = np.asarray(out["G_real"]), np.asarray(out["G_imag"])
+    assert imag.shape == (2, 4) and real.shape == (2, 4)
     # Im G ≈ −m₃ q³/6 = −q³/3 at small q for the shifted exponential (m₃ = 2): clearly nonzero
-    assert np.all(imag < -0.01)
+    assert np.all(imag[:, 1:] < -0.01)
+    # G(−q) = conj G(q)
+    assert np.array_equal(real[:, 0], real[:, 1]) and np.array_equal(imag[:, 0], -imag[:, 1])
 
 
 BAD_SOLVE = [
@@ -139,3 +143,49 @@ def test_convergence_bad_restitution_writes_nothing(bad, capsys, tmp_path):
                              "--tau-max", "10", "--out", str(out_dir)])
     assert "restitution=" in err and bad in err
     assert not out_dir.exists()
+
+
+# -- values that start with '-' -------------------------------------------------------------
+NEGATIVE = [
+    (["solve", "--restitution", "0.5", "--tau", "-1,2"], "tau='-1,2'"),
+    (["solve", "-r", "-0.5", "--tau", "1"], "restitution='-0.5'"),
+    (["solve", "--rest", "-0.5", "--tau", "1"], "restitution='-0.5'"),  # abbreviated option
+    (["solve", "--restitution", "-inf", "--tau", "1"], "restitution='-inf'"),
+    (["solve", "--restitution", "0.5", "--tau", "1", "--q", "-1e3"], "q='-1e3'"),
+    (["fixed-point", "--restitution", "-0.1"], "restitution='-0.1'"),
+    (["convergence", "--restitution", "-0.5", "--out", "OUT"], "restitution=-0.5"),
+    (["convergence", "--tau-max", "-5", "--out", "OUT"], "tau-max=-5.0"),
+    (["simulate", "ulam", "--n", "100", "--restitution", "-0.5", "--tau", "1"],
+     "restitution='-0.5'"),
+    (["simulate", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1", "--seed", "-1"],
+     "seed='-1'"),
+    (["simulate", "lattice", "--n", "100", "--restitution", "0.5", "--tau", "-1,2"],
+     "tau=[-1.0, 2.0]"),
+    (["simulate", "md", "--n", "100", "--density", "1", "--restitution", "0.5", "--t", "-1,2"],
+     "t=[-1.0, 2.0]"),
+]
+
+
+@pytest.mark.parametrize("argv, shown", NEGATIVE, ids=[" ".join(a) for a, _ in NEGATIVE])
+def test_negative_values_reach_the_validation(argv, shown, capsys, tmp_path):
+    # Without the rewrite argparse stops with "expected one argument" and never shows the value.
+    argv = [str(tmp_path / "out") if a == "OUT" else a for a in argv]
+    err = run_error(capsys, argv)
+    assert shown in err
+    assert "expected one argument" not in err
+    assert not (tmp_path / "out").exists()
+
+
+def test_join_negative_values_only_touches_values_of_value_options():
+    parser = build_parser()
+    argv = ["solve", "--tau", "-1,2", "--json", "-r", "-0.5", "--plot", "-x.png", "--q=-1",
+            "--initial", "gaussian"]
+    assert join_negative_values(parser, argv) == [
+        "solve", "--tau=-1,2", "--json", "-r=-0.5", "--plot", "-x.png", "--q=-1",
+        "--initial", "gaussian"]
+    # flags take no value; nothing after "--" is rewritten
+    assert join_negative_values(parser, ["solve", "--json", "-1", "--", "--tau", "-1"]) == [
+        "solve", "--json", "-1", "--", "--tau", "-1"]
+    # the subcommand decides: --n takes a value in simulate ulam and in fixed-point
+    assert join_negative_values(parser, ["simulate", "ulam", "--n", "-5"]) == [
+        "simulate", "ulam", "--n=-5"]
