@@ -189,3 +189,34 @@ def test_join_negative_values_only_touches_values_of_value_options():
     # the subcommand decides: --n takes a value in simulate ulam and in fixed-point
     assert join_negative_values(parser, ["simulate", "ulam", "--n", "-5"]) == [
         "simulate", "ulam", "--n=-5"]
+
+
+# -- output paths are checked before any work -----------------------------------------------
+@pytest.mark.parametrize("case", ["save-is-dir", "plot-is-dir", "save-no-parent", "same-file"])
+def test_solve_bad_output_paths_write_nothing(case, capsys, tmp_path):
+    folder = tmp_path / "existing"
+    folder.mkdir()
+    plot, save = tmp_path / "p.png", tmp_path / "s.npz"
+    bad = {"save-is-dir": ("save", folder), "plot-is-dir": ("plot", folder),
+           "save-no-parent": ("save", tmp_path / "missing" / "s.npz"),
+           "same-file": ("save", plot)}[case]
+    paths = {"plot": plot, "save": save, bad[0]: bad[1]}
+    argv = ["solve", "--restitution", "0.5", "--tau", "1", "--resolution", "coarse", "--json",
+            "--plot", str(paths["plot"]), "--save", str(paths["save"])]
+    err = run_error(capsys, argv)
+    assert f"{bad[0]}='{bad[1]}'" in err
+    assert not plot.exists() and not save.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["existing"]
+    assert list(folder.iterdir()) == []
+
+
+@pytest.mark.parametrize("case", ["out-is-file", "under-a-file"])
+def test_convergence_bad_out_writes_nothing(case, capsys, tmp_path):
+    blocker = tmp_path / "file.txt"
+    blocker.write_text("keep")
+    out_dir = blocker if case == "out-is-file" else blocker / "sub"
+    err = run_error(capsys, ["convergence", "--restitution", "0.5", "--resolutions", "coarse",
+                             "--tau-max", "10", "--out", str(out_dir)])
+    assert f"out='{out_dir}'" in err
+    assert blocker.read_text() == "keep"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["file.txt"]
