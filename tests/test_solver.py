@@ -11,7 +11,7 @@ import pytest
 
 from maxwell_kinetics.exact import f_hat, rescaled_moments
 from maxwell_kinetics.grid import Resolution
-from maxwell_kinetics.initial import get_law, law_from_characteristic
+from maxwell_kinetics.initial import InitialLaw, get_law, law_from_characteristic
 from maxwell_kinetics.model import MaxwellModel
 from maxwell_kinetics.solver import (
     Solution,
@@ -290,3 +290,44 @@ def test_package_import_enables_float64(code, env):
     # purpose: see the docstring of maxwell_kinetics/__init__.py).
     extra = {"JAX_ENABLE_X64": env} if env else {}
     assert _run_python(code, **extra) == "float64"
+
+
+# -- a characteristic function must be finite wherever the solver evaluates it ---------------
+def _nan_beyond(limit):
+    return lambda k: np.where(np.abs(k) > limit, np.nan, np.exp(-0.5 * k**2))
+
+
+@pytest.mark.parametrize(
+    "phi, variance, shown",
+    [
+        # NaN only beyond |k| = 31: the old probe (|k| <= 30) accepted it, and solve then died
+        # with an opaque JaxRuntimeError (the q grid reaches 36, the state beyond it ~59).
+        (_nan_beyond(31.0), 1.0, "phi(31.0312) = (nan+0j)"),
+        # reported in the caller's units: characteristic(k / 2) for variance 4
+        (_nan_beyond(31.0), 4.0, "phi(31.0156) = (nan+0j)"),
+        # far out: caught by the log-spaced probe (up to 1e6)
+        (lambda k: np.where(np.abs(k) > 1e5, np.inf, np.exp(-0.5 * k**2)), 1.0, "phi(112202)"),
+    ],
+)
+def test_user_characteristic_is_checked_far_out(phi, variance, shown):
+    with pytest.raises(InvalidArgumentError, match="characteristic=") as info:
+        law_from_characteristic(phi, variance=variance)
+    assert shown in str(info.value)
+
+
+@pytest.mark.parametrize("r", [0.5, 1.0])
+def test_solver_checks_phi_on_its_grid_before_integrating(r):
+    # A law built directly (bypassing law_from_characteristic) with φ NaN beyond |k| = 31: the
+    # solver names the characteristic and the first bad q of its grid (33.1 on the coarse grid),
+    # before any compilation, for the time-dependent solver and the elastic case alike.
+    law = InitialLaw("raw", lambda k, xp: _nan_beyond(31.0)(k), traceable=False)
+    with pytest.raises(InvalidArgumentError, match=r"characteristic=.*phi\(33\.1155\) = \(nan"):
+        solve(r, law, [1.0], "coarse")
+
+
+def test_solver_checks_the_inflow_of_traceable_laws():
+    # The free-streaming inflow evaluates a traceable φ at k = q e^{λτ}, τ < 40: up to ~1e7 for
+    # r = 0 (λ = 1/4).  φ NaN beyond 1e4 is reported before integrating.
+    law = InitialLaw("inflow", lambda k, xp: xp.where(xp.abs(k) > 1e4, xp.nan, xp.exp(-0.5 * k**2)))
+    with pytest.raises(InvalidArgumentError, match=r"characteristic=.*phi\(10035\.8\).*inflow"):
+        solve(0.0, law, [1.0], "coarse")
