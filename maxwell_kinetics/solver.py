@@ -542,11 +542,25 @@ class Solution:
         return float(max(diff[j], fine_diff.max()))
 
     def density(self, x=None, tau_index: int = -1):
-        """Velocity-space density P(x, τ) of x = v / v0: returns ``(x, P)``.
+        """Velocity-space density P(x, τ) of the rescaled velocity x = v / v0: returns ``(x, P)``.
 
-        ``x=None`` gives the pyfftw grid of :func:`maxwell_kinetics.velocity.inverse_transform`;
-        given x, P is computed by quadrature there.  G is cut at the grid's end q_max.  See
-        :mod:`maxwell_kinetics.velocity` for the sign, normalisation and error sources.
+        Units: x = v / v0(τ) with v0² = ⟨v²⟩ = e^{−2λτ} (unit initial variance), so P has unit
+        variance; the density of v itself is P(v / v0) / v0.
+
+        Sign and normalisation (SPEC §2): the characteristic function is P̂(k) = ∫ e^{ikv} P(v) dv
+        (so G(q) = E[e^{iqx}]), and its inverse carries e^{−iqx} and 1/(2π):
+
+            P(x) = (1/2π) ∫_{−∞}^{∞} e^{−iqx} G(q) dq = (1/π) Re ∫_0^{q_max} e^{−iqx} G(q) dq,
+
+        using G(−q) = conj G(q) and cutting G at the grid's end q_max.
+
+        ``x=None``: the pyfftw grid of :func:`maxwell_kinetics.velocity.inverse_transform`, the
+        trapezoid sum P(x_k) = (dq/2π) Σ_j e^{−2πijk/M} G(q_j), q_j = j dq, j = −M/2 .. M/2:
+        pyfftw's ``irfft`` (numpy's normalisation, (1/M) Σ_j X_j e^{+2πijk/M}) of the half
+        spectrum X_j = conj G(q_j), multiplied by M dq/2π; x_k = k L/M, k = −M/2 .. M/2 − 1,
+        with period L = 2π/dq = 1000 and M the smallest power of two with M dq/2 ≥ q_max.
+        Given x, P is computed there by Gauss–Legendre quadrature (no aliasing).  Error sources
+        (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.
         """
         from .velocity import invert
 

@@ -176,6 +176,23 @@ def test_interpolation_between_nodes_is_high_order(gaussian_half, asymmetric_zer
         assert np.max(np.abs(sol.evaluate(mid, 0) - law.phi(mid))) < bound, name
 
 
+def test_density_sign_normalisation_and_units(asymmetric_zero):
+    # The asymmetric law is v = X − 1, X ~ Exp(1): P(x) = e^{−(x+1)} for x > −1, 0 below.  The
+    # e^{−iqx} of the docstring puts the mass on the right side (the mirror image would give
+    # P(1.5) = 0 and P(−2) = e^{−3} = 0.050).  G is cut at q_max = 36 and P has a jump, so the
+    # pointwise error is ~1/(π q_max |x + 1|) ≈ 1e-2 (measured 4.3e-3 at 1.5, 1.1e-2 at −2).
+    x, P = asymmetric_zero.density(np.array([-2.0, 1.5]), tau_index=0)
+    assert abs(P[1] - math.exp(-2.5)) < 0.01
+    assert abs(P[0]) < 0.02
+    # On the FFT grid: ∫P dx = G(0) = 1, and x = v/v0 has unit variance at every τ (measured
+    # 0.99998 at τ = 0 and 1.00001 at τ = 1).
+    for k in (0, 1):
+        x, P = asymmetric_zero.density(tau_index=k)
+        dx = x[1] - x[0]
+        assert np.sum(P) * dx == pytest.approx(1.0, abs=1e-12)
+        assert np.sum(x * x * P) * dx == pytest.approx(1.0, abs=1e-3), asymmetric_zero.tau[k]
+
+
 def test_elastic_case_is_frozen():
     sol = solve(1.0, "bimodal", [0.0, 5.0, 50.0], "coarse")
     assert np.array_equal(sol.G[0], sol.G[-1])
