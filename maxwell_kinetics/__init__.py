@@ -1,9 +1,18 @@
 """maxwell_kinetics: the pseudo-Maxwell (Ulam) Boltzmann equation solved in Fourier space.
 
-JAX runs in float64 everywhere in this package.  Importing the package sets
-``JAX_ENABLE_X64`` before JAX is first imported, and every module that imports JAX also calls
-``jax.config.update("jax_enable_x64", True)``.  The NumPy-only modules (``initial``,
-``validation``) import no JAX, so :mod:`particles` can use them without it.
+JAX runs in float64 everywhere in this package, whatever the import order:
+
+* if JAX is already imported when this package is, ``jax.config.update("jax_enable_x64",
+  True)`` is called at once (the environment variable would come too late);
+* otherwise ``JAX_ENABLE_X64=1`` is set in ``os.environ``, which JAX reads when it is first
+  imported.  JAX itself is *not* imported here, so ``import maxwell_kinetics.initial`` (used by
+  :mod:`particles`) stays free of JAX.
+
+Decision: an explicit ``JAX_ENABLE_X64=0`` in the environment is overridden.  The solver's error
+floors (down to ~1e-12) and its tests need float64, and the JAX modules (``solver``,
+``stationary``) switch x64 on anyway when they run, so honouring 0 would only make arrays created
+before the first solve float32.  Code that needs float32 JAX should not import this package.
+The NumPy-only modules (``initial``, ``validation``) import no JAX.
 
 Public names are loaded lazily so that ``import maxwell_kinetics.initial`` stays light.
 """
@@ -12,8 +21,19 @@ from __future__ import annotations
 
 import importlib
 import os
+import sys
 
-os.environ.setdefault("JAX_ENABLE_X64", "1")
+
+def _enable_x64() -> None:
+    """Float64 for JAX: now if JAX is imported, else when it is (see the module docstring)."""
+    jax = sys.modules.get("jax")
+    if jax is not None and hasattr(jax, "config"):
+        jax.config.update("jax_enable_x64", True)
+    else:
+        os.environ["JAX_ENABLE_X64"] = "1"
+
+
+_enable_x64()
 
 __version__ = "0.1.0"
 

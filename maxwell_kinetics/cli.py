@@ -10,7 +10,9 @@ Subcommands:
 
 Every subcommand takes ``--json`` and then prints exactly one JSON object on stdout.
 Bad input exits with status 2 and a message naming the argument and the value received,
-and writes no file.
+and writes no file.  Numeric values that start with '-' may follow their option after a space
+(``--tau -1,2``, ``-r -0.5``): :func:`join_negative_values` passes them on as ``--tau=-1,2``,
+for every subcommand, so that the validation (not argparse) reports them.
 """
 
 from __future__ import annotations
@@ -50,9 +52,73 @@ def emit_json(payload: dict) -> None:
     sys.stdout.flush()
 
 
+def _looks_numeric(token: str) -> bool:
+    """True for a value such as ``-1``, ``-0.5``, ``-inf``, ``-1e3`` or ``-1,2`` (a list whose
+    first entry is a negative number): argparse would take it for an option."""
+    if not token.startswith("-") or token.startswith("--"):
+        return False
+    try:
+        float(token.split(",", 1)[0].strip())
+    except ValueError:
+        return False
+    return True
+
+
+def _takes_one_value(parser: argparse.ArgumentParser, option: str) -> bool:
+    """True when ``option`` (exact, or an unambiguous ``--`` prefix) takes one value."""
+    actions = parser._option_string_actions
+    if option in actions:
+        found = {actions[option]}
+    elif option.startswith("--") and parser.allow_abbrev:
+        found = {action for name, action in actions.items() if name.startswith(option)}
+    else:
+        return False
+    if len(found) != 1:
+        return False
+    return found.pop().nargs in (None, 1, "?")
+
+
+def _subcommands(parser: argparse.ArgumentParser) -> dict:
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return action.choices
+    return {}
+
+
+def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> list[str]:
+    """Rewrite ``--opt -x`` as ``--opt=-x`` when ``--opt`` takes a value and ``-x`` is numeric.
+
+    argparse reads a token such as ``-1,2`` or ``-inf`` after ``--tau`` as an option and fails
+    with "expected one argument", which hides the value; joined, the value reaches the
+    validation, whose message names the argument and the value.  The walk follows the
+    subcommands (``solve``, ``simulate ulam``, ...) so that each option is looked up in the
+    parser that defines it; everything after ``--`` is left alone.
+    """
+    out: list[str] = []
+    i = 0
+    while i < len(argv):
+        token = argv[i]
+        if token == "--":
+            out.extend(argv[i:])
+            break
+        subcommands = _subcommands(parser)
+        if token in subcommands:
+            parser = subcommands[token]
+        elif token.startswith("-") and "=" not in token and _takes_one_value(parser, token):
+            if i + 1 < len(argv):  # the option and its value; skip both
+                value = argv[i + 1]
+                out.extend([f"{token}={value}"] if _looks_numeric(value) else [token, value])
+                i += 2
+                continue
+        out.append(token)
+        i += 1
+    return out
+
+
 def main(argv=None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    args = parser.parse_args(join_negative_values(parser, argv))
     try:
         return int(args.handler(args) or 0)
     except InvalidArgumentError as exc:

@@ -50,20 +50,24 @@ def _run_solve(args) -> int:
     from .grid import get_resolution
     from .initial import get_law
     from .model import MaxwellModel
-    from .validation import check_times
+    from .validation import check_output_file, check_times
 
     model = MaxwellModel(args.restitution)
     law = get_law(args.initial)
-    taus = check_times(parse_float_list(args.tau, "tau"), "tau")
+    try:
+        taus = check_times(parse_float_list(args.tau, "tau"), "tau")
+    except InvalidArgumentError as exc:  # show the text received, not the parsed list
+        raise InvalidArgumentError("tau", args.tau, exc.expected) from None
     grid = get_resolution(args.resolution)
     q = np.asarray(parse_float_list(args.q, "q"))
     if np.any(~np.isfinite(q)) or np.any(np.abs(q) > grid.q_max):
         raise InvalidArgumentError(
             "q", args.q, f"values with |q| <= q_max={grid.q_max:.6g} of resolution {grid.name!r}"
         )
-    for name, path in (("plot", args.plot), ("save", args.save)):
-        if path is not None and not Path(path).parent.exists():
-            raise InvalidArgumentError(name, path, "a file in an existing directory")
+    outputs = {name: check_output_file(path, name)
+               for name, path in (("plot", args.plot), ("save", args.save)) if path is not None}
+    if len(outputs) == 2 and outputs["plot"].resolve() == outputs["save"].resolve():
+        raise InvalidArgumentError("save", args.save, "a different file from --plot")
 
     from .solver import solve
 
@@ -177,13 +181,14 @@ def _run_convergence(args) -> int:
     from .cli import emit_json
     from .convergence import convergence_study, write_results
     from .grid import get_resolution
-    from .validation import check_positive, check_restitution
+    from .validation import check_output_dir, check_positive, check_restitution
 
     rs = [check_restitution(r) for r in parse_float_list(args.restitution, "restitution")]
     names = [get_resolution(n.strip()).name for n in args.resolutions.split(",") if n.strip()]
     tau_max = check_positive(args.tau_max, "tau-max")
     if tau_max < 10:
         raise InvalidArgumentError("tau-max", args.tau_max, "a final time >= 10")
+    check_output_dir(args.out, "out")
     runs = convergence_study(rs, names, tau_max, progress=not args.json)
     summary = write_results(runs, args.out)
     if args.json:

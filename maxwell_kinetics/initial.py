@@ -35,7 +35,10 @@ import numpy as np
 
 from .validation import InvalidArgumentError, check_positive
 
-__all__ = ["InitialLaw", "LAWS", "get_law", "law_from_characteristic", "law_names"]
+__all__ = [
+    "InitialLaw", "LAWS", "PROBE_K_MAX", "get_law", "law_from_characteristic", "law_names",
+    "first_non_finite",
+]
 
 CharacteristicFunction = Callable[..., np.ndarray]  # characteristic(k, xp) -> phi(k)
 Sampler = Callable[[np.random.Generator, int], np.ndarray]
@@ -146,14 +149,42 @@ def get_law(name) -> InitialLaw:
         ) from None
 
 
+#: Largest |k| at which :func:`law_from_characteristic` checks a user φ.  The solver evaluates φ
+#: on its q grid, q ≤ q_max e^{cells h} ≈ 59 for the offered resolutions; a characteristic
+#: function is bounded by 1 for every real k, so a non-finite value anywhere is an error.
+PROBE_K_MAX = 1e6
+
+
+def _probe_points() -> np.ndarray:
+    """Increasing k ∈ [−1e6, 1e6]: dense and uniform on |k| ≤ 64 (step 1/32, beyond every q
+    the solver's grids reach), log-spaced from 1e-8 to ``PROBE_K_MAX`` (20 points a decade)."""
+    positive = np.unique(np.concatenate([
+        np.linspace(0.0, 64.0, 2049), np.geomspace(1e-8, PROBE_K_MAX, 281)
+    ]))
+    return np.concatenate([-positive[:0:-1], positive])
+
+
+def first_non_finite(k: np.ndarray, values: np.ndarray) -> float | None:
+    """The k of smallest |k| (the positive one on a tie) where ``values`` is not finite, or
+    None when all are finite."""
+    bad = ~np.isfinite(np.asarray(values))
+    if not np.any(bad):
+        return None
+    kb = np.asarray(k, dtype=float)[bad]
+    return float(kb[np.lexsort((-kb, np.abs(kb)))[0]])
+
+
 def law_from_characteristic(
     characteristic: CharacteristicFunction, variance: float, name: str = "user"
 ) -> InitialLaw:
     """Wrap a user characteristic function ``phi`` of a zero-mean law with the given variance.
 
     The law is rescaled to unit variance: the returned characteristic function is
-    ``phi(k / sqrt(variance))``.  ``phi(0)`` must be 1 and ``phi`` must be finite; the
-    skewness is read from the imaginary part near ``k = 0`` (``Im phi ≈ -E[v^3] k^3/6``).
+    ``phi(k / sqrt(variance))``.  ``phi(0)`` must be 1 and ``phi`` must be finite: the
+    rescaled function is checked on |k| ≤ 64 (step 1/32, covering every q the solver's grids
+    reach) and on log-spaced |k| up to ``PROBE_K_MAX`` = 1e6, and the error names the
+    smallest offending k in the caller's units (k / sqrt(variance)).  The skewness is read
+    from the imaginary part near ``k = 0`` (``Im phi ≈ -E[v^3] k^3/6``).
     """
     if not callable(characteristic):
         raise InvalidArgumentError("characteristic", characteristic, "a callable phi(k)")
@@ -162,15 +193,24 @@ def law_from_characteristic(
     def phi(k, xp=np):
         return np.asarray(characteristic(np.asarray(k, dtype=float) / sigma), dtype=complex)
 
+    k = _probe_points()  # in the solver's unit-variance units; phi(k) calls characteristic(k/σ)
     try:
         at_zero = complex(np.ravel(phi(np.zeros(1)))[0])
-        probe = phi(np.linspace(-30.0, 30.0, 601))
+        probe = np.broadcast_to(phi(k), k.shape)
     except Exception as exc:  # a user function may fail in any way; report it as bad input
         raise InvalidArgumentError(
             "characteristic", characteristic, f"a callable phi(k) ({exc})"
         ) from exc
-    if not np.all(np.isfinite(probe)) or not np.isfinite(at_zero):
-        raise InvalidArgumentError("characteristic", characteristic, "finite values phi(k)")
+    bad_k = first_non_finite(k, probe)
+    if bad_k is not None:  # reported at the user's own argument k / σ
+        value = complex(probe[np.nonzero(k == bad_k)[0][0]])
+        raise InvalidArgumentError(
+            "characteristic", f"phi({bad_k / sigma:.6g}) = {value}",
+            "finite values phi(k) for all real k (checked up to |k| = "
+            f"{PROBE_K_MAX / sigma:.3g})",
+        )
+    if not np.isfinite(at_zero):
+        raise InvalidArgumentError("characteristic", f"phi(0)={at_zero}", "phi(0) = 1")
     if abs(at_zero - 1.0) > 1e-12:
         raise InvalidArgumentError("characteristic", f"phi(0)={at_zero}", "phi(0) = 1")
     kk = 1e-2

@@ -52,7 +52,7 @@ import numpy as np
 
 from .exact import f_hat
 from .grid import Resolution, get_resolution, lagrange_weights
-from .initial import InitialLaw, get_law
+from .initial import InitialLaw, first_non_finite, get_law
 from .model import MaxwellModel
 from .validation import InvalidArgumentError, check_positive, check_times
 
@@ -144,6 +144,36 @@ def source_parts(q, lam: float, m3: float, xp=np, gauss=None, gain=None):
     return re, im
 
 
+def _checked_phi(law: InitialLaw, k: np.ndarray, where: str) -> np.ndarray:
+    """φ(k) by NumPy, or InvalidArgumentError naming ``characteristic`` and the first bad k."""
+    values = np.broadcast_to(law.phi(k), np.shape(k))
+    bad = first_non_finite(k, values)
+    if bad is not None:
+        value = complex(values[np.nonzero(np.asarray(k) == bad)][0])
+        raise InvalidArgumentError(
+            "characteristic", f"phi({bad:.6g}) = {value} (law {law.name!r})",
+            f"finite values of the characteristic function on {where}",
+        )
+    return np.asarray(values)
+
+
+def inflow_wavenumbers(model: MaxwellModel, grid: Resolution, opts: SolverOptions) -> np.ndarray:
+    """k = q e^{λτ} at which the free-streaming inflow evaluates φ, sampled log-uniformly.
+
+    The inflow (right ghost) nodes sit at ln q ∈ [ln q_max + h, ln q_max + (2 cells + 5 order/2) h]
+    with cells h ≤ λ·window + h/2 (:class:`_Stepper`), and φ is taken at k = q e^{λ min(τ, 40)}
+    (:data:`_INFLOW_CUT`).  The sampled range is wider on both sides,
+    ln k ∈ [ln q_max − window − h, ln q_max + window + 4 order h + 40λ], with 64 points per
+    unit of ln k.  Empty for λ = 0 (no inflow).
+    """
+    lam = model.lam
+    if lam == 0.0:
+        return np.empty(0)
+    lo = math.log(grid.q_max) - opts.window - grid.h
+    hi = math.log(grid.q_max) + opts.window + 4 * grid.order * grid.h + lam * _INFLOW_CUT
+    return np.exp(np.linspace(lo, hi, max(2, math.ceil(64 * (hi - lo)))))
+
+
 def initial_deviation(law: InitialLaw, q: np.ndarray, q_fit: float = 2e-3) -> np.ndarray:
     """w(q, 0) = φ(q) − g(q), accurate to relative round-off also where both are ≈ 1.
 
@@ -154,11 +184,11 @@ def initial_deviation(law: InitialLaw, q: np.ndarray, q_fit: float = 2e-3) -> np
     """
     m3 = law.skewness
     q = np.asarray(q, dtype=float)
-    w = law.phi(q) - reference(q, m3).astype(complex)
+    w = _checked_phi(law, q, "the solver's q grid") - reference(q, m3).astype(complex)
     small = q < q_fit
     if np.any(small):
         qf = np.geomspace(q_fit, 8 * q_fit, 64)
-        wf = law.phi(qf) - reference(qf, m3).astype(complex)
+        wf = _checked_phi(law, qf, "the small-q fit") - reference(qf, m3).astype(complex)
         powers = np.arange(3, 8)
         basis = (qf[:, None] / q_fit) ** powers
         coef, *_ = np.linalg.lstsq(basis.astype(complex), wf, rcond=None)
@@ -196,6 +226,8 @@ class _Stepper:
         jax.config.update("jax_enable_x64", True)
 
         self.model, self.law, self.grid, self.opts = model, law, grid, opts
+        if law.traceable:  # the inflow evaluates φ (in JAX) far beyond q_max: check it first
+            _checked_phi(law, inflow_wavenumbers(model, grid, opts), "the inflow's k = q e^{λτ}")
         p, lam, h, order, n = model.p, model.lam, grid.h, grid.order, grid.n
         self.m3 = m3 = _check_skewness_finite(law)
         self.complex = is_complex = m3 != 0.0 or not law.symmetric
@@ -510,11 +542,25 @@ class Solution:
         return float(max(diff[j], fine_diff.max()))
 
     def density(self, x=None, tau_index: int = -1):
-        """Velocity-space density P(x, τ) of x = v / v0: returns ``(x, P)``.
+        """Velocity-space density P(x, τ) of the rescaled velocity x = v / v0: returns ``(x, P)``.
 
-        ``x=None`` gives the pyfftw grid of :func:`maxwell_kinetics.velocity.inverse_transform`;
-        given x, P is computed by quadrature there.  G is cut at the grid's end q_max.  See
-        :mod:`maxwell_kinetics.velocity` for the sign, normalisation and error sources.
+        Units: x = v / v0(τ) with v0² = ⟨v²⟩ = e^{−2λτ} (unit initial variance), so P has unit
+        variance; the density of v itself is P(v / v0) / v0.
+
+        Sign and normalisation (SPEC §2): the characteristic function is P̂(k) = ∫ e^{ikv} P(v) dv
+        (so G(q) = E[e^{iqx}]), and its inverse carries e^{−iqx} and 1/(2π):
+
+            P(x) = (1/2π) ∫_{−∞}^{∞} e^{−iqx} G(q) dq = (1/π) Re ∫_0^{q_max} e^{−iqx} G(q) dq,
+
+        using G(−q) = conj G(q) and cutting G at the grid's end q_max.
+
+        ``x=None``: the pyfftw grid of :func:`maxwell_kinetics.velocity.inverse_transform`, the
+        trapezoid sum P(x_k) = (dq/2π) Σ_j e^{−2πijk/M} G(q_j), q_j = j dq, j = −M/2 .. M/2:
+        pyfftw's ``irfft`` (numpy's normalisation, (1/M) Σ_j X_j e^{+2πijk/M}) of the half
+        spectrum X_j = conj G(q_j), multiplied by M dq/2π; x_k = k L/M, k = −M/2 .. M/2 − 1,
+        with period L = 2π/dq = 1000 and M the smallest power of two with M dq/2 ≥ q_max.
+        Given x, P is computed there by Gauss–Legendre quadrature (no aliasing).  Error sources
+        (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.
         """
         from .velocity import invert
 

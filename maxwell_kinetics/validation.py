@@ -8,7 +8,9 @@ argument and shows the value received.  ``InvalidArgumentError`` subclasses
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
+from pathlib import Path
 
 import numpy as np
 
@@ -20,6 +22,8 @@ __all__ = [
     "check_positive",
     "check_nonnegative",
     "parse_float_list",
+    "check_output_file",
+    "check_output_dir",
 ]
 
 
@@ -115,4 +119,36 @@ def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
             out.append(float(part))
         except ValueError:
             raise InvalidArgumentError(name, text, "a comma-separated list of numbers") from None
+    return out
+
+
+def check_output_file(path, name: str) -> Path:
+    """An output file: not an existing directory, in an existing, writable directory.
+
+    Called before any work so that a bad path fails at once and nothing else is written.
+    """
+    out = Path(path)
+    parent = out.parent if str(out.parent) else Path(".")
+    if out.is_dir():
+        raise InvalidArgumentError(name, str(path), "a file path, not an existing directory")
+    if not parent.is_dir() or not os.access(parent, os.W_OK):
+        raise InvalidArgumentError(name, str(path), "a file in an existing, writable directory")
+    return out
+
+
+def check_output_dir(path, name: str) -> Path:
+    """An output folder: an existing writable directory, or one that can be created (its
+    nearest existing ancestor is a writable directory)."""
+    out = Path(path)
+    if out.exists():
+        if not out.is_dir() or not os.access(out, os.W_OK):
+            raise InvalidArgumentError(name, str(path), "a writable directory")
+        return out
+    ancestor = out.absolute().parent
+    while not ancestor.exists():
+        ancestor = ancestor.parent
+    if not ancestor.is_dir() or not os.access(ancestor, os.W_OK):
+        raise InvalidArgumentError(
+            name, str(path), "a directory that can be created (under a writable directory)"
+        )
     return out
