@@ -146,23 +146,28 @@ def test_clustered_run_is_bit_for_bit_in_every_mode(sequential_below):
 
 def test_fast_and_reference_agree_statistically_in_clustered_states():
     # r = 0.5, delta = 1e-3, N = 1000 at t = 10 (4 t0): the gas is clustered and cools much
-    # slower than Haff (E ~ 0.1 against E_Haff = 0.037) after 20-50 collisions per particle,
-    # where chaos amplifies any round-off difference.
-    # Over 3 seeds, the mean energy and collision counts of the two engines must agree within
-    # 4 standard errors of the seed-to-seed spread (in practice they agree exactly, since both
-    # run the same operations in the same causal order).
+    # slower than Haff (E ~ 0.095 against E_Haff = 0.037) after 20-90 collisions per particle,
+    # where chaos amplifies round-off.  The engines are compared on *independent* initial states
+    # (fast: seeds 0-15, reference: seeds 100-115), so that the test compares two ensembles and
+    # not one trajectory computed twice (on the same state they agree bit for bit, tested
+    # above).  Energy, collisions per particle and the kurtosis <v^4>/<v^2>^2 must agree within
+    # 4 standard errors of the difference of the two 16-seed means (measured |z| = 0.13, 1.19,
+    # 1.86).  What it can detect (measured with the fast engine changed): r = 0.55 instead of 0.5
+    # moves tau by 4.0 SE, delta = 1e-2 instead of 1e-3 by 6.2 SE.
     prm = MDParams(1000, 1.0, 0.5, delta=1e-3)
-    res = {"fast": [], "reference": []}
-    for method in res:
-        for seed in range(3):
+    res = {}
+    for method, seeds in (("fast", range(16)), ("reference", range(100, 116))):
+        rows = []
+        for seed in seeds:
             _, _, s = run(prm, 10.0, seed=seed, method=method)
-            res[method].append((energy(s), collisions_per_particle(s)))
-    f = np.array(res["fast"])
-    g = np.array(res["reference"])
+            v = s.velocities
+            rows.append((energy(s), collisions_per_particle(s), np.mean(v**4) / np.mean(v**2) ** 2))
+        res[method] = np.array(rows)
+    f, g = res["fast"], res["reference"]
     assert np.all(f[:, 0] > 1.5 * haff_energy(10.0, 0.5, 1.0))
-    assert np.all(f[:, 1] > 20)
-    se = np.sqrt(f.var(axis=0, ddof=1) / 3 + g.var(axis=0, ddof=1) / 3)
-    assert np.all(np.abs(f.mean(axis=0) - g.mean(axis=0)) <= 4 * se + 1e-12)
+    assert np.all(f[:, 1] > 15)
+    se = np.sqrt(f.var(axis=0, ddof=1) / len(f) + g.var(axis=0, ddof=1) / len(g))
+    assert np.all(np.abs(f.mean(axis=0) - g.mean(axis=0)) < 4 * se)
 
 
 def test_stops_do_not_change_the_dynamics():
