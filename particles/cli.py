@@ -10,7 +10,8 @@ hands it to :func:`run_engine`, which runs it and prints the result.  A new mode
 (⟨v²⟩ at each time), ``collisions`` (the total), ``seconds`` (wall clock), ``histogram``
 (``centres``, ``density``, ``error`` of x = v/√E at the last time) and, with
 ``--structure-factor``, ``k`` and ``S`` (S(k) = |v̂(k)|²/N at the last time); also ``model``,
-``params`` and ``seed``.
+``params`` and ``seed``.  A run that ends with every velocity 0 (possible at r = 0) is valid:
+``histogram`` is then ``null`` and ``histogram_note`` says why.
 
 ``simulate md`` (time ``--t``) adds, one entry per requested time, ``collisions_per_particle``
 (τ(t) = 2 · collisions / N), ``momentum`` (the total momentum Σ_i v_i) and ``collisions`` (a list:
@@ -138,6 +139,8 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
         print(f"{time_key:>12} {'energy':>14} {'collisions':>14}")
         for t, e, c in zip(result.times, result.energy, result.collisions, strict=True):
             print(f"{t:12.6g} {e:14.6e} {c:14d}")
+        if result.histogram_note is not None:
+            print(f"histogram: {result.histogram_note}")
         print(f"{result.seconds:.3f} s")
     return 0
 

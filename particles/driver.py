@@ -182,7 +182,9 @@ class RunResult:
     """What a run recorded at its requested times ``times`` (τ, or t for MD).
 
     ``energy[i]`` = ⟨v²⟩, ``momentum[i]`` = ⟨v⟩, ``collisions[i]`` = total collisions so far;
-    ``histogram`` is the rescaled histogram at the last time; ``structure`` is ``(k, S)`` with
+    ``histogram`` is the rescaled histogram at the last time, or ``None`` where x = v/√E is
+    undefined (every velocity 0: a valid end state, e.g. r = 0 and N = 2 after one collision),
+    with the reason in ``histogram_note``; ``structure`` is ``(k, S)`` with
     ``S[i]`` the structure factor at ``times[i]`` (when requested); ``snapshots[i]`` the
     velocities at ``times[i]`` (when requested); ``velocities`` the final velocities;
     ``extras`` engine-specific scalars per time; ``seconds`` the wall-clock time of the run
@@ -202,6 +204,7 @@ class RunResult:
     structure: tuple[np.ndarray, np.ndarray] | None = None
     snapshots: np.ndarray | None = None
     extras: dict[str, np.ndarray] = field(default_factory=dict)
+    histogram_note: str | None = None
 
     def _arrays(self) -> dict[str, np.ndarray]:
         out = {
@@ -241,6 +244,8 @@ class RunResult:
         }
         if self.histogram is not None:
             meta["hist"] = {"samples": self.histogram.samples, "v0": self.histogram.v0}
+        if self.histogram_note is not None:
+            meta["histogram_note"] = self.histogram_note
         _write_npz(path, self._arrays(), meta)
 
     @classmethod
@@ -276,6 +281,7 @@ class RunResult:
                 structure,
                 a.get("snapshots"),
                 extras,
+                meta.get("histogram_note"),
             )
         except KeyError as exc:
             raise CheckpointError(path, f"missing entry {exc}", "path") from None
@@ -291,6 +297,9 @@ class RunResult:
         }
         if self.histogram is not None:
             out["histogram"] = self.histogram.to_dict()
+        elif self.histogram_note is not None:
+            out["histogram"] = None
+            out["histogram_note"] = self.histogram_note
         return out
 
 
@@ -404,6 +413,18 @@ def _load_checkpoint(path, engine, identity, records: _Records):
     return state, rng
 
 
+def _final_histogram(v: np.ndarray, edges) -> tuple[obs.Histogram | None, str | None]:
+    """The rescaled histogram of the final velocities, or ``(None, reason)`` where it is undefined.
+
+    A state with every velocity 0 (energy 0) is a valid end of a run, not bad input: r = 0 makes
+    colliding velocities equal, so N = 2 reaches it after one collision.  x = v/√E has no meaning
+    there, so no histogram is made (``rescaled_histogram`` would raise, and a raise after the
+    run would turn a valid run into exit status 2)."""
+    if not np.any(v):
+        return None, "every velocity is 0 at the last time (energy 0): x = v/sqrt(E) is undefined"
+    return obs.rescaled_histogram(v, edges), None
+
+
 def simulate(
     engine,
     times,
@@ -488,10 +509,11 @@ def simulate(
         if bar is not None:
             bar.close()
     records.seconds = seconds_before + _time.perf_counter() - started
+    v = state.velocities
+    histogram, histogram_note = _final_histogram(v, hist_edges)  # before anything is written
     if checkpoint is not None:
         _save_checkpoint(checkpoint, identity, state, rng_state, records)
 
-    v = state.velocities
     structure = None
     if records.structure is not None:
         structure = (obs.structure_factor(v)[0], records.structure)
@@ -504,9 +526,10 @@ def simulate(
         momentum=records.momentum,
         collisions=records.collisions,
         velocities=v,
-        histogram=obs.rescaled_histogram(v, hist_edges),
+        histogram=histogram,
         seconds=records.seconds,
         structure=structure,
         snapshots=records.snapshots,
         extras=records.extras,
+        histogram_note=histogram_note,
     )

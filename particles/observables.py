@@ -89,6 +89,20 @@ class Histogram:
         }
 
 
+def _rms(rows: np.ndarray) -> np.ndarray:
+    """√⟨v²⟩ of each row.  A row whose ⟨v²⟩ underflows below the smallest normal float (every
+    |v| below ~1e-154, e.g. a long run at r = 0) or overflows is first divided by its largest |v|,
+    so v0 stays exact to round-off whenever some velocity is non-zero; an all-zero row gives 0."""
+    with np.errstate(over="ignore"):
+        e = np.mean(rows * rows, axis=1)
+    rms = np.sqrt(e)
+    for i in np.flatnonzero(~((e >= np.finfo(float).tiny) & np.isfinite(e))):
+        scale = np.max(np.abs(rows[i]))
+        if 0.0 < scale < np.inf:
+            rms[i] = scale * np.sqrt(np.mean((rows[i] / scale) ** 2))
+    return rms
+
+
 def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     """Histogram of the rescaled velocity x = v / v0, v0 = √E, E = ⟨v²⟩ of the same array.
 
@@ -97,6 +111,10 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     array of increasing edges in x, or an integer number of equal bins on [-6, 6]; the default is
     :data:`DEFAULT_EDGES`.  The density is normalised by the total number of samples (including
     those outside the edges), so it estimates the probability density of x directly.
+
+    x is undefined for a run whose velocities are all 0 (E = 0): that raises
+    ``InvalidArgumentError`` (argument ``v``).  A run whose ⟨v²⟩ merely underflows in float64
+    (velocities ~1e-160) still has a well-defined x: v0 is then computed without underflow.
     """
     arr = _as_velocities(v)
     if bins is None:
@@ -111,7 +129,7 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
             raise InvalidArgumentError("bins", bins, "at least two strictly increasing edges")
     rows = arr.reshape(-1, arr.shape[-1])
     if v0 is None:
-        v0 = np.sqrt(np.mean(rows * rows, axis=1))
+        v0 = _rms(rows)
     else:
         if not (np.isscalar(v0) and float(v0) > 0 and np.isfinite(float(v0))):
             raise InvalidArgumentError("v0", v0, "a finite number > 0")

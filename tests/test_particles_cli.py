@@ -85,6 +85,35 @@ def test_checkpoint_then_resume_gives_the_same_numbers(capsys, tmp_path):
     assert np.allclose(RunResult.load(saved).energy, plain["energy"], rtol=0, atol=0)
 
 
+@pytest.mark.parametrize("n, tau", [("2", "10"), ("1000", "1500")])
+def test_a_run_that_cools_to_zero_energy_is_valid(capsys, tmp_path, n, tau):
+    # r = 0 makes colliding velocities equal: N = 2 has both velocities exactly 0 after its first
+    # collision; N = 1000 at τ = 1500 (λτ = 375) has |v| ~ 1e-163, so ⟨v²⟩ underflows to 0 in
+    # float64.  Both are valid runs: exit 0, both files written and readable, energy 0.
+    # Where every velocity is 0, x = v/√E is undefined: histogram null with the reason; where
+    # the velocities are merely tiny, x is defined and the histogram is a density of x.
+    from particles.driver import RunResult
+
+    ckpt, saved = tmp_path / "c.npz", tmp_path / "s.npz"
+    argv = ["simulate", "ulam", "--n", n, "--restitution", "0", "--tau", tau, "--json"]
+    out = run_json(capsys, argv + ["--checkpoint", str(ckpt), "--save", str(saved)])
+    assert out["energy"] == [0.0]
+    assert RunResult.load(saved).summary() == {
+        k: v for k, v in out.items() if k not in ("tau", "params", "seed")
+    } | {"tau": out["tau"]}
+    if n == "2":
+        assert out["histogram"] is None and "every velocity is 0" in out["histogram_note"]
+        assert not np.any(RunResult.load(saved).velocities)
+    else:
+        assert "histogram_note" not in out
+        v = RunResult.load(saved).velocities
+        assert 0 < np.abs(v).max() < 1e-150
+        density = np.array(out["histogram"]["density"])
+        assert np.sum(density) * 0.1 == pytest.approx(1.0, abs=0.01)  # a density of x
+    resumed = run_json(capsys, argv + ["--resume", str(ckpt)])  # the finished checkpoint
+    assert resumed["energy"] == out["energy"] and resumed["histogram"] == out["histogram"]
+
+
 @pytest.mark.parametrize(
     "argv, message",
     [

@@ -87,3 +87,17 @@ def test_rescaled_histogram_scale_and_bins_arguments():
         obs.rescaled_histogram(v, v0=-1.0)
     with pytest.raises(InvalidArgumentError, match="energy"):
         obs.rescaled_histogram(np.zeros(4))
+
+
+def test_rescaled_histogram_of_velocities_whose_energy_underflows():
+    # |v| ~ 1e-160: ⟨v²⟩ is subnormal (~1e-320, few significant bits); |v| ~ 1e-170: it underflows
+    # to 0.  x = v/√E is still well defined and must equal the histogram of the same velocities
+    # at unit scale.  All zeros stay undefined (the error above); ⟨v²⟩ overflowing is the mirror.
+    rng = np.random.default_rng(4)
+    v = rng.standard_normal(1000)
+    ref = obs.rescaled_histogram(v)
+    for scale in (1e-160, 1e-170, 1e160):
+        h = obs.rescaled_histogram(v * scale)
+        assert np.array_equal(h.count, ref.count), scale
+        assert h.v0 == pytest.approx(scale * ref.v0, rel=1e-14)
+    assert 0 < np.mean((v * 1e-160) ** 2) < 1e-300 and np.mean((v * 1e-170) ** 2) == 0.0
