@@ -113,7 +113,7 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             progress=progress,
             checkpoint=args.checkpoint,
             resume=args.resume,
-            structure_factor=args.structure_factor,
+            structure_factor="last" if args.structure_factor else False,  # only S(τ_last) printed
             checkpoint_interval=args.checkpoint_interval,
         )
     except KeyboardInterrupt:

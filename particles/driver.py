@@ -185,7 +185,9 @@ class RunResult:
     ``histogram`` is the rescaled histogram at the last time, or ``None`` where x = v/√E is
     undefined (every velocity 0: a valid end state, e.g. r = 0 and N = 2 after one collision),
     with the reason in ``histogram_note``; ``structure`` is ``(k, S)`` with
-    ``S[i]`` the structure factor at ``times[i]`` (when requested); ``snapshots[i]`` the
+    ``S[i]`` the structure factor at ``times[i]`` (``structure_factor=True``), or ``S`` of one
+    row, at the last time (``structure_factor="last"``); ``S[-1]`` is the last time either way;
+    ``snapshots[i]`` the
     velocities at ``times[i]`` (when requested); ``velocities`` the final velocities;
     ``extras`` engine-specific scalars per time; ``seconds`` the wall-clock time of the run
     (of all its resumed pieces).
@@ -306,15 +308,30 @@ class RunResult:
 # --------------------------------------------------------------------------- the run loop
 
 
+def _structure_mode(value) -> str | None:
+    """``structure_factor`` option: False → None, True or ``"all"`` → ``"all"``, ``"last"``."""
+    if value is False or value is None:
+        return None
+    if value is True or value == "all":
+        return "all"
+    if value == "last":
+        return "last"
+    raise InvalidArgumentError("structure_factor", value, "False, True, 'all' or 'last'")
+
+
 class _Records:
     """Per-time records of a run in progress (also what a checkpoint stores)."""
 
-    def __init__(self, nt: int, n: int, structure: bool, snapshots: bool):
+    def __init__(self, nt: int, n: int, structure: str | None, snapshots: bool):
         self.done = 0
         self.energy = np.full(nt, np.nan)
         self.momentum = np.full(nt, np.nan)
         self.collisions = np.zeros(nt, dtype=np.int64)
-        self.structure = np.full((nt, n // 2 + 1), np.nan) if structure else None
+        # S(k) at every time ("all": nt rows of N/2 + 1, 40 MB per time at N = 1e7) or at the
+        # last time only ("last": one row).
+        self.structure_last = structure == "last"
+        rows = 1 if self.structure_last else nt
+        self.structure = np.full((rows, n // 2 + 1), np.nan) if structure else None
         self.snapshots = np.full((nt, n), np.nan) if snapshots else None
         self.extras: dict[str, np.ndarray] = {}
         self.seconds = 0.0
@@ -325,8 +342,8 @@ class _Records:
         self.energy[i] = obs.energy(v)
         self.momentum[i] = obs.momentum(v)
         self.collisions[i] = int(state.collisions)
-        if self.structure is not None:
-            self.structure[i] = obs.structure_factor(v)[1]
+        if self.structure is not None and not (self.structure_last and i < nt - 1):
+            self.structure[0 if self.structure_last else i] = obs.structure_factor(v)[1]
         if self.snapshots is not None:
             self.snapshots[i] = v
         observe = getattr(engine, "observe", None)
@@ -371,7 +388,8 @@ def _run_identity(engine, times, seed, edges, structure, snapshots) -> dict:
         "seed": int(seed),
         "options": {
             "bins": [float(e) for e in edges],
-            "structure_factor": bool(structure),
+            # True for "all" (what every checkpoint so far holds), "last", or False
+            "structure_factor": {None: False, "all": True, "last": "last"}[structure],
             "snapshots": bool(snapshots),
         },
     }
@@ -441,9 +459,11 @@ def simulate(
     """Run ``engine`` from its initial state through the requested ``times`` (increasing, ≥ 0).
 
     Records at every requested time the energy ⟨v²⟩, the mean velocity, the total number of
-    collisions, the structure factor (``structure_factor=True``) and the velocities
-    (``snapshots=True``); at the last time the rescaled histogram on ``bins`` (edges in
-    x = v/√E, default :data:`particles.observables.DEFAULT_EDGES`).
+    collisions, the structure factor (``structure_factor=True`` or ``"all"``; ``"last"`` keeps
+    it at the last time only, which is all the CLI prints: one row of N/2 + 1 floats instead of
+    one per time) and the velocities (``snapshots=True``); at the last time the rescaled
+    histogram on ``bins`` (edges in x = v/√E, default
+    :data:`particles.observables.DEFAULT_EDGES`).
 
     ``seed`` (an integer ≥ 0) seeds the one ``np.random.default_rng`` of the run.  With
     ``checkpoint=PATH`` the state, the RNG state and the records so far are written to PATH
@@ -456,6 +476,7 @@ def simulate(
     seed = check_count(seed, "seed", 0)
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
+    structure_factor = _structure_mode(structure_factor)
     if checkpoint is not None:
         checkpoint = check_writable(checkpoint, "checkpoint")
     identity = _run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
@@ -516,7 +537,7 @@ def simulate(
 
     structure = None
     if records.structure is not None:
-        structure = (obs.structure_factor(v)[0], records.structure)
+        structure = (obs.wavenumbers(v.size), records.structure)
     return RunResult(
         model=engine.name,
         params=identity["params"],

@@ -28,6 +28,7 @@ __all__ = [
     "momentum",
     "rescaled_histogram",
     "structure_factor",
+    "wavenumbers",
     "correlation",
     "log_bin",
     "DEFAULT_EDGES",
@@ -172,8 +173,12 @@ def structure_factor(v) -> tuple[np.ndarray, np.ndarray]:
     power = _spectrum(arr) / n
     if power.ndim == 2:
         power = power.mean(axis=0)
-    k = 2.0 * np.pi * np.arange(power.shape[-1]) / n
-    return k, power
+    return wavenumbers(n), power
+
+
+def wavenumbers(n: int) -> np.ndarray:
+    """The k of :func:`structure_factor` for a ring of ``n`` sites: 2πm/n, m = 0..⌊n/2⌋."""
+    return 2.0 * np.pi * np.arange(n // 2 + 1) / n
 
 
 def correlation(v) -> np.ndarray:

@@ -46,6 +46,29 @@ def test_json_output_contract(capsys, model):
     assert again["energy"] == out["energy"] and again["S"] == out["S"]
 
 
+def test_structure_factor_keeps_one_spectrum(capsys, tmp_path):
+    # The CLI prints S(k) at the last τ only, so it keeps only that one (not one row of N/2 + 1
+    # floats per τ: 40 MB per τ at N = 1e7).  The saved result and the checkpoint hold one row,
+    # equal bit for bit to the last row of a run that keeps them all.
+    from particles.driver import RunResult, simulate
+    from particles.ulam import Ulam
+
+    saved, ckpt = tmp_path / "s.npz", tmp_path / "c.npz"
+    argv = ["simulate", "ulam", "--n", "1000", "--restitution", "0.5", "--tau", "0.5,1,2,3"]
+    out = run_json(
+        capsys,
+        argv + ["--json", "--structure-factor", "--save", str(saved), "--checkpoint", str(ckpt)],
+    )
+    k, s = RunResult.load(saved).structure
+    assert s.shape == (1, 501) and k.shape == (501,)
+    with np.load(ckpt) as data:
+        assert data["rec.structure"].shape == (1, 501)
+    full = simulate(Ulam(1000, 0.5), [0.5, 1, 2, 3], 0, progress=False, structure_factor=True)
+    assert full.structure[1].shape == (4, 501)
+    assert np.array_equal(s[0], full.structure[1][-1]) and out["S"] == s[0].tolist()
+    assert np.array_equal(k, full.structure[0]) and out["k"] == k.tolist()
+
+
 def test_no_constraint_changes_the_lattice_and_text_output(capsys):
     base = ["simulate", "lattice", "--n", "5000", "--restitution", "0.5", "--tau", "0.5", "--json"]
     with_c = run_json(capsys, base)
