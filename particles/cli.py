@@ -116,9 +116,10 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             structure_factor="last" if args.structure_factor else False,  # only S(τ_last) printed
             checkpoint_interval=args.checkpoint_interval,
         )
-    except KeyboardInterrupt:
-        if args.checkpoint:
-            print(f"checkpoint saved to {args.checkpoint}", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        saved = getattr(exc, "checkpoint_saved", None)  # set by simulate once the file is saved
+        if saved is not None:
+            print(f"checkpoint saved to {saved}", file=sys.stderr)
         raise
     if args.save:
         result.save(args.save)

@@ -468,7 +468,9 @@ def simulate(
     ``seed`` (an integer ≥ 0) seeds the one ``np.random.default_rng`` of the run.  With
     ``checkpoint=PATH`` the state, the RNG state and the records so far are written to PATH
     every ``checkpoint_interval`` wall-clock seconds (at the engine's stops), at the end, and on
-    Ctrl-C before the ``KeyboardInterrupt`` propagates.  ``resume=PATH`` continues from such a
+    Ctrl-C before the ``KeyboardInterrupt`` propagates; the propagating exception then carries
+    the path as ``checkpoint_saved`` (absent if nothing was saved on the interrupt, e.g. when it
+    came before the run loop).  ``resume=PATH`` continues from such a
     file; the run (model, parameters, times, seed, options) must be the one that wrote it, else
     :class:`CheckpointError`.  A resumed run equals an uninterrupted one bit for bit.
     """
@@ -521,10 +523,11 @@ def simulate(
                     _save_checkpoint(checkpoint, identity, state, rng_state, records)
                     last_save = _time.monotonic()
             records.record(engine, state, len(times))
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         if checkpoint is not None:
             records.seconds = seconds_before + _time.perf_counter() - started
             _save_checkpoint(checkpoint, identity, state, rng_state, records)
+            exc.checkpoint_saved = str(checkpoint)  # only once the file is in place
         raise
     finally:
         if bar is not None:

@@ -199,11 +199,15 @@ def test_corrupt_or_mismatched_checkpoint_exits_2(capsys, tmp_path):
 
 def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
     # End to end with a real SIGINT: exit status 130, a checkpoint on disk, and the resumed run
-    # prints exactly the numbers of an uninterrupted one.
+    # prints exactly the numbers of an uninterrupted one.  The periodic interval is far longer
+    # than the run, so the only code that can write the file is the Ctrl-C handler (checked:
+    # with the save removed from that handler this test fails).  The signal is sent once the
+    # progress bar shows τ > 0, i.e. inside the run loop.
     import os
     import signal
     import subprocess
     import sys
+    import threading
     import time
 
     ckpt = tmp_path / "run.ckpt"
@@ -214,7 +218,7 @@ def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
         "simulate",
         "lattice",
         "--n",
-        "200000",
+        "100000",
         "--restitution",
         "0.5",
         "--tau",
@@ -222,28 +226,58 @@ def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
         "--seed",
         "3",
         "--json",
-        "--no-progress",
     ]
     root = str(__import__("pathlib").Path(__file__).resolve().parents[1])
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([root, os.environ.get("PYTHONPATH", "")]))
-    proc = subprocess.Popen(
-        argv + ["--checkpoint", str(ckpt), "--checkpoint-interval", "0"],
+    err_chunks = []
+    started = re.compile(r"\| *([0-9.e+]+)/400")  # the bar's "n/total"
+    with subprocess.Popen(
+        argv + ["--checkpoint", str(ckpt), "--checkpoint-interval", "1e9", "--progress"],
         env=env,
-        stdout=subprocess.PIPE,
+        stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
-    )
-    deadline = time.monotonic() + 60
-    while not ckpt.exists() and proc.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.01)
-    proc.send_signal(signal.SIGINT)
-    _, err = proc.communicate(timeout=60)
+    ) as proc:
+        reader = threading.Thread(
+            target=lambda: err_chunks.extend(iter(lambda: proc.stderr.read(1), "")), daemon=True
+        )
+        reader.start()
+        deadline = time.monotonic() + 60
+        while proc.poll() is None and time.monotonic() < deadline:
+            if any(float(n) > 0 for n in started.findall("".join(err_chunks))):
+                break
+            time.sleep(0.01)
+        assert not ckpt.exists()  # nothing but the handler below may write it
+        proc.send_signal(signal.SIGINT)
+        proc.wait(timeout=60)
+        reader.join(timeout=10)
+    err = "".join(err_chunks)
     assert proc.returncode == 130, err
-    assert "checkpoint saved" in err and ckpt.exists()
+    assert f"checkpoint saved to {ckpt}" in err and ckpt.exists()
+    with np.load(ckpt) as data:
+        meta = json.loads(str(data["meta"][()]))
+        assert 0 < float(data["state.time"]) < 400  # interrupted mid-run
+    assert meta["done"] in (0, 1)
+    plain = [*argv, "--no-progress"]
     resumed = subprocess.run(
-        argv + ["--resume", str(ckpt)], env=env, capture_output=True, text=True, check=True
+        plain + ["--resume", str(ckpt)], env=env, capture_output=True, text=True, check=True
     )
-    full = subprocess.run(argv, env=env, capture_output=True, text=True, check=True)
+    full = subprocess.run(plain, env=env, capture_output=True, text=True, check=True)
     a, b = json.loads(resumed.stdout), json.loads(full.stdout)
     assert a["energy"] == b["energy"] and a["histogram"] == b["histogram"]
     assert a["collisions"] == b["collisions"] and a["attempts"] == b["attempts"]
+
+
+def test_interrupt_message_only_when_a_checkpoint_was_saved(capsys, tmp_path, monkeypatch):
+    # A Ctrl-C that arrives before the run loop (here: while the driver starts) saves nothing,
+    # so the CLI must not claim it did.
+    import particles.driver
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(particles.driver, "simulate", interrupted)
+    ckpt = tmp_path / "c.npz"
+    argv = ["simulate", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1"]
+    assert main(argv + ["--checkpoint", str(ckpt)]) == 130
+    assert "checkpoint saved" not in capsys.readouterr().err and not ckpt.exists()
