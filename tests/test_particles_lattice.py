@@ -65,6 +65,29 @@ def test_engine_state_carries_clocks_and_counts():
     assert np.all(np.abs(res.momentum) < 1e-15)
 
 
+@pytest.mark.parametrize("constraint", [True, False])
+def test_momentum_is_conserved_to_round_off(constraint):
+    # The lattice engine never recentres, so the total momentum at τ = 50 is the raw result of
+    # every collision since τ = 0.  Bound (derived in test_particles_ulam's
+    # momentum_drift_and_bound): |ΔP| ≤ 2 u K max|v(0)| (1 + 5u)^K, u = 2⁻⁵³, K collisions;
+    # measured drifts are ~2e-5 of it.  Checked by mutation: v_b += d (1 + ε) in run_clocks
+    # fails the constrained case at ε = 1e-14 (there d > 0 in every collision, so it adds up).
+    import math
+
+    res = simulate(
+        Lattice(20_000, 0.5, constraint=constraint),
+        [0.0, 50.0],
+        1,
+        progress=False,
+        snapshots=True,
+    )
+    u = 2.0**-53
+    k = int(res.collisions[1] - res.collisions[0])
+    drift = abs(math.fsum(res.snapshots[1]) - math.fsum(res.snapshots[0]))
+    bound = 2 * u * k * np.abs(res.snapshots[0]).max() * (1 + 5 * u) ** k
+    assert k > 3 * 10**5 and drift <= bound, (drift, bound, k)
+
+
 def test_fast_engine_and_discrete_reference_agree_in_distribution():
     # The clock engine against a plain loop choosing a random bond N times per unit τ.  N = 50,
     # 1000 seeds each: means of E(1), E(2) and of the neighbour correlation C(1)/E at τ = 2,
