@@ -423,12 +423,92 @@ def _load_checkpoint(path, engine, identity, records: _Records):
         state = engine.state_from_arrays(
             {k[len("state.") :]: v for k, v in arrays.items() if k.startswith("state.")}
         )
-        records.restore(arrays, int(meta["done"]), float(meta["seconds"]))
+        done = meta["done"]
+        if isinstance(done, bool) or not isinstance(done, int):
+            raise ValueError(f"done={done!r} is not an integer")
+        records.restore(arrays, done, float(meta["seconds"]))
         rng = np.random.default_rng(identity["seed"])
         rng.bit_generator.state = meta["rng"]
     except (KeyError, TypeError, ValueError) as exc:
         raise CheckpointError(path, f"incomplete checkpoint: {type(exc).__name__}: {exc}") from None
+    problem = _inconsistency(engine, identity["times"], state, records)
+    if problem is not None:
+        raise CheckpointError(path, f"inconsistent checkpoint: {problem}")
     return state, rng
+
+
+#: Stops walked at most when checking that a checkpoint's time is one the driver stops at.
+_MAX_STOPS_CHECKED = 100_000
+
+
+def _inconsistency(engine, times: list[float], state, records: _Records) -> str | None:
+    """Why the fields of a checkpoint disagree with each other or with the run, or ``None``.
+
+    A checkpoint the driver wrote satisfies all of these: ``done`` (records made) is between 0
+    and the number of times; the recorded entries are finite and the others are unrecorded
+    (NaN); the record arrays have one entry per time (S(k) and snapshots: N/2 + 1 and N wide);
+    the state is finite, its collisions at least the last recorded count, and its time is a
+    stop of the driver after the last recorded time: ``times[done-1]`` (0 if none), reached by
+    the engine's ``next_stop`` grid and not beyond ``times[done]`` (equal to the last time once
+    all are done).  Editing any one of them is caught here."""
+    nt = len(times)
+    n = int(engine.params()["n"])
+    done = records.done
+    if not 0 <= done <= nt:
+        return f"done={done}, the run has {nt} requested times (0 <= done <= {nt})"
+    if not (math.isfinite(records.seconds) and records.seconds >= 0):
+        return f"seconds={records.seconds!r}, expected a finite number >= 0"
+    shapes = {
+        "rec.energy": (records.energy, (nt,)),
+        "rec.momentum": (records.momentum, (nt,)),
+        "rec.collisions": (records.collisions, (nt,)),
+    }
+    if records.structure is not None:
+        rows = 1 if records.structure_last else nt
+        shapes["rec.structure"] = (records.structure, (rows, n // 2 + 1))
+    if records.snapshots is not None:
+        shapes["rec.snapshots"] = (records.snapshots, (nt, n))
+    for key, value in records.extras.items():
+        shapes["rec.extra." + key] = (value, (nt,))
+    for key, (value, shape) in shapes.items():
+        if np.shape(value) != shape:
+            return f"{key} has shape {np.shape(value)}, expected {shape}"
+    for key in ("rec.energy", "rec.momentum"):
+        value = shapes[key][0]
+        if not np.all(np.isfinite(value[:done])):
+            return f"{key} is not finite among the {done} recorded entries (done={done})"
+        if not np.all(np.isnan(value[done:])):
+            return f"{key} has entries beyond the {done} recorded (done={done})"
+    recorded = records.collisions[:done]
+    if np.any(recorded < 0) or np.any(np.diff(recorded) < 0):
+        return f"rec.collisions={recorded.tolist()} is not a non-decreasing count"
+    t = float(state.time)
+    v = np.asarray(state.velocities)
+    if v.shape != (n,) or not np.all(np.isfinite(v)):
+        return f"state.velocities: shape {v.shape}, expected ({n},) and finite"
+    collisions = int(state.collisions)
+    last = int(recorded[-1]) if done else 0
+    if collisions < last:
+        return f"state.collisions={collisions} is below the last recorded count {last}"
+    start = float(times[done - 1]) if done else 0.0
+    end = float(times[done]) if done < nt else start
+    if not start <= t <= end:
+        return (
+            f"state.time={t!r}, expected between the last recorded time {start!r} and the next "
+            f"requested time {end!r} (done={done})"
+        )
+    if done and t == start and collisions != last:
+        return f"state.collisions={collisions}, recorded {last} at the same time {t!r}"
+    stop, walked = start, 0
+    while stop < t and walked < _MAX_STOPS_CHECKED:
+        stop = min(float(engine.next_stop(stop)), end)
+        walked += 1
+    if stop != t and walked < _MAX_STOPS_CHECKED:
+        return (
+            f"state.time={t!r} is not a stop of this run between {start!r} and {end!r} "
+            f"(the stop grid passes {stop!r})"
+        )
+    return None
 
 
 def _final_histogram(v: np.ndarray, edges) -> tuple[obs.Histogram | None, str | None]:

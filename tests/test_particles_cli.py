@@ -197,6 +197,67 @@ def test_corrupt_or_mismatched_checkpoint_exits_2(capsys, tmp_path):
     assert "model" in capsys.readouterr().err
 
 
+def edited_checkpoint(src, dst, meta=None, arrays=None):
+    """Copy the checkpoint ``src`` to ``dst`` with ``meta`` entries and ``arrays`` replaced."""
+    with np.load(src) as data:
+        content = {key: data[key] for key in data.files}
+    header = json.loads(str(content.pop("meta")[()]))
+    header.update(meta or {})
+    content.update(arrays or {})
+    with open(dst, "wb") as fh:
+        np.savez(fh, meta=np.array(json.dumps(header)), **content)
+    return dst
+
+
+@pytest.mark.parametrize(
+    "model, meta, arrays, field",
+    [
+        ("ulam", {"done": 7}, {}, "done=7"),
+        ("ulam", {"done": -1}, {}, "done=-1"),
+        ("ulam", {}, {"state.time": np.array(100.0)}, "state.time=100.0"),
+        ("ulam", {}, {"state.time": np.array(2.0)}, "state.time=2.0"),
+        (  # between the times, but the stops after τ = 1 are 3 (the next time), then 4, 8, ...
+            "ulam",
+            {"done": 1},
+            {
+                "state.time": np.array(2.5),
+                "rec.energy": np.array([0.5, np.nan]),
+                "rec.momentum": np.array([0.0, np.nan]),
+            },
+            "state.time=2.5 is not a stop",
+        ),
+        ("ulam", {"done": 1}, {}, "rec.energy has entries beyond"),
+        ("ulam", {}, {"state.velocities": np.zeros(99)}, "velocities"),
+        ("ulam", {}, {"rec.energy": np.zeros(3)}, "rec.energy has shape"),
+        ("ulam", {}, {"state.collisions": np.array(3)}, "state.collisions=3"),
+        ("lattice", {}, {"state.clocks": np.zeros(100)}, "clocks"),
+        ("lattice", {"seconds": -5.0}, {}, "seconds=-5.0"),
+    ],
+)
+def test_inconsistent_checkpoint_exits_2_naming_the_field(
+    capsys, tmp_path, model, meta, arrays, field
+):
+    # A checkpoint whose fields disagree with each other or with the run (here: times 1 and 3,
+    # N = 100, finished: done = 2, state.time = 3) is bad input: exit 2, the message names
+    # --resume, the file and the field, and nothing is written (not even over the file).
+    good = tmp_path / "good.ckpt"
+    argv = ["simulate", model, "--n", "100", "--restitution", "0.5", "--tau", "1,3", "--json"]
+    run_json(capsys, argv + ["--checkpoint", str(good)])
+    bad = edited_checkpoint(good, tmp_path / "edited.ckpt", meta, arrays)
+    before = bad.read_bytes()
+    out = tmp_path / "out"
+    out.mkdir()
+    code = main(
+        argv + ["--resume", str(bad), "--checkpoint", str(out / "c"), "--save", str(out / "s")]
+    )
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert "resume=" in err and "edited.ckpt" in err and field in err, err
+    assert list(out.iterdir()) == [] and bad.read_bytes() == before
+    # the unedited file still resumes (the edit, not the check, is what fails)
+    assert main(argv + ["--resume", str(good)]) == 0
+
+
 def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
     # End to end with a real SIGINT: exit status 130, a checkpoint on disk, and the resumed run
     # prints exactly the numbers of an uninterrupted one.  The periodic interval is far longer
