@@ -10,7 +10,8 @@ Conventions
 * Discrete Fourier transform (ring of N sites, lattice spacing 1):
   v̂(k) = Σ_{j=0}^{N-1} v_j e^{-i k j}, with k = 2π m / N.  Only m = 0 .. ⌊N/2⌋ is returned
   (``rfft`` ordering, increasing k) because v is real and S(−k) = S(k).
-* The profile v(i) is simply the velocity array itself, in label order: no function is needed.
+* The profile v(i) (:func:`velocity_profile`) is the velocity against the label i, in label
+  order; what the label means depends on the model (ring site, rod order, or nothing: Ulam).
 """
 
 from __future__ import annotations
@@ -30,6 +31,7 @@ __all__ = [
     "structure_factor",
     "wavenumbers",
     "correlation",
+    "velocity_profile",
     "log_bin",
     "DEFAULT_EDGES",
 ]
@@ -196,6 +198,27 @@ def correlation(v) -> np.ndarray:
     if c.ndim == 2:
         c = c.mean(axis=0)
     return c
+
+
+def velocity_profile(v) -> tuple[np.ndarray, np.ndarray]:
+    """The profile v(i): labels ``i = 0..N-1`` and the velocity of each, ``(i, v(i))``.
+
+    No normalisation: v(i) is the velocity itself (not rescaled by √E), returned as a float
+    copy.  ``v`` of shape ``(R, N)`` gives one profile per run (rows), not an average: profiles
+    of independent runs do not average to anything meaningful.
+
+    Label order:
+
+    * lattice: i is the site, and label order is ring order (site i's neighbours are i ± 1 mod
+      N, bond i joins i and i + 1), so v(i) is a spatial profile (shocks, smooth patches);
+    * MD (hard rods on a ring): rods never pass each other, so label order is the rods' order
+      along the ring: v(i) is the profile against label of SPEC §4 (v(x) needs the positions);
+    * Ulam: the model is mean-field, any particle collides with any other, so the label order
+      carries no spatial meaning: v(i) is a list of velocities in arbitrary order, and
+      neighbouring labels are uncorrelated (its C(r) and S(k) are flat, r, k ≠ 0).
+    """
+    arr = np.array(_as_velocities(v), dtype=float)  # a copy
+    return np.arange(arr.shape[-1]), arr
 
 
 def log_bin(k, s, bins_per_decade: int = 10) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
