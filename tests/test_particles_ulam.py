@@ -171,49 +171,63 @@ def test_fast_engine_and_sequential_reference_agree_in_distribution():
 def test_late_histogram_is_the_scaling_solution_with_its_power_law_tail(r, law):
     """N = 2e5, τ = 100 (SPEC: sup|G - f̂| ≈ 3e-3 there for r = 0.5; r = 0 contracts faster).
 
-    The bulk: 40 bins of width 0.2 on [-4, 4].  v/√E is compared with f after fitting one scale
-    s (x → s x): in a finite system √E is set by the few largest particles of an x⁻⁴ tail, which
-    is cut near X ≈ (4N/3π)^{1/3} ≈ 44 (missing variance 4/(πX) ≈ 3%) and fluctuates from run to
-    run (±5-10% in E, measured over 6 seeds).  So |s - 1| < 0.08.
-    The velocities of a run are not independent samples: a collision leaves two correlated
-    velocities (identical ones at r = 0), so bin counts are overdispersed with respect to the
-    binomial law.  Measured over 6 seeds (N = 2e5, τ = 100): χ²/bin between 0.75 and 2.16, mean
-    1.3, for r = 0 and 0.5, without any pattern across bins.  Bound: an overdispersion factor
-    φ = 1.5 times the 5-standard-deviation bound of χ²/dof, 1.5·(1 + 5·sqrt(2/40)) = 3.2.  A 1.5%
-    deviation of the density in every bin (~10⁴ counts each) would exceed it; a Gaussian of any
-    width fails by far (χ²/bin ≈ 850 measured), which is asserted too.
-    The tail: counts of |s x| in [3, 5), [5, 8), [8, 13), [13, 30) against the exact tail
-    probabilities of f (2·10³, 4·10², 10², 30 expected), |z| < 4 with errors sqrt(φ·expected).
-    A Gaussian has no particle beyond 5.
+    Statistic.  f is even and so are these initial laws, so |x| is compared with 2 f(|x|):
+    20 bins of width 0.2 on [0, 4], after fitting one scale s (x → s x): in a finite system √E
+    is set by the few largest particles of an x⁻⁴ tail, cut near X ≈ (4N/3π)^{1/3} ≈ 44 (missing
+    variance 4/(πX) ≈ 3%), so E fluctuates from run to run with a heavy right tail.
+    Why |x| and not x: the odd part of the histogram (x against −x) has rare large excursions.
+    A particle far out in the tail (|x| up to ~130 measured) eventually collides and spreads its
+    momentum over a growing family of particles of one sign (at r = 0 they carry identical
+    velocities), a transient one-sided bump: over 120 runs the odd part reached χ²/bin = 35
+    while the even part stayed ≤ 2.6 (seed 12, r = 0, Gaussian: odd 33 and even 1.8 at
+    τ = 100; 1.0 and 1.0 at τ = 50, 3.6 and 1.5 at τ = 200).  That is finite-N dynamics, not
+    the scaling law, so it is left out.
+    Tolerances, measured outside CI for these four (r, law) at N = 2e5, τ = 100, seeds 1-30
+    (120 runs), with exactly this code:
+    * χ²/bin of |x| (binomial errors): mean 0.93, 0.98, 1.20, 1.30 for the four cases (the
+      velocities of a run are not independent samples: a collision leaves two correlated
+      velocities, identical ones at r = 0), standard deviation 0.45, largest 2.56.  Bound:
+      overdispersion φ = 1.3 (the largest case mean) times the 5-standard-deviation bound of
+      χ²/dof for 20 bins, 1.3 (1 + 5 sqrt(2/20)) = 3.36.  A law of the same variance with a
+      x^-4.5 or x^-3.5 tail (Student t, ν = 3.5 or 2.5) adds 8 or 20 to χ²/bin (computed); a
+      Gaussian gives ~1800 (measured), asserted > 100.
+    * s: 0.956 to 1.152 (right tail from the large particles inflating E).  Bound 0.92 < s < 1.2.
+    * The tail: counts of |s x| in [3, 5), [5, 8), [8, 13), [13, 30) against the exact tail
+      probabilities of f (2·10³, 4·10², 10², 30 expected).  The measured mean of z² per bin
+      with Poisson errors is 1.4 to 2.3 over all runs, up to 4.2 for r = 0, uniform (the same
+      families of particles, now out in the tail), largest |z| 6.9.  Bound |z| < 4 with errors
+      sqrt(φ_tail · expected), φ_tail = 4, i.e. |z| < 8 with Poisson errors.  A Gaussian has no
+      particle beyond 5 (z = -10 in [5, 8)).
+    The first 6 seeds, on which the earlier bounds (40 bins of x, φ = 1.5, |s - 1| < 0.08,
+    φ_tail = 1.5) were set, were not typical: over 120 runs those bounds failed 7, 6 and 4 times.
     """
     from scipy.special import ndtr
 
     n = 200_000
     res = simulate(Ulam(n, r, law), [100.0], 1, progress=False)
     v = res.velocities  # (momentum: test_momentum_drift_between_recentrings_is_round_off)
-    x = v / np.sqrt(np.mean(v**2))
-    edges = np.linspace(-4.0, 4.0, 41)
-    counts = np.histogram(x, edges)[0]
+    ax = np.abs(v) / np.sqrt(np.mean(v**2))
+    edges = np.linspace(0.0, 4.0, 21)
+    counts = np.histogram(ax, edges)[0]
 
     def best_chi2(cdf):
         scales = np.linspace(0.7, 1.3, 601)
         chi2 = []
         for s in scales:
-            prob = np.diff(cdf(s * edges))
+            prob = 2 * np.diff(cdf(s * edges))
             expected = prob * n
             chi2.append(np.mean((counts - expected) ** 2 / (expected * (1 - prob))))
         i = int(np.argmin(chi2))
         return chi2[i], scales[i]
 
-    dispersion = 1.5
     chi2, s = best_chi2(scaling_cdf)
-    assert abs(s - 1) < 0.08, s
-    assert chi2 < dispersion * (1 + 5 * np.sqrt(2 / 40)), chi2
+    assert 0.92 < s < 1.2, s
+    assert chi2 < 1.3 * (1 + 5 * np.sqrt(2 / 20)), chi2
     assert best_chi2(ndtr)[0] > 100
     tail_edges = np.array([3.0, 5.0, 8.0, 13.0, 30.0])
-    tail = np.histogram(np.abs(s * x), tail_edges)[0]
+    tail = np.histogram(s * ax, tail_edges)[0]
     expected = n * 2 * np.diff(scaling_cdf(tail_edges))
-    z = (tail - expected) / np.sqrt(dispersion * expected)
+    z = (tail - expected) / np.sqrt(4.0 * expected)
     assert np.all(np.abs(z) < 4), (tail, expected)
 
 
