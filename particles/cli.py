@@ -10,7 +10,8 @@ hands it to :func:`run_engine`, which runs it and prints the result.  A new mode
 (⟨v²⟩ at each time), ``collisions`` (the total), ``seconds`` (wall clock), ``histogram``
 (``centres``, ``density``, ``error`` of x = v/√E at the last time) and, with
 ``--structure-factor``, ``k`` and ``S`` (S(k) = |v̂(k)|²/N at the last time); also ``model``,
-``params`` and ``seed``.
+``params`` and ``seed``.  A run that ends with every velocity 0 (possible at r = 0) is valid:
+``histogram`` is then ``null`` and ``histogram_note`` says why.
 
 ``simulate md`` (time ``--t``) adds, one entry per requested time, ``collisions_per_particle``
 (τ(t) = 2 · collisions / N), ``momentum`` (the total momentum Σ_i v_i) and ``collisions`` (a list:
@@ -112,12 +113,13 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             progress=progress,
             checkpoint=args.checkpoint,
             resume=args.resume,
-            structure_factor=args.structure_factor,
+            structure_factor="last" if args.structure_factor else False,  # only S(τ_last) printed
             checkpoint_interval=args.checkpoint_interval,
         )
-    except KeyboardInterrupt:
-        if args.checkpoint:
-            print(f"checkpoint saved to {args.checkpoint}", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        saved = getattr(exc, "checkpoint_saved", None)  # set by simulate once the file is saved
+        if saved is not None:
+            print(f"checkpoint saved to {saved}", file=sys.stderr)
         raise
     if args.save:
         result.save(args.save)
@@ -138,6 +140,8 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
         print(f"{time_key:>12} {'energy':>14} {'collisions':>14}")
         for t, e, c in zip(result.times, result.energy, result.collisions, strict=True):
             print(f"{t:12.6g} {e:14.6e} {c:14d}")
+        if result.histogram_note is not None:
+            print(f"histogram: {result.histogram_note}")
         print(f"{result.seconds:.3f} s")
     return 0
 

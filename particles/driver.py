@@ -182,8 +182,12 @@ class RunResult:
     """What a run recorded at its requested times ``times`` (τ, or t for MD).
 
     ``energy[i]`` = ⟨v²⟩, ``momentum[i]`` = ⟨v⟩, ``collisions[i]`` = total collisions so far;
-    ``histogram`` is the rescaled histogram at the last time; ``structure`` is ``(k, S)`` with
-    ``S[i]`` the structure factor at ``times[i]`` (when requested); ``snapshots[i]`` the
+    ``histogram`` is the rescaled histogram at the last time, or ``None`` where x = v/√E is
+    undefined (every velocity 0: a valid end state, e.g. r = 0 and N = 2 after one collision),
+    with the reason in ``histogram_note``; ``structure`` is ``(k, S)`` with
+    ``S[i]`` the structure factor at ``times[i]`` (``structure_factor=True``), or ``S`` of one
+    row, at the last time (``structure_factor="last"``); ``S[-1]`` is the last time either way;
+    ``snapshots[i]`` the
     velocities at ``times[i]`` (when requested); ``velocities`` the final velocities;
     ``extras`` engine-specific scalars per time; ``seconds`` the wall-clock time of the run
     (of all its resumed pieces).
@@ -202,6 +206,7 @@ class RunResult:
     structure: tuple[np.ndarray, np.ndarray] | None = None
     snapshots: np.ndarray | None = None
     extras: dict[str, np.ndarray] = field(default_factory=dict)
+    histogram_note: str | None = None
 
     def _arrays(self) -> dict[str, np.ndarray]:
         out = {
@@ -241,6 +246,8 @@ class RunResult:
         }
         if self.histogram is not None:
             meta["hist"] = {"samples": self.histogram.samples, "v0": self.histogram.v0}
+        if self.histogram_note is not None:
+            meta["histogram_note"] = self.histogram_note
         _write_npz(path, self._arrays(), meta)
 
     @classmethod
@@ -276,6 +283,7 @@ class RunResult:
                 structure,
                 a.get("snapshots"),
                 extras,
+                meta.get("histogram_note"),
             )
         except KeyError as exc:
             raise CheckpointError(path, f"missing entry {exc}", "path") from None
@@ -291,21 +299,39 @@ class RunResult:
         }
         if self.histogram is not None:
             out["histogram"] = self.histogram.to_dict()
+        elif self.histogram_note is not None:
+            out["histogram"] = None
+            out["histogram_note"] = self.histogram_note
         return out
 
 
 # --------------------------------------------------------------------------- the run loop
 
 
+def _structure_mode(value) -> str | None:
+    """``structure_factor`` option: False → None, True or ``"all"`` → ``"all"``, ``"last"``."""
+    if value is False or value is None:
+        return None
+    if value is True or value == "all":
+        return "all"
+    if value == "last":
+        return "last"
+    raise InvalidArgumentError("structure_factor", value, "False, True, 'all' or 'last'")
+
+
 class _Records:
     """Per-time records of a run in progress (also what a checkpoint stores)."""
 
-    def __init__(self, nt: int, n: int, structure: bool, snapshots: bool):
+    def __init__(self, nt: int, n: int, structure: str | None, snapshots: bool):
         self.done = 0
         self.energy = np.full(nt, np.nan)
         self.momentum = np.full(nt, np.nan)
         self.collisions = np.zeros(nt, dtype=np.int64)
-        self.structure = np.full((nt, n // 2 + 1), np.nan) if structure else None
+        # S(k) at every time ("all": nt rows of N/2 + 1, 40 MB per time at N = 1e7) or at the
+        # last time only ("last": one row).
+        self.structure_last = structure == "last"
+        rows = 1 if self.structure_last else nt
+        self.structure = np.full((rows, n // 2 + 1), np.nan) if structure else None
         self.snapshots = np.full((nt, n), np.nan) if snapshots else None
         self.extras: dict[str, np.ndarray] = {}
         self.seconds = 0.0
@@ -316,8 +342,8 @@ class _Records:
         self.energy[i] = obs.energy(v)
         self.momentum[i] = obs.momentum(v)
         self.collisions[i] = int(state.collisions)
-        if self.structure is not None:
-            self.structure[i] = obs.structure_factor(v)[1]
+        if self.structure is not None and not (self.structure_last and i < nt - 1):
+            self.structure[0 if self.structure_last else i] = obs.structure_factor(v)[1]
         if self.snapshots is not None:
             self.snapshots[i] = v
         observe = getattr(engine, "observe", None)
@@ -362,7 +388,8 @@ def _run_identity(engine, times, seed, edges, structure, snapshots) -> dict:
         "seed": int(seed),
         "options": {
             "bins": [float(e) for e in edges],
-            "structure_factor": bool(structure),
+            # True for "all" (what every checkpoint so far holds), "last", or False
+            "structure_factor": {None: False, "all": True, "last": "last"}[structure],
             "snapshots": bool(snapshots),
         },
     }
@@ -396,12 +423,104 @@ def _load_checkpoint(path, engine, identity, records: _Records):
         state = engine.state_from_arrays(
             {k[len("state.") :]: v for k, v in arrays.items() if k.startswith("state.")}
         )
-        records.restore(arrays, int(meta["done"]), float(meta["seconds"]))
+        done = meta["done"]
+        if isinstance(done, bool) or not isinstance(done, int):
+            raise ValueError(f"done={done!r} is not an integer")
+        records.restore(arrays, done, float(meta["seconds"]))
         rng = np.random.default_rng(identity["seed"])
         rng.bit_generator.state = meta["rng"]
     except (KeyError, TypeError, ValueError) as exc:
         raise CheckpointError(path, f"incomplete checkpoint: {type(exc).__name__}: {exc}") from None
+    problem = _inconsistency(engine, identity["times"], state, records)
+    if problem is not None:
+        raise CheckpointError(path, f"inconsistent checkpoint: {problem}")
     return state, rng
+
+
+#: Stops walked at most when checking that a checkpoint's time is one the driver stops at.
+_MAX_STOPS_CHECKED = 100_000
+
+
+def _inconsistency(engine, times: list[float], state, records: _Records) -> str | None:
+    """Why the fields of a checkpoint disagree with each other or with the run, or ``None``.
+
+    A checkpoint the driver wrote satisfies all of these: ``done`` (records made) is between 0
+    and the number of times; the recorded entries are finite and the others are unrecorded
+    (NaN); the record arrays have one entry per time (S(k) and snapshots: N/2 + 1 and N wide);
+    the state is finite, its collisions at least the last recorded count, and its time is a
+    stop of the driver after the last recorded time: ``times[done-1]`` (0 if none), reached by
+    the engine's ``next_stop`` grid and not beyond ``times[done]`` (equal to the last time once
+    all are done).  Editing any one of them is caught here."""
+    nt = len(times)
+    n = int(engine.params()["n"])
+    done = records.done
+    if not 0 <= done <= nt:
+        return f"done={done}, the run has {nt} requested times (0 <= done <= {nt})"
+    if not (math.isfinite(records.seconds) and records.seconds >= 0):
+        return f"seconds={records.seconds!r}, expected a finite number >= 0"
+    shapes = {
+        "rec.energy": (records.energy, (nt,)),
+        "rec.momentum": (records.momentum, (nt,)),
+        "rec.collisions": (records.collisions, (nt,)),
+    }
+    if records.structure is not None:
+        rows = 1 if records.structure_last else nt
+        shapes["rec.structure"] = (records.structure, (rows, n // 2 + 1))
+    if records.snapshots is not None:
+        shapes["rec.snapshots"] = (records.snapshots, (nt, n))
+    for key, value in records.extras.items():
+        shapes["rec.extra." + key] = (value, (nt,))
+    for key, (value, shape) in shapes.items():
+        if np.shape(value) != shape:
+            return f"{key} has shape {np.shape(value)}, expected {shape}"
+    for key in ("rec.energy", "rec.momentum"):
+        value = shapes[key][0]
+        if not np.all(np.isfinite(value[:done])):
+            return f"{key} is not finite among the {done} recorded entries (done={done})"
+        if not np.all(np.isnan(value[done:])):
+            return f"{key} has entries beyond the {done} recorded (done={done})"
+    recorded = records.collisions[:done]
+    if np.any(recorded < 0) or np.any(np.diff(recorded) < 0):
+        return f"rec.collisions={recorded.tolist()} is not a non-decreasing count"
+    t = float(state.time)
+    v = np.asarray(state.velocities)
+    if v.shape != (n,) or not np.all(np.isfinite(v)):
+        return f"state.velocities: shape {v.shape}, expected ({n},) and finite"
+    collisions = int(state.collisions)
+    last = int(recorded[-1]) if done else 0
+    if collisions < last:
+        return f"state.collisions={collisions} is below the last recorded count {last}"
+    start = float(times[done - 1]) if done else 0.0
+    end = float(times[done]) if done < nt else start
+    if not start <= t <= end:
+        return (
+            f"state.time={t!r}, expected between the last recorded time {start!r} and the next "
+            f"requested time {end!r} (done={done})"
+        )
+    if done and t == start and collisions != last:
+        return f"state.collisions={collisions}, recorded {last} at the same time {t!r}"
+    stop, walked = start, 0
+    while stop < t and walked < _MAX_STOPS_CHECKED:
+        stop = min(float(engine.next_stop(stop)), end)
+        walked += 1
+    if stop != t and walked < _MAX_STOPS_CHECKED:
+        return (
+            f"state.time={t!r} is not a stop of this run between {start!r} and {end!r} "
+            f"(the stop grid passes {stop!r})"
+        )
+    return None
+
+
+def _final_histogram(v: np.ndarray, edges) -> tuple[obs.Histogram | None, str | None]:
+    """The rescaled histogram of the final velocities, or ``(None, reason)`` where it is undefined.
+
+    A state with every velocity 0 (energy 0) is a valid end of a run, not bad input: r = 0 makes
+    colliding velocities equal, so N = 2 reaches it after one collision.  x = v/√E has no meaning
+    there, so no histogram is made (``rescaled_histogram`` would raise, and a raise after the
+    run would turn a valid run into exit status 2)."""
+    if not np.any(v):
+        return None, "every velocity is 0 at the last time (energy 0): x = v/sqrt(E) is undefined"
+    return obs.rescaled_histogram(v, edges), None
 
 
 def simulate(
@@ -420,14 +539,18 @@ def simulate(
     """Run ``engine`` from its initial state through the requested ``times`` (increasing, ≥ 0).
 
     Records at every requested time the energy ⟨v²⟩, the mean velocity, the total number of
-    collisions, the structure factor (``structure_factor=True``) and the velocities
-    (``snapshots=True``); at the last time the rescaled histogram on ``bins`` (edges in
-    x = v/√E, default :data:`particles.observables.DEFAULT_EDGES`).
+    collisions, the structure factor (``structure_factor=True`` or ``"all"``; ``"last"`` keeps
+    it at the last time only, which is all the CLI prints: one row of N/2 + 1 floats instead of
+    one per time) and the velocities (``snapshots=True``); at the last time the rescaled
+    histogram on ``bins`` (edges in x = v/√E, default
+    :data:`particles.observables.DEFAULT_EDGES`).
 
     ``seed`` (an integer ≥ 0) seeds the one ``np.random.default_rng`` of the run.  With
     ``checkpoint=PATH`` the state, the RNG state and the records so far are written to PATH
     every ``checkpoint_interval`` wall-clock seconds (at the engine's stops), at the end, and on
-    Ctrl-C before the ``KeyboardInterrupt`` propagates.  ``resume=PATH`` continues from such a
+    Ctrl-C before the ``KeyboardInterrupt`` propagates; the propagating exception then carries
+    the path as ``checkpoint_saved`` (absent if nothing was saved on the interrupt, e.g. when it
+    came before the run loop).  ``resume=PATH`` continues from such a
     file; the run (model, parameters, times, seed, options) must be the one that wrote it, else
     :class:`CheckpointError`.  A resumed run equals an uninterrupted one bit for bit.
     """
@@ -435,6 +558,7 @@ def simulate(
     seed = check_count(seed, "seed", 0)
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
+    structure_factor = _structure_mode(structure_factor)
     if checkpoint is not None:
         checkpoint = check_writable(checkpoint, "checkpoint")
     identity = _run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
@@ -479,22 +603,24 @@ def simulate(
                     _save_checkpoint(checkpoint, identity, state, rng_state, records)
                     last_save = _time.monotonic()
             records.record(engine, state, len(times))
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         if checkpoint is not None:
             records.seconds = seconds_before + _time.perf_counter() - started
             _save_checkpoint(checkpoint, identity, state, rng_state, records)
+            exc.checkpoint_saved = str(checkpoint)  # only once the file is in place
         raise
     finally:
         if bar is not None:
             bar.close()
     records.seconds = seconds_before + _time.perf_counter() - started
+    v = state.velocities
+    histogram, histogram_note = _final_histogram(v, hist_edges)  # before anything is written
     if checkpoint is not None:
         _save_checkpoint(checkpoint, identity, state, rng_state, records)
 
-    v = state.velocities
     structure = None
     if records.structure is not None:
-        structure = (obs.structure_factor(v)[0], records.structure)
+        structure = (obs.wavenumbers(v.size), records.structure)
     return RunResult(
         model=engine.name,
         params=identity["params"],
@@ -504,9 +630,10 @@ def simulate(
         momentum=records.momentum,
         collisions=records.collisions,
         velocities=v,
-        histogram=obs.rescaled_histogram(v, hist_edges),
+        histogram=histogram,
         seconds=records.seconds,
         structure=structure,
         snapshots=records.snapshots,
         extras=records.extras,
+        histogram_note=histogram_note,
     )

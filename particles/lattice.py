@@ -73,8 +73,12 @@ class LatticeState:
         c = np.asarray(arrays["clocks"], dtype=float)
         if v.shape != (n,) or c.shape != (n,):
             raise ValueError(f"velocities {v.shape} / clocks {c.shape}, expected ({n},)")
+        time = float(arrays["time"])
+        if not np.all(np.isfinite(c) & (c >= time)):
+            # every pending attempt is at or after the state's time
+            raise ValueError(f"clocks must be finite and >= time={time!r}")
         return cls(
-            float(arrays["time"]),
+            time,
             v.copy(),
             c.copy(),
             int(arrays["collisions"]),

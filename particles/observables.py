@@ -10,7 +10,8 @@ Conventions
 * Discrete Fourier transform (ring of N sites, lattice spacing 1):
   v̂(k) = Σ_{j=0}^{N-1} v_j e^{-i k j}, with k = 2π m / N.  Only m = 0 .. ⌊N/2⌋ is returned
   (``rfft`` ordering, increasing k) because v is real and S(−k) = S(k).
-* The profile v(i) is simply the velocity array itself, in label order: no function is needed.
+* The profile v(i) (:func:`velocity_profile`) is the velocity against the label i, in label
+  order; what the label means depends on the model (ring site, rod order, or nothing: Ulam).
 """
 
 from __future__ import annotations
@@ -28,7 +29,9 @@ __all__ = [
     "momentum",
     "rescaled_histogram",
     "structure_factor",
+    "wavenumbers",
     "correlation",
+    "velocity_profile",
     "log_bin",
     "DEFAULT_EDGES",
 ]
@@ -89,6 +92,20 @@ class Histogram:
         }
 
 
+def _rms(rows: np.ndarray) -> np.ndarray:
+    """√⟨v²⟩ of each row.  A row whose ⟨v²⟩ underflows below the smallest normal float (every
+    |v| below ~1e-154, e.g. a long run at r = 0) or overflows is first divided by its largest |v|,
+    so v0 stays exact to round-off whenever some velocity is non-zero; an all-zero row gives 0."""
+    with np.errstate(over="ignore"):
+        e = np.mean(rows * rows, axis=1)
+    rms = np.sqrt(e)
+    for i in np.flatnonzero(~((e >= np.finfo(float).tiny) & np.isfinite(e))):
+        scale = np.max(np.abs(rows[i]))
+        if 0.0 < scale < np.inf:
+            rms[i] = scale * np.sqrt(np.mean((rows[i] / scale) ** 2))
+    return rms
+
+
 def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     """Histogram of the rescaled velocity x = v / v0, v0 = √E, E = ⟨v²⟩ of the same array.
 
@@ -97,6 +114,10 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     array of increasing edges in x, or an integer number of equal bins on [-6, 6]; the default is
     :data:`DEFAULT_EDGES`.  The density is normalised by the total number of samples (including
     those outside the edges), so it estimates the probability density of x directly.
+
+    x is undefined for a run whose velocities are all 0 (E = 0): that raises
+    ``InvalidArgumentError`` (argument ``v``).  A run whose ⟨v²⟩ merely underflows in float64
+    (velocities ~1e-160) still has a well-defined x: v0 is then computed without underflow.
     """
     arr = _as_velocities(v)
     if bins is None:
@@ -111,7 +132,7 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
             raise InvalidArgumentError("bins", bins, "at least two strictly increasing edges")
     rows = arr.reshape(-1, arr.shape[-1])
     if v0 is None:
-        v0 = np.sqrt(np.mean(rows * rows, axis=1))
+        v0 = _rms(rows)
     else:
         if not (np.isscalar(v0) and float(v0) > 0 and np.isfinite(float(v0))):
             raise InvalidArgumentError("v0", v0, "a finite number > 0")
@@ -154,8 +175,12 @@ def structure_factor(v) -> tuple[np.ndarray, np.ndarray]:
     power = _spectrum(arr) / n
     if power.ndim == 2:
         power = power.mean(axis=0)
-    k = 2.0 * np.pi * np.arange(power.shape[-1]) / n
-    return k, power
+    return wavenumbers(n), power
+
+
+def wavenumbers(n: int) -> np.ndarray:
+    """The k of :func:`structure_factor` for a ring of ``n`` sites: 2πm/n, m = 0..⌊n/2⌋."""
+    return 2.0 * np.pi * np.arange(n // 2 + 1) / n
 
 
 def correlation(v) -> np.ndarray:
@@ -173,6 +198,27 @@ def correlation(v) -> np.ndarray:
     if c.ndim == 2:
         c = c.mean(axis=0)
     return c
+
+
+def velocity_profile(v) -> tuple[np.ndarray, np.ndarray]:
+    """The profile v(i): labels ``i = 0..N-1`` and the velocity of each, ``(i, v(i))``.
+
+    No normalisation: v(i) is the velocity itself (not rescaled by √E), returned as a float
+    copy.  ``v`` of shape ``(R, N)`` gives one profile per run (rows), not an average: profiles
+    of independent runs do not average to anything meaningful.
+
+    Label order:
+
+    * lattice: i is the site, and label order is ring order (site i's neighbours are i ± 1 mod
+      N, bond i joins i and i + 1), so v(i) is a spatial profile (shocks, smooth patches);
+    * MD (hard rods on a ring): rods never pass each other, so label order is the rods' order
+      along the ring: v(i) is the profile against label of SPEC §4 (v(x) needs the positions);
+    * Ulam: the model is mean-field, any particle collides with any other, so the label order
+      carries no spatial meaning: v(i) is a list of velocities in arbitrary order, and
+      neighbouring labels are uncorrelated (its C(r) and S(k) are flat, r, k ≠ 0).
+    """
+    arr = np.array(_as_velocities(v), dtype=float)  # a copy
+    return np.arange(arr.shape[-1]), arr
 
 
 def log_bin(k, s, bins_per_decade: int = 10) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

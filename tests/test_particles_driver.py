@@ -142,6 +142,23 @@ def test_bad_checkpoints_are_named(tmp_path):
     assert issubclass(CheckpointError, InvalidArgumentError)
 
 
+def test_structure_factor_at_the_last_time_only(tmp_path):
+    engine = Lattice(300, 0.5)
+    times = [1.0, 4.5, 8.0]
+    every = simulate(engine, times, 2, progress=False, structure_factor="all")
+    last = simulate(engine, times, 2, progress=False, structure_factor="last")
+    assert every.structure[1].shape == (3, 151) and last.structure[1].shape == (1, 151)
+    assert np.array_equal(every.structure[1][-1], last.structure[1][0])
+    assert np.array_equal(every.structure[0], last.structure[0])
+    assert np.array_equal(every.velocities, last.velocities)
+    with pytest.raises(InvalidArgumentError, match="structure_factor='first'"):
+        simulate(engine, times, 2, progress=False, structure_factor="first")
+    path = tmp_path / "c.npz"
+    simulate(engine, times, 2, progress=False, structure_factor="last", checkpoint=path)
+    with pytest.raises(CheckpointError, match="structure_factor"):  # another run's records
+        simulate(engine, times, 2, progress=False, structure_factor=True, resume=path)
+
+
 def test_result_save_and_load_round_trip(tmp_path):
     res = simulate(
         Lattice(256, 0.5), [1.0, 4.0], 5, progress=False, structure_factor=True, snapshots=True

@@ -65,6 +65,29 @@ def test_engine_state_carries_clocks_and_counts():
     assert np.all(np.abs(res.momentum) < 1e-15)
 
 
+@pytest.mark.parametrize("constraint", [True, False])
+def test_momentum_is_conserved_to_round_off(constraint):
+    # The lattice engine never recentres, so the total momentum at τ = 50 is the raw result of
+    # every collision since τ = 0.  Bound (derived in test_particles_ulam's
+    # momentum_drift_and_bound): |ΔP| ≤ 2 u K max|v(0)| (1 + 5u)^K, u = 2⁻⁵³, K collisions;
+    # measured drifts are ~2e-5 of it.  Checked by mutation: v_b += d (1 + ε) in run_clocks
+    # fails the constrained case at ε = 1e-14 (there d > 0 in every collision, so it adds up).
+    import math
+
+    res = simulate(
+        Lattice(20_000, 0.5, constraint=constraint),
+        [0.0, 50.0],
+        1,
+        progress=False,
+        snapshots=True,
+    )
+    u = 2.0**-53
+    k = int(res.collisions[1] - res.collisions[0])
+    drift = abs(math.fsum(res.snapshots[1]) - math.fsum(res.snapshots[0]))
+    bound = 2 * u * k * np.abs(res.snapshots[0]).max() * (1 + 5 * u) ** k
+    assert k > 3 * 10**5 and drift <= bound, (drift, bound, k)
+
+
 def test_fast_engine_and_discrete_reference_agree_in_distribution():
     # The clock engine against a plain loop choosing a random bond N times per unit τ.  N = 50,
     # 1000 seeds each: means of E(1), E(2) and of the neighbour correlation C(1)/E at τ = 2,
@@ -117,9 +140,13 @@ def test_reference_energy_at_tau_20():
 
 @pytest.fixture(scope="module")
 def late_runs():
-    """N = 1e5, r = 0.5, τ up to 512, with and without the constraint (about 4 s together)."""
+    """N = 1e5, r = 0.5, τ up to 512: seeds 1 and 2 with the constraint (S(k) for seed 1) and
+    seed 1 without it at τ = 256."""
     taus = [32.0, 64.0, 128.0, 256.0, 512.0]
-    with_c = simulate(Lattice(100_000, 0.5), taus, 1, progress=False, structure_factor=True)
+    with_c = [
+        simulate(Lattice(100_000, 0.5), taus, seed, progress=False, structure_factor=seed == 1)
+        for seed in (1, 2)
+    ]
     without = simulate(
         Lattice(100_000, 0.5, constraint=False), [256.0], 1, progress=False, structure_factor=True
     )
@@ -127,13 +154,19 @@ def late_runs():
 
 
 def test_late_energy_decays_as_tau_to_minus_one_half(late_runs):
-    # Fit log E against log τ on τ ∈ [32, 512].  Measured (2 seeds): fitted exponents -0.49 and
-    # -0.48, local slopes between successive τ from -0.47 to -0.50 (preasymptotic drift toward
-    # -1/2); seed-to-seed scatter of the fit ≈ 0.01.  Tolerance 0.05 = the drift (0.03) plus
-    # two scatters.  The homogeneous (mean-field) law would be exponential, slope < -3 here.
+    # Fit the mean over seeds 1-2 of log E against log τ on τ ∈ [32, 512].  Measured outside CI
+    # for this exact setting (one fit per seed, seeds 1-24): exponent -0.483 on average,
+    # seed-to-seed standard deviation 0.0079, range -0.496 to -0.464; local slopes between
+    # successive τ drift from about -0.47 toward -0.50 (preasymptotic), hence the mean is 0.017
+    # short of -1/2.  The mean of 2 seeds has a standard deviation 0.0079/√2 = 0.0056, so
+    # tolerance 0.04 = the drift 0.017 plus 4 standard deviations (a single seed would need
+    # 0.017 + 4 × 0.0079 ≈ 0.05).  The homogeneous (mean-field) law would be exponential, slope
+    # < -3 here; MD's t^(-2/3) would be 0.17 away.
     res, _ = late_runs
-    slope = np.polyfit(np.log(res.times), np.log(res.energy), 1)[0]
-    assert abs(slope + 0.5) < 0.05, slope
+    times = res[0].times
+    mean_log_e = np.mean([np.log(r.energy) for r in res], axis=0)
+    slope = np.polyfit(np.log(times), mean_log_e, 1)[0]
+    assert abs(slope + 0.5) < 0.04, slope
 
 
 def porod_run_length(k, s):
@@ -155,7 +188,13 @@ def test_porod_range_with_the_constraint_only(late_runs):
     # local slope over a factor 10^0.2 is good to ~0.05).  Measured: with the constraint the
     # local slopes are -2.1 ± 0.05 over 0.2 < k < 0.8 (4 bins in a row); without it S falls
     # steeply (slopes -3 to -10) onto a flat floor, crossing -2 at most once.
+    # The window and thresholds were first set on seed 1 (the test's seed), then checked on
+    # seeds 2-24 (outside CI): the run of -2 ± 0.4 bins is 4 for every seed (threshold 3), the
+    # fitted slope over 0.2 < k < 0.8 is -2.13 ± 0.026 (range -2.18 to -2.08; threshold
+    # |slope + 2| < 0.3, so ≥ 0.12 of margin = 4.7 standard deviations), and without the
+    # constraint the run is 0 for every seed (threshold ≤ 1).
     with_c, without = late_runs
+    with_c = with_c[0]
     k, s = with_c.structure[0], with_c.structure[1][3]
     assert with_c.times[3] == 256.0
     assert porod_run_length(k, s) >= 3

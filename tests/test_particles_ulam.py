@@ -91,9 +91,21 @@ def test_engine_recentres_exactly_at_the_stop_grid():
         if b in (4.0, 8.0):
             recentre(v)
     assert np.array_equal(after.velocities, v)
-    # stopping at the grid point and going on is the same run
-    mid = engine.advance(state, 8.0, np.random.default_rng(11))
-    assert not np.array_equal(mid.velocities, after.velocities)
+    # Stopping at a grid point (8.0: a window boundary, recentred there either way) and going on
+    # with the same generator is the same run, bit for bit: same windows, same draws.
+    rng = np.random.default_rng(11)
+    mid = engine.advance(state, 8.0, rng)
+    assert not np.array_equal(mid.velocities, after.velocities)  # events happen in (8, 9.3]
+    resumed = engine.advance(mid, 9.3, rng)
+    assert np.array_equal(resumed.velocities, after.velocities)
+    assert resumed.collisions == after.collisions
+    # Stopping off the window grid (5.0; windows are 2 long here) splits a window, so its
+    # Poisson count is drawn in two parts and the stream shifts: another realisation of the
+    # same law.  This is why the driver stops only on a fixed grid.
+    assert engine.window == 2.0
+    rng = np.random.default_rng(11)
+    off = engine.advance(engine.advance(state, 5.0, rng), 9.3, rng)
+    assert not np.array_equal(off.velocities, after.velocities)
 
 
 @pytest.mark.parametrize("cls", [Ulam, UlamReference])
@@ -159,58 +171,109 @@ def test_fast_engine_and_sequential_reference_agree_in_distribution():
 def test_late_histogram_is_the_scaling_solution_with_its_power_law_tail(r, law):
     """N = 2e5, τ = 100 (SPEC: sup|G - f̂| ≈ 3e-3 there for r = 0.5; r = 0 contracts faster).
 
-    The bulk: 40 bins of width 0.2 on [-4, 4].  v/√E is compared with f after fitting one scale
-    s (x → s x): in a finite system √E is set by the few largest particles of an x⁻⁴ tail, which
-    is cut near X ≈ (4N/3π)^{1/3} ≈ 44 (missing variance 4/(πX) ≈ 3%) and fluctuates from run to
-    run (±5-10% in E, measured over 6 seeds).  So |s - 1| < 0.08.
-    The velocities of a run are not independent samples: a collision leaves two correlated
-    velocities (identical ones at r = 0), so bin counts are overdispersed with respect to the
-    binomial law.  Measured over 6 seeds (N = 2e5, τ = 100): χ²/bin between 0.75 and 2.16, mean
-    1.3, for r = 0 and 0.5, without any pattern across bins.  Bound: an overdispersion factor
-    φ = 1.5 times the 5-standard-deviation bound of χ²/dof, 1.5·(1 + 5·sqrt(2/40)) = 3.2.  A 1.5%
-    deviation of the density in every bin (~10⁴ counts each) would exceed it; a Gaussian of any
-    width fails by far (χ²/bin ≈ 850 measured), which is asserted too.
-    The tail: counts of |s x| in [3, 5), [5, 8), [8, 13), [13, 30) against the exact tail
-    probabilities of f (2·10³, 4·10², 10², 30 expected), |z| < 4 with errors sqrt(φ·expected).
-    A Gaussian has no particle beyond 5.
+    Statistic.  f is even and so are these initial laws, so |x| is compared with 2 f(|x|):
+    20 bins of width 0.2 on [0, 4], after fitting one scale s (x → s x): in a finite system √E
+    is set by the few largest particles of an x⁻⁴ tail, cut near X ≈ (4N/3π)^{1/3} ≈ 44 (missing
+    variance 4/(πX) ≈ 3%), so E fluctuates from run to run with a heavy right tail.
+    Why |x| and not x: the odd part of the histogram (x against −x) has rare large excursions.
+    A particle far out in the tail (|x| up to ~130 measured) eventually collides and spreads its
+    momentum over a growing family of particles of one sign (at r = 0 they carry identical
+    velocities), a transient one-sided bump: over 120 runs the odd part reached χ²/bin = 35
+    while the even part stayed ≤ 2.6 (seed 12, r = 0, Gaussian: odd 33 and even 1.8 at
+    τ = 100; 1.0 and 1.0 at τ = 50, 3.6 and 1.5 at τ = 200).  That is finite-N dynamics, not
+    the scaling law, so it is left out.
+    Tolerances, measured outside CI for these four (r, law) at N = 2e5, τ = 100, seeds 1-30
+    (120 runs), with exactly this code:
+    * χ²/bin of |x| (binomial errors): mean 0.93, 0.98, 1.20, 1.30 for the four cases (the
+      velocities of a run are not independent samples: a collision leaves two correlated
+      velocities, identical ones at r = 0), standard deviation 0.45, largest 2.56.  Bound:
+      overdispersion φ = 1.3 (the largest case mean) times the 5-standard-deviation bound of
+      χ²/dof for 20 bins, 1.3 (1 + 5 sqrt(2/20)) = 3.36.  A law of the same variance with a
+      x^-4.5 or x^-3.5 tail (Student t, ν = 3.5 or 2.5) adds 8 or 20 to χ²/bin (computed); a
+      Gaussian gives ~1800 (measured), asserted > 100.
+    * s: 0.956 to 1.152 (right tail from the large particles inflating E).  Bound 0.92 < s < 1.2.
+    * The tail: counts of |s x| in [3, 5), [5, 8), [8, 13), [13, 30) against the exact tail
+      probabilities of f (2·10³, 4·10², 10², 30 expected).  The measured mean of z² per bin
+      with Poisson errors is 1.4 to 2.3 over all runs, up to 4.2 for r = 0, uniform (the same
+      families of particles, now out in the tail), largest |z| 6.9.  Bound |z| < 4 with errors
+      sqrt(φ_tail · expected), φ_tail = 4, i.e. |z| < 8 with Poisson errors.  A Gaussian has no
+      particle beyond 5 (z = -10 in [5, 8)).
+    The first 6 seeds, on which the earlier bounds (40 bins of x, φ = 1.5, |s - 1| < 0.08,
+    φ_tail = 1.5) were set, were not typical: over 120 runs those bounds failed 7, 6 and 4 times.
     """
     from scipy.special import ndtr
 
     n = 200_000
     res = simulate(Ulam(n, r, law), [100.0], 1, progress=False)
-    v = res.velocities
-    # Momentum is conserved to round-off: the mean stays at its initial ~1e-17 (absolute) even
-    # though √E has fallen to ~1e-8.
-    assert abs(v.mean()) < 1e-15
-    x = v / np.sqrt(np.mean(v**2))
-    edges = np.linspace(-4.0, 4.0, 41)
-    counts = np.histogram(x, edges)[0]
+    v = res.velocities  # (momentum: test_momentum_drift_between_recentrings_is_round_off)
+    ax = np.abs(v) / np.sqrt(np.mean(v**2))
+    edges = np.linspace(0.0, 4.0, 21)
+    counts = np.histogram(ax, edges)[0]
 
     def best_chi2(cdf):
         scales = np.linspace(0.7, 1.3, 601)
         chi2 = []
         for s in scales:
-            prob = np.diff(cdf(s * edges))
+            prob = 2 * np.diff(cdf(s * edges))
             expected = prob * n
             chi2.append(np.mean((counts - expected) ** 2 / (expected * (1 - prob))))
         i = int(np.argmin(chi2))
         return chi2[i], scales[i]
 
-    dispersion = 1.5
     chi2, s = best_chi2(scaling_cdf)
-    assert abs(s - 1) < 0.08, s
-    assert chi2 < dispersion * (1 + 5 * np.sqrt(2 / 40)), chi2
+    assert 0.92 < s < 1.2, s
+    assert chi2 < 1.3 * (1 + 5 * np.sqrt(2 / 20)), chi2
     assert best_chi2(ndtr)[0] > 100
     tail_edges = np.array([3.0, 5.0, 8.0, 13.0, 30.0])
-    tail = np.histogram(np.abs(s * x), tail_edges)[0]
+    tail = np.histogram(s * ax, tail_edges)[0]
     expected = n * 2 * np.diff(scaling_cdf(tail_edges))
-    z = (tail - expected) / np.sqrt(dispersion * expected)
+    z = (tail - expected) / np.sqrt(4.0 * expected)
     assert np.all(np.abs(z) < 4), (tail, expected)
 
 
-def test_energy_and_momentum_bookkeeping():
+def momentum_drift_and_bound(res, a, b):
+    """Exact change of the total momentum between ``res.snapshots[a]`` and ``[b]`` (math.fsum:
+    no summation error), and a rigorous round-off bound for it.  One collision computes
+    d = fl(fl(v_a - v_b) p), then fl(v_a - d) and fl(v_b + d): the same d leaves one particle
+    and enters the other, so the only change of the exact sum is the two final roundings,
+    at most u (|v_a'| + |v_b'|), u = 2⁻⁵³.  Post-collision velocities are convex combinations
+    of the pre-collision ones up to a relative ~5u, so |v'| ≤ M (1 + 5u)^K with M = max |v| at
+    the start and K the collisions in between: |ΔP| ≤ 2 u K M (1 + 5u)^K."""
+    import math
+
+    u = 2.0**-53
+    start, end = res.snapshots[a], res.snapshots[b]
+    k = int(res.collisions[b] - res.collisions[a])
+    drift = abs(math.fsum(end) - math.fsum(start))
+    return drift, 2 * u * k * np.abs(start).max() * (1 + 5 * u) ** k, k
+
+
+@pytest.mark.parametrize(
+    "engine, times",
+    [
+        (Ulam(20_000, 0.5, "uniform"), [0.0, 3.9]),
+        (Ulam(20_000, 0.5, "uniform"), [96.0, 99.5]),
+        (Ulam(20_000, 0.0, "asymmetric"), [96.0, 99.5]),
+        (UlamReference(300, 0.5, "uniform"), [8.0, 11.5]),
+    ],
+    ids=["ulam-start", "ulam-late", "ulam-r0-late", "reference"],
+)
+def test_momentum_drift_between_recentrings_is_round_off(engine, times):
+    # The engines subtract the mean velocity at every multiple of stop_step (4), which would
+    # hide any drift recorded at those times.  Here the interval (t_a, t_b] contains no such
+    # point, so the snapshots show the raw collision round-off, bounded as in
+    # momentum_drift_and_bound.  The bound is a worst case: measured drifts are 5e-6..4e-5 of it
+    # (a random walk of K roundings, ~u sqrt(K) |v|).  Checked by mutation: v_b += d (1 + ε)
+    # instead of v_b += d fails the "ulam-start" case at ε = 1e-12 (not at 1e-14: the sign of d
+    # is random here, so such an error only random-walks); gross errors (a lost update) fail all.
+    assert engine.next_stop(times[0]) > times[1]  # no recentring inside the interval
+    res = simulate(engine, times, 1, progress=False, snapshots=True)
+    drift, bound, k = momentum_drift_and_bound(res, 0, 1)
+    assert k > 0.4 * engine.n * (times[1] - times[0]) and drift <= bound, (drift, bound, k)
+
+
+def test_energy_and_collision_bookkeeping():
     res = simulate(Ulam(10_000, 0.2, "asymmetric"), [0.0, 1.0, 5.0], 4, progress=False)
-    assert np.all(np.abs(res.momentum) < 1e-15)
     # Poisson number of collisions, mean N τ / 2: within 5 standard deviations.
     mean = 10_000 * 5.0 / 2
     assert abs(res.collisions[-1] - mean) < 5 * np.sqrt(mean)
