@@ -198,6 +198,7 @@ def _run_md(args) -> int:
     def extend(result, payload):
         payload["collisions_per_particle"] = result.extras["collisions_per_particle"].tolist()
         payload["momentum"] = result.extras["total_momentum"].tolist()
+        payload.pop("total_momentum", None)  # the name is `momentum`; one key, not two
         payload["collisions"] = result.collisions.tolist()
         if args.structure_factor:
             half = params.n // 2 + 1
@@ -228,7 +229,8 @@ def _add_md(models) -> None:
         "md",
         help="event-driven molecular dynamics of inelastic hard rods on a ring (time t)",
         description="Exact event-driven MD of N hard rods on a ring (SPEC §4).  Exit status 2: "
-        "bad input (nothing written); 3: inelastic collapse (set --delta > 0).",
+        "bad input (nothing written); 3: inelastic collapse (set --delta > 0, or increase "
+        "a tiny one: see the message).",
     )
     add_common_options(parser, time_option="--t")
     parser.add_argument("--density", required=True, help="number density n = N/L > 0")

@@ -25,6 +25,7 @@ def test_json_output_contract(capsys):
     out = run_json(capsys, argv)
     keys = {"t", "energy", "collisions_per_particle", "momentum", "collisions", "seconds"}
     assert keys | {"histogram", "k", "S", "C", "profile", "params", "seed"} <= set(out)
+    assert "total_momentum" not in out  # one momentum key, under the name the issue gives
     assert out["t"] == [0.0, 1.0, 2.5]
     for key in ("energy", "collisions_per_particle", "momentum", "collisions"):
         assert len(out[key]) == 3, key
