@@ -293,3 +293,17 @@ def test_velocity_profiles_report_increment_skewness(tmp_path):
     again = cmp.Comparison.load(tmp_path / "p.npz")
     _assert_same(res.summary, again.summary, "summary")
     _assert_same(res.data, again.data)
+
+
+def test_velocity_profiles_preset():
+    """Fig. 4 at the paper's size at ``--full`` (issue: r = 0.99, N = 2·10⁴ for MD and the
+    lattice), with more seeds than the default; at small and default size the run parameters
+    equal comparison 4's, so that one process shares the MD and lattice runs of the two."""
+    full = cmp._PROFILES["full"]
+    assert full["restitution"] == 0.99
+    assert full["md_n"] == full["lattice_n"] == 20_000
+    assert full["md_seeds"] > cmp._PROFILES["default"]["md_seeds"]
+    assert full["lattice_seeds"] > cmp._PROFILES["default"]["lattice_seeds"]
+    for size in ("small", "default"):
+        for key, value in cmp._PROFILES[size].items():
+            assert cmp._DISTRIBUTIONS[size][key] == value, (size, key)
