@@ -73,9 +73,9 @@ def _kinetic_vs_ulam(c):
             ax.errorbar(h.centres, h.density, yerr=h.error, fmt=".", ms=3, color=cols[i],
                         label=f"τ={row['tau']:g}: χ²/(dof·φ)={row['chi2_over_overdispersion']:.2f}"
                         f", smoothed {row['smoothed']['chi2_over_overdispersion']:.2f}")
-            ax.plot(h.centres, h.predicted, "-", color=cols[i], lw=1)
+            ax.plot(row["fft"]["x"], row["fft"]["density"], "-", color=cols[i], lw=1)
         ax.set(xlabel="x = v/v0", ylabel="P(x, τ)",
-               title=f"r={case['restitution']:g}, {case['initial']}: solver (lines) vs Ulam")
+               title=f"r={case['restitution']:g}, {case['initial']}: solver FFT (lines) vs Ulam")
         ax.legend(fontsize=5)
     ax = axes[0][-1]
     n = d["scan_n"]
