@@ -157,8 +157,8 @@ def _structure_factors(c):
         xr = np.array(s["porod_window"]["x"])
         ax.loglog(xr, 3 * xr**-2.0, "k--", label="k⁻² on the Porod window")
         ax.set(xlabel="scaled k", ylabel="S(k)",
-               title=f"{title}\nspread {s['collapse_spread_at_z_theory']:.2f}"
-               f" (unscaled {s['collapse_spread_unscaled']:.2f})")
+               title=f"{title}\nspread {s['collapse_spread_at_z_theory'][0]:.2f}"
+               f" (unscaled {s['collapse_spread_unscaled'][0]:.2f})")
         ax.legend(fontsize=6)
     fig.tight_layout()
     return fig

@@ -890,11 +890,15 @@ def structure_factors(size=None, progress=False, **overrides) -> Comparison:
     seeds and log-binned (10 bins per decade).  Numbers:
 
     * collapse quality: rms over x = k t^z ∈ [0.5, porod_x[1]] of the spread (std over the
-      times) of ln S, at the theory's z and at z = 0 (no rescaling), and the z that minimises
-      it (scan in steps of 0.01), its uncertainty the jackknife over seeds;
+      times) of ln S, at the theory's z and at z = 0 (no rescaling), each [value, jackknife
+      error over seeds], and ``z_best``, the z that minimises it (scan of [0, 1] in steps of
+      0.01, refined between grid points), [value, jackknife error]; at the edge of the scan
+      ``z_best_at_scan_edge`` is true and the error None (see :func:`_structure_numbers`);
     * Porod slope: ln S against ln k on x ∈ ``porod_x`` and k ≤ ``k_max`` (MD), on
-      x ∈ ``lattice_porod_x`` and k ≤ ``lattice_k_max`` (lattice), at each time, and the mean
-      and standard error over seeds of per-seed fits at the last time.
+      x ∈ ``lattice_porod_x`` and k ≤ ``lattice_k_max`` (lattice): of the seed-mean spectrum at
+      each time (``porod_slope_per_time``, [value, jackknife error]; None where the window holds
+      fewer than 3 log bins), and the mean and standard error over seeds of per-seed fits at the
+      last time (``porod_slope_last_time``).  Jackknife errors need 3 seeds (None below).
 
     Why the lattice window is x = k τ^{1/2} ∈ [8, 30], k ≤ 0.5, fitted at τ = 2000 (measured,
     r = 0.5, N = 2·10⁴, seeds 100–103): the local slope of S overshoots to about −3 at the knee of
@@ -935,32 +939,84 @@ def structure_factors(size=None, progress=False, **overrides) -> Comparison:
     return Comparison("structure_factors", summary, data)
 
 
+def _jackknife(values) -> float | None:
+    """Jackknife standard error from the leave-one-out estimates ``values`` (None below 3 of
+    them: two replicas give one difference, not a spread)."""
+    v = np.asarray([x for x in values if x is not None], dtype=float)
+    if v.size < 3 or v.size < len(values):
+        return None
+    return float(np.sqrt((v.size - 1) / v.size * np.sum((v - v.mean()) ** 2)))
+
+
+def _z_minimum(k, spectra, times, zs, x_range) -> tuple[float, bool]:
+    """The z minimising the collapse spread: grid scan over ``zs``, then a bounded Brent search
+    between the grid minimum's two neighbours (to 1e-5; the vertex of a parabola through the
+    three grid points was off by up to 1e-3, more than the jackknife error, because the spread
+    is only piecewise smooth in z).  Returns (z, at_edge); at_edge when the grid minimum is the
+    first or last z (the spread still falls toward the end of the scan: no minimum inside it;
+    z is then the edge value)."""
+    from scipy.optimize import minimize_scalar
+
+    spread = np.array([_collapse_spread(k, spectra, times, z, x_range) for z in zs])
+    i = int(np.argmin(spread))
+    if i == 0 or i == len(zs) - 1:
+        return float(zs[i]), True
+    res = minimize_scalar(lambda z: _collapse_spread(k, spectra, times, z, x_range),
+                          bounds=(float(zs[i - 1]), float(zs[i + 1])), method="bounded",
+                          options={"xatol": 1e-5})
+    z = float(res.x) if res.fun <= spread[i] else float(zs[i])
+    return z, False
+
+
 def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm, *, lattice: bool) -> dict:
-    spread = [_collapse_spread(k, mean, times, z, x_range) for z in zs]
-    z_best = float(zs[int(np.argmin(spread))])
-    jack = []
+    """Numbers of one model (see :func:`structure_factors`); ``spec`` (R, T, K) per seed.
+
+    Every number of the seed-mean spectrum gets a jackknife error over the seeds (leave one
+    seed out, recompute from the mean of the others); with fewer than 3 seeds (the ``full``
+    lattice has 2) the error is None.
+
+    ``z_best``: [z, jackknife error] of the refined minimum of the collapse spread (see
+    :func:`_z_minimum`).  The grid alone (step 0.01) made the jackknife useless: at the small
+    size all replicas hit the same grid point (error 0.0).  When the minimum is at the edge of
+    the scan (``z_best_at_scan_edge``: the lattice without the constraint, whose spread keeps
+    falling up to z = 1) there is no minimum to locate and the error is None.
+    """
     n_runs = spec.shape[0]
-    if n_runs >= 3:
-        for i in range(n_runs):
-            sub = np.delete(spec, i, axis=0).mean(axis=0)
-            sp = [_collapse_spread(k, sub, times, z, x_range) for z in zs]
-            jack.append(float(zs[int(np.argmin(sp))]))
-    z_err = (float(np.sqrt((n_runs - 1) / n_runs * np.sum((np.array(jack) - np.mean(jack)) ** 2)))
-             if jack else None)
+    z_best, at_edge = _z_minimum(k, mean, times, zs, x_range)
     window, k_max = ((prm["lattice_porod_x"], prm["lattice_k_max"]) if lattice
                      else (prm["porod_x"], prm["k_max"]))
-    slopes = [_porod(k, s, t, z_theory, window, k_max) for s, t in zip(mean, times, strict=True)]
+
+    def numbers(m):
+        return {"theory": _collapse_spread(k, m, times, z_theory, x_range),
+                "unscaled": _collapse_spread(k, m, times, 0.0, x_range),
+                "slopes": [_porod(k, s, t, z_theory, window, k_max)
+                           for s, t in zip(m, times, strict=True)]}
+
+    full = numbers(mean)
+    jack = ([numbers(np.delete(spec, i, axis=0).mean(axis=0)) for i in range(n_runs)]
+            if n_runs >= 3 else [])
+    z_jack = ([_z_minimum(k, np.delete(spec, i, axis=0).mean(axis=0), times, zs, x_range)[0]
+               for i in range(n_runs)] if n_runs >= 3 and not at_edge else [])
+
+    def with_error(value, key, index=None):
+        if value is None:
+            return None
+        reps = [j[key] if index is None else j[key][index] for j in jack]
+        return [value, _jackknife(reps) if reps else None]
+
     per_seed = [_porod(k, spec[i, -1], times[-1], z_theory, window, k_max)
                 for i in range(n_runs)]
     per_seed = [p for p in per_seed if p is not None]
     return {
         "times": list(map(float, times)),
         "z_theory": z_theory,
-        "collapse_spread_at_z_theory": _collapse_spread(k, mean, times, z_theory, x_range),
-        "collapse_spread_unscaled": _collapse_spread(k, mean, times, 0.0, x_range),
-        "z_best": [z_best, z_err],
+        "collapse_spread_at_z_theory": with_error(full["theory"], "theory"),
+        "collapse_spread_unscaled": with_error(full["unscaled"], "unscaled"),
+        "z_best": [z_best, None if at_edge else (_jackknife(z_jack) if z_jack else None)],
+        "z_best_at_scan_edge": at_edge,
+        "z_scan": [float(zs[0]), float(zs[-1]), float(zs[1] - zs[0])],
         "porod_window": {"x": list(map(float, window)), "k_max": float(k_max)},
-        "porod_slope_per_time": slopes,
+        "porod_slope_per_time": [with_error(v, "slopes", i) for i, v in enumerate(full["slopes"])],
         "porod_slope_last_time": [
             float(np.mean(per_seed)) if per_seed else None,
             float(np.std(per_seed, ddof=1) / math.sqrt(len(per_seed))) if len(per_seed) > 1
