@@ -43,11 +43,12 @@ def _kinetic_theory(c):
         a1.semilogy(tau[pos], dist[pos], "-", color=f"C{i}", label=f"d_{sv}")
         a1.semilogy(tau[pos], d["bounds"][sv][pos], ":", color=f"C{i}",
                     label=f"bound e^(−γτ) d_{sv}(0)")
-    a1.set(xscale="log", xlabel="τ", title="distances and contraction bounds")
+    a1.set(xscale="log", xlabel="τ", ylabel="distance to f̂",
+           title="distances and contraction bounds")
     a1.legend(fontsize=6)
     for n in (4, 6, 8):
         a2.semilogy(d["moment_tau"], d["moments"][:, n], label=f"M_{n}/M_2^{n // 2}")
-    a2.set(xlabel="τ", title="multiscaling of the moments")
+    a2.set(xlabel="τ", ylabel="M_n / M_2^(n/2)", title="multiscaling of the moments")
     a2.legend(fontsize=7)
     x = d["x"]
     for k in range(len(sol.tau)):
