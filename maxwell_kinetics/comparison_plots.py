@@ -64,20 +64,33 @@ def _kinetic_theory(c):
 
 
 def _kinetic_vs_ulam(c):
+    """One panel per case: the solver's inverse-FFT P(x, τ) as lines, the pooled Ulam histogram
+    as open markers with ±1 standard error (seed scatter); per-τ χ²/(dof·φ) in a legend below
+    the panel.  Last panel: the KS distance against N."""
+    from matplotlib.lines import Line2D
+
     d = c.data
     cases = d["cases"]
-    fig, axes = _figure(len(cases) + 1, width=4.0)
+    fig, axes = _figure(len(cases) + 1, width=4.0, height=5.2)
     for ax, case in zip(axes[0], cases, strict=False):
         cols = _colors(len(case["rows"]))
+        handles = []
         for i, row in enumerate(case["rows"]):
             h = row["comparison"]
-            ax.errorbar(h.centres, h.density, yerr=h.error, fmt=".", ms=3, color=cols[i],
-                        label=f"τ={row['tau']:g}: χ²/(dof·φ)={row['chi2_over_overdispersion']:.2f}"
-                        f", smoothed {row['smoothed']['chi2_over_overdispersion']:.2f}")
-            ax.plot(row["fft"]["x"], row["fft"]["density"], "-", color=cols[i], lw=1)
+            ax.plot(row["fft"]["x"], row["fft"]["density"], "-", color=cols[i], lw=1.2, zorder=2)
+            ax.errorbar(h.centres, h.density, yerr=h.error, fmt="o", ms=3.5, mfc="white",
+                        mew=0.8, elinewidth=0.8, capsize=1.5, color=cols[i], zorder=3)
+            handles.append(Line2D([], [], color=cols[i], marker="o", mfc="white", lw=1.2,
+                                  label=f"τ = {row['tau']:g}:  χ²/(dof·φ) "
+                                  f"{row['chi2_over_overdispersion']:.2f}, smoothed "
+                                  f"{row['smoothed']['chi2_over_overdispersion']:.2f}"))
+        handles += [Line2D([], [], color="k", lw=1.2, label="solver, inverse FFT of G"),
+                    Line2D([], [], color="k", marker="o", mfc="white", ls="none",
+                           label="Ulam particles ± 1 s.e.")]
         ax.set(xlabel="x = v/v0", ylabel="P(x, τ)",
-               title=f"r={case['restitution']:g}, {case['initial']}: solver FFT (lines) vs Ulam")
-        ax.legend(fontsize=5)
+               title=f"r = {case['restitution']:g}, {case['initial']} initial law")
+        ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13),
+                  frameon=False)
     ax = axes[0][-1]
     n = d["scan_n"]
     ax.errorbar(n, d["scan_ks"], yerr=d["scan_ks_error"], fmt="o", label="mean KS distance")
@@ -85,7 +98,7 @@ def _kinetic_vs_ulam(c):
     ax.loglog(n, np.exp(icpt) * n**slope, "k-", label=f"fit slope {slope:.3f}")
     ax.loglog(n, 0.8687 / np.sqrt(n), "k:", label="0.87/√N (iid)")
     ax.set(xscale="log", yscale="log", xlabel="N", ylabel="D_KS", title="distance against N")
-    ax.legend(fontsize=7)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.13), frameon=False)
     fig.tight_layout()
     return fig
 
