@@ -155,25 +155,45 @@ def _energy_decay(c):
 
 
 def _structure_factors(c):
+    """S(k) of the seed mean against scaled k per time; the fitted Porod line (seed-mean
+    spectrum at the last time, over the log bins of the fit window) drawn on its window with
+    its slope, and a k⁻² reference below it."""
     from particles.observables import log_bin
+
+    from .comparisons import porod_fit
 
     d = c.data
     labels = ("md", "lattice", "lattice_no_constraint")
     titles = ("MD: S vs k t^(2/3)", "lattice: S vs k τ^(1/2)", "lattice, no constraint")
-    fig, axes = _figure(3, width=4.2)
+    clock = {"md": "t", "lattice": "τ", "lattice_no_constraint": "τ"}
+    fig, axes = _figure(3, width=4.2, height=4.4)
     for ax, lab, title in zip(axes[0], labels, titles, strict=True):
         dd = d[lab]
+        z = dd["z"]
         cols = _colors(len(dd["times"]))
         for i, t in enumerate(dd["times"]):
             kb, sb, _ = log_bin(dd["k"], dd["S"][i], 10)
-            ax.loglog(kb * t ** dd["z"], sb, "o-", ms=2, color=cols[i], label=f"{t:g}")
+            ax.loglog(kb * t**z, sb, "o-", ms=2, lw=0.8, color=cols[i],
+                      label=f"{clock[lab]} = {t:.0f}")
         s = c.summary[lab]
-        xr = np.array(s["porod_window"]["x"])
-        ax.loglog(xr, 3 * xr**-2.0, "k--", label="k⁻² on the Porod window")
-        ax.set(xlabel="scaled k", ylabel="S(k)",
+        window, k_max = s["porod_window"]["x"], s["porod_window"]["k_max"]
+        t_last = dd["times"][-1]
+        fit = porod_fit(dd["k"], dd["S"][-1], t_last, z, window, k_max)
+        if fit is not None:
+            slope, icpt, kf = fit
+            kl = np.array([kf[0], kf[-1]])
+            err = (s["porod_slope_per_time"][-1] or [None, None])[1]
+            pm = f" ± {err:.2f}" if err is not None else ""
+            ax.loglog(kl * t_last**z, np.exp(icpt) * kl**slope, "r-", lw=2.5, alpha=0.8,
+                      label=f"fit at {clock[lab]} = {t_last:.0f}: slope {slope:.2f}{pm}")
+            ax.loglog(kl * t_last**z, 0.3 * np.exp(icpt) * kl[0] ** (slope + 2.0) * kl**-2.0,
+                      "k:", lw=1, label="k⁻² (reference)")
+        ax.axvspan(*window, color="0.9", zorder=0, label="Porod fit window")
+        ax.set(xlabel=f"k {clock[lab]}^{z:.3g}" if lab != "md" else "k t^(2/3)",
+               ylabel="S(k)",
                title=f"{title}\nspread {s['collapse_spread_at_z_theory'][0]:.2f}"
                f" (unscaled {s['collapse_spread_unscaled'][0]:.2f})")
-        ax.legend(fontsize=6)
+        ax.legend(fontsize=6, loc="lower left")
     fig.tight_layout()
     return fig
 

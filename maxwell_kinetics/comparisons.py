@@ -875,14 +875,22 @@ def _log_binned(k, s):
     return kb, sb
 
 
-def _porod(k, s, t, z, x_window, k_max):
-    """Slope of ln S against ln k over k·t^z in ``x_window`` and k ≤ ``k_max``."""
+def porod_fit(k, s, t, z, x_window, k_max):
+    """Least-squares line ln S = a + b ln k over the log bins with k·t^z in ``x_window`` and
+    k ≤ ``k_max``: (b, a, k of the bins used), or None with fewer than 3 bins."""
     kb, sb = _log_binned(k, s)
     x = kb * t**z
     sel = (x >= x_window[0]) & (x <= x_window[1]) & (kb <= k_max)
     if sel.sum() < 3:
         return None
-    return float(np.polyfit(np.log(kb[sel]), np.log(sb[sel]), 1)[0])
+    b, a = np.polyfit(np.log(kb[sel]), np.log(sb[sel]), 1)
+    return float(b), float(a), kb[sel]
+
+
+def _porod(k, s, t, z, x_window, k_max):
+    """Slope of ln S against ln k over k·t^z in ``x_window`` and k ≤ ``k_max``."""
+    fit = porod_fit(k, s, t, z, x_window, k_max)
+    return None if fit is None else fit[0]
 
 
 def structure_factors(size=None, progress=False, **overrides) -> Comparison:
