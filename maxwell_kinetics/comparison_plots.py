@@ -104,22 +104,47 @@ def _kinetic_vs_ulam(c):
 
 
 def _ulam_collapse(c):
+    """Left: the median-rescaled histograms (the ones the χ² check uses) against f.  Middle: their
+    tail, |x| in log bins with at least 5 pooled counts, against f and x⁻⁴.  Right: the
+    deviation from f per bin in standard errors, median-rescaled (filled) and rescaled by the
+    run's own v0 (open, the paper's v/v0, which a finite sample of an x⁻⁴ law biases)."""
     d = c.data
-    fig, axes = _figure(2, width=5.0)
-    lin, lg = axes[0]
-    for i, (row, h) in enumerate(zip(d["rows"], d["histograms"], strict=True)):
-        lab = f"r={row['restitution']:g}, τ={row['tau']:g}"
-        lin.errorbar(h.centres, h.density, yerr=h.error, fmt=".", ms=3, color=f"C{i}", label=lab)
-        pos = h.centres > 0
-        lg.errorbar(h.centres[pos], h.density[pos], yerr=h.error[pos], fmt=".", ms=3,
-                    color=f"C{i}", label=lab)
+    fig, axes = _figure(3, width=4.8, height=5.0)
+    lin, lg, dev = axes[0]
     x = np.linspace(d["edges"][0], d["edges"][-1], 400)
-    lin.plot(x, f_density(x), "k-", label="f(x) = 2/(π(1+x²)²)")
-    xp = x[x > 0.05]
-    lg.loglog(xp, f_density(xp), "k-")
-    lin.set(xlabel="v/v0", ylabel="P", title="Ulam model: collapse onto f (paper Fig. 2)")
-    lg.set(xlabel="v/v0", ylabel="P", title="log-log: the x⁻⁴ tail")
+    for i, (row, h, hs, tail) in enumerate(zip(d["rows"], d["histograms"],
+                                               d["shape_histograms"], d["tails"], strict=True)):
+        lab = f"r={row['restitution']:g}, τ={row['tau']:g}"
+        chi_m = row["median_scaled"]["chi2_over_overdispersion"]
+        chi_v = row["v0_scaled"]["chi2_over_overdispersion"]
+        lin.errorbar(hs.centres, hs.density, yerr=hs.error, fmt="o", ms=3, mfc="white",
+                     color=f"C{i}", label=f"{lab}: χ²/(dof·φ) {chi_m:.2f}")
+        ok = tail["counts"] >= 5
+        lg.errorbar(tail["centres"][ok], tail["density"][ok], yerr=tail["error"][ok], fmt="o",
+                    ms=3, mfc="white", color=f"C{i}", label=lab)
+        for hh, style, name, chi in ((hs, "o", "median", chi_m), (h, "s", "v/v0", chi_v)):
+            good = hh.error > 0
+            dev.plot(hh.centres[good], (hh.density - hh.predicted)[good] / hh.error[good], style,
+                     ms=3.5, color=f"C{i}", mfc=f"C{i}" if name == "median" else "white",
+                     label=f"{lab}, {name}: {chi:.2f}")
+    lin.plot(x, f_density(x), "k-", lw=1, label="f(x) = 2/(π(1+x²)²)")
+    xmax = max(float(t["centres"][t["counts"] >= 5].max()) for t in d["tails"])
+    xp = np.geomspace(0.05, 1.5 * xmax, 200)
+    lg.loglog(xp, f_density(xp), "k-", lw=1, label="f(x)")
+    lg.loglog(xp[xp > 3], 2.0 / np.pi * xp[xp > 3] ** -4.0, "k:", label="2/(π x⁴)")
+    dev.axhline(0.0, color="k", lw=0.8)
+    for y in (-2.0, 2.0):
+        dev.axhline(y, color="k", lw=0.5, ls=":")
+    lin.set(xlabel="x (median |x| set to f's)", ylabel="P(x)",
+            title="Ulam collapse onto f (paper Fig. 2)")
+    lg.set(xlabel="|x| (median-rescaled)", ylabel="P(x)", title="log-log: the x⁻⁴ tail",
+           xlim=(0.04, 1.5 * xmax))
+    dev.set(xlabel="x", ylabel="(P − f) / standard error",
+            title="deviation from f: median (filled), v/v0 (open)")
     lin.legend(fontsize=7)
+    lg.legend(fontsize=7, loc="lower left")
+    dev.legend(fontsize=6.5, ncol=2, loc="upper center", bbox_to_anchor=(0.5, -0.13),
+               frameon=False, title="χ²/(dof·φ)", title_fontsize=7)
     fig.tight_layout()
     return fig
 

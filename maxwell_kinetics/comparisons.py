@@ -636,7 +636,7 @@ def ulam_collapse(size=None, progress=False, **overrides) -> Comparison:
     below_f = float(st.f_cdf(edges[0]))
     median_f = brentq(lambda m: float(st.f_cdf(m)) - 0.75, 0.1, 10.0)  # median of |x| under f
     seeds = list(range(int(prm["seeds"])))
-    rows, hists = [], []
+    rows, hists, shapes, tails = [], [], [], []
     for r, tau in zip(prm["restitutions"], prm["tau"], strict=True):
         snaps = ulam_snapshots(r, prm["law"], prm["n"], [float(tau)], seeds, progress=progress)
         x = _rescaled(snaps[0])
@@ -654,10 +654,30 @@ def ulam_collapse(size=None, progress=False, **overrides) -> Comparison:
                      "kinetic_sup_error_vs_f_hat": float(sol.sup_error(0)),
                      "kinetic_bias_in_sigma": bias})
         hists.append(cmp)
+        shapes.append(shape)
+        tails.append(_tail_histogram(xs))
     summary = {"parameters": _jsonable(prm), "rows": rows,
                "seconds": time.perf_counter() - start}
     return Comparison("ulam_collapse", summary, {"rows": rows, "histograms": hists,
+                                                  "shape_histograms": shapes, "tails": tails,
                                                   "edges": edges})
+
+
+#: Log bins of |x| for the tail of the figure of :func:`ulam_collapse` (10 per decade).
+_TAIL_EDGES = np.geomspace(0.05, 100.0, 34)
+
+
+def _tail_histogram(x: np.ndarray) -> dict:
+    """Density of x from |x| (rows: runs) in the log bins :data:`_TAIL_EDGES`, halved so that
+    it compares with a symmetric P(x): ``centres`` (geometric), ``density``, ``error`` (seed
+    scatter) and ``counts`` (pooled), for the figure only (the χ² uses the linear bins)."""
+    edges = _TAIL_EDGES
+    counts = st.bin_counts(np.abs(x), edges)
+    dens = counts / (2.0 * x.shape[1] * np.diff(edges))
+    err = (dens.std(axis=0, ddof=1) / math.sqrt(x.shape[0]) if x.shape[0] > 1
+           else np.sqrt(counts[0]) / (2.0 * x.shape[1] * np.diff(edges)))
+    return {"centres": np.sqrt(edges[1:] * edges[:-1]), "density": dens.mean(axis=0),
+            "error": err, "counts": counts.sum(axis=0)}
 
 
 # ==================================================================== particle runs (cached)
