@@ -122,19 +122,66 @@ def test_ulam_collapse_within_statistical_error(collapse):
 
 
 def test_lattice_energy_exponents(energy):
+    """Lattice, N = 2·10⁴, 4 seeds, τ ≤ 400 (small preset), r = 0.5.
+
+    Initial rate on τ ∈ [0, 0.25]: measured −0.3758 ± 0.0027 against the exact −0.375 (0.3σ).
+
+    Late exponent on τ ∈ [40, 400]: measured −0.4774 ± 0.0086 (seeds 0.0079, window drift
+    0.0034), 2.64σ from −1/2 under a 3σ limit.  The gap is systematic, not noise: the local
+    exponent of these runs is −0.501 on τ ∈ [10, 40], −0.474 on [40, 126], −0.481 on
+    [126, 400] (and −0.489 on [400, 2000] with the same seeds run longer): the window sits in
+    a pre-asymptotic dip, which the half-window drift term does not capture.  With 8 seeds
+    instead of 4 the fit on [40, 400] gave −0.481 ± 0.006, 3.2σ: more seeds would make this
+    check fail, not pass better, and a later window needs longer runs than the small preset's
+    (whose run parameters are fixed).  So what it can tell at this size: −1/2 from −2/3 (22σ
+    apart), and from the initial exponential; it cannot resolve a deviation of ≈ 5 % from −1/2.
+    """
     s = energy.summary
     early = s["lattice_initial_rate"]
     assert abs(early["deviation_in_sigma"]) < 3
     late = s["lattice_late_exponent"]
     assert abs(late["deviation_in_sigma"]) < 3
+    # What the check resolves: the MD exponent −2/3 is far outside the lattice's uncertainty.
+    assert abs(late["slope"][0] + 2.0 / 3.0) > 10 * late["uncertainty"]
 
 
 def test_md_late_exponent(energy):
-    """N = 1000, 3 seeds, t ≤ 40: the uncertainty is large (≈ 0.1) at this size; the value
-    measured at N = 2·10⁴, t ≤ 287 is in SPEC §6 (−0.665)."""
+    """MD, N = 1000, 3 seeds, t ≤ 40 (small preset), fit on t ∈ [12, 40]: measured
+    −0.647 ± 0.099 (seeds 0.074, window drift 0.066).  At this size the check cannot tell
+    −2/3 from −1/2: they are 0.17 apart, 1.7σ, and the 3σ limit accepts [−0.94, −0.35].  The
+    local exponent also moves across the window (−0.72 on [5, 12], −0.62 on [12, 22], −0.56 on
+    [22, 40], per-run spread ±0.1–0.2), so more seeds alone would not settle it, and more MD
+    (more or longer runs) costs tens of seconds, beyond the budget of this suite (the presets'
+    run parameters are fixed).  What it does tell: the decay has left Haff's t⁻² (−2 is 13.6σ
+    away) and has not stopped (0 is 6.5σ away), asserted below at 5σ.  The value measured at
+    N = 2·10⁴, t ≤ 287 is in SPEC §6 (−0.665)."""
     late = energy.summary["md_late_exponent"]
     assert abs(late["deviation_in_sigma"]) < 3
     assert late["uncertainty"] < 0.2
+    slope, err = late["slope"][0], late["uncertainty"]
+    assert abs(slope + 2.0) > 5 * err
+    assert abs(slope) > 5 * err
+
+
+def test_md_fits_use_the_preset_windows(energy):
+    """The MD Haff fit and late fit are made on the windows of the preset, on every recorded
+    time inside them and no other: the summary's windows are the preset's, and the per-run
+    slopes recomputed here from the recorded energies on those windows are the reported ones."""
+    s, d = energy.summary, energy.data
+    prm = cmp._ENERGY["small"]
+    t, e, t0 = d["md_t"], d["md_energy"], d["t0"]
+    for key, window, abscissa in (("md_haff_exponent", "md_haff_window",
+                                   lambda c: np.log1p(c / t0)),
+                                  ("md_late_exponent", "md_late_window", np.log)):
+        lo, hi = prm[window]
+        fit = s[key]
+        assert fit["window"] == [lo, hi], key
+        inside = (t >= lo) & (t <= hi)
+        assert fit["fit_points"] == inside.sum() >= 3, key
+        assert fit["fit_range"] == [t[inside][0], t[inside][-1]], key
+        slopes = [np.polyfit(abscissa(t[inside]), np.log(run[inside]), 1)[0] for run in e]
+        assert np.allclose(fit["per_run"], slopes, rtol=1e-12, atol=0), key
+        assert fit["slope"][0] == pytest.approx(np.mean(slopes), rel=1e-12), key
 
 
 def test_structure_factor_collapse(structure):
