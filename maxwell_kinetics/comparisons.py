@@ -46,6 +46,8 @@ __all__ = [
     "COMPARISONS",
     "kinetic_solution",
     "solution_bin_probabilities",
+    "fft_bin_probabilities",
+    "never_collided_cut",
     "law_cdf",
     "lattice_runs",
     "md_runs",
@@ -268,6 +270,51 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
     return prob, below
 
 
+def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):
+    """The solver's inverse-FFT density and its integral over the bins ``edges``.
+
+    Returns ``(prob, x, P)``: ``(x, P)`` is :meth:`Solution.density` (pyfftw inverse FFT of G
+    cut at q_max; spacing dx ≈ 0.061 for the "fine" grid) restricted to [edges[0], edges[-1]],
+    what the figure draws; ``prob`` its integral over each bin.  P is a trigonometric polynomial
+    (no frequency above q_max), so it is first interpolated exactly onto a grid ``refine`` times
+    finer (zero padding of its spectrum) and then integrated with a cubic spline: a spline
+    through the native samples alone misses up to 1e-4 per bin near a jump, where P rings at
+    frequency q_max ≈ 2.2/dx (measured against the refined grid)."""
+    from scipy.interpolate import CubicSpline
+
+    x, P = sol.density(None, tau_index)
+    m = P.size
+    spec = np.fft.rfft(np.fft.ifftshift(P))
+    fine = np.zeros(refine * m // 2 + 1, dtype=complex)
+    fine[: spec.size] = spec
+    pf = np.fft.fftshift(np.fft.irfft(fine, n=refine * m)) * refine
+    dx = (x[1] - x[0]) / refine
+    xf = dx * (np.arange(refine * m) - refine * m // 2)
+    edges = np.asarray(edges, dtype=float)
+    sel = (xf >= edges[0] - 1.0) & (xf <= edges[-1] + 1.0)
+    prob = np.diff(CubicSpline(xf[sel], pf[sel]).antiderivative()(edges))
+    show = (x >= edges[0]) & (x <= edges[-1])
+    return prob, x[show], P[show]
+
+
+def never_collided_cut(sol, tau_index: int, edges) -> np.ndarray:
+    """What cutting the never-collided part G_free(q) = e^{−τ} φ(q e^{λτ}) at q_max does to the
+    bin probabilities: its bins from ∫_0^{q_max} minus its exact bins.  This is the only term
+    that :func:`fft_bin_probabilities` (all of G cut at q_max) and
+    :func:`solution_bin_probabilities` (G − G_free cut at q_max, G_free exact) treat
+    differently; it is ≈ 0 (< 1e-16) for smooth laws and carries the Gibbs ringing of a jump."""
+    from .initial import get_law
+
+    q_max = sol.resolution.q_max
+    tau = float(sol.tau[tau_index])
+    law = get_law(sol.initial)
+    weight = math.exp(-tau)
+    stretch = math.exp(MaxwellModel(sol.restitution).lam * tau)
+    edges = np.asarray(edges, dtype=float)
+    cut = st.interval_probabilities(lambda q: weight * law.phi(q * stretch), edges, q_max)
+    return cut - weight * np.diff(law_cdf(sol.initial, edges / stretch))
+
+
 # -------------------------------------------------------------------- particle runs
 
 
@@ -308,9 +355,11 @@ _BOUND_CHECKED_ABOVE = 1e-5
 
 def kinetic_theory(size=None, progress=False, **overrides) -> Comparison:
     """Comparison 1: G(q, τ) → f̂, sup|G − f̂| and d_s(G, f̂) against τ with the contraction
-    bound d_s(τ) ≤ e^{−γ(s)τ} d_s(0) (checked at the saved τ where the bound is ≥ 1e-5, above
-    the solver's floor), the moment hierarchy (multiscaling of M_n/M_2^{n/2}) and
-    P(x, τ) developing the x⁻⁴ tail (fitted log-log slope on ``tail_window``)."""
+    bound d_s(τ) ≤ e^{−γ(s)τ} d_s(0) (checked at the saved τ > 0 where the bound is ≥ 1e-5,
+    above the solver's floor; ``max_distance_over_bound`` is the largest d_s/bound there, τ = 0
+    excluded since the ratio is 1 there by construction), the moment hierarchy (multiscaling
+    of M_n/M_2^{n/2}) and P(x, τ) developing the x⁻⁴ tail (fitted log-log slope on
+    ``tail_window``)."""
     start = time.perf_counter()
     prm = _preset(_KINETIC, size, overrides)
     model = MaxwellModel(prm["restitution"])
@@ -326,7 +375,8 @@ def kinetic_theory(size=None, progress=False, **overrides) -> Comparison:
         # Where the bound has fallen under the solver's floor it cannot be checked: only τ with
         # bound ≥ _BOUND_CHECKED_ABOVE count (the coarse grid's d_s floors, measured at τ = 10⁴
         # for r = 0.5: 9.2e-9, 2.6e-8, 1.3e-7 for s = 2.2, 2.5, 2.8).
-        checked = bound >= _BOUND_CHECKED_ABOVE
+        # τ = 0 is left out: there d/bound = 1 by construction (the bound starts at d_s(0)).
+        checked = (bound >= _BOUND_CHECKED_ABOVE) & (taus > 0)
         ratio[s] = float(np.max(d[checked] / bound[checked]))
         checked_to[s] = float(taus[checked][-1])
     # Moments: the exact hierarchy from the law's moments (Gaussian only: known in closed form).
@@ -451,6 +501,27 @@ def kinetic_vs_ulam(size=None, progress=False, **overrides) -> Comparison:
     from cutting G at q_max ≈ 35, which matters for laws with sharp edges (the asymmetric law at
     r = 0.9 and early τ: raw χ²/(dof·φ) 8.2 at the default size, the bins next to its support
     edge), while e^{−σ²q_max²/2} ≈ 1e-6 for σ = 0.15, below the bin width 0.2.
+
+    The kinetic-theory curve of the figure is the solver's own P(x, τ), the pyfftw inverse FFT
+    of G (:meth:`Solution.density`).  The χ² uses the quadrature bin probabilities instead,
+    because the FFT density cuts all of G at q_max, including the never-collided part
+    e^{−τ} φ(q e^{λτ}) whose jump (asymmetric law, X − 1 with X ~ Exp(1): a jump of height
+    e^{−τ} at x = −e^{λτ}) has a 1/q Fourier tail: the FFT density rings there.  Each row's
+    ``fft_vs_quadrature`` compares the FFT density integrated over each bin
+    (:func:`fft_bin_probabilities`) with the quadrature bin probabilities:
+
+    * ``max_abs``: max over the bins of the difference, and ``max_abs_in_sigma`` in units of the
+      bin's standard error (seed scatter).  Measured at the small size: ≤ 2.2e-11 for the
+      bimodal law; for the asymmetric law (r = 0.9) 8.99e-4, 2.52e-4, 6.2e-7 at τ = 0.5, 2, 8
+      (0.94, 0.13, 0.001 standard errors): the ringing, which decays only like 1/distance from
+      the jump (2e-4 four bins away at τ = 0.5), so excluding the bins next to the jump would
+      not remove it.  Near 1σ in a bin at τ = 0.5 is why the χ² keeps the quadrature;
+    * ``never_collided_cut_max_abs``: the size of that ringing computed alone
+      (:func:`never_collided_cut`, the only term the two methods treat differently);
+    * ``max_abs_cut_removed``: the difference once that term is removed: what remains is the
+      numerical error of the two integrations (measured at the small size 9.6e-7, 2.8e-7,
+      3.4e-10 for the asymmetric law at τ = 0.5, 2, 8, largest next to the jump), checked in
+      the tests against 5e-6.
     """
     start = time.perf_counter()
     prm = _preset(_VS_ULAM, size, overrides)
@@ -467,8 +538,19 @@ def kinetic_vs_ulam(size=None, progress=False, **overrides) -> Comparison:
             prob, below = solution_bin_probabilities(sol, k, edges)
             cmp = st.compare_histograms(x, edges, prob, below)
             smoothed = _smoothed_comparison(sol, k, x, edges, prm["smoothing"], seed=k)
+            fft_prob, fft_x, fft_p = fft_bin_probabilities(sol, k, edges)
+            diff = fft_prob - prob
+            cut = never_collided_cut(sol, k, edges)
+            sigma = cmp.error * np.diff(edges)  # standard error of the pooled bin probability
+            fft_check = {"max_abs": float(np.max(np.abs(diff))),
+                         "max_abs_in_sigma": float(np.max(np.abs(diff[sigma > 0])
+                                                          / sigma[sigma > 0])),
+                         "never_collided_cut_max_abs": float(np.max(np.abs(cut))),
+                         "max_abs_cut_removed": float(np.max(np.abs(diff - cut)))}
             rows.append({"tau": tau, **cmp.summary(), "comparison": cmp,
-                         "smoothed": {"width": prm["smoothing"], **smoothed.summary()}})
+                         "smoothed": {"width": prm["smoothing"], **smoothed.summary()},
+                         "fft_vs_quadrature": fft_check,
+                         "fft": {"x": fft_x, "density": fft_p}})
         cases.append({"restitution": r, "initial": law, "rows": rows})
     # The N scan.
     r, law = prm["scan_case"]
@@ -492,9 +574,14 @@ def kinetic_vs_ulam(size=None, progress=False, **overrides) -> Comparison:
                     "independent samples, phi with correlated ones, phi measured from the seed "
                     "scatter) and the Kolmogorov-Smirnov distance of single runs on the bin edges "
                     "(sqrt(M)*KS ~ 0.87*sqrt(phi))",
+        "fft_vs_quadrature": "per τ: bins of the solver's inverse-FFT density (the figure's "
+                             "curve) minus the quadrature bin probabilities (used for chi2): max "
+                             "|difference|, in bin standard errors, the part due to cutting the "
+                             "never-collided jump at q_max, and the rest",
         "cases": [
             {"restitution": c["restitution"], "initial": c["initial"],
-             "rows": [{k: v for k, v in row.items() if k != "comparison"} for row in c["rows"]]}
+             "rows": [{k: v for k, v in row.items() if k not in ("comparison", "fft")}
+                      for row in c["rows"]]}
             for c in cases
         ],
         "n_scan": {"restitution": r, "initial": law, "tau": tau, "n": list(prm["scan_n"]),
@@ -549,7 +636,7 @@ def ulam_collapse(size=None, progress=False, **overrides) -> Comparison:
     below_f = float(st.f_cdf(edges[0]))
     median_f = brentq(lambda m: float(st.f_cdf(m)) - 0.75, 0.1, 10.0)  # median of |x| under f
     seeds = list(range(int(prm["seeds"])))
-    rows, hists = [], []
+    rows, hists, shapes, tails = [], [], [], []
     for r, tau in zip(prm["restitutions"], prm["tau"], strict=True):
         snaps = ulam_snapshots(r, prm["law"], prm["n"], [float(tau)], seeds, progress=progress)
         x = _rescaled(snaps[0])
@@ -567,10 +654,30 @@ def ulam_collapse(size=None, progress=False, **overrides) -> Comparison:
                      "kinetic_sup_error_vs_f_hat": float(sol.sup_error(0)),
                      "kinetic_bias_in_sigma": bias})
         hists.append(cmp)
+        shapes.append(shape)
+        tails.append(_tail_histogram(xs))
     summary = {"parameters": _jsonable(prm), "rows": rows,
                "seconds": time.perf_counter() - start}
     return Comparison("ulam_collapse", summary, {"rows": rows, "histograms": hists,
+                                                  "shape_histograms": shapes, "tails": tails,
                                                   "edges": edges})
+
+
+#: Log bins of |x| for the tail of the figure of :func:`ulam_collapse` (10 per decade).
+_TAIL_EDGES = np.geomspace(0.05, 100.0, 34)
+
+
+def _tail_histogram(x: np.ndarray) -> dict:
+    """Density of x from |x| (rows: runs) in the log bins :data:`_TAIL_EDGES`, halved so that
+    it compares with a symmetric P(x): ``centres`` (geometric), ``density``, ``error`` (seed
+    scatter) and ``counts`` (pooled), for the figure only (the χ² uses the linear bins)."""
+    edges = _TAIL_EDGES
+    counts = st.bin_counts(np.abs(x), edges)
+    dens = counts / (2.0 * x.shape[1] * np.diff(edges))
+    err = (dens.std(axis=0, ddof=1) / math.sqrt(x.shape[0]) if x.shape[0] > 1
+           else np.sqrt(counts[0]) / (2.0 * x.shape[1] * np.diff(edges)))
+    return {"centres": np.sqrt(edges[1:] * edges[:-1]), "density": dens.mean(axis=0),
+            "error": err, "counts": counts.sum(axis=0)}
 
 
 # ==================================================================== particle runs (cached)
@@ -683,6 +790,9 @@ def energy_decay(size=None, progress=False, **overrides) -> Comparison:
       −(1 − r²)/2, SPEC §3);
     * lattice late: slope of ln E against ln τ on ``lattice_late_window`` (expected −1/2).
 
+    Each fit reports its ``window`` (from the preset), ``fit_range`` (first and last recorded
+    time inside it) and ``fit_points``.
+
     The late exponents' ``uncertainty`` adds in quadrature the seeds' standard error and the
     window drift (half the difference of the slopes on the two halves of the window): the local
     exponent still drifts there (measured for the lattice, N = 10⁵, 2 seeds: −0.474 at τ ≈ 30,
@@ -697,25 +807,37 @@ def energy_decay(size=None, progress=False, **overrides) -> Comparison:
                        tuple(range(prm["lattice_seeds"])), progress=progress)
     t, e = md["times"], md["energy"]
     t0 = math.sqrt(math.pi) / (1.0 - r * r)
-    lo, hi = prm["md_haff_window"]
-    w = (t >= lo) & (t <= hi)
-    haff = st.seed_slope(np.log1p(t[w] / t0), np.log(e[:, w]))
-    lo, hi = prm["md_late_window"]
-    w = (t >= lo) & (t <= hi)
-    md_late = st.seed_slope(np.log(t[w]), np.log(e[:, w]))
-    md_late_xy = (np.log(t[w]), np.log(e[:, w]))
     tau, el = lat["times"], lat["energy"]
-    lo, hi = prm["lattice_early_window"]
-    w = (tau >= lo) & (tau <= hi)
-    lat_early = st.seed_slope(np.concatenate([[0.0], tau[w]]),
-                              np.log(np.column_stack([np.ones(len(el)), el[:, w]])))
-    lo, hi = prm["lattice_late_window"]
-    w = (tau >= lo) & (tau <= hi)
-    lat_late = st.seed_slope(np.log(tau[w]), np.log(el[:, w]))
-    lat_late_xy = (np.log(tau[w]), np.log(el[:, w]))
+    # Each fit: (clock, energies, window name, abscissa of the fit as a function of the clock).
+    # The lattice's early fit also uses the exact E(0) = 1 at τ = 0.
+    lines, used = {}, {}
+    for name, clock, energy, key, fx in (
+            ("md_haff", t, e, "md_haff_window", lambda c: np.log1p(c / t0)),
+            ("md_late", t, e, "md_late_window", np.log),
+            ("lattice_early", tau, el, "lattice_early_window", lambda c: c),
+            ("lattice_late", tau, el, "lattice_late_window", np.log)):
+        lo, hi = prm[key]
+        w = (clock >= lo) & (clock <= hi)
+        c, y = clock[w], np.log(energy[:, w])
+        if name == "lattice_early":
+            c, y = np.concatenate([[0.0], c]), np.column_stack([np.zeros(len(energy)), y])
+        used[name] = (fx(c), y)
+        # The slope of the seeds' mean ln E equals the mean of the per-seed slopes (the fit is
+        # linear in y); its intercept draws the fitted line in the figure.
+        b, a = np.polyfit(fx(c), y.mean(axis=0), 1)
+        lines[name] = {"clock": c, "slope": float(b), "intercept": float(a), "window": prm[key]}
+    haff = st.seed_slope(*used["md_haff"])
+    md_late = st.seed_slope(*used["md_late"])
+    md_late_xy = used["md_late"]
+    lat_early = st.seed_slope(*used["lattice_early"])
+    lat_late = st.seed_slope(*used["lattice_late"])
+    lat_late_xy = used["lattice_late"]
 
-    def fit(res, expected, x=None, ys=None):
-        out = {"slope": [res[0], res[1]], "per_run": res[2].tolist(), "expected": expected}
+    def fit(res, expected, name, x=None, ys=None):
+        clock = lines[name]["clock"]
+        out = {"slope": [res[0], res[1]], "per_run": res[2].tolist(), "expected": expected,
+               "window": list(lines[name]["window"]),
+               "fit_range": [float(clock[0]), float(clock[-1])], "fit_points": int(clock.size)}
         err = res[1]
         if x is not None:
             # Window systematic: half the difference of the slopes fitted on the two halves of
@@ -731,19 +853,19 @@ def energy_decay(size=None, progress=False, **overrides) -> Comparison:
 
     summary = {
         "parameters": _jsonable(prm),
-        "md_haff_exponent": fit(haff, -2.0),
-        "md_late_exponent": fit(md_late, -2.0 / 3.0, *md_late_xy),
+        "md_haff_exponent": fit(haff, -2.0, "md_haff"),
+        "md_late_exponent": fit(md_late, -2.0 / 3.0, "md_late", *md_late_xy),
         "md_collisions_per_particle_at_end": md["tau"][:, -1].tolist(),
         "md_seconds": md["seconds"],
-        "lattice_initial_rate": fit(lat_early, -(1.0 - r * r) / 2.0),
-        "lattice_late_exponent": fit(lat_late, -0.5, *lat_late_xy),
+        "lattice_initial_rate": fit(lat_early, -(1.0 - r * r) / 2.0, "lattice_early"),
+        "lattice_late_exponent": fit(lat_late, -0.5, "lattice_late", *lat_late_xy),
         "lattice_seconds": lat["seconds"],
         "seconds": time.perf_counter() - start,
     }
     data = {"md_t": t, "md_energy": e, "t0": t0, "lattice_tau": tau, "lattice_energy": el,
             "windows": {k: prm[k] for k in ("md_haff_window", "md_late_window",
                                             "lattice_early_window", "lattice_late_window")},
-            "restitution": r}
+            "fits": lines, "restitution": r}
     return Comparison("energy_decay", summary, data)
 
 
@@ -788,14 +910,22 @@ def _log_binned(k, s):
     return kb, sb
 
 
-def _porod(k, s, t, z, x_window, k_max):
-    """Slope of ln S against ln k over k·t^z in ``x_window`` and k ≤ ``k_max``."""
+def porod_fit(k, s, t, z, x_window, k_max):
+    """Least-squares line ln S = a + b ln k over the log bins with k·t^z in ``x_window`` and
+    k ≤ ``k_max``: (b, a, k of the bins used), or None with fewer than 3 bins."""
     kb, sb = _log_binned(k, s)
     x = kb * t**z
     sel = (x >= x_window[0]) & (x <= x_window[1]) & (kb <= k_max)
     if sel.sum() < 3:
         return None
-    return float(np.polyfit(np.log(kb[sel]), np.log(sb[sel]), 1)[0])
+    b, a = np.polyfit(np.log(kb[sel]), np.log(sb[sel]), 1)
+    return float(b), float(a), kb[sel]
+
+
+def _porod(k, s, t, z, x_window, k_max):
+    """Slope of ln S against ln k over k·t^z in ``x_window`` and k ≤ ``k_max``."""
+    fit = porod_fit(k, s, t, z, x_window, k_max)
+    return None if fit is None else fit[0]
 
 
 def structure_factors(size=None, progress=False, **overrides) -> Comparison:
@@ -806,11 +936,15 @@ def structure_factors(size=None, progress=False, **overrides) -> Comparison:
     seeds and log-binned (10 bins per decade).  Numbers:
 
     * collapse quality: rms over x = k t^z ∈ [0.5, porod_x[1]] of the spread (std over the
-      times) of ln S, at the theory's z and at z = 0 (no rescaling), and the z that minimises
-      it (scan in steps of 0.01), its uncertainty the jackknife over seeds;
+      times) of ln S, at the theory's z and at z = 0 (no rescaling), each [value, jackknife
+      error over seeds], and ``z_best``, the z that minimises it (scan of [0, 1] in steps of
+      0.01, refined between grid points), [value, jackknife error]; at the edge of the scan
+      ``z_best_at_scan_edge`` is true and the error None (see :func:`_structure_numbers`);
     * Porod slope: ln S against ln k on x ∈ ``porod_x`` and k ≤ ``k_max`` (MD), on
-      x ∈ ``lattice_porod_x`` and k ≤ ``lattice_k_max`` (lattice), at each time, and the mean
-      and standard error over seeds of per-seed fits at the last time.
+      x ∈ ``lattice_porod_x`` and k ≤ ``lattice_k_max`` (lattice): of the seed-mean spectrum at
+      each time (``porod_slope_per_time``, [value, jackknife error]; None where the window holds
+      fewer than 3 log bins), and the mean and standard error over seeds of per-seed fits at the
+      last time (``porod_slope_last_time``).  Jackknife errors need 3 seeds (None below).
 
     Why the lattice window is x = k τ^{1/2} ∈ [8, 30], k ≤ 0.5, fitted at τ = 2000 (measured,
     r = 0.5, N = 2·10⁴, seeds 100–103): the local slope of S overshoots to about −3 at the knee of
@@ -851,32 +985,84 @@ def structure_factors(size=None, progress=False, **overrides) -> Comparison:
     return Comparison("structure_factors", summary, data)
 
 
+def _jackknife(values) -> float | None:
+    """Jackknife standard error from the leave-one-out estimates ``values`` (None below 3 of
+    them: two replicas give one difference, not a spread)."""
+    v = np.asarray([x for x in values if x is not None], dtype=float)
+    if v.size < 3 or v.size < len(values):
+        return None
+    return float(np.sqrt((v.size - 1) / v.size * np.sum((v - v.mean()) ** 2)))
+
+
+def _z_minimum(k, spectra, times, zs, x_range) -> tuple[float, bool]:
+    """The z minimising the collapse spread: grid scan over ``zs``, then a bounded Brent search
+    between the grid minimum's two neighbours (to 1e-5; the vertex of a parabola through the
+    three grid points was off by up to 1e-3, more than the jackknife error, because the spread
+    is only piecewise smooth in z).  Returns (z, at_edge); at_edge when the grid minimum is the
+    first or last z (the spread still falls toward the end of the scan: no minimum inside it;
+    z is then the edge value)."""
+    from scipy.optimize import minimize_scalar
+
+    spread = np.array([_collapse_spread(k, spectra, times, z, x_range) for z in zs])
+    i = int(np.argmin(spread))
+    if i == 0 or i == len(zs) - 1:
+        return float(zs[i]), True
+    res = minimize_scalar(lambda z: _collapse_spread(k, spectra, times, z, x_range),
+                          bounds=(float(zs[i - 1]), float(zs[i + 1])), method="bounded",
+                          options={"xatol": 1e-5})
+    z = float(res.x) if res.fun <= spread[i] else float(zs[i])
+    return z, False
+
+
 def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm, *, lattice: bool) -> dict:
-    spread = [_collapse_spread(k, mean, times, z, x_range) for z in zs]
-    z_best = float(zs[int(np.argmin(spread))])
-    jack = []
+    """Numbers of one model (see :func:`structure_factors`); ``spec`` (R, T, K) per seed.
+
+    Every number of the seed-mean spectrum gets a jackknife error over the seeds (leave one
+    seed out, recompute from the mean of the others); with fewer than 3 seeds (the ``full``
+    lattice has 2) the error is None.
+
+    ``z_best``: [z, jackknife error] of the refined minimum of the collapse spread (see
+    :func:`_z_minimum`).  The grid alone (step 0.01) made the jackknife useless: at the small
+    size all replicas hit the same grid point (error 0.0).  When the minimum is at the edge of
+    the scan (``z_best_at_scan_edge``: the lattice without the constraint, whose spread keeps
+    falling up to z = 1) there is no minimum to locate and the error is None.
+    """
     n_runs = spec.shape[0]
-    if n_runs >= 3:
-        for i in range(n_runs):
-            sub = np.delete(spec, i, axis=0).mean(axis=0)
-            sp = [_collapse_spread(k, sub, times, z, x_range) for z in zs]
-            jack.append(float(zs[int(np.argmin(sp))]))
-    z_err = (float(np.sqrt((n_runs - 1) / n_runs * np.sum((np.array(jack) - np.mean(jack)) ** 2)))
-             if jack else None)
+    z_best, at_edge = _z_minimum(k, mean, times, zs, x_range)
     window, k_max = ((prm["lattice_porod_x"], prm["lattice_k_max"]) if lattice
                      else (prm["porod_x"], prm["k_max"]))
-    slopes = [_porod(k, s, t, z_theory, window, k_max) for s, t in zip(mean, times, strict=True)]
+
+    def numbers(m):
+        return {"theory": _collapse_spread(k, m, times, z_theory, x_range),
+                "unscaled": _collapse_spread(k, m, times, 0.0, x_range),
+                "slopes": [_porod(k, s, t, z_theory, window, k_max)
+                           for s, t in zip(m, times, strict=True)]}
+
+    full = numbers(mean)
+    jack = ([numbers(np.delete(spec, i, axis=0).mean(axis=0)) for i in range(n_runs)]
+            if n_runs >= 3 else [])
+    z_jack = ([_z_minimum(k, np.delete(spec, i, axis=0).mean(axis=0), times, zs, x_range)[0]
+               for i in range(n_runs)] if n_runs >= 3 and not at_edge else [])
+
+    def with_error(value, key, index=None):
+        if value is None:
+            return None
+        reps = [j[key] if index is None else j[key][index] for j in jack]
+        return [value, _jackknife(reps) if reps else None]
+
     per_seed = [_porod(k, spec[i, -1], times[-1], z_theory, window, k_max)
                 for i in range(n_runs)]
     per_seed = [p for p in per_seed if p is not None]
     return {
         "times": list(map(float, times)),
         "z_theory": z_theory,
-        "collapse_spread_at_z_theory": _collapse_spread(k, mean, times, z_theory, x_range),
-        "collapse_spread_unscaled": _collapse_spread(k, mean, times, 0.0, x_range),
-        "z_best": [z_best, z_err],
+        "collapse_spread_at_z_theory": with_error(full["theory"], "theory"),
+        "collapse_spread_unscaled": with_error(full["unscaled"], "unscaled"),
+        "z_best": [z_best, None if at_edge else (_jackknife(z_jack) if z_jack else None)],
+        "z_best_at_scan_edge": at_edge,
+        "z_scan": [float(zs[0]), float(zs[-1]), float(zs[1] - zs[0])],
         "porod_window": {"x": list(map(float, window)), "k_max": float(k_max)},
-        "porod_slope_per_time": slopes,
+        "porod_slope_per_time": [with_error(v, "slopes", i) for i, v in enumerate(full["slopes"])],
         "porod_slope_last_time": [
             float(np.mean(per_seed)) if per_seed else None,
             float(np.std(per_seed, ddof=1) / math.sqrt(len(per_seed))) if len(per_seed) > 1
@@ -1082,10 +1268,27 @@ def _increment_skewness(dv: np.ndarray) -> float:
     return float(np.mean(d**3) / np.mean(d**2) ** 1.5)
 
 
+#: Comparison 7's own preset.  ``small`` and ``default`` repeat the run parameters of
+#: :data:`_DISTRIBUTIONS` (same MD and lattice runs, shared through the run cache within one
+#: process); ``full`` is the paper's Fig. 4 size, N = 2·10⁴ for MD and the lattice, with 8 seeds
+#: (comparison 4's ``full`` uses N = 10⁵ and 10⁶).
+_PROFILES = {
+    "small": {"restitution": 0.99, "delta": 1e-4, "md_n": 2000, "md_seeds": 4,
+              "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 2000, "lattice_seeds": 4},
+    "default": {"restitution": 0.99, "delta": 1e-4, "md_n": 20_000, "md_seeds": 4,
+                "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 20_000,
+                "lattice_seeds": 4},
+    "full": {"restitution": 0.99, "delta": 1e-4, "md_n": 20_000, "md_seeds": 8,
+             "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 20_000, "lattice_seeds": 8},
+}
+
+
 def velocity_profiles(size=None, progress=False, **overrides) -> Comparison:
     """Comparison 7 (paper Fig. 4): v(x, t) and v(i, t) of MD and v(i, τ) of the lattice at
-    equal energy, r = 0.99 — the late (clustered) stage of comparison 4, whose presets (and,
-    within one process, runs) it shares.
+    equal energy, r = 0.99 — the late (clustered) stage of comparison 4 (MD recorded at
+    ``md_t_early`` and ``md_t_late``, the profiles taken at ``md_t_late``).  Preset
+    :data:`_PROFILES`: N = 2·10⁴ at the default and full sizes (the paper's Fig. 4), 4 seeds at
+    the default size (the runs of comparison 4, shared within one process) and 8 at full size.
 
     Shocks and pre-shocks, quantified by the sign asymmetry of the large gradients (paper:
     v(x, t) has large negative gradients, v(i, t) large positive ones):
@@ -1097,7 +1300,7 @@ def velocity_profiles(size=None, progress=False, **overrides) -> Comparison:
     For each, the skewness of the increments per run, mean ± standard error over seeds.
     """
     start = time.perf_counter()
-    prm = _preset(_DISTRIBUTIONS, size, overrides)
+    prm = _preset(_PROFILES, size, overrides)
     r = prm["restitution"]
     md = _fig1_md(prm, progress)
     j = 1  # the late stage
