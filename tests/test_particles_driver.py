@@ -110,6 +110,37 @@ def test_ctrl_c_checkpoint_then_resume_is_bit_identical(engine, tmp_path):
     _assert_same_run(reference, again)
 
 
+@pytest.mark.parametrize("structure", ["all", "last"])
+def test_ctrl_c_while_recording_gives_a_resumable_checkpoint(structure, tmp_path, monkeypatch):
+    # Ctrl-C can land while the driver records a requested time (in the S(k) FFT, the snapshot
+    # copy or ``observe``), after some entries of that time were computed.  The checkpoint saved
+    # then must be consistent (nothing beyond ``done``) and resume to the uninterrupted run.
+    # Found by review: with energy written before ``done`` moved on, resume refused the file.
+    engine = Ulam(400, 0.5)
+    times = [1.0, 2.0, 3.0]
+    kw = dict(progress=False, structure_factor=structure, snapshots=True)
+    reference = simulate(engine, times, 5, **kw)
+    from particles import driver
+
+    real = driver.obs.structure_factor
+    calls = []
+
+    def interrupted(v):
+        calls.append(1)
+        if len(calls) == (2 if structure == "all" else 1):
+            raise KeyboardInterrupt
+        return real(v)
+
+    path = tmp_path / "run.ckpt"
+    monkeypatch.setattr(driver.obs, "structure_factor", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        simulate(engine, times, 5, checkpoint=path, **kw)
+    monkeypatch.setattr(driver.obs, "structure_factor", real)
+    assert path.exists()
+    resumed = simulate(engine, times, 5, resume=path, **kw)
+    _assert_same_run(reference, resumed)
+
+
 def test_periodic_checkpoints_do_not_change_the_run(tmp_path):
     engine = Ulam(500, 0.3)
     times = [2.0, 7.0]
