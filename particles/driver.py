@@ -438,6 +438,7 @@ def _save_checkpoint(path, identity, state, rng_state, records: _Records) -> Non
 def _load_checkpoint(path, engine, identity, records: _Records):
     meta, arrays = _read_npz(path, "resume", "checkpoint")
     run = meta.get("run", {})
+    arrays = _structure_all_to_last(run, identity, arrays)
     diffs = [key for key in identity if run.get(key) != identity[key]]
     if diffs:
         shown = ", ".join(f"{k}: file {run.get(k)!r} vs run {identity[k]!r}" for k in diffs)
@@ -460,6 +461,24 @@ def _load_checkpoint(path, engine, identity, records: _Records):
     if problem is not None:
         raise CheckpointError(path, f"inconsistent checkpoint: {problem}")
     return state, rng
+
+
+def _structure_all_to_last(run: dict, identity: dict, arrays: dict) -> dict:
+    """Let a run that keeps S(k) at its last time only (``"last"``, what the CLI asks for) resume
+    a checkpoint that kept it at every time (``True``, e.g. written by an earlier version of the
+    CLI): the dynamics is the same, only the last row is kept.  ``run`` (the file's identity) is
+    updated in place to match; anything else about the files is checked as usual."""
+    options, wanted = run.get("options"), identity["options"]
+    if not (isinstance(options, dict) and options.get("structure_factor") is True
+            and wanted["structure_factor"] == "last"):
+        return arrays
+    rows = arrays.get("rec.structure")
+    if rows is None or np.ndim(rows) != 2 or len(rows) != len(identity["times"]):
+        return arrays  # not a well-formed "all" file: let the usual checks name the problem
+    options["structure_factor"] = "last"
+    arrays = dict(arrays)
+    arrays["rec.structure"] = np.asarray(rows)[-1:]
+    return arrays
 
 
 #: Stops walked at most when checking that a checkpoint's time is one the driver stops at.

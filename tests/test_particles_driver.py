@@ -141,6 +141,22 @@ def test_ctrl_c_while_recording_gives_a_resumable_checkpoint(structure, tmp_path
     _assert_same_run(reference, resumed)
 
 
+def test_last_only_run_resumes_a_checkpoint_that_kept_every_spectrum(tmp_path):
+    # Checkpoints written before the CLI switched to structure_factor="last" hold S(k) at every
+    # time (True).  The dynamics is the same, so such a file resumes a "last" run, which keeps
+    # the last row only, and gives the uninterrupted "last" run bit for bit.
+    engine = Ulam(400, 0.5)
+    times = [1.0, 2.0, 3.0]
+    reference = simulate(engine, times, 9, progress=False, structure_factor="last")
+    path = tmp_path / "old.ckpt"
+    with pytest.raises(KeyboardInterrupt):
+        simulate(Interrupting(engine, after=2), times, 9, progress=False, structure_factor=True,
+                 checkpoint=path)
+    resumed = simulate(engine, times, 9, progress=False, structure_factor="last", resume=path)
+    _assert_same_run(reference, resumed)
+    assert resumed.structure[1].shape == (1, 201)
+
+
 def test_periodic_checkpoints_do_not_change_the_run(tmp_path):
     engine = Ulam(500, 0.3)
     times = [2.0, 7.0]
