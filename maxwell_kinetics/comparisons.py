@@ -64,7 +64,7 @@ def default_size() -> str:
     return "small" if flag not in ("", "0") else "default"
 
 
-_COMPARISON_FORMAT = "maxwell_kinetics.Comparison/1"
+_COMPARISON_FORMAT = "maxwell_kinetics.Comparison/2"
 
 
 @dataclass
@@ -377,8 +377,11 @@ def kinetic_theory(size=None, progress=False, **overrides) -> Comparison:
         # for r = 0.5: 9.2e-9, 2.6e-8, 1.3e-7 for s = 2.2, 2.5, 2.8).
         # τ = 0 is left out: there d/bound = 1 by construction (the bound starts at d_s(0)).
         checked = (bound >= _BOUND_CHECKED_ABOVE) & (taus > 0)
-        ratio[s] = float(np.max(d[checked] / bound[checked]))
-        checked_to[s] = float(taus[checked][-1])
+        if checked.any():
+            ratio[s] = float(np.max(d[checked] / bound[checked]))
+            checked_to[s] = float(taus[checked][-1])
+        else:  # no saved τ > 0 where the bound is above the floor (e.g. an override tau=(0,))
+            ratio[s] = checked_to[s] = None
     # Moments: the exact hierarchy from the law's moments (Gaussian only: known in closed form).
     if prm["law"] != "gaussian":
         raise InvalidArgumentError("law", prm["law"], "'gaussian' (moments known exactly)")
@@ -505,8 +508,9 @@ def kinetic_vs_ulam(size=None, progress=False, **overrides) -> Comparison:
     The kinetic-theory curve of the figure is the solver's own P(x, τ), the pyfftw inverse FFT
     of G (:meth:`Solution.density`).  The χ² uses the quadrature bin probabilities instead,
     because the FFT density cuts all of G at q_max, including the never-collided part
-    e^{−τ} φ(q e^{λτ}) whose jump (asymmetric law, X − 1 with X ~ Exp(1): a jump of height
-    e^{−τ} at x = −e^{λτ}) has a 1/q Fourier tail: the FFT density rings there.  Each row's
+    e^{−τ} φ(q e^{λτ}) whose jump (asymmetric law, X − 1 with X ~ Exp(1): in x = v/v0 a jump
+    of height e^{−τ} e^{−λτ} at x = −e^{λτ}) has a 1/q Fourier tail: the FFT density rings
+    there.  Each row's
     ``fft_vs_quadrature`` compares the FFT density integrated over each bin
     (:func:`fft_bin_probabilities`) with the quadrature bin probabilities:
 

@@ -69,6 +69,13 @@ def test_contraction_bound_holds(kinetic):
         assert kinetic.summary["bound_checked_up_to_tau"][s] >= 100.0, s
 
 
+def test_contraction_check_with_nothing_to_check_reports_none():
+    """With only τ = 0 saved (an override) no bound can be checked: None, not a crash."""
+    c = cmp.kinetic_theory("small", tau=(0.0,))
+    assert set(c.summary["max_distance_over_bound"].values()) == {None}
+    assert set(c.summary["bound_checked_up_to_tau"].values()) == {None}
+
+
 def test_moment_multiscaling(kinetic):
     """ln(M_n/M_2^{n/2}) grows at n a_2/2 − a_n: the slope fitted on the second half of the
     τ range carries the subleading exponentials, measured 0.35 % for n = 4 at τ ≤ 100."""
