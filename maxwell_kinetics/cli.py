@@ -64,8 +64,10 @@ def _looks_numeric(token: str) -> bool:
     return True
 
 
-def _takes_one_value(parser: argparse.ArgumentParser, option: str) -> bool:
-    """True when ``option`` (exact, or an unambiguous ``--`` prefix) takes one value."""
+def _takes_one_value(parser: argparse.ArgumentParser, option: str, optional: bool = True) -> bool:
+    """True when ``option`` (exact, or an unambiguous ``--`` prefix) takes one value; with
+    ``optional=False``, only when the value is required (``nargs="?"`` may take none, so the
+    next token is not skipped as its value unless it was joined)."""
     actions = parser._option_string_actions
     if option in actions:
         found = {actions[option]}
@@ -75,7 +77,7 @@ def _takes_one_value(parser: argparse.ArgumentParser, option: str) -> bool:
         return False
     if len(found) != 1:
         return False
-    return found.pop().nargs in (None, 1, "?")
+    return found.pop().nargs in ((None, 1, "?") if optional else (None, 1))
 
 
 def _subcommands(parser: argparse.ArgumentParser) -> dict:
@@ -105,9 +107,12 @@ def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> li
         if token in subcommands:
             parser = subcommands[token]
         elif token.startswith("-") and "=" not in token and _takes_one_value(parser, token):
-            if i + 1 < len(argv):  # the option and its value; skip both
-                value = argv[i + 1]
-                out.extend([f"{token}={value}"] if _looks_numeric(value) else [token, value])
+            if i + 1 < len(argv) and _looks_numeric(argv[i + 1]):  # joined: skip both
+                out.append(f"{token}={argv[i + 1]}")
+                i += 2
+                continue
+            if i + 1 < len(argv) and _takes_one_value(parser, token, optional=False):
+                out.extend([token, argv[i + 1]])  # its value, whatever it is: skip both
                 i += 2
                 continue
         out.append(token)

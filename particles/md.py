@@ -140,15 +140,27 @@ class InelasticCollapseError(RuntimeError):
     """
 
     def __init__(
-        self, time: float, particles, collisions: int, detail: str = "", delta: float = 0.0
+        self,
+        time: float,
+        particles,
+        collisions: int,
+        detail: str = "",
+        delta: float = 0.0,
+        restitution: float | None = None,
     ):
         self.time = float(time)
         self.particles = np.unique(np.asarray(particles, dtype=np.int64))
         self.collisions = int(collisions)
         self.delta = float(delta)
+        self.restitution = restitution
         shown = self.particles[:10].tolist()
         more = "" if self.particles.size <= 10 else f" (+{self.particles.size - 10} more)"
-        if self.delta > 0.0:
+        if self.restitution == 1.0:
+            hint = (
+                "the collisions are elastic (r = 1), so delta changes nothing: the time steps "
+                "fell below the resolution of double precision; check the initial state"
+            )
+        elif self.delta > 0.0:
             hint = (
                 f"with delta = {self.delta:g} the collisions are regularised, but their time "
                 "steps fell below the resolution of double precision (the time stands still); "
@@ -477,7 +489,9 @@ class MDEngine:
         return dt, k, f"{k} collisions of one particle, each within {dt:g} of the previous"
 
     def _collapse(self, t, particles, collisions, detail=""):
-        raise InelasticCollapseError(t, particles, collisions, detail, self.p.delta)
+        raise InelasticCollapseError(
+            t, particles, collisions, detail, self.p.delta, self.p.restitution
+        )
 
 
 # ---------------------------------------------------------------------------------------------

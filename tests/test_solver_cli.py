@@ -5,6 +5,7 @@ validation errors make ``main`` return 2).  Each successful solve costs a JIT co
 few seconds, so the successful runs are shared through module-level fixtures.
 """
 
+import argparse
 import json
 
 import numpy as np
@@ -189,6 +190,12 @@ def test_join_negative_values_only_touches_values_of_value_options():
     # the subcommand decides: --n takes a value in simulate ulam and in fixed-point
     assert join_negative_values(parser, ["simulate", "ulam", "--n", "-5"]) == [
         "simulate", "ulam", "--n=-5"]
+    # an option whose value is optional (nargs="?") keeps the next option as an option
+    optional = argparse.ArgumentParser()
+    optional.add_argument("--level", nargs="?")
+    optional.add_argument("--x")
+    assert join_negative_values(optional, ["--level", "--x", "3"]) == ["--level", "--x", "3"]
+    assert join_negative_values(optional, ["--level", "-2"]) == ["--level=-2"]
 
 
 # -- output paths are checked before any work -----------------------------------------------
