@@ -317,6 +317,7 @@ def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
             if any(float(n) > 0 for n in started.findall("".join(err_chunks))):
                 break
             time.sleep(0.01)
+        assert proc.poll() is None, "the run ended before it could be interrupted"
         assert not ckpt.exists()  # nothing but the handler below may write it
         proc.send_signal(signal.SIGINT)
         proc.wait(timeout=60)

@@ -179,8 +179,9 @@ def test_interpolation_between_nodes_is_high_order(gaussian_half, asymmetric_zer
 def test_density_sign_normalisation_and_units(asymmetric_zero):
     # The asymmetric law is v = X − 1, X ~ Exp(1): P(x) = e^{−(x+1)} for x > −1, 0 below.  The
     # e^{−iqx} of the docstring puts the mass on the right side (the mirror image would give
-    # P(1.5) = 0 and P(−2) = e^{−3} = 0.050).  G is cut at q_max = 36 and P has a jump, so the
-    # pointwise error is ~1/(π q_max |x + 1|) ≈ 1e-2 (measured 4.3e-3 at 1.5, 1.1e-2 at −2).
+    # P(1.5) = 0 and P(−2) = e^{−3} = 0.050).  G is cut at q_max ≈ 35 (34.8 on the default
+    # grid) and P has a jump, so the pointwise error is ~1/(π q_max |x + 1|) ≈ 1e-2 (measured
+    # 4.3e-3 at 1.5, 1.1e-2 at −2).
     x, P = asymmetric_zero.density(np.array([-2.0, 1.5]), tau_index=0)
     assert abs(P[1] - math.exp(-2.5)) < 0.01
     assert abs(P[0]) < 0.02
