@@ -189,7 +189,8 @@ def _energy_decay(c):
     b.loglog(tau, np.exp(-(1 - r**2) / 2 * tau), "k--", lw=1, label="exp(−(1−r²)τ/2)")
     f = fits["lattice_early"]
     ce = f["clock"][f["clock"] > 0]
-    b.loglog(ce, np.exp(f["intercept"] + f["slope"] * ce), "-", color="C3", lw=2.5,
+    b.loglog(ce, np.exp(f["intercept"] + f["slope"] * ce + f.get("curvature", 0.0) * ce**2),
+             "-", color="C3", lw=2.5,
              label=label("initial rate", "lattice_initial_rate", f"{-(1 - r**2) / 2:g}"))
     shade(b, f, "C3")
     f = fits["lattice_late"]

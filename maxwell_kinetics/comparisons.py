@@ -790,8 +790,11 @@ def energy_decay(size=None, progress=False, **overrides) -> Comparison:
     * MD Haff: slope of ln E against ln(1 + t/t₀), t₀ = √π/((1 − r²) n) (SPEC §4), on
       ``md_haff_window`` (expected −2 while the gas is homogeneous);
     * MD late: slope of ln E against ln t on ``md_late_window`` (expected −2/3);
-    * lattice early: slope of ln E against τ on ``lattice_early_window`` (exact initial rate
-      −(1 − r²)/2, SPEC §3);
+    * lattice early: the initial rate d ln E/dτ at τ = 0⁺ (exact: −(1 − r²)/2, SPEC §3), the
+      linear coefficient of a quadratic fit of ln E against τ on ``lattice_early_window``.  A
+      straight line there measures the mean slope over the window instead, which the build-up
+      of correlations makes steeper: measured at N = 10⁶ (4 seeds, τ ≤ 0.25) −0.37740 ± 0.00060
+      for the line, 4.0σ from −0.375, against −0.3750 ± 0.0025 for the quadratic's slope at 0;
     * lattice late: slope of ln E against ln τ on ``lattice_late_window`` (expected −1/2).
 
     Each fit reports its ``window`` (from the preset), ``fit_range`` (first and last recorded
@@ -828,12 +831,20 @@ def energy_decay(size=None, progress=False, **overrides) -> Comparison:
         used[name] = (fx(c), y)
         # The slope of the seeds' mean ln E equals the mean of the per-seed slopes (the fit is
         # linear in y); its intercept draws the fitted line in the figure.
-        b, a = np.polyfit(fx(c), y.mean(axis=0), 1)
-        lines[name] = {"clock": c, "slope": float(b), "intercept": float(a), "window": prm[key]}
+        if name == "lattice_early":  # the slope at τ = 0 of a quadratic (docstring)
+            q, b, a = np.polyfit(fx(c), y.mean(axis=0), 2)
+        else:
+            q, (b, a) = 0.0, np.polyfit(fx(c), y.mean(axis=0), 1)
+        lines[name] = {"clock": c, "slope": float(b), "intercept": float(a),
+                       "curvature": float(q), "window": prm[key]}
     haff = st.seed_slope(*used["md_haff"])
     md_late = st.seed_slope(*used["md_late"])
     md_late_xy = used["md_late"]
-    lat_early = st.seed_slope(*used["lattice_early"])
+    x_early, y_early = used["lattice_early"]
+    per_run = np.array([np.polyfit(x_early, row, 2)[1] for row in y_early])
+    lat_early = (float(per_run.mean()),
+                 float(per_run.std(ddof=1) / math.sqrt(per_run.size)) if per_run.size > 1
+                 else float("nan"), per_run)
     lat_late = st.seed_slope(*used["lattice_late"])
     lat_late_xy = used["lattice_late"]
 
