@@ -463,7 +463,8 @@ def _kinetic_scaled(v: np.ndarray, restitution: float, tau: float) -> np.ndarray
     |x|⁻⁴ tail particles, so it scatters from run to run and its typical value lies below the
     mean; dividing each run by it stretches the bulk by a different factor per run, which the
     kinetic theory does not describe (measured, r = 0.5, bimodal, τ = 128, N = 10⁶, 8 runs:
-    E/e^{−2λτ} of the runs 0.93–0.98 and below; χ²/(dof·φ) 4.0 with √E per run, 1.26 with v0).
+    E/e^{−2λτ} of the runs 0.934–1.047, median 0.964; χ²/(dof·φ) 4.0 with √E per run, 1.26
+    with v0).
     The finite system's own mean energy is e^{−2λτ N/(N−1)} (SPEC §2), 1 − 2λτ/N of the
     kinetic one: ≤ 5e-5 relative here, far below the bins' statistical resolution.  The mean is
     subtracted for the reason given in :func:`_rescaled`."""
