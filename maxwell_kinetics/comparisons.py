@@ -837,36 +837,29 @@ def energy_decay(size=None, progress=False, **overrides) -> Comparison:
     tau, el = lat["times"], lat["energy"]
     # Each fit: (clock, energies, window name, abscissa of the fit as a function of the clock).
     # The lattice's early fit also uses the exact E(0) = 1 at τ = 0.
-    lines, used = {}, {}
-    for name, clock, energy, key, fx in (
-            ("md_haff", t, e, "md_haff_window", lambda c: np.log1p(c / t0)),
-            ("md_late", t, e, "md_late_window", np.log),
-            ("lattice_early", tau, el, "lattice_early_window", lambda c: c),
-            ("lattice_late", tau, el, "lattice_late_window", np.log)):
+    # The lattice's early fit is a quadratic (its slope at τ = 0, see above) and also uses the
+    # exact E(0) = 1 at τ = 0.
+    lines, used, seed_fits = {}, {}, {}
+    for name, clock, energy, key, fx, degree in (
+            ("md_haff", t, e, "md_haff_window", lambda c: np.log1p(c / t0), 1),
+            ("md_late", t, e, "md_late_window", np.log, 1),
+            ("lattice_early", tau, el, "lattice_early_window", lambda c: c, 2),
+            ("lattice_late", tau, el, "lattice_late_window", np.log, 1)):
         lo, hi = prm[key]
         w = (clock >= lo) & (clock <= hi)
         c, y = clock[w], np.log(energy[:, w])
         if name == "lattice_early":
             c, y = np.concatenate([[0.0], c]), np.column_stack([np.zeros(len(energy)), y])
         used[name] = (fx(c), y)
-        # The slope of the seeds' mean ln E equals the mean of the per-seed slopes (the fit is
-        # linear in y); its intercept draws the fitted line in the figure.
-        if name == "lattice_early":  # the slope at τ = 0 of a quadratic (docstring)
-            q, b, a = np.polyfit(fx(c), y.mean(axis=0), 2)
-        else:
-            q, (b, a) = 0.0, np.polyfit(fx(c), y.mean(axis=0), 1)
-        lines[name] = {"clock": c, "slope": float(b), "intercept": float(a),
-                       "curvature": float(q), "window": prm[key]}
-    haff = st.seed_slope(*used["md_haff"])
-    md_late = st.seed_slope(*used["md_late"])
-    md_late_xy = used["md_late"]
-    x_early, y_early = used["lattice_early"]
-    per_run = np.array([np.polyfit(x_early, row, 2)[1] for row in y_early])
-    lat_early = (float(per_run.mean()),
-                 float(per_run.std(ddof=1) / math.sqrt(per_run.size)) if per_run.size > 1
-                 else float("nan"), per_run)
-    lat_late = st.seed_slope(*used["lattice_late"])
-    lat_late_xy = used["lattice_late"]
+        seed_fits[name] = st.seed_slope(fx(c), y, degree)
+        # The coefficients of the seeds' mean ln E are the means of the per-seed ones (the fit
+        # is linear in y); they draw the fitted curve in the figure.
+        coef = np.polyfit(fx(c), y.mean(axis=0), degree)
+        lines[name] = {"clock": c, "slope": float(coef[-2]), "intercept": float(coef[-1]),
+                       "curvature": float(coef[0]) if degree == 2 else 0.0, "window": prm[key]}
+    haff, md_late, lat_early, lat_late = (
+        seed_fits[k] for k in ("md_haff", "md_late", "lattice_early", "lattice_late"))
+    md_late_xy, lat_late_xy = used["md_late"], used["lattice_late"]
 
     def fit(res, expected, name, x=None, ys=None):
         clock = lines[name]["clock"]
@@ -1074,10 +1067,11 @@ def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm, *, latt
                            for s, t in zip(m, times, strict=True)]}
 
     full = numbers(mean)
-    jack = ([numbers(np.delete(spec, i, axis=0).mean(axis=0)) for i in range(n_runs)]
-            if n_runs >= 3 else [])
-    z_jack = ([_z_minimum(k, np.delete(spec, i, axis=0).mean(axis=0), times, zs, x_range)[0]
-               for i in range(n_runs)] if n_runs >= 3 and not at_edge else [])
+    leave_one_out = ([np.delete(spec, i, axis=0).mean(axis=0) for i in range(n_runs)]
+                     if n_runs >= 3 else [])
+    jack = [numbers(m) for m in leave_one_out]
+    z_jack = ([_z_minimum(k, m, times, zs, x_range)[0] for m in leave_one_out]
+              if not at_edge else [])
 
     def with_error(value, key, index=None):
         if value is None:

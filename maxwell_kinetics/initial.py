@@ -164,14 +164,16 @@ def _probe_points() -> np.ndarray:
     return np.concatenate([-positive[:0:-1], positive])
 
 
-def first_non_finite(k: np.ndarray, values: np.ndarray) -> float | None:
-    """The k of smallest |k| (the positive one on a tie) where ``values`` is not finite, or
-    None when all are finite."""
-    bad = ~np.isfinite(np.asarray(values))
-    if not np.any(bad):
+def first_non_finite(k: np.ndarray, values: np.ndarray) -> tuple[float, complex] | None:
+    """(k, value) at the k of smallest |k| (the positive one on a tie) where ``values`` is not
+    finite, or None when all are finite."""
+    values = np.asarray(values)
+    bad = np.flatnonzero(~np.isfinite(values))
+    if not bad.size:
         return None
     kb = np.asarray(k, dtype=float)[bad]
-    return float(kb[np.lexsort((-kb, np.abs(kb)))[0]])
+    j = bad[np.lexsort((-kb, np.abs(kb)))[0]]
+    return float(np.asarray(k, dtype=float)[j]), complex(values[j])
 
 
 def law_from_characteristic(
@@ -201,17 +203,15 @@ def law_from_characteristic(
         raise InvalidArgumentError(
             "characteristic", characteristic, f"a callable phi(k) ({exc})"
         ) from exc
-    bad_k = first_non_finite(k, probe)
-    if bad_k is not None:  # reported at the user's own argument k / σ
-        value = complex(probe[np.nonzero(k == bad_k)[0][0]])
+    bad = first_non_finite(k, probe)
+    if bad is not None:  # reported at the user's own argument k / σ
+        bad_k, value = bad
         raise InvalidArgumentError(
             "characteristic", f"phi({bad_k / sigma:.6g}) = {value}",
             "finite values phi(k) for all real k (checked up to |k| = "
             f"{PROBE_K_MAX / sigma:.3g})",
         )
-    if not np.isfinite(at_zero):
-        raise InvalidArgumentError("characteristic", f"phi(0)={at_zero}", "phi(0) = 1")
-    if abs(at_zero - 1.0) > 1e-12:
+    if not np.isfinite(at_zero) or abs(at_zero - 1.0) > 1e-12:
         raise InvalidArgumentError("characteristic", f"phi(0)={at_zero}", "phi(0) = 1")
     kk = 1e-2
     skew = float(-6.0 * phi(np.array([kk])).imag[0] / kk**3)

@@ -149,9 +149,8 @@ def _checked_phi(law: InitialLaw, k: np.ndarray, where: str) -> np.ndarray:
     values = np.broadcast_to(law.phi(k), np.shape(k))
     bad = first_non_finite(k, values)
     if bad is not None:
-        value = complex(values[np.nonzero(np.asarray(k) == bad)][0])
         raise InvalidArgumentError(
-            "characteristic", f"phi({bad:.6g}) = {value} (law {law.name!r})",
+            "characteristic", f"phi({bad[0]:.6g}) = {bad[1]} (law {law.name!r})",
             f"finite values of the characteristic function on {where}",
         )
     return np.asarray(values)

@@ -224,10 +224,11 @@ def weighted_slope(x, y, sigma=None) -> tuple[float, float, float]:
     return float(slope), float(math.sqrt(sw / det)), float((sxx * sy - sx * sxy) / det)
 
 
-def seed_slope(x, ys) -> tuple[float, float, np.ndarray]:
-    """Fit a slope to each run's ``ys[i]`` against ``x`` and return (mean slope, its standard
-    error from the scatter between runs, the per-run slopes)."""
+def seed_slope(x, ys, degree: int = 1) -> tuple[float, float, np.ndarray]:
+    """Fit a polynomial of ``degree`` to each run's ``ys[i]`` against ``x`` and return (mean
+    slope, its standard error from the scatter between runs, the per-run slopes); the slope is
+    the linear coefficient, i.e. dy/dx at x = 0."""
     ys = np.atleast_2d(np.asarray(ys, dtype=float))
-    slopes = np.array([np.polyfit(x, y, 1)[0] for y in ys])
+    slopes = np.array([np.polyfit(x, y, degree)[-2] for y in ys])
     err = float(slopes.std(ddof=1) / math.sqrt(len(slopes))) if len(slopes) > 1 else float("nan")
     return float(slopes.mean()), err, slopes

@@ -128,10 +128,9 @@ def check_output_file(path, name: str) -> Path:
     Called before any work so that a bad path fails at once and nothing else is written.
     """
     out = Path(path)
-    parent = out.parent if str(out.parent) else Path(".")
     if out.is_dir():
         raise InvalidArgumentError(name, str(path), "a file path, not an existing directory")
-    if not parent.is_dir() or not os.access(parent, os.W_OK):
+    if not out.parent.is_dir() or not os.access(out.parent, os.W_OK):
         raise InvalidArgumentError(name, str(path), "a file in an existing, writable directory")
     return out
 

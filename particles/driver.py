@@ -337,58 +337,51 @@ class _Records:
         self.seconds = 0.0
 
     def record(self, engine, state, nt: int) -> None:
-        """Record the observables of ``state`` as entry ``done`` and count it.
-
-        Everything is computed first and only then written, so that a Ctrl-C during the
-        computation (S(k), ``observe``) leaves the records as they were; :meth:`arrays` also
-        resets anything beyond ``done``, so a checkpoint saved at any moment is consistent."""
+        """Record the observables of ``state`` as entry ``done`` and count it (a Ctrl-C in here
+        may leave entry ``done`` half written: :meth:`arrays` never stores it)."""
         i = self.done
         v = state.velocities
-        energy = obs.energy(v)
-        momentum = obs.momentum(v)
-        collisions = int(state.collisions)
-        spectrum = None
+        self.energy[i] = obs.energy(v)
+        self.momentum[i] = obs.momentum(v)
+        self.collisions[i] = int(state.collisions)
         if self.structure is not None and not (self.structure_last and i < nt - 1):
-            spectrum = obs.structure_factor(v)[1]
-        observe = getattr(engine, "observe", None)
-        observed = observe(state) if observe is not None else {}
-        self.energy[i] = energy
-        self.momentum[i] = momentum
-        self.collisions[i] = collisions
-        if spectrum is not None:
-            self.structure[0 if self.structure_last else i] = spectrum
+            self.structure[0 if self.structure_last else i] = obs.structure_factor(v)[1]
         if self.snapshots is not None:
             self.snapshots[i] = v
-        for key, value in observed.items():
-            self.extras.setdefault(key, np.full(nt, np.nan))[i] = value
+        observe = getattr(engine, "observe", None)
+        if observe is not None:
+            for key, value in observe(state).items():
+                self.extras.setdefault(key, np.full(nt, np.nan))[i] = value
         self.done += 1
 
     def arrays(self) -> dict[str, np.ndarray]:
-        """The records as stored in a checkpoint: entries beyond ``done`` are unrecorded (NaN,
-        collisions 0), even if an interrupted :meth:`record` had written some of them."""
+        """The records as stored in a checkpoint: the rows from ``done`` on are unrecorded
+        (NaN; 0 for the integer collision counts), whatever an interrupted :meth:`record` wrote
+        there, so a checkpoint saved at any moment is consistent."""
         done = self.done
 
-        def upto(a, fill, rows=None):
-            rows = done if rows is None else rows
-            if a[rows:].size == 0 or np.all(np.isnan(a[rows:]) if fill != 0 else a[rows:] == 0):
-                return a
+        def unrecorded_from(a, row):
+            fill = 0 if a.dtype.kind in "iu" else np.nan
+            tail = a[row:]
+            if np.array_equal(tail, np.full_like(tail, fill), equal_nan=True):
+                return a  # nothing to reset: no copy
             a = a.copy()
-            a[rows:] = fill
+            a[row:] = fill
             return a
 
         out = {
-            "rec.energy": upto(self.energy, np.nan),
-            "rec.momentum": upto(self.momentum, np.nan),
-            "rec.collisions": upto(self.collisions, 0),
+            "rec.energy": unrecorded_from(self.energy, done),
+            "rec.momentum": unrecorded_from(self.momentum, done),
+            "rec.collisions": unrecorded_from(self.collisions, done),
         }
         if self.structure is not None:
-            nt = self.energy.size
-            rows = (1 if done == nt else 0) if self.structure_last else done
-            out["rec.structure"] = upto(self.structure, np.nan, rows)
+            # "last": its one row is recorded only together with the last time
+            row = int(done == self.energy.size) if self.structure_last else done
+            out["rec.structure"] = unrecorded_from(self.structure, row)
         if self.snapshots is not None:
-            out["rec.snapshots"] = upto(self.snapshots, np.nan)
+            out["rec.snapshots"] = unrecorded_from(self.snapshots, done)
         for key, value in self.extras.items():
-            out["rec.extra." + key] = upto(value, np.nan)
+            out["rec.extra." + key] = unrecorded_from(value, done)
         return out
 
     def restore(self, arrays: dict[str, np.ndarray], done: int, seconds: float) -> None:
