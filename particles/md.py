@@ -47,8 +47,11 @@ correction).  Two engines share one prediction formula and one collision formula
   clustered gas, where a few hot clusters carry long causal chains) the rest of the slab runs in
   the scalar heap loop on the same data, which is exact as well: it is the reference restricted to
   the events before H (a pass costs about as much as 100 scalar collisions). In a clustered gas
-  nearly all collisions run there: see ``benchmarks/README.md`` for the measured costs and why
-  neither batching across clusters nor skipping elastic exchanges rescues that regime at N = 2·10⁴.
+  nearly all collisions run there, and most of them in *zero-gap bursts*: a cluster collapses to
+  one floating-point point, and every collision that reaches it triggers a cascade of
+  collisions at one time and place.  The scalar loop runs such a cascade as a sort of the
+  block's velocities (``_burst``: the heap's order, without the heap).  See
+  ``benchmarks/README.md`` for the measured costs.
 
 Both engines apply the same floating-point operations to the same data, so in non-chaotic
 settings they agree bit for bit (tested).  Floating-point traps and how they are handled:
@@ -84,7 +87,9 @@ from __future__ import annotations
 import heapq
 import math
 import time as _time
+from bisect import bisect_right
 from dataclasses import asdict, dataclass
+from itertools import accumulate
 
 import numpy as np
 
@@ -377,7 +382,8 @@ class MDEngine:
     slab runs in the scalar event loop (same formulas, same order).  ``record=True`` keeps every
     processed collision as ``(time, pair)`` in ``self.record`` (for tests; see :meth:`events`).
     ``stats`` (fast path) counts vectorised ``passes``, horizon ``slabs``, collisions of the
-    scalar loop (``sequential``, ``sequential_seconds``) and ``elastic`` collisions (|Δ| < δ).
+    scalar loop (``sequential``, ``sequential_seconds``), those of them run in zero-gap bursts
+    (``burst``) and ``elastic`` collisions (|Δ| < δ).
     """
 
     name = "md"
@@ -412,6 +418,7 @@ class MDEngine:
             "slabs": 0,
             "sequential": 0,
             "sequential_seconds": 0.0,
+            "burst": 0,
             "elastic": 0,
         }
         self.record = [] if record else None
@@ -645,13 +652,14 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     # after which C[pair] = inf).  Ties pop in pair order, as in the reference.
     heap = [(C[b], b) for b in cand.tolist()]
     heapq.heapify(heap)
+    ctx = (n - 1, lr, p, delta, elastic_only, dt_tiny, limit, record, horizon)  # for _burst
     pop = heapq.heappop
     push = heapq.heappush
     last = n - 1
     done = 0
     elastic = 0
     while heap:
-        if done == switch_at:
+        if 0 <= switch_at <= done:
             for store in (X, TL, V, ST, C):
                 store.write_back()
             X, TL, V, ST, C = x.tolist(), tl.tolist(), v.tolist(), streak.tolist(), c.tolist()
@@ -664,6 +672,14 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
         j = b + 1 if b < last else 0
         ti = TL[i]
         tj = TL[j]
+        if ti == cb and j != 0:
+            # a zero-gap burst: particle i already collided at this very time and place
+            burst = _burst(ctx, X, TL, V, ST, C, heap, b, cb, False)
+            if burst is not None:
+                done += burst[0]
+                elastic += burst[1]
+                engine.stats["burst"] += burst[0]
+                continue
         si = ST[i] + 1 if cb - ti <= dt_tiny else 0
         sj = ST[j] + 1 if cb - tj <= dt_tiny else 0
         ST[i] = si
@@ -716,13 +732,9 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             g = xi - xh
             if g < 0.0:
                 g = 0.0
-            cc = tt + g / (vh - vi)
+            cl = tt + g / (vh - vi)
         else:
-            cc = inf
-        if cc != C[bb]:
-            C[bb] = cc
-            if cc <= horizon:
-                push(heap, (cc, bb))
+            cl = inf
         k = j + 1 if j < last else 0  # right pair (j, k), index j
         vk = V[k]
         if vj > vk:
@@ -735,13 +747,24 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             g = xk - xj
             if g < 0.0:
                 g = 0.0
-            cc = tt + g / (vj - vk)
+            cr = tt + g / (vj - vk)
         else:
-            cc = inf
-        if cc != C[j]:
-            C[j] = cc
-            if cc <= horizon:
-                push(heap, (cc, j))
+            cr = inf
+        if (cl == cb or cr == cb) and j != 0:
+            # a neighbouring pair is due at this very time: a burst may follow
+            burst = _burst(ctx, X, TL, V, ST, C, heap, b, cb, True)
+            done += burst[0]
+            elastic += burst[1]
+            engine.stats["burst"] += burst[0]
+            continue
+        if cl != C[bb]:
+            C[bb] = cl
+            if cl <= horizon:
+                push(heap, (cl, bb))
+        if cr != C[j]:
+            C[j] = cr
+            if cr <= horizon:
+                push(heap, (cr, j))
     if full:
         x[:] = X
         tl[:] = TL
@@ -753,6 +776,252 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             store.write_back()
     engine.stats["elastic"] += elastic
     return done
+
+
+def _pair_time(X, TL, h, vh, k, vk, lr):
+    """Predicted collision time of the pair (h, k) (k = h + 1, or k = 0 at the seam) if h and k
+    had the velocities vh and vk: the operations of the scalar loops' predictions, in order."""
+    if not vh > vk:
+        return math.inf
+    th = TL[h]
+    tk = TL[k]
+    tt = th if th > tk else tk
+    xh = X[h] + vh * (tt - th)
+    xk = X[k] + vk * (tt - tk)
+    if k == 0:
+        xk = xk + lr
+    g = xk - xh
+    if g < 0.0:
+        g = 0.0
+    return tt + g / (vh - vk)
+
+
+def _burst(ctx, X, TL, V, ST, C, heap, b, t, fired):
+    """All collisions at time ``t`` of the *block* that grows from pair ``b`` = (i, i + 1):
+    consecutive particles that sit at exactly the same point at time t and have collided
+    there.  Either i has collided at t already and pair b was just popped (``fired`` False), or
+    the caller has just processed pair b's collision and found a neighbouring pair due at t
+    (``fired`` True).  The collisions are processed in the heap loop's (time, pair) order on a
+    local list of velocities, and the state and the heap are left as the heap loop would leave
+    them.  ``ctx`` holds the slab's constants.  Returns (collisions, elastic ones), or None if
+    it processed none and the caller still has to process pair b.
+
+    Exactness.  For two particles at the same point, both last updated at t, the prediction
+    formula gives c = t if v_i > v_j and inf otherwise, so inside the block the pending pairs at
+    time t are exactly the inversions v_k > v_{k+1}.  Pair b was the smallest pending (t, pair),
+    so no pair left of it is pending.  Firing the smallest pending pair k leaves none left of
+    k − 1, so the next smallest is k − 1 if it became an inversion, and otherwise the first
+    pending pair right of k: a gnome sort, which visits the collisions in the heap's order.  An
+    elastic collision at k starts a run that the gnome would do one swap at a time: v_{k+1}
+    moves left past every larger velocity of the sorted w[0..k] (each difference is at most the
+    first one, so each swap is elastic too); it is done by one bisection and a slice move.
+    At the ends of the block, a neighbour at the same point, last updated at t, joins without a
+    collision; otherwise the boundary pair is predicted by the heap loop's formula, and if it
+    is due at t it is the next pending pair when the sort reaches that end (the heap would pop
+    it then too): its collision moves both particles to the left one's point, so the newcomer
+    joins if that is the block's point (always on the right; on the left the burst hands back
+    to the heap loop if not).  Positions and t_last of block particles do not change.
+    Collisions elsewhere at time t involve other particles and commute with the block.
+
+    The collapse watch: each burst collision is one without time advance for both particles
+    (a newcomer's first one is judged by its own time advance), so a particle's streak grows by
+    the number of collisions of its two pairs, counted as a difference array ``dh`` and added
+    by :func:`_burst_flush`.  No streak can reach the limit while (largest streak in the block)
+    + (collisions so far) stays below it; there the burst hands back to the heap loop, which
+    checks every collision.
+    """
+    last, lr, p, delta, elastic_only, dt_tiny, limit, record, horizon = ctx
+    xb = X[b]
+    lo = hi = b  # the block is particles lo .. hi, w[q] the velocity of lo + q
+    w = [V[b]]
+    s = [ST[b]]  # streaks at entry (or at joining)
+    dh = [0]  # collisions of local pair q = (lo + q, lo + q + 1): dh[0] + ... + dh[q]
+    k = m = 0  # m: local pairs 0 .. m - 1
+    done = 0
+    elastic = 0
+    tb = C[b]
+    C[b] = math.inf  # its heap entry was just popped
+    if fired:  # the caller has processed the collision of pair b: go on after it
+        hi = b + 1
+        w.append(V[hi])
+        s.append(ST[hi])
+        dh.append(0)
+        m = 1
+    budget = limit - 1 - max(s)  # collisions that certainly leave every streak below the limit
+
+    look_left = fired  # after a collision of the block's first pair
+    while True:
+        if look_left:  # the block's first velocity changed: the pair on its left
+            look_left = False
+            h = lo - 1 if lo > 0 else last
+            if h == hi:
+                break
+            if lo > 0 and TL[h] == t and X[h] == xb:
+                sh = ST[h]
+                if limit - 1 - sh < budget:
+                    budget = limit - 1 - sh
+                w.insert(0, V[h])
+                s.insert(0, sh)
+                dh.insert(0, 0)
+                lo = h
+                m += 1
+                k = 0 if w[0] > w[1] else 2
+                continue
+            if not _pair_time(X, TL, h, V[h], lo, w[0], lr) <= t:
+                k = 1
+                continue
+            # the left boundary pair is due now, so it is the next pending pair; its collision
+            # moves both particles to h's position: h joins if that is the block's point
+            if lo == 0:
+                break
+            th = TL[h]
+            if X[h] + V[h] * (t - th) != xb:
+                break
+            sh = ST[h] if t - th <= dt_tiny else -1
+            if limit - 1 - sh < budget:
+                budget = limit - 1 - sh
+            if done >= budget:
+                break
+            X[h] = xb
+            TL[h] = t
+            w.insert(0, V[h])
+            s.insert(0, sh)
+            dh.insert(0, 0)
+            lo = h
+            m += 1
+            k = 0
+        if k == m:  # at the right end: extend, join or stop
+            r = hi + 1 if hi < last else 0
+            if r == 0 or r == lo:
+                break  # the seam (or the whole ring): the heap loop takes over if it is due
+            if TL[r] == t and X[r] == xb:
+                sr = ST[r]
+                join = False
+            elif _pair_time(X, TL, hi, w[m], r, V[r], lr) <= t:
+                # the boundary pair is due now: its collision brings r to the block's point
+                sr = ST[r] if t - TL[r] <= dt_tiny else -1
+                join = True
+            else:
+                break
+            if limit - 1 - sr < budget:
+                budget = limit - 1 - sr
+            if done >= budget:
+                break
+            if join:
+                X[r] = xb
+                TL[r] = t
+            w.append(V[r])
+            s.append(sr)
+            dh.append(0)
+            hi = r
+            m += 1
+            continue
+        vi = w[k]
+        vj = w[k + 1]
+        if not vi > vj:
+            k += 1
+            continue
+        if done >= budget:
+            break
+        d = vi - vj
+        if elastic_only or d < delta:
+            # An elastic run: vj moves left past every larger velocity of the sorted w[0..k],
+            # one swap each (the gnome's next collisions, pairs k, k - 1, ..., stop, done at
+            # once).  Each is elastic: w[q] - vj <= vi - vj = d < delta (IEEE subtraction is
+            # monotone).
+            stop = bisect_right(w, vj, 0, k)
+            if done + k + 1 - stop > budget:
+                # only as many as the streak budget allows: vj stops short (pair stop - 1 stays
+                # an inversion) and the next check hands back to the heap loop
+                stop = k + 1 - (budget - done)
+            run = k + 1 - stop
+            w[stop + 1 : k + 2] = w[stop : k + 1]
+            w[stop] = vj
+            dh[stop] += 1
+            dh[k + 1] -= 1
+            done += run
+            elastic += run
+            if record is not None:
+                record.extend([(t, lo + q) for q in range(k, stop - 1, -1)])
+            if done >= budget:
+                break
+            if stop:
+                k += 1  # pairs stop .. k are sorted now
+            else:
+                look_left = True
+            continue
+        else:
+            # the rule of particles.collision and the separation guard of the heap loops
+            # (min(max(a, vj), vi) written out: the same result)
+            pd = p * d
+            a = vi - pd
+            e = vj + pd
+            if vj > a:
+                a = vj
+            if vi < a:
+                a = vi
+            if vj > e:
+                e = vj
+            if vi < e:
+                e = vi
+            if a > e:
+                a, e = e, a
+            w[k] = a
+            w[k + 1] = e
+        dh[k] += 1
+        dh[k + 1] -= 1
+        done += 1
+        if record is not None:
+            record.append((t, lo + k))
+        if k:
+            k = k - 1 if w[k - 1] > w[k] else k + 1
+        else:
+            look_left = True
+    # The sort is finished, or a boundary pair is due that the block cannot absorb, or a streak
+    # might reach the limit: the heap loop goes on from the state written back here.
+    if done == 0 and not fired:
+        C[b] = tb
+        return None
+    _burst_flush(X, TL, V, ST, C, heap, t, horizon, lo, hi, w, s, dh, lr, last)
+    return done, elastic
+
+
+def _burst_flush(X, TL, V, ST, C, heap, t, horizon, lo, hi, w, s, dh, lr, last):
+    """Write a burst's block back (velocities; streaks grown by the collisions of each particle's
+    two pairs) and leave predictions and heap entries as the heap loop would: inner pairs
+    pending at t where they are inversions (none once the sort has finished), the two boundary
+    pairs predicted from the final velocities.  Returns None."""
+    inf = math.inf
+    push = heapq.heappush
+    m = hi - lo
+    hits = list(accumulate(dh))  # collisions of each local pair
+    streaks = [a + b + c for a, b, c in zip(s, [0, *hits[:-1]], hits, strict=True)]
+    if type(V) is list:
+        V[lo : hi + 1] = w
+        ST[lo : hi + 1] = streaks
+    else:
+        for q in range(m + 1):
+            V[lo + q] = w[q]
+            ST[lo + q] = streaks[q]
+    for q in range(m):
+        if w[q] > w[q + 1]:
+            if C[lo + q] != t:
+                C[lo + q] = t
+                push(heap, (t, lo + q))
+        else:
+            C[lo + q] = inf
+    h = lo - 1 if lo > 0 else last
+    cc = _pair_time(X, TL, h, V[h], lo, w[0], lr)
+    if cc != C[h]:
+        C[h] = cc
+        if cc <= horizon:
+            push(heap, (cc, h))
+    r = hi + 1 if hi < last else 0
+    cc = _pair_time(X, TL, hi, w[m], r, V[r], lr)
+    if cc != C[hi]:
+        C[hi] = cc
+        if cc <= horizon:
+            push(heap, (cc, hi))
 
 
 def _predict(x, tl, v, idx, n, lr):
