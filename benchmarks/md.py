@@ -198,8 +198,8 @@ def main(argv=None):
         st = row["fast"]["stats"]
         print(
             f"   passes {st['passes']}, slabs {st['slabs']}, scalar-loop collisions "
-            f"{st['sequential']} ({st['sequential_seconds']:.2f} s), elastic fraction "
-            f"{row['elastic_fraction']:.3f}"
+            f"{st['sequential']} ({st['sequential_seconds']:.2f} s), of them in zero-gap bursts "
+            f"{st['burst']}, elastic fraction {row['elastic_fraction']:.3f}"
         )
         if "critical_path" in row:
             cp = row["critical_path"]
