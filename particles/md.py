@@ -123,6 +123,10 @@ __all__ = [
 _CONE_MARGIN = 64 * np.finfo(float).eps
 # Candidates closer than this many cone margins form one tie group (see ``_advance_fast``).
 _GROUP_GAP = 1024.0
+# Cost model of the fast path's choice between a vectorised pass and the scalar loop, in units of
+# one plain scalar collision: the cost of a pass per candidate, and of a collision in a burst.
+_PASS_PER_CANDIDATE = 0.15
+_BURST_COST = 0.15
 # With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
 _STALL_STREAK = 100_000
 # The scalar fallback works on lazy dict views of the arrays, and on lists of the whole state
@@ -378,12 +382,16 @@ class MDEngine:
     ``collapse_dt`` (in units of the initial mean free time 1/n) and ``collapse_streak`` tune the
     inelastic-collapse detector (module docstring).  Tuning of the fast path (results do not
     depend on it): ``target_candidates`` collisions per horizon slab (default N/8), and
-    ``sequential_below``: when a vectorised pass fires fewer collisions than this, the rest of the
-    slab runs in the scalar event loop (same formulas, same order).  ``record=True`` keeps every
-    processed collision as ``(time, pair)`` in ``self.record`` (for tests; see :meth:`events`).
-    ``stats`` (fast path) counts vectorised ``passes``, horizon ``slabs``, collisions of the
-    scalar loop (``sequential``, ``sequential_seconds``), those of them run in zero-gap bursts
-    (``burst``) and ``elastic`` collisions (|Δ| < δ).
+    ``sequential_below``, the fixed cost of a vectorised pass in plain scalar collisions: when the
+    collisions a pass fired would have cost the scalar event loop less than a pass (this plus
+    0.15 per candidate; burst collisions count 0.15, at the burst fraction seen so far), the
+    rest of the slab runs in the scalar loop (same formulas, same order); 0: passes only, a
+    huge value: the scalar loop after the first pass.  ``record=True`` keeps every processed
+    collision as ``(time, pair)`` in ``self.record`` (for tests; see :meth:`events`).  ``stats``
+    (fast path) counts vectorised ``passes``, horizon ``slabs``, collisions of the scalar loop
+    (``sequential``, ``sequential_seconds``), those of them run in zero-gap bursts (``burst``),
+    collisions of the passes (``vectorised``), those with no time advance for one particle
+    (``vectorised_zero_dt``) and ``elastic`` collisions (|Δ| < δ).
     """
 
     name = "md"
@@ -1214,15 +1222,18 @@ def _advance_fast(engine: MDEngine, state: MDState, until: float):
                 cand = cand[c[cand] <= horizon]
             else:
                 cand = rest
-            # A burst collision costs the scalar loop a fraction of a plain one (measured:
-            # 0.2-0.4 µs against about 1.7 µs), so in a gas where most collisions come in
-            # zero-gap bursts a pass must fire more collisions to be worth its fixed cost
-            # (~200 µs): the threshold grows with 1 / (fraction of plain collisions so far;
-            # collisions with no time advance for one particle count as burst-like in passes).
-            plain = 1.0 - (stats["burst"] + stats["vectorised_zero_dt"]) / (
+            # Cost model, in units of one plain scalar collision (measured: ~1.7 µs): a pass
+            # costs about seq_below + _PASS_PER_CANDIDATE * candidates (~80 µs + 0.25 µs per
+            # candidate), a collision of the scalar loop 1 if plain and _BURST_COST in a
+            # zero-gap burst (0.2-0.4 µs); the burst fraction is the one seen so far (in passes:
+            # collisions with no time advance for one particle).  The slab goes to the scalar
+            # loop once that is cheaper for the collisions this pass fired.
+            burst_like = (stats["burst"] + stats["vectorised_zero_dt"]) / (
                 stats["sequential"] + stats["vectorised"]
             )
-            if ev.size * max(plain, 0.1) < seq_below and cand.size:
+            scalar = 1.0 - (1.0 - _BURST_COST) * burst_like
+            pass_cost = seq_below + _PASS_PER_CANDIDATE * cand.size if seq_below else 0.0
+            if ev.size * scalar < pass_cost and cand.size:
                 # little parallelism left: finish the slab with the scalar event loop
                 t_seq = _time.perf_counter()
                 done = _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count)
