@@ -124,11 +124,11 @@ _CONE_MARGIN = 64 * np.finfo(float).eps
 # Candidates closer than this many cone margins form one tie group (see ``_advance_fast``).
 _GROUP_GAP = 1024.0
 # Cost model of the fast path's choice between a vectorised pass and the scalar loop, in units of
-# one plain scalar collision (~1.7 µs): the cost of a pass per candidate (measured 0.1-0.6 µs,
-# i.e. 0.06-0.35) and of a collision in a zero-gap burst (measured 0.2-0.4 µs, i.e. 0.12-0.24),
-# tuned within those ranges on clustered windows at N = 2e4, 2e5 and 1e6 (t = 20).
-_PASS_PER_CANDIDATE = 0.05
-_BURST_COST = 0.3
+# one plain scalar collision (~1.7 µs): the cost of a pass per candidate (fitted: 0.1-0.6 µs,
+# about 0.25) and of a collision in a zero-gap burst (0.2-0.4 µs); the fixed cost of a pass
+# (~80 µs, about 47 units) is the engine's ``sequential_below`` (default 64).
+_PASS_PER_CANDIDATE = 0.15
+_BURST_COST = 0.15
 # With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
 _STALL_STREAK = 100_000
 # The scalar fallback works on lazy dict views of the arrays, and on lists of the whole state
@@ -386,7 +386,7 @@ class MDEngine:
     depend on it): ``target_candidates`` collisions per horizon slab (default N/8), and
     ``sequential_below``, the fixed cost of a vectorised pass in plain scalar collisions: when the
     collisions a pass fired would have cost the scalar event loop less than a pass (this plus
-    0.05 per candidate; burst collisions count 0.3, at the burst fraction seen so far), the
+    0.15 per candidate; burst collisions count 0.15, at the burst fraction seen so far), the
     rest of the slab runs in the scalar loop (same formulas, same order); 0: passes only, a
     huge value: the scalar loop after the first pass.  ``record=True`` keeps every processed
     collision as ``(time, pair)`` in ``self.record`` (for tests; see :meth:`events`).  ``stats``
