@@ -125,8 +125,9 @@ _CONE_MARGIN = 64 * np.finfo(float).eps
 _GROUP_GAP = 1024.0
 # Cost model of the fast path's choice between a vectorised pass and the scalar loop, in units of
 # one plain scalar collision (~1.7 µs): the cost of a pass per candidate (fitted: 0.1-0.6 µs,
-# about 0.25) and of a collision in a zero-gap burst (0.2-0.4 µs); the fixed cost of a pass
-# (~80 µs, about 47 units) is the engine's ``sequential_below`` (default 64).
+# about 0.25) and of a collision in a zero-gap burst (0.15-0.5 µs with its share of the burst's
+# fixed cost); the fixed cost of a pass (~80 µs, about 47 units) is the engine's
+# ``sequential_below`` (default 64).  See benchmarks/README.md.
 _PASS_PER_CANDIDATE = 0.15
 _BURST_COST = 0.15
 # With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
@@ -962,24 +963,23 @@ def _burst(ctx, X, TL, V, ST, C, heap, b, t, fired):
             else:
                 look_left = True
             continue
-        else:
-            # the rule of particles.collision and the separation guard of the heap loops
-            # (min(max(a, vj), vi) written out: the same result)
-            pd = p * d
-            a = vi - pd
-            e = vj + pd
-            if vj > a:
-                a = vj
-            if vi < a:
-                a = vi
-            if vj > e:
-                e = vj
-            if vi < e:
-                e = vi
-            if a > e:
-                a, e = e, a
-            w[k] = a
-            w[k + 1] = e
+        # inelastic: the rule of particles.collision and the separation guard of the heap loops
+        # (min(max(a, vj), vi) written out: the same result)
+        pd = p * d
+        a = vi - pd
+        e = vj + pd
+        if vj > a:
+            a = vj
+        if vi < a:
+            a = vi
+        if vj > e:
+            e = vj
+        if vi < e:
+            e = vi
+        if a > e:
+            a, e = e, a
+        w[k] = a
+        w[k + 1] = e
         dh[k] += 1
         dh[k + 1] -= 1
         done += 1
