@@ -43,24 +43,14 @@ def timing(restitutions=(0.5, 0.0), resolutions=("default", "finest"), tau_end=1
                 y = st.advance(st.y0, 0, windows)
                 np.asarray(st.output(y, windows, tau_end))
                 best = min(best, time.perf_counter() - t3)
-            rows.append(
-                {
-                    "restitution": r,
-                    "resolution": name,
-                    "points": grid.n,
-                    "setup_s": t1 - t0,
-                    "compile_s": t2 - t1,
-                    "run_s": best,
-                    "windows": windows,
-                }
-            )
+            rows.append({"restitution": r, "resolution": name, "points": grid.n,
+                         "setup_s": t1 - t0, "compile_s": t2 - t1, "run_s": best,
+                         "windows": windows})
     print("| r | resolution | points | compile (s) | τ ∈ [0, 1000] after JIT (s, best of 3) |")
     print("|---|---|---|---|---|")
     for row in rows:
-        print(
-            f"| {row['restitution']:g} | {row['resolution']} | {row['points']} | "
-            f"{row['compile_s']:.2f} | {row['run_s']:.2f} |"
-        )
+        print(f"| {row['restitution']:g} | {row['resolution']} | {row['points']} | "
+              f"{row['compile_s']:.2f} | {row['run_s']:.2f} |")
     return rows
 
 
@@ -77,9 +67,8 @@ def _stable(taus, err):
     return bool(np.all(err[late] <= 1.5 * err[late][0] + 1e-15))
 
 
-def stability(
-    restitutions=(0.0, 0.5, 0.9, 0.99), laws=None, resolutions=tuple(RESOLUTIONS), tau_max=1e4
-):
+def stability(restitutions=(0.0, 0.5, 0.9, 0.99), laws=None,
+              resolutions=tuple(RESOLUTIONS), tau_max=1e4):
     laws = tuple(sorted(LAWS)) if laws is None else laws
     taus = np.unique(np.round(np.geomspace(1.0, tau_max, 25), 6))
     rows = []
@@ -94,45 +83,19 @@ def stability(
                     final = float(err[-1])
                 except Exception as exc:  # report, do not hide, a failure
                     err, ok, final = [], False, repr(exc)
-                rows.append(
-                    {
-                        "restitution": r,
-                        "initial": law,
-                        "resolution": name,
-                        "stable": ok,
-                        "final_sup_error": final,
-                        "min_sup_error": float(np.min(err)) if len(err) else None,
-                        "seconds": time.perf_counter() - t0,
-                        "tau": taus.tolist(),
-                        "sup_error": np.asarray(err).tolist(),
-                    }
-                )
-                print(
-                    json.dumps(
-                        {
-                            k: rows[-1][k]
-                            for k in (
-                                "restitution",
-                                "initial",
-                                "resolution",
-                                "stable",
-                                "final_sup_error",
-                                "seconds",
-                            )
-                        }
-                    ),
-                    flush=True,
-                )
+                rows.append({"restitution": r, "initial": law, "resolution": name,
+                             "stable": ok, "final_sup_error": final,
+                             "min_sup_error": float(np.min(err)) if len(err) else None,
+                             "seconds": time.perf_counter() - t0,
+                             "tau": taus.tolist(), "sup_error": np.asarray(err).tolist()})
+                print(json.dumps({k: rows[-1][k] for k in
+                                  ("restitution", "initial", "resolution", "stable",
+                                   "final_sup_error", "seconds")}), flush=True)
     return rows
 
 
-def floor(
-    long_restitutions=(0.0, 0.5),
-    fp_restitutions=(0.0, 0.5, 0.9, 0.99),
-    resolutions=tuple(RESOLUTIONS),
-    tau_max=1e4,
-    fp_tau=(10.0, 100.0, 1000.0),
-):
+def floor(long_restitutions=(0.0, 0.5), fp_restitutions=(0.0, 0.5, 0.9, 0.99),
+          resolutions=tuple(RESOLUTIONS), tau_max=1e4, fp_tau=(10.0, 100.0, 1000.0)):
     from maxwell_kinetics.stationary import fixed_point
 
     rows = []
@@ -141,49 +104,26 @@ def floor(
         for name in resolutions:
             sol = solve(r, "gaussian", taus, name)
             err = sol.sup_error()
-            rows.append(
-                {
-                    "method": "long run from gaussian",
-                    "restitution": r,
-                    "resolution": name,
-                    "h": get_resolution(name).h,
-                    "floor": float(np.median(err[-4:])),
-                    "tau": taus.tolist(),
-                    "sup_error": err.tolist(),
-                }
-            )
-            print(
-                json.dumps(
-                    {k: rows[-1][k] for k in ("method", "restitution", "resolution", "floor")}
-                ),
-                flush=True,
-            )
+            rows.append({"method": "long run from gaussian", "restitution": r,
+                         "resolution": name, "h": get_resolution(name).h,
+                         "floor": float(np.median(err[-4:])), "tau": taus.tolist(),
+                         "sup_error": err.tolist()})
+            print(json.dumps({k: rows[-1][k] for k in ("method", "restitution", "resolution",
+                                                        "floor")}), flush=True)
     for r in fp_restitutions:
         fp = fixed_point(r)
-        law = law_from_characteristic(
-            lambda k, fp=fp: fp.evaluate(np.asarray(k)), 1.0, name=f"fixed-point r={r:g}"
-        )
+        law = law_from_characteristic(lambda k, fp=fp: fp.evaluate(np.asarray(k)), 1.0,
+                                      name=f"fixed-point r={r:g}")
         for name in resolutions:
             sol = solve(r, law, list(fp_tau), name)
             err = sol.sup_error()
-            rows.append(
-                {
-                    "method": "from the fixed point",
-                    "restitution": r,
-                    "resolution": name,
-                    "h": get_resolution(name).h,
-                    "fixed_point_error": fp.max_error,
-                    "floor": float(err.max()),
-                    "tau": list(fp_tau),
-                    "sup_error": err.tolist(),
-                }
-            )
-            print(
-                json.dumps(
-                    {k: rows[-1][k] for k in ("method", "restitution", "resolution", "floor")}
-                ),
-                flush=True,
-            )
+            rows.append({"method": "from the fixed point", "restitution": r,
+                         "resolution": name, "h": get_resolution(name).h,
+                         "fixed_point_error": fp.max_error,
+                         "floor": float(err.max()), "tau": list(fp_tau),
+                         "sup_error": err.tolist()})
+            print(json.dumps({k: rows[-1][k] for k in ("method", "restitution", "resolution",
+                                                        "floor")}), flush=True)
     return rows
 
 

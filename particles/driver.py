@@ -462,11 +462,8 @@ def _structure_all_to_last(run: dict, identity: dict, arrays: dict) -> dict:
     CLI): the dynamics is the same, only the last row is kept.  ``run`` (the file's identity) is
     updated in place to match; anything else about the files is checked as usual."""
     options, wanted = run.get("options"), identity["options"]
-    if not (
-        isinstance(options, dict)
-        and options.get("structure_factor") is True
-        and wanted["structure_factor"] == "last"
-    ):
+    if not (isinstance(options, dict) and options.get("structure_factor") is True
+            and wanted["structure_factor"] == "last"):
         return arrays
     rows = arrays.get("rec.structure")
     if rows is None or np.ndim(rows) != 2 or len(rows) != len(identity["times"]):

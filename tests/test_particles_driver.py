@@ -150,14 +150,8 @@ def test_last_only_run_resumes_a_checkpoint_that_kept_every_spectrum(tmp_path):
     reference = simulate(engine, times, 9, progress=False, structure_factor="last")
     path = tmp_path / "old.ckpt"
     with pytest.raises(KeyboardInterrupt):
-        simulate(
-            Interrupting(engine, after=2),
-            times,
-            9,
-            progress=False,
-            structure_factor=True,
-            checkpoint=path,
-        )
+        simulate(Interrupting(engine, after=2), times, 9, progress=False, structure_factor=True,
+                 checkpoint=path)
     resumed = simulate(engine, times, 9, progress=False, structure_factor="last", resume=path)
     _assert_same_run(reference, resumed)
     assert resumed.structure[1].shape == (1, 201)

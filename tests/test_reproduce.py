@@ -99,16 +99,14 @@ def test_kinetic_matches_ulam_within_statistics(vs_ulam):
             assert row["chi2_over_overdispersion"] < _chi2_tolerance(row), (case["initial"], row)
             smoothed = row["smoothed"]
             assert smoothed["chi2_over_overdispersion"] < _chi2_tolerance(smoothed), (
-                case["initial"],
-                row["tau"],
-                smoothed,
-            )
+                case["initial"], row["tau"], smoothed)
 
 
 def test_smoothed_comparison_detects_a_wrong_law(vs_ulam):
     """The smoothed comparison has teeth: the particles at τ = 0.5 against the solver's law at
     a later τ (r = 0.5, bimodal: the humps have moved) are far outside the tolerance."""
-    sol = cmp.kinetic_solution(0.5, "bimodal", vs_ulam.summary["parameters"]["tau"], "fine")
+    sol = cmp.kinetic_solution(0.5, "bimodal", vs_ulam.summary["parameters"]["tau"],
+                               "fine")
     edges = cmp._edges(vs_ulam.summary["parameters"]["edges"])
     x = cmp._rescaled(cmp.ulam_snapshots(0.5, "bimodal", 20_000, [0.5], list(range(6)))[0])
     wrong = cmp._smoothed_comparison(sol, 1, x, edges, 0.15, seed=0).summary()
@@ -179,10 +177,9 @@ def test_md_fits_use_the_preset_windows(energy):
     s, d = energy.summary, energy.data
     prm = cmp._ENERGY["small"]
     t, e, t0 = d["md_t"], d["md_energy"], d["t0"]
-    for key, window, abscissa in (
-        ("md_haff_exponent", "md_haff_window", lambda c: np.log1p(c / t0)),
-        ("md_late_exponent", "md_late_window", np.log),
-    ):
+    for key, window, abscissa in (("md_haff_exponent", "md_haff_window",
+                                   lambda c: np.log1p(c / t0)),
+                                  ("md_late_exponent", "md_late_window", np.log)):
         lo, hi = prm[window]
         fit = s[key]
         assert fit["window"] == [lo, hi], key
@@ -252,9 +249,8 @@ def test_reproduce_cli_small(tmp_path, capsys):
     from maxwell_kinetics.cli import main
 
     out = tmp_path / "res"
-    assert (
-        main(["reproduce", "--small", "--only", "kinetic_theory", "--out", str(out), "--json"]) == 0
-    )
+    assert main(["reproduce", "--small", "--only", "kinetic_theory", "--out", str(out),
+                 "--json"]) == 0
     payload = json.loads(capsys.readouterr().out)
     assert payload["comparisons"] == ["kinetic_theory"]
     summary = json.loads((out / "summary.json").read_text())
@@ -291,9 +287,8 @@ def _assert_same(a, b, where="data"):
         assert a == b, where
 
 
-@pytest.mark.parametrize(
-    "name", ["kinetic", "vs_ulam", "collapse", "energy", "structure", "distributions"]
-)
+@pytest.mark.parametrize("name", ["kinetic", "vs_ulam", "collapse", "energy", "structure",
+                                  "distributions"])
 def test_comparison_save_load_round_trip(name, request, tmp_path):
     """Every comparison's summary and figure data come back from its .npz unchanged (arrays bit
     for bit, tuples as tuples, float keys as floats, solutions and histogram records rebuilt),
@@ -366,12 +361,9 @@ def test_ulam_prediction_fails_at_equal_energy(distributions):
     assert abs(_sigma(late, "md", "ulam", "abs_mean")) > 4
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="paper: MD and lattice agree at equal energy; measured at "
-    "r = 0.99, E = 0.037: MD ⟨x⁴⟩ = 1.90 ± 0.01, lattice 2.94 ± 0.03 (small) — the "
-    "lattice is still nearly Gaussian where MD has two humps",
-)
+@pytest.mark.xfail(strict=True, reason="paper: MD and lattice agree at equal energy; measured at "
+                   "r = 0.99, E = 0.037: MD ⟨x⁴⟩ = 1.90 ± 0.01, lattice 2.94 ± 0.03 (small) — the "
+                   "lattice is still nearly Gaussian where MD has two humps")
 def test_md_and_lattice_agree_early(distributions):
     m = distributions.summary["stages"]["early"]["models"]
     assert abs(_sigma(m, "md", "lattice_r0.99", "kurtosis")) < 4

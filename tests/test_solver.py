@@ -166,10 +166,8 @@ def test_interpolation_between_nodes_is_high_order(gaussian_half, asymmetric_zer
     #   gaussian     2.2e-9   5.0e-8   2.6e-6   3.5e-4
     #   asymmetric   1.0e-8   3.2e-7   1.5e-5   1.2e-3
     # The bounds 1e-8 and 5e-8 are violated by every order <= 6.
-    for sol, name, lo, hi, bound in (
-        (gaussian_half, "gaussian", 1e-3, 30.0, 1e-8),
-        (asymmetric_zero, "asymmetric", 0.5, 5.0, 5e-8),
-    ):
+    for sol, name, lo, hi, bound in ((gaussian_half, "gaussian", 1e-3, 30.0, 1e-8),
+                                     (asymmetric_zero, "asymmetric", 0.5, 5.0, 5e-8)):
         grid, law = sol.resolution, get_law(name)
         nodes = grid.q[(grid.q >= lo) & (grid.q <= hi)]
         mid = np.exp(np.log(nodes[:-1]) + 0.5 * grid.h)
@@ -310,22 +308,14 @@ def _run_python(code: str, **env) -> str:
     # drop it so that the child starts from a clean environment.
     full_env = {k: v for k, v in os.environ.items() if k != "JAX_ENABLE_X64"}
     full_env.update(env)
-    done = subprocess.run(
-        [sys.executable, "-c", code],
-        capture_output=True,
-        text=True,
-        env=full_env,
-        timeout=120,
-        check=True,
-    )
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          env=full_env, timeout=120, check=True)
     return done.stdout.strip()
 
 
 def test_numpy_only_modules_do_not_import_jax():
-    code = (
-        "import sys, maxwell_kinetics.initial, maxwell_kinetics.validation, particles; "
-        "print(sorted(m for m in sys.modules if m == 'jax' or m.startswith('jax.')))"
-    )
+    code = ("import sys, maxwell_kinetics.initial, maxwell_kinetics.validation, particles; "
+            "print(sorted(m for m in sys.modules if m == 'jax' or m.startswith('jax.')))")
     assert _run_python(code) == "[]"
 
 

@@ -13,17 +13,8 @@ import pytest
 
 from maxwell_kinetics.cli import build_parser, join_negative_values, main
 
-SOLVE_KEYS = {
-    "restitution",
-    "initial",
-    "resolution",
-    "tau",
-    "sup_error",
-    "q",
-    "G_real",
-    "G_imag",
-    "seconds",
-}
+SOLVE_KEYS = {"restitution", "initial", "resolution", "tau", "sup_error", "q", "G_real", "G_imag",
+              "seconds"}
 
 
 def run_json(capsys, argv):
@@ -52,25 +43,9 @@ def run_error(capsys, argv):
 def test_solve_json_contract_and_spec_values(capsys, tmp_path):
     # r = 0.5, unit Gaussian, default resolution: the SPEC §2 case (one solve, one compile).
     plot, save = tmp_path / "g.png", tmp_path / "g.npz"
-    out = run_json(
-        capsys,
-        [
-            "solve",
-            "--restitution",
-            "0.5",
-            "--initial",
-            "gaussian",
-            "--tau",
-            "10,50,100",
-            "--q",
-            "0.5,1,2,5",
-            "--json",
-            "--plot",
-            str(plot),
-            "--save",
-            str(save),
-        ],
-    )
+    out = run_json(capsys, ["solve", "--restitution", "0.5", "--initial", "gaussian", "--tau",
+                            "10,50,100", "--q", "0.5,1,2,5", "--json", "--plot", str(plot),
+                            "--save", str(save)])
     assert SOLVE_KEYS <= set(out)
     assert out["restitution"] == 0.5
     assert out["initial"] == "gaussian"
@@ -97,23 +72,9 @@ def test_solve_json_contract_and_spec_values(capsys, tmp_path):
 
 def test_solve_asymmetric_law_gives_imaginary_part(capsys):
     # "--q -0.5,0.5,1,2": a value starting with '-' after a space reaches the solver.
-    out = run_json(
-        capsys,
-        [
-            "solve",
-            "--restitution",
-            "0",
-            "--initial",
-            "asymmetric",
-            "--resolution",
-            "coarse",
-            "--tau",
-            "0.5,1",
-            "--q",
-            "-0.5,0.5,1,2",
-            "--json",
-        ],
-    )
+    out = run_json(capsys, ["solve", "--restitution", "0", "--initial", "asymmetric",
+                            "--resolution", "coarse", "--tau", "0.5,1", "--q", "-0.5,0.5,1,2",
+                            "--json"])
     assert out["q"] == [-0.5, 0.5, 1.0, 2.0]
     real, imag = np.asarray(out["G_real"]), np.asarray(out["G_imag"])
     assert imag.shape == (2, 4) and real.shape == (2, 4)
@@ -142,20 +103,8 @@ BAD_SOLVE = [
 @pytest.mark.parametrize("extra, shown", BAD_SOLVE, ids=[" ".join(e) for e, _ in BAD_SOLVE])
 def test_solve_bad_input(extra, shown, capsys, tmp_path):
     plot, save = tmp_path / "p.png", tmp_path / "s.npz"
-    argv = [
-        "solve",
-        "--restitution",
-        "0.5",
-        "--tau",
-        "1,2",
-        "--resolution",
-        "coarse",
-        "--json",
-        "--plot",
-        str(plot),
-        "--save",
-        str(save),
-    ]
+    argv = ["solve", "--restitution", "0.5", "--tau", "1,2", "--resolution", "coarse", "--json",
+            "--plot", str(plot), "--save", str(save)]
     # later occurrences of an option override the defaults above
     err = run_error(capsys, argv + extra)
     assert shown in err
@@ -171,21 +120,8 @@ def test_unknown_initial_lists_the_laws(capsys):
 
 def test_convergence_writes_json_and_figure(capsys, tmp_path):
     out_dir = tmp_path / "conv"
-    out = run_json(
-        capsys,
-        [
-            "convergence",
-            "--restitution",
-            "0.5",
-            "--resolutions",
-            "coarse",
-            "--tau-max",
-            "10",
-            "--out",
-            str(out_dir),
-            "--json",
-        ],
-    )
+    out = run_json(capsys, ["convergence", "--restitution", "0.5", "--resolutions", "coarse",
+                            "--tau-max", "10", "--out", str(out_dir), "--json"])
     assert out["out"] == str(out_dir)
     assert len(out["table"]) == 1
     row = out["table"][0]
@@ -204,20 +140,8 @@ def test_convergence_writes_json_and_figure(capsys, tmp_path):
 @pytest.mark.parametrize("bad", ["1.5", "nan"])
 def test_convergence_bad_restitution_writes_nothing(bad, capsys, tmp_path):
     out_dir = tmp_path / "conv"
-    err = run_error(
-        capsys,
-        [
-            "convergence",
-            "--restitution",
-            bad,
-            "--resolutions",
-            "coarse",
-            "--tau-max",
-            "10",
-            "--out",
-            str(out_dir),
-        ],
-    )
+    err = run_error(capsys, ["convergence", "--restitution", bad, "--resolutions", "coarse",
+                             "--tau-max", "10", "--out", str(out_dir)])
     assert "restitution=" in err and bad in err
     assert not out_dir.exists()
 
@@ -232,22 +156,14 @@ NEGATIVE = [
     (["fixed-point", "--restitution", "-0.1"], "restitution='-0.1'"),
     (["convergence", "--restitution", "-0.5", "--out", "OUT"], "restitution=-0.5"),
     (["convergence", "--tau-max", "-5", "--out", "OUT"], "tau-max=-5.0"),
-    (
-        ["simulate", "ulam", "--n", "100", "--restitution", "-0.5", "--tau", "1"],
-        "restitution='-0.5'",
-    ),
-    (
-        ["simulate", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1", "--seed", "-1"],
-        "seed='-1'",
-    ),
-    (
-        ["simulate", "lattice", "--n", "100", "--restitution", "0.5", "--tau", "-1,2"],
-        "tau=[-1.0, 2.0]",
-    ),
-    (
-        ["simulate", "md", "--n", "100", "--density", "1", "--restitution", "0.5", "--t", "-1,2"],
-        "t=[-1.0, 2.0]",
-    ),
+    (["simulate", "ulam", "--n", "100", "--restitution", "-0.5", "--tau", "1"],
+     "restitution='-0.5'"),
+    (["simulate", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1", "--seed", "-1"],
+     "seed='-1'"),
+    (["simulate", "lattice", "--n", "100", "--restitution", "0.5", "--tau", "-1,2"],
+     "tau=[-1.0, 2.0]"),
+    (["simulate", "md", "--n", "100", "--density", "1", "--restitution", "0.5", "--t", "-1,2"],
+     "t=[-1.0, 2.0]"),
 ]
 
 
@@ -263,45 +179,17 @@ def test_negative_values_reach_the_validation(argv, shown, capsys, tmp_path):
 
 def test_join_negative_values_only_touches_values_of_value_options():
     parser = build_parser()
-    argv = [
-        "solve",
-        "--tau",
-        "-1,2",
-        "--json",
-        "-r",
-        "-0.5",
-        "--plot",
-        "-x.png",
-        "--q=-1",
-        "--initial",
-        "gaussian",
-    ]
+    argv = ["solve", "--tau", "-1,2", "--json", "-r", "-0.5", "--plot", "-x.png", "--q=-1",
+            "--initial", "gaussian"]
     assert join_negative_values(parser, argv) == [
-        "solve",
-        "--tau=-1,2",
-        "--json",
-        "-r=-0.5",
-        "--plot",
-        "-x.png",
-        "--q=-1",
-        "--initial",
-        "gaussian",
-    ]
+        "solve", "--tau=-1,2", "--json", "-r=-0.5", "--plot", "-x.png", "--q=-1",
+        "--initial", "gaussian"]
     # flags take no value; nothing after "--" is rewritten
     assert join_negative_values(parser, ["solve", "--json", "-1", "--", "--tau", "-1"]) == [
-        "solve",
-        "--json",
-        "-1",
-        "--",
-        "--tau",
-        "-1",
-    ]
+        "solve", "--json", "-1", "--", "--tau", "-1"]
     # the subcommand decides: --n takes a value in simulate ulam and in fixed-point
     assert join_negative_values(parser, ["simulate", "ulam", "--n", "-5"]) == [
-        "simulate",
-        "ulam",
-        "--n=-5",
-    ]
+        "simulate", "ulam", "--n=-5"]
     # an option whose value is optional (nargs="?") keeps the next option as an option
     optional = argparse.ArgumentParser()
     optional.add_argument("--level", nargs="?")
@@ -316,27 +204,12 @@ def test_solve_bad_output_paths_write_nothing(case, capsys, tmp_path):
     folder = tmp_path / "existing"
     folder.mkdir()
     plot, save = tmp_path / "p.png", tmp_path / "s.npz"
-    bad = {
-        "save-is-dir": ("save", folder),
-        "plot-is-dir": ("plot", folder),
-        "save-no-parent": ("save", tmp_path / "missing" / "s.npz"),
-        "same-file": ("save", plot),
-    }[case]
+    bad = {"save-is-dir": ("save", folder), "plot-is-dir": ("plot", folder),
+           "save-no-parent": ("save", tmp_path / "missing" / "s.npz"),
+           "same-file": ("save", plot)}[case]
     paths = {"plot": plot, "save": save, bad[0]: bad[1]}
-    argv = [
-        "solve",
-        "--restitution",
-        "0.5",
-        "--tau",
-        "1",
-        "--resolution",
-        "coarse",
-        "--json",
-        "--plot",
-        str(paths["plot"]),
-        "--save",
-        str(paths["save"]),
-    ]
+    argv = ["solve", "--restitution", "0.5", "--tau", "1", "--resolution", "coarse", "--json",
+            "--plot", str(paths["plot"]), "--save", str(paths["save"])]
     err = run_error(capsys, argv)
     assert f"{bad[0]}='{bad[1]}'" in err
     assert not plot.exists() and not save.exists()
@@ -349,20 +222,8 @@ def test_convergence_bad_out_writes_nothing(case, capsys, tmp_path):
     blocker = tmp_path / "file.txt"
     blocker.write_text("keep")
     out_dir = blocker if case == "out-is-file" else blocker / "sub"
-    err = run_error(
-        capsys,
-        [
-            "convergence",
-            "--restitution",
-            "0.5",
-            "--resolutions",
-            "coarse",
-            "--tau-max",
-            "10",
-            "--out",
-            str(out_dir),
-        ],
-    )
+    err = run_error(capsys, ["convergence", "--restitution", "0.5", "--resolutions", "coarse",
+                             "--tau-max", "10", "--out", str(out_dir)])
     assert f"out='{out_dir}'" in err
     assert blocker.read_text() == "keep"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file.txt"]

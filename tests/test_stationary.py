@@ -172,15 +172,8 @@ def test_decay_rates_reject_bad_input():
 def test_cli_fixed_point_json(capsys):
     assert main(["fixed-point", "--restitution", "0.5", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert set(out) >= {
-        "restitution",
-        "max_error",
-        "residual",
-        "iterations",
-        "decay_rates",
-        "gamma",
-        "seconds",
-    }
+    assert set(out) >= {"restitution", "max_error", "residual", "iterations", "decay_rates",
+                        "gamma", "seconds"}
     assert out["restitution"] == 0.5
     assert out["max_error"] <= 1e-10
     assert list(out["gamma"]) == ["2.25", "2.5", "2.75"]
