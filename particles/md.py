@@ -870,39 +870,38 @@ def _burst(ctx, X, TL, V, ST, C, heap, b, t, fired):
             if h == hi:
                 break
             if lo > 0 and TL[h] == t and X[h] == xb:
-                sh = ST[h]
-                if limit - 1 - sh < budget:
-                    budget = limit - 1 - sh
-                w.insert(0, V[h])
-                s.insert(0, sh)
-                dh.insert(0, 0)
-                lo = h
-                m += 1
-                k = 0 if w[0] > w[1] else 2
-                continue
-            if not _pair_time(X, TL, h, V[h], lo, w[0], lr) <= t:
+                sh = ST[h]  # at the block's point already: it joins without a collision
+                join = False
+            elif not _pair_time(X, TL, h, V[h], lo, w[0], lr) <= t:
                 k = 1
                 continue
-            # the left boundary pair is due now, so it is the next pending pair; its collision
-            # moves both particles to h's position: h joins if that is the block's point
-            if lo == 0:
-                break
-            th = TL[h]
-            if X[h] + V[h] * (t - th) != xb:
-                break
-            sh = ST[h] if t - th <= dt_tiny else -1
+            else:
+                # the left boundary pair is due now, so it is the next pending pair; its
+                # collision moves both particles to h's position: h joins if that is the
+                # block's point
+                if lo == 0:
+                    break
+                th = TL[h]
+                if X[h] + V[h] * (t - th) != xb:
+                    break
+                sh = ST[h] if t - th <= dt_tiny else -1
+                join = True
             if limit - 1 - sh < budget:
                 budget = limit - 1 - sh
-            if done >= budget:
-                break
-            X[h] = xb
-            TL[h] = t
+            if join:
+                if done >= budget:
+                    break
+                X[h] = xb
+                TL[h] = t
             w.insert(0, V[h])
             s.insert(0, sh)
             dh.insert(0, 0)
             lo = h
             m += 1
-            k = 0
+            # next: the new first pair if it is due (a newcomer's always is), else past the
+            # pair just fired
+            k = 0 if join or w[0] > w[1] else 2
+            continue
         if k == m:  # at the right end: extend, join or stop
             r = hi + 1 if hi < last else 0
             if r == 0 or r == lo:
