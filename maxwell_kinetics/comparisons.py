@@ -784,7 +784,7 @@ _ENERGY = {
                 "md_seeds": 3, "md_haff_window": (0.3, 2.0), "md_late_window": (25.0, 100.0),
                 "lattice_n": 100_000, "lattice_tau_max": 2000.0, "lattice_seeds": 4,
                 "lattice_early_window": (0.0, 0.25), "lattice_late_window": (100.0, 2000.0)},
-    "full": {"restitution": 0.5, "delta": 1e-4, "md_n": 20_000, "md_t_max": 287.0,
+    "full": {"restitution": 0.5, "delta": 1e-4, "md_n": 100_000, "md_t_max": 287.0,
              "md_seeds": 2, "md_haff_window": (0.3, 2.0), "md_late_window": (48.0, 287.0),
              "lattice_n": 1_000_000, "lattice_tau_max": 4000.0, "lattice_seeds": 4,
              "lattice_early_window": (0.0, 0.25), "lattice_late_window": (200.0, 4000.0)},
@@ -914,7 +914,7 @@ _STRUCTURE = {
     "full": {"restitution": 0.5, "lattice_n": 1_000_000,
              "lattice_tau": (50.0, 100.0, 200.0, 400.0, 800.0, 1600.0, 3200.0), "lattice_seeds": 2,
              "porod_x": (3.0, 15.0), "k_max": 0.6, "lattice_porod_x": (8.0, 30.0),
-             "lattice_k_max": 0.5, "md_n": 20_000, "md_t_max": 287.0,
+             "lattice_k_max": 0.5, "md_n": 100_000, "md_t_max": 287.0,
              "md_seeds": 2, "md_delta": 1e-4, "md_times": (48.0, 100.0, 287.0)},
 }
 
