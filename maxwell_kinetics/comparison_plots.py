@@ -271,20 +271,54 @@ def _velocity_distributions(c):
 
 def _velocity_profiles(c):
     d, s = c.data, c.summary
-    fig, axes = _figure(3, width=4.5)
-    a, b, e = axes[0]
-    n_show = min(2000, d["md_v"].size)
+    fig, axes = _figure(4, width=4.5)
+    a, b, e, f = axes[0]
+    n = d["md_v"].size
+    n_show = min(5000, n)
+    coarse = s.get("coarse_skewness")
+    m = 64 if n >= 64 * 64 else 1  # the overlaid block means
+    grid = np.arange(n) * (d["length"] / n)
     order = np.argsort(d["md_x"], kind="stable")
-    a.plot(d["md_x"][order][:n_show], d["md_v"][order][:n_show], ".-", ms=1, lw=0.3)
-    b.plot(np.arange(n_show), d["md_v"][:n_show], ".-", ms=1, lw=0.3)
-    e.plot(np.arange(n_show), d["lattice_v"][:n_show], ".-", ms=1, lw=0.3, color="C1")
+    vx = np.interp(grid, d["md_x"][order], d["md_v"][order], period=d["length"])
+    curves = ((a, grid, vx, "C0"), (b, np.arange(n), d["md_v"], "C0"),
+              (e, np.arange(d["lattice_v"].size), d["lattice_v"], "C1"))
+    for ax, xs, vs, color in curves:
+        ax.plot(xs[:n_show], vs[:n_show], ".-", ms=1, lw=0.3, color=color, alpha=0.6)
+        if m > 1:
+            k = n_show // m * m
+            ax.plot(xs[:k].reshape(-1, m).mean(1), vs[:k].reshape(-1, m).mean(1), "k-", lw=1.2,
+                    label=f"means of {m}")
+            ax.legend(fontsize=7, loc="lower right")
     sk = s["increment_skewness"]
-    a.set(xlabel="x", ylabel="v", title=f"MD v(x, t={d['md_time']:g}); increment skewness "
-          f"{sk['md_vx']['skewness'][0]:.2f}")
-    b.set(xlabel="label i", ylabel="v",
-          title=f"MD v(i, t); skewness {sk['md_vi']['skewness'][0]:.2f}")
-    e.set(xlabel="site i", ylabel="v", title=f"lattice v(i, τ={d['lattice_tau']:.0f}); skewness "
-          f"{sk['lattice_vi']['skewness'][0]:.2f}")
+
+    def title(key):
+        raw = f"raw skewness {sk[key]['skewness'][0]:.2f}"
+        if coarse is None or len(coarse[key]["scales"]) < 2:
+            return raw
+        top = coarse[key]
+        return f"{raw}, m={top['scales'][-1]}: {top['skewness'][-1][0]:+.2f}"
+
+    a.set(xlabel="x (grid of spacing L/N)", ylabel="v",
+          title=f"MD v(x, t={d['md_time']:g})\n{title('md_vx')}")
+    b.set(xlabel="label i", ylabel="v", title=f"MD v(i, t)\n{title('md_vi')}")
+    e.set(xlabel="site i", ylabel="v",
+          title=f"lattice v(i, τ={d['lattice_tau']:.0f})\n{title('lattice_vi')}")
+    if coarse is not None:
+        labels = {"md_vx": ("MD v(x)", "C0", "s"), "md_vi": ("MD v(i)", "C2", "o"),
+                  "lattice_vi": ("lattice v(i)", "C1", "^")}
+        for key, (label, color, marker) in labels.items():
+            ms_ = np.asarray(coarse[key]["scales"], dtype=float)
+            val = np.array([v for v, _ in coarse[key]["skewness"]])
+            err = np.array([0.0 if e_ is None else e_ for _, e_ in coarse[key]["skewness"]])
+            f.errorbar(ms_, val, yerr=err, color=color, marker=marker, ms=4, capsize=2,
+                       label=label)
+        f.axhline(0.0, color="k", lw=0.5)
+        f.set(xscale="log", xlabel="coarse-graining m (labels, sites, L/N)",
+              ylabel="skewness of increments",
+              title="sign of the large gradients\n(mean ± s.e. over seeds)")
+        f.legend(fontsize=7)
+    else:
+        f.set_axis_off()
     fig.tight_layout()
     return fig
 
