@@ -14,6 +14,8 @@ bit (``identical``).  Rates count pair collisions per second of the event loop o
 2. Clustered stage: r = 0.5, delta = 1e-4, n = 1, N = 2e4 (late times at N = 1e6 would take the
    C loop minutes to reach): the C loop brings the gas to t = 20 (about 1100 collisions per
    particle, E ~ 0.06 against E_Haff = 0.011), then all three engines run [20, 20.2].
+   ``--clustered-r``, ``--clustered-t`` and ``--clustered-window`` change r and the window
+   [T, T + W] (e.g. r = 0.99 late: ``--clustered-r 0.99 --clustered-t 6000 --clustered-window 2``).
 """
 
 from __future__ import annotations
@@ -143,7 +145,11 @@ def main(argv=None):
         "--clustered-t",
         type=float,
         default=20.0,
-        help="start of the clustered window [T, T + 0.2] (default 20; the C loop warms up to T)",
+        help="start of the clustered window [T, T + W] (default 20; the C loop warms up to T)",
+    )
+    ap.add_argument("--clustered-r", type=float, default=0.5, help="restitution (default 0.5)")
+    ap.add_argument(
+        "--clustered-window", type=float, default=0.2, help="length W of the window (default 0.2)"
     )
     args = ap.parse_args(argv)
     n_h = 100_000 if args.quick else 1_000_000
@@ -160,10 +166,10 @@ def main(argv=None):
         result["clustered"] = regime(
             exe,
             workdir,
-            MDParams(n_c, 1.0, 0.5, delta=1e-4),
+            MDParams(n_c, 1.0, args.clustered_r, delta=1e-4),
             args.clustered_t,
-            args.clustered_t + 0.2,
-            args.clustered_t + 0.2,
+            args.clustered_t + args.clustered_window,
+            args.clustered_t + args.clustered_window,
             1,
             critical_path=args.critical_path,
             **options,
