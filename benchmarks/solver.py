@@ -3,6 +3,7 @@
     python benchmarks/solver.py timing     # compile time, wall time for τ ∈ [0, 1000]
     python benchmarks/solver.py stability  # r ∈ {0,.5,.9,.99} × laws × resolutions, τ ≤ 1e4
     python benchmarks/solver.py floor      # error floor: long runs (r = 0, .5), fixed point (all r)
+    python benchmarks/solver.py scale      # the floor as a rescaling of f̂: what it depends on
 
 Each mode prints a Markdown table and writes JSON next to this file (benchmarks/solver_<mode>.json).
 """
@@ -127,11 +128,51 @@ def floor(long_restitutions=(0.0, 0.5), fp_restitutions=(0.0, 0.5, 0.9, 0.99),
     return rows
 
 
+def scale(taus=(100.0, 1000.0, 3000.0)):
+    """The ~4e-12 floor as a rescaling G → f̂((1 + ε) q): ε by least squares on the scale mode
+    ε q f̂'(q) = −ε q² e^{−q}, and what is left after removing it, from the Newton fixed point
+    (as in ``floor``) at r = 0 and 0.5, varying one thing at a time: resolution, interpolation
+    order, window length, and r itself by 1e-14 … 2e-13 (f̂ does not depend on r, but every
+    rounding in the run changes)."""
+    from maxwell_kinetics.exact import f_hat
+    from maxwell_kinetics.grid import Resolution
+    from maxwell_kinetics.stationary import fixed_point
+
+    variants = [("fine", {}), ("finest", {}), ("fine, order 10", {"order": 10}),
+                ("fine, order 6", {"order": 6})]
+    variants += [(f"fine, window {w:g}", {"window": w}) for w in (0.25, 1.0, 4.0, 16.0)]
+    variants += [(f"fine, r + {d:g}", {"dr": d}) for d in (1e-14, 3e-14, 2e-13)]
+    rows = []
+    for r in (0.0, 0.5):
+        fp = fixed_point(r)
+        law = law_from_characteristic(lambda k, fp=fp: fp.evaluate(np.asarray(k)), 1.0,
+                                      name=f"fixed-point r={r:g}")
+        for label, v in variants:
+            base = get_resolution("finest" if label == "finest" else "fine")
+            grid = Resolution(base.name, h=base.h, order=v.get("order", base.order))
+            opts = SolverOptions(window=v.get("window", 2.0))
+            sol = solve(r + v.get("dr", 0.0), law, list(taus), grid, options=opts)
+            q = sol.q
+            mode = -q * q * np.exp(-q)
+            eps, sup, rest = [], [], []
+            for k in range(len(taus)):
+                d = (sol.G[k] - f_hat(q)).real
+                e = float(d @ mode / (mode @ mode))
+                eps.append(e)
+                sup.append(float(np.abs(sol.G[k] - f_hat(q)).max()))
+                rest.append(float(np.abs(d - e * mode).max()))
+            rows.append({"restitution": r, "variant": label, "tau": list(taus), "epsilon": eps,
+                         "sup_error": sup, "after_removing_the_mode": rest})
+            print(f"| {r:g} | {label} | " + " | ".join(f"{e:.2e}" for e in eps)
+                  + f" | {sup[-1]:.1e} | {rest[-1]:.1e} |", flush=True)
+    return rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("mode", choices=["timing", "stability", "floor"])
+    parser.add_argument("mode", choices=["timing", "stability", "floor", "scale"])
     args = parser.parse_args()
-    rows = {"timing": timing, "stability": stability, "floor": floor}[args.mode]()
+    rows = {"timing": timing, "stability": stability, "floor": floor, "scale": scale}[args.mode]()
     (HERE / f"solver_{args.mode}.json").write_text(json.dumps(rows, indent=1))
 
 
