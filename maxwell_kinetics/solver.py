@@ -32,10 +32,15 @@ interpolation of w, of order ``resolution.order``, in the gain term.  Outputs be
 ends are interpolated from the comoving grid back to the fixed grid with stencils of twice that
 order (they do not feed back into the dynamics).
 
-Boundaries: below q_min, w = 0, i.e. G = g (exact to O(q_min³) at all times; the default
-q_min = e^{−24} makes this, and the variance error q_min/3 it implies, negligible); above q_max
-the free-streaming value e^{−τ} φ(q e^{λτ}) of the initial law φ enters (zero for user laws
-that JAX cannot trace, and for τ > 40 where it is below 4e-18).
+Boundaries: below q_min (default e^{−24}) the gain terms see w continued as
+w(q_0) (q/q_0)³ from the first node q_0, its leading small-q behaviour (the |q|³/3 of f̂ builds
+up there; laws with a finite fourth moment start at O(q⁴), which this continuation bounds).
+Setting w = 0 there instead, a variance error of order q_min/3 at the cut, looks negligible
+but is not: the gain terms sample ever smaller q, and over ~100–300 τ the cut pinned the late
+state at f̂((1 + ε) q) with ε ≈ 0.21 q_min (8e-12; the whole ~4e-12 "floor" of the finest
+grids; benchmarks/README.md).  Above q_max the free-streaming value e^{−τ} φ(q e^{λτ}) of the
+initial law φ enters (zero for user laws that JAX cannot trace, and for τ > 40 where it is
+below 4e-18).
 
 For r = 1 (elastic, λ = 0) collisions only exchange velocities: G(q, τ) = φ(q) for all τ.
 """
@@ -270,13 +275,19 @@ class _Stepper:
 
         q_state = jnp.exp(s_min + h * j_grid)  # comoving nodes at the start of a window
 
-        def q_at(j, tau, tau_w):
-            """q of comoving node j at time τ in the window that started at τ_w."""
-            return jnp.exp(s_min + j * h - lam * (tau - tau_w))
+        # Time inside a window is local, t = τ − τ_w ∈ [0, Δτ]: every window integrates over
+        # exactly the same interval, whose end meets the shift by `cells` nodes.  (With the
+        # absolute τ as the ODE's time, fl(τ_w + Δτ) − τ_w is off by up to ulp(τ) in every
+        # window; measured: ±1.5e-12 scale errors with windows of 0.2 at τ = 3000.)
 
-        def inflow(tau, tau_w):
-            """w at the right ghosts: e^{−τ} φ(q e^{λτ}) − g(q), as a (parts, nr) array."""
-            q = q_at(j_right, tau, tau_w)
+        def q_at(j, t):
+            """q of comoving node j at local time t of a window."""
+            return jnp.exp(s_min + j * h - lam * t)
+
+        def inflow(t, tau_w):
+            """w at the right ghosts at τ = τ_w + t: e^{−τ} φ(q e^{λτ}) − g(q), (parts, nr)."""
+            q = q_at(j_right, t)
+            tau = tau_w + t
             if traceable:
                 # e^{−τ} |φ| < 4e-18 for τ > 40: drop it, and never evaluate φ at the huge
                 # k = q e^{λτ} of late times (trigonometric range reduction is slow there).
@@ -286,17 +297,22 @@ class _Stepper:
                 free = jnp.zeros_like(q)
             return pair(free) - reference_pair(q)
 
-        def extended(w, tau, tau_w):
-            return jnp.concatenate([jnp.zeros((parts, nl)), w, inflow(tau, tau_w)], axis=1)
+        # Left ghosts (q < q_min): w continued as w(q_0) (q/q_0)³ from the first node (module
+        # docstring, Boundaries).
+        left_scale = jnp.exp(3.0 * h * jnp.arange(-nl, 0, dtype=jnp.float64))
+
+        def extended(w, t, tau_w):
+            left = w[:, :1] * left_scale[None, :]
+            return jnp.concatenate([left, w, inflow(t, tau_w)], axis=1)
 
         def stencil(ext, first, weights):
             start = nl + first
             return sum(weights[k] * ext[:, start + k : start + k + ns] for k in range(order))
 
-        def rhs(tau, y, tau_w):
+        def rhs(t, y, tau_w):
             w = y.reshape(parts, ns)
-            ext = extended(w, tau, tau_w)
-            q = q_state * jnp.exp(-lam * (tau - tau_w))
+            ext = extended(w, t, tau_w)
+            q = q_state * jnp.exp(-lam * t)
             w_p = stencil(ext, first_a, w_a)  # w(p q)
             w_1mp = stencil(ext, first_b, w_b)  # w((1 − p) q)
             # three exponentials per node: e^{−q²/2}, e^{−p²q²/2}, e^{−(1−p)²q²/2}
@@ -317,12 +333,13 @@ class _Stepper:
         solver = diffrax.Dopri8()
         controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol)
 
-        def integrate(y, tau_w, tau_end, return_stats=False):
+        def integrate(y, tau_w, t_end, return_stats=False):
+            """Integrate the window that started at τ_w from local time 0 to ``t_end``."""
             sol = diffrax.diffeqsolve(
                 term,
                 solver,
-                t0=tau_w,
-                t1=tau_end,
+                t0=0.0,
+                t1=t_end,
                 dt0=None,
                 y0=y,
                 args=tau_w,
@@ -336,8 +353,8 @@ class _Stepper:
 
         def window(i, y):
             tau_w = i * dtau
-            w1 = integrate(y, tau_w, tau_w + dtau)
-            right = inflow(tau_w + dtau, tau_w)  # nodes ns.. now sit at ns − cells..
+            w1 = integrate(y, tau_w, dtau)
+            right = inflow(dtau, tau_w)  # nodes ns.. now sit at ns − cells..
             return jnp.concatenate([w1[:, cells:], right[:, :cells]], axis=1)
 
         def advance(y, i_start, count):
@@ -346,9 +363,10 @@ class _Stepper:
         def output(y, i_window, tau):
             """w on the fixed grid at τ ≥ τ_w = i_window Δτ (shape (parts, n))."""
             tau_w = i_window * dtau
-            y_tau = jax.lax.cond(tau > tau_w, lambda: integrate(y, tau_w, tau), lambda: y)
-            ext = extended(y_tau, tau, tau_w)
-            shift = lam * (tau - tau_w) / h  # fixed node j sits at comoving j + shift
+            t = tau - tau_w
+            y_tau = jax.lax.cond(t > 0.0, lambda: integrate(y, tau_w, t), lambda: y)
+            ext = extended(y_tau, t, tau_w)
+            shift = lam * t / h  # fixed node j sits at comoving j + shift
             base = jnp.floor(shift)
             frac = shift - base
             nodes = np.arange(out_order) - (out_order // 2 - 1)
