@@ -129,11 +129,12 @@ def floor(long_restitutions=(0.0, 0.5), fp_restitutions=(0.0, 0.5, 0.9, 0.99),
 
 
 def scale(taus=(100.0, 1000.0, 3000.0)):
-    """The ~4e-12 floor as a rescaling G → f̂((1 + ε) q): ε by least squares on the scale mode
+    """The scale offset of the late state, G → f̂((1 + ε) q) (before ``bce2bde`` it was the
+    whole ~4e-12 floor of the fine grids, ε ≈ 0.21 q_min): ε by least squares on the scale mode
     ε q f̂'(q) = −ε q² e^{−q}, and what is left after removing it, from the Newton fixed point
     (as in ``floor``) at r = 0 and 0.5, varying one thing at a time: resolution, interpolation
-    order, window length, and r itself by 1e-14 … 2e-13 (f̂ does not depend on r, but every
-    rounding in the run changes)."""
+    order, window length, q_min, and r itself by 1e-14 … 2e-13 (f̂ does not depend on r, but
+    every rounding in the run changes)."""
     from maxwell_kinetics.exact import f_hat
     from maxwell_kinetics.grid import Resolution
     from maxwell_kinetics.stationary import fixed_point
@@ -141,6 +142,7 @@ def scale(taus=(100.0, 1000.0, 3000.0)):
     variants = [("fine", {}), ("finest", {}), ("fine, order 10", {"order": 10}),
                 ("fine, order 6", {"order": 6})]
     variants += [(f"fine, window {w:g}", {"window": w}) for w in (0.25, 1.0, 4.0, 16.0)]
+    variants += [(f"fine, s_min {m:g}", {"s_min": m}) for m in (-12.0, -18.0, -30.0)]
     variants += [(f"fine, r + {d:g}", {"dr": d}) for d in (1e-14, 3e-14, 2e-13)]
     rows = []
     for r in (0.0, 0.5):
@@ -149,7 +151,8 @@ def scale(taus=(100.0, 1000.0, 3000.0)):
                                       name=f"fixed-point r={r:g}")
         for label, v in variants:
             base = get_resolution("finest" if label == "finest" else "fine")
-            grid = Resolution(base.name, h=base.h, order=v.get("order", base.order))
+            grid = Resolution(base.name, h=base.h, order=v.get("order", base.order),
+                              s_min=v.get("s_min", base.s_min))
             opts = SolverOptions(window=v.get("window", 2.0))
             sol = solve(r + v.get("dr", 0.0), law, list(taus), grid, options=opts)
             q = sol.q
