@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .comparisons import block_means, velocity_on_grid
 from .exact import f_density, f_hat
 from .plotting import _figure
 
@@ -278,15 +279,13 @@ def _velocity_profiles(c):
     coarse = s.get("coarse_skewness")
     m = 64 if n >= 64 * 64 else 1  # the overlaid block means
     grid = np.arange(n) * (d["length"] / n)
-    order = np.argsort(d["md_x"], kind="stable")
-    vx = np.interp(grid, d["md_x"][order], d["md_v"][order], period=d["length"])
+    vx = velocity_on_grid(d["md_x"], d["md_v"], d["length"])
     curves = ((a, grid, vx, "C0"), (b, np.arange(n), d["md_v"], "C0"),
               (e, np.arange(d["lattice_v"].size), d["lattice_v"], "C1"))
     for ax, xs, vs, color in curves:
         ax.plot(xs[:n_show], vs[:n_show], ".-", ms=1, lw=0.3, color=color, alpha=0.6)
         if m > 1:
-            k = n_show // m * m
-            ax.plot(xs[:k].reshape(-1, m).mean(1), vs[:k].reshape(-1, m).mean(1), "k-", lw=1.2,
+            ax.plot(block_means(xs[:n_show], m), block_means(vs[:n_show], m), "k-", lw=1.2,
                     label=f"means of {m}")
             ax.legend(fontsize=7, loc="lower right")
     sk = s["increment_skewness"]

@@ -43,6 +43,8 @@ __all__ = [
     "velocity_distributions",
     "velocity_profiles",
     "coarse_increment_skewness",
+    "block_means",
+    "velocity_on_grid",
     "profile_scales",
     "lattice_at_energy",
     "COMPARISONS",
@@ -1314,12 +1316,27 @@ def coarse_increment_skewness(profile, scale: int) -> float:
         raise InvalidArgumentError("profile", f"shape {v.shape}", "a 1-d array")
     if isinstance(scale, bool) or not isinstance(scale, (int, np.integer)) or scale < 1:
         raise InvalidArgumentError("scale", scale, "an integer >= 1")
-    blocks = v.size // scale
-    if blocks < 3:
+    if v.size // scale < 3:
         raise InvalidArgumentError("scale", scale,
                                    f"at most {v.size // 3} for a profile of {v.size} points")
-    means = v[: blocks * scale].reshape(blocks, scale).mean(axis=1)
+    means = block_means(v, scale)
     return _increment_skewness(np.diff(np.append(means, means[0])))
+
+
+def block_means(values, m: int) -> np.ndarray:
+    """Means of consecutive blocks of ``m`` values (a tail of ``len(values) mod m`` dropped)."""
+    values = np.asarray(values, dtype=float)
+    blocks = values.size // m
+    return values[: blocks * m].reshape(blocks, m).mean(axis=1)
+
+
+def velocity_on_grid(positions, velocities, length: float) -> np.ndarray:
+    """MD v(x): the rods' velocities interpolated linearly in x (periodic, rods sorted by
+    position) at the N grid points x_m = m L / N, m = 0 … N − 1."""
+    n = len(velocities)
+    order = np.argsort(positions, kind="stable")
+    grid = np.arange(n) * (length / n)
+    return np.interp(grid, positions[order], velocities[order], period=length)
 
 
 def profile_scales(n: int) -> tuple[int, ...]:
@@ -1376,16 +1393,14 @@ def velocity_profiles(size=None, progress=False, **overrides) -> Comparison:
     lat = lattice_at_energy(r, prm["lattice_n"], target, tuple(range(prm["lattice_seeds"])),
                             progress=progress)
     length = prm["md_n"] / 1.0  # density 1
-    grid = np.arange(prm["md_n"]) * (length / prm["md_n"])
-    profiles = {"md_vx": [], "md_vi": [], "lattice_vi": []}
-    for i in range(md["snapshots"].shape[0]):
-        x = md["positions"][i, j]
-        v = md["snapshots"][i, j]
-        order = np.argsort(x, kind="stable")
-        profiles["md_vx"].append(np.interp(grid, x[order], v[order], period=length))
-        profiles["md_vi"].append(v)
-    profiles["lattice_vi"] = list(lat["snapshots"])
-    scales = {"md_vx": profile_scales(prm["md_n"]), "md_vi": profile_scales(prm["md_n"]),
+    profiles = {
+        "md_vx": [velocity_on_grid(x, v, length)
+                  for x, v in zip(md["positions"][:, j], md["snapshots"][:, j], strict=True)],
+        "md_vi": list(md["snapshots"][:, j]),
+        "lattice_vi": list(lat["snapshots"]),
+    }
+    md_scales = profile_scales(prm["md_n"])
+    scales = {"md_vx": md_scales, "md_vi": md_scales,
               "lattice_vi": profile_scales(prm["lattice_n"])}
 
     def mean_sem(a):
