@@ -1,0 +1,72 @@
+"""The causal-depth count of benchmarks/md.py (the bound quoted in benchmarks/README.md, "How much
+parallelism there is"), on hand-made states whose collisions are known."""
+
+import importlib.util
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from particles.md import MDEngine, MDParams, MDState
+
+_PATH = Path(__file__).resolve().parent.parent / "benchmarks" / "md.py"
+_SPEC = importlib.util.spec_from_file_location("benchmarks_md", _PATH)
+bench = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(bench)
+
+
+def state(x, v):
+    x = np.array(x, float)
+    return MDState(0.0, x, np.zeros_like(x), np.array(v, float), 0)
+
+
+def test_two_independent_inelastic_collisions_take_one_round():
+    # pairs (0, 1) and (2, 3) meet at t = 0.5, 50 apart; the next contact is at t = 50.5
+    prm = MDParams(4, 0.04, 0.5)
+    out = bench.causal_depth(prm, state([0, 1, 50, 51], [1, -1, 1, -1]), 10.0)
+    assert out["collisions"] == 2 and out["depth"] == 1 and out["per_round"] == 2.0
+    assert out["inelastic"] == 2 and out["ghost_depth"] == 1
+    assert out["replay_matches_reference"]
+
+
+def test_newtons_cradle_is_a_chain_of_two_and_has_no_inelastic_round():
+    # elastic: 0 hits 1 at t = 1, 1 hits 2 at t = 2 (the same particle 1: two rounds); as ghosts
+    # the one carrier passes through both, so no inelastic collision and no round
+    prm = MDParams(3, 0.03, 1.0)
+    out = bench.causal_depth(prm, state([0, 1, 2], [1, 0, 0]), 10.0)
+    assert out["collisions"] == 2 and out["depth"] == 2
+    assert out["inelastic"] == 0 and out["ghost_depth"] == 0
+
+
+def recount(record, n):
+    """Depth by brute force: a collision's level is one more than the largest level of the
+    earlier collisions that share a particle with it."""
+    levels = []
+    for k, (_, b) in enumerate(record):
+        pair = {b, (b + 1) % n}
+        before = [levels[m] for m in range(k) if pair & {record[m][1], (record[m][1] + 1) % n}]
+        levels.append(1 + max(before, default=0))
+    return max(levels)
+
+
+@pytest.mark.parametrize("delta", [0.0, 0.3])
+def test_depth_agrees_with_a_brute_force_count_on_a_random_gas(delta):
+    prm = MDParams(200, 1.0, 0.7, delta=delta)
+    s0 = MDEngine(prm).initial_state(np.random.default_rng(3))
+    block = np.full(prm.n, -1)
+    block[10:20] = 0
+    out = bench.causal_depth(prm, s0, 3.0, block)
+    rec = MDEngine(prm, "reference", record=True)
+    rec.advance(s0, 3.0)
+    assert out["collisions"] == len(rec.record) > 100
+    assert out["depth"] == recount(rec.record, prm.n) > 1
+    inside = sum(10 <= b < 19 for _, b in rec.record)
+    assert out["in_blocks"] == inside > 0 and out["in_blocks_elastic"] <= inside
+    assert out["replay_matches_reference"]
+    if delta == 0.0:
+        # no elastic exchange: carriers never move, the ghost graph is the full graph
+        assert out["inelastic"] == out["collisions"] and out["ghost_depth"] == out["depth"]
+        assert out["in_blocks_elastic"] == 0
+    else:
+        assert 0 < out["inelastic"] < out["collisions"]
+        assert 0 < out["ghost_depth"] < out["depth"]
