@@ -40,6 +40,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
+from particles.collision import collide_scalar  # noqa: E402
 from particles.md import MDEngine, MDParams, MDState  # noqa: E402
 from particles.observables import energy as _energy  # noqa: E402
 
@@ -140,8 +141,8 @@ def causal_depth(prm: MDParams, state: MDState, until: float, block=None) -> dic
             carrier[i], carrier[j] = carrier[j], carrier[i]
             continue
         inelastic += 1
-        pd = p * d
-        a, e = min(max(vi - pd, vj), vi), min(max(vj + pd, vj), vi)
+        a, e = collide_scalar(vi, vj, p)
+        a, e = min(max(a, vj), vi), min(max(e, vj), vi)  # the engines' separation guard
         v[i], v[j] = (e, a) if a > e else (a, e)
         ci, cj = carrier[i], carrier[j]
         gl = max(ghost_level[ci], ghost_level[cj]) + 1

@@ -125,9 +125,9 @@ _CONE_MARGIN = 64 * np.finfo(float).eps
 _GROUP_GAP = 1024.0
 # Cost model of the fast path's choice between a vectorised pass and the scalar loop, in units of
 # one plain scalar collision (~1.7 µs): the cost of a pass per candidate (fitted: 0.1-0.6 µs,
-# about 0.25) and of a collision in a zero-gap burst (0.15-0.5 µs with its share of the burst's
-# fixed cost); the fixed cost of a pass (~80 µs, about 47 units) is the engine's
-# ``sequential_below`` (default 64).  See benchmarks/README.md.
+# about 0.25 µs, i.e. 0.15 units) and of a collision in a zero-gap burst (0.15-0.5 µs with its
+# share of the burst's fixed cost, taken as 0.15 units); the fixed cost of a pass (~80 µs,
+# about 47 units) is the engine's ``sequential_below`` (default 64).  See benchmarks/README.md.
 _PASS_PER_CANDIDATE = 0.15
 _BURST_COST = 0.15
 # With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
