@@ -19,9 +19,9 @@ from pathlib import Path
 import numpy as np
 
 from maxwell_kinetics.grid import RESOLUTIONS, get_resolution
-from maxwell_kinetics.initial import LAWS, get_law, law_from_characteristic
 from maxwell_kinetics.model import MaxwellModel
 from maxwell_kinetics.solver import SolverOptions, _Stepper, solve
+from particles.initial import LAWS, get_law, law_from_characteristic
 
 HERE = Path(__file__).resolve().parent
 

@@ -5,7 +5,7 @@ JAX runs in float64 everywhere in this package, whatever the import order:
 * if JAX is already imported when this package is, ``jax.config.update("jax_enable_x64",
   True)`` is called at once (the environment variable would come too late);
 * otherwise ``JAX_ENABLE_X64=1`` is set in ``os.environ``, which JAX reads when it is first
-  imported.  JAX itself is *not* imported here, so ``import maxwell_kinetics.initial`` (used by
+  imported.  JAX itself is *not* imported here, so ``import particles.initial`` (used by
   :mod:`particles`) stays free of JAX.
 
 Decision: an explicit ``JAX_ENABLE_X64=0`` in the environment is overridden.  The solver's error
@@ -14,7 +14,7 @@ floors (down to ~1e-12) and its tests need float64, and the JAX modules (``solve
 before the first solve float32.  Code that needs float32 JAX should not import this package.
 The NumPy-only modules (``initial``, ``validation``) import no JAX.
 
-Public names are loaded lazily so that ``import maxwell_kinetics.initial`` stays light.
+Public names are loaded lazily so that ``import particles.initial`` stays light.
 """
 
 from __future__ import annotations
@@ -47,16 +47,17 @@ _LAZY = {
     "FixedPoint": "stationary",
     "f_hat": "exact",
     "f_density": "exact",
-    "get_law": "initial",
-    "law_from_characteristic": "initial",
-    "InitialLaw": "initial",
-    "InvalidArgumentError": "validation",
+    "get_law": "particles.initial",
+    "law_from_characteristic": "particles.initial",
+    "InitialLaw": "particles.initial",
+    "InvalidArgumentError": "particles.validation",
 }
 
 
 def __getattr__(name):
     if name in _LAZY:
-        module = importlib.import_module(f".{_LAZY[name]}", __name__)
+        where = _LAZY[name]
+        module = importlib.import_module(where if "." in where else f".{where}", __name__)
         return getattr(module, name)
     raise AttributeError(f"module 'maxwell_kinetics' has no attribute {name!r}")
 

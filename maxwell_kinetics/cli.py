@@ -21,7 +21,7 @@ import argparse
 import json
 import sys
 
-from .validation import InvalidArgumentError
+from particles.validation import InvalidArgumentError
 
 __all__ = ["main", "build_parser"]
 

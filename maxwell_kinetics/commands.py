@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .validation import InvalidArgumentError, parse_float_list
+from particles.validation import InvalidArgumentError, parse_float_list
 
 
 def register(subparsers) -> None:
@@ -46,11 +46,12 @@ def _add_solve(subparsers) -> None:
 
 
 def _run_solve(args) -> int:
+    from particles.initial import get_law
+    from particles.validation import check_output_file, check_times
+
     from .cli import emit_json
     from .grid import get_resolution
-    from .initial import get_law
     from .model import MaxwellModel
-    from .validation import check_output_file, check_times
 
     model = MaxwellModel(args.restitution)
     law = get_law(args.initial)
@@ -122,9 +123,10 @@ def _register_fixed_point(subparsers) -> None:
 def _fixed_point(args) -> int:
     import time
 
+    from particles.validation import check_count
+
     from .cli import emit_json
     from .stationary import fixed_point, linear_decay_rates
-    from .validation import check_count
 
     start = time.perf_counter()
     n = check_count(args.n, "n", 8)
@@ -178,10 +180,11 @@ def _convergence_options(p) -> None:
 
 
 def _run_convergence(args) -> int:
+    from particles.validation import check_output_dir, check_positive, check_restitution
+
     from .cli import emit_json
     from .convergence import convergence_study, write_results
     from .grid import get_resolution
-    from .validation import check_output_dir, check_positive, check_restitution
 
     rs = [check_restitution(r) for r in parse_float_list(args.restitution, "restitution")]
     names = [get_resolution(n.strip()).name for n in args.resolutions.split(",") if n.strip()]

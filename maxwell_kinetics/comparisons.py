@@ -26,10 +26,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from particles import persistence
+from particles.validation import InvalidArgumentError
+
 from . import statistics as st
 from .exact import f_density, rescaled_moments
 from .model import MaxwellModel
-from .validation import InvalidArgumentError
 
 __all__ = [
     "SIZES",
@@ -68,7 +70,8 @@ def default_size() -> str:
     return "small" if flag not in ("", "0") else "default"
 
 
-_COMPARISON_FORMAT = "maxwell_kinetics.Comparison/2"
+#: Version of the saved Comparison format (3: particles.persistence, hashed; 2 still loads).
+_COMPARISON_VERSION = 3
 
 
 @dataclass
@@ -91,41 +94,34 @@ class Comparison:
         return comparison_plots.plot(self)
 
     def save(self, path) -> None:
-        """Save to ``path`` (.npz): the arrays of ``data`` as entries, everything else as a
-        JSON skeleton that records dict keys, tuples, non-finite floats and the records of
-        this package (histogram comparisons, solver solutions) exactly."""
-        import json
-
+        """Save to ``path`` through :mod:`particles.persistence` (kind ``"comparison"``): the
+        arrays of ``data`` as entries, everything else as a JSON skeleton that records dict
+        keys, tuples, non-finite floats and the records of this package (histogram
+        comparisons, solver solutions) exactly."""
         arrays: dict[str, np.ndarray] = {}
-        skeleton = {"format": _COMPARISON_FORMAT, "name": self.name,
-                    "summary": _encode(self.summary, arrays), "data": _encode(self.data, arrays)}
-        with open(path, "wb") as fh:
-            np.savez(fh, __skeleton__=np.array(json.dumps(skeleton, allow_nan=False)), **arrays)
+        meta = {"name": self.name, "summary": _encode(self.summary, arrays),
+                "data": _encode(self.data, arrays)}
+        persistence.save(path, "comparison", _COMPARISON_VERSION, arrays, meta)
 
     @classmethod
     def load(cls, path) -> Comparison:
-        """Read a file written by :meth:`save`; a file that is not one raises
-        :class:`~maxwell_kinetics.validation.InvalidArgumentError` naming ``path``."""
-        import json
-
+        """Read a file written by :meth:`save` (also of version 0.1.0); a file that is not one
+        raises :class:`~particles.persistence.FileFormatError` naming ``path``."""
+        expected = "a file written by Comparison.save"
+        loaded = persistence.load(path, "comparison", (2, _COMPARISON_VERSION), expected=expected)
+        skeleton, arrays = loaded.meta, loaded.arrays
         try:
-            with np.load(path, allow_pickle=False) as npz:
-                arrays = {k: npz[k] for k in npz.files}
-            skeleton = json.loads(str(arrays.pop("__skeleton__")))
-            if skeleton.get("format") != _COMPARISON_FORMAT:
-                raise ValueError(f"format {skeleton.get('format')!r}")
             return cls(skeleton["name"], _decode(skeleton["summary"], arrays),
                        _decode(skeleton["data"], arrays))
-        except (OSError, ValueError, KeyError, TypeError) as exc:
-            raise InvalidArgumentError(
-                "path", str(path), f"a file written by Comparison.save ({exc})"
+        except (ValueError, KeyError, TypeError) as exc:
+            raise persistence.FileFormatError(
+                path, f"{type(exc).__name__}: {exc}", "path", expected
             ) from None
 
 
 def _encode(obj, arrays: dict):
     """JSON skeleton of ``obj``; arrays go to ``arrays`` under fresh keys."""
     import dataclasses
-    import io
 
     from .solver import Solution
 
@@ -148,9 +144,8 @@ def _encode(obj, arrays: dict):
         fields = {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
         return {"__histogram__": _encode(fields, arrays)}
     if isinstance(obj, Solution):
-        buf = io.BytesIO()
-        obj.save(buf)
-        return {"__solution__": _encode(np.frombuffer(buf.getvalue(), dtype=np.uint8), arrays)}
+        meta, record = obj.to_record()
+        return {"__solution__": {"meta": meta, "arrays": _encode(record, arrays)}}
     raise TypeError(f"cannot save an object of type {type(obj).__name__}")
 
 
@@ -174,7 +169,12 @@ def _decode(node, arrays: dict):
     if "__solution__" in node:
         from .solver import Solution
 
-        return Solution.load(io.BytesIO(_decode(node["__solution__"], arrays).tobytes()))
+        inner = node["__solution__"]
+        if isinstance(inner, dict) and "meta" in inner:
+            return Solution.from_record(inner["meta"], _decode(inner["arrays"], arrays))
+        # version 2 (0.1.0) kept the solution as the bytes of its own .npz file
+        blob = io.BytesIO(_decode(inner, arrays).tobytes())
+        return Solution.load(blob)
     raise ValueError(f"unknown node {sorted(node)}")
 
 
@@ -255,7 +255,7 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
     * the rest, G − G_free, transformed by :func:`statistics.interval_probabilities` on
       [0, q_max] (mass below −``far`` neglected: < 1e-7 for the laws here).
     """
-    from .initial import get_law
+    from particles.initial import get_law
 
     q_max = sol.resolution.q_max
     tau = float(sol.tau[tau_index])
@@ -307,7 +307,7 @@ def never_collided_cut(sol, tau_index: int, edges) -> np.ndarray:
     that :func:`fft_bin_probabilities` (all of G cut at q_max) and
     :func:`solution_bin_probabilities` (G − G_free cut at q_max, G_free exact) treat
     differently; it is ≈ 0 (< 1e-16) for smooth laws and carries the Gibbs ringing of a jump."""
-    from .initial import get_law
+    from particles.initial import get_law
 
     q_max = sol.resolution.q_max
     tau = float(sol.tau[tau_index])

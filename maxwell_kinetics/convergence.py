@@ -17,9 +17,10 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from particles.validation import check_restitution
+
 from .grid import RESOLUTIONS, get_resolution
 from .solver import solve
-from .validation import check_restitution
 
 __all__ = ["ConvergenceRun", "convergence_study", "order_of_accuracy"]
 

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .validation import InvalidArgumentError
+from particles.validation import InvalidArgumentError
 
 __all__ = ["Resolution", "RESOLUTIONS", "get_resolution", "lagrange_weights"]
 

@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .validation import check_restitution
+from particles.validation import check_restitution
 
 __all__ = ["MaxwellModel"]
 

@@ -13,7 +13,7 @@ import math
 import time
 from pathlib import Path
 
-from .validation import InvalidArgumentError
+from particles.validation import InvalidArgumentError
 
 __all__ = ["register", "run_all"]
 

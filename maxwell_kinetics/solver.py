@@ -49,20 +49,25 @@ For r = 1 (elastic, λ = 0) collisions only exchange velocities: G(q, τ) = φ(q
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
 import time
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from particles import persistence
+from particles.initial import InitialLaw, first_non_finite, get_law
+from particles.validation import InvalidArgumentError, check_positive, check_times
+
 from .exact import f_hat
 from .grid import Resolution, get_resolution, lagrange_weights
-from .initial import InitialLaw, first_non_finite, get_law
 from .model import MaxwellModel
-from .validation import InvalidArgumentError, check_positive, check_times
 
 __all__ = ["solve", "Solution", "SolverOptions"]
+
+
+#: Version of the saved Solution format (2: particles.persistence, hashed; 1 still loads).
+_SOLUTION_VERSION = 2
 
 
 @dataclass(frozen=True)
@@ -401,7 +406,7 @@ def solve(
     Parameters
     ----------
     restitution : r ∈ [0, 1].
-    initial : a law name of :mod:`maxwell_kinetics.initial` or an ``InitialLaw``.
+    initial : a law name of :mod:`particles.initial` or an ``InitialLaw``.
     tau : increasing, non-negative times (collisions per particle) at which G is saved.
     resolution : a name in :data:`maxwell_kinetics.grid.RESOLUTIONS` or a ``Resolution``.
     options : :class:`SolverOptions` (tolerances, window length).
@@ -595,11 +600,10 @@ class Solution:
         return invert(G, q_max=q_max, x=x)
 
     # -- persistence --------------------------------------------------------------------
-    def save(self, path) -> None:
-        """Save to ``.npz`` (arrays plus a JSON header) at ``path`` (a path or a binary file
-        object); reload with :meth:`Solution.load`."""
+    def to_record(self) -> tuple[dict, dict[str, np.ndarray]]:
+        """(meta, arrays): the JSON-able parameters and the arrays ``tau``, ``G``, ``deviation``
+        (what :meth:`save` writes, also used when a comparison saves a solution inside it)."""
         meta = {
-            "format": "maxwell_kinetics.Solution/1",
             "restitution": self.restitution,
             "initial": self.initial,
             "resolution": dataclasses.asdict(self.resolution),
@@ -607,32 +611,40 @@ class Solution:
             "options": dataclasses.asdict(self.options),
             "seconds": self.seconds,
         }
-        arrays = {"meta": np.array(json.dumps(meta)), "tau": self.tau, "G": self.G,
-                  "deviation": self.deviation}
-        if hasattr(path, "write"):
-            np.savez(path, **arrays)
-        else:  # open it ourselves: np.savez would append ".npz" to other names
-            with open(path, "wb") as fh:
-                np.savez(fh, **arrays)
+        return meta, {"tau": self.tau, "G": self.G, "deviation": self.deviation}
+
+    @classmethod
+    def from_record(cls, meta: dict, arrays: dict, path="solution") -> Solution:
+        """Inverse of :meth:`to_record`; a malformed record raises
+        :class:`particles.persistence.FileFormatError` naming ``path``."""
+        try:
+            return cls(
+                float(meta["restitution"]),
+                str(meta["initial"]),
+                Resolution(**meta["resolution"]),
+                np.asarray(arrays["tau"]),
+                np.asarray(arrays["G"]),
+                np.asarray(arrays["deviation"]),
+                float(meta["skewness"]),
+                SolverOptions(**meta["options"]),
+                float(meta["seconds"]),
+            )
+        except (KeyError, ValueError, TypeError) as exc:
+            raise persistence.FileFormatError(
+                path, f"{type(exc).__name__}: {exc}", "path", "a saved Solution"
+            ) from None
+
+    def save(self, path) -> None:
+        """Save to ``path`` through :mod:`particles.persistence` (kind ``"solution"``: arrays
+        ``tau``, ``G``, ``deviation`` and the parameters as JSON); reload with
+        :meth:`Solution.load`."""
+        meta, arrays = self.to_record()
+        persistence.save(path, "solution", _SOLUTION_VERSION, arrays, meta)
 
     @classmethod
     def load(cls, path) -> Solution:
-        try:
-            with np.load(path, allow_pickle=False) as data:
-                meta = json.loads(str(data["meta"]))
-                tau, G, deviation = data["tau"], data["G"], data["deviation"]
-            if meta.get("format") != "maxwell_kinetics.Solution/1":
-                raise ValueError(f"unknown format {meta.get('format')!r}")
-            return cls(
-                meta["restitution"],
-                meta["initial"],
-                Resolution(**meta["resolution"]),
-                tau,
-                G,
-                deviation,
-                meta["skewness"],
-                SolverOptions(**meta["options"]),
-                meta["seconds"],
-            )
-        except (OSError, KeyError, ValueError, TypeError) as exc:
-            raise InvalidArgumentError("path", str(path), f"a saved Solution ({exc})") from exc
+        """Read a file written by :meth:`save` (also of version 0.1.0); anything else raises
+        :class:`particles.persistence.FileFormatError` naming ``path`` and the reason."""
+        loaded = persistence.load(path, "solution", (1, _SOLUTION_VERSION),
+                                  expected="a saved Solution")
+        return cls.from_record(loaded.meta, loaded.arrays, path)

@@ -82,9 +82,10 @@ jax.config.update("jax_enable_x64", True)
 import jax.numpy as jnp  # noqa: E402
 import numpy as np  # noqa: E402
 
+from particles.validation import InvalidArgumentError, check_count, check_positive  # noqa: E402
+
 from .exact import f_hat  # noqa: E402
 from .model import MaxwellModel  # noqa: E402
-from .validation import InvalidArgumentError, check_count, check_positive  # noqa: E402
 
 __all__ = [
     "FixedPoint",

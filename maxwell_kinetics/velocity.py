@@ -45,7 +45,7 @@ import numpy as np
 import pyfftw
 import pyfftw.builders
 
-from .validation import InvalidArgumentError, check_positive
+from particles.validation import InvalidArgumentError, check_positive
 
 __all__ = ["inverse_transform", "density_at", "invert", "tail_exponent"]
 

@@ -32,7 +32,7 @@ import sys
 
 import numpy as np
 
-from maxwell_kinetics.validation import (
+from .validation import (
     InvalidArgumentError,
     check_count,
     check_times,

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from maxwell_kinetics.validation import check_restitution
+from .validation import check_restitution
 
 __all__ = ["transfer_fraction", "collide_scalar", "collide_arrays"]
 

@@ -34,24 +34,22 @@ from __future__ import annotations
 import json
 import math
 import os
-import tempfile
 import time as _time
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
 
-from maxwell_kinetics.initial import get_law
-from maxwell_kinetics.validation import (
+from . import observables as obs
+from . import persistence
+from .initial import get_law
+from .validation import (
     InvalidArgumentError,
     check_count,
     check_nonnegative,
     check_times,
 )
-
-from . import observables as obs
 
 __all__ = [
     "CheckpointError",
@@ -62,16 +60,17 @@ __all__ = [
     "next_grid_point",
 ]
 
-FORMAT_VERSION = 1
+#: Version of the result and checkpoint formats written now (2: through
+#: :mod:`particles.persistence`, with a content hash); 1 (0.1.0, no hash) still loads.
+FORMAT_VERSION = 2
+_READABLE_VERSIONS = (1, 2)
 
 
-class CheckpointError(InvalidArgumentError):
+class CheckpointError(persistence.FileFormatError):
     """A checkpoint or result file that cannot be read or belongs to another run."""
 
     def __init__(self, path, reason: str, argument: str = "resume"):
-        self.path = str(path)
-        self.reason = reason
-        super().__init__(argument, self.path, f"a readable checkpoint of this run ({reason})")
+        super().__init__(path, reason, argument, "a readable checkpoint of this run")
 
 
 class Engine(Protocol):  # pragma: no cover - typing only
@@ -128,50 +127,19 @@ def check_writable(path, name: str) -> Path:
 
 
 def _write_npz(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
-    """Write ``arrays`` and a JSON ``meta`` entry atomically (temporary file, then rename)."""
-    path = Path(path)
-    payload = dict(arrays)
-    payload["meta"] = np.array(json.dumps(meta))
-    directory = path.parent if str(path.parent) else Path(".")
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, **payload)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    """Write a result or checkpoint through the one persistence helper (atomic, hashed)."""
+    meta = dict(meta)
+    kind = meta.pop("kind")
+    persistence.save(path, kind, FORMAT_VERSION, arrays, meta)
 
 
 def _read_npz(path, argument: str, kind: str) -> tuple[dict, dict[str, np.ndarray]]:
+    """(meta, arrays) of a result or checkpoint file; :class:`CheckpointError` if it is not one."""
     try:
-        with np.load(path, allow_pickle=False) as data:
-            arrays = {key: data[key] for key in data.files}
-        meta = json.loads(str(arrays.pop("meta")[()]))
-    except FileNotFoundError:
-        raise CheckpointError(path, "no such file", argument) from None
-    except (
-        OSError,
-        ValueError,
-        KeyError,
-        EOFError,
-        zipfile.BadZipFile,
-        json.JSONDecodeError,
-    ) as exc:
-        raise CheckpointError(
-            path, f"not a {kind} file: {type(exc).__name__}: {exc}", argument
-        ) from None
-    if not isinstance(meta, dict) or meta.get("kind") != kind:
-        raise CheckpointError(path, f"not a {kind} file", argument)
-    if meta.get("format") != FORMAT_VERSION:
-        raise CheckpointError(
-            path, f"format {meta.get('format')!r}, expected {FORMAT_VERSION}", argument
-        )
-    return meta, arrays
+        loaded = persistence.load(path, kind, _READABLE_VERSIONS, argument=argument)
+    except persistence.FileFormatError as exc:
+        raise CheckpointError(path, exc.reason, argument) from None
+    return loaded.meta, loaded.arrays
 
 
 # --------------------------------------------------------------------------- results
@@ -238,7 +206,6 @@ class RunResult:
         """Save to ``path`` (an ``.npz`` archive with a JSON ``meta`` entry)."""
         meta = {
             "kind": "result",
-            "format": FORMAT_VERSION,
             "model": self.model,
             "params": self.params,
             "seed": self.seed,
@@ -419,7 +386,6 @@ def _save_checkpoint(path, identity, state, rng_state, records: _Records) -> Non
     arrays.update(records.arrays())
     meta = {
         "kind": "checkpoint",
-        "format": FORMAT_VERSION,
         "run": identity,
         "rng": rng_state,
         "done": records.done,

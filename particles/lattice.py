@@ -29,11 +29,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from maxwell_kinetics.initial import get_law
-from maxwell_kinetics.validation import InvalidArgumentError, check_count, check_restitution
-
 from .collision import collide_scalar, transfer_fraction
 from .driver import initial_velocities, next_grid_point
+from .initial import get_law
+from .validation import InvalidArgumentError, check_count, check_restitution
 
 __all__ = [
     "Lattice",

@@ -93,17 +93,16 @@ from itertools import accumulate
 
 import numpy as np
 
-from maxwell_kinetics.initial import get_law
-from maxwell_kinetics.validation import (
+from .collision import collide_arrays, transfer_fraction
+from .driver import initial_velocities, next_grid_point
+from .initial import get_law
+from .validation import (
     InvalidArgumentError,
     check_count,
     check_nonnegative,
     check_positive,
     check_restitution,
 )
-
-from .collision import collide_arrays, transfer_fraction
-from .driver import initial_velocities, next_grid_point
 
 __all__ = [
     "InelasticCollapseError",
@@ -195,7 +194,7 @@ class MDParams:
 
     ``n`` particles (N ≥ 2), number ``density`` N/L > 0, ``restitution`` r ∈ [0, 1],
     regularisation ``delta`` δ ≥ 0 (0: none), ``rod_length`` σ ≥ 0 with N σ < L, and the name of
-    the ``initial`` velocity law (:mod:`maxwell_kinetics.initial`).
+    the ``initial`` velocity law (:mod:`particles.initial`).
     """
 
     n: int

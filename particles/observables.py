@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import pyfftw.interfaces.numpy_fft as _fft
 
-from maxwell_kinetics.validation import InvalidArgumentError
+from .validation import InvalidArgumentError
 
 __all__ = [
     "Histogram",

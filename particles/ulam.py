@@ -43,11 +43,10 @@ from typing import ClassVar
 
 import numpy as np
 
-from maxwell_kinetics.initial import get_law
-from maxwell_kinetics.validation import InvalidArgumentError, check_count, check_restitution
-
 from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .driver import initial_velocities, next_grid_point
+from .initial import get_law
+from .validation import InvalidArgumentError, check_count, check_restitution
 
 __all__ = [
     "Ulam",
@@ -200,7 +199,7 @@ def collide_sequential(v, pairs, restitution) -> np.ndarray:
 @dataclass(frozen=True)
 class Ulam:
     """Exact vectorized Ulam engine with ``n`` ≥ 2 particles, restitution ``restitution`` ∈ [0, 1],
-    initial law ``initial`` (a name of :mod:`maxwell_kinetics.initial`).  Time is τ."""
+    initial law ``initial`` (a name of :mod:`particles.initial`).  Time is τ."""
 
     n: int
     restitution: float

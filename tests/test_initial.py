@@ -4,8 +4,8 @@ their samplers."""
 import numpy as np
 import pytest
 
-from maxwell_kinetics.initial import LAWS, get_law, law_from_characteristic
-from maxwell_kinetics.validation import InvalidArgumentError
+from particles.initial import LAWS, get_law, law_from_characteristic
+from particles.validation import InvalidArgumentError
 
 
 @pytest.mark.parametrize("name", sorted(LAWS))

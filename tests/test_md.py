@@ -9,8 +9,8 @@ import signal
 
 import numpy as np
 import pytest
+from conftest import read_entries, write_entries
 
-from maxwell_kinetics.validation import InvalidArgumentError
 from particles import md
 from particles import observables as obs
 from particles.driver import CheckpointError, RunResult, simulate
@@ -27,6 +27,7 @@ from particles.md import (
     rod_positions,
     total_momentum,
 )
+from particles.validation import InvalidArgumentError
 
 
 def energy(state):
@@ -602,11 +603,8 @@ def test_bad_times_and_states(tmp_path):
     with pytest.raises(CheckpointError, match="ok.ckpt.*restitution"):
         simulate(other, [1.0], 0, progress=False, resume=ok)
     # a checkpoint whose state arrays were damaged (positions out of order)
-    with np.load(ok) as data:
-        arrays = {k: data[k] for k in data.files}
+    meta, arrays = read_entries(ok)
     arrays["state.positions"] = arrays["state.positions"][::-1].copy()
-    damaged = tmp_path / "damaged.ckpt"
-    with open(damaged, "wb") as fh:
-        np.savez(fh, **arrays)
+    damaged = write_entries(tmp_path / "damaged.ckpt", meta, arrays)  # re-signed: reaches the check
     with pytest.raises(CheckpointError, match="damaged.ckpt.*out of order"):
         simulate(engine, [1.0], 0, progress=False, resume=damaged)

@@ -1,22 +1,16 @@
 """``maxwell-kinetics simulate md``: JSON contract, profiles, checkpoint/resume, collapse, bad
 input (exit status 2, the argument and the value named, nothing written)."""
 
-import json
 import re
 
 import numpy as np
 import pytest
+from conftest import run_json
 
 from maxwell_kinetics.cli import main
 
 BASE = ["simulate", "md", "--n", "1000", "--density", "1", "--restitution", "0.7"]
 
-
-def run_json(capsys, argv):
-    assert main(argv) == 0
-    out = capsys.readouterr().out
-    assert out.count("\n") == 1  # exactly one JSON object on one line
-    return json.loads(out)
 
 
 def test_json_output_contract(capsys):

@@ -5,8 +5,6 @@ import dataclasses
 import numpy as np
 import pytest
 
-from maxwell_kinetics.initial import law_names
-from maxwell_kinetics.validation import InvalidArgumentError
 from particles.driver import (
     CheckpointError,
     RunResult,
@@ -14,8 +12,10 @@ from particles.driver import (
     next_grid_point,
     simulate,
 )
+from particles.initial import law_names
 from particles.lattice import Lattice
 from particles.ulam import Ulam
+from particles.validation import InvalidArgumentError
 
 
 @pytest.mark.parametrize("law", law_names())

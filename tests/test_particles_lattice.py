@@ -5,7 +5,6 @@ reference value."""
 import numpy as np
 import pytest
 
-from maxwell_kinetics.validation import InvalidArgumentError
 from particles.driver import simulate
 from particles.lattice import (
     Lattice,
@@ -14,6 +13,7 @@ from particles.lattice import (
     run_clocks_sequential,
 )
 from particles.observables import correlation, log_bin
+from particles.validation import InvalidArgumentError
 
 
 def per_bond_increments(table):

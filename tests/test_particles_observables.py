@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from maxwell_kinetics.validation import InvalidArgumentError
 from particles import observables as obs
+from particles.validation import InvalidArgumentError
 
 
 def test_energy_and_momentum_per_particle():

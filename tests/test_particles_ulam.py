@@ -4,7 +4,6 @@ solution f(x) = 2/(π(1+x²)²) with its x⁻⁴ tail, and agreement with a sequ
 import numpy as np
 import pytest
 
-from maxwell_kinetics.validation import InvalidArgumentError
 from particles.driver import simulate
 from particles.ulam import (
     Ulam,
@@ -14,6 +13,7 @@ from particles.ulam import (
     draw_pairs,
     recentre,
 )
+from particles.validation import InvalidArgumentError
 
 
 def scaling_cdf(x):

@@ -11,7 +11,6 @@ import pytest
 
 from maxwell_kinetics.exact import f_hat, rescaled_moments
 from maxwell_kinetics.grid import Resolution
-from maxwell_kinetics.initial import InitialLaw, get_law, law_from_characteristic
 from maxwell_kinetics.model import MaxwellModel
 from maxwell_kinetics.solver import (
     Solution,
@@ -19,7 +18,8 @@ from maxwell_kinetics.solver import (
     initial_deviation,
     solve,
 )
-from maxwell_kinetics.validation import InvalidArgumentError
+from particles.initial import InitialLaw, get_law, law_from_characteristic
+from particles.validation import InvalidArgumentError
 
 TAUS = [0.0, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 150.0, 200.0, 400.0, 700.0, 1000.0]
 
@@ -325,7 +325,7 @@ def _run_python(code: str, **env) -> str:
 
 
 def test_numpy_only_modules_do_not_import_jax():
-    code = ("import sys, maxwell_kinetics.initial, maxwell_kinetics.validation, particles; "
+    code = ("import sys, particles.initial, particles.validation, particles; "
             "print(sorted(m for m in sys.modules if m == 'jax' or m.startswith('jax.')))")
     assert _run_python(code) == "[]"
 

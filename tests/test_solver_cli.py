@@ -10,34 +10,14 @@ import json
 
 import numpy as np
 import pytest
+from conftest import run_error, run_json
 
-from maxwell_kinetics.cli import build_parser, join_negative_values, main
+from maxwell_kinetics.cli import build_parser, join_negative_values
 
 SOLVE_KEYS = {"restitution", "initial", "resolution", "tau", "sup_error", "q", "G_real", "G_imag",
               "seconds"}
 
 
-def run_json(capsys, argv):
-    """Run ``main(argv)``, check it printed exactly one JSON object, and return it."""
-    assert main(argv) == 0
-    out = capsys.readouterr().out
-    payload, end = json.JSONDecoder().raw_decode(out)
-    assert out[end:].strip() == ""  # nothing after the one object
-    assert out.count("\n") == 1
-    assert isinstance(payload, dict)
-    return payload
-
-
-def run_error(capsys, argv):
-    """Run ``main(argv)`` expecting exit status 2; return stderr (stdout must stay empty)."""
-    try:
-        status = main(argv)
-    except SystemExit as exc:  # argparse's own errors
-        status = exc.code
-    captured = capsys.readouterr()
-    assert status == 2, captured.err
-    assert captured.out == ""
-    return captured.err
 
 
 def test_solve_json_contract_and_spec_values(capsys, tmp_path):

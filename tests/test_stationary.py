@@ -16,7 +16,7 @@ from maxwell_kinetics.stationary import (
     linearised_operator,
     weighted_operator,
 )
-from maxwell_kinetics.validation import InvalidArgumentError
+from particles.validation import InvalidArgumentError
 
 RESTITUTIONS = [0.0, 0.3, 0.5, 0.9, 0.99]
 

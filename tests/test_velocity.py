@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from maxwell_kinetics.exact import f_density, f_hat
-from maxwell_kinetics.initial import get_law
 from maxwell_kinetics.stationary import fixed_point
-from maxwell_kinetics.validation import InvalidArgumentError
 from maxwell_kinetics.velocity import density_at, inverse_transform, invert, tail_exponent
+from particles.initial import get_law
+from particles.validation import InvalidArgumentError
 
 PERIOD = 1000.0
 

@@ -1,0 +1,313 @@
+"""One way to save and load every file the project writes (NumPy only).
+
+A file is an uncompressed ``.npz`` (zip) archive: one ``.npy`` entry per array plus a ``meta``
+entry holding a JSON object with
+
+* ``format``: ``"maxwell-kinetics"`` (the tag of this helper);
+* ``kind``: what the file holds (``"result"``, ``"checkpoint"``, ``"solution"``,
+  ``"comparison"``, ...), and ``version``, the kind's format version;
+* ``sha256``: the SHA-256 of the content (the JSON of the other meta fields with sorted keys, then
+  each array's name, dtype, shape and bytes, in the order of the sorted names), so an edited or
+  damaged file is refused;
+* the caller's own fields.
+
+Writing goes to a temporary file in the same folder, then :func:`os.replace` renames it into
+place: a reader never sees half a file, and a writer killed half-way leaves only a
+``<name>.<random>.tmp`` that :func:`save` removes on a later write to the same path.
+
+Reading treats the file as untrusted: only regular files are opened (a FIFO would block); every
+entry's ``.npy`` header (dtype and shape) is read and checked *before* its data is, so a zip
+bomb or a header that declares a huge shape is refused without allocating; object arrays (which
+would need pickle) are refused; an entry larger than its header says is refused; the total size is
+capped (``max_bytes``); then the hash is verified.  Files written before this helper existed
+(kinds ``result``, ``checkpoint``, ``solution``, ``comparison`` of the formats of version 0.1.0)
+load as ``legacy``: they carry no hash.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import glob
+import hashlib
+import json
+import os
+import stat
+import tempfile
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from .validation import InvalidArgumentError
+
+__all__ = ["FileFormatError", "Loaded", "FORMAT_TAG", "save", "load", "digest"]
+
+FORMAT_TAG = "maxwell-kinetics"
+META = "meta"
+#: Default cap on the bytes of all arrays of one file (data, after decompression).
+DEFAULT_MAX_BYTES = 8 * 2**30
+#: Cap on the JSON meta entry.
+MAX_META_BYTES = 64 * 2**20
+_RESERVED = ("format", "kind", "version", "sha256")
+_ALLOWED_KINDS = "biufcUS"  # bool, int, uint, float, complex, str, bytes; never object
+
+
+class _Refused(ValueError):
+    """A reason of this module's own to refuse a file (reported without a type name)."""
+
+
+class FileFormatError(InvalidArgumentError):
+    """A file that cannot be read as the expected kind: names the file and the reason."""
+
+    def __init__(self, path, reason: str, argument: str = "path", expected: str = "a file"):
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(argument, self.path, f"{expected} ({reason})")
+
+
+@dataclass(frozen=True)
+class Loaded:
+    """What :func:`load` returns: the meta fields, the arrays, the version and whether the
+    file is a legacy one (written before the hash existed)."""
+
+    meta: dict
+    arrays: dict[str, np.ndarray] = field(repr=False)
+    version: int
+    legacy: bool = False
+
+
+# --------------------------------------------------------------------------- hashing
+
+
+def digest(meta: dict, arrays: dict[str, np.ndarray]) -> str:
+    """SHA-256 (hex) of ``meta`` (without ``sha256``) and ``arrays`` (see the module docstring)."""
+    h = hashlib.sha256()
+    fields = {k: v for k, v in meta.items() if k != "sha256"}
+    h.update(json.dumps(fields, sort_keys=True, allow_nan=True).encode())
+    for name in sorted(arrays):
+        a = np.ascontiguousarray(arrays[name])
+        h.update(f"\0{name}\0{a.dtype.str}\0{a.shape}\0".encode())
+        h.update(memoryview(a).cast("B") if a.size else b"")
+    return h.hexdigest()
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def _clean_stale(path: Path) -> None:
+    """Remove temporary files a killed writer of ``path`` left behind (``<name>.*.tmp``)."""
+    for stale in glob.glob(glob.escape(str(path)) + ".*.tmp"):
+        try:
+            os.unlink(stale)
+        except OSError:
+            pass
+
+
+def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) -> Path:
+    """Write ``arrays`` and ``meta`` to ``path`` atomically, with the format tag, ``kind``,
+    ``version`` and the content hash.  Returns the path."""
+    path = Path(path)
+    meta = dict(meta or {})
+    clash = [k for k in _RESERVED if k in meta]
+    if clash:
+        raise InvalidArgumentError("meta", clash, f"no reserved keys {_RESERVED}")
+    arrays = {str(k): np.asarray(v) for k, v in arrays.items()}
+    for name, a in arrays.items():
+        if name == META or a.dtype.kind not in _ALLOWED_KINDS:
+            raise InvalidArgumentError("arrays", f"{name}: {a.dtype}", "named numeric arrays")
+    header = {**meta, "format": FORMAT_TAG, "kind": kind, "version": int(version)}
+    header["sha256"] = digest(header, arrays)
+    text = json.dumps(header, allow_nan=True)
+    directory = path.parent if str(path.parent) else Path(".")
+    _clean_stale(path)
+    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            np.savez(fh, **{META: np.array(text)}, **arrays)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def _read_exact(stream, size: int) -> bytearray:
+    """Up to ``size`` bytes of ``stream`` into a writable buffer (shorter if the stream ends)."""
+    buf = bytearray(size)
+    view, pos = memoryview(buf), 0
+    while pos < size:
+        got = stream.readinto(view[pos : pos + (1 << 24)])
+        if not got:
+            del view
+            return buf[:pos]
+        pos += got
+    del view
+    return buf
+
+
+def _npy_header(stream):
+    """(dtype, shape, fortran_order) of an ``.npy`` stream, reading the header only."""
+    version = np.lib.format.read_magic(stream)
+    if version == (1, 0):
+        shape, fortran, dtype = np.lib.format.read_array_header_1_0(stream, max_header_size=10000)
+    elif version in ((2, 0), (3, 0)):
+        shape, fortran, dtype = np.lib.format.read_array_header_2_0(stream, max_header_size=10000)
+    else:  # pragma: no cover - read_magic already refuses other versions
+        raise _Refused(f"npy version {version}")
+    return dtype, shape, fortran
+
+
+def _entries(zf: zipfile.ZipFile) -> dict[str, zipfile.ZipInfo]:
+    out = {}
+    for info in zf.infolist():
+        if not info.filename.endswith(".npy") or info.is_dir():
+            raise _Refused(f"entry {info.filename!r} is not an array")
+        name = info.filename[:-4]
+        if name in out:
+            raise _Refused(f"entry {info.filename!r} appears twice")
+        out[name] = info
+    return out
+
+
+def _read_meta(zf, info, max_meta: int) -> tuple[str, dict]:
+    with zf.open(info) as stream:
+        dtype, shape, fortran = _npy_header(stream)
+        if dtype.kind != "U" or shape != ():
+            raise _Refused(f"the meta entry is {dtype} of shape {shape}, not a string")
+        if dtype.itemsize > max_meta:
+            raise _Refused(f"the meta entry declares {dtype.itemsize} bytes")
+        raw = _read_exact(stream, dtype.itemsize)
+    text = str(np.frombuffer(raw, dtype=dtype, count=1)[0])
+    meta = json.loads(text)
+    if not isinstance(meta, dict):
+        raise _Refused("the meta entry is not a JSON object")
+    return text, meta
+
+
+def _legacy(kind: str, names: dict, zf) -> tuple[dict, int, str] | None:
+    """(meta, version, meta entry name) of a file of 0.1.0 of ``kind``, or None."""
+    if kind == "comparison" and "__skeleton__" in names:
+        _, meta = _read_meta(zf, names["__skeleton__"], MAX_META_BYTES)
+        if meta.get("format") == "maxwell_kinetics.Comparison/2":
+            return meta, 2, "__skeleton__"
+        return None
+    if META not in names:
+        return None
+    _, meta = _read_meta(zf, names[META], MAX_META_BYTES)
+    if kind in ("result", "checkpoint") and meta.get("kind") == kind and meta.get("format") == 1:
+        return meta, 1, META
+    if kind == "solution" and meta.get("format") == "maxwell_kinetics.Solution/1":
+        return meta, 1, META
+    return None
+
+
+def load(
+    path,
+    kind: str,
+    versions,
+    *,
+    argument: str = "path",
+    expected: str | None = None,
+    max_bytes: int | None = None,
+    check_entry=None,
+) -> Loaded:
+    """Read a file written by :func:`save` of ``kind`` and one of ``versions``.
+
+    ``check_entry(name, dtype, shape, meta)`` may return a reason to refuse an entry from its
+    header alone (before its data is read).  Every failure raises :class:`FileFormatError`
+    naming ``argument``, the file and the reason; ``expected`` words what was expected
+    (default: "a <kind> file").
+    """
+    expected = expected or f"a {kind} file of maxwell-kinetics"
+    versions = tuple(int(v) for v in versions)
+    max_bytes = DEFAULT_MAX_BYTES if max_bytes is None else int(max_bytes)
+
+    def fail(reason):
+        return FileFormatError(path, reason, argument, expected)
+
+    if hasattr(path, "read"):  # an open binary file (a legacy comparison's nested solution)
+        opened = contextlib.nullcontext(path)
+    else:
+        try:
+            st = os.stat(path)
+        except FileNotFoundError:
+            raise fail("no such file") from None
+        except OSError as exc:
+            raise fail(f"cannot be read: {exc.strerror or exc}") from None
+        if not stat.S_ISREG(st.st_mode):
+            raise fail("not a regular file")
+        opened = open(path, "rb")
+    try:
+        with opened as fh, zipfile.ZipFile(fh) as zf:
+            names = _entries(zf)
+            legacy = _legacy(kind, names, zf)
+            if legacy is not None:
+                meta, version, meta_name = legacy
+            else:
+                meta_name = META if META in names else "__skeleton__"
+                if meta_name not in names:
+                    raise _Refused("no meta entry: not a file of maxwell-kinetics")
+                _, meta = _read_meta(zf, names[meta_name], MAX_META_BYTES)
+                if "kind" in meta and meta["kind"] != kind:
+                    raise _Refused(f"not a {kind} file (it holds a {meta['kind']!r})")
+                if meta.get("format") != FORMAT_TAG or meta.get("kind") != kind:
+                    raise _Refused(f"format {meta.get('format')!r}, not {FORMAT_TAG!r}")
+                version = meta.get("version")
+                if isinstance(version, bool) or not isinstance(version, int):
+                    raise _Refused(f"version {version!r} is not an integer")
+                if version not in versions:
+                    newer = " (written by a newer version)" if version > max(versions) else ""
+                    raise _Refused(f"version {version}{newer}, expected one of {list(versions)}")
+            arrays = {}
+            total = 0
+            for name, info in names.items():
+                if name == meta_name:
+                    continue
+                with zf.open(info) as stream:
+                    dtype, shape, fortran = _npy_header(stream)
+                    if dtype.kind not in _ALLOWED_KINDS or dtype.hasobject:
+                        raise _Refused(f"entry {name!r} has dtype {dtype} (object arrays refused)")
+                    count = int(np.prod(shape, dtype=object)) if shape else 1
+                    nbytes = count * dtype.itemsize
+                    total += nbytes
+                    if total > max_bytes:
+                        raise _Refused(
+                            f"entry {name!r} declares shape {shape} of {dtype}: the arrays would "
+                            f"exceed {max_bytes} bytes"
+                        )
+                    if check_entry is not None:
+                        reason = check_entry(name, dtype, shape, meta)
+                        if reason:
+                            raise _Refused(f"entry {name!r}: {reason}")
+                    raw = _read_exact(stream, nbytes)
+                    if len(raw) != nbytes:
+                        raise _Refused(f"entry {name!r} is truncated")
+                    if stream.read(1):
+                        raise _Refused(f"entry {name!r} holds more data than its header says")
+                a = np.frombuffer(raw, dtype=dtype, count=count)
+                if fortran:
+                    a = a.reshape(shape[::-1]).T
+                else:
+                    a = a.reshape(shape)
+                arrays[name] = a
+    except FileFormatError:
+        raise
+    except _Refused as exc:
+        raise fail(str(exc)) from None
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, SyntaxError,
+            MemoryError, OverflowError, NotImplementedError, RuntimeError) as exc:
+        raise fail(f"{type(exc).__name__}: {exc}") from None
+    if legacy is not None:
+        return Loaded(meta, arrays, version, legacy=True)
+    if meta.get("sha256") != digest(meta, arrays):
+        raise fail("its contents do not match its hash (edited or damaged)")
+    return Loaded(meta, arrays, version)
+
