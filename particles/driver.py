@@ -43,6 +43,7 @@ import numpy as np
 
 from . import observables as obs
 from . import persistence
+from .progress import progress_bar
 from .initial import get_law
 from .validation import (
     InvalidArgumentError,
@@ -580,16 +581,8 @@ def simulate(
     last_save = _time.monotonic()
     bar = None
     if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(
-            total=float(times[-1]),
-            initial=float(state.time),
-            unit=getattr(engine, "time_name", "τ"),
-            leave=False,
-            desc=engine.name,
-            bar_format="{l_bar}{bar}| {n:.3g}/{total:.3g} [{elapsed}<{remaining}]",
-        )
+        bar = progress_bar(float(times[-1]), engine.name, getattr(engine, "time_name", "τ"),
+                           initial=float(state.time))
     try:
         while records.done < len(times):
             target = float(times[records.done])
