@@ -6,7 +6,10 @@ Subcommands:
 ``fixed-point``  solve the stationary rescaled equation by Newton's method
 ``convergence``  error floor against resolution (writes a figure and JSON)
 ``reproduce``    every comparison with the paper (the main job of ``make demo``)
-``simulate``     particle models (``ulam``, ``lattice``, ``md``), from :mod:`particles.cli`
+``simulate``     particle models (``ulam``, ``lattice``, ``md``)
+
+One module per subcommand in :mod:`maxwell_kinetics.commands`, each with ``add_parser`` and a
+handler; they share :mod:`maxwell_kinetics.output` and never import this module.
 
 Every subcommand takes ``--json`` and then prints exactly one JSON object on stdout.
 Bad input exits with status 2 and a message naming the argument and the value received,
@@ -18,12 +21,17 @@ for every subcommand, so that the validation (not argparse) reports them.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from particles.validation import InvalidArgumentError
 
-__all__ = ["main", "build_parser"]
+from .commands import convergence, fixed_point, reproduce, simulate, solve
+from .output import emit_json
+
+__all__ = ["main", "build_parser", "emit_json", "join_negative_values"]
+
+#: The subcommands in the order of ``--help``.
+COMMANDS = (solve, fixed_point, convergence, reproduce, simulate)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -33,23 +41,9 @@ def build_parser() -> argparse.ArgumentParser:
         "particle models).",
     )
     sub = parser.add_subparsers(dest="command", required=True)
-    from . import commands
-
-    commands.register(sub)
-    try:
-        from particles.cli import register as register_particles
-    except ImportError:  # pragma: no cover - particles always ships with the distribution
-        register_particles = None
-    if register_particles is not None:
-        register_particles(sub)
+    for command in COMMANDS:
+        command.add_parser(sub)
     return parser
-
-
-def emit_json(payload: dict) -> None:
-    """Print one JSON object (the ``--json`` contract)."""
-    json.dump(payload, sys.stdout, allow_nan=False)
-    sys.stdout.write("\n")
-    sys.stdout.flush()
 
 
 def _looks_numeric(token: str) -> bool:
@@ -121,16 +115,20 @@ def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> li
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
-    argv = list(sys.argv[1:] if argv is None else argv)
-    args = parser.parse_args(join_negative_values(parser, argv))
+    """Run the command line; returns the exit status (0 success, 2 bad input, 3 a failure of
+    the physics such as inelastic collapse, 130 interrupted)."""
+    command = "maxwell-kinetics"
     try:
+        parser = build_parser()
+        argv = list(sys.argv[1:] if argv is None else argv)
+        args = parser.parse_args(join_negative_values(parser, argv))
+        command = f"maxwell-kinetics {args.command}"
         return int(args.handler(args) or 0)
     except InvalidArgumentError as exc:
-        print(f"maxwell-kinetics {args.command}: error: {exc}", file=sys.stderr)
+        print(f"{command}: error: {exc}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("maxwell-kinetics: interrupted", file=sys.stderr)
+    except KeyboardInterrupt:  # at any moment, start-up included: one line, no traceback
+        print(f"{command}: interrupted", file=sys.stderr)
         return 130
 
 

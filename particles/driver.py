@@ -43,8 +43,8 @@ import numpy as np
 
 from . import observables as obs
 from . import persistence
-from .progress import progress_bar
 from .initial import get_law
+from .progress import progress_bar
 from .validation import (
     InvalidArgumentError,
     check_count,

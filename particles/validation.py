@@ -22,6 +22,10 @@ __all__ = [
     "check_positive",
     "check_nonnegative",
     "parse_float_list",
+    "parse_name_list",
+    "parse_int",
+    "parse_count",
+    "parse_seed",
     "check_output_file",
     "check_output_dir",
 ]
@@ -106,20 +110,79 @@ def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarra
     return arr
 
 
+def _split_list(text: str, name: str, what: str) -> list[str]:
+    """The elements of a comma-separated list; an empty list or an empty element is refused."""
+    parts = [p.strip() for p in text.split(",")]
+    if not text.strip() or any(not p for p in parts):
+        raise InvalidArgumentError(name, text, f"a comma-separated list of {what} with no empty "
+                                   "elements")
+    return parts
+
+
 def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
-    """Parse a comma-separated list such as ``"1,10,100"`` (for the command line)."""
+    """Parse a comma-separated list such as ``"1,10,100"`` (for the command line).  Empty
+    elements (``"1,,2"``, ``","``) and an empty list are refused."""
     if not isinstance(text, str):
         return [float(x) for x in text]
-    parts = [p.strip() for p in text.split(",") if p.strip()]
-    if not parts:
-        raise InvalidArgumentError(name, text, "a comma-separated list of numbers")
     out = []
-    for part in parts:
+    for part in _split_list(text, name, "numbers"):
         try:
             out.append(float(part))
         except ValueError:
             raise InvalidArgumentError(name, text, "a comma-separated list of numbers") from None
     return out
+
+
+def parse_name_list(text: str, name: str) -> list[str]:
+    """A comma-separated list of names (``--only a,b``): no empty elements, no repeats."""
+    parts = _split_list(str(text), name, "names")
+    if len(set(parts)) != len(parts):
+        raise InvalidArgumentError(name, text, "a list of names without repeats")
+    return parts
+
+
+def parse_int(text, name: str, minimum: int | None = None, maximum: int | None = None) -> int:
+    """An exact integer from the command line: ``200000``, ``2e5`` or ``2.0e5`` when exactly
+    integral (parsed as a decimal, never through a binary float, so 9007199254740993 stays
+    itself); ``1.5`` or ``1e-3`` are refused.  Optional bounds are inclusive."""
+    from decimal import Decimal, InvalidOperation
+
+    expected = "an integer"
+    if minimum is not None:
+        expected += f" >= {minimum}"
+    if maximum is not None:
+        expected += f" and <= {maximum}" if minimum is not None else f" <= {maximum}"
+    if isinstance(text, bool):
+        raise InvalidArgumentError(name, text, expected)
+    if isinstance(text, int):
+        value = text
+    else:
+        raw = str(text).strip()
+        try:
+            d = Decimal(raw)
+        except InvalidOperation:
+            raise InvalidArgumentError(name, text, expected) from None
+        if not d.is_finite() or d != d.to_integral_value() or abs(d.adjusted()) > 4000:
+            raise InvalidArgumentError(name, text, expected)
+        value = int(d)
+    if (minimum is not None and value < minimum) or (maximum is not None and value > maximum):
+        raise InvalidArgumentError(name, text, expected)
+    return value
+
+
+def parse_count(text, name: str, minimum: int) -> int:
+    """An integer option given as ``200000`` or ``2e5`` (exactly integral); errors name the
+    option and the value."""
+    return parse_int(text, name, minimum)
+
+
+#: Seeds are any integer in [0, 2**64 - 1], stored exactly.
+SEED_MAX = 2**64 - 1
+
+
+def parse_seed(text, name: str = "seed") -> int:
+    """A seed: an exact integer in [0, 2**64 - 1]."""
+    return parse_int(text, name, 0, SEED_MAX)
 
 
 def check_output_file(path, name: str) -> Path:

@@ -238,7 +238,7 @@ def test_particles_never_imports_jax():
     import sys
 
     code = (
-        "import sys, particles, particles.cli, particles.ulam, particles.lattice\n"
+        "import sys, particles, particles.md, particles.ulam, particles.lattice\n"
         "assert 'jax' not in sys.modules, sorted(m for m in sys.modules if 'jax' in m)\n"
     )
     subprocess.run([sys.executable, "-c", code], check=True)

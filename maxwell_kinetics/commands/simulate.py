@@ -30,29 +30,28 @@ from __future__ import annotations
 import argparse
 import sys
 
-import numpy as np
-
-from .validation import (
-    InvalidArgumentError,
-    check_count,
+from particles import observables as obs
+from particles import driver
+from particles.lattice import Lattice
+from particles.md import InelasticCollapseError, MDEngine, MDParams, profile_x
+from particles.ulam import Ulam
+from particles.validation import (
     check_times,
+    parse_count,
     parse_float_list,
+    parse_seed,
 )
 
-__all__ = ["register", "add_common_options", "run_engine", "parse_count"]
+from ..output import check_outputs, emit_json
+
+__all__ = ["add_parser", "add_common_options", "run_engine", "resumed_state"]
 
 
-def parse_count(text, name: str, minimum: int) -> int:
-    """An integer option given as ``200000`` or ``2e5``; errors name the option and the value."""
-    try:
-        value = float(text)
-    except (TypeError, ValueError):
-        raise InvalidArgumentError(name, text, f"an integer >= {minimum}") from None
-    if value != value or value in (float("inf"), float("-inf")):
-        raise InvalidArgumentError(name, text, f"an integer >= {minimum}")
-    if value != int(value) or int(value) < minimum:
-        raise InvalidArgumentError(name, text, f"an integer >= {minimum}")
-    return check_count(int(value), name, minimum)
+def resumed_state(path) -> dict:
+    """The ``state.*`` arrays of the checkpoint at ``path`` (read through the persistence helper,
+    with its checks)."""
+    _, arrays = driver._read_npz(path, "resume", "checkpoint")
+    return {k[len("state."):]: v for k, v in arrays.items() if k.startswith("state.")}
 
 
 def add_common_options(parser: argparse.ArgumentParser, *, time_option: str = "--tau") -> None:
@@ -96,17 +95,12 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
     """Run ``engine`` with the common options in ``args`` and print the result.
 
     ``extend(result, payload)``, if given, adds model-specific entries to the JSON payload."""
-    from maxwell_kinetics.cli import emit_json
-
-    from .driver import check_writable, simulate
-
     times = check_times(parse_float_list(args.times, time_key), time_key)
-    seed = parse_count(args.seed, "seed", 0)
+    seed = parse_seed(args.seed)
     progress = sys.stderr.isatty() if args.progress is None else args.progress
-    if args.save:
-        check_writable(args.save, "save")
+    check_outputs(checkpoint=args.checkpoint, save=args.save, inputs={"resume": args.resume})
     try:
-        result = simulate(
+        result = driver.simulate(
             engine,
             times,
             seed,
@@ -147,8 +141,6 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
 
 
 def _run_ulam(args) -> int:
-    from .ulam import Ulam
-
     engine = Ulam(parse_count(args.n, "n", 2), args.restitution, args.initial)
     return run_engine(engine, args)
 
@@ -162,8 +154,6 @@ def _add_ulam(models) -> None:
 
 
 def _run_lattice(args) -> int:
-    from .lattice import Lattice
-
     engine = Lattice(
         parse_count(args.n, "n", 3), args.restitution, args.initial, not args.no_constraint
     )
@@ -182,9 +172,6 @@ def _add_lattice(models) -> None:
 
 
 def _run_md(args) -> int:
-    from . import observables as obs
-    from .md import InelasticCollapseError, MDEngine, MDParams, profile_x
-
     params = MDParams(
         parse_count(args.n, "n", 2),
         args.density,
@@ -206,10 +193,7 @@ def _run_md(args) -> int:
         if args.profile:
             state = engine.last_state
             if state is None:  # a resumed run that had already finished
-                with np.load(args.resume) as data:
-                    prefix = "state."
-                    arrays = {k[len(prefix) :]: data[k] for k in data.files if k[:6] == prefix}
-                state = engine.state_from_arrays(arrays)
+                state = engine.state_from_arrays(resumed_state(args.resume))
             x, v_x = profile_x(state, params)
             payload["profile"] = {
                 "x": x.tolist(),
@@ -252,7 +236,7 @@ def _add_md(models) -> None:
     parser.set_defaults(handler=_run_md)
 
 
-def register(subparsers) -> None:
+def add_parser(subparsers) -> None:
     """Add the ``simulate`` subcommand to the top-level parser's ``subparsers``."""
     simulate = subparsers.add_parser("simulate", help="run a particle model")
     models = simulate.add_subparsers(dest="model", required=True)

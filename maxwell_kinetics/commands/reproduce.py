@@ -1,0 +1,54 @@
+"""``maxwell-kinetics reproduce``: run every comparison, write PNG figures and ``summary.json``.
+
+    maxwell-kinetics reproduce [--out results] [--full | --small] [--only NAME,...] [--json]
+                               [--no-progress]
+
+The output folder is checked (and created) before the first comparison runs, so a bad ``--out``
+fails at once with exit status 2 and nothing written.
+"""
+
+from __future__ import annotations
+
+from particles.validation import InvalidArgumentError, parse_name_list
+
+from ..output import check_output_dir, emit_json, progress_enabled
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "reproduce", help="reproduce the paper's figures and the kinetic-vs-particle comparisons",
+        description="Run every comparison and write <out>/<name>.png, <out>/<name>.npz (data for "
+        "Comparison.load) and <out>/summary.json.",
+    )
+    p.add_argument("--out", default="results", help="output folder (default results/)")
+    size = p.add_mutually_exclusive_group()
+    size.add_argument("--full", action="store_true", help="the paper's sizes (hours)")
+    size.add_argument("--small", action="store_true", help="the tests' size (a minute)")
+    p.add_argument("--only", default=None, help="comma-separated comparison names")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--no-progress", action="store_true", help="no progress lines or bars")
+    p.set_defaults(handler=run)
+
+
+def run(args) -> int:
+    from ..comparisons import COMPARISONS
+    from ..reproduce import prepare_output, run_all
+
+    only = None
+    if args.only is not None:
+        only = parse_name_list(args.only, "only")
+        bad = [n for n in only if n not in COMPARISONS]
+        if bad:
+            raise InvalidArgumentError("only", args.only, "names among " + ", ".join(COMPARISONS))
+    out = prepare_output(check_output_dir(args.out, "out"), "out")
+    size = "full" if args.full else "small" if args.small else "default"
+    summary = run_all(out, size, only, progress=progress_enabled(args))
+    if args.json:
+        emit_json({"out": str(out), "size": size, "seconds": summary["seconds"],
+                   "comparisons": sorted(summary["comparisons"])})
+    else:
+        print(f"wrote {out}/summary.json and {len(summary['comparisons'])} figures "
+              f"in {summary['seconds']:.0f} s")
+    return 0
