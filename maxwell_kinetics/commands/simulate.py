@@ -30,8 +30,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-from particles import observables as obs
 from particles import driver
+from particles import observables as obs
 from particles.lattice import Lattice
 from particles.md import InelasticCollapseError, MDEngine, MDParams, profile_x
 from particles.ulam import Ulam
