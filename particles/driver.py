@@ -41,8 +41,8 @@ from typing import Any, Protocol
 
 import numpy as np
 
+from . import budget, persistence
 from . import observables as obs
-from . import persistence
 from .initial import get_law
 from .progress import progress_bar
 from .validation import (
@@ -539,6 +539,7 @@ def simulate(
     structure_factor: bool = False,
     snapshots: bool = False,
     checkpoint_interval: float = 60.0,
+    force: bool = False,
 ) -> RunResult:
     """Run ``engine`` from its initial state through the requested ``times`` (increasing, ≥ 0).
 
@@ -556,24 +557,91 @@ def simulate(
     the path as ``checkpoint_saved`` (absent if nothing was saved on the interrupt, e.g. when it
     came before the run loop).  ``resume=PATH`` continues from such a
     file; the run (model, parameters, times, seed, options) must be the one that wrote it, else
-    :class:`CheckpointError`.  A resumed run equals an uninterrupted one bit for bit.
+    :class:`CheckpointError`.  A resumed run equals an uninterrupted one bit for bit.  While
+    the run writes ``checkpoint`` it holds a lock on ``<checkpoint>.lock``: a second run on the
+    same path is refused (:class:`CheckpointError` naming it).
+
+    Before anything is drawn, the run's memory and work are estimated
+    (:mod:`particles.budget`): a run that cannot fit in the memory available is refused, and so
+    is one of more than 10¹³ events unless ``force=True``.
     """
     times = check_times(times, getattr(engine, "time_name", "tau"))
     seed = check_count(seed, "seed", 0)
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
     structure_factor = _structure_mode(structure_factor)
+    snapshots = bool(snapshots)
     if checkpoint is not None:
         checkpoint = check_writable(checkpoint, "checkpoint")
+    _check_engine(engine)
     identity = _run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
+    time_name = getattr(engine, "time_name", "tau")
+    estimate = budget.check_budget(
+        budget.estimate_run(engine.name, identity["params"], float(times[-1]),
+                            n_times=len(times), structure=structure_factor, snapshots=snapshots),
+        force=force, time_name=time_name,
+    )
     n = int(engine.params()["n"])
-    records = _Records(len(times), n, structure_factor, snapshots)
+    with _CheckpointLock(checkpoint):
+        records = _Records(len(times), n, structure_factor, snapshots)
+        if resume is not None:
+            state, rng = _load_checkpoint(resume, engine, identity, records)
+        else:
+            rng = np.random.default_rng(seed)
+            state = engine.initial_state(rng)
+        return _run(engine, times, seed, identity, state, rng, records, progress, checkpoint,
+                    checkpoint_interval, hist_edges, estimate)
 
-    if resume is not None:
-        state, rng = _load_checkpoint(resume, engine, identity, records)
-    else:
-        rng = np.random.default_rng(seed)
-        state = engine.initial_state(rng)
+
+def _check_engine(engine) -> None:
+    """The engine protocol, checked at the boundary (a wrong object is bad input, not an
+    AttributeError deep inside)."""
+    missing = [name for name in ("name", "params", "initial_state", "advance", "next_stop",
+                                 "state_from_arrays") if not hasattr(engine, name)]
+    if missing:
+        raise InvalidArgumentError(
+            "engine", type(engine).__name__, f"an engine of the driver protocol (missing {missing})"
+        )
+
+
+class _CheckpointLock:
+    """An exclusive ``flock`` on ``<checkpoint>.lock`` while a run writes ``checkpoint`` (the
+    kernel drops it when the process dies, so a killed run leaves no stale lock)."""
+
+    def __init__(self, checkpoint):
+        self.path = None if checkpoint is None else Path(str(checkpoint) + ".lock")
+        self.fd = None
+
+    def __enter__(self):
+        if self.path is None:
+            return self
+        import fcntl
+
+        self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(self.fd)
+            self.fd = None
+            raise CheckpointError(
+                self.path.with_suffix(""), "another run is writing this checkpoint now",
+                "checkpoint",
+            ) from None
+        return self
+
+    def __exit__(self, *exc):
+        if self.fd is not None:
+            try:
+                os.unlink(self.path)
+            except OSError:
+                pass
+            os.close(self.fd)  # closing releases the lock
+            self.fd = None
+
+
+def _run(engine, times, seed, identity, state, rng, records, progress, checkpoint,
+         checkpoint_interval, hist_edges, estimate) -> RunResult:
+    """The run loop of :func:`simulate` (arguments checked, lock held)."""
     rng_state = rng.bit_generator.state
 
     started = _time.perf_counter()
@@ -582,7 +650,7 @@ def simulate(
     bar = None
     if progress:
         bar = progress_bar(float(times[-1]), engine.name, getattr(engine, "time_name", "τ"),
-                           initial=float(state.time))
+                           initial=float(state.time), postfix=f"estimate {estimate.describe()}")
     try:
         while records.done < len(times):
             target = float(times[records.done])

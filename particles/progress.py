@@ -42,14 +42,15 @@ class NoProgress:
 class PlainProgress(NoProgress):
     """Plain lines on ``stream`` at 0 %, every ``step`` of the total, and at the end."""
 
-    def __init__(self, total, desc="", unit="", stream=None, step=0.25, initial=0.0):
+    def __init__(self, total, desc="", unit="", stream=None, step=0.25, initial=0.0,
+                 postfix=""):
         self.total = float(total) if total else 0.0
         self.desc = desc
         self.unit = unit
         self.stream = stream if stream is not None else sys.stderr
         self.step = step
         self.n = float(initial)
-        self.postfix = ""
+        self.postfix = postfix
         self.started = time.perf_counter()
         self._next = 0.0
         self._closed = False
@@ -82,7 +83,7 @@ class PlainProgress(NoProgress):
 
 
 def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool = True, initial=0.0,
-                 leave: bool = False, stream=None):
+                 leave: bool = False, stream=None, postfix: str = ""):
     """A tqdm bar on a terminal, plain lines otherwise, nothing when ``enabled`` is False."""
     if not enabled:
         return NoProgress()
@@ -91,7 +92,10 @@ def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool = True,
     if isatty is not None and isatty():
         from tqdm import tqdm
 
-        return tqdm(total=float(total), initial=float(initial), desc=desc, unit=unit,
-                    leave=leave, file=stream,
-                    bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]")
-    return PlainProgress(total, desc, unit, stream, initial=initial)
+        bar = tqdm(total=float(total), initial=float(initial), desc=desc, unit=unit,
+                   leave=leave, file=stream,
+                   bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} [{elapsed}<{remaining}]{postfix}")
+        if postfix:
+            bar.set_postfix_str(postfix)
+        return bar
+    return PlainProgress(total, desc, unit, stream, initial=initial, postfix=postfix)

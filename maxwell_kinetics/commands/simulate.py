@@ -84,6 +84,10 @@ def add_common_options(parser: argparse.ArgumentParser, *, time_option: str = "-
         help="wall-clock seconds between checkpoints (default 60)",
     )
     parser.add_argument(
+        "--force", action="store_true",
+        help="run even when the estimated work exceeds 1e13 events",
+    )
+    parser.add_argument(
         "--progress",
         action=argparse.BooleanOptionalAction,
         default=None,
@@ -109,6 +113,7 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             resume=args.resume,
             structure_factor="last" if args.structure_factor else False,  # only S(τ_last) printed
             checkpoint_interval=args.checkpoint_interval,
+            force=args.force,
         )
     except KeyboardInterrupt as exc:
         saved = getattr(exc, "checkpoint_saved", None)  # set by simulate once the file is saved
