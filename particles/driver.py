@@ -134,10 +134,40 @@ def _write_npz(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
     persistence.save(path, kind, FORMAT_VERSION, arrays, meta)
 
 
-def _read_npz(path, argument: str, kind: str) -> tuple[dict, dict[str, np.ndarray]]:
-    """(meta, arrays) of a result or checkpoint file; :class:`CheckpointError` if it is not one."""
+_ENTRY_PREFIXES = {
+    "checkpoint": ("state.", "rec."),
+    "result": ("times", "energy", "momentum", "collisions", "velocities", "hist.", "structure.",
+               "snapshots", "extra."),
+}
+
+
+def _entry_checker(kind: str, n: int | None, nt: int | None):
+    """A check of each entry's header before its data is read: the names a file of ``kind``
+    holds, and (when the run is known) at most ``max(nt, 1) · (n + 2) · d`` elements per entry,
+    d ≤ 3 the velocity dimension: the largest record, snapshots of every time, is nt · n."""
+    prefixes = _ENTRY_PREFIXES[kind]
+
+    def check(name, dtype, shape, meta):
+        if not name.startswith(prefixes):
+            return f"not an entry of a {kind} file"
+        if n is not None:
+            limit = max(nt or 1, 1) * (n + 2) * 3
+            count = int(np.prod(shape, dtype=object)) if shape else 1
+            if count > limit:
+                return f"declares shape {shape}, more than a run of N = {n} can hold"
+        return None
+
+    return check
+
+
+def _read_npz(path, argument: str, kind: str, n: int | None = None,
+              nt: int | None = None) -> tuple[dict, dict[str, np.ndarray]]:
+    """(meta, arrays) of a result or checkpoint file; :class:`CheckpointError` if it is not one.
+    ``n`` and ``nt`` (the run's particles and times, when known) bound each entry's size before
+    it is read."""
     try:
-        loaded = persistence.load(path, kind, _READABLE_VERSIONS, argument=argument)
+        loaded = persistence.load(path, kind, _READABLE_VERSIONS, argument=argument,
+                                  check_entry=_entry_checker(kind, n, nt))
     except persistence.FileFormatError as exc:
         raise CheckpointError(path, exc.reason, argument) from None
     return loaded.meta, loaded.arrays
@@ -396,7 +426,8 @@ def _save_checkpoint(path, identity, state, rng_state, records: _Records) -> Non
 
 
 def _load_checkpoint(path, engine, identity, records: _Records):
-    meta, arrays = _read_npz(path, "resume", "checkpoint")
+    n = int(identity["params"]["n"])
+    meta, arrays = _read_npz(path, "resume", "checkpoint", n, len(identity["times"]))
     run = meta.get("run", {})
     arrays = _structure_all_to_last(run, identity, arrays)
     diffs = [key for key in identity if run.get(key) != identity[key]]

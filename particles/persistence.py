@@ -19,7 +19,8 @@ Reading treats the file as untrusted: only regular files are opened (a FIFO woul
 entry's ``.npy`` header (dtype and shape) is read and checked *before* its data is, so a zip
 bomb or a header that declares a huge shape is refused without allocating; object arrays (which
 would need pickle) are refused; an entry larger than its header says is refused; the total size is
-capped (``max_bytes``); then the hash is verified.  Files written before this helper existed
+capped (``max_bytes``, default the smaller of 8 GiB and half the memory available); then the
+hash is verified.  Files written before this helper existed
 (kinds ``result``, ``checkpoint``, ``solution``, ``comparison`` of the formats of version 0.1.0)
 load as ``legacy``: they carry no hash.
 """
@@ -228,7 +229,11 @@ def load(
     """
     expected = expected or f"a {kind} file of maxwell-kinetics"
     versions = tuple(int(v) for v in versions)
-    max_bytes = DEFAULT_MAX_BYTES if max_bytes is None else int(max_bytes)
+    if max_bytes is None:
+        from .budget import available_memory
+
+        max_bytes = int(min(DEFAULT_MAX_BYTES, available_memory() / 2))
+    max_bytes = int(max_bytes)
 
     def fail(reason):
         return FileFormatError(path, reason, argument, expected)
