@@ -247,16 +247,18 @@ def test_invalid_arguments():
 
 
 def test_energy_decay_amplitude():
-    # E t^{2/3} for unit Gaussian velocities at density 1 (SPEC §7: 0.445-0.450, independent
-    # code).  N = 2e5, 3 seeds, t = 30: the seed-to-seed spread of E t^{2/3} measured with this
-    # engine is about 0.003 at N = 2e5 (benchmarks/README.md, "Sticky gas"), so the mean of 3
-    # seeds carries ~0.002; tolerance 0.01 (5 sigma) around 0.4475.
+    # E t^{2/3} for unit Gaussian velocities at density 1.  Expected: SPEC §7, measured with an
+    # independent code, 0.445-0.450 for t in [10, 1000].  The exact large-t constant is not
+    # derived here (see the report); the scaling E t^{2/3} -> n^{-2/3} <U^2> is.  Tolerance: the
+    # seed-to-seed standard deviation of E t^{2/3} at N = 2e5, t = 30 is 0.0023 (8 seeds, this
+    # engine, 2026-11-23: mean 0.4467), so the mean of 3 seeds has sigma = 0.0013; accept
+    # [0.445 - 3 sigma, 0.450 + 3 sigma].
     engine = StickyGas(StickyParams(200_000, 1.0))
     vals = []
     for seed in range(3):
         s = engine.advance(engine.initial_state(np.random.default_rng(seed)), 30.0)
         vals.append(np.mean(s.velocities**2) * 30.0 ** (2 / 3))
-    assert abs(np.mean(vals) - 0.4475) < 0.01, vals
+    assert 0.445 - 0.004 < np.mean(vals) < 0.450 + 0.004, vals
 
 
 def test_velocity_tail_exponent_on_known_laws():
