@@ -44,6 +44,16 @@ particles: then p − N and p are its ends).  Cost: one PAVA of 2N numbers per t
 an event-driven sticky simulation of the ring, with clusters across the seam
 (``tests/test_sticky.py``).
 
+Energy decay
+------------
+For independent velocities of variance 1 and density n, at t ≫ 1/n the free-streamed partial sums
+are F(m) ≈ m²/(2n) + t W(m) (W a Brownian motion in the label m; the position fluctuations are
+smaller by a factor t).  With m = (nt)^{2/3} s, a particle's velocity is (nt)^{−1/3} U, U the mean
+increment of a two-sided Brownian motion B over the segment covering s = 0 of the convex
+minorant of B(s) + s²/2, so E t^{2/3} → n^{−2/3} ⟨U²⟩ for any law of variance 1 (the
+white-noise Burgers problem; Frachebourg, Martin, Piasecki).  The constant ⟨U²⟩ is not derived
+here; measured with this module: ≈ 0.444–0.450 for t ∈ [10, 1000] (``benchmarks/README.md``).
+
 Conventions
 -----------
 The clusters of a state are listed in label order by their first labels ``starts`` (increasing);
