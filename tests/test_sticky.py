@@ -1,0 +1,272 @@
+"""The exact sticky gas (particles/sticky.py) against an event-driven reference, identities and
+the MD initial state."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from particles.driver import simulate
+from particles.md import MDEngine, MDParams
+from particles.sticky import (
+    StickyGas,
+    StickyParams,
+    StickyState,
+    cluster_mass_distribution,
+    clusters,
+    profile_i,
+    profile_x,
+    sticky_state,
+    total_momentum,
+    velocity_tail_exponent,
+)
+from particles.validation import InvalidArgumentError
+
+# ------------------------------------------------------------------------- event-driven reference
+
+
+def brute_force(x0, v0, length, t_end):
+    """Event-driven sticky gas on a ring, pure Python: clusters [start, mass, position, velocity]
+    in ring order (position unwrapped, velocity the mass-weighted mean); repeatedly find the
+    earliest meeting of two neighbours (the last and the first across the seam at + L), move
+    everything there and merge the pair."""
+    cl = [[j, 1, float(x), float(v)] for j, (x, v) in enumerate(zip(x0, v0, strict=True))]
+    t = 0.0
+    while len(cl) > 1:
+        best, pair = math.inf, None
+        for k in range(len(cl)):
+            a, b = cl[k], cl[(k + 1) % len(cl)]
+            xb = b[2] + (length if k == len(cl) - 1 else 0.0)
+            if a[3] > b[3]:
+                dt = max(xb - a[2], 0.0) / (a[3] - b[3])
+                if dt < best:
+                    best, pair = dt, k
+        if pair is None or t + best > t_end:
+            break
+        t += best
+        for c in cl:
+            c[2] += c[3] * best
+        k = pair
+        a, b = cl[k], cl[(k + 1) % len(cl)]
+        m = a[1] + b[1]
+        merged = [a[0], m, a[2], (a[1] * a[3] + b[1] * b[3]) / m]
+        if k == len(cl) - 1:  # across the seam: the merged cluster is the last in label order
+            cl = cl[1:-1] + [merged]
+        else:
+            cl[k : k + 2] = [merged]
+    for c in cl:
+        c[2] += c[3] * (t_end - t)
+    cl.sort(key=lambda c: c[0])
+    return np.array(cl)
+
+
+def assert_matches_reference(x0, v0, length, t):
+    state = sticky_state(x0, v0, length, t)
+    ref = brute_force(x0, v0, length, t)
+    starts, masses = state.starts, state.masses
+    assert np.array_equal(starts, ref[:, 0].astype(int)), (t, starts, ref[:, 0])
+    assert np.array_equal(masses, ref[:, 1].astype(int))
+    scale = length + np.max(np.abs(v0)) * t
+    np.testing.assert_allclose(state.positions, ref[:, 2], rtol=0, atol=1e-10 * scale)
+    np.testing.assert_allclose(state.cluster_velocities, ref[:, 3], rtol=0, atol=1e-12)
+    per_particle = np.empty(len(x0))
+    for s, m, _, v in ref:
+        per_particle[(int(s) + np.arange(int(m))) % len(x0)] = v
+    np.testing.assert_allclose(state.velocities, per_particle, rtol=0, atol=1e-12)
+    return state
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("n", [5, 17, 60])
+def test_matches_event_driven_reference(seed, n):
+    engine = StickyGas(StickyParams(n, 1.0))
+    s0 = engine.initial_state(np.random.default_rng(seed))
+    for t in (0.0, 0.3, 2.0, 7.0, 40.0, 300.0, 1e5):
+        assert_matches_reference(s0.initial_positions, s0.initial_velocities, n / 1.0, t)
+
+
+def test_clusters_across_the_seam():
+    # Particles 0 and 5 meet across the seam at t = 0.1 (gap 0.2 closing at speed 2); later the
+    # seam cluster swallows particles 1 and 4; zero total momentum: all end in one cluster.
+    x0 = np.array([0.1, 1.0, 2.0, 3.0, 4.0, 5.9])
+    v0 = np.array([-1.0, -0.5, 0.3, -0.2, 0.4, 1.0])
+    for t in (0.05, 0.2, 1.0, 3.0, 10.0, 1e3, 1e4):
+        state = assert_matches_reference(x0, v0, 6.0, t)
+    state = sticky_state(x0, v0, 6.0, 0.2)
+    assert state.starts.tolist() == [1, 2, 3, 4, 5] and state.masses.tolist() == [1, 1, 1, 1, 2]
+    assert state.velocities[0] == state.velocities[5] == 0.0
+    # The ring holds one cluster of all N at late times (zero total momentum: at rest).
+    late = sticky_state(x0, v0, 6.0, 1e4)
+    assert late.starts.size == 1 and late.masses.tolist() == [6]
+    assert np.all(np.abs(late.velocities) < 1e-15)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_random_seam_cases(seed):
+    # A moving frame pushes clusters through the seam; a random frame of mean velocity u, with
+    # a few fast particles near both ends so seam clusters form early.
+    rng = np.random.default_rng(100 + seed)
+    n = int(rng.integers(5, 40))
+    length = float(n) / 2.0
+    x0 = np.sort(rng.uniform(0.0, length, n))
+    v0 = rng.normal(size=n) + rng.normal() * 2.0
+    v0[0] -= 3.0
+    v0[-1] += 3.0
+    seam = 0
+    for t in (0.1, 0.5, 2.0, 10.0, 60.0):
+        state = assert_matches_reference(x0, v0, length, t)
+        seam += int(state.starts[0] > 0)
+    assert seam > 0  # this construction must exercise a cluster across the seam
+
+
+# ------------------------------------------------------------------------- identities
+
+
+def test_conservation_order_and_energy():
+    engine = StickyGas(StickyParams(3000, 0.7, "uniform"))
+    state = engine.initial_state(np.random.default_rng(7))
+    p0 = total_momentum(state)
+    energy = np.mean(state.velocities**2)
+    count = 0
+    for t in np.geomspace(0.01, 1e6, 40):
+        new = engine.advance(state, t)
+        assert new.masses.sum() == 3000 and np.all(new.masses >= 1)
+        assert abs(total_momentum(new) - p0) < 1e-10
+        assert np.sum(new.masses * new.cluster_velocities) == pytest.approx(p0, abs=1e-10)
+        e = np.mean(new.velocities**2)
+        assert e <= energy * (1 + 1e-12)
+        assert new.collisions >= count
+        # cluster order on the ring: unwrapped positions nondecreasing and within one lap
+        assert np.all(np.diff(new.positions) >= 0.0)
+        assert new.positions[-1] <= new.positions[0] + new.length
+        energy, count, state = e, new.collisions, new
+
+
+def test_same_initial_state_as_md():
+    for n, density, law, seed in [(50, 1.0, "gaussian", 0), (1001, 0.3, "uniform", 9),
+                                  (64, 4.0, "bimodal", 5)]:
+        s = StickyGas(StickyParams(n, density, law)).initial_state(np.random.default_rng(seed))
+        md = MDEngine(MDParams(n, density, 0.0, initial=law)).initial_state(
+            np.random.default_rng(seed)
+        )
+        assert np.array_equal(s.initial_positions, md.positions)
+        assert np.array_equal(s.initial_velocities, md.velocities)
+        assert np.array_equal(s.velocities, md.velocities)  # t = 0: nothing merged
+        assert s.collisions == 0
+
+
+def test_density_scaling_is_exact():
+    # Positions scale with 1/density, velocities do not: the state at (density n, time t) is
+    # that at (density 1, time n t) with positions divided by n.
+    eng1 = StickyGas(StickyParams(500, 1.0))
+    eng4 = StickyGas(StickyParams(500, 4.0))
+    s1 = eng1.initial_state(np.random.default_rng(2))
+    s4 = eng4.initial_state(np.random.default_rng(2))
+    np.testing.assert_allclose(s4.initial_positions * 4.0, s1.initial_positions, rtol=1e-15)
+    for t in (0.5, 5.0, 50.0):
+        a, b = eng4.advance(s4, t), eng1.advance(s1, 4.0 * t)
+        assert np.array_equal(a.starts, b.starts)
+        np.testing.assert_allclose(a.velocities, b.velocities, rtol=0, atol=1e-12)
+
+
+def test_advance_is_path_independent_and_matches_the_md_r0_limit():
+    engine = StickyGas(StickyParams(40, 1.0))
+    s0 = engine.initial_state(np.random.default_rng(11))
+    direct = engine.advance(s0, 9.0)
+    stepped = engine.advance(engine.advance(s0, 3.0), 9.0)
+    assert np.array_equal(direct.velocities, stepped.velocities)
+    # MD with r = 0 is the sticky gas while clusters hold at most two particles (a third one
+    # starts an infinite cascade there, inelastic collapse): compare with its reference engine
+    # at the last time of a grid before the first cluster of three.
+    grid = np.linspace(0.02, 2.0, 100)
+    pairs = [t for t in grid if engine.advance(s0, t).masses.max() <= 2]
+    t_pair = pairs[-1]
+    assert engine.advance(s0, t_pair).collisions >= 2  # some merging happened by then
+    md = MDEngine(MDParams(40, 1.0, 0.0), method="reference")
+    mt = md.advance(md.initial_state(np.random.default_rng(11)), t_pair)
+    np.testing.assert_allclose(engine.advance(s0, t_pair).velocities, mt.velocities, atol=1e-12)
+    assert mt.collisions == engine.advance(s0, t_pair).collisions
+
+
+# ------------------------------------------------------------------------- observables, driver
+
+
+def test_observables():
+    engine = StickyGas(StickyParams(200, 2.0))
+    state = engine.advance(engine.initial_state(np.random.default_rng(1)), 20.0)
+    starts, masses, pos, vel = clusters(state)
+    assert np.all((pos >= 0) & (pos < state.length))
+    assert masses.sum() == 200 and starts.size == state.starts.size
+    m, count = cluster_mass_distribution(state)
+    assert (m * count).sum() == 200 and count.sum() == starts.size
+    y, v = profile_x(state)
+    assert np.all(np.diff(y) >= 0) and y.size == 200
+    assert sorted(v.tolist()) == sorted(state.velocities.tolist())
+    i, vi = profile_i(state)
+    assert np.array_equal(i, np.arange(200)) and np.array_equal(vi, state.velocities)
+    obs = engine.observe(state)
+    assert obs["clusters"] == starts.size and obs["mean_cluster_mass"] == 200 / starts.size
+
+
+def test_driver_run_and_resume(tmp_path):
+    engine = StickyGas(StickyParams(300, 1.0))
+    times = [1.0, 10.0, 100.0]
+    full = simulate(engine, times, 4, progress=False, checkpoint=tmp_path / "c.npz")
+    again = simulate(engine, times, 4, progress=False, resume=tmp_path / "c.npz")
+    assert np.array_equal(full.energy, again.energy)
+    s0 = engine.initial_state(np.random.default_rng(4))
+    for t, e in zip(times, full.energy, strict=True):
+        assert e == np.mean(engine.advance(s0, t).velocities ** 2)
+    assert np.all(np.diff(full.collisions) >= 0)
+    # a tampered checkpoint state is rejected
+    arrays = engine.advance(s0, 10.0).to_arrays()
+    arrays["velocities"] = arrays["velocities"] * 1.001
+    with pytest.raises(InvalidArgumentError):
+        engine.state_from_arrays(arrays)
+
+
+def test_invalid_arguments():
+    with pytest.raises(InvalidArgumentError):
+        StickyParams(1, 1.0)
+    with pytest.raises(InvalidArgumentError):
+        StickyParams(10, 0.0)
+    with pytest.raises(InvalidArgumentError):
+        StickyParams(10, 1.0, "nope")
+    engine = StickyGas(StickyParams(10, 1.0))
+    s = engine.initial_state(np.random.default_rng(0))
+    with pytest.raises(InvalidArgumentError):
+        engine.advance(engine.advance(s, 2.0), 1.0)
+    with pytest.raises(InvalidArgumentError):
+        clusters("not a state")
+    assert isinstance(s, StickyState)
+
+
+# ------------------------------------------------------------------------- statistics
+
+
+def test_energy_decay_amplitude():
+    # E t^{2/3} for unit Gaussian velocities at density 1.  Expected: SPEC §7, measured with an
+    # independent code, 0.445-0.450 for t in [10, 1000].  The exact large-t constant is not
+    # derived here (see the report); the scaling E t^{2/3} -> n^{-2/3} <U^2> is.  Tolerance: the
+    # seed-to-seed standard deviation of E t^{2/3} at N = 2e5, t = 30 is 0.0023 (8 seeds, this
+    # engine, 2026-11-23: mean 0.4467), so the mean of 3 seeds has sigma = 0.0013; accept
+    # [0.445 - 3 sigma, 0.450 + 3 sigma].
+    engine = StickyGas(StickyParams(200_000, 1.0))
+    vals = []
+    for seed in range(3):
+        s = engine.advance(engine.initial_state(np.random.default_rng(seed)), 30.0)
+        vals.append(np.mean(s.velocities**2) * 30.0 ** (2 / 3))
+    assert 0.445 - 0.004 < np.mean(vals) < 0.450 + 0.004, vals
+
+
+def test_velocity_tail_exponent_on_known_laws():
+    # P(|v| > w) for a Gaussian behaves as exp(-w^2/2) up to a power prefactor: the local
+    # exponent between the 1e-2 and 1e-5 quantiles is below 2 (prefactor) but near it; for a
+    # Laplace law it is near 1.  Fit error comes back with it.
+    rng = np.random.default_rng(0)
+    beta_g, err_g, _ = velocity_tail_exponent(rng.normal(size=2_000_000))
+    beta_l, err_l, _ = velocity_tail_exponent(rng.laplace(size=2_000_000))
+    assert 1.6 < beta_g < 2.0 and err_g < 0.1
+    assert 0.8 < beta_l < 1.2 and err_l < 0.1
