@@ -34,6 +34,8 @@ from particles import driver
 from particles import observables as obs
 from particles.lattice import Lattice
 from particles.md import InelasticCollapseError, MDEngine, MDParams, profile_x
+from particles.sticky import StickyGas, StickyParams
+from particles.sticky import profile_x as sticky_profile_x
 from particles.ulam import Ulam
 from particles.validation import (
     check_times,
@@ -54,11 +56,14 @@ def resumed_state(path) -> dict:
     return {k[len("state."):]: v for k, v in arrays.items() if k.startswith("state.")}
 
 
-def add_common_options(parser: argparse.ArgumentParser, *, time_option: str = "--tau") -> None:
+def add_common_options(parser: argparse.ArgumentParser, *, time_option: str = "--tau",
+                       restitution: bool = True) -> None:
     """Options shared by every particle model.  Values stay strings here; they are checked by
     the engines and :func:`run_engine`, so errors name the option and the value received."""
     parser.add_argument("--n", required=True, help="number of particles / sites (e.g. 2e5)")
-    parser.add_argument("--restitution", required=True, help="restitution coefficient r in [0, 1]")
+    if restitution:
+        parser.add_argument("--restitution", required=True,
+                            help="restitution coefficient r in [0, 1]")
     parser.add_argument(
         "--initial", default="gaussian", help="initial velocity law (default: gaussian)"
     )
@@ -241,6 +246,53 @@ def _add_md(models) -> None:
     parser.set_defaults(handler=_run_md)
 
 
+def _run_sticky(args) -> int:
+    params = StickyParams(parse_count(args.n, "n", 2), args.density, args.initial)
+    engine = StickyGas(params)
+    last = {}
+
+    def observe(state, _observe=engine.observe):
+        last["state"] = state
+        return _observe(state)
+
+    engine.observe = observe
+
+    def extend(result, payload):
+        payload["momentum"] = result.extras["total_momentum"].tolist()
+        payload.pop("total_momentum", None)
+        payload["collisions"] = result.collisions.tolist()
+        payload["clusters"] = [int(c) for c in result.extras["clusters"]]
+        if args.structure_factor:
+            half = params.n // 2 + 1
+            payload["C"] = obs.correlation(result.velocities)[:half].tolist()
+        if args.profile:
+            state = last.get("state")
+            if state is None:  # a resumed run that had already finished
+                state = engine.state_from_arrays(resumed_state(args.resume))
+            x, v_x = sticky_profile_x(state)
+            payload["profile"] = {"x": x.tolist(), "v_x": v_x.tolist(),
+                                  "v_i": state.velocities.tolist()}
+
+    return run_engine(engine, args, time_key="t", extend=extend)
+
+
+def _add_sticky(models) -> None:
+    parser = models.add_parser(
+        "sticky",
+        help="the sticky gas (r = 0), exact at any time from the convex minorant (time t)",
+        description="Perfectly inelastic point particles on a ring (SPEC §7): clusters merge on "
+        "contact and move with their mean velocity.  The state at each requested time is "
+        "computed directly (no events); the initial state is MD's for the same --n, --density, "
+        "--initial and --seed.",
+    )
+    add_common_options(parser, time_option="--t", restitution=False)
+    parser.add_argument("--density", required=True, help="number density n = N/L > 0")
+    parser.add_argument(
+        "--profile", action="store_true", help="also output v(x) and v(i) at the last time"
+    )
+    parser.set_defaults(handler=_run_sticky)
+
+
 def add_parser(subparsers) -> None:
     """Add the ``simulate`` subcommand to the top-level parser's ``subparsers``."""
     simulate = subparsers.add_parser("simulate", help="run a particle model")
@@ -248,3 +300,4 @@ def add_parser(subparsers) -> None:
     _add_ulam(models)
     _add_lattice(models)
     _add_md(models)
+    _add_sticky(models)

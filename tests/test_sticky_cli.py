@@ -1,0 +1,49 @@
+"""``maxwell-kinetics simulate sticky``: the JSON contract (the keys of ``simulate md`` plus
+``clusters`` and ``mean_cluster_mass``), agreement with the Python engine, and bad input."""
+
+import numpy as np
+import pytest
+from conftest import run_error, run_json
+
+from particles.driver import simulate
+from particles.sticky import StickyGas, StickyParams
+
+BASE = ["simulate", "sticky", "--n", "500", "--density", "1.5", "--seed", "4"]
+
+
+def test_json_has_the_md_keys_and_the_clusters(capsys, tmp_path):
+    out = run_json(capsys, BASE + ["--t", "0,1,30", "--json", "--structure-factor", "--profile",
+                                   "--save", str(tmp_path / "s.npz")])
+    assert {"t", "energy", "momentum", "seconds", "histogram", "clusters",
+            "mean_cluster_mass", "k", "S", "C", "profile"} <= set(out)
+    run = simulate(StickyGas(StickyParams(500, 1.5)), [0.0, 1.0, 30.0], 4, progress=False)
+    assert out["energy"] == run.energy.tolist()
+    assert out["clusters"] == [int(c) for c in run.extras["clusters"]]
+    assert out["clusters"][0] == 500 and out["clusters"][1] > out["clusters"][2]
+    assert np.allclose(np.array(out["mean_cluster_mass"]) * out["clusters"], 500)
+    assert max(abs(m) for m in out["momentum"]) < 1e-10
+    assert len(out["profile"]["x"]) == 500
+
+
+@pytest.mark.parametrize(
+    "extra, named",
+    [
+        (["--n", "1", "--t", "1"], "n="),
+        (["--density", "0", "--t", "1"], "density="),
+        (["--density", "-2", "--t", "1"], "density="),
+        (["--t", "-1"], "t="),
+        (["--t", "2,1"], "t="),
+        (["--t", "1", "--initial", "nonsense"], "initial="),
+    ],
+)
+def test_bad_input_exits_2_naming_the_argument(capsys, tmp_path, extra, named):
+    save = tmp_path / "s.npz"
+    err = run_error(capsys, BASE + extra + ["--save", str(save)])
+    assert named in err and not save.exists()
+
+
+def test_a_corrupt_checkpoint_exits_2(capsys, tmp_path):
+    bad = tmp_path / "bad.ckpt"
+    bad.write_bytes(b"PK\x03\x04 not really a zip")
+    err = run_error(capsys, BASE + ["--t", "1", "--resume", str(bad)])
+    assert "resume=" in err and "bad.ckpt" in err
