@@ -1,21 +1,41 @@
 """particles: exact stochastic counterparts of the kinetic theory (NumPy only).
 
-Modules, one job each: :mod:`.collision` (the collision rule), :mod:`.driver` (initial
-velocities, the run loop, checkpoints, results), :mod:`.observables`, :mod:`.ulam` (mean-field
-pseudo-Maxwell model), :mod:`.lattice` (ring lattice model), :mod:`.cli` (``simulate``).
-No module here imports JAX.
+The base layer of maxwell-kinetics: it imports nothing from :mod:`maxwell_kinetics` and no JAX.
+Modules, one job each:
+
+* :mod:`.validation` — argument checks and exact parsing (``InvalidArgumentError``);
+* :mod:`.initial` — the initial velocity laws with their characteristic functions;
+* :mod:`.collision` — the collision rule of SPEC §1;
+* :mod:`.observables` — energy, histograms, C(r), S(k);
+* :mod:`.persistence` — the one way every file is saved and loaded (atomic, hashed, bounded);
+* :mod:`.budget` — memory and work estimated before a run starts;
+* :mod:`.progress` — progress bars (plain lines when stderr is not a terminal);
+* :mod:`.driver` — the run loop shared by every engine: seeds, checkpoints, results;
+* the models: :mod:`.ulam` (mean-field pseudo-Maxwell), :mod:`.lattice` (ring lattice),
+  :mod:`.md` (event-driven inelastic hard rods), :mod:`.sticky` (the sticky gas, exact).
 """
 
 from .driver import CheckpointError as CheckpointError
 from .driver import RunResult as RunResult
 from .driver import initial_velocities as initial_velocities
 from .driver import simulate as simulate
+from .initial import get_law as get_law
+from .initial import law_from_characteristic as law_from_characteristic
 from .lattice import Lattice as Lattice
 from .lattice import LatticeState as LatticeState
+from .md import InelasticCollapseError as InelasticCollapseError
+from .md import MDEngine as MDEngine
+from .md import MDParams as MDParams
+from .md import MDState as MDState
 from .observables import correlation as correlation
 from .observables import energy as energy
 from .observables import log_bin as log_bin
 from .observables import rescaled_histogram as rescaled_histogram
 from .observables import structure_factor as structure_factor
+from .persistence import FileFormatError as FileFormatError
+from .sticky import StickyGas as StickyGas
+from .sticky import StickyParams as StickyParams
+from .sticky import StickyState as StickyState
 from .ulam import Ulam as Ulam
 from .ulam import UlamState as UlamState
+from .validation import InvalidArgumentError as InvalidArgumentError
