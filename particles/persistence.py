@@ -7,8 +7,10 @@ entry holding a JSON object with
 * ``kind``: what the file holds (``"result"``, ``"checkpoint"``, ``"solution"``,
   ``"comparison"``, ...), and ``version``, the kind's format version;
 * ``sha256``: the SHA-256 of the content (the JSON of the other meta fields with sorted keys, then
-  each array's name, dtype, shape and bytes, in the order of the sorted names), so an edited or
-  damaged file is refused;
+  the SHA-256 of each array's name, dtype, shape and bytes, in the order of the sorted names), so
+  an edited or damaged file is refused.  On loading, each array's digest is computed in a second
+  thread while the next array is read (hashlib releases the GIL), which hides most of the cost of
+  the check on two cores (``benchmarks/persistence.py``);
 * the caller's own fields.
 
 Writing goes to a temporary file in the same folder, then :func:`os.replace` renames it into
@@ -35,6 +37,7 @@ import os
 import stat
 import tempfile
 import zipfile
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -81,15 +84,24 @@ class Loaded:
 # --------------------------------------------------------------------------- hashing
 
 
-def digest(meta: dict, arrays: dict[str, np.ndarray]) -> str:
-    """SHA-256 (hex) of ``meta`` (without ``sha256``) and ``arrays`` (see the module docstring)."""
+def entry_digest(name: str, a: np.ndarray) -> bytes:
+    """SHA-256 of one array: its name, dtype, shape and bytes (C order)."""
+    a = np.ascontiguousarray(a)
+    h = hashlib.sha256(f"\0{name}\0{a.dtype.str}\0{a.shape}\0".encode())
+    h.update(memoryview(a).cast("B") if a.size else b"")
+    return h.digest()
+
+
+def digest(meta: dict, arrays: dict[str, np.ndarray], entries: dict | None = None) -> str:
+    """SHA-256 (hex) of ``meta`` (without ``sha256``) and ``arrays``: the JSON of the meta
+    fields with sorted keys, then the :func:`entry_digest` of each array in the order of the
+    sorted names (``entries`` may hold those already computed, e.g. while reading)."""
     h = hashlib.sha256()
     fields = {k: v for k, v in meta.items() if k != "sha256"}
     h.update(json.dumps(fields, sort_keys=True, allow_nan=True).encode())
     for name in sorted(arrays):
-        a = np.ascontiguousarray(arrays[name])
-        h.update(f"\0{name}\0{a.dtype.str}\0{a.shape}\0".encode())
-        h.update(memoryview(a).cast("B") if a.size else b"")
+        done = None if entries is None else entries.get(name)
+        h.update(done if done is not None else entry_digest(name, arrays[name]))
     return h.hexdigest()
 
 
@@ -219,6 +231,7 @@ def load(
     expected: str | None = None,
     max_bytes: int | None = None,
     check_entry=None,
+    _verify: bool = True,
 ) -> Loaded:
     """Read a file written by :func:`save` of ``kind`` and one of ``versions``.
 
@@ -250,6 +263,7 @@ def load(
         if not stat.S_ISREG(st.st_mode):
             raise fail("not a regular file")
         opened = open(path, "rb")
+    pool = ThreadPoolExecutor(max_workers=1)
     try:
         with opened as fh, zipfile.ZipFile(fh) as zf:
             names = _entries(zf)
@@ -273,6 +287,7 @@ def load(
                     raise _Refused(f"version {version}{newer}, expected one of {list(versions)}")
             arrays = {}
             total = 0
+            hashing = {}
             for name, info in names.items():
                 if name == meta_name:
                     continue
@@ -303,6 +318,8 @@ def load(
                 else:
                     a = a.reshape(shape)
                 arrays[name] = a
+                if legacy is None and _verify:  # hashed in a second thread meanwhile
+                    hashing[name] = pool.submit(entry_digest, name, a)
     except FileFormatError:
         raise
     except _Refused as exc:
@@ -310,9 +327,14 @@ def load(
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, SyntaxError,
             MemoryError, OverflowError, NotImplementedError, RuntimeError) as exc:
         raise fail(f"{type(exc).__name__}: {exc}") from None
+    finally:
+        pool.shutdown(wait=True)
     if legacy is not None:
         return Loaded(meta, arrays, version, legacy=True)
-    if meta.get("sha256") != digest(meta, arrays):
+    if not _verify:  # only for benchmarks/persistence.py, which measures the check's cost
+        return Loaded(meta, arrays, version)
+    entries = {name: future.result() for name, future in hashing.items()}
+    if meta.get("sha256") != digest(meta, arrays, entries):
         raise fail("its contents do not match its hash (edited or damaged)")
     return Loaded(meta, arrays, version)
 
