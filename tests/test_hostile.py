@@ -383,3 +383,16 @@ def test_interrupt_during_start_up_exits_130_without_traceback(monkeypatch, caps
 def test_wrong_types_at_the_api_raise_invalid_argument(call):
     with pytest.raises(InvalidArgumentError):
         call()
+
+
+@pytest.mark.parametrize("r, n", [(0.5, "8"), (0.99, "8")])
+def test_a_fixed_point_that_did_not_converge_is_not_a_success(capsys, r, n):
+    # n = 8 is too coarse: Newton runs out of iterations (r = 0.5, residual 0.27) or stops on a
+    # small step at a non-solution (r = 0.99, residual 4.8e-3); both exit 3 with a warning and
+    # "converged": false, never status 0
+    from maxwell_kinetics.cli import main
+
+    assert main(["fixed-point", "-r", str(r), "--n", n, "--json"]) == 3
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["converged"] is False
+    assert "did not converge" in captured.err

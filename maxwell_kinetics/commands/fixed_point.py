@@ -3,11 +3,15 @@ linear decay rates around it."""
 
 from __future__ import annotations
 
+import sys
 import time
 
 from particles.validation import parse_count
 
 from ..output import emit_json
+
+#: Largest residual max_j |R[G](q_j)| of a converged fixed point (converged solves reach ~1e-15).
+RESIDUAL_TOLERANCE = 1e-8
 
 
 def add_parser(subparsers) -> None:
@@ -30,12 +34,16 @@ def run(args) -> int:
     start = time.perf_counter()
     n = parse_count(args.n, "n", 8)
     fp = fixed_point(args.restitution, n=n)
+    # Newton may stop on a small step at a non-solution (n = 8, r = 0.99: residual 4.8e-3):
+    # a fixed point counts as converged only when its residual is small too
+    converged = bool(fp.converged) and fp.residual <= RESIDUAL_TOLERANCE
     rates = linear_decay_rates(fp.restitution)
     payload = {
         "restitution": fp.restitution,
         "max_error": fp.max_error,
         "residual": fp.residual,
         "iterations": fp.iterations,
+        "converged": converged,
         "decay_rates": list(rates.rates),
         "gamma": {str(s): g for s, g in rates.gamma.items()},
         "gamma_star": rates.gamma_star,
@@ -43,9 +51,16 @@ def run(args) -> int:
         "q_min": rates.q_min,
         "seconds": time.perf_counter() - start,
     }
+    status = 0
+    if not converged:  # never a silent success: a warning and exit status 3
+        print(f"maxwell-kinetics fixed-point: warning: Gauss-Newton did not converge in "
+              f"{fp.iterations} iterations (residual {fp.residual:.3e} against "
+              f"{RESIDUAL_TOLERANCE:g}, max |G - f_hat| "
+              f"{fp.max_error:.3e}); the result is not a fixed point", file=sys.stderr)
+        status = 3
     if args.json:
         emit_json(payload)
-        return 0
+        return status
     print(f"fixed point, r = {fp.restitution:g}: Chebyshev n = {fp.n} on [0, {fp.q_max:g}]")
     print(f"  max |G - f_hat| = {fp.max_error:.3e}   residual = {fp.residual:.3e}   "
           f"Gauss-Newton iterations = {fp.iterations}")
@@ -54,6 +69,6 @@ def run(args) -> int:
     print(f"  max gamma(s) on (2, 3) = {rates.gamma_star:.6g} at s* = {rates.s_star:.4f}; "
           + ", ".join(f"gamma({s}) = {g:.6g}" for s, g in rates.gamma.items()))
     print(f"  ({payload['seconds']:.2f} s)")
-    return 0
+    return status
 
 
