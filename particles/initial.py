@@ -55,6 +55,14 @@ class InitialLaw:
     description: str = ""
     #: True when ``characteristic(k, xp)`` works for ``xp = jax.numpy`` (built-in laws).
     traceable: bool = True
+    #: The cumulative distribution function F(v) = P(V ≤ v) (None for user laws).
+    distribution: Callable[[np.ndarray], np.ndarray] | None = field(repr=False, default=None)
+
+    def cdf(self, v) -> np.ndarray:
+        """P(V ≤ v) on an array of real ``v`` (built-in laws)."""
+        if self.distribution is None:
+            raise InvalidArgumentError("initial", self.name, "a law with a known CDF")
+        return np.asarray(self.distribution(np.asarray(v, dtype=float)), dtype=float)
 
     def phi(self, k) -> np.ndarray:
         """Characteristic function E[e^{ikv}] as a complex array of the shape of ``k``."""
@@ -86,6 +94,22 @@ def _uniform_phi(k, xp):
     return xp.sinc(_S3 * k / np.pi)
 
 
+def _ndtr(v):
+    from scipy.special import ndtr
+
+    return ndtr(v)
+
+
+def _laplace_cdf(v):
+    return np.where(v < 0, 0.5 * np.exp(np.minimum(v, 0.0) / _B_LAPLACE),
+                    1.0 - 0.5 * np.exp(-np.maximum(v, 0.0) / _B_LAPLACE))
+
+
+def _bimodal_cdf(v):
+    sd = np.sqrt(_VAR_BIMODAL)
+    return 0.5 * (_ndtr((v - _MU_BIMODAL) / sd) + _ndtr((v + _MU_BIMODAL) / sd))
+
+
 def _bimodal_sample(rng, n):
     signs = np.where(rng.random(n) < 0.5, -1.0, 1.0)
     return signs * _MU_BIMODAL + np.sqrt(_VAR_BIMODAL) * rng.standard_normal(n)
@@ -100,6 +124,7 @@ LAWS: dict[str, InitialLaw] = {
             lambda rng, n: rng.standard_normal(n),
             0.0,
             "N(0, 1)",
+            distribution=_ndtr,
         ),
         InitialLaw(
             "uniform",
@@ -107,6 +132,7 @@ LAWS: dict[str, InitialLaw] = {
             lambda rng, n: rng.uniform(-_S3, _S3, n),
             0.0,
             "U(-sqrt(3), sqrt(3))",
+            distribution=lambda v: np.clip((v + _S3) / (2.0 * _S3), 0.0, 1.0),
         ),
         InitialLaw(
             "laplace",
@@ -114,6 +140,7 @@ LAWS: dict[str, InitialLaw] = {
             lambda rng, n: rng.laplace(0.0, _B_LAPLACE, n),
             0.0,
             "Laplace, scale 1/sqrt(2)",
+            distribution=_laplace_cdf,
         ),
         InitialLaw(
             "bimodal",
@@ -121,6 +148,7 @@ LAWS: dict[str, InitialLaw] = {
             _bimodal_sample,
             0.0,
             "equal mixture of N(+0.9, 0.19) and N(-0.9, 0.19)",
+            distribution=_bimodal_cdf,
         ),
         InitialLaw(
             "asymmetric",
@@ -128,6 +156,8 @@ LAWS: dict[str, InitialLaw] = {
             lambda rng, n: rng.exponential(1.0, n) - 1.0,
             2.0,
             "shifted exponential X - 1, X ~ Exp(1): E[v^3] = 2",
+            distribution=lambda v: np.where(v < -1.0, 0.0, 1.0 - np.exp(-(np.maximum(v, -1.0)
+                                                                          + 1.0))),
         ),
     )
 }
