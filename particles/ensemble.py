@@ -609,7 +609,7 @@ def _check_existing(out: Path, tasks) -> tuple[set, list]:
 _CLUSTER_KEYS = {
     "queue": str, "walltime": str, "cores": int, "memory": str, "processes": int, "jobs": int,
     "account": str, "job_extra_directives": list, "job_script_prologue": list, "interface": str,
-    "local_directory": str, "log_directory": str, "python": str,
+    "local_directory": str, "log_directory": str, "python": str, "dashboard_address": str,
 }
 
 
@@ -629,6 +629,7 @@ def load_cluster_config(path, cluster: str) -> dict:
         interface = "ib0"         # optional network interface
         local_directory = "/tmp"  # optional worker scratch
         log_directory = "logs"    # optional job logs
+        dashboard_address = ":8787"  # optional; default ":0" (a free port)
 
     The values go to ``dask_jobqueue.SLURMCluster`` / ``PBSCluster`` under the same names."""
     if cluster not in ("slurm", "pbs"):
@@ -673,8 +674,8 @@ def make_cluster(cluster: str, settings: dict):
     ``cluster.scale(jobs=settings["jobs"])``)."""
     import dask_jobqueue
 
-    kwargs = {k: v for k, v in settings.items() if k != "jobs"}
-    kwargs.setdefault("scheduler_options", {"dashboard_address": None})
+    kwargs = {k: v for k, v in settings.items() if k not in ("jobs", "dashboard_address")}
+    kwargs["scheduler_options"] = {"dashboard_address": settings.get("dashboard_address", ":0")}
     cls = {"slurm": dask_jobqueue.SLURMCluster, "pbs": dask_jobqueue.PBSCluster}[cluster]
     return cls(**kwargs)
 
@@ -712,8 +713,10 @@ def _connect(executor, workers, scheduler, cluster, config):
         c.scale(jobs=settings["jobs"])
         client = Client(c)
         return client, [client.close, c.close]
+    # ":0" and no dashboard: the scheduler's HTTP routes on a free port (the default 8787 may
+    # be taken by another cluster, and dask then warns)
     c = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                     dashboard_address=None)
+                     dashboard_address=":0", scheduler_kwargs={"dashboard": False})
     client = Client(c)
     return client, [client.close, c.close]
 
