@@ -768,7 +768,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
                              {"writer": "particles.ensemble"})
         valid, damaged = _check_existing(out, tasks)
         todo = [t for t in tasks if t.key not in valid]
-        records = _execute(client, todo, model.factory, out, progress)
+        records = _execute(client, todo, model.factory, out.absolute(), progress)
     finally:
         for close in closers:
             close()

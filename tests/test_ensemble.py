@@ -74,17 +74,6 @@ def _assert_same_arrays(a, b):
         np.testing.assert_array_equal(a[key], b[key], err_msg=key, strict=True)
 
 
-@pytest.fixture(scope="module")
-def cluster():
-    """One local dask cluster (2 single-threaded worker processes) for the dask tests."""
-    from distributed import LocalCluster
-
-    c = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
-                     scheduler_kwargs={"dashboard": False})
-    yield c
-    c.close()
-
-
 # --------------------------------------------------------------------------- seeds and spec
 
 
@@ -335,11 +324,20 @@ def test_unreachable_scheduler_is_a_clear_error(tmp_path, monkeypatch):
 # --------------------------------------------------------------------------- dask
 
 
-def test_dask_ensemble_equals_serial(tmp_path, cluster):
+def _local_cluster():
+    from distributed import LocalCluster
+
+    return LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0",
+                        scheduler_kwargs={"dashboard": False})
+
+
+def test_dask_ensemble_on_a_scheduler_equals_serial(tmp_path):
+    """``scheduler=ADDRESS``: an existing cluster (2 worker processes)."""
     spec = _spec(model="lattice")
     serial = run_ensemble(spec, tmp_path / "serial", executor="serial", progress=False)
-    report = run_ensemble(spec, tmp_path / "dask", scheduler=cluster.scheduler_address,
-                          progress=False)
+    with _local_cluster() as cluster:
+        report = run_ensemble(spec, tmp_path / "dask", scheduler=cluster.scheduler_address,
+                              progress=False)
     assert report.executor == "dask" and report.ok and len(report.ran) == 6
     _assert_same_arrays(_arrays(serial.aggregate_path), _arrays(report.aggregate_path))
     for task in spec.expand():
@@ -347,10 +345,36 @@ def test_dask_ensemble_equals_serial(tmp_path, cluster):
             tmp_path / "dask" / task.filename).read_bytes()
 
 
-def test_dask_failure_is_reported_others_finish(tmp_path, cluster):
+def test_batch_cluster_path_failure_is_reported_others_finish(tmp_path, monkeypatch):
+    """``cluster="slurm"`` with a config, on a local stand-in for the batch cluster (no batch
+    system here): the config is read, the cluster scaled to ``jobs`` and used, then closed."""
+    from distributed import LocalCluster
+    from distributed.core import Status
+
+    made = []
+
+    class StandIn(LocalCluster):
+        scaled = None
+
+        def scale(self, n=0, jobs=None, **kwargs):  # scale(jobs=...) keeps its 2 workers
+            if jobs is None:
+                return super().scale(n, **kwargs)
+            self.scaled = jobs
+
+    def make(kind, settings):
+        assert kind == "slurm" and settings["cores"] == 2
+        made.append(StandIn(n_workers=2, threads_per_worker=1, processes=True,
+                            dashboard_address=":0", scheduler_kwargs={"dashboard": False}))
+        return made[-1]
+
+    monkeypatch.setattr(ensemble, "make_cluster", make)
+    config = tmp_path / "c.toml"
+    config.write_text('cores = 2\nmemory = "2GB"\njobs = 1\n')
     spec = EnsembleSpec("md", {"n": 200, "density": 1.0, "restitution": 0.0,
                                "delta": [0.0, 0.01]}, [1, 2], [0.5, 1.0])
-    report = run_ensemble(spec, tmp_path, scheduler=cluster.scheduler_address, progress=False)
+    report = run_ensemble(spec, tmp_path / "out", cluster="slurm", config=config,
+                          progress=False)
+    assert len(made) == 1 and made[0].scaled == 1 and made[0].status == Status.closed
     assert len(report.failed) == 2 and len(report.ran) == 4
     assert {f["params"]["delta"] for f in report.failed} == {0.0}
     assert "InelasticCollapseError" in report.failed[0]["traceback"]
