@@ -19,7 +19,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import pyfftw.interfaces.numpy_fft as _fft
 
 from .validation import InvalidArgumentError
 
@@ -39,6 +38,15 @@ __all__ = [
 #: Default bin edges for the rescaled velocity x = v / √E: 121 edges, width 0.1, on [-6, 6].
 DEFAULT_EDGES = np.linspace(-6.0, 6.0, 121)
 
+
+
+def _fftw():
+    """pyfftw's NumPy-style interface, imported on first use: with dask installed,
+    ``pyfftw.interfaces`` also imports ``dask.array.fft`` (about a second), which
+    ``import particles`` should not pay."""
+    import pyfftw.interfaces.numpy_fft as fft
+
+    return fft
 
 def _as_velocities(v, *, min_dims=1, max_dims=2) -> np.ndarray:
     arr = np.asarray(v, dtype=float)
@@ -152,7 +160,7 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
 
 def _spectrum(arr: np.ndarray) -> np.ndarray:
     """|v̂(k)|² for k = 2πm/N, m = 0..⌊N/2⌋, for every row (pyfftw, one thread)."""
-    vhat = _fft.rfft(arr, axis=-1, threads=1)
+    vhat = _fftw().rfft(arr, axis=-1, threads=1)
     return vhat.real**2 + vhat.imag**2
 
 
@@ -194,7 +202,7 @@ def correlation(v) -> np.ndarray:
     arr = _as_velocities(v)
     n = arr.shape[-1]
     power = _spectrum(arr)
-    c = _fft.irfft(power, n=n, axis=-1, threads=1) / n
+    c = _fftw().irfft(power, n=n, axis=-1, threads=1) / n
     if c.ndim == 2:
         c = c.mean(axis=0)
     return c

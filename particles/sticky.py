@@ -73,7 +73,6 @@ import math
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from scipy.optimize import isotonic_regression
 
 from .driver import initial_velocities, next_grid_point
 from .initial import get_law
@@ -173,6 +172,8 @@ def sticky_state(x0, v0, length: float, t: float) -> StickyState:
     g[:n] += x0
     g[:n] -= length  # a constant: the window's values lie in [-L, L) + v t
     np.add(g[:n], length, out=g[n:])
+    from scipy.optimize import isotonic_regression  # ~1 s to import: on first use only
+
     fit = isotonic_regression(g)
     del g
     blocks = fit.blocks  # window indices of the block starts, with 2n appended
