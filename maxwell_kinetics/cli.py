@@ -6,7 +6,8 @@ Subcommands:
 ``fixed-point``  solve the stationary rescaled equation by Newton's method
 ``convergence``  error floor against resolution (writes a figure and JSON)
 ``reproduce``    every comparison with the paper (the main job of ``make demo``)
-``simulate``     particle models (``ulam``, ``lattice``, ``md``)
+``simulate``     particle models (``ulam``, ``lattice``, ``md``, ``sticky``)
+``ensemble``     many seeds and parameter sweeps of a particle model, on dask
 
 One module per subcommand in :mod:`maxwell_kinetics.commands`, each with ``add_parser`` and a
 handler; they share :mod:`maxwell_kinetics.output` and never import this module.
@@ -25,13 +26,13 @@ import sys
 
 from particles.validation import InvalidArgumentError
 
-from .commands import convergence, fixed_point, reproduce, simulate, solve
+from .commands import convergence, ensemble, fixed_point, reproduce, simulate, solve
 from .output import emit_json
 
 __all__ = ["main", "build_parser", "emit_json", "join_negative_values"]
 
 #: The subcommands in the order of ``--help``.
-COMMANDS = (solve, fixed_point, convergence, reproduce, simulate)
+COMMANDS = (solve, fixed_point, convergence, reproduce, simulate, ensemble)
 
 
 def build_parser() -> argparse.ArgumentParser:

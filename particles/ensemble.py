@@ -152,9 +152,16 @@ def _md(n, density, restitution, delta=0.0, rod_length=0.0, initial="gaussian", 
                     stop_step=stop_step)
 
 
+def _sticky(n, density, initial="gaussian"):
+    from .sticky import StickyGas, StickyParams
+
+    return StickyGas(StickyParams(n, density, initial))
+
+
 register_model("ulam", _ulam)
 register_model("lattice", _lattice)
 register_model("md", _md, time_name="t")
+register_model("sticky", _sticky, time_name="t")
 
 
 # --------------------------------------------------------------------------- seeds
