@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..collision import collide_scalar
 from .engine import MDEngine, MDParams, MDState
+from .kernel import collide
 
 __all__ = ["causal_depth", "cluster_anatomy"]
 
@@ -31,7 +31,7 @@ def causal_depth(prm: MDParams, state: MDState, until: float, block=None) -> dic
     are velocity carriers passing through each other): an inelastic collision depends only on
     the previous inelastic collisions of its two carriers; ``ghost_depth`` is the depth of that
     dependency graph (elastic exchanges cost no round).  The replay recomputes the velocities
-    with the reference's formulas and checks them against the reference's end state.
+    with the kernel's formulas and checks them against the reference's end state.
 
     ``block`` (optional, an int per particle, −1 for none) marks groups of particles, e.g. the
     soft blocks of :func:`cluster_anatomy`; ``in_blocks`` counts the collisions of two particles
@@ -52,19 +52,14 @@ def causal_depth(prm: MDParams, state: MDState, until: float, block=None) -> dic
         lv = max(level[i], level[j]) + 1
         level[i] = level[j] = lv
         depth = max(depth, lv)
-        vi, vj = v[i], v[j]
-        d = vi - vj
         inside = group[i] >= 0 and group[i] == group[j]
         in_blocks += inside
-        if elastic_only or d < delta:
+        v[i], v[j], elastic = collide(v[i], v[j], p, delta, elastic_only)
+        if elastic:
             in_blocks_elastic += inside
-            v[i], v[j] = vj, vi
             carrier[i], carrier[j] = carrier[j], carrier[i]
             continue
         inelastic += 1
-        a, e = collide_scalar(vi, vj, p)
-        a, e = min(max(a, vj), vi), min(max(e, vj), vi)  # the engines' separation guard
-        v[i], v[j] = (e, a) if a > e else (a, e)
         ci, cj = carrier[i], carrier[j]
         gl = max(ghost_level[ci], ghost_level[cj]) + 1
         ghost_level[ci] = ghost_level[cj] = gl

@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..collision import collide_arrays
+from .kernel import collide_many, collision_time, collision_times
 
 if TYPE_CHECKING:
     from .engine import MDEngine, MDState
@@ -159,6 +159,8 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
         X[j] = xc - lr if j == 0 else xc
         TL[i] = cb
         TL[j] = cb
+        # kernel.collide, written out for speed (a call would cost about a tenth of a collision)
+        # kernel copy: collide (begin)
         d = vi - vj
         if elastic_only or d < delta:
             V[i] = vj
@@ -166,8 +168,6 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             elastic += 1
             vi, vj = vj, vi
         else:
-            # the rule of particles.collision (collide_scalar: d = (v_i - v_j) p, then v_i - d
-            # and v_j + d), inlined for speed; then the separation guard
             pd = p * d
             a = vi - pd
             e = vj + pd
@@ -179,13 +179,15 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             V[j] = e
             vi = a
             vj = e
+        # kernel copy: collide (end)
         done += 1
         if record is not None:
             record.append((cb, b))
         C[b] = inf  # the pair separates (v_i' <= v_j'); its popped entry was the live one
-        # New predictions of the two neighbouring pairs: the operations of ``_predict``, inlined,
-        # with the fresh data of i and j (position xc at t_last = cb).
+        # New predictions of the two neighbouring pairs: kernel.collision_time written out for
+        # speed, with the fresh data of i and j (X[i] = xc, TL[i] = TL[j] = cb).
         bb = b - 1 if b > 0 else last  # left pair (h, i), h = bb
+        # kernel copy: collision_time, left pair (h, i) with h = bb (begin)
         vh = V[bb]
         if vh > vi:
             th = TL[bb]
@@ -200,7 +202,9 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             cl = tt + g / (vh - vi)
         else:
             cl = inf
+        # kernel copy: collision_time, left pair (h, i) with h = bb (end)
         k = j + 1 if j < last else 0  # right pair (j, k), index j
+        # kernel copy: collision_time, right pair (j, k) (begin)
         vk = V[k]
         if vj > vk:
             tk = TL[k]
@@ -215,6 +219,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             cr = tt + g / (vj - vk)
         else:
             cr = inf
+        # kernel copy: collision_time, right pair (j, k) (end)
         if (cl == cb or cr == cb) and j != 0:
             # a neighbouring pair is due at this very time: a burst may follow
             burst = _burst(ctx, X, TL, V, ST, C, heap, b, cb, True)
@@ -241,24 +246,6 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
             store.write_back()
     engine.stats["elastic"] += elastic
     return done
-
-
-def _pair_time(X, TL, h, vh, k, vk, lr):
-    """Predicted collision time of the pair (h, k) (k = h + 1, or k = 0 at the seam) if h and k
-    had the velocities vh and vk: the operations of the scalar loops' predictions, in order."""
-    if not vh > vk:
-        return math.inf
-    th = TL[h]
-    tk = TL[k]
-    tt = th if th > tk else tk
-    xh = X[h] + vh * (tt - th)
-    xk = X[k] + vk * (tt - tk)
-    if k == 0:
-        xk = xk + lr
-    g = xk - xh
-    if g < 0.0:
-        g = 0.0
-    return tt + g / (vh - vk)
 
 
 def _burst(ctx, X, TL, V, ST, C, heap, b, t, fired):
@@ -324,7 +311,7 @@ def _burst(ctx, X, TL, V, ST, C, heap, b, t, fired):
             if lo > 0 and TL[h] == t and X[h] == xb:
                 sh = ST[h]  # at the block's point already: it joins without a collision
                 join = False
-            elif not _pair_time(X, TL, h, V[h], lo, w[0], lr) <= t:
+            elif not collision_time(X, TL, h, V[h], lo, w[0], lr) <= t:
                 k = 1
                 continue
             else:
@@ -361,7 +348,7 @@ def _burst(ctx, X, TL, V, ST, C, heap, b, t, fired):
             if TL[r] == t and X[r] == xb:
                 sr = ST[r]
                 join = False
-            elif _pair_time(X, TL, hi, w[m], r, V[r], lr) <= t:
+            elif collision_time(X, TL, hi, w[m], r, V[r], lr) <= t:
                 # the boundary pair is due now: its collision brings r to the block's point
                 sr = ST[r] if t - TL[r] <= dt_tiny else -1
                 join = True
@@ -414,8 +401,9 @@ def _burst(ctx, X, TL, V, ST, C, heap, b, t, fired):
             else:
                 look_left = True
             continue
-        # inelastic: the rule of particles.collision and the separation guard of the heap loops
-        # (min(max(a, vj), vi) written out: the same result)
+        # inelastic: kernel.collide written out (min(max(a, vj), vi) as two comparisons, which
+        # keep a unless the other operand is strictly beyond it, as min and max do)
+        # kernel copy: collide, inelastic branch (begin)
         pd = p * d
         a = vi - pd
         e = vj + pd
@@ -429,6 +417,7 @@ def _burst(ctx, X, TL, V, ST, C, heap, b, t, fired):
             e = vi
         if a > e:
             a, e = e, a
+        # kernel copy: collide, inelastic branch (end)
         w[k] = a
         w[k + 1] = e
         dh[k] += 1
@@ -474,41 +463,17 @@ def _burst_flush(X, TL, V, ST, C, heap, t, horizon, lo, hi, w, s, dh, lr, last):
         else:
             C[lo + q] = inf
     h = lo - 1 if lo > 0 else last
-    cc = _pair_time(X, TL, h, V[h], lo, w[0], lr)
+    cc = collision_time(X, TL, h, V[h], lo, w[0], lr)
     if cc != C[h]:
         C[h] = cc
         if cc <= horizon:
             push(heap, (cc, h))
     r = hi + 1 if hi < last else 0
-    cc = _pair_time(X, TL, hi, w[m], r, V[r], lr)
+    cc = collision_time(X, TL, hi, w[m], r, V[r], lr)
     if cc != C[hi]:
         C[hi] = cc
         if cc <= horizon:
             push(heap, (cc, hi))
-
-
-def _predict(x, tl, v, idx, n, lr):
-    """Predicted collision times of pairs ``idx`` (inf where the pair is not approaching)."""
-    i = idx
-    j = idx + 1
-    seam = j == n
-    j[seam] = 0
-    vi = v[i]
-    vj = v[j]
-    ti = tl[i]
-    tj = tl[j]
-    app = vi > vj
-    tt = np.maximum(ti, tj)
-    xi = x[i] + vi * (tt - ti)
-    xj = x[j] + vj * (tt - tj)
-    if seam.any():
-        xj[seam] = xj[seam] + lr
-    g = xj - xi
-    np.maximum(g, 0.0, out=g)
-    dv = np.where(app, vi - vj, 1.0)
-    c = tt + g / dv
-    c[~app] = np.inf
-    return c
 
 
 def advance_fast(engine: MDEngine, state: MDState, until: float):
@@ -532,7 +497,7 @@ def advance_fast(engine: MDEngine, state: MDState, until: float):
     stats = engine.stats
 
     allpairs = np.arange(n)
-    c = _predict(x, tl, v, allpairs, n, lr)
+    c = collision_times(x, tl, v, allpairs, lr)
     # horizon width, adapted so that about ``target`` collisions are candidates per slab
     width = None
     while True:
@@ -637,25 +602,8 @@ def advance_fast(engine: MDEngine, state: MDState, until: float):
                 x[j] = xcol
             tl[i] = tev
             tl[j] = tev
-            d = vi - vj
-            if elastic_only:
-                a = vj
-                e = vi
-                stats["elastic"] += ev.size
-            else:
-                a = vi.copy()
-                e = vj.copy()
-                collide_arrays(a, e, p)  # the rule of particles.collision, in place
-                np.minimum(np.maximum(a, vj, out=a), vi, out=a)
-                np.minimum(np.maximum(e, vj, out=e), vi, out=e)
-                flip = a > e
-                if flip.any():
-                    a, e = np.where(flip, e, a), np.where(flip, a, e)
-                el = d < delta
-                stats["elastic"] += int(np.count_nonzero(el))
-                if el.any():
-                    a = np.where(el, vj, a)
-                    e = np.where(el, vi, e)
+            a, e, el = collide_many(vi, vj, p, delta, elastic_only)
+            stats["elastic"] += int(np.count_nonzero(el))
             v[i] = a
             v[j] = e
             count += ev.size
@@ -668,7 +616,7 @@ def advance_fast(engine: MDEngine, state: MDState, until: float):
             aff = np.concatenate((ev - 1, ev + 1))
             aff[aff < 0] += n
             aff[aff >= n] -= n
-            c[aff] = _predict(x, tl, v, aff, n, lr)
+            c[aff] = collision_times(x, tl, v, aff, lr)
             # candidates: the unfired ones and the new predictions inside the horizon
             rest = cand[~safe]
             newc = aff[c[aff] <= horizon]

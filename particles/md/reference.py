@@ -9,10 +9,11 @@ so in non-chaotic settings the two agree bit for bit (tested).
 from __future__ import annotations
 
 import heapq
-import math
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from .kernel import collide, collision_time
 
 if TYPE_CHECKING:
     from .engine import MDEngine, MDState
@@ -33,29 +34,14 @@ def advance_reference(engine: MDEngine, state: MDState, until: float):
     tl = state.t_last.tolist()
     v = state.velocities.tolist()
     count = int(state.collisions)
-    inf = math.inf
+    last = n - 1
     streak = [0] * n
     dt_tiny, limit, detail = engine._watch()
     record = engine.record
 
     def predict(b):
-        i = b
-        j = b + 1 if b < n - 1 else 0
-        vi = v[i]
-        vj = v[j]
-        if not vi > vj:
-            return inf
-        ti = tl[i]
-        tj = tl[j]
-        tt = ti if ti > tj else tj
-        xi = x[i] + vi * (tt - ti)
-        xj = x[j] + vj * (tt - tj)
-        if j == 0:
-            xj = xj + lr
-        g = xj - xi
-        if g < 0.0:
-            g = 0.0
-        return tt + g / (vi - vj)
+        j = b + 1 if b < last else 0
+        return collision_time(x, tl, b, v[b], j, v[j], lr)
 
     ctime = [predict(b) for b in range(n)]
     version = [0] * n
@@ -83,22 +69,7 @@ def advance_reference(engine: MDEngine, state: MDState, until: float):
         x[j] = xc - lr if j == 0 else xc
         tl[i] = c
         tl[j] = c
-        d = vi - vj
-        if elastic_only or d < delta:
-            v[i] = vj
-            v[j] = vi
-        else:
-            # the rule of particles.collision (collide_scalar: d = (v_i - v_j) p, then v_i - d
-            # and v_j + d), inlined for speed; then the separation guard
-            pd = p * d
-            a = vi - pd
-            e = vj + pd
-            a = min(max(a, vj), vi)
-            e = min(max(e, vj), vi)
-            if a > e:
-                a, e = e, a
-            v[i] = a
-            v[j] = e
+        v[i], v[j], _ = collide(vi, vj, p, delta, elastic_only)
         count += 1
         if record is not None:
             record.append((c, b))
