@@ -6,8 +6,8 @@
 
 The C loop (``benchmarks/md_baseline.c``) is compiled here with ``cc -O2`` into a temporary
 directory; it is a yardstick, not a dependency.  It uses the same formulas as
-``particles/md.py`` in the same order, so runs from the same initial state are compared bit for
-bit (``identical``).  Rates count pair collisions per second of the event loop only.
+``particles/md/kernel.py`` in the same order, so runs from the same initial state are compared
+bit for bit (``identical``).  Rates count pair collisions per second of the event loop only.
 
 1. Homogeneous stage: N = 1e6, r = 0.9, delta = 1e-3, n = 1, t in [0, 2].  The sequential Python
    reference runs the first part [0, 0.5] of the same run (a heap of 1e6 pairs).
@@ -18,7 +18,8 @@ bit (``identical``).  Rates count pair collisions per second of the event loop o
    [T, T + W] (e.g. r = 0.99 late: ``--clustered-r 0.99 --clustered-t 6000 --clustered-window 2``).
    ``--critical-path`` also runs the window with vectorised passes only (the light-cone scheme's
    own count of rounds); ``--causal-depth`` replays it to count the fewest rounds any exact
-   scheme needs, and describes its clusters (``causal_depth``, ``cluster_anatomy``).
+   scheme needs, and describes its clusters (``causal_depth``, ``cluster_anatomy`` of
+   :mod:`particles.md.analysis`).
 """
 
 from __future__ import annotations
