@@ -159,7 +159,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
         X[j] = xc - lr if j == 0 else xc
         TL[i] = cb
         TL[j] = cb
-        # kernel.collide, written out for speed (a call would cost about a tenth of a collision)
+        # kernel.collide, written out for speed (a call would be paid on every collision)
         # kernel copy: collide (begin)
         d = vi - vj
         if elastic_only or d < delta:
