@@ -39,11 +39,8 @@ def advance_reference(engine: MDEngine, state: MDState, until: float):
     dt_tiny, limit, detail = engine._watch()
     record = engine.record
 
-    def predict(b):
-        j = b + 1 if b < last else 0
-        return collision_time(x, tl, b, v[b], j, v[j], lr)
-
-    ctime = [predict(b) for b in range(n)]
+    ctime = [collision_time(x, tl, b, v[b], b + 1, v[b + 1], lr) for b in range(last)]
+    ctime.append(collision_time(x, tl, last, v[last], 0, v[0], lr))
     version = [0] * n
     heap = [(c, b, 0) for b, c in enumerate(ctime) if c <= until]
     heapq.heapify(heap)
@@ -74,7 +71,8 @@ def advance_reference(engine: MDEngine, state: MDState, until: float):
         if record is not None:
             record.append((c, b))
         for bb in (b - 1 if b > 0 else n - 1, b, b + 1 if b < n - 1 else 0):
-            cc = predict(bb)
+            k = bb + 1 if bb < last else 0
+            cc = collision_time(x, tl, bb, v[bb], k, v[k], lr)
             if cc != ctime[bb] or bb == b:
                 version[bb] += 1
                 ctime[bb] = cc
