@@ -6,8 +6,8 @@
 
 The C loop (``benchmarks/md_baseline.c``) is compiled here with ``cc -O2`` into a temporary
 directory; it is a yardstick, not a dependency.  It uses the same formulas as
-``particles/md.py`` in the same order, so runs from the same initial state are compared bit for
-bit (``identical``).  Rates count pair collisions per second of the event loop only.
+``particles/md/kernel.py`` in the same order, so runs from the same initial state are compared
+bit for bit (``identical``).  Rates count pair collisions per second of the event loop only.
 
 1. Homogeneous stage: N = 1e6, r = 0.9, delta = 1e-3, n = 1, t in [0, 2].  The sequential Python
    reference runs the first part [0, 0.5] of the same run (a heap of 1e6 pairs).
@@ -18,7 +18,8 @@ bit (``identical``).  Rates count pair collisions per second of the event loop o
    [T, T + W] (e.g. r = 0.99 late: ``--clustered-r 0.99 --clustered-t 6000 --clustered-window 2``).
    ``--critical-path`` also runs the window with vectorised passes only (the light-cone scheme's
    own count of rounds); ``--causal-depth`` replays it to count the fewest rounds any exact
-   scheme needs, and describes its clusters (``causal_depth``, ``cluster_anatomy``).
+   scheme needs, and describes its clusters (``causal_depth``, ``cluster_anatomy`` of
+   :mod:`particles.md.analysis`).
 """
 
 from __future__ import annotations
@@ -40,8 +41,8 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from particles.collision import collide_scalar  # noqa: E402
 from particles.md import MDEngine, MDParams, MDState  # noqa: E402
+from particles.md.analysis import causal_depth, cluster_anatomy  # noqa: E402
 from particles.observables import energy as _energy  # noqa: E402
 
 
@@ -93,104 +94,6 @@ def same(a: MDState, b: MDState) -> bool:
         and np.array_equal(a.velocities, b.velocities)
         and np.array_equal(a.positions, b.positions)
     )
-
-
-def causal_depth(prm: MDParams, state: MDState, until: float, block=None) -> dict:
-    """How many collisions of [state.time, until] an *ideal* exact parallel scheme runs at once.
-
-    The reference runs the window with ``record=True``; its collisions are then replayed in
-    order.  A collision's time and outcome depend on the states of its two particles, i.e. on
-    their previous collisions, so every exact scheme must run it in a later round than those:
-    its *level* is 1 + the larger level of its two particles' previous collisions, and the
-    largest level (the depth) is the fewest rounds any exact scheme needs, even one that knew the
-    whole future.  collisions / depth bounds the average number of collisions per vectorised
-    pass from above (the light-cone scheme's own count is ``--critical-path``).
-
-    The same replay with elastic exchanges as *ghosts* (identical particles swapping velocities
-    are velocity carriers passing through each other): an inelastic collision depends only on
-    the previous inelastic collisions of its two carriers; ``ghost_depth`` is the depth of that
-    dependency graph (elastic exchanges cost no round).  The replay recomputes the velocities
-    with the reference's formulas and checks them against the reference's end state.
-
-    ``block`` (optional, an int per particle, −1 for none) marks groups of particles, e.g. the
-    soft blocks of :func:`cluster_anatomy`; ``in_blocks`` counts the collisions of two particles
-    of one group, and ``in_blocks_elastic`` those of them that were elastic.
-    """
-    engine = MDEngine(prm, "reference", record=True)
-    end = engine.advance(state, until)
-    n, p, delta = prm.n, prm.p, prm.delta
-    elastic_only = prm.restitution == 1.0
-    v = state.velocities.tolist()
-    level = [0] * n  # level of each particle's last collision
-    carrier = list(range(n))  # which velocity carrier each particle holds
-    ghost_level = [0] * n  # level of each carrier's last inelastic collision
-    group = [-1] * n if block is None else block.tolist()
-    depth = ghost_depth = inelastic = in_blocks = in_blocks_elastic = 0
-    for _, b in engine.record:
-        i, j = b, (b + 1 if b < n - 1 else 0)
-        lv = max(level[i], level[j]) + 1
-        level[i] = level[j] = lv
-        depth = max(depth, lv)
-        vi, vj = v[i], v[j]
-        d = vi - vj
-        inside = group[i] >= 0 and group[i] == group[j]
-        in_blocks += inside
-        if elastic_only or d < delta:
-            in_blocks_elastic += inside
-            v[i], v[j] = vj, vi
-            carrier[i], carrier[j] = carrier[j], carrier[i]
-            continue
-        inelastic += 1
-        a, e = collide_scalar(vi, vj, p)
-        a, e = min(max(a, vj), vi), min(max(e, vj), vi)  # the engines' separation guard
-        v[i], v[j] = (e, a) if a > e else (a, e)
-        ci, cj = carrier[i], carrier[j]
-        gl = max(ghost_level[ci], ghost_level[cj]) + 1
-        ghost_level[ci] = ghost_level[cj] = gl
-        ghost_depth = max(ghost_depth, gl)
-    count = len(engine.record)
-    return {
-        "collisions": count,
-        "depth": depth,
-        "per_round": count / max(depth, 1),
-        "inelastic": inelastic,
-        "ghost_depth": ghost_depth,
-        "ghost_per_round": inelastic / max(ghost_depth, 1),
-        "in_blocks": in_blocks,
-        "in_blocks_elastic": in_blocks_elastic,
-        "replay_matches_reference": bool(np.array_equal(np.array(v), end.velocities)),
-    }
-
-
-def cluster_anatomy(prm: MDParams, state: MDState) -> tuple[dict, np.ndarray]:
-    """Clusters at the state's time: runs of particles with gaps below δ (``cluster_sizes``, the
-    five largest) and, in label order from particle 0, maximal runs of neighbours whose velocities
-    span less than δ (``soft_blocks``, the five largest, and the particles in runs of ≥ 5).  Every
-    collision inside such a run is an elastic exchange, whatever the order.  Also returns the
-    run of ≥ 5 each particle belongs to (−1 for none), for :func:`causal_depth`."""
-    x = state.positions_at()
-    v = state.velocities
-    gaps = np.diff(np.append(x, x[0] + prm.reduced_length))
-    cuts = np.flatnonzero(gaps >= prm.delta)
-    sizes = np.diff(np.append(cuts, cuts[0] + prm.n)) if cuts.size else np.array([prm.n])
-    soft, i = [], 0
-    block = np.full(prm.n, -1)
-    while i < prm.n:
-        lo = hi = v[i]
-        j = i + 1
-        while j < prm.n and max(hi, v[j]) - min(lo, v[j]) < prm.delta:
-            lo, hi = min(lo, v[j]), max(hi, v[j])
-            j += 1
-        if j - i >= 5:
-            block[i:j] = len(soft)
-        soft.append(j - i)
-        i = j
-    soft = np.array(soft)
-    return {
-        "cluster_sizes": np.sort(sizes)[::-1][:5].tolist(),
-        "soft_blocks": np.sort(soft)[::-1][:5].tolist(),
-        "particles_in_soft_blocks_of_5_or_more": int(soft[soft >= 5].sum()),
-    }, block
 
 
 def regime(

@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 from conftest import read_entries, write_entries
 
-from particles import md
 from particles import observables as obs
 from particles.driver import CheckpointError, RunResult, simulate
 from particles.md import (
@@ -27,6 +26,7 @@ from particles.md import (
     rod_positions,
     total_momentum,
 )
+from particles.md import engine as md  # the module that owns _STALL_STREAK
 from particles.validation import InvalidArgumentError
 
 

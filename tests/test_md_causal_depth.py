@@ -1,18 +1,11 @@
-"""The causal-depth count of benchmarks/md.py (the bound quoted in benchmarks/README.md, "How much
-parallelism there is"), on hand-made states whose collisions are known."""
-
-import importlib.util
-from pathlib import Path
+"""The causal-depth count of particles/md/analysis.py (the bound quoted in benchmarks/README.md,
+"How much parallelism there is"), on hand-made states whose collisions are known."""
 
 import numpy as np
 import pytest
 
 from particles.md import MDEngine, MDParams, MDState
-
-_PATH = Path(__file__).resolve().parent.parent / "benchmarks" / "md.py"
-_SPEC = importlib.util.spec_from_file_location("benchmarks_md", _PATH)
-bench = importlib.util.module_from_spec(_SPEC)
-_SPEC.loader.exec_module(bench)
+from particles.md import analysis as bench
 
 
 def state(x, v):

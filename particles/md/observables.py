@@ -1,0 +1,67 @@
+"""MD-specific observables of the hard-rod gas.
+
+Energy, histogram, S(k) and C(r) are those of :mod:`particles.observables` applied to the
+velocities in label order (``state.velocities``: the lattice conventions); this module adds what
+is MD-specific: τ(t), the total momentum, rod positions, the profiles v(x, t) and v(i, t) and
+Haff's law (SPEC §4).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .engine import MDParams, MDState
+
+__all__ = [
+    "collisions_per_particle",
+    "total_momentum",
+    "rod_positions",
+    "profile_x",
+    "profile_i",
+    "haff_energy",
+    "initial_cooling_rate",
+]
+
+
+def collisions_per_particle(state: MDState) -> float:
+    """τ(t) = 2 · collisions / N (each pair collision involves two particles)."""
+    return 2.0 * state.collisions / state.velocities.size
+
+
+def total_momentum(state: MDState) -> float:
+    """Total momentum Σ_i v_i (unit masses; zero at t = 0 up to round-off)."""
+    return float(np.sum(state.velocities))
+
+
+def rod_positions(state: MDState, params: MDParams, t: float | None = None) -> np.ndarray:
+    """Real positions y_i = x_i + i σ of the rods at time t, reduced mod L into [0, L)."""
+    x = state.positions_at(t) + np.arange(params.n) * params.rod_length
+    return np.mod(x, params.length)
+
+
+def profile_x(state: MDState, params: MDParams, t: float | None = None):
+    """The profile v(x, t): rod positions in [0, L) sorted increasingly, and their velocities."""
+    y = rod_positions(state, params, t)
+    order = np.argsort(y, kind="stable")
+    return y[order], state.velocities[order]
+
+
+def profile_i(state: MDState):
+    """The profile v(i, t) against particle label i (labels keep their order on the ring)."""
+    return np.arange(state.velocities.size), state.velocities.copy()
+
+
+def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
+    """Haff's law T₀ / (1 + t/t₀)², t₀ = √π / ((1 − r²) n √T₀) (SPEC §4)."""
+    t = np.asarray(t, dtype=float)
+    lam = (1.0 - restitution**2) * density * math.sqrt(t0_energy)
+    return t0_energy / (1.0 + t * lam / math.sqrt(math.pi)) ** 2
+
+
+def initial_cooling_rate(restitution: float, density: float, t0_energy: float = 1.0) -> float:
+    """dT/dt at t = 0⁺ for Gaussian velocities: −(2/√π)(1 − r²) n T₀^{3/2} (SPEC §4)."""
+    return -2.0 / math.sqrt(math.pi) * (1.0 - restitution**2) * density * t0_energy**1.5
