@@ -38,14 +38,11 @@ import math
 import time as _time
 from bisect import bisect_right
 from itertools import accumulate
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .kernel import collide_many, collision_time, collision_times
-
-if TYPE_CHECKING:
-    from .engine import MDEngine, MDState
+from .state import MDState
 
 __all__ = ["advance_fast"]
 
@@ -476,7 +473,7 @@ def _burst_flush(X, TL, V, ST, C, heap, t, horizon, lo, hi, w, s, dh, lr, last):
             push(heap, (cc, hi))
 
 
-def advance_fast(engine: MDEngine, state: MDState, until: float):
+def advance_fast(engine, state: MDState, until: float):
     """Every collision of ``state`` up to ``until`` by the light-cone scheme (module docstring);
     returns the arrays (positions, t_last, velocities) and the collision count at ``until``."""
     prm = engine.p

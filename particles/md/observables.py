@@ -9,12 +9,10 @@ Haff's law (SPEC §4).
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-if TYPE_CHECKING:
-    from .engine import MDParams, MDState
+from .state import MDParams, MDState
 
 __all__ = [
     "collisions_per_particle",

@@ -9,19 +9,16 @@ so in non-chaotic settings the two agree bit for bit (tested).
 from __future__ import annotations
 
 import heapq
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .kernel import collide, collision_time
-
-if TYPE_CHECKING:
-    from .engine import MDEngine, MDState
+from .state import MDState
 
 __all__ = ["advance_reference"]
 
 
-def advance_reference(engine: MDEngine, state: MDState, until: float):
+def advance_reference(engine, state: MDState, until: float):
     """Every collision of ``state`` up to ``until`` in (time, pair) order; returns the arrays
     (positions, t_last, velocities) and the collision count of the state at ``until``."""
     prm = engine.p
