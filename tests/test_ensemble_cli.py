@@ -1,0 +1,80 @@
+"""``maxwell-kinetics ensemble``: the command line of the ensemble engine (serial executor here;
+the dask paths are tested in ``test_ensemble.py``)."""
+
+import numpy as np
+import pytest
+from conftest import run_error, run_json
+
+from maxwell_kinetics.cli import main
+from particles.driver import simulate
+from particles.ulam import Ulam
+
+
+def test_sweep_and_seeds_match_serial_runs(capsys, tmp_path):
+    out = run_json(capsys, ["ensemble", "ulam", "--n", "300", "--restitution", "0.3,0.9",
+                            "--tau", "1,2", "--seeds", "1-3", "--serial", "--out",
+                            str(tmp_path / "e"), "--json"])
+    assert out["tasks"] == 6 and out["ran"] == 6 and out["ok"] and out["failed"] == []
+    sets = out["aggregate"]["sets"]
+    assert [s["params"]["restitution"] for s in sets] == [0.3, 0.9]
+    energies = np.array([simulate(Ulam(300, 0.9), [1.0, 2.0], seed, progress=False).energy
+                         for seed in (1, 2, 3)])
+    got = sets[1]["observables"]["energy"]
+    assert got["mean"] == energies.mean(axis=0).tolist()
+    assert np.allclose(got["sem"], energies.std(axis=0, ddof=1) / np.sqrt(3), rtol=1e-12)
+    # a rerun skips every finished task
+    again = run_json(capsys, ["ensemble", "ulam", "--n", "300", "--restitution", "0.3,0.9",
+                              "--tau", "1,2", "--seeds", "1-3", "--serial", "--out",
+                              str(tmp_path / "e"), "--json"])
+    assert again["ran"] == 0 and again["skipped"] == 6
+
+
+def test_a_failed_task_exits_3_and_is_listed(capsys, tmp_path):
+    argv = ["ensemble", "md", "--n", "100", "--density", "1", "--restitution", "0",
+            "--delta", "0,0.01", "--t", "1,40", "--seeds", "1", "--serial",
+            "--out", str(tmp_path / "e"), "--json"]
+    assert main(argv) == 3
+    import json
+
+    out = json.loads(capsys.readouterr().out)
+    assert len(out["failed"]) == 1 and out["failed"][0]["params"]["delta"] == 0.0
+    assert "InelasticCollapseError" in out["failed"][0]["error"]
+
+
+@pytest.mark.parametrize(
+    "extra, named",
+    [
+        (["--seeds", "1,1"], "seeds="),
+        (["--seeds", "3-1"], "seeds="),
+        (["--seeds", ""], "seeds="),
+        (["--seeds", "1", "--restitution", ","], "restitution="),
+        (["--seeds", "1", "--restitution", "0.5,0.5"], "restitution="),
+        (["--seeds", "1", "--n", "1"], "n="),
+    ],
+)
+def test_bad_input_exits_2_and_writes_nothing(capsys, tmp_path, extra, named):
+    out = tmp_path / "e"
+    argv = ["ensemble", "ulam", "--n", "300", "--restitution", "0.5", "--tau", "1",
+            "--serial", "--out", str(out)] + extra
+    err = run_error(capsys, argv)
+    assert named in err and not out.exists()
+
+
+def test_unknown_model_or_parameter_exits_2(capsys, tmp_path):
+    run_error(capsys, ["ensemble", "nonsense", "--out", str(tmp_path)])
+    run_error(capsys, ["ensemble", "ulam", "--n", "10", "--restitution", "0.5", "--tau", "1",
+                       "--seeds", "1", "--out", str(tmp_path / "e"), "--density", "1"])
+
+
+def test_an_unreachable_scheduler_fails_within_the_timeout(capsys, tmp_path, monkeypatch):
+    import time
+
+    import particles.ensemble
+
+    monkeypatch.setattr(particles.ensemble, "SCHEDULER_TIMEOUT", 1.0)
+    start = time.monotonic()
+    err = run_error(capsys, ["ensemble", "ulam", "--n", "300", "--restitution", "0.5",
+                             "--tau", "1", "--seeds", "1", "--scheduler", "tcp://127.0.0.1:9",
+                             "--out", str(tmp_path / "e")])
+    assert "scheduler=" in err and time.monotonic() - start < 20
+    assert not (tmp_path / "e").exists()
