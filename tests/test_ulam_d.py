@@ -326,3 +326,13 @@ def test_default_keywords_keep_the_one_dimensional_engine():
 def test_bad_parameters_are_named(kwargs, match):
     with pytest.raises(InvalidArgumentError, match=match):
         Ulam(10, 0.5, **kwargs)
+
+
+def test_fortran_ordered_input_is_handled():
+    rng = np.random.default_rng(2)
+    v = np.asfortranarray(rng.standard_normal((50, 3)))
+    pairs = draw_pairs(rng, 50, 200)
+    draws = draw_angles(rng, 200, 3, "hard")
+    fast = collide_in_order_vectors(v, pairs, 0.5, draws, "hard")
+    slow = collide_sequential_vectors(np.ascontiguousarray(v), pairs, 0.5, draws, "hard")
+    assert np.array_equal(fast, slow) and not np.array_equal(fast, v)
