@@ -81,9 +81,9 @@ def _check_driving(driving, restitution, *, allow_zero=False) -> tuple[float, fl
         raise InvalidArgumentError(
             "driving", driving, "D > 0 (with D = 0 there is no steady state: the gas cools to rest)"
         )
-    if r == 1.0 and (d > 0.0 or not allow_zero):
+    if r == 1.0:
         raise InvalidArgumentError(
-            "restitution", restitution, "r < 1 when driven (elastic collisions never dissipate)"
+            "restitution", restitution, "r < 1 (elastic collisions never dissipate the heating)"
         )
     return r, d
 

@@ -149,3 +149,11 @@ def test_density_scales_with_sqrt_d():
 def test_bad_arguments_are_named(args, match):
     with pytest.raises(InvalidArgumentError, match=match):
         steady_state(*args)
+
+
+def test_moments_refuse_elastic_collisions():
+    # r = 1: the rates 2pq and 2pq(2 − pq) vanish (no dissipation), outside the solution's form.
+    with pytest.raises(InvalidArgumentError, match="restitution=1.0"):
+        moments(1.0, 1.0, 0.0)
+    with pytest.raises(InvalidArgumentError, match="driving=-0.1"):
+        moments(1.0, 0.5, -0.1)
