@@ -282,21 +282,21 @@ def _scatter_rows(v: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
         flat[base + c] = values[:, c]
 
 
-def _collide_events_vectors(v, ia, ib, draws: AngularDraws, angular: str, p: float) -> None:
-    """Collide particles ``ia[k]`` and ``ib[k]`` (all distinct) with the events' ``draws``
-    (``np.take`` gathers: row-wise fancy indexing of (N, d) arrays is slow, see
-    :func:`_scatter_rows`)."""
-    va = np.take(v, ia, axis=0)
-    vb = np.take(v, ib, axis=0)
+def _collide_events_vectors(v, fired, draws: AngularDraws, angular: str, p: float) -> None:
+    """Collide the pairs ``fired`` = [a_0, b_0, a_1, b_1, …] (all distinct) with the events'
+    ``draws``: one ``np.take`` gather and one scatter (row-wise fancy indexing of (N, d) arrays
+    is slow, see :func:`_scatter_rows`)."""
+    vv = np.take(v, fired, axis=0)
+    va, vb = vv[0::2], vv[1::2]
     n = collision_directions(va - vb, draws, angular)
     collide_vectors(va, vb, n, p)
-    _scatter_rows(v, ia, va)
-    _scatter_rows(v, ib, vb)
+    _scatter_rows(v, fired, vv)
 
 
 def _fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide) -> int:
-    """:func:`_fire_rounds` for events that carry data: ``collide(v, ia, ib, rows)`` applies the
-    events of rows ``rows`` of ``reversed_pairs`` (particles ``ia``, ``ib``, all distinct)."""
+    """:func:`_fire_rounds` for events that carry data: ``collide(v, fired, rows)`` applies the
+    events of rows ``rows`` of ``reversed_pairs`` (particles ``fired`` = [a_0, b_0, a_1, …], all
+    distinct)."""
     packed = reversed_pairs.view(np.int64).reshape(-1)
     rows = np.arange(packed.size, dtype=np.intp)
     rounds = 0
@@ -309,7 +309,7 @@ def _fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide) -> int
         fire = own_is_first[0::2]
         fire &= own_is_first[1::2]
         fired = np.compress(fire, packed).view(np.int32).astype(np.intp)
-        collide(v, fired[0::2], fired[1::2], np.compress(fire, rows))
+        collide(v, fired, np.compress(fire, rows))
         np.logical_not(fire, out=fire)
         packed = np.compress(fire, packed)
         rows = np.compress(fire, rows)
@@ -347,8 +347,8 @@ def collide_in_order_vectors(v, pairs, restitution, draws: AngularDraws, angular
     first = np.empty(v.shape[0], dtype=np.int32)
     occurrence = np.arange(2 * k, dtype=np.int32)
 
-    def collide(w, ia, ib, rows):
-        _collide_events_vectors(w, ia, ib, _subset(reversed_draws, rows), angular, p)
+    def collide(w, fired, rows):
+        _collide_events_vectors(w, fired, _subset(reversed_draws, rows), angular, p)
 
     _fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide)
     return v
@@ -359,7 +359,7 @@ def collide_sequential_vectors(v, pairs, restitution, draws: AngularDraws, angul
     v, pairs, p, angular = _check_vector_events(v, pairs, restitution, draws, angular)
     for k, (a, b) in enumerate(pairs.astype(np.intp)):
         row = np.array([k], dtype=np.intp)
-        _collide_events_vectors(v, a[None], b[None], _subset(draws, row), angular, p)
+        _collide_events_vectors(v, np.array([a, b]), _subset(draws, row), angular, p)
     return v
 
 
@@ -555,8 +555,8 @@ class Ulam:
                 pairs = draw_pairs(rng, self.n, k)  # row 0 is the window's last event
                 draws = draw_angles(rng, k, self.dimension, angular)
 
-                def collide(w, ia, ib, rows, draws=draws):
-                    _collide_events_vectors(w, ia, ib, _subset(draws, rows), angular, p)
+                def collide(w, fired, rows, draws=draws):
+                    _collide_events_vectors(w, fired, _subset(draws, rows), angular, p)
 
                 _fire_rounds_with_rows(v, pairs, first, occurrence, collide)
                 collisions += k
@@ -582,7 +582,8 @@ class Ulam:
                 times = np.sort(rng.uniform(a, b, k))[::-1]  # row order: latest first
                 kicks = rng.standard_normal((k, 2))
 
-                def collide(w, ia, ib, rows, times=times, kicks=kicks):
+                def collide(w, fired, rows, times=times, kicks=kicks):
+                    ia, ib = fired[0::2], fired[1::2]
                     t = times[rows]
                     va = w[ia] + np.sqrt(two_d * (t - last[ia])) * kicks[rows, 0]
                     vb = w[ib] + np.sqrt(two_d * (t - last[ib])) * kicks[rows, 1]
