@@ -303,3 +303,51 @@ def test_windows_are_a_fixed_grid():
     assert len(windows) == 16 and windows[0] == (0.0, 0.0625) and windows[-1] == (0.9375, 1.0)
     assert engine.windows(0.1, 0.2) == [(0.1, 0.125), (0.125, 0.1875), (0.1875, 0.2)]
     assert Ulam(10, 0.5).window == 2.0
+
+
+def test_state_from_arrays_checks_the_shape_of_each_dimension():
+    # d = 1 states are (N,), d >= 2 states are (N, d); a state of the other shape is refused.
+    rng = np.random.default_rng(0)
+    one, two = Ulam(10, 0.5), Ulam(10, 0.5, dimension=2)
+    s1, s2 = one.initial_state(rng), two.initial_state(rng)
+    assert s1.velocities.shape == (10,) and s2.velocities.shape == (10, 2)
+    assert np.array_equal(two.state_from_arrays(s2.to_arrays()).velocities, s2.velocities)
+    with pytest.raises(ValueError, match=r"\(10, 2\)"):
+        one.state_from_arrays(s2.to_arrays())
+    with pytest.raises(ValueError, match=r"expected \(10, 2\)"):
+        two.state_from_arrays(s1.to_arrays())
+
+
+def test_driven_run_resumes_from_a_checkpoint_bit_for_bit(tmp_path):
+    # The driven engine through the run driver: Ctrl-C in the 3rd advance (after the stop at
+    # τ = 4), checkpoint, resume: the same run as an uninterrupted one, bit for bit.
+    import dataclasses
+
+    @dataclasses.dataclass(frozen=True)
+    class Interrupting:
+        inner: object
+        calls: list = dataclasses.field(default_factory=list)
+        name = "ulam"
+
+        def __getattr__(self, item):
+            return getattr(self.inner, item)
+
+        def advance(self, state, until, rng):
+            self.calls.append(until)
+            if len(self.calls) == 3:
+                rng.random(5)  # randomness consumed by the interrupted advance must not matter
+                raise KeyboardInterrupt
+            return self.inner.advance(state, until, rng)
+
+    engine = Ulam(500, 0.3, driving=0.8)
+    times = [1.0, 6.5, 13.5]
+    reference = simulate(engine, times, 4, progress=False)
+    path = tmp_path / "driven.ckpt"
+    with pytest.raises(KeyboardInterrupt):
+        simulate(Interrupting(engine), times, 4, progress=False, checkpoint=path)
+    resumed = simulate(engine, times, 4, progress=False, resume=path)
+    assert np.array_equal(resumed.velocities, reference.velocities)
+    assert np.array_equal(resumed.energy, reference.energy)
+    assert resumed.collisions[-1] == reference.collisions[-1]
+    # heating is on: the energy rises from 1 towards D/(pq) (1 - 1/N)^2 = 4.16
+    assert reference.energy[-1] > 1.5

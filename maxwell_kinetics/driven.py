@@ -1,0 +1,242 @@
+"""The driven 1D inelastic Maxwell (Ulam) model: white-noise heating balanced by collisions.
+
+Model (SPEC §8).  Every particle collides at rate 1 with a random partner (rule of SPEC §1,
+p = (1 + r)/2, q = 1 − p; τ counts collisions per particle) and between collisions feels white
+noise of strength D: dv = √(2D) dW.  A time Δτ of heating is a Gaussian kick of variance 2DΔτ,
+i.e. the Fokker–Planck term D ∂²_v P.  With P̂(k) = ∫ e^{ikv} P(v) dv (SPEC sign), ∂²_v becomes
+(−ik)² = −k², and the master equation is
+
+    ∂τ P̂(k) + (1 + D k²) P̂(k) = P̂(pk) P̂(qk).
+
+Moments (zero mean, conserved: dM₁/dτ = −M₁ + (p + q)M₁ = 0).  Expanding in k,
+
+    dM₂/dτ = 2D − 2pq M₂,
+    dM₄/dτ = −(1 − p⁴ − q⁴) M₄ + 12 D M₂ + 6 p²q² M₂²,
+
+closed and solved exactly by :func:`moments` (sums of exponentials).  Steady state:
+M₂ = D/(pq) and M₄/M₂² = 3(2 + pq)/(2 − pq).
+
+Cumulants.  The steady P̂ solves (1 + Dk²) P̂(k) = P̂(pk) P̂(qk).  Writing ln P̂ = Σ_j c_j k^{2j}
+and ln(1 + Dk²) = Σ_j (−1)^{j+1} D^j k^{2j}/j gives c_j (1 − p^{2j} − q^{2j}) = (−1)^j D^j/j,
+so with a_j = 1 − p^{2j} − q^{2j}
+
+    ln P̂(k) = Σ_j (−1)^j D^j k^{2j} / (j a_j),    κ_{2j} = (2j)! D^j / (j a_j)
+
+(κ_{2j} is the coefficient of (ik)^{2j}/(2j)!).  κ₂ = D/(pq) (a₁ = 2pq) and the kurtosis is
+3 + κ₄/κ₂² = 3 + 6pq/(2 − pq), the same as from the moment equations.  The series converges for
+|k| < 1/√D.
+
+Characteristic function at any k.  Iterating P̂(k) = P̂(pk) P̂(qk)/(1 + Dk²) over the binary tree
+of arguments k p^a q^b (C(a+b, a) paths reach each node) gives
+ln P̂(k) = −Σ_{nodes} C(a+b, a) ln(1 + D k² p^{2a} q^{2b}) + Σ_{leaves} (paths) · series(k p^a q^b),
+where a node is expanded while k_max p^a q^b > 1/(2√D) and the series is used below that
+(:func:`characteristic_function`; exact up to round-off and the truncated series, < 1e-17).
+
+Density.  P(v) = (1/2π) ∫ e^{−ikv} P̂(k) dk, evaluated by an FFT of P̂ on k_m = mΔk, |k| ≤ k_max
+(P̂(k_max) < e^{−40}), on the periodic v-grid of period 2π/Δk (aliasing: P(v + period),
+< e^{−100} on the returned grid).  The tail: P̂ has simple poles at k = ±i/√D (the nearest
+singularities), so P(v) ≈ R e^{−|v|/√D}/√D for |v| ≫ √D with
+R = ½ P̂(−ip) P̂(−iq) at D = 1 (residue at k = −i; P̂(−iy) = ⟨e^{yv}⟩ from the series).
+
+Refused (:class:`particles.validation.InvalidArgumentError`): D < 0 or not finite; D = 0 (no
+steady state: the gas cools to rest); r = 1 with D > 0 (the heating is never dissipated).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from particles.collision import transfer_fraction
+from particles.validation import InvalidArgumentError, check_restitution
+
+__all__ = [
+    "DrivenSteadyState",
+    "cumulants",
+    "steady_kurtosis",
+    "steady_variance",
+    "characteristic_function",
+    "tail_amplitude",
+    "moments",
+    "steady_state",
+]
+
+#: Terms of the ln P̂ series at |k|√D ≤ 1/2 (terms ≤ 4^{−j}: 4^{−30} ≈ 1e-18).
+_SERIES_TERMS = 30
+_LEAF = 0.5  # the series is used for |k|√D ≤ _LEAF
+_HALF_WIDTH = 60.0  # the v-grid covers [−60√D, 60√D)
+
+
+def _check_driving(driving, restitution, *, allow_zero=False) -> tuple[float, float]:
+    r = check_restitution(restitution)
+    try:
+        d = float(driving)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError("driving", driving, "a finite number > 0") from None
+    if not math.isfinite(d) or d < 0.0:
+        raise InvalidArgumentError("driving", driving, "a finite number > 0")
+    if d == 0.0 and not allow_zero:
+        raise InvalidArgumentError(
+            "driving", driving, "D > 0 (with D = 0 there is no steady state: the gas cools to rest)"
+        )
+    if r == 1.0:
+        raise InvalidArgumentError(
+            "restitution", restitution, "r < 1 (elastic collisions never dissipate the heating)"
+        )
+    return r, d
+
+
+def _rates(p: float, orders: np.ndarray) -> np.ndarray:
+    """a_j = 1 − p^{2j} − q^{2j}."""
+    q = 1.0 - p
+    return 1.0 - p ** (2.0 * orders) - q ** (2.0 * orders)
+
+
+def cumulants(restitution, driving, count: int = 4) -> np.ndarray:
+    """Steady cumulants [κ₂, κ₄, …, κ_{2·count}], κ_{2j} = (2j)! D^j/(j (1 − p^{2j} − q^{2j}))
+    (odd cumulants vanish)."""
+    r, d = _check_driving(driving, restitution)
+    j = np.arange(1, int(count) + 1, dtype=float)
+    factorial = np.array([math.factorial(2 * int(i)) for i in j], dtype=float)
+    return factorial * d**j / (j * _rates(transfer_fraction(r), j))
+
+
+def steady_variance(restitution, driving) -> float:
+    """⟨v²⟩ = D/(pq)."""
+    r, d = _check_driving(driving, restitution)
+    p = transfer_fraction(r)
+    return d / (p * (1.0 - p))
+
+
+def steady_kurtosis(restitution, driving=1.0) -> float:
+    """⟨v⁴⟩/⟨v²⟩² = 3 + κ₄/κ₂² = 3 + 6pq/(2 − pq) (independent of D > 0)."""
+    r, _ = _check_driving(driving, restitution)
+    p = transfer_fraction(r)
+    pq = p * (1.0 - p)
+    return 3.0 + 6.0 * pq / (2.0 - pq)
+
+
+def _series(p: float, y2: np.ndarray, terms: int = _SERIES_TERMS) -> np.ndarray:
+    """Σ_j (−1)^j y2^j/(j a_j), j ≤ ``terms``, for y2 = D k² (ln P̂ near 0; |y2| < 1); y2 < 0
+    gives ln P̂ at imaginary k."""
+    out = np.zeros_like(y2)
+    j = np.arange(terms, 0, -1, dtype=float)  # smallest terms first
+    coef = (-1.0) ** j / (j * _rates(p, j))
+    for c, jj in zip(coef, j, strict=True):
+        out += c * y2**jj
+    return out
+
+
+def _log_cf_unit(p: float, k: np.ndarray) -> np.ndarray:
+    """ln P̂(k) at D = 1 for real k (tree expansion of the module docstring)."""
+    q = 1.0 - p
+    k = np.abs(np.asarray(k, dtype=float))
+    out = np.zeros_like(k)
+    kmax = float(k.max(initial=0.0))
+    level = {(0, 0): 1.0}  # nodes (a, b) of one depth a + b, with their number of paths
+    while level:
+        following: dict[tuple[int, int], float] = {}
+        for (a, b), paths in level.items():
+            w = p**a * q**b
+            kw = k * w
+            if kmax * w <= _LEAF or w == 0.0:
+                out += paths * _series(p, kw * kw)
+                continue
+            out -= paths * np.log1p(kw * kw)
+            for child in ((a + 1, b), (a, b + 1)):
+                following[child] = following.get(child, 0.0) + paths
+        level = following
+    return out
+
+
+def characteristic_function(k, restitution, driving) -> np.ndarray:
+    """Steady P̂(k) = ⟨e^{ikv}⟩ (real and even) at real ``k``."""
+    r, d = _check_driving(driving, restitution)
+    k = np.asarray(k, dtype=float)
+    return np.exp(_log_cf_unit(transfer_fraction(r), np.sqrt(d) * k))
+
+
+def tail_amplitude(restitution) -> float:
+    """R with P(v) ≈ (R/√D) e^{−|v|/√D} for |v| ≫ √D: R = ½ ⟨e^{pv}⟩⟨e^{qv}⟩ at D = 1."""
+    r, _ = _check_driving(1.0, restitution)
+    p = transfer_fraction(r)
+    y2 = -np.array([p * p, (1 - p) ** 2])  # D k² at k = −ip, −iq
+    terms = int(np.ceil(40.0 / -np.log(p * p))) + 1  # p^{2j} < e^{−40}
+    return 0.5 * float(np.exp(_series(p, y2, max(terms, _SERIES_TERMS))).prod())
+
+
+def moments(tau, restitution, driving, m2_initial=1.0, m4_initial=3.0):
+    """Exact M₂(τ), M₄(τ) of the driven model from zero-mean data with M₂(0), M₄(0) (the moment
+    equations of the module docstring; D ≥ 0, r < 1)."""
+    r, d = _check_driving(driving, restitution, allow_zero=True)
+    p = transfer_fraction(r)
+    pq = p * (1.0 - p)
+    tau = np.asarray(tau, dtype=float)
+    a2 = 2.0 * pq
+    a4 = 1.0 - p**4 - (1.0 - p) ** 4  # = 2pq(2 − pq), never a2 or 2 a2 for r < 1
+    m2_steady = d / pq
+    amp = m2_initial - m2_steady
+    m2 = m2_steady + amp * np.exp(-a2 * tau)
+    # forcing 12 D M₂ + 6p²q² M₂² = f0 + f1 e^{−a2 τ} + f2 e^{−2 a2 τ}
+    c = 6.0 * pq * pq
+    f0 = 12.0 * d * m2_steady + c * m2_steady**2
+    f1 = 12.0 * d * amp + 2.0 * c * m2_steady * amp
+    f2 = c * amp * amp
+    g0, g1, g2 = f0 / a4, f1 / (a4 - a2), f2 / (a4 - 2.0 * a2)
+    m4 = (
+        g0
+        + g1 * np.exp(-a2 * tau)
+        + g2 * np.exp(-2.0 * a2 * tau)
+        + (m4_initial - g0 - g1 - g2) * np.exp(-a4 * tau)
+    )
+    return m2, m4
+
+
+@dataclass(frozen=True)
+class DrivenSteadyState:
+    """The steady state of the driven model: ``variance`` = D/(pq), ``kurtosis``,
+    ``cumulants`` = [κ₂, κ₄, …], and the density ``density`` = P(v) on the grid ``velocity``
+    (uniform, [−60√D, 60√D), from the FFT of the module docstring; |round-off| ~ 1e-16)."""
+
+    restitution: float
+    driving: float
+    variance: float
+    kurtosis: float
+    cumulants: np.ndarray = field(repr=False)
+    velocity: np.ndarray = field(repr=False)
+    density: np.ndarray = field(repr=False)
+
+
+def _density_unit(p: float) -> tuple[np.ndarray, np.ndarray]:
+    """P(x) at D = 1 on [−60, 60) by FFT."""
+    period = 2.0 * _HALF_WIDTH
+    dk = 2.0 * math.pi / period
+    # k_max: double until ln P̂(k_max) < −40
+    kmax = 8.0
+    while _log_cf_unit(p, np.array([kmax]))[0] > -40.0:
+        kmax *= 2.0
+    m = 1 << int(np.ceil(np.log2(2.0 * kmax / dk)))
+    k = np.fft.fftfreq(m, d=1.0 / (m * dk))  # k_j = j Δk in FFT order, |k| ≤ m Δk/2 ≥ k_max
+    phi = np.exp(_log_cf_unit(p, k))
+    # P(x_n) = (Δk/2π) Σ_j P̂(k_j) e^{−i k_j x_n}, x_n = n · period/m: numpy's forward FFT sign
+    dens = np.fft.fftshift(np.fft.fft(phi).real) * dk / (2.0 * math.pi)
+    x = (np.arange(m) - m // 2) * (period / m)
+    return x, dens
+
+
+def steady_state(restitution, driving, count: int = 4) -> DrivenSteadyState:
+    """The steady state for r ∈ [0, 1), D > 0 (``count`` cumulants)."""
+    r, d = _check_driving(driving, restitution)
+    x, dens = _density_unit(transfer_fraction(r))
+    scale = math.sqrt(d)
+    return DrivenSteadyState(
+        r,
+        d,
+        steady_variance(r, d),
+        steady_kurtosis(r, d),
+        cumulants(r, d, count),
+        x * scale,
+        dens / scale,
+    )
