@@ -4,6 +4,8 @@ Subcommands:
 
 ``solve``        integrate the rescaled Fourier-space equation (kinetic theory)
 ``fixed-point``  solve the stationary rescaled equation by Newton's method
+``tail-exponent`` tail exponents of the d-dimensional inelastic Maxwell model
+``steady``       steady state of the driven (heated) 1D model
 ``convergence``  error floor against resolution (writes a figure and JSON)
 ``reproduce``    every comparison with the paper (the main job of ``make demo``)
 ``simulate``     particle models (``ulam``, ``lattice``, ``md``, ``sticky``)
@@ -26,13 +28,22 @@ import sys
 
 from particles.validation import InvalidArgumentError
 
-from .commands import convergence, ensemble, fixed_point, reproduce, simulate, solve
+from .commands import (
+    convergence,
+    ensemble,
+    fixed_point,
+    reproduce,
+    simulate,
+    solve,
+    steady,
+    tails,
+)
 from .output import emit_json
 
 __all__ = ["main", "build_parser", "emit_json", "join_negative_values"]
 
 #: The subcommands in the order of ``--help``.
-COMMANDS = (solve, fixed_point, convergence, reproduce, simulate, ensemble)
+COMMANDS = (solve, fixed_point, tails, steady, convergence, reproduce, simulate, ensemble)
 
 
 def build_parser() -> argparse.ArgumentParser:

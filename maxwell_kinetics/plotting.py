@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_solution", "plot_convergence"]
+__all__ = ["plot_solution", "plot_convergence", "plot_density"]
 
 
 def _figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
@@ -68,5 +68,30 @@ def plot_convergence(runs):
     right.set(xlabel="h (grid spacing in ln q)", ylabel="error floor",
               title="floor against resolution")
     right.legend(fontsize=7)
+    fig.tight_layout()
+    return fig
+
+
+def plot_density(x, P, variance: float, title: str = "", ax=None):
+    """ln P(x) against x with the Gaussian of the same variance (arrays only; returns the
+    Figure)."""
+    import numpy as np
+
+    if ax is None:
+        fig, axes = _figure()
+        ax = axes[0, 0]
+    else:
+        fig = ax.figure
+    x = np.asarray(x, dtype=float)
+    P = np.asarray(P, dtype=float)
+    keep = P > 1e-14
+    ax.semilogy(x[keep], P[keep], label="P(v)")
+    gauss = np.exp(-0.5 * x**2 / variance) / np.sqrt(2 * np.pi * variance)
+    show = gauss > 1e-14
+    ax.semilogy(x[show], gauss[show], "--", label="Gaussian, same variance")
+    ax.set_xlabel("v")
+    ax.set_ylabel("P(v)")
+    ax.set_title(title)
+    ax.legend()
     fig.tight_layout()
     return fig

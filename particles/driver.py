@@ -339,8 +339,12 @@ class _Records:
         may leave entry ``done`` half written: :meth:`arrays` never stores it)."""
         i = self.done
         v = state.velocities
-        self.energy[i] = obs.energy(v)
-        self.momentum[i] = obs.momentum(v)
+        if v.ndim == 2:  # (N, d) velocities: ⟨|v|²⟩ per particle and |⟨v⟩|
+            self.energy[i] = float(np.mean(np.einsum("ij,ij->i", v, v)))
+            self.momentum[i] = float(np.linalg.norm(v.mean(axis=0)))
+        else:
+            self.energy[i] = obs.energy(v)
+            self.momentum[i] = obs.momentum(v)
         self.collisions[i] = int(state.collisions)
         if self.structure is not None and not (self.structure_last and i < nt - 1):
             self.structure[0 if self.structure_last else i] = obs.structure_factor(v)[1]
@@ -519,8 +523,10 @@ def _inconsistency(engine, times: list[float], state, records: _Records) -> str 
         return f"rec.collisions={recorded.tolist()} is not a non-decreasing count"
     t = float(state.time)
     v = np.asarray(state.velocities)
-    if v.shape != (n,) or not np.all(np.isfinite(v)):
-        return f"state.velocities: shape {v.shape}, expected ({n},) and finite"
+    d = int(engine.params().get("dimension", 1))
+    shape = (n,) if d == 1 else (n, d)
+    if v.shape != shape or not np.all(np.isfinite(v)):
+        return f"state.velocities: shape {v.shape}, expected {shape} and finite"
     collisions = int(state.collisions)
     last = int(recorded[-1]) if done else 0
     if collisions < last:
@@ -547,12 +553,15 @@ def _inconsistency(engine, times: list[float], state, records: _Records) -> str 
 
 
 def _final_histogram(v: np.ndarray, edges) -> tuple[obs.Histogram | None, str | None]:
-    """The rescaled histogram of the final velocities, or ``(None, reason)`` where it is undefined.
+    """The rescaled histogram of the final velocities (of one Cartesian component in d > 1), or
+    ``(None, reason)`` where it is undefined.
 
     A state with every velocity 0 (energy 0) is a valid end of a run, not bad input: r = 0 makes
     colliding velocities equal, so N = 2 reaches it after one collision.  x = v/√E has no meaning
     there, so no histogram is made (``rescaled_histogram`` would raise, and a raise after the
     run would turn a valid run into exit status 2)."""
+    if v.ndim == 2:
+        v = np.ascontiguousarray(v[:, 0])
     if not np.any(v):
         return None, "every velocity is 0 at the last time (energy 0): x = v/sqrt(E) is undefined"
     return obs.rescaled_histogram(v, edges), None
@@ -605,6 +614,11 @@ def simulate(
     if checkpoint is not None:
         checkpoint = check_writable(checkpoint, "checkpoint")
     _check_engine(engine)
+    if int(engine.params().get("dimension", 1)) != 1 and (structure_factor or snapshots):
+        raise InvalidArgumentError(
+            "structure_factor" if structure_factor else "snapshots", True,
+            "a one-dimensional model (S(k) and snapshots are recorded in d = 1 only)",
+        )
     identity = _run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
     time_name = getattr(engine, "time_name", "tau")
     estimate = budget.check_budget(

@@ -336,3 +336,25 @@ def test_fortran_ordered_input_is_handled():
     fast = collide_in_order_vectors(v, pairs, 0.5, draws, "hard")
     slow = collide_sequential_vectors(np.ascontiguousarray(v), pairs, 0.5, draws, "hard")
     assert np.array_equal(fast, slow) and not np.array_equal(fast, v)
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_d_dimensional_runs_go_through_the_driver(tmp_path, d):
+    # energy ⟨|v|²⟩ and |⟨v⟩| recorded per time, histogram of one component, checkpoint and
+    # resume bit for bit; S(k) is refused (it belongs to d = 1)
+    from particles.driver import RunResult, simulate
+
+    engine = Ulam(2000, 0.5, dimension=d)
+    full = simulate(engine, [0.5, 1.0, 2.0], 3, progress=False)
+    v = full.velocities
+    assert v.shape == (2000, d)
+    assert full.energy[-1] == float(np.mean(np.einsum("ij,ij->i", v, v)))
+    assert full.momentum[-1] < 1e-12 and full.histogram.samples == 2000
+    ckpt = tmp_path / "c.npz"
+    simulate(engine, [0.5, 1.0, 2.0], 3, progress=False, checkpoint=ckpt)
+    again = simulate(engine, [0.5, 1.0, 2.0], 3, progress=False, resume=ckpt)
+    assert np.array_equal(again.velocities, v) and np.array_equal(again.energy, full.energy)
+    full.save(tmp_path / "r.npz")
+    assert np.array_equal(RunResult.load(tmp_path / "r.npz").velocities, v)
+    with pytest.raises(InvalidArgumentError, match="structure_factor"):
+        simulate(engine, [1.0], 3, progress=False, structure_factor=True)

@@ -41,6 +41,7 @@ from particles.validation import (
     check_times,
     parse_count,
     parse_float_list,
+    parse_int,
     parse_seed,
 )
 
@@ -151,7 +152,9 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
 
 
 def _run_ulam(args) -> int:
-    engine = Ulam(parse_count(args.n, "n", 2), args.restitution, args.initial)
+    engine = Ulam(parse_count(args.n, "n", 2), args.restitution, args.initial,
+                  dimension=parse_int(args.dimension, "dimension"), angular=args.angular,
+                  driving=args.driving)
     return run_engine(engine, args)
 
 
@@ -160,6 +163,13 @@ def _add_ulam(models) -> None:
         "ulam", help="mean-field pseudo-Maxwell (Ulam) model, exact continuous time in τ"
     )
     add_common_options(parser)
+    parser.add_argument("--dimension", default="1",
+                        help="velocity dimension d = 1, 2 or 3 (default 1; d > 1: SPEC §8)")
+    parser.add_argument("--angular", default="uniform",
+                        help="d > 1: collision direction uniform on the sphere ('uniform') or "
+                        "weighted by |g.n| ('hard')")
+    parser.add_argument("--driving", default="0",
+                        help="white-noise heating strength D >= 0 (d = 1; default 0: cooling)")
     parser.set_defaults(handler=_run_ulam)
 
 

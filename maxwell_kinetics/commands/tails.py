@@ -1,0 +1,46 @@
+"""``maxwell-kinetics tail-exponent``: the power-law tail of the scaling solution of the
+d-dimensional inelastic Maxwell model (issue 17).
+
+    maxwell-kinetics tail-exponent --dimension D --restitution R [--angular uniform|hard] [--json]
+
+Prints ``s`` (s* > 1, the nontrivial root of λ(s) = s λ(1)) and ``exponents``: ``density``
+(d + 2s*: the d-dimensional density decays as c^{−d−2s*}), ``speed`` and ``component``
+(1 + 2s*), with the energy decay rate Λ = 2pq⟨η⟩ (:mod:`maxwell_kinetics.tails`).
+"""
+
+from __future__ import annotations
+
+from particles.validation import parse_int
+
+from ..output import emit_json
+from ..tails import tail_exponent
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "tail-exponent", help="tail exponents of the d-dimensional inelastic Maxwell model",
+        description=__doc__.split("\n\n", 1)[1],
+    )
+    p.add_argument("--dimension", default="2", help="1, 2 or 3 (default 2)")
+    p.add_argument("--restitution", "-r", required=True, help="restitution r in [0, 1)")
+    p.add_argument("--angular", default="uniform", help="uniform or hard (default uniform)")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=run)
+
+
+def run(args) -> int:
+    dimension = parse_int(args.dimension, "dimension")
+    tail = tail_exponent(dimension, args.restitution, args.angular)
+    payload = {"dimension": tail.dimension, "restitution": tail.restitution,
+               "angular": tail.angular, "s": tail.s, "decay_rate": tail.decay_rate,
+               "exponents": dict(tail.exponents)}
+    if args.json:
+        emit_json(payload)
+    else:
+        e = tail.exponents
+        print(f"d = {tail.dimension}, r = {tail.restitution:g}, {tail.angular}: s* = {tail.s:.10g}"
+              f"; density ~ c^-{e['density']:.6g}, speed and one component ~ "
+              f"c^-{e['speed']:.6g}; energy decay rate {tail.decay_rate:.6g}")
+    return 0
