@@ -114,6 +114,8 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
 
 
 def plot(c, ax=None):
+    """Four panels (new, or the four axes ``ax``): G(q, τ) against f̂; sup|G − f̂| and d_s with
+    their contraction bounds against τ; M_n/M_2^{n/2}; P(x, τ) on log axes with f and x⁻⁴."""
     d, s = c.data, c.summary
     sol = d["solution"]
     own = ax is None

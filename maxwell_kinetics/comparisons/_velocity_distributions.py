@@ -145,6 +145,8 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
 
 
 def plot(c, ax=None):
+    """Two panels (new, or the two axes ``ax``), early and late: P(x) of each model (seed mean
+    ± standard error) with f(x) and the Gaussian."""
     d = c.data
     edges = d["edges"]
     centres = 0.5 * (edges[1:] + edges[:-1])

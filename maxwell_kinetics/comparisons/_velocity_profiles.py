@@ -99,6 +99,9 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
 
 
 def plot(c, ax=None):
+    """Four panels (new, or the four axes ``ax``): MD v(x), MD v(i), lattice v(i) of the first
+    seed (first 5000 points, with means over 64), and the increment skewness against the
+    coarse-graining scale."""
     d, s = c.data, c.summary
     own = ax is None
     fig, axes = panels(4, ax, width=4.5)
