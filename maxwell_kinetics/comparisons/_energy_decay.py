@@ -134,7 +134,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
             "windows": {k: prm[k] for k in ("md_haff_window", "md_late_window",
                                             "lattice_early_window", "lattice_late_window")},
             "fits": lines, "restitution": r}
-    return Comparison("energy_decay", summary, data)
+    return Comparison(NAME, summary, data)
 
 
 def plot(c, ax=None):

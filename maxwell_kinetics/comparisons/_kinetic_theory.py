@@ -110,7 +110,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     }
     data = {"solution": sol, "bounds": bounds, "distances": dist, "moment_tau": mt,
             "moments": resc, "x": x, "density": dens}
-    return Comparison("kinetic_theory", summary, data)
+    return Comparison(NAME, summary, data)
 
 
 def plot(c, ax=None):

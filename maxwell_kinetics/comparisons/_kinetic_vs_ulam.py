@@ -197,7 +197,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     data = {"cases": cases, "edges": edges, "scan_n": np.asarray(prm["scan_n"]),
             "scan_ks": np.asarray(ks_mean), "scan_ks_error": np.asarray(ks_err),
             "scan_fit": (slope, icpt)}
-    return Comparison("kinetic_vs_ulam", summary, data)
+    return Comparison(NAME, summary, data)
 
 
 def plot(c, ax=None):

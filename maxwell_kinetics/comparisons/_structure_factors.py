@@ -102,7 +102,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     out["md"] = _structure_numbers(k, spec, mean, times, 2.0 / 3.0, zs, x_range, prm, lattice=False)
     data["md"] = {"k": k, "S": mean, "times": times, "z": 2.0 / 3.0}
     summary = {"parameters": jsonable(prm), **out, "seconds": time.perf_counter() - start}
-    return Comparison("structure_factors", summary, data)
+    return Comparison(NAME, summary, data)
 
 
 def _z_minimum(k, spectra, times, zs, x_range) -> tuple[float, bool]:

@@ -81,7 +81,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
         tails.append(_tail_histogram(xs))
     summary = {"parameters": jsonable(prm), "rows": rows,
                "seconds": time.perf_counter() - start}
-    return Comparison("ulam_collapse", summary, {"rows": rows, "histograms": hists,
+    return Comparison(NAME, summary, {"rows": rows, "histograms": hists,
                                                   "shape_histograms": shapes, "tails": tails,
                                                   "edges": edges})
 

@@ -141,7 +141,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
         "seconds": time.perf_counter() - start,
     }
     data = {"edges": edges, "stages": stages}
-    return Comparison("velocity_distributions", summary, data)
+    return Comparison(NAME, summary, data)
 
 
 def plot(c, ax=None):

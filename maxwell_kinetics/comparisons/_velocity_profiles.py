@@ -95,7 +95,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     data = {"md_x": md["positions"][0, j], "md_v": md["snapshots"][0, j],
             "lattice_v": lat["snapshots"][0], "length": length, "md_time": float(md["times"][j]),
             "lattice_tau": float(lat["tau"][0]), "energy": target}
-    return Comparison("velocity_profiles", summary, data)
+    return Comparison(NAME, summary, data)
 
 
 def plot(c, ax=None):
