@@ -62,7 +62,8 @@ def _shape_numbers(v: np.ndarray, edges) -> dict:
                                else np.zeros(dens.shape[1]))}
 
 
-def run(size=None, progress: bool = True, **overrides) -> Comparison:
+def run(size=None, progress: bool = True, checkpoint_dir=None,
+        **overrides) -> Comparison:
     """Comparison 4 (paper Figs. 1a/1b): rescaled P(x), x = (v − ⟨v⟩)/v0, of MD, the lattice and
     the Ulam model at equal energy, early (MD homogeneous) and late (MD inhomogeneous).
 
@@ -82,6 +83,9 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
 
     Numbers per model and stage (mean ± standard error over seeds): kurtosis ⟨x⁴⟩ (Gaussian 3,
     two δ peaks 1, ∞ for f) and the bounded ⟨|x|⟩ (Gaussian 0.798, f 2/π = 0.637, two δ peaks 1).
+
+    ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
+    resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
     """
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
@@ -89,7 +93,8 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     r = prm["restitution"]
     md = md_runs(prm["restitution"], prm["md_n"], prm["delta"],
                  (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
-                 progress=progress)
+                 progress=progress,
+                 checkpoint_dir=checkpoint_dir)
     stages = {}
     for j, stage in enumerate(("early", "late")):
         t = float(md["times"][j])

@@ -35,7 +35,8 @@ PRESETS = {
 }
 
 
-def run(size=None, progress: bool = True, **overrides) -> Comparison:
+def run(size=None, progress: bool = True, checkpoint_dir=None,
+        **overrides) -> Comparison:
     """Comparison 7 (paper Fig. 4): v(x, t) and v(i, t) of MD and v(i, τ) of the lattice at
     equal energy, r = 0.99 — the late (clustered) stage of comparison 4 (MD recorded at
     ``md_t_early`` and ``md_t_late``, the profiles taken at ``md_t_late``).  Preset
@@ -56,13 +57,17 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     large as the variation of the mean flow at t = 3000 (see the figure), and their skewness is
     near zero; the shocks are a property of the coarse-grained (hydrodynamic) field, where the
     paper's sign asymmetry shows up (README, comparison 7, for the measured numbers).
+
+    ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
+    resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
     """
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     r = prm["restitution"]
     md = md_runs(prm["restitution"], prm["md_n"], prm["delta"],
                  (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
-                 progress=progress)
+                 progress=progress,
+                 checkpoint_dir=checkpoint_dir)
     j = 1  # the late stage
     target = float(np.mean(md["energy"][:, j]))
     lat = lattice_at_energy(r, prm["lattice_n"], target, tuple(range(prm["lattice_seeds"])),
