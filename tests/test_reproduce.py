@@ -7,13 +7,36 @@ from __future__ import annotations
 
 import json
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 
-from maxwell_kinetics import comparisons as cmp
+from maxwell_kinetics import comparisons
 from maxwell_kinetics import statistics as st
+from maxwell_kinetics.comparisons import (
+    _energy_decay,
+    _kinetic_vs_ulam,
+    _velocity_distributions,
+    _velocity_profiles,
+    analysis,
+)
 from maxwell_kinetics.exact import f_hat
+from particles.validation import InvalidArgumentError
+
+# The comparisons' public names, plus the internals these tests reach into under the names they
+# had when the comparisons were one module.
+cmp = SimpleNamespace(
+    **{name: getattr(comparisons, name) for name in comparisons.__all__},
+    InvalidArgumentError=InvalidArgumentError,
+    _edges=analysis.bin_edges,
+    _rescaled=analysis.rescaled,
+    _jackknife=analysis.jackknife,
+    _smoothed_comparison=_kinetic_vs_ulam._smoothed_comparison,
+    _ENERGY=_energy_decay.PRESETS,
+    _DISTRIBUTIONS=_velocity_distributions.PRESETS,
+    _PROFILES=_velocity_profiles.PRESETS,
+)
 
 pytestmark = pytest.mark.slow
 

@@ -1,0 +1,109 @@
+"""The comparisons of ``maxwell-kinetics reproduce``: kinetic theory, the paper's figures, and
+kinetic theory against the particle models, each returning numbers and the data of a figure.
+
+Every comparison is a function ``name(size=None, progress=True, **overrides)`` returning a
+:class:`Comparison`: ``summary`` (JSON-able: every fitted exponent and distance with its
+uncertainty, the parameters used, wall-clock seconds) and ``data`` (arrays for the figure,
+drawn by ``Comparison.figure()``).  ``size`` is one of :data:`SIZES`:
+
+``small``    seconds; what the tests and the notebooks (``MAXWELL_KINETICS_SMALL=1``) run;
+``default``  what ``maxwell-kinetics reproduce`` runs (≤ 10 minutes in all on 2 cores);
+``full``     the paper's sizes where affordable (N = 10⁶ for the Ulam model; see each function).
+
+Keyword overrides replace single parameters of the preset (e.g. ``n=20000``).
+
+Statistical conventions: see :mod:`maxwell_kinetics.statistics`.  Uncertainties are one
+standard error; where several independent runs (seeds) exist, they come from the scatter
+between runs, which includes the correlations between the particles of one run.
+
+Layout (imports run downwards only; no module of the package imports this one):
+
+* :mod:`.base` — the :class:`Comparison` record, its file format, sizes and presets;
+* :mod:`.particle_runs` — Ulam, lattice and MD runs through the run driver, cached read-only;
+* :mod:`.kinetic_predictions` — the solver's solutions and predicted bin probabilities;
+* :mod:`.analysis` — estimators on arrays (profiles, S(k) fits, jackknife);
+* :mod:`.drawing` — array-level drawing helpers;
+* one private module per comparison (``_kinetic_theory`` …), each with ``PRESETS``,
+  ``run(size=None, progress=True, **overrides) -> Comparison`` and ``plot(comparison, ax=None)``
+  (draws only; registered so that ``Comparison.figure()`` finds it).
+"""
+
+from __future__ import annotations
+
+from . import (
+    _energy_decay,
+    _kinetic_theory,
+    _kinetic_vs_ulam,
+    _structure_factors,
+    _ulam_collapse,
+    _velocity_distributions,
+    _velocity_profiles,
+)
+from .analysis import (
+    block_means,
+    coarse_increment_skewness,
+    porod_fit,
+    profile_scales,
+    velocity_on_grid,
+)
+from .base import SIZES, Comparison, default_size
+from .kinetic_predictions import (
+    fft_bin_probabilities,
+    kinetic_solution,
+    law_cdf,
+    never_collided_cut,
+    solution_bin_probabilities,
+)
+from .particle_runs import lattice_at_energy, lattice_runs, md_runs, ulam_snapshots
+
+__all__ = [
+    "SIZES",
+    "Comparison",
+    "default_size",
+    "kinetic_theory",
+    "kinetic_vs_ulam",
+    "ulam_collapse",
+    "energy_decay",
+    "structure_factors",
+    "velocity_distributions",
+    "velocity_profiles",
+    "coarse_increment_skewness",
+    "block_means",
+    "velocity_on_grid",
+    "profile_scales",
+    "porod_fit",
+    "lattice_at_energy",
+    "COMPARISONS",
+    "kinetic_solution",
+    "solution_bin_probabilities",
+    "fft_bin_probabilities",
+    "never_collided_cut",
+    "law_cdf",
+    "lattice_runs",
+    "md_runs",
+    "ulam_snapshots",
+    "ABS_MEAN_F",
+    "ABS_MEAN_GAUSSIAN",
+]
+
+kinetic_theory = _kinetic_theory.run
+kinetic_vs_ulam = _kinetic_vs_ulam.run
+ulam_collapse = _ulam_collapse.run
+velocity_distributions = _velocity_distributions.run
+energy_decay = _energy_decay.run
+structure_factors = _structure_factors.run
+velocity_profiles = _velocity_profiles.run
+
+ABS_MEAN_F = _velocity_distributions.ABS_MEAN_F
+ABS_MEAN_GAUSSIAN = _velocity_distributions.ABS_MEAN_GAUSSIAN
+
+#: The comparisons of ``reproduce``, in the order it runs them: name → run function.
+COMPARISONS = {
+    "kinetic_theory": kinetic_theory,
+    "kinetic_vs_ulam": kinetic_vs_ulam,
+    "ulam_collapse": ulam_collapse,
+    "velocity_distributions": velocity_distributions,
+    "energy_decay": energy_decay,
+    "structure_factors": structure_factors,
+    "velocity_profiles": velocity_profiles,
+}

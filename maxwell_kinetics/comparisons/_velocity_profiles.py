@@ -1,0 +1,163 @@
+"""Comparison 7 (paper Fig. 4): the velocity profiles v(x, t), v(i, t) of MD and v(i, τ) of the
+lattice at equal energy, and the sign asymmetry of their large gradients.  ``run`` computes,
+``plot`` draws."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from .analysis import block_means, coarse_increment_skewness, profile_scales, velocity_on_grid
+from .base import Comparison, jsonable, preset, register_plot
+from .drawing import panels
+from .particle_runs import lattice_at_energy, md_runs
+
+__all__ = ["NAME", "PRESETS", "run", "plot"]
+
+NAME = "velocity_profiles"
+
+
+
+#: Comparison 7's own preset.  ``small`` and ``default`` repeat the run parameters of comparison
+#: 4's presets (same MD and lattice runs, shared through the run cache within one
+#: process); ``full`` is the paper's Fig. 4 size, N = 2·10⁴ for MD and the lattice, with 8 seeds
+#: (comparison 4's ``full`` uses N = 10⁵ and 10⁶).
+PRESETS = {
+    "small": {"restitution": 0.99, "delta": 1e-4, "md_n": 2000, "md_seeds": 4,
+              "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 2000, "lattice_seeds": 4},
+    "default": {"restitution": 0.99, "delta": 1e-4, "md_n": 20_000, "md_seeds": 4,
+                "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 20_000,
+                "lattice_seeds": 4},
+    "full": {"restitution": 0.99, "delta": 1e-4, "md_n": 20_000, "md_seeds": 8,
+             "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 20_000, "lattice_seeds": 8},
+}
+
+
+def run(size=None, progress: bool = True, checkpoint_dir=None,
+        **overrides) -> Comparison:
+    """Comparison 7 (paper Fig. 4): v(x, t) and v(i, t) of MD and v(i, τ) of the lattice at
+    equal energy, r = 0.99 — the late (clustered) stage of comparison 4 (MD recorded at
+    ``md_t_early`` and ``md_t_late``, the profiles taken at ``md_t_late``).  Preset
+    :data:`PRESETS`: N = 2·10⁴ at the default and full sizes (the paper's Fig. 4), 4 seeds at
+    the default size (the runs of comparison 4, shared within one process) and 8 at full size.
+
+    Shocks and pre-shocks, quantified by the sign asymmetry of the large gradients (paper:
+    v(x, t) has large negative gradients, v(i, t) large positive ones):
+
+    * MD v(x): the rods' velocities interpolated linearly in x (periodic) on a uniform grid of
+      spacing L/N; increments between grid points;
+    * MD v(i) and lattice v(i): increments between neighbouring labels (sites).
+
+    For each, the skewness of the increments per run, mean ± standard error over seeds
+    (``increment_skewness``), and the same after coarse-graining over m = 1, 4, 16, … ≤ N/64
+    labels, sites or grid spacings (``coarse_skewness``, :func:`coarse_increment_skewness`).
+    The raw MD increments (m = 1) are dominated by the scatter of neighbouring velocities, as
+    large as the variation of the mean flow at t = 3000 (see the figure), and their skewness is
+    near zero; the shocks are a property of the coarse-grained (hydrodynamic) field, where the
+    paper's sign asymmetry shows up (README, comparison 7, for the measured numbers).
+
+    ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
+    resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
+    """
+    start = time.perf_counter()
+    prm = preset(PRESETS, size, overrides)
+    r = prm["restitution"]
+    md = md_runs(prm["restitution"], prm["md_n"], prm["delta"],
+                 (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
+                 progress=progress,
+                 checkpoint_dir=checkpoint_dir)
+    j = 1  # the late stage
+    target = float(np.mean(md["energy"][:, j]))
+    lat = lattice_at_energy(r, prm["lattice_n"], target, tuple(range(prm["lattice_seeds"])),
+                            progress=progress)
+    length = prm["md_n"] / 1.0  # density 1
+    profiles = {
+        "md_vx": [velocity_on_grid(x, v, length)
+                  for x, v in zip(md["positions"][:, j], md["snapshots"][:, j], strict=True)],
+        "md_vi": list(md["snapshots"][:, j]),
+        "lattice_vi": list(lat["snapshots"]),
+    }
+    md_scales = profile_scales(prm["md_n"])
+    scales = {"md_vx": md_scales, "md_vi": md_scales,
+              "lattice_vi": profile_scales(prm["lattice_n"])}
+
+    def mean_sem(a):
+        return [float(a.mean()), float(a.std(ddof=1) / math.sqrt(a.size)) if a.size > 1 else None]
+
+    out, coarse = {}, {}
+    for k, runs in profiles.items():
+        table = np.array([[coarse_increment_skewness(v, m) for m in scales[k]] for v in runs])
+        out[k] = {"skewness": mean_sem(table[:, 0]), "per_run": table[:, 0].tolist()}
+        coarse[k] = {"scales": list(scales[k]),
+                     "skewness": [mean_sem(table[:, q]) for q in range(len(scales[k]))],
+                     "per_run": table.tolist()}
+    summary = {"parameters": jsonable(prm), "md_time": float(md["times"][j]),
+               "energy": target, "lattice_tau": lat["tau"].tolist(),
+               "lattice_energy": lat["energy"].tolist(), "increment_skewness": out,
+               "coarse_skewness": coarse, "seconds": time.perf_counter() - start}
+    data = {"md_x": md["positions"][0, j], "md_v": md["snapshots"][0, j],
+            "lattice_v": lat["snapshots"][0], "length": length, "md_time": float(md["times"][j]),
+            "lattice_tau": float(lat["tau"][0]), "energy": target}
+    return Comparison(NAME, summary, data)
+
+
+def plot(c, ax=None):
+    """Four panels (new, or the four axes ``ax``): MD v(x), MD v(i), lattice v(i) of the first
+    seed (first 5000 points, with means over 64), and the increment skewness against the
+    coarse-graining scale."""
+    d, s = c.data, c.summary
+    own = ax is None
+    fig, axes = panels(4, ax, width=4.5)
+    a, b, e, f = axes
+    n = d["md_v"].size
+    n_show = min(5000, n)
+    coarse = s.get("coarse_skewness")
+    m = 64 if n >= 64 * 64 else 1  # the overlaid block means
+    grid = np.arange(n) * (d["length"] / n)
+    vx = velocity_on_grid(d["md_x"], d["md_v"], d["length"])
+    curves = ((a, grid, vx, "C0"), (b, np.arange(n), d["md_v"], "C0"),
+              (e, np.arange(d["lattice_v"].size), d["lattice_v"], "C1"))
+    for ax, xs, vs, color in curves:
+        ax.plot(xs[:n_show], vs[:n_show], ".-", ms=1, lw=0.3, color=color, alpha=0.6)
+        if m > 1:
+            ax.plot(block_means(xs[:n_show], m), block_means(vs[:n_show], m), "k-", lw=1.2,
+                    label=f"means of {m}")
+            ax.legend(fontsize=7, loc="lower right")
+    sk = s["increment_skewness"]
+
+    def title(key):
+        raw = f"raw skewness {sk[key]['skewness'][0]:.2f}"
+        if coarse is None or len(coarse[key]["scales"]) < 2:
+            return raw
+        top = coarse[key]
+        return f"{raw}, m={top['scales'][-1]}: {top['skewness'][-1][0]:+.2f}"
+
+    a.set(xlabel="x (grid of spacing L/N)", ylabel="v",
+          title=f"MD v(x, t={d['md_time']:g})\n{title('md_vx')}")
+    b.set(xlabel="label i", ylabel="v", title=f"MD v(i, t)\n{title('md_vi')}")
+    e.set(xlabel="site i", ylabel="v",
+          title=f"lattice v(i, τ={d['lattice_tau']:.0f})\n{title('lattice_vi')}")
+    if coarse is not None:
+        labels = {"md_vx": ("MD v(x)", "C0", "s"), "md_vi": ("MD v(i)", "C2", "o"),
+                  "lattice_vi": ("lattice v(i)", "C1", "^")}
+        for key, (label, color, marker) in labels.items():
+            ms_ = np.asarray(coarse[key]["scales"], dtype=float)
+            val = np.array([v for v, _ in coarse[key]["skewness"]])
+            err = np.array([0.0 if e_ is None else e_ for _, e_ in coarse[key]["skewness"]])
+            f.errorbar(ms_, val, yerr=err, color=color, marker=marker, ms=4, capsize=2,
+                       label=label)
+        f.axhline(0.0, color="k", lw=0.5)
+        f.set(xscale="log", xlabel="coarse-graining m (labels, sites, L/N)",
+              ylabel="skewness of increments",
+              title="sign of the large gradients\n(mean ± s.e. over seeds)")
+        f.legend(fontsize=7)
+    else:
+        f.set_axis_off()
+    if own:
+        fig.tight_layout()
+    return fig
+
+
+register_plot(NAME, plot)

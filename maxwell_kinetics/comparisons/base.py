@@ -1,0 +1,197 @@
+"""The record every comparison returns (:class:`Comparison`), its file format, and the presets.
+
+A comparison's result is ``name``, a JSON-able ``summary`` and the figure ``data``.
+:meth:`Comparison.save` writes it through :mod:`particles.persistence` (kind ``"comparison"``)
+as the arrays of ``data`` plus a JSON skeleton of everything else; :meth:`Comparison.load` reads
+it back, and :meth:`Comparison.figure` redraws the figure with the ``plot`` that the comparison's
+module registered under its name (:func:`register_plot`).
+
+Sizes (:data:`SIZES`): ``small`` (seconds; the tests and notebooks), ``default`` (what
+``maxwell-kinetics reproduce`` runs), ``full`` (the paper's sizes where affordable).  Each
+comparison has one preset per size; :func:`preset` applies keyword overrides to it.
+
+This module imports nothing from the rest of the package.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import math
+import os
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from particles import persistence
+from particles.validation import InvalidArgumentError
+
+from .. import statistics as st
+
+__all__ = [
+    "SIZES",
+    "Comparison",
+    "default_size",
+    "preset",
+    "jsonable",
+    "register_plot",
+]
+
+
+SIZES = ("small", "default", "full")
+
+
+def default_size() -> str:
+    """``small`` when the environment variable ``MAXWELL_KINETICS_SMALL`` is set to a non-empty
+    value other than ``0`` (tests, notebooks in CI), else ``default``."""
+    flag = os.environ.get("MAXWELL_KINETICS_SMALL", "")
+    return "small" if flag not in ("", "0") else "default"
+
+
+#: Version of the saved Comparison format (3: particles.persistence, hashed; 2 still loads).
+_COMPARISON_VERSION = 3
+
+
+#: ``plot(comparison, ax=None) -> Figure`` of each comparison, by name (see :func:`register_plot`).
+_PLOTS: dict[str, Callable] = {}
+
+
+def register_plot(name: str, plot: Callable) -> None:
+    """Make ``plot(comparison, ax=None)`` the figure of the comparisons called ``name``.
+
+    Each comparison module registers its own ``plot`` when it is imported (the package imports
+    all of them), so that a :class:`Comparison` read from a file can draw itself without this
+    module importing the comparisons."""
+    _PLOTS[name] = plot
+
+
+@dataclass
+class Comparison:
+    """Result of one comparison: ``name``, JSON-able ``summary``, figure ``data``.
+
+    :meth:`save` writes both to one ``.npz`` file (no pickle) and :meth:`load` reads it back, so
+    a figure can be redrawn without running the comparison again:
+    ``Comparison.load("results/ulam_collapse.npz").figure()``.
+    """
+
+    name: str
+    summary: dict
+    data: dict = field(default_factory=dict, repr=False)
+
+    def figure(self, ax=None):
+        """The comparison's figure (a matplotlib ``Figure``), drawn by the comparison's ``plot``
+        on new axes or on ``ax`` (a sequence with one axis per panel)."""
+        if self.name not in _PLOTS:
+            raise InvalidArgumentError("name", self.name, "one of " + ", ".join(_PLOTS))
+        return _PLOTS[self.name](self, ax)
+
+    def save(self, path) -> None:
+        """Save to ``path`` through :mod:`particles.persistence` (kind ``"comparison"``): the
+        arrays of ``data`` as entries, everything else as a JSON skeleton that records dict
+        keys, tuples, non-finite floats and the records of this package (histogram
+        comparisons, solver solutions) exactly."""
+        arrays: dict[str, np.ndarray] = {}
+        meta = {"name": self.name, "summary": _encode(self.summary, arrays),
+                "data": _encode(self.data, arrays)}
+        persistence.save(path, "comparison", _COMPARISON_VERSION, arrays, meta)
+
+    @classmethod
+    def load(cls, path) -> Comparison:
+        """Read a file written by :meth:`save` (also of version 0.1.0); a file that is not one
+        raises :class:`~particles.persistence.FileFormatError` naming ``path``."""
+        expected = "a file written by Comparison.save"
+        loaded = persistence.load(path, "comparison", (2, _COMPARISON_VERSION), expected=expected)
+        skeleton, arrays = loaded.meta, loaded.arrays
+        try:
+            return cls(skeleton["name"], _decode(skeleton["summary"], arrays),
+                       _decode(skeleton["data"], arrays))
+        except (ValueError, KeyError, TypeError) as exc:
+            raise persistence.FileFormatError(
+                path, f"{type(exc).__name__}: {exc}", "path", expected
+            ) from None
+
+
+def _encode(obj, arrays: dict):
+    """JSON skeleton of ``obj``; arrays go to ``arrays`` under fresh keys."""
+    from ..solver import Solution  # JAX: imported only when a solution may be saved
+
+    if obj is None or isinstance(obj, (bool, str)):
+        return obj
+    if isinstance(obj, (int, np.integer)):
+        return int(obj)
+    if isinstance(obj, (float, np.floating)):
+        return float(obj) if math.isfinite(obj) else {"__float__": repr(float(obj))}
+    if isinstance(obj, np.ndarray):
+        key = f"a{len(arrays)}"
+        arrays[key] = obj
+        return {"__array__": key}
+    if isinstance(obj, dict):
+        return {"__dict__": [[_encode(k, arrays), _encode(v, arrays)] for k, v in obj.items()]}
+    if isinstance(obj, (list, tuple)):
+        items = [_encode(v, arrays) for v in obj]
+        return {"__tuple__": items} if isinstance(obj, tuple) else items
+    if isinstance(obj, st.HistogramComparison):
+        fields = {f.name: getattr(obj, f.name) for f in dataclasses.fields(obj)}
+        return {"__histogram__": _encode(fields, arrays)}
+    if isinstance(obj, Solution):
+        meta, record = obj.to_record()
+        return {"__solution__": {"meta": meta, "arrays": _encode(record, arrays)}}
+    raise TypeError(f"cannot save an object of type {type(obj).__name__}")
+
+
+def _decode(node, arrays: dict):
+    if isinstance(node, list):
+        return [_decode(v, arrays) for v in node]
+    if not isinstance(node, dict):
+        return node
+    if "__array__" in node:
+        return arrays[node["__array__"]]
+    if "__float__" in node:
+        return float(node["__float__"])
+    if "__dict__" in node:
+        return {_decode(k, arrays): _decode(v, arrays) for k, v in node["__dict__"]}
+    if "__tuple__" in node:
+        return tuple(_decode(v, arrays) for v in node["__tuple__"])
+    if "__histogram__" in node:
+        return st.HistogramComparison(**_decode(node["__histogram__"], arrays))
+    if "__solution__" in node:
+        from ..solver import Solution  # JAX: imported only when a solution is read
+
+        inner = node["__solution__"]
+        if isinstance(inner, dict) and "meta" in inner:
+            return Solution.from_record(inner["meta"], _decode(inner["arrays"], arrays))
+        # version 2 (0.1.0) kept the solution as the bytes of its own .npz file
+        blob = io.BytesIO(_decode(inner, arrays).tobytes())
+        return Solution.load(blob)
+    raise ValueError(f"unknown node {sorted(node)}")
+
+
+def preset(presets: dict, size: str | None, overrides: dict) -> dict:
+    """The parameters of ``presets[size]`` (``size`` None: :func:`default_size`) with the keyword
+    ``overrides`` applied and ``"size"`` added; an unknown size or parameter raises
+    :class:`~particles.validation.InvalidArgumentError`."""
+    size = default_size() if size is None else size
+    if size not in presets:
+        raise InvalidArgumentError("size", size, "one of " + ", ".join(SIZES))
+    params = dict(presets[size])
+    unknown = set(overrides) - set(params)
+    if unknown:
+        raise InvalidArgumentError(
+            "overrides", sorted(unknown), "parameters among " + ", ".join(sorted(params))
+        )
+    params.update(overrides)
+    params["size"] = size
+    return params
+
+
+def jsonable(params: dict) -> dict:
+    """``params`` with arrays as lists and tuples (of tuples) as lists (of lists), for a summary."""
+    out = {}
+    for k, v in params.items():
+        if isinstance(v, np.ndarray):
+            v = v.tolist()
+        elif isinstance(v, tuple):
+            v = [list(x) if isinstance(x, tuple) else x for x in v]
+        out[k] = v
+    return out

@@ -1,0 +1,253 @@
+"""Runs of the particle models for the comparisons: Ulam, lattice and MD through the run driver
+(:func:`particles.driver.simulate`), and lattice runs stopped at a given energy.
+
+Lattice and MD runs are cached per arguments for the life of the process, so that comparisons
+of one ``reproduce`` run share them (comparisons 4 and 7 share their MD and lattice runs, 5 and
+6 their MD runs).  Each run records only what some comparison uses, and what a cached run hands
+out is read-only: every array has ``flags.writeable = False`` and each call returns a new dict,
+so no caller can change what the next one gets.
+
+Each run is one seed: ``np.random.default_rng(seed)`` drives it (MD: the initial state only).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from particles import md
+from particles.driver import simulate
+from particles.lattice import Lattice
+from particles.progress import progress_bar
+from particles.ulam import Ulam
+
+__all__ = [
+    "ulam_snapshots",
+    "lattice_runs",
+    "lattice_at_energy",
+    "md_runs",
+    "md_record_times",
+    "clear_run_cache",
+]
+
+_RUNS: dict = {}
+
+#: Stop grid of the MD runs (units of t): how often the driver may checkpoint and update its
+#: progress.  Stops change no result (the MD advance is exact across them); each costs O(N)
+#: (the pair predictions are rebuilt), so the engine's default of 1 made an N = 2000 run to
+#: t = 3000 about 1.7x slower than advancing straight to the requested times (measured, loaded
+#: machine).
+MD_STOP_STEP = 10.0
+
+
+def clear_run_cache() -> None:
+    """Forget every cached lattice and MD run (the next call runs again)."""
+    _RUNS.clear()
+
+
+def _read_only(value):
+    """``value`` with every array in it (also in tuples) made read-only, in place."""
+    if isinstance(value, np.ndarray):
+        value.flags.writeable = False
+    elif isinstance(value, tuple):
+        for v in value:
+            _read_only(v)
+    return value
+
+
+def _cached(key, compute) -> dict:
+    """A new dict of the cached run ``key`` (computed by ``compute()`` on the first call), whose
+    arrays are read-only."""
+    if key not in _RUNS:
+        _RUNS[key] = {k: _read_only(v) for k, v in compute().items()}
+    return dict(_RUNS[key])
+
+
+def ulam_snapshots(restitution, law, n, taus, seeds, progress=False) -> np.ndarray:
+    """Velocities of Ulam runs: array (len(taus), len(seeds), n), one run per seed (not
+    cached: a new array each call)."""
+    engine = Ulam(int(n), restitution, law)
+    out = np.empty((len(taus), len(seeds), int(n)))
+    for j, seed in enumerate(seeds):
+        res = simulate(engine, taus, int(seed), progress=progress, snapshots=True)
+        out[:, j, :] = res.snapshots
+    return out
+
+
+def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", progress=False,
+                 *, structure=False, snapshots=False) -> dict:
+    """Lattice runs (one per seed) recorded at ``times`` (τ): ``times`` (T,), ``energy`` (R, T),
+    ``seconds``; with ``structure=True`` also ``k`` and ``structure`` (R, T, ⌊N/2⌋+1), S(k) of
+    :func:`particles.observables.structure_factor`; with ``snapshots=True`` ``snapshots``
+    (R, T, N).  Cached per arguments (read-only)."""
+    key = ("lattice", restitution, n, tuple(times), tuple(seeds), constraint, law,
+           bool(structure), bool(snapshots))
+
+    def compute():
+        engine = Lattice(int(n), restitution, law, constraint)
+        res = [simulate(engine, list(times), int(s), progress=progress,
+                        structure_factor=bool(structure), snapshots=bool(snapshots))
+               for s in seeds]
+        out = {"times": np.asarray(times, dtype=float),
+               "energy": np.array([r.energy for r in res]),
+               "seconds": float(sum(r.seconds for r in res))}
+        if structure:
+            out["k"] = res[0].structure[0]
+            out["structure"] = np.array([r.structure[1] for r in res])
+        if snapshots:
+            out["snapshots"] = np.array([r.snapshots for r in res])
+        return out
+
+    return _cached(key, compute)
+
+
+class _MDRun:
+    """The MD engine as the run driver sees it (same name and parameters, so its checkpoints
+    are those of any MD run), also keeping the rods' positions at the requested times: the
+    driver records velocities only.  ``positions[j]`` is set when the driver records time j
+    (``observe``); a state rebuilt from a checkpoint (``state_from_arrays``) gives the positions
+    of the time it was saved at, so the last requested time always has them."""
+
+    def __init__(self, engine: md.MDEngine, times):
+        self.engine = engine
+        self.name = engine.name
+        self.time_name = engine.time_name
+        self.times = [float(t) for t in times]
+        self.positions = np.full((len(self.times), engine.p.n), np.nan)
+
+    def params(self) -> dict:
+        return self.engine.params()
+
+    def next_stop(self, time: float) -> float:
+        return self.engine.next_stop(time)
+
+    def initial_state(self, rng):
+        return self.engine.initial_state(rng)
+
+    def advance(self, state, until, rng=None):
+        return self.engine.advance(state, until, rng)
+
+    def _keep(self, state) -> None:
+        if state.time in self.times:
+            self.positions[self.times.index(state.time)] = md.rod_positions(state, self.engine.p)
+
+    def state_from_arrays(self, arrays):
+        state = self.engine.state_from_arrays(arrays)
+        self._keep(state)
+        return state
+
+    def observe(self, state) -> dict[str, float]:
+        self._keep(state)
+        return self.engine.observe(state)
+
+
+def md_record_times(t_max) -> tuple[float, ...]:
+    """The times at which comparisons 5 and 6 record their MD runs (36 geometric points on
+    [0.05, ``t_max``], rounded to 6 digits): one list, so that the two share the runs."""
+    return tuple(float(t) for t in np.round(np.geomspace(0.05, t_max, 36), 6))
+
+
+def _checkpoint_path(directory, prm: md.MDParams, times, seed) -> Path:
+    """A checkpoint file of its own for each MD run: parameters, seed and a hash of the times."""
+    digest = hashlib.sha256(json.dumps([float(t) for t in times]).encode()).hexdigest()[:12]
+    return Path(directory) / (f"md_n{prm.n}_r{prm.restitution:g}_d{prm.delta:g}_{prm.initial}"
+                              f"_seed{int(seed)}_{digest}.npz")
+
+
+def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
+            checkpoint_dir=None) -> dict:
+    """Event-driven MD runs (density 1, one per seed) recorded at ``times`` (t): ``energy`` and
+    ``tau`` (collisions per particle) (R, T), ``snapshots`` (R, T, N) of v(i), ``positions``
+    (R, T, N) of the rods in [0, L), ``seconds``.  Cached per arguments (read-only).
+
+    Each run goes through the run driver :func:`particles.driver.simulate` with a
+    :class:`particles.md.MDEngine` (stops every :data:`MD_STOP_STEP` of t; stopping changes
+    nothing, bit for bit).  With ``checkpoint_dir`` (an existing folder) each run checkpoints
+    to a file of its own there and resumes from it when it exists (a finished run is read back,
+    not run again);
+    the positions of the times recorded before a resumed checkpoint are then NaN (the driver's
+    checkpoint holds velocities only), those of the last time always exist."""
+    key = ("md", restitution, n, delta, tuple(times), tuple(seeds), law)
+
+    def compute():
+        prm = md.MDParams(n=int(n), density=1.0, restitution=restitution, delta=delta,
+                          initial=law)
+        t_all = np.asarray(times, dtype=float)
+        energy = np.empty((len(seeds), t_all.size))
+        tau = np.empty_like(energy)
+        snaps = np.empty((len(seeds), t_all.size, int(n)))
+        pos = np.empty_like(snaps)
+        seconds = 0.0
+        for i, seed in enumerate(seeds):
+            run = _MDRun(md.MDEngine(prm, stop_step=MD_STOP_STEP), t_all)
+            path = resume = None
+            if checkpoint_dir is not None:
+                path = _checkpoint_path(checkpoint_dir, prm, t_all, seed)
+                resume = path if path.exists() else None
+            res = simulate(run, t_all, int(seed), progress=progress, snapshots=True,
+                           checkpoint=path, resume=resume)
+            energy[i] = res.energy
+            tau[i] = res.extras["collisions_per_particle"]
+            snaps[i] = res.snapshots
+            pos[i] = run.positions
+            seconds += res.seconds
+        return {"times": t_all, "energy": energy, "tau": tau, "snapshots": snaps,
+                "positions": pos, "seconds": seconds}
+
+    return _cached(key, compute)
+
+
+def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gaussian",
+                      progress=False) -> dict:
+    """Lattice runs (one per seed) stopped at the τ where each run's energy equals ``target``.
+
+    Each run advances on a geometric grid of τ (ratio 1.25) until E ≤ target; τ* is interpolated
+    linearly in (ln τ, ln E) between the two bracketing points (E is non-increasing: collisions
+    only dissipate), and the run continues from the earlier point to τ* with the same random
+    stream (exact: the state is Markov and the later draws are independent of the earlier ones).
+    Returns ``tau`` (R,), ``energy`` (R,) reached, ``snapshots`` (R, N), the ``traces`` (a tuple
+    of (τ, E) arrays) and ``seconds``.  Cached per arguments (read-only)."""
+    key = ("lattice_at_energy", restitution, n, float(target), tuple(seeds), constraint, law)
+
+    def compute():
+        engine = Lattice(int(n), restitution, law, constraint)
+        start = time.perf_counter()
+        taus, energies, snaps, traces = [], [], [], []
+        with progress_bar(len(seeds), f"lattice r={restitution:g} E={target:.2g}", "run",
+                          enabled=progress) as bar:
+            for seed in seeds:
+                rng = np.random.default_rng(int(seed))
+                state = engine.initial_state(rng)
+                trace = [(0.0, float(np.mean(state.velocities ** 2)))]
+                prev = state
+                tau = 1.0
+                while True:
+                    new = engine.advance(prev, tau, rng)
+                    e = float(np.mean(new.velocities ** 2))
+                    trace.append((tau, e))
+                    if e <= target:
+                        break
+                    prev = new
+                    tau *= 1.25
+                (ta, ea), (tb, eb) = trace[-2], trace[-1]
+                if ta <= 0.0 or ea <= eb:
+                    t_star = tb
+                else:
+                    w = (math.log(ea) - math.log(target)) / (math.log(ea) - math.log(eb))
+                    t_star = math.exp(math.log(ta) + w * (math.log(tb) - math.log(ta)))
+                final = engine.advance(prev, max(t_star, prev.time), rng) if ta > 0 else new
+                taus.append(final.time)
+                energies.append(float(np.mean(final.velocities ** 2)))
+                snaps.append(final.velocities)
+                traces.append(np.array(trace))
+                bar.update(1)
+        return {"tau": np.array(taus), "energy": np.array(energies),
+                "snapshots": np.array(snaps), "traces": tuple(traces),
+                "seconds": time.perf_counter() - start}
+
+    return _cached(key, compute)
