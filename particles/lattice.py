@@ -16,6 +16,26 @@ Attempts on disjoint sites commute, so this applies exactly the updates of proce
 attempts one by one in time order (:func:`run_clocks_sequential`) — bit for bit, given the same
 clock increments (:func:`run_clocks` with an explicit increment source).
 
+Rate ∝ |Δ| (``rate="relative_velocity"``).  In hard-rod MD a neighbouring pair collides at a
+rate ∝ |Δ| = |v_i − v_{i+1}|; this variant gives bond b the collision rate |Δ_b| (with the
+constraint: Δ_b = v_b − v_{b+1} when it is > 0, else 0) per unit of a time t.  This is exactly
+MD's rate at t = 0⁺ for Poisson positions of density 1 (a gap has density 1 at 0, so a pair
+meets at rate (v_i − v_{i+1})₊), so t is the time of MD at density 1 and Haff's t₀ agrees
+initially.  Collisions per particle are τ = 2·collisions/N (``state.collisions``).  It runs in
+the same clock scheme by thinning: every bond's clock ticks at a common rate R ≥ max_b |Δ_b|,
+and a tick collides only if U·R < Δ_b (with the constraint; < |Δ_b| without it), U uniform on
+[0, 1) drawn at the tick — the accepted ticks are then a Poisson process of rate |Δ_b| (resp.
+Δ_b⁺) given the velocities, which is the variant exactly.  Velocities stay in the range of the
+current ones forever (SPEC §1), so R = (max v − min v)(1 + 1e-9) taken at the start of each
+:meth:`Lattice.advance` bounds every |Δ| for all later times (the factor covers round-off at the
+ulp level).  When R changes between calls, the pending clocks are rescaled,
+c ← t + (c − t)·R_old/R_new: by memorylessness the residual waits are independent Exp(R_old),
+independent of the past, so the rescaled ones are independent Exp(R_new) (exact, no draws).
+The state carries R (``attempt_rate``).  Exact initial cooling from uncorrelated Gaussian data
+of variance T (derived in the tests): with the constraint dT/dt = −(2/√π)(1 − r²)T^{3/2} and
+dτ/dt = 2√(T/π), so dT/dτ = −(1 − r²)T, MD's values (SPEC §4); without it dT/dt and dτ/dt
+double and dT/dτ is the same.  (Constant rate, in collisions per particle: −(1 − r²)T/2.)
+
 Stops.  The driver stops every ``stop_step`` = 4 in τ (long windows amortise the last, sparse
 passes: measured 2.5e7 attempts/s for windows of 1, 3.5e7 for 4, N = 1e6); the passes depend on
 the stop points, which are a fixed grid, so runs are reproducible and resumable bit for bit.
@@ -23,6 +43,7 @@ the stop points, which are a fixed grid, so runs are reproducible and resumable 
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import ClassVar
@@ -38,6 +59,8 @@ __all__ = [
     "Lattice",
     "LatticeState",
     "LatticeDiscreteReference",
+    "RATES",
+    "thinning_bound",
     "run_clocks",
     "run_clocks_sequential",
 ]
@@ -45,26 +68,38 @@ __all__ = [
 #: Clock increments for the bonds ``bonds`` (int array), in the order given.
 IncrementSource = Callable[[np.ndarray], np.ndarray]
 
+#: Collision-rate laws of :class:`Lattice`: every bond at rate 1 per unit τ, or at rate |Δ|.
+RATES = ("constant", "relative_velocity")
+
+#: Relative margin of the thinning bound R over max v − min v (covers ulp-level round-off).
+RATE_BOUND_MARGIN = 1e-9
+
 
 @dataclass(frozen=True)
 class LatticeState:
-    """Lattice state at τ = ``time``: site velocities, each bond's next attempt time
-    (``clocks[b]`` ≥ time, for bond (b, b+1)), total collisions and total attempts."""
+    """Lattice state at ``time`` (τ, or t for the rate-|Δ| variant): site velocities, each
+    bond's next attempt time (``clocks[b]`` ≥ time, for bond (b, b+1)), total collisions and
+    total attempts; ``attempt_rate`` is the clocks' common rate R of the rate-|Δ| variant
+    (``None`` for the constant-rate model, whose clocks have rate 1)."""
 
     time: float
     velocities: np.ndarray = field(repr=False)
     clocks: np.ndarray = field(repr=False)
     collisions: int = 0
     attempts: int = 0
+    attempt_rate: float | None = None
 
     def to_arrays(self) -> dict[str, np.ndarray]:
-        return {
+        arrays = {
             "time": np.array(self.time, dtype=float),
             "velocities": self.velocities,
             "clocks": self.clocks,
             "collisions": np.array(self.collisions, dtype=np.int64),
             "attempts": np.array(self.attempts, dtype=np.int64),
         }
+        if self.attempt_rate is not None:
+            arrays["attempt_rate"] = np.array(self.attempt_rate, dtype=float)
+        return arrays
 
     @classmethod
     def from_arrays(cls, arrays, n: int) -> LatticeState:
@@ -76,12 +111,18 @@ class LatticeState:
         if not np.all(np.isfinite(c) & (c >= time)):
             # every pending attempt is at or after the state's time
             raise ValueError(f"clocks must be finite and >= time={time!r}")
+        rate = None
+        if "attempt_rate" in arrays:
+            rate = float(arrays["attempt_rate"])
+            if not (math.isfinite(rate) and rate > 0.0):
+                raise ValueError(f"attempt_rate={rate!r}, expected a finite number > 0")
         return cls(
             time,
             v.copy(),
             c.copy(),
             int(arrays["collisions"]),
             int(arrays["attempts"]),
+            rate,
         )
 
 
@@ -93,12 +134,20 @@ def run_clocks(
     constraint: bool,
     increments: IncrementSource,
     sparse_ratio: int = 16,
+    *,
+    marks: IncrementSource | None = None,
+    rate_bound: float = 1.0,
 ) -> tuple[int, int, int]:
     """Fire, in place, every bond attempt earlier than ``until`` (the vectorized scheme).
 
     ``v`` and ``clocks`` are float64 arrays of length N ≥ 3, modified in place;
     ``increments(bonds)`` returns the next waiting time of each bond in ``bonds`` (fresh Exp(1)
     draws in a run).  Returns ``(attempts, collisions, passes)``.
+
+    Rate-|Δ| thinning: with ``marks`` given, a fired bond b draws ``u = marks([b])`` (uniform on
+    [0, 1) in a run, drawn before the increments of the same pass) and collides iff
+    ``u * rate_bound < Δ`` with the constraint, ``< |Δ|`` without it, Δ = v_b − v_{b+1}
+    (the caller keeps ``rate_bound`` ≥ every |Δ| and draws the increments at that rate).
 
     Each pass compares every bond's clock with ``until`` and with both neighbours (contiguous
     sweeps).  Once a pass fires fewer than N/``sparse_ratio`` bonds, the bonds still pending
@@ -141,7 +190,13 @@ def run_clocks(
         va = v[bonds]
         vb = v[sites]
         d = va - vb
-        if constraint:
+        if marks is not None:
+            threshold = marks(bonds) * rate_bound
+            accept = threshold < (d if constraint else np.abs(d))
+            d *= p
+            d *= accept  # exact: a rejected tick gets d = ±0, so va - d == va
+            collisions += int(np.count_nonzero(accept))
+        elif constraint:
             approach = d > 0
             d *= p
             d *= approach  # exact: a non-approaching pair gets d = 0, so va - d == va
@@ -177,10 +232,14 @@ def run_clocks_sequential(
     p: float,
     constraint: bool,
     increments: IncrementSource,
+    *,
+    marks: IncrementSource | None = None,
+    rate_bound: float = 1.0,
 ) -> tuple[int, int]:
     """Reference for :func:`run_clocks`: the same clocks, one attempt at a time in time order
-    (always the bond with the smallest next time, ties to the smaller index), in pure Python.
-    Returns ``(attempts, collisions)``; modifies ``v`` and ``clocks`` in place."""
+    (always the bond with the smallest next time, ties to the smaller index), in pure Python,
+    with the same rate-|Δ| thinning when ``marks`` is given (one mark per attempt, then its
+    increment).  Returns ``(attempts, collisions)``; modifies ``v`` and ``clocks`` in place."""
     import heapq
 
     n = v.size
@@ -191,7 +250,13 @@ def run_clocks_sequential(
     while heap[0][0] < until:
         t, b = heapq.heappop(heap)
         a, s = b, (b + 1) % n
-        if not constraint or vel[a] > vel[s]:
+        if marks is not None:
+            threshold = float(marks(np.array([b]))[0]) * rate_bound
+            delta = vel[a] - vel[s]
+            go = threshold < (delta if constraint else abs(delta))
+        else:
+            go = not constraint or vel[a] > vel[s]
+        if go:
             vel[a], vel[s] = collide_scalar(vel[a], vel[s], p)
             collisions += 1
         attempts += 1
@@ -205,12 +270,18 @@ def run_clocks_sequential(
 @dataclass(frozen=True)
 class Lattice:
     """Exact vectorized lattice engine: ``n`` ≥ 3 sites on a ring, restitution ``restitution``,
-    initial law ``initial``, kinematic constraint on unless ``constraint=False``.  Time is τ."""
+    initial law ``initial``, kinematic constraint on unless ``constraint=False``.
+
+    ``rate="constant"`` (default, the paper's model): every bond attempts at rate 1, time is τ
+    (N attempts per unit τ).  ``rate="relative_velocity"``: bond b collides at rate |Δ_b| (only
+    approaching pairs with the constraint), time is t, MD's time at density 1; collisions per
+    particle are 2·collisions/N (module docstring)."""
 
     n: int
     restitution: float
     initial: str = "gaussian"
     constraint: bool = True
+    rate: str = "constant"
     name: ClassVar[str] = "lattice"
     stop_step: ClassVar[float] = 4.0
 
@@ -224,29 +295,50 @@ class Lattice:
         if not isinstance(self.constraint, (bool, np.bool_)):
             raise InvalidArgumentError("constraint", self.constraint, "True or False")
         object.__setattr__(self, "constraint", bool(self.constraint))
+        if not (isinstance(self.rate, str) and self.rate in RATES):
+            raise InvalidArgumentError("rate", self.rate, " or ".join(map(repr, RATES)))
 
     @property
     def p(self) -> float:
         return transfer_fraction(self.restitution)
 
+    @property
+    def relative_velocity_rate(self) -> bool:
+        return self.rate == "relative_velocity"
+
+    @property
+    def time_name(self) -> str:
+        return "t" if self.relative_velocity_rate else "tau"
+
     def params(self) -> dict:
-        return {
+        """JSON-able parameters; ``"rate"`` appears only for the rate-|Δ| variant, so the
+        checkpoints of constant-rate runs keep their identity."""
+        out = {
             "n": self.n,
             "restitution": self.restitution,
             "initial": self.initial,
             "constraint": self.constraint,
             "stop_step": self.stop_step,
         }
+        if self.relative_velocity_rate:
+            out["rate"] = self.rate
+        return out
 
     def initial_state(self, rng: np.random.Generator) -> LatticeState:
         v = initial_velocities(self.initial, self.n, rng)
-        return LatticeState(0.0, v, rng.standard_exponential(self.n), 0, 0)
+        if not self.relative_velocity_rate:
+            return LatticeState(0.0, v, rng.standard_exponential(self.n), 0, 0)
+        bound = thinning_bound(v)
+        return LatticeState(0.0, v, rng.standard_exponential(self.n) / bound, 0, 0, bound)
 
     def next_stop(self, time: float) -> float:
         return next_grid_point(time, self.stop_step)
 
     def state_from_arrays(self, arrays) -> LatticeState:
-        return LatticeState.from_arrays(arrays, self.n)
+        state = LatticeState.from_arrays(arrays, self.n)
+        if (state.attempt_rate is not None) != self.relative_velocity_rate:
+            raise ValueError(f"attempt_rate={state.attempt_rate!r} for rate={self.rate!r}")
+        return state
 
     def observe(self, state: LatticeState) -> dict[str, float]:
         return {"attempts": float(state.attempts)}
@@ -256,13 +348,43 @@ class Lattice:
             raise InvalidArgumentError("until", until, f"a time >= {state.time}")
         v = state.velocities.copy()
         clocks = state.clocks.copy()
+        if not self.relative_velocity_rate:
+            attempts, collisions, _ = run_clocks(
+                v,
+                clocks,
+                float(until),
+                self.p,
+                self.constraint,
+                lambda bonds: rng.standard_exponential(bonds.size),
+            )
+            return LatticeState(
+                float(until),
+                v,
+                clocks,
+                state.collisions + collisions,
+                state.attempts + attempts,
+            )
+        old = state.attempt_rate
+        if old is None:
+            raise InvalidArgumentError("state", "a state without attempt_rate", "a rate-|Δ| state")
+        bound = thinning_bound(v)
+        if bound == 0.0:  # all velocities equal: no bond can ever collide again
+            np.maximum(clocks, float(until), out=clocks)
+            return LatticeState(float(until), v, clocks, state.collisions, state.attempts, old)
+        if bound != old:
+            # residual waits are independent Exp(old): rescaled, independent Exp(bound)
+            clocks -= state.time
+            clocks *= old / bound
+            clocks += state.time
         attempts, collisions, _ = run_clocks(
             v,
             clocks,
             float(until),
             self.p,
             self.constraint,
-            lambda bonds: rng.standard_exponential(bonds.size),
+            lambda bonds: rng.standard_exponential(bonds.size) / bound,
+            marks=lambda bonds: rng.random(bonds.size),
+            rate_bound=bound,
         )
         return LatticeState(
             float(until),
@@ -270,7 +392,14 @@ class Lattice:
             clocks,
             state.collisions + collisions,
             state.attempts + attempts,
+            bound,
         )
+
+
+def thinning_bound(v: np.ndarray) -> float:
+    """Thinning bound R = (max v − min v)(1 + ``RATE_BOUND_MARGIN``) ≥ every |v_i − v_j|, now
+    and at all later times (velocities never leave their current range, SPEC §1)."""
+    return float(v.max() - v.min()) * (1.0 + RATE_BOUND_MARGIN)
 
 
 @dataclass(frozen=True)
@@ -280,6 +409,11 @@ class LatticeDiscreteReference(Lattice):
     ``until`` is rounded to the nearest whole number of attempts.  The clocks are unused."""
 
     name: ClassVar[str] = "lattice-discrete-reference"
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.relative_velocity_rate:
+            raise InvalidArgumentError("rate", self.rate, "'constant' (the discrete reference)")
 
     def advance(self, state: LatticeState, until: float, rng: np.random.Generator) -> LatticeState:
         n, p = self.n, self.p
