@@ -120,6 +120,8 @@ def estimate_run(model: str, params: dict, t_max: float, *, n_times: int = 1,
         memory += n_times * n * 8 * d
     if model == "lattice":
         events, unit = n * t_max, "attempts"
+        if params.get("rate") == "relative_velocity":  # clocks tick at the velocity range R,
+            events *= 2.0 * math.sqrt(2.0 * math.log(max(n, 2.0)))  # ≈ 2√(2 ln N) at t = 0
     elif model == "md":
         events, unit = n * _md_tau(t_max, params) / 2.0, "collisions (at least)"
     elif model == "sticky":

@@ -384,12 +384,23 @@ def test_ulam_prediction_fails_at_equal_energy(distributions):
     assert abs(_sigma(late, "md", "ulam", "abs_mean")) > 4
 
 
-@pytest.mark.xfail(strict=True, reason="paper: MD and lattice agree at equal energy; measured at "
-                   "r = 0.99, E = 0.037: MD ⟨x⁴⟩ = 1.90 ± 0.01, lattice 2.94 ± 0.03 (small) — the "
-                   "lattice is still nearly Gaussian where MD has two humps")
-def test_md_and_lattice_agree_early(distributions):
+def test_md_and_the_rate_proportional_lattice_agree_early(distributions):
+    # Paper Fig. 1a: "the lattice reproduces MD's two humps" holds for the lattice whose bonds
+    # collide at a rate ∝ |Δ| (as MD pairs do): ⟨x⁴⟩ within 4 combined standard errors of MD
+    # (4 seeds each; measured at this size 1.7σ, at N = 2·10⁴ and 6 seeds 1.957 ± 0.004 against
+    # 1.973 ± 0.007, benchmarks/fig1a.py), and both have two humps (⟨x⁴⟩ < 2.2, Gaussian 3).
     m = distributions.summary["stages"]["early"]["models"]
-    assert abs(_sigma(m, "md", "lattice_r0.99", "kurtosis")) < 4
+    assert abs(_sigma(m, "md", "lattice_rv_r0.99", "kurtosis")) < 4
+    assert m["md"]["kurtosis"][0] < 2.2 and m["lattice_rv_r0.99"]["kurtosis"][0] < 2.2
+
+
+def test_the_constant_rate_lattice_misses_the_two_humps(distributions):
+    # ... while the paper's lattice (constant rate per bond) is nearly Gaussian at that energy:
+    # more than 10 standard errors from MD (measured 32.6σ here; 2.95 against 1.96 at the full
+    # size).  This replaces the strict xfail that recorded the disagreement.
+    m = distributions.summary["stages"]["early"]["models"]
+    assert _sigma(m, "md", "lattice_r0.99", "kurtosis") < -10
+    assert m["lattice_r0.99"]["kurtosis"][0] > 2.6
 
 
 def test_velocity_profiles_report_increment_skewness(tmp_path):

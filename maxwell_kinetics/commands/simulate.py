@@ -175,7 +175,8 @@ def _add_ulam(models) -> None:
 
 def _run_lattice(args) -> int:
     engine = Lattice(
-        parse_count(args.n, "n", 3), args.restitution, args.initial, not args.no_constraint
+        parse_count(args.n, "n", 3), args.restitution, args.initial, not args.no_constraint,
+        rate=args.rate,
     )
     return run_engine(engine, args)
 
@@ -187,6 +188,11 @@ def _add_lattice(models) -> None:
         "--no-constraint",
         action="store_true",
         help="collide every chosen bond (default: only approaching pairs, v_i > v_{i+1})",
+    )
+    parser.add_argument(
+        "--rate", default="constant", choices=["constant", "relative_velocity"],
+        help="bond collision rate: constant (the paper's lattice, time τ = attempts/N) or "
+        "proportional to |v_i - v_{i+1}| as for MD pairs (time t of MD at density 1)",
     )
     parser.set_defaults(handler=_run_lattice)
 

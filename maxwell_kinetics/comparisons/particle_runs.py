@@ -203,8 +203,10 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
 
 
 def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gaussian",
-                      progress=False) -> dict:
-    """Lattice runs (one per seed) stopped at the τ where each run's energy equals ``target``.
+                      progress=False, rate="constant") -> dict:
+    """Lattice runs (one per seed) stopped at the τ where each run's energy equals ``target``
+    (``rate="relative_velocity"``: the lattice whose bonds collide at a rate ∝ |Δ|, whose time
+    is MD's t; "τ" below is then t).
 
     Each run advances on a geometric grid of τ (ratio 1.25) until E ≤ target; τ* is interpolated
     linearly in (ln τ, ln E) between the two bracketing points (E is non-increasing: collisions
@@ -212,10 +214,11 @@ def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gauss
     stream (exact: the state is Markov and the later draws are independent of the earlier ones).
     Returns ``tau`` (R,), ``energy`` (R,) reached, ``snapshots`` (R, N), the ``traces`` (a tuple
     of (τ, E) arrays) and ``seconds``.  Cached per arguments (read-only)."""
-    key = ("lattice_at_energy", restitution, n, float(target), tuple(seeds), constraint, law)
+    key = ("lattice_at_energy", restitution, n, float(target), tuple(seeds), constraint, law,
+           rate)
 
     def compute():
-        engine = Lattice(int(n), restitution, law, constraint)
+        engine = Lattice(int(n), restitution, law, constraint, rate=rate)
         start = time.perf_counter()
         taus, energies, snaps, traces = [], [], [], []
         with progress_bar(len(seeds), f"lattice r={restitution:g} E={target:.2g}", "run",
