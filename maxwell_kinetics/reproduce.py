@@ -34,29 +34,40 @@ def prepare_output(out, argument: str = "out") -> Path:
     return out
 
 
-def run_all(out="results", size="default", only=None, progress=True) -> dict:
+def run_all(out="results", size="default", only=None, progress=True, workers=None) -> dict:
     """Run the comparisons (``only``: a list of names); write ``<name>.png``, ``<name>.npz``
     (:meth:`Comparison.save`: summary and figure data, reload with ``Comparison.load``) and
-    ``summary.json``."""
+    ``summary.json``.
+
+    With ``workers`` (an integer), or at ``size="full"``, the particle runs of fixed times go
+    through the ensemble engine on dask (``workers`` processes; default one per core), one task
+    file per run in ``<out>/runs``: a rerun after an interruption takes the finished runs from
+    there, and the results equal the serial ones bit for bit."""
     import matplotlib.pyplot as plt
 
-    from .comparisons import COMPARISONS
+    from .comparisons import COMPARISONS, particle_runs
 
     names = list(COMPARISONS) if only is None else list(only)
     out = prepare_output(out)
+    if workers is not None or size == "full":
+        particle_runs.configure_runs(out / "runs", workers)
     summary = {"size": size, "comparisons": {}}
     start = time.perf_counter()
-    for name in names:
-        if progress:
-            print(f"[reproduce] {name} ...", flush=True)
-        result = COMPARISONS[name](size, progress=progress)
-        fig = result.figure()
-        fig.savefig(out / f"{name}.png", dpi=110)
-        result.save(out / f"{name}.npz")
-        plt.close(fig)
-        summary["comparisons"][name] = clean_json(result.summary)
-        if progress:
-            print(f"[reproduce] {name}: {result.summary.get('seconds', 0):.1f} s", flush=True)
+    try:
+        for name in names:
+            if progress:
+                print(f"[reproduce] {name} ...", flush=True)
+            result = COMPARISONS[name](size, progress=progress)
+            fig = result.figure()
+            fig.savefig(out / f"{name}.png", dpi=110)
+            result.save(out / f"{name}.npz")
+            plt.close(fig)
+            summary["comparisons"][name] = clean_json(result.summary)
+            if progress:
+                print(f"[reproduce] {name}: {result.summary.get('seconds', 0):.1f} s",
+                      flush=True)
+    finally:
+        particle_runs.configure_runs(None)
     summary["seconds"] = time.perf_counter() - start
     with open(out / "summary.json", "w") as fh:
         json.dump(clean_json(summary), fh, indent=1, allow_nan=False)

@@ -20,6 +20,9 @@ An engine (``particles.ulam.Ulam``, ``particles.lattice.Lattice``, the MD engine
 * ``state_from_arrays(arrays) -> state`` — rebuild a state from ``state.to_arrays()``;
 * optionally ``observe(state) -> dict[str, float]`` — extra scalars recorded at each requested
   time (e.g. τ(t) for MD).
+* optionally ``snapshot_fields: tuple[str, ...]`` and ``snapshot_arrays(state) -> dict`` —
+  per-particle arrays recorded with each snapshot (``snapshots=True``), e.g. the MD rods'
+  positions; they are kept in checkpoints and in ``RunResult.snapshot_extras``;
 * optionally ``time_name: str`` — the name of the model's time in messages (default ``"tau"``;
   ``"t"`` for MD).
 
@@ -137,7 +140,7 @@ def _write_npz(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
 _ENTRY_PREFIXES = {
     "checkpoint": ("state.", "rec."),
     "result": ("times", "energy", "momentum", "collisions", "velocities", "hist.", "structure.",
-               "snapshots", "extra."),
+               "snapshots", "snapshot.", "extra."),
 }
 
 
@@ -188,8 +191,9 @@ class RunResult:
     row, at the last time (``structure_factor="last"``); ``S[-1]`` is the last time either way;
     ``snapshots[i]`` the
     velocities at ``times[i]`` (when requested); ``velocities`` the final velocities;
-    ``extras`` engine-specific scalars per time; ``seconds`` the wall-clock time of the run
-    (of all its resumed pieces).
+    ``extras`` engine-specific scalars per time; ``snapshot_extras[name][i]`` the engine's
+    per-particle arrays at ``times[i]`` (with ``snapshots``, e.g. MD ``positions``);
+    ``seconds`` the wall-clock time of the run (of all its resumed pieces).
     """
 
     model: str
@@ -206,6 +210,7 @@ class RunResult:
     snapshots: np.ndarray | None = None
     extras: dict[str, np.ndarray] = field(default_factory=dict)
     histogram_note: str | None = None
+    snapshot_extras: dict[str, np.ndarray] = field(default_factory=dict)
 
     def _arrays(self) -> dict[str, np.ndarray]:
         out = {
@@ -229,6 +234,8 @@ class RunResult:
             out["structure.k"], out["structure.S"] = self.structure
         if self.snapshots is not None:
             out["snapshots"] = self.snapshots
+        for key, value in self.snapshot_extras.items():
+            out["snapshot." + key] = value
         for key, value in self.extras.items():
             out["extra." + key] = value
         return out
@@ -282,6 +289,7 @@ class RunResult:
                 a.get("snapshots"),
                 extras,
                 meta.get("histogram_note"),
+                {k[len("snapshot."):]: v for k, v in a.items() if k.startswith("snapshot.")},
             )
         except KeyError as exc:
             raise CheckpointError(path, f"missing entry {exc}", "path") from None
@@ -320,7 +328,8 @@ def _structure_mode(value) -> str | None:
 class _Records:
     """Per-time records of a run in progress (also what a checkpoint stores)."""
 
-    def __init__(self, nt: int, n: int, structure: str | None, snapshots: bool):
+    def __init__(self, nt: int, n: int, structure: str | None, snapshots: bool,
+                 snapshot_fields: tuple[str, ...] = ()):
         self.done = 0
         self.energy = np.full(nt, np.nan)
         self.momentum = np.full(nt, np.nan)
@@ -331,6 +340,8 @@ class _Records:
         rows = 1 if self.structure_last else nt
         self.structure = np.full((rows, n // 2 + 1), np.nan) if structure else None
         self.snapshots = np.full((nt, n), np.nan) if snapshots else None
+        # per-particle arrays an engine adds to each snapshot (MD: the rods' positions)
+        self.snapshot_extras = {name: np.full((nt, n), np.nan) for name in snapshot_fields}
         self.extras: dict[str, np.ndarray] = {}
         self.seconds = 0.0
 
@@ -350,6 +361,9 @@ class _Records:
             self.structure[0 if self.structure_last else i] = obs.structure_factor(v)[1]
         if self.snapshots is not None:
             self.snapshots[i] = v
+        if self.snapshot_extras:
+            for key, value in engine.snapshot_arrays(state).items():
+                self.snapshot_extras[key][i] = value
         observe = getattr(engine, "observe", None)
         if observe is not None:
             for key, value in observe(state).items():
@@ -382,6 +396,8 @@ class _Records:
             out["rec.structure"] = unrecorded_from(self.structure, row)
         if self.snapshots is not None:
             out["rec.snapshots"] = unrecorded_from(self.snapshots, done)
+        for key, value in self.snapshot_extras.items():
+            out["rec.snapshot." + key] = unrecorded_from(value, done)
         for key, value in self.extras.items():
             out["rec.extra." + key] = unrecorded_from(value, done)
         return out
@@ -396,6 +412,8 @@ class _Records:
             self.structure = arrays["rec.structure"]
         if self.snapshots is not None:
             self.snapshots = arrays["rec.snapshots"]
+        for key in self.snapshot_extras:
+            self.snapshot_extras[key] = arrays["rec.snapshot." + key]
         prefix = "rec.extra."
         self.extras = {k[len(prefix) :]: v for k, v in arrays.items() if k.startswith(prefix)}
 
@@ -507,6 +525,8 @@ def _inconsistency(engine, times: list[float], state, records: _Records) -> str 
         shapes["rec.structure"] = (records.structure, (rows, n // 2 + 1))
     if records.snapshots is not None:
         shapes["rec.snapshots"] = (records.snapshots, (nt, n))
+    for key, value in records.snapshot_extras.items():
+        shapes["rec.snapshot." + key] = (value, (nt, n))
     for key, value in records.extras.items():
         shapes["rec.extra." + key] = (value, (nt,))
     for key, (value, shape) in shapes.items():
@@ -628,7 +648,8 @@ def simulate(
     )
     n = int(engine.params()["n"])
     with _CheckpointLock(checkpoint):
-        records = _Records(len(times), n, structure_factor, snapshots)
+        fields = tuple(getattr(engine, "snapshot_fields", ())) if snapshots else ()
+        records = _Records(len(times), n, structure_factor, snapshots, fields)
         if resume is not None:
             state, rng = _load_checkpoint(resume, engine, identity, records)
         else:
@@ -743,6 +764,7 @@ def _run(engine, times, seed, identity, state, rng, records, progress, checkpoin
         seconds=records.seconds,
         structure=structure,
         snapshots=records.snapshots,
+        snapshot_extras=records.snapshot_extras,
         extras=records.extras,
         histogram_note=histogram_note,
     )

@@ -210,7 +210,7 @@ def _check_seeds(seeds, shown) -> tuple[int, ...]:
 
 # --------------------------------------------------------------------------- spec and tasks
 
-_OPTIONS = ("structure_factor", "bins", "checkpoint_interval")
+_OPTIONS = ("structure_factor", "bins", "checkpoint_interval", "snapshots")
 
 
 def _json_value(name: str, value):
@@ -313,6 +313,10 @@ class EnsembleSpec:
         bins = options.get("bins")
         edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
         options["bins"] = None if bins is None else [float(e) for e in edges]
+        snaps = options.get("snapshots", False)
+        if not isinstance(snaps, bool):
+            raise InvalidArgumentError("snapshots", snaps, "True or False")
+        options["snapshots"] = snaps
         options["checkpoint_interval"] = check_nonnegative(
             options.get("checkpoint_interval", 60.0), "checkpoint_interval"
         )
@@ -337,6 +341,8 @@ class EnsembleSpec:
             "structure_factor": self.options["structure_factor"],
             "bins": [float(e) for e in edges],
         }
+        if self.options["snapshots"]:  # only then, so that earlier task keys stay valid
+            result_options["snapshots"] = True
         tasks = []
         for index, values in enumerate(self.parameter_sets()):
             engine = _build(m, values)
@@ -413,7 +419,9 @@ def load_task(path, identity: dict | None = None) -> RunResult:
         return RunResult(task["model"], meta["engine_params"], int(task["seed"]), a["times"],
                          a["energy"], a["momentum"], a["collisions"], a["velocities"], hist,
                          float("nan"), structure, a.get("snapshots"), extras,
-                         meta.get("histogram_note"))
+                         meta.get("histogram_note"),
+                         {k[len("snapshot."):]: v for k, v in a.items()
+                          if k.startswith("snapshot.")})
     except (KeyError, TypeError) as exc:
         raise persistence.FileFormatError(path, f"missing entry {exc}", "path") from None
 
@@ -432,7 +440,8 @@ def run_task(task: EnsembleTask, factory: Callable[..., Any], out: str) -> dict:
         kwargs = dict(progress=False, checkpoint=ckpt,
                       structure_factor=task.options["structure_factor"],
                       bins=task.options["bins"],
-                      checkpoint_interval=task.options["checkpoint_interval"])
+                      checkpoint_interval=task.options["checkpoint_interval"],
+                      snapshots=task.options.get("snapshots", False))
         result = None
         if ckpt.exists():
             try:

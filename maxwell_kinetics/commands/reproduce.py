@@ -1,7 +1,7 @@
 """``maxwell-kinetics reproduce``: run every comparison, write PNG figures and ``summary.json``.
 
     maxwell-kinetics reproduce [--out results] [--full | --small] [--only NAME,...] [--json]
-                               [--no-progress]
+                               [--no-progress] [--workers N]
 
 The output folder is checked (and created) before the first comparison runs, so a bad ``--out``
 fails at once with exit status 2 and nothing written.
@@ -9,7 +9,7 @@ fails at once with exit status 2 and nothing written.
 
 from __future__ import annotations
 
-from particles.validation import InvalidArgumentError, parse_name_list
+from particles.validation import InvalidArgumentError, parse_count, parse_name_list
 
 from ..output import check_output_dir, emit_json, progress_enabled
 
@@ -29,6 +29,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--only", default=None, help="comma-separated comparison names")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--no-progress", action="store_true", help="no progress lines or bars")
+    p.add_argument("--workers", default=None,
+                   help="run the particle runs on N dask processes through the ensemble engine "
+                   "(task files in <out>/runs; --full does this with one process per core)")
     p.set_defaults(handler=run)
 
 
@@ -42,9 +45,10 @@ def run(args) -> int:
         bad = [n for n in only if n not in COMPARISONS]
         if bad:
             raise InvalidArgumentError("only", args.only, "names among " + ", ".join(COMPARISONS))
+    workers = None if args.workers is None else parse_count(args.workers, "workers", 1)
     out = prepare_output(check_output_dir(args.out, "out"), "out")
     size = "full" if args.full else "small" if args.small else "default"
-    summary = run_all(out, size, only, progress=progress_enabled(args))
+    summary = run_all(out, size, only, progress=progress_enabled(args), workers=workers)
     if args.json:
         emit_json({"out": str(out), "size": size, "seconds": summary["seconds"],
                    "comparisons": sorted(summary["comparisons"])})

@@ -8,6 +8,14 @@ out is read-only: every array has ``flags.writeable = False`` and each call retu
 so no caller can change what the next one gets.
 
 Each run is one seed: ``np.random.default_rng(seed)`` drives it (MD: the initial state only).
+
+Where the runs execute: by default one after the other in this process.  After
+:func:`configure_runs` with an output folder (``reproduce --workers N``, ``reproduce --full``)
+the runs of fixed times (Ulam, lattice, MD) go through the ensemble engine
+(:func:`particles.ensemble.run_ensemble`): one dask task per seed, each written atomically to a
+task file of its own in that folder, so an interrupted ``reproduce`` resumes from the finished
+runs.  Each task is the same :func:`particles.driver.simulate` call as the serial path, so the
+results are the same bit for bit (tested).
 """
 
 from __future__ import annotations
@@ -22,6 +30,7 @@ import numpy as np
 
 from particles import md
 from particles.driver import simulate
+from particles.ensemble import EnsembleSpec, load_task, run_ensemble
 from particles.lattice import Lattice
 from particles.progress import progress_bar
 from particles.ulam import Ulam
@@ -33,6 +42,7 @@ __all__ = [
     "md_runs",
     "md_record_times",
     "clear_run_cache",
+    "configure_runs",
 ]
 
 _RUNS: dict = {}
@@ -60,6 +70,37 @@ def _read_only(value):
     return value
 
 
+_EXECUTOR: dict = {"out": None, "workers": None}
+
+
+def configure_runs(out=None, workers: int | None = None) -> None:
+    """Run the comparisons' particle runs through the ensemble engine, writing task files to
+    ``out`` (a folder), on ``workers`` dask processes (None: one per core); ``out=None`` goes
+    back to serial runs in this process."""
+    _EXECUTOR.update(out=None if out is None else str(out), workers=workers)
+
+
+def _runs(model: str, params: dict, times, seeds, progress, build, **options) -> list:
+    """One :class:`particles.driver.RunResult` per seed: ``simulate(build(), times, seed,
+    **options)`` serially, or the same runs as tasks of the ensemble engine (module
+    docstring)."""
+    if _EXECUTOR["out"] is None:
+        engine = build()
+        return [simulate(engine, list(times), int(seed), progress=progress, **options)
+                for seed in seeds]
+    spec = EnsembleSpec(model, params, tuple(int(s) for s in seeds), tuple(times),
+                        {"structure_factor": options.get("structure_factor", False),
+                         "snapshots": bool(options.get("snapshots", False))})
+    report = run_ensemble(spec, _EXECUTOR["out"], workers=_EXECUTOR["workers"],
+                          progress=progress)
+    if report.failed:
+        first = report.failed[0]
+        raise RuntimeError(f"{len(report.failed)} {model} run(s) failed, e.g. seed "
+                           f"{first['seed']}: {first['error']}")
+    return [load_task(Path(_EXECUTOR["out"]) / task.filename, task.identity)
+            for task in spec.expand()]
+
+
 def _cached(key, compute) -> dict:
     """A new dict of the cached run ``key`` (computed by ``compute()`` on the first call), whose
     arrays are read-only."""
@@ -71,10 +112,10 @@ def _cached(key, compute) -> dict:
 def ulam_snapshots(restitution, law, n, taus, seeds, progress=False) -> np.ndarray:
     """Velocities of Ulam runs: array (len(taus), len(seeds), n), one run per seed (not
     cached: a new array each call)."""
-    engine = Ulam(int(n), restitution, law)
     out = np.empty((len(taus), len(seeds), int(n)))
-    for j, seed in enumerate(seeds):
-        res = simulate(engine, taus, int(seed), progress=progress, snapshots=True)
+    runs = _runs("ulam", {"n": int(n), "restitution": restitution, "initial": law}, taus, seeds,
+                 progress, lambda: Ulam(int(n), restitution, law), snapshots=True)
+    for j, res in enumerate(runs):
         out[:, j, :] = res.snapshots
     return out
 
@@ -89,10 +130,11 @@ def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", 
            bool(structure), bool(snapshots))
 
     def compute():
-        engine = Lattice(int(n), restitution, law, constraint)
-        res = [simulate(engine, list(times), int(s), progress=progress,
-                        structure_factor=bool(structure), snapshots=bool(snapshots))
-               for s in seeds]
+        params = {"n": int(n), "restitution": restitution, "initial": law,
+                  "constraint": bool(constraint)}
+        res = _runs("lattice", params, times, seeds, progress,
+                    lambda: Lattice(int(n), restitution, law, constraint),
+                    structure_factor=bool(structure), snapshots=bool(snapshots))
         out = {"times": np.asarray(times, dtype=float),
                "energy": np.array([r.energy for r in res]),
                "seconds": float(sum(r.seconds for r in res))}
@@ -104,46 +146,6 @@ def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", 
         return out
 
     return _cached(key, compute)
-
-
-class _MDRun:
-    """The MD engine as the run driver sees it (same name and parameters, so its checkpoints
-    are those of any MD run), also keeping the rods' positions at the requested times: the
-    driver records velocities only.  ``positions[j]`` is set when the driver records time j
-    (``observe``); a state rebuilt from a checkpoint (``state_from_arrays``) gives the positions
-    of the time it was saved at, so the last requested time always has them."""
-
-    def __init__(self, engine: md.MDEngine, times):
-        self.engine = engine
-        self.name = engine.name
-        self.time_name = engine.time_name
-        self.times = [float(t) for t in times]
-        self.positions = np.full((len(self.times), engine.p.n), np.nan)
-
-    def params(self) -> dict:
-        return self.engine.params()
-
-    def next_stop(self, time: float) -> float:
-        return self.engine.next_stop(time)
-
-    def initial_state(self, rng):
-        return self.engine.initial_state(rng)
-
-    def advance(self, state, until, rng=None):
-        return self.engine.advance(state, until, rng)
-
-    def _keep(self, state) -> None:
-        if state.time in self.times:
-            self.positions[self.times.index(state.time)] = md.rod_positions(state, self.engine.p)
-
-    def state_from_arrays(self, arrays):
-        state = self.engine.state_from_arrays(arrays)
-        self._keep(state)
-        return state
-
-    def observe(self, state) -> dict[str, float]:
-        self._keep(state)
-        return self.engine.observe(state)
 
 
 def md_record_times(t_max) -> tuple[float, ...]:
@@ -169,9 +171,8 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
     :class:`particles.md.MDEngine` (stops every :data:`MD_STOP_STEP` of t; stopping changes
     nothing, bit for bit).  With ``checkpoint_dir`` (an existing folder) each run checkpoints
     to a file of its own there and resumes from it when it exists (a finished run is read back,
-    not run again);
-    the positions of the times recorded before a resumed checkpoint are then NaN (the driver's
-    checkpoint holds velocities only), those of the last time always exist."""
+    not run again).  The rods' positions are recorded by the driver with each snapshot
+    (``MDEngine.snapshot_arrays``), checkpoints included."""
     key = ("md", restitution, n, delta, tuple(times), tuple(seeds), law)
 
     def compute():
@@ -183,18 +184,25 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
         snaps = np.empty((len(seeds), t_all.size, int(n)))
         pos = np.empty_like(snaps)
         seconds = 0.0
-        for i, seed in enumerate(seeds):
-            run = _MDRun(md.MDEngine(prm, stop_step=MD_STOP_STEP), t_all)
-            path = resume = None
-            if checkpoint_dir is not None:
-                path = _checkpoint_path(checkpoint_dir, prm, t_all, seed)
-                resume = path if path.exists() else None
-            res = simulate(run, t_all, int(seed), progress=progress, snapshots=True,
-                           checkpoint=path, resume=resume)
+        if _EXECUTOR["out"] is not None:  # through the ensemble engine (its own checkpoints)
+            params = {"n": int(n), "density": 1.0, "restitution": restitution, "delta": delta,
+                      "initial": law, "stop_step": MD_STOP_STEP}
+            runs = _runs("md", params, t_all, seeds, progress, None, snapshots=True)
+        else:
+            runs = []
+            for seed in seeds:
+                path = resume = None
+                if checkpoint_dir is not None:
+                    path = _checkpoint_path(checkpoint_dir, prm, t_all, seed)
+                    resume = path if path.exists() else None
+                runs.append(simulate(md.MDEngine(prm, stop_step=MD_STOP_STEP), t_all, int(seed),
+                                     progress=progress, snapshots=True, checkpoint=path,
+                                     resume=resume))
+        for i, res in enumerate(runs):
             energy[i] = res.energy
             tau[i] = res.extras["collisions_per_particle"]
             snaps[i] = res.snapshots
-            pos[i] = run.positions
+            pos[i] = res.snapshot_extras["positions"]
             seconds += res.seconds
         return {"times": t_all, "energy": energy, "tau": tau, "snapshots": snaps,
                 "positions": pos, "seconds": seconds}

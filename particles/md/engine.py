@@ -22,7 +22,7 @@ import numpy as np
 from ..driver import initial_velocities, next_grid_point
 from ..validation import InvalidArgumentError, check_count, check_nonnegative, check_positive
 from .lightcone import advance_fast
-from .observables import collisions_per_particle, total_momentum
+from .observables import collisions_per_particle, rod_positions, total_momentum
 from .reference import advance_reference
 from .state import InelasticCollapseError, MDParams, MDState
 
@@ -124,6 +124,13 @@ class MDEngine:
 
     def state_from_arrays(self, arrays) -> MDState:
         return MDState.from_arrays(arrays, self.p)
+
+    #: Recorded with each snapshot of the run driver: the rods' positions in [0, L).
+    snapshot_fields = ("positions",)
+
+    def snapshot_arrays(self, state: MDState) -> dict[str, np.ndarray]:
+        """The rods' positions y_i in [0, L) at the state's time (label order)."""
+        return {"positions": rod_positions(state, self.p)}
 
     def observe(self, state: MDState) -> dict[str, float]:
         self.last_state = state
