@@ -121,7 +121,7 @@ def test_expand_is_the_product_of_swept_parameters_and_seeds():
         ({"seeds": [-1]}, "seeds"),
         ({"seeds": [2**64]}, "seeds"),
         ({"times": (4.0, 2.0)}, "tau"),
-        ({"options": {"snapshots": True}}, "options"),
+        ({"options": {"frobnicate": True}}, "options"),  # snapshots is an option now
     ],
 )
 def test_bad_spec_fails_before_any_work(tmp_path, kwargs, name):
