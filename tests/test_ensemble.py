@@ -51,7 +51,7 @@ class _KillerUlam(Ulam):
 
 
 def killer(n, restitution, marker):
-    return _KillerUlam(n, restitution, "gaussian", marker)
+    return _KillerUlam(n, restitution, "gaussian", marker=marker)
 
 
 register_model("ulam-killer", killer)
