@@ -51,6 +51,14 @@ _LAZY = {
     "law_from_characteristic": "particles.initial",
     "InitialLaw": "particles.initial",
     "InvalidArgumentError": "particles.validation",
+    "tail_exponent": "tails",
+    "TailExponent": "tails",
+    "decay_rate": "tails",
+    "moment_rates": "tails",
+    "steady_state": "driven",
+    "DrivenSteadyState": "driven",
+    "Comparison": "comparisons",
+    "COMPARISONS": "comparisons",
 }
 
 
