@@ -44,6 +44,13 @@ initial law φ enters (zero for user laws that JAX cannot trace, and for τ > 40
 below 4e-18).
 
 For r = 1 (elastic, λ = 0) collisions only exchange velocities: G(q, τ) = φ(q) for all τ.
+
+Compilation and precision: the scheme's jitted functions (:mod:`maxwell_kinetics._kinetic_scheme`)
+are module-level and take r (with p, λ, the window and the gain stencils) and the output times as
+traced data; the grid, the law and the options are their static argument.  A sweep over r at one
+resolution and law therefore compiles once.  Every JAX call of the solver runs inside
+``jax.enable_x64(True)`` (a thread-local context that restores the caller's setting): the solver
+computes in float64 whatever JAX's global configuration, and does not change it.
 """
 
 from __future__ import annotations
@@ -60,7 +67,7 @@ from particles.initial import InitialLaw, first_non_finite, get_law
 from particles.validation import InvalidArgumentError, check_positive, check_times
 
 from .exact import f_hat
-from .grid import Resolution, get_resolution, lagrange_weights
+from .grid import Resolution, get_resolution
 from .model import MaxwellModel
 
 __all__ = ["solve", "Solution", "SolverOptions"]
@@ -170,8 +177,9 @@ def _checked_phi(law: InitialLaw, k: np.ndarray, where: str) -> np.ndarray:
 def inflow_wavenumbers(model: MaxwellModel, grid: Resolution, opts: SolverOptions) -> np.ndarray:
     """k = q e^{λτ} at which the free-streaming inflow evaluates φ, sampled log-uniformly.
 
-    The inflow (right ghost) nodes sit at ln q ∈ [ln q_max + h, ln q_max + (2 cells + 5 order/2) h]
-    with cells h ≤ λ·window + h/2 (:class:`_Stepper`), and φ is taken at k = q e^{λ min(τ, 40)}
+    The inflow (right ghost) nodes sit at ln q ∈ [ln q_max + h, ln q_max + (cells + cells_max +
+    5 order/2) h] with cells h ≤ λ·window + h/2 and cells_max h ≤ window/4 + h/2
+    (:mod:`maxwell_kinetics._kinetic_scheme`), and φ is taken at k = q e^{λ min(τ, 40)}
     (:data:`_INFLOW_CUT`).  The sampled range is wider on both sides,
     ln k ∈ [ln q_max − window − h, ln q_max + window + 4 order h + 40λ], with 64 points per
     unit of ln k.  Empty for λ = 0 (no inflow).
@@ -226,170 +234,41 @@ def deviation_from_f_hat(q: np.ndarray, m3: float) -> np.ndarray:
 
 
 class _Stepper:
-    """The jitted pieces of the semi-Lagrangian scheme for one (model, law, grid, options)."""
+    """The scheme for one (model, law, grid, options): host-side data and the jitted calls.
+
+    The compiled functions live in :mod:`maxwell_kinetics._kinetic_scheme` and take r, the
+    window and the stencils as traced data, so a new r reuses the compilation of the same
+    (grid, law, options).  Every JAX call runs inside ``jax.enable_x64(True)``: float64 for
+    this computation without changing JAX's global configuration.
+    """
 
     def __init__(self, model: MaxwellModel, law: InitialLaw, grid: Resolution, opts: SolverOptions):
-        import diffrax
         import jax
-        import jax.numpy as jnp
 
-        jax.config.update("jax_enable_x64", True)
+        from . import _kinetic_scheme as scheme
 
         self.model, self.law, self.grid, self.opts = model, law, grid, opts
         if law.traceable:  # the inflow evaluates φ (in JAX) far beyond q_max: check it first
             _checked_phi(law, inflow_wavenumbers(model, grid, opts), "the inflow's k = q e^{λτ}")
-        p, lam, h, order, n = model.p, model.lam, grid.h, grid.order, grid.n
         self.m3 = m3 = _check_skewness_finite(law)
-        self.complex = is_complex = m3 != 0.0 or not law.symmetric
-        # Cells moved per window and window length in τ.
-        self.cells = cells = max(1, round(opts.window * lam / h))
-        self.dtau = dtau = cells * h / lam
-        first_a, w_a = lagrange_weights(math.log(p) / h, order)
-        first_b, w_b = lagrange_weights(math.log1p(-p) / h, order)
-        # The state holds the n grid nodes plus the `cells` nodes beyond q_max that enter the
-        # grid during the next window, so that every node on the grid has been integrated.
-        self.n_state = ns = n + cells
-        # Ghost cells: left for the gain stencils, right for them and for mid-window output.
-        # Outputs between window ends are interpolated with twice the stencil: they are not fed
-        # back into the dynamics, and at order `order` they were measured to add up to 25x the
-        # node error (coarse grid, late times).
-        out_order = 2 * order
-        self.n_left = nl = max(out_order, -first_a, -first_b)
-        self.n_right = nr = max(first_a + order - 1, first_b + order - 1, 0) + cells + out_order
-        j_right = jnp.arange(ns, ns + nr, dtype=jnp.float64)
-        j_grid = jnp.arange(ns, dtype=jnp.float64)
-        s_min, traceable, characteristic = grid.s_min, law.traceable, law.characteristic
-        # Values are carried as real arrays with a leading axis of size 2 (Re, Im) for complex G
-        # and 1 otherwise: XLA's complex128 arithmetic on the CPU was measured 10x slower
-        # (127 µs against 13 µs per right-hand side at the default resolution).
-        parts = 2 if is_complex else 1
+        self.complex = m3 != 0.0 or not law.symmetric
+        self.static = scheme.Static(grid, law, opts, self.complex, m3)
+        self.cells, self.dtau = scheme.window_cells(model, grid, opts)
+        w0 = initial_deviation(law, np.exp(grid.s_min + grid.h * np.arange(grid.n + self.cells)))
+        self._scheme, self._x64 = scheme, jax.enable_x64
+        with jax.enable_x64(True):
+            self.dynamic = scheme.dynamic(model, grid, opts)
+            self.y0 = scheme.initial_state(self.static, w0)
 
-        def pair(z):
-            """A complex (or real) JAX array as a (parts, …) real array."""
-            return jnp.stack([jnp.real(z), jnp.imag(z)]) if is_complex else jnp.real(z)[None]
+    def advance(self, y, i_start: int, count: int):
+        """The state after ``count`` windows from window ``i_start``."""
+        with self._x64(True):
+            return self._scheme.advance(self.static, self.dynamic, y, i_start, count)
 
-        def mul(x, y):
-            if not is_complex:
-                return x * y
-            return jnp.stack([x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]])
-
-        def reference_pair(q, gauss=None):
-            gauss = jnp.exp(-0.5 * q * q) if gauss is None else gauss
-            if not is_complex:
-                return gauss[None]
-            return jnp.stack([gauss, -(m3 / 6.0) * q**3 * gauss])
-
-        q_state = jnp.exp(s_min + h * j_grid)  # comoving nodes at the start of a window
-
-        # Time inside a window is local, t = τ − τ_w ∈ [0, Δτ]: every window integrates over
-        # exactly the same interval, whose end meets the shift by `cells` nodes.  (With the
-        # absolute τ as the ODE's time, fl(τ_w + Δτ) − τ_w is off by up to ulp(τ) in every
-        # window; measured: scale errors of up to 1.8e-12 with windows of 0.2 at τ = 3000.)
-
-        def q_at(j, t):
-            """q of comoving node j at local time t of a window."""
-            return jnp.exp(s_min + j * h - lam * t)
-
-        def inflow(t, tau_w):
-            """w at the right ghosts at τ = τ_w + t: e^{−τ} φ(q e^{λτ}) − g(q), (parts, nr)."""
-            q = q_at(j_right, t)
-            tau = tau_w + t
-            if traceable:
-                # e^{−τ} |φ| < 4e-18 for τ > 40: drop it, and never evaluate φ at the huge
-                # k = q e^{λτ} of late times (trigonometric range reduction is slow there).
-                k = q * jnp.exp(lam * jnp.minimum(tau, _INFLOW_CUT))
-                free = jnp.where(tau < _INFLOW_CUT, jnp.exp(-tau) * characteristic(k, jnp), 0.0)
-            else:
-                free = jnp.zeros_like(q)
-            return pair(free) - reference_pair(q)
-
-        # Left ghosts (q < q_min): w continued as w(q_0) (q/q_0)³ from the first node (module
-        # docstring, Boundaries).
-        left_scale = jnp.exp(3.0 * h * jnp.arange(-nl, 0, dtype=jnp.float64))
-
-        def extended(w, t, tau_w):
-            left = w[:, :1] * left_scale[None, :]
-            return jnp.concatenate([left, w, inflow(t, tau_w)], axis=1)
-
-        def stencil(ext, first, weights):
-            start = nl + first
-            return sum(weights[k] * ext[:, start + k : start + k + ns] for k in range(order))
-
-        def rhs(t, y, tau_w):
-            w = y.reshape(parts, ns)
-            ext = extended(w, t, tau_w)
-            q = q_state * jnp.exp(-lam * t)
-            w_p = stencil(ext, first_a, w_a)  # w(p q)
-            w_1mp = stencil(ext, first_b, w_b)  # w((1 − p) q)
-            # three exponentials per node: e^{−q²/2}, e^{−p²q²/2}, e^{−(1−p)²q²/2}
-            gauss_p = jnp.exp(-0.5 * (p * q) ** 2)
-            gauss_1mp = jnp.exp(-0.5 * ((1.0 - p) * q) ** 2)
-            g_p = reference_pair(p * q, gauss_p)
-            g_1mp = reference_pair((1.0 - p) * q, gauss_1mp)
-            re, im = source_parts(q, lam, m3, jnp, jnp.exp(-0.5 * q * q), gauss_p * gauss_1mp)
-            if is_complex:  # an asymmetric law may still have m₃ = 0: then Im S = 0
-                im = jnp.zeros_like(re) if im is None else im
-                dw = jnp.stack([re, im]) - w
-            else:
-                dw = re[None] - w
-            dw = dw + mul(g_p, w_1mp) + mul(w_p, g_1mp) + mul(w_p, w_1mp)
-            return dw.reshape(y.shape)
-
-        term = diffrax.ODETerm(rhs)
-        solver = diffrax.Dopri8()
-        controller = diffrax.PIDController(rtol=opts.rtol, atol=opts.atol)
-
-        def integrate(y, tau_w, t_end, return_stats=False):
-            """Integrate the window that started at τ_w from local time 0 to ``t_end``."""
-            sol = diffrax.diffeqsolve(
-                term,
-                solver,
-                t0=0.0,
-                t1=t_end,
-                dt0=None,
-                y0=y,
-                args=tau_w,
-                stepsize_controller=controller,
-                saveat=diffrax.SaveAt(t1=True),
-                max_steps=opts.max_steps_per_window,
-            )
-            return sol.ys[0] if not return_stats else (sol.ys[0], sol.stats["num_steps"])
-
-        self._integrate, self._rhs = integrate, rhs  # for diagnostics
-
-        def window(i, y):
-            tau_w = i * dtau
-            w1 = integrate(y, tau_w, dtau)
-            right = inflow(dtau, tau_w)  # nodes ns.. now sit at ns − cells..
-            return jnp.concatenate([w1[:, cells:], right[:, :cells]], axis=1)
-
-        def advance(y, i_start, count):
-            return jax.lax.fori_loop(i_start, i_start + count, window, y)
-
-        def output(y, i_window, tau):
-            """w on the fixed grid at τ ≥ τ_w = i_window Δτ (shape (parts, n))."""
-            tau_w = i_window * dtau
-            t = tau - tau_w
-            y_tau = jax.lax.cond(t > 0.0, lambda: integrate(y, tau_w, t), lambda: y)
-            ext = extended(y_tau, t, tau_w)
-            shift = lam * t / h  # fixed node j sits at comoving j + shift
-            base = jnp.floor(shift)
-            frac = shift - base
-            nodes = np.arange(out_order) - (out_order // 2 - 1)
-            out = jnp.zeros((parts, n))
-            for k in range(out_order):
-                wk = 1.0
-                for m in range(out_order):
-                    if m != k:
-                        wk = wk * (frac - nodes[m]) / (nodes[k] - nodes[m])
-                start = (nl + nodes[k] + base).astype(jnp.int32)
-                out = out + wk * jax.lax.dynamic_slice(ext, (jnp.int32(0), start), (parts, n))
-            return out
-
-        self.advance = jax.jit(advance)
-        self.output = jax.jit(output)
-        w0 = initial_deviation(law, np.exp(grid.s_min + h * np.arange(ns)))
-        self.y0 = jnp.asarray(np.stack([w0.real, w0.imag]) if is_complex else w0.real[None])
+    def output(self, y, i_window: int, tau: float):
+        """w on the fixed grid at τ (≥ i_window Δτ) as a (parts, n) array."""
+        with self._x64(True):
+            return self._scheme.output(self.static, self.dynamic, y, i_window, tau)
 
 
 def solve(

@@ -76,16 +76,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import jax
+import jax.numpy as jnp
+import numpy as np
 
-jax.config.update("jax_enable_x64", True)
+from particles.validation import InvalidArgumentError, check_count, check_positive
 
-import jax.numpy as jnp  # noqa: E402
-import numpy as np  # noqa: E402
-
-from particles.validation import InvalidArgumentError, check_count, check_positive  # noqa: E402
-
-from .exact import f_hat  # noqa: E402
-from .model import MaxwellModel  # noqa: E402
+from .exact import f_hat
+from .model import MaxwellModel
 
 __all__ = [
     "FixedPoint",
@@ -231,6 +228,20 @@ def _operators(model: MaxwellModel, n: int, length: float):
     return q, D, Bp, Bm
 
 
+def _collocation_residual(G, qD, Bp, Bm, D2_row0, w2):
+    """The n + 1 collocation equations and the three conditions (see :func:`fixed_point`).
+
+    Module level and jitted with the operators as data: one compilation per n, whatever r.
+    """
+    eq = qD @ G - G + (Bp @ G) * (Bm @ G)
+    cons = jnp.stack([G[0] - 1.0, w2 * (D2_row0 @ G + 1.0), G[-1]])
+    return jnp.concatenate([eq, cons])
+
+
+_residual = jax.jit(_collocation_residual)
+_jacobian = jax.jit(jax.jacfwd(_collocation_residual))
+
+
 def fixed_point(
     restitution: float,
     n: int = 64,
@@ -257,19 +268,21 @@ def fixed_point(
     q, D, Bp, Bm = _operators(model, n, length)
     D2_row0 = (D @ D)[0]
     lam = model.lam
-    qD = jnp.asarray(lam * q[:, None] * D)
-    Bp_j, Bm_j, D2_j = jnp.asarray(Bp), jnp.asarray(Bm), jnp.asarray(D2_row0)
     # Constraint rows are weighted like a typical collocation row: G''(0) is O(n⁴/Q²) times a
     # value, so it is divided by that scale to keep the least-squares problem balanced.
     w2 = 1.0 / float(np.max(np.abs(D2_row0)))
+    # float64 for this computation only (jax.enable_x64 is thread-local and restores the
+    # caller's setting): importing this module leaves JAX's global configuration alone.
+    with jax.enable_x64(True):
+        operators = tuple(jnp.asarray(a) for a in (lam * q[:, None] * D, Bp, Bm, D2_row0, w2))
 
-    def residual(G):
-        eq = qD @ G - G + (Bp_j @ G) * (Bm_j @ G)
-        cons = jnp.stack([G[0] - 1.0, w2 * (D2_j @ G + 1.0), G[-1]])
-        return jnp.concatenate([eq, cons])
+        def res_fn(G):
+            with jax.enable_x64(True):
+                return np.asarray(_residual(jnp.asarray(G), *operators))
 
-    res_fn = jax.jit(residual)
-    jac_fn = jax.jit(jax.jacfwd(residual))
+        def jac_fn(G):
+            with jax.enable_x64(True):
+                return np.asarray(_jacobian(jnp.asarray(G), *operators))
 
     start = initial if initial is not None else (lambda x: np.exp(-0.5 * x * x))
     G = np.asarray(start(q), dtype=float)

@@ -1,0 +1,335 @@
+"""The JAX part of the semi-Lagrangian scheme of :mod:`maxwell_kinetics.solver`.
+
+The method, its boundaries and its conventions are described in the solver's module docstring;
+this module holds its compiled pieces as module-level jitted functions over pytrees, so that
+one compilation serves every restitution coefficient at a given resolution and law:
+
+* :class:`Static` (hashable, the static argument): the grid, the initial law (its φ feeds the
+  inflow, its m₃ the reference), whether G is complex, and the solver options.  A change of any
+  of these compiles anew: one compile per (resolution, law family, options).
+* :class:`Dynamic` (a NamedTuple of arrays, traced): everything that depends on r, i.e. p, λ,
+  the window (its length Δτ in τ and the ``cells`` the grid moves by), the gain stencils (first
+  node and Lagrange weights of the shifts ln p / h and ln(1 − p) / h), and the number of active
+  state nodes.  They are computed on the host exactly as before (:func:`dynamic`), so the
+  numbers are those of the former per-r closure up to round-off in the step-size norm.
+* the output times, window indices and counts are traced arguments as well.
+
+Shapes must not depend on r: the state always holds ``n_state = n + cells_max`` nodes
+(cells_max: the cells of λ = 1/4, the largest λ), of which the first ``n + cells`` are active;
+the others are held at zero, their time derivative is zero, and the error norm of the step-size
+controller is the RMS over the active nodes only (what diffrax's RMS norm gave over the
+unpadded state; measured: G within 3e-14 of the per-r closure).  Gain stencils read one
+array [continuation w(q₀) e^{3h·j} for j < 0 (solver docstring, Boundaries) | state | inflow]
+moved by the traced stencil offset (:func:`_stencil`).
+
+Cost: ~1.3–1.5x the CPU time per window of the former per-r closure (measured at r = 0.5,
+default resolution: 81–90 ms against 62 ms of CPU time for 50 windows), from the larger arrays
+and the dynamic offsets; a ``lax.dynamic_slice`` in place of :func:`_stencil`'s moved copy
+was 4–6x slower.
+
+Every call must run with float64 enabled (``jax.enable_x64(True)``): the solver does that
+itself, without changing JAX's global configuration.
+
+``TRACES`` counts the traces of the jitted functions (a Python side effect that runs only
+when JAX traces, i.e. once per compilation): tests and ``benchmarks/solver.py sweep`` read it.
+"""
+
+from __future__ import annotations
+
+import collections
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import diffrax
+import jax
+import jax.numpy as jnp
+import numpy as np
+import optimistix as optx
+
+from particles.initial import InitialLaw
+
+from .grid import Resolution, lagrange_weights
+from .model import MaxwellModel
+from .solver import _INFLOW_CUT as INFLOW_CUT
+from .solver import SolverOptions, source_parts
+
+#: Traces (= compilations) of each jitted function since import: {"advance": n, "output": n}.
+TRACES: collections.Counter = collections.Counter()
+
+@dataclass(frozen=True)
+class Static:
+    """The static (hashable) part of the scheme: one compilation per value."""
+
+    grid: Resolution
+    law: InitialLaw
+    opts: SolverOptions
+    complex: bool
+    m3: float
+
+    @property
+    def parts(self) -> int:
+        """1 for real G, 2 for complex G carried as (Re, Im) real arrays."""
+        return 2 if self.complex else 1
+
+    @property
+    def cells_max(self) -> int:
+        """Cells per window for the largest λ = 1/4 (r = 0): the padding of the state."""
+        return max(1, round(self.opts.window * 0.25 / self.grid.h))
+
+    @property
+    def n_state(self) -> int:
+        return self.grid.n + self.cells_max
+
+    @property
+    def out_order(self) -> int:
+        """Points of the output interpolation (twice the stencil; solver docstring)."""
+        return 2 * self.grid.order
+
+    @property
+    def n_right(self) -> int:
+        """Inflow ghosts after the last active node: gain stencils reach at most order/2 past a
+        node (their shifts are toward small q), a window moves by ≤ cells_max, and the output
+        stencil reaches out_order/2 further."""
+        return self.grid.order // 2 + self.cells_max + self.out_order
+
+    @property
+    def n_left(self) -> int:
+        """Continuation nodes before node 0 in the array the gain stencils read."""
+        return self.n_state + self.grid.order
+
+    @property
+    def n_source(self) -> int:
+        """Length of the slice one gain stencil reads: n_state + order − 1."""
+        return self.n_state + self.grid.order - 1
+
+
+class Dynamic(NamedTuple):
+    """The traced, r-dependent data of the scheme (see the module docstring)."""
+
+    p: jax.Array
+    lam: jax.Array
+    dtau: jax.Array  # window length in τ
+    cells: jax.Array  # int32: cells the comoving grid moves per window
+    n_active: jax.Array  # int32: n + cells active state nodes
+    first_a: jax.Array  # int32: first node of the stencil of the shift ln p / h
+    weights_a: jax.Array  # (order,)
+    first_b: jax.Array  # int32: the same for ln(1 − p) / h
+    weights_b: jax.Array
+
+
+def window_cells(model: MaxwellModel, grid: Resolution, opts) -> tuple[int, float]:
+    """(cells, Δτ): the grid moves by ``cells`` nodes in a window of Δτ = cells h / λ."""
+    cells = max(1, round(opts.window * model.lam / grid.h))
+    return cells, cells * grid.h / model.lam
+
+
+def dynamic(model: MaxwellModel, grid: Resolution, opts) -> Dynamic:
+    """The traced data for restitution ``model.restitution`` (λ > 0), computed on the host."""
+    cells, dtau = window_cells(model, grid, opts)
+    first_a, w_a = lagrange_weights(math.log(model.p) / grid.h, grid.order)
+    first_b, w_b = lagrange_weights(math.log1p(-model.p) / grid.h, grid.order)
+    i32 = np.int32
+    return Dynamic(
+        p=jnp.asarray(model.p, jnp.float64),
+        lam=jnp.asarray(model.lam, jnp.float64),
+        dtau=jnp.asarray(dtau, jnp.float64),
+        cells=jnp.asarray(i32(cells)),
+        n_active=jnp.asarray(i32(grid.n + cells)),
+        first_a=jnp.asarray(i32(first_a)),
+        weights_a=jnp.asarray(w_a, jnp.float64),
+        first_b=jnp.asarray(i32(first_b)),
+        weights_b=jnp.asarray(w_b, jnp.float64),
+    )
+
+
+# -- complex values as (parts, …) real arrays ------------------------------------------------
+# XLA's complex128 arithmetic on the CPU was measured 10x slower (127 µs against 13 µs per
+# right-hand side at the default resolution).
+
+
+def _pair(st: Static, z):
+    return jnp.stack([jnp.real(z), jnp.imag(z)]) if st.complex else jnp.real(z)[None]
+
+
+def _mul(st: Static, x, y):
+    if not st.complex:
+        return x * y
+    return jnp.stack([x[0] * y[0] - x[1] * y[1], x[0] * y[1] + x[1] * y[0]])
+
+
+def _reference_pair(st: Static, q, gauss=None):
+    gauss = jnp.exp(-0.5 * q * q) if gauss is None else gauss
+    if not st.complex:
+        return gauss[None]
+    return jnp.stack([gauss, -(st.m3 / 6.0) * q**3 * gauss])
+
+
+# -- the pieces of one window -----------------------------------------------------------------
+# Time inside a window is local, t = τ − τ_w ∈ [0, Δτ] (solver docstring).
+
+
+def _q_at(st: Static, dy: Dynamic, j, t):
+    """q of comoving node j at local time t of a window."""
+    return jnp.exp(st.grid.s_min + j * st.grid.h - dy.lam * t)
+
+
+def _inflow(st: Static, dy: Dynamic, t, tau_w):
+    """w at the n_right nodes after the active ones at τ = τ_w + t: e^{−τ} φ(q e^{λτ}) − g(q)."""
+    j = (dy.n_active + jnp.arange(st.n_right, dtype=jnp.int32)).astype(jnp.float64)
+    q = _q_at(st, dy, j, t)
+    tau = tau_w + t
+    if st.law.traceable:
+        # e^{−τ} |φ| < 4e-18 for τ > 40: drop it, and never evaluate φ at the huge
+        # k = q e^{λτ} of late times (trigonometric range reduction is slow there).
+        k = q * jnp.exp(dy.lam * jnp.minimum(tau, INFLOW_CUT))
+        free = jnp.where(tau < INFLOW_CUT, jnp.exp(-tau) * st.law.characteristic(k, jnp), 0.0)
+    else:
+        free = jnp.zeros_like(q)
+    return _pair(st, free) - _reference_pair(st, q)
+
+
+def _padded(st: Static, dy: Dynamic, w, t, tau_w):
+    """[continuation | state | inflow ghosts]: node j (j ≥ −n_left) sits at index n_left + j.
+
+    Left of node 0: w(q₀) e^{3h·j} (solver docstring, Boundaries).  The inflow overwrites the
+    inactive state nodes from n_active on.
+    """
+    h = st.grid.h
+    left = w[:, :1] * jnp.exp(3.0 * h * jnp.arange(-st.n_left, 0, dtype=jnp.float64))[None, :]
+    base = jnp.concatenate([left, w, jnp.zeros((st.parts, st.n_right))], axis=1)
+    start = (jnp.int32(0), jnp.int32(st.n_left) + dy.n_active)
+    return jax.lax.dynamic_update_slice(base, _inflow(st, dy, t, tau_w), start)
+
+
+def _stencil(st: Static, padded, first, weights):
+    """Σ_k weights[k] · w[j + first + k] for every state node j.
+
+    ``first`` is traced.  Written as a static slice of ``padded`` moved right by −first
+    (≥ order/2 > 0: both gain shifts point to smaller q): a dynamic_slice feeding the stencil
+    sum was measured 2–3x slower on the CPU.  For −first > n_left (1 − p < e^{−(n + order) h},
+    r within ~1e-12 of 1) the move is clamped and the stencil reads the continuation at −n_left
+    instead of further left, an error below w(q₀) e^{−3h·n_left} (< 1e-35 w(q₀)).
+    """
+    moved = jnp.concatenate([jnp.zeros((st.parts, st.n_left)), padded], axis=1)
+    moved = jax.lax.dynamic_update_slice(moved, padded, (jnp.int32(0), -first))
+    source = moved[:, st.n_left : st.n_left + st.n_source]
+    ns = st.n_state
+    return sum(weights[k] * source[:, k : k + ns] for k in range(st.grid.order))
+
+
+def _active(st: Static, dy: Dynamic):
+    return (jnp.arange(st.n_state, dtype=jnp.int32) < dy.n_active)[None, :]
+
+
+def _rhs(st: Static, t, y, args):
+    tau_w, dy = args
+    p, lam = dy.p, dy.lam
+    w = y
+    padded = _padded(st, dy, w, t, tau_w)
+    j_grid = jnp.arange(st.n_state, dtype=jnp.float64)
+    q_state = jnp.exp(st.grid.s_min + st.grid.h * j_grid)  # comoving nodes at the window start
+    q = q_state * jnp.exp(-lam * t)
+    w_p = _stencil(st, padded, dy.first_a, dy.weights_a)  # w(p q)
+    w_1mp = _stencil(st, padded, dy.first_b, dy.weights_b)  # w((1 − p) q)
+    # three exponentials per node: e^{−q²/2}, e^{−p²q²/2}, e^{−(1−p)²q²/2}
+    gauss_p = jnp.exp(-0.5 * (p * q) ** 2)
+    gauss_1mp = jnp.exp(-0.5 * ((1.0 - p) * q) ** 2)
+    g_p = _reference_pair(st, p * q, gauss_p)
+    g_1mp = _reference_pair(st, (1.0 - p) * q, gauss_1mp)
+    re, im = source_parts(q, lam, st.m3, jnp, jnp.exp(-0.5 * q * q), gauss_p * gauss_1mp)
+    if st.complex:  # an asymmetric law may still have m₃ = 0: then Im S = 0
+        im = jnp.zeros_like(re) if im is None else im
+        dw = jnp.stack([re, im]) - w
+    else:
+        dw = re[None] - w
+    dw = dw + _mul(st, g_p, w_1mp) + _mul(st, w_p, g_1mp) + _mul(st, w_p, w_1mp)
+    # Inactive nodes (≥ n_active) evolve too, harmlessly: the stencils of active nodes read
+    # the inflow there, and the error norm skips them.
+    return dw
+
+
+def _integrate(st: Static, dy: Dynamic, y, tau_w, t_end):
+    """Integrate the window that started at τ_w from local time 0 to ``t_end``."""
+    active_values = (dy.n_active * st.parts).astype(jnp.float64)
+
+    active = _active(st, dy)
+
+    def active_rms(x):
+        # diffrax's default RMS norm, over the active nodes only.
+        return optx.two_norm(jnp.where(active, x, 0.0)) / jnp.sqrt(active_values)
+
+    sol = diffrax.diffeqsolve(
+        diffrax.ODETerm(lambda t, y, args: _rhs(st, t, y, args)),
+        diffrax.Dopri8(),
+        t0=0.0,
+        t1=t_end,
+        dt0=None,
+        y0=y,
+        args=(tau_w, dy),
+        stepsize_controller=diffrax.PIDController(
+            rtol=st.opts.rtol, atol=st.opts.atol, norm=active_rms
+        ),
+        saveat=diffrax.SaveAt(t1=True),
+        max_steps=st.opts.max_steps_per_window,
+    )
+    return sol.ys[0]
+
+
+def _window(st: Static, dy: Dynamic, i, y):
+    """One window from τ_w = i Δτ: integrate, then shift the values by ``cells`` nodes."""
+    tau_w = i * dy.dtau
+    w1 = _integrate(st, dy, y, tau_w, dy.dtau)
+    padded = _padded(st, dy, w1, dy.dtau, tau_w)  # nodes n_active.. now sit at n_active − cells
+    moved = jax.lax.dynamic_slice(
+        padded, (jnp.int32(0), jnp.int32(st.n_left) + dy.cells), (st.parts, st.n_state)
+    )
+    return jnp.where(_active(st, dy), moved, 0.0)
+
+
+def _advance(st: Static, dy: Dynamic, y, i_start, count):
+    TRACES["advance"] += 1
+    return jax.lax.fori_loop(
+        i_start, i_start + count, lambda i, y: _window(st, dy, i, y), y
+    )
+
+
+def _output(st: Static, dy: Dynamic, y, i_window, tau):
+    """w on the fixed grid at τ ≥ τ_w = i_window Δτ (shape (parts, n))."""
+    TRACES["output"] += 1
+    n, out_order, nl = st.grid.n, st.out_order, st.out_order
+    tau_w = i_window * dy.dtau
+    t = tau - tau_w
+    y_tau = jax.lax.cond(
+        t > 0.0, lambda: _integrate(st, dy, y, tau_w, t), lambda: y
+    )
+    ext = _padded(st, dy, y_tau, t, tau_w)[:, st.n_left - nl :]
+    shift = dy.lam * t / st.grid.h  # fixed node j sits at comoving j + shift
+    base = jnp.floor(shift)
+    frac = shift - base
+    nodes = np.arange(out_order) - (out_order // 2 - 1)
+    out = jnp.zeros((st.parts, n))
+    for k in range(out_order):
+        wk = 1.0
+        for m in range(out_order):
+            if m != k:
+                wk = wk * (frac - nodes[m]) / (nodes[k] - nodes[m])
+        start = (nl + nodes[k] + base).astype(jnp.int32)
+        out = out + wk * jax.lax.dynamic_slice(ext, (jnp.int32(0), start), (st.parts, n))
+    return out
+
+
+#: ``advance(static, dynamic, y, i_start, count)``: ``count`` windows from window ``i_start``.
+advance = jax.jit(_advance, static_argnums=0)
+#: ``output(static, dynamic, y, i_window, tau)``: w on the fixed grid at τ.
+output = jax.jit(_output, static_argnums=0)
+
+
+def initial_state(st: Static, w0: np.ndarray):
+    """The state array (parts, n_state) from w(q, 0) on the n + cells active nodes."""
+    y = np.zeros((st.parts, st.n_state))
+    if st.complex:
+        y[0, : w0.size], y[1, : w0.size] = w0.real, w0.imag
+    else:
+        y[0, : w0.size] = w0.real
+    return jnp.asarray(y)
