@@ -1,39 +1,19 @@
-"""maxwell_kinetics: the pseudo-Maxwell (Ulam) Boltzmann equation solved in Fourier space.
+"""maxwell_kinetics: kinetic theory of inelastic Maxwell models in Fourier space (JAX in float64,
+diffrax, pyfftw), and the application built on it and on :mod:`particles`: the command line
+(:mod:`.cli`, one module per subcommand in :mod:`.commands`), the comparisons with the paper
+(:mod:`.comparisons`) and ``reproduce``.
 
-JAX runs in float64 everywhere in this package, whatever the import order:
+Importing this package changes no global configuration.  The JAX computations (:mod:`.solver`,
+:mod:`.stationary`) run in float64 inside ``jax.enable_x64(True)``, a thread-local context that
+restores the caller's setting, so a user's own float32 JAX code is not affected.
 
-* if JAX is already imported when this package is, ``jax.config.update("jax_enable_x64",
-  True)`` is called at once (the environment variable would come too late);
-* otherwise ``JAX_ENABLE_X64=1`` is set in ``os.environ``, which JAX reads when it is first
-  imported.  JAX itself is *not* imported here, so ``import particles.initial`` (used by
-  :mod:`particles`) stays free of JAX.
-
-Decision: an explicit ``JAX_ENABLE_X64=0`` in the environment is overridden.  The solver's error
-floors (down to ~1e-12) and its tests need float64, and the JAX modules (``solver``,
-``stationary``) switch x64 on anyway when they run, so honouring 0 would only make arrays created
-before the first solve float32.  Code that needs float32 JAX should not import this package.
-The NumPy-only modules (``initial``, ``validation``) import no JAX.
-
-Public names are loaded lazily so that ``import particles.initial`` stays light.
+Public names are loaded lazily so that ``import maxwell_kinetics`` stays light (no JAX until a
+solver runs).
 """
 
 from __future__ import annotations
 
 import importlib
-import os
-import sys
-
-
-def _enable_x64() -> None:
-    """Float64 for JAX: now if JAX is imported, else when it is (see the module docstring)."""
-    jax = sys.modules.get("jax")
-    if jax is not None and hasattr(jax, "config"):
-        jax.config.update("jax_enable_x64", True)
-    else:
-        os.environ["JAX_ENABLE_X64"] = "1"
-
-
-_enable_x64()
 
 __version__ = "0.1.0"
 

@@ -49,9 +49,8 @@ import optimistix as optx
 
 from particles.initial import InitialLaw
 
-from .grid import Resolution, lagrange_weights
+from .grid import INFLOW_CUT, Resolution, lagrange_weights
 from .model import MaxwellModel
-from .solver import _INFLOW_CUT as INFLOW_CUT
 from .solver import SolverOptions, source_parts
 
 #: Traces (= compilations) of each jitted function since import: {"advance": n, "output": n}.

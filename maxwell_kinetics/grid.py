@@ -31,6 +31,10 @@ from particles.validation import InvalidArgumentError
 __all__ = ["Resolution", "RESOLUTIONS", "get_resolution", "lagrange_weights"]
 
 
+#: Beyond this τ the free-streaming inflow e^{−τ} φ of the solver is below 4e-18 and is set to
+#: zero (used by :mod:`maxwell_kinetics.solver` and its JAX scheme).
+INFLOW_CUT = 40.0
+
 @dataclass(frozen=True)
 class Resolution:
     """A named discretisation of s = ln q: spacing ``h``, interpolation ``order``, range."""

@@ -131,3 +131,18 @@ def test_no_test_loads_a_benchmark_by_path():
             continue
         text = path.read_text()
         assert "spec_from_file_location" not in text, path.name
+
+
+def test_importing_the_package_changes_no_global_configuration():
+    # A library does not change global configuration when imported (issue 14): after importing
+    # maxwell_kinetics and its solver, JAX's x64 flag and the environment are as they were.
+    import os
+
+    code = (
+        "import os, jax, maxwell_kinetics, maxwell_kinetics.solver, maxwell_kinetics.cli\n"
+        "print(jax.config.jax_enable_x64, os.environ.get('JAX_ENABLE_X64'))\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "JAX_ENABLE_X64"}
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, cwd=ROOT, env=env)
+    assert done.stdout.strip() == "False None"

@@ -315,8 +315,7 @@ def _run_python(code: str, **env) -> str:
     import subprocess
     import sys
 
-    # The test process has imported maxwell_kinetics, which sets JAX_ENABLE_X64=1 in os.environ:
-    # drop it so that the child starts from a clean environment.
+    # The child starts without JAX_ENABLE_X64 whatever this process has (a user may set it).
     full_env = {k: v for k, v in os.environ.items() if k != "JAX_ENABLE_X64"}
     full_env.update(env)
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
