@@ -132,10 +132,10 @@ def registered_models() -> dict[str, tuple[str, ...]]:
     return {name: m.parameters for name, m in _MODELS.items()}
 
 
-def _ulam(n, restitution, initial="gaussian"):
+def _ulam(n, restitution, initial="gaussian", dimension=1, angular="uniform", driving=0.0):
     from .ulam import Ulam
 
-    return Ulam(n, restitution, initial)
+    return Ulam(n, restitution, initial, dimension=dimension, angular=angular, driving=driving)
 
 
 def _lattice(n, restitution, initial="gaussian", constraint=True):

@@ -31,10 +31,12 @@ Layout (imports run downwards only; no module of the package imports this one):
 from __future__ import annotations
 
 from . import (
+    _driven_steady,
     _energy_decay,
     _kinetic_theory,
     _kinetic_vs_ulam,
     _structure_factors,
+    _tail_exponents,
     _ulam_collapse,
     _velocity_distributions,
     _velocity_profiles,
@@ -67,6 +69,8 @@ __all__ = [
     "structure_factors",
     "velocity_distributions",
     "velocity_profiles",
+    "tail_exponents",
+    "driven_steady",
     "coarse_increment_skewness",
     "block_means",
     "velocity_on_grid",
@@ -93,6 +97,8 @@ velocity_distributions = _velocity_distributions.run
 energy_decay = _energy_decay.run
 structure_factors = _structure_factors.run
 velocity_profiles = _velocity_profiles.run
+tail_exponents = _tail_exponents.run
+driven_steady = _driven_steady.run
 
 ABS_MEAN_F = _velocity_distributions.ABS_MEAN_F
 ABS_MEAN_GAUSSIAN = _velocity_distributions.ABS_MEAN_GAUSSIAN
@@ -106,4 +112,6 @@ COMPARISONS = {
     "energy_decay": energy_decay,
     "structure_factors": structure_factors,
     "velocity_profiles": velocity_profiles,
+    "tail_exponents": tail_exponents,
+    "driven_steady": driven_steady,
 }

@@ -37,6 +37,7 @@ from particles.ulam import Ulam
 
 __all__ = [
     "ulam_snapshots",
+    "ulam_final",
     "lattice_runs",
     "lattice_at_energy",
     "md_runs",
@@ -118,6 +119,14 @@ def ulam_snapshots(restitution, law, n, taus, seeds, progress=False) -> np.ndarr
     for j, res in enumerate(runs):
         out[:, j, :] = res.snapshots
     return out
+
+
+def ulam_final(params: dict, tau: float, seeds, progress=False) -> np.ndarray:
+    """Final velocities of Ulam runs of any kind (``params``: the keyword arguments of
+    :class:`particles.ulam.Ulam`, e.g. ``dimension``, ``angular``, ``driving``) at τ = ``tau``:
+    array (len(seeds), N) in 1D, (len(seeds), N, d) in d > 1 (not cached)."""
+    runs = _runs("ulam", dict(params), [float(tau)], seeds, progress, lambda: Ulam(**params))
+    return np.array([r.velocities for r in runs])
 
 
 def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", progress=False,

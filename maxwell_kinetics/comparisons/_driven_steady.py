@@ -1,0 +1,119 @@
+"""Comparison: the driven (heated) 1D Maxwell model in its non-equilibrium steady state, kinetic
+theory (:mod:`maxwell_kinetics.driven`) against the driven Ulam particles (issue 17).
+
+    ∂τP̂(k) + (1 + D k²) P̂(k) = P̂(pk) P̂(qk),   q = 1 − p
+
+Steady state: ⟨v²⟩ = D/(pq), kurtosis 3 + 6pq/(2 − pq) (exact cumulants), tail
+P ∝ exp(−|v|/√D).  ``run`` computes, ``plot`` draws."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from ..driven import steady_state
+from .base import Comparison, jsonable, preset, register_plot
+from .drawing import panels
+from .particle_runs import ulam_final
+
+__all__ = ["NAME", "PRESETS", "run", "plot"]
+
+NAME = "driven_steady"
+
+PRESETS = {
+    "small": {"restitutions": (0.0, 0.5), "driving": 1.0, "n": 20_000, "seeds": 4,
+              "tau": 60.0, "bin_width": 0.25},
+    "default": {"restitutions": (0.0, 0.5, 0.9), "driving": 1.0, "n": 200_000, "seeds": 8,
+                "tau": 100.0, "bin_width": 0.2},
+    "full": {"restitutions": (0.0, 0.5, 0.9), "driving": 1.0, "n": 1_000_000, "seeds": 8,
+             "tau": 200.0, "bin_width": 0.1},
+}
+
+
+def _ms(a) -> list:
+    a = np.asarray(a, dtype=float)
+    return [float(a.mean()), float(a.std(ddof=1) / math.sqrt(a.size)) if a.size > 1 else None]
+
+
+def run(size=None, progress: bool = True, **overrides) -> Comparison:
+    """For each r: the exact steady variance D/(pq) (with the finite-N factor (1 − 1/N)² of a
+    gas of zero total momentum) and kurtosis against the particles' (mean ± standard error over
+    seeds, in units of that error); the steady density P(v) against the pooled particle
+    histogram (χ²/dof with the errors from the seed scatter); the tail slope of ln P on
+    |v|/√D ∈ [3, 6] against −1/√D.  The runs start from a unit Gaussian and are taken at τ =
+    ``tau``: the slowest relaxation, of ⟨v²⟩, is e^{−2pqτ} (r = 0.9: 2pq = 0.095, e^{−9.5} at
+    τ = 100; the small size takes r ≤ 0.5 only)."""
+    start = time.perf_counter()
+    prm = preset(PRESETS, size, overrides)
+    d, n = float(prm["driving"]), int(prm["n"])
+    seeds = tuple(range(int(prm["seeds"])))
+    rows, curves = [], []
+    for r in prm["restitutions"]:
+        theory = steady_state(r, d)
+        v = ulam_final({"n": n, "restitution": float(r), "driving": d}, prm["tau"], seeds,
+                       progress=progress)
+        var_exact = theory.variance * (1.0 - 1.0 / n) ** 2
+        m2 = np.mean(v * v, axis=1)
+        kurt = np.mean(v**4, axis=1) / m2**2
+        sd = math.sqrt(theory.variance)
+        width = prm["bin_width"] * sd
+        edges = np.arange(-8 * sd, 8 * sd + width / 2, width)
+        # pooled histogram; binomial errors of the pooled counts (in the steady state of the
+        # mean-field model the particles of one run are nearly independent)
+        counts = np.sum([np.histogram(row, edges)[0] for row in v], axis=0)
+        total = v.size
+        dens = counts / (total * width)
+        err = np.sqrt(counts) / (total * width)
+        centres = 0.5 * (edges[1:] + edges[:-1])
+        exact = np.interp(centres, theory.velocity, theory.density)
+        ok = counts >= 10
+        chi2 = float(np.sum(((dens - exact)[ok] / err[ok]) ** 2) / ok.sum())
+        # tail: slope of ln P on |v|/√D ∈ [3, 6], particles and theory on the same window (the
+        # asymptotic slope −1/√D is reached further out: the next poles add e^{−|v|/(p√D)})
+        w = np.abs(centres) / math.sqrt(d)
+        tail = (w >= 3) & (w <= 6) & (counts >= 10)
+        slope = float(np.polyfit(np.abs(centres[tail]), np.log(dens[tail]), 1)[0])
+        slope_theory = float(np.polyfit(np.abs(centres[tail]), np.log(exact[tail]), 1)[0])
+        var_p, kurt_p = _ms(m2), _ms(kurt)
+        rows.append({
+            "restitution": float(r), "variance_exact": var_exact, "variance": var_p,
+            "variance_in_sigma": (var_p[0] - var_exact) / var_p[1],
+            "kurtosis_exact": theory.kurtosis, "kurtosis": kurt_p,
+            "kurtosis_in_sigma": (kurt_p[0] - theory.kurtosis) / kurt_p[1],
+            "density_chi2_per_dof": chi2, "bins": int(ok.sum()),
+            "tail_slope": slope, "tail_slope_theory_same_window": slope_theory,
+            "tail_slope_asymptotic": -1.0 / math.sqrt(d),
+        })
+        curves.append({"x": theory.velocity, "P": theory.density, "centres": centres,
+                       "density": dens, "error": err})
+    summary = {"parameters": jsonable(prm), "rows": rows,
+               "seconds": time.perf_counter() - start}
+    return Comparison(NAME, summary, {"curves": curves, "rows": rows})
+
+
+def plot(c, ax=None):
+    """ln P(v) of theory (lines) and particles (points ± error) for each r; the Gaussian of the
+    same variance dashed."""
+    own = ax is None
+    fig, (ax,) = panels(1, ax, width=6.0)
+    for i, (row, cur) in enumerate(zip(c.data["rows"], c.data["curves"], strict=True)):
+        keep = cur["P"] > 1e-9
+        ax.semilogy(cur["x"][keep], cur["P"][keep], color=f"C{i}", lw=1,
+                    label=f"r = {row['restitution']:g}: theory, kurtosis "
+                          f"{row['kurtosis_exact']:.3f}")
+        good = cur["density"] > 0
+        ax.errorbar(cur["centres"][good], cur["density"][good], yerr=cur["error"][good], fmt=".",
+                    ms=3, color=f"C{i}", label=f"particles, kurtosis {row['kurtosis'][0]:.3f}")
+        var = row["variance_exact"]
+        g = np.exp(-0.5 * cur["x"] ** 2 / var) / math.sqrt(2 * math.pi * var)
+        ax.semilogy(cur["x"][g > 1e-9], g[g > 1e-9], "--", color=f"C{i}", lw=0.6)
+    ax.set(xlabel="v", ylabel="P(v)", title="driven Maxwell model: steady state (dashed: Gaussian)")
+    ax.legend(fontsize=6)
+    if own:
+        fig.tight_layout()
+    return fig
+
+
+register_plot(NAME, plot)
