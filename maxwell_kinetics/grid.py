@@ -116,3 +116,34 @@ def lagrange_weights(offset: float, order: int) -> tuple[int, np.ndarray]:
             if m != k:
                 w[k] *= (frac - nodes[m]) / (nodes[k] - nodes[m])
     return first, w
+
+
+#: A kinetic solve of more windows than this is refused unless forced (at ~1 ms per window
+#: of the default grid, 10⁹ windows are about 12 days).
+MAX_WINDOWS = 1e9
+
+
+def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window: float = 2.0,
+                       force: bool = False, name: str = "tau") -> dict:
+    """Estimate a solve before it starts: its windows (τ_max / ``window``: each is one diffrax
+    integration over the grid) and its memory (the stored G and deviation at every output time,
+    24 bytes per node and time, plus the working state); refuse what cannot fit in memory, and
+    more than :data:`MAX_WINDOWS` windows unless ``force``.  Returns the estimate."""
+    from particles.budget import available_memory, format_bytes
+
+    windows = float(tau_max) / float(window)
+    memory = 24.0 * grid.n * (n_times + 64)
+    available = available_memory()
+    if not memory <= available:
+        raise InvalidArgumentError(
+            name, f"{n_times} output times",
+            f"a solve that fits in the {format_bytes(available)} of memory available "
+            f"(estimate {format_bytes(memory)})",
+        )
+    if not force and not windows <= MAX_WINDOWS:
+        raise InvalidArgumentError(
+            name, tau_max,
+            f"a solve of at most {MAX_WINDOWS:.0e} windows of {window:g} in τ (estimate "
+            f"{windows:.3g}); pass --force to run it anyway",
+        )
+    return {"windows": windows, "memory": memory}

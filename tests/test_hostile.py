@@ -396,3 +396,19 @@ def test_a_fixed_point_that_did_not_converge_is_not_a_success(capsys, r, n):
     captured = capsys.readouterr()
     assert json.loads(captured.out)["converged"] is False
     assert "did not converge" in captured.err
+
+
+@pytest.mark.parametrize(
+    "argv, named",
+    [
+        (["solve", "-r", "0.5", "--tau", "1e300", "--resolution", "coarse"], "tau=1e+300"),
+        (["convergence", "--tau-max", "1e300", "--out", "OUT"], "tau-max=1e+300"),
+        (["fixed-point", "-r", "0.5", "--n", "100000000"], "n=100000000"),
+    ],
+)
+def test_absurd_kinetic_runs_are_refused_before_they_start(capsys, tmp_path, argv, named):
+    # τ = 1e300 is 5e299 windows; n = 1e8 dense Chebyshev operators need ~1e6 TB
+    argv = [str(tmp_path / "cv") if a == "OUT" else a for a in argv]
+    err = run_error(capsys, argv)
+    assert named in err and "estimate" in err
+    assert not (tmp_path / "cv").exists()

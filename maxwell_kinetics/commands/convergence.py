@@ -13,7 +13,7 @@ from particles.validation import (
     parse_name_list,
 )
 
-from ..grid import RESOLUTIONS, get_resolution
+from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
 from ..output import emit_json, progress_enabled
 
 
@@ -34,6 +34,8 @@ def _convergence_options(p) -> None:
     p.add_argument("--out", default="results", help="output folder (default results/)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
+    p.add_argument("--force", action="store_true",
+                   help="run even when the estimated number of windows exceeds 1e9")
 
 
 def run(args) -> int:
@@ -45,6 +47,8 @@ def run(args) -> int:
     if tau_max < 10:
         raise InvalidArgumentError("tau-max", args.tau_max, "a final time >= 10")
     check_output_dir(args.out, "out")
+    for name in names:
+        check_solve_budget(get_resolution(name), tau_max, 64, name="tau-max", force=args.force)
     runs = convergence_study(rs, names, tau_max, progress=progress_enabled(args))
     summary = write_results(runs, args.out)
     if args.json:

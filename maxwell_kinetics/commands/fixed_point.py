@@ -6,9 +6,25 @@ from __future__ import annotations
 import sys
 import time
 
-from particles.validation import parse_count
+from particles.validation import InvalidArgumentError, parse_count
 
 from ..output import emit_json
+
+#: Dense matrices of the Chebyshev collocation: about 12 of (n + 1)² doubles at once.
+_MATRICES = 12
+
+
+def check_fixed_point_budget(n: int) -> None:
+    """Refuse a Chebyshev degree whose dense operators cannot fit in the memory available."""
+    from particles.budget import available_memory, format_bytes
+
+    need = _MATRICES * 8.0 * (n + 1) ** 2
+    available = available_memory()
+    if not need <= available:
+        raise InvalidArgumentError(
+            "n", n, f"a degree whose dense operators fit in the {format_bytes(available)} "
+            f"available (estimate {format_bytes(need)})",
+        )
 
 #: Largest residual max_j |R[G](q_j)| of a converged fixed point (converged solves reach ~1e-15).
 RESIDUAL_TOLERANCE = 1e-8
@@ -33,6 +49,7 @@ def run(args) -> int:
 
     start = time.perf_counter()
     n = parse_count(args.n, "n", 8)
+    check_fixed_point_budget(n)
     fp = fixed_point(args.restitution, n=n)
     # Newton may stop on a small step at a non-solution (n = 8, r = 0.99: residual 4.8e-3):
     # a fixed point counts as converged only when its residual is small too

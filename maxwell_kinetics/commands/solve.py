@@ -12,7 +12,7 @@ import numpy as np
 from particles.initial import get_law
 from particles.validation import InvalidArgumentError, check_times, parse_float_list
 
-from ..grid import RESOLUTIONS, get_resolution
+from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
 from ..model import MaxwellModel
 from ..output import check_outputs, emit_json, progress_enabled
 
@@ -32,6 +32,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--plot", metavar="FILE", help="write a PNG of G and |G − f̂|")
     p.add_argument("--save", metavar="FILE", help="save the Solution (.npz)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    p.add_argument("--force", action="store_true",
+                   help="run even when the estimated number of windows exceeds 1e9")
     p.set_defaults(handler=run)
 
 
@@ -49,6 +51,7 @@ def run(args) -> int:
             "q", args.q, f"values with |q| <= q_max={grid.q_max:.6g} of resolution {grid.name!r}"
         )
     check_outputs(save=args.save, images={"plot": args.plot})
+    check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force)
     from ..solver import solve  # JAX: imported only when a solve runs
 
     start = time.perf_counter()
