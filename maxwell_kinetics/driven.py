@@ -69,6 +69,11 @@ _LEAF = 0.5  # the series is used for |k|√D ≤ _LEAF
 _HALF_WIDTH = 60.0  # the v-grid covers [−60√D, 60√D)
 
 
+#: Largest heating strength accepted: the cumulants grow as D^j (j ≤ 4 by default), so D^4 must
+#: stay finite in float64 with room to spare.
+MAX_DRIVING = 1e60
+
+
 def _check_driving(driving, restitution, *, allow_zero=False) -> tuple[float, float]:
     r = check_restitution(restitution)
     try:
@@ -77,6 +82,10 @@ def _check_driving(driving, restitution, *, allow_zero=False) -> tuple[float, fl
         raise InvalidArgumentError("driving", driving, "a finite number > 0") from None
     if not math.isfinite(d) or d < 0.0:
         raise InvalidArgumentError("driving", driving, "a finite number > 0")
+    if d > MAX_DRIVING:
+        raise InvalidArgumentError(
+            "driving", driving, f"D <= {MAX_DRIVING:g} (the cumulants, ~ D^j, overflow beyond)"
+        )
     if d == 0.0 and not allow_zero:
         raise InvalidArgumentError(
             "driving", driving, "D > 0 (with D = 0 there is no steady state: the gas cools to rest)"

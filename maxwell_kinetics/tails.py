@@ -62,7 +62,7 @@ from scipy.special import beta as beta_function
 from scipy.special import hyp2f1
 
 from particles.collision import transfer_fraction
-from particles.validation import InvalidArgumentError, check_restitution
+from particles.validation import InvalidArgumentError, check_choice, check_restitution
 
 __all__ = [
     "ANGULAR_MODELS",
@@ -104,9 +104,7 @@ def _check_dimension(dimension) -> int:
 
 
 def _check_angular(angular) -> str:
-    if angular not in ANGULAR_MODELS:
-        raise InvalidArgumentError("angular", angular, f"one of {sorted(ANGULAR_MODELS)}")
-    return angular
+    return check_choice(angular, "angular", ANGULAR_MODELS)
 
 
 def angular_law(dimension, angular="uniform") -> AngularLaw:

@@ -52,6 +52,7 @@ from .validation import (
     InvalidArgumentError,
     check_count,
     check_nonnegative,
+    check_path,
     check_times,
 )
 
@@ -121,7 +122,7 @@ def next_grid_point(time: float, step: float) -> float:
 
 def check_writable(path, name: str) -> Path:
     """``path`` must name a file (not a directory) in an existing, writable directory."""
-    path = Path(path)
+    path = check_path(path, name)
     directory = path.parent if str(path.parent) else Path(".")
     if path.is_dir() or not directory.is_dir() or not os.access(directory, os.W_OK):
         raise InvalidArgumentError(
@@ -651,7 +652,8 @@ def simulate(
         fields = tuple(getattr(engine, "snapshot_fields", ())) if snapshots else ()
         records = _Records(len(times), n, structure_factor, snapshots, fields)
         if resume is not None:
-            state, rng = _load_checkpoint(resume, engine, identity, records)
+            state, rng = _load_checkpoint(check_path(resume, "resume"), engine, identity,
+                                          records)
         else:
             rng = np.random.default_rng(seed)
             state = engine.initial_state(rng)

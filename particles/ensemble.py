@@ -270,7 +270,7 @@ class EnsembleSpec:
     options: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self):
-        if self.model not in _MODELS:
+        if not isinstance(self.model, str) or self.model not in _MODELS:
             raise InvalidArgumentError("model", self.model, f"one of {sorted(_MODELS)}")
         m = _MODELS[self.model]
         if not isinstance(self.params, Mapping):

@@ -131,11 +131,15 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     if bins is None:
         edges = DEFAULT_EDGES
     elif np.isscalar(bins):
-        if isinstance(bins, bool) or int(bins) != bins or int(bins) < 1:
-            raise InvalidArgumentError("bins", bins, "a positive integer or an array of edges")
+        if (isinstance(bins, bool) or not isinstance(bins, (int, float, np.integer, np.floating))
+                or not np.isfinite(bins) or int(bins) != bins or not 1 <= int(bins) <= 10**6):
+            raise InvalidArgumentError("bins", bins, "an integer in [1, 1e6] or an array of edges")
         edges = np.linspace(-6.0, 6.0, int(bins) + 1)
     else:
-        edges = np.asarray(bins, dtype=float)
+        try:
+            edges = np.asarray(bins, dtype=float)
+        except (TypeError, ValueError):
+            raise InvalidArgumentError("bins", bins, "an array of increasing edges") from None
         if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
             raise InvalidArgumentError("bins", bins, "at least two strictly increasing edges")
     rows = arr.reshape(-1, arr.shape[-1])

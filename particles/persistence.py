@@ -43,7 +43,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .validation import InvalidArgumentError
+from .validation import InvalidArgumentError, check_path
 
 __all__ = ["FileFormatError", "Loaded", "FORMAT_TAG", "save", "load", "digest"]
 
@@ -120,7 +120,7 @@ def _clean_stale(path: Path) -> None:
 def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) -> Path:
     """Write ``arrays`` and ``meta`` to ``path`` atomically, with the format tag, ``kind``,
     ``version`` and the content hash.  Returns the path."""
-    path = Path(path)
+    path = check_path(path, "path")
     meta = dict(meta or {})
     clash = [k for k in _RESERVED if k in meta]
     if clash:
@@ -254,6 +254,7 @@ def load(
     if hasattr(path, "read"):  # an open binary file (a legacy comparison's nested solution)
         opened = contextlib.nullcontext(path)
     else:
+        path = check_path(path, argument)
         try:
             st = os.stat(path)
         except FileNotFoundError:

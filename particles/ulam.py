@@ -91,6 +91,7 @@ from .driver import initial_velocities, next_grid_point
 from .initial import get_law
 from .validation import (
     InvalidArgumentError,
+    check_choice,
     check_count,
     check_nonnegative,
     check_restitution,
@@ -370,9 +371,7 @@ def collide_sequential_vectors(v, pairs, restitution, draws: AngularDraws, angul
 
 
 def _check_angular(angular) -> str:
-    if angular not in ANGULAR_MODELS:
-        raise InvalidArgumentError("angular", angular, f"one of {list(ANGULAR_MODELS)}")
-    return angular
+    return check_choice(angular, "angular", ANGULAR_MODELS)
 
 
 def _is_grid_point(t: float, step: float) -> bool:

@@ -27,6 +27,8 @@ __all__ = [
     "parse_count",
     "parse_seed",
     "check_output_file",
+    "check_path",
+    "check_choice",
     "check_output_dir",
 ]
 
@@ -185,12 +187,27 @@ def parse_seed(text, name: str = "seed") -> int:
     return parse_int(text, name, 0, SEED_MAX)
 
 
+def check_path(path, name: str) -> Path:
+    """A file-system path: a ``str`` (non-empty) or an ``os.PathLike``; anything else (None, a
+    number, a list) is refused here instead of failing deep inside with a TypeError."""
+    if isinstance(path, (str, os.PathLike)) and str(path) != "":
+        return Path(path)
+    raise InvalidArgumentError(name, path, "a file path (str or os.PathLike)")
+
+
+def check_choice(value, name: str, choices) -> str:
+    """``value`` must be one of ``choices`` (strings); unhashable values are refused cleanly."""
+    if isinstance(value, str) and value in choices:
+        return value
+    raise InvalidArgumentError(name, value, f"one of {sorted(choices)}")
+
+
 def check_output_file(path, name: str) -> Path:
     """An output file: not an existing directory, in an existing, writable directory.
 
     Called before any work so that a bad path fails at once and nothing else is written.
     """
-    out = Path(path)
+    out = check_path(path, name)
     if out.is_dir():
         raise InvalidArgumentError(name, str(path), "a file path, not an existing directory")
     if not out.parent.is_dir() or not os.access(out.parent, os.W_OK):

@@ -369,6 +369,69 @@ def test_interrupt_during_start_up_exits_130_without_traceback(monkeypatch, caps
 # --------------------------------------------------------------------------- the API
 
 
+_WRONG = [None, "x", [1, 2], {"a": 1}, object(), float("nan"), -1, 1e300, True]
+
+
+def _api_calls():
+    from maxwell_kinetics.driven import steady_state
+    from maxwell_kinetics.tails import tail_exponent
+    from particles.driver import RunResult
+    from particles.ensemble import EnsembleSpec, parse_seeds
+    from particles.md import MDEngine, MDParams
+    from particles.sticky import StickyParams
+
+    one = {"n": 10, "restitution": 0.5}
+    return {
+        "Ulam.n": lambda v: Ulam(v, 0.5), "Ulam.r": lambda v: Ulam(10, v),
+        "Ulam.initial": lambda v: Ulam(10, 0.5, v),
+        "Ulam.dimension": lambda v: Ulam(10, 0.5, dimension=v),
+        "Ulam.angular": lambda v: Ulam(10, 0.5, dimension=2, angular=v),
+        "Ulam.driving": lambda v: Ulam(10, 0.5, driving=v),
+        "Lattice.n": lambda v: Lattice(v, 0.5), "Lattice.rate": lambda v: Lattice(10, 0.5, rate=v),
+        "MDParams.n": lambda v: MDParams(v, 1.0, 0.5),
+        "MDParams.density": lambda v: MDParams(10, v, 0.5),
+        "MDParams.delta": lambda v: MDParams(10, 1.0, 0.5, delta=v),
+        "MDEngine.params": lambda v: MDEngine(v),
+        "StickyParams.n": lambda v: StickyParams(v, 1.0),
+        "StickyParams.density": lambda v: StickyParams(10, v),
+        "simulate.engine": lambda v: simulate(v, [1.0], 0, progress=False),
+        "simulate.times": lambda v: simulate(Ulam(10, 0.5), v, 0, progress=False),
+        "simulate.seed": lambda v: simulate(Ulam(10, 0.5), [1.0], v, progress=False),
+        "simulate.bins": lambda v: simulate(Ulam(10, 0.5), [1.0], 0, progress=False, bins=v),
+        "simulate.checkpoint": lambda v: simulate(Ulam(10, 0.5), [1.0], 0, progress=False,
+                                                  checkpoint=v) if v is not None else 1 / 0,
+        "simulate.resume": lambda v: simulate(Ulam(10, 0.5), [1.0], 0, progress=False,
+                                              resume=v) if v is not None else 1 / 0,
+        "RunResult.load": lambda v: RunResult.load(v),
+        "persistence.load": lambda v: persistence.load(v, "result", (1,)),
+        "tail_exponent.d": lambda v: tail_exponent(v, 0.5),
+        "tail_exponent.r": lambda v: tail_exponent(2, v),
+        "tail_exponent.angular": lambda v: tail_exponent(2, 0.5, v),
+        "steady_state.r": lambda v: steady_state(v, 1.0),
+        "steady_state.D": lambda v: steady_state(0.5, v),
+        "EnsembleSpec.model": lambda v: EnsembleSpec(v, one, [1], (1.0,)),
+        "EnsembleSpec.params": lambda v: EnsembleSpec("ulam", v, [1], (1.0,)),
+        "EnsembleSpec.seeds": lambda v: EnsembleSpec("ulam", one, v, (1.0,)),
+        "EnsembleSpec.times": lambda v: EnsembleSpec("ulam", one, [1], v),
+        "parse_seeds": lambda v: parse_seeds(v),
+        "law_from_characteristic.variance":
+            lambda v: law_from_characteristic(lambda k: np.exp(-k**2 / 2), v),
+    }
+
+
+@pytest.mark.parametrize("name", sorted(_api_calls()))
+def test_wrong_types_at_the_api_raise_invalid_argument(name, tmp_path, monkeypatch):
+    # every public entry point, every wrong value of _WRONG: either accepted (a valid value of
+    # that type) or InvalidArgumentError; never AttributeError, TypeError, ValueError, ...
+    monkeypatch.chdir(tmp_path)  # a path-like value that is accepted writes only here
+    call = _api_calls()[name]
+    for value in _WRONG:
+        try:
+            call(value)
+        except (InvalidArgumentError, ZeroDivisionError):  # 1/0: None means "no file" there
+            pass
+
+
 @pytest.mark.parametrize(
     "call",
     [
@@ -380,7 +443,7 @@ def test_interrupt_during_start_up_exits_130_without_traceback(monkeypatch, caps
         lambda: Lattice(10, None),
     ],
 )
-def test_wrong_types_at_the_api_raise_invalid_argument(call):
+def test_wrong_types_at_the_api_examples(call):
     with pytest.raises(InvalidArgumentError):
         call()
 
