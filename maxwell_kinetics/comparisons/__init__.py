@@ -34,6 +34,8 @@ from . import (
     _energy_decay,
     _kinetic_theory,
     _kinetic_vs_ulam,
+    _late_stage,
+    _sticky_vs_md,
     _structure_factors,
     _ulam_collapse,
     _velocity_distributions,
@@ -54,7 +56,7 @@ from .kinetic_predictions import (
     never_collided_cut,
     solution_bin_probabilities,
 )
-from .particle_runs import lattice_at_energy, lattice_runs, md_runs, ulam_snapshots
+from .particle_runs import lattice_at_energy, lattice_runs, md_runs, sticky_runs, ulam_snapshots
 
 __all__ = [
     "SIZES",
@@ -67,6 +69,8 @@ __all__ = [
     "structure_factors",
     "velocity_distributions",
     "velocity_profiles",
+    "sticky_vs_md",
+    "late_stage",
     "coarse_increment_skewness",
     "block_means",
     "velocity_on_grid",
@@ -81,6 +85,7 @@ __all__ = [
     "law_cdf",
     "lattice_runs",
     "md_runs",
+    "sticky_runs",
     "ulam_snapshots",
     "ABS_MEAN_F",
     "ABS_MEAN_GAUSSIAN",
@@ -93,6 +98,8 @@ velocity_distributions = _velocity_distributions.run
 energy_decay = _energy_decay.run
 structure_factors = _structure_factors.run
 velocity_profiles = _velocity_profiles.run
+sticky_vs_md = _sticky_vs_md.run
+late_stage = _late_stage.run
 
 ABS_MEAN_F = _velocity_distributions.ABS_MEAN_F
 ABS_MEAN_GAUSSIAN = _velocity_distributions.ABS_MEAN_GAUSSIAN
@@ -106,4 +113,6 @@ COMPARISONS = {
     "energy_decay": energy_decay,
     "structure_factors": structure_factors,
     "velocity_profiles": velocity_profiles,
+    "sticky_vs_md": sticky_vs_md,
+    "late_stage": late_stage,
 }
