@@ -96,7 +96,11 @@ def test_energy_decays_as_t_to_minus_two_thirds_over_two_decades(late):
 def test_cluster_mass_density_has_slope_minus_one_half(late):
     m = late.summary["mass"]
     slope, se = m["exponent"]
-    assert abs(slope + 0.5) < T_3_SEEDS * se  # 3 seeds (T_3_SEEDS); measured se 0.025
+    # 3 seeds (T_3_SEEDS); measured here -0.473 ± 0.025.  OPEN: at the default size (N = 10⁶,
+    # 4 seeds) the same window gives -0.431 ± 0.008, 8.6 s.e. from -1/2 (local slopes of Φ
+    # scatter between -0.24 and -0.53 for μ ∈ [0.05, 0.9]): a correction to scaling or the
+    # discreteness of small m; this test passes at N = 10⁵ only through its larger error.
+    assert abs(slope + 0.5) < T_3_SEEDS * se
 
 
 def test_structure_factor_collapses_with_a_porod_tail(late):
