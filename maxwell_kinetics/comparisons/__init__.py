@@ -35,6 +35,8 @@ from . import (
     _energy_decay,
     _kinetic_theory,
     _kinetic_vs_ulam,
+    _late_stage,
+    _sticky_vs_md,
     _structure_factors,
     _tail_exponents,
     _ulam_collapse,
@@ -56,7 +58,7 @@ from .kinetic_predictions import (
     never_collided_cut,
     solution_bin_probabilities,
 )
-from .particle_runs import lattice_at_energy, lattice_runs, md_runs, ulam_snapshots
+from .particle_runs import lattice_at_energy, lattice_runs, md_runs, sticky_runs, ulam_snapshots
 
 __all__ = [
     "SIZES",
@@ -69,6 +71,8 @@ __all__ = [
     "structure_factors",
     "velocity_distributions",
     "velocity_profiles",
+    "sticky_vs_md",
+    "late_stage",
     "tail_exponents",
     "driven_steady",
     "coarse_increment_skewness",
@@ -85,6 +89,7 @@ __all__ = [
     "law_cdf",
     "lattice_runs",
     "md_runs",
+    "sticky_runs",
     "ulam_snapshots",
     "ABS_MEAN_F",
     "ABS_MEAN_GAUSSIAN",
@@ -97,6 +102,8 @@ velocity_distributions = _velocity_distributions.run
 energy_decay = _energy_decay.run
 structure_factors = _structure_factors.run
 velocity_profiles = _velocity_profiles.run
+sticky_vs_md = _sticky_vs_md.run
+late_stage = _late_stage.run
 tail_exponents = _tail_exponents.run
 driven_steady = _driven_steady.run
 
@@ -112,6 +119,8 @@ COMPARISONS = {
     "energy_decay": energy_decay,
     "structure_factors": structure_factors,
     "velocity_profiles": velocity_profiles,
+    "sticky_vs_md": sticky_vs_md,
+    "late_stage": late_stage,
     "tail_exponents": tail_exponents,
     "driven_steady": driven_steady,
 }

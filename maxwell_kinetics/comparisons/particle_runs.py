@@ -1,5 +1,5 @@
-"""Runs of the particle models for the comparisons: Ulam, lattice and MD through the run driver
-(:func:`particles.driver.simulate`), and lattice runs stopped at a given energy.
+"""Runs of the particle models for the comparisons: Ulam, lattice, MD and the sticky gas through
+the run driver (:func:`particles.driver.simulate`), and lattice runs stopped at a given energy.
 
 Lattice and MD runs are cached per arguments for the life of the process, so that comparisons
 of one ``reproduce`` run share them (comparisons 4 and 7 share their MD and lattice runs, 5 and
@@ -33,6 +33,7 @@ from particles.driver import simulate
 from particles.ensemble import EnsembleSpec, load_task, run_ensemble
 from particles.lattice import Lattice
 from particles.progress import progress_bar
+from particles.sticky import StickyGas, StickyParams
 from particles.ulam import Ulam
 
 __all__ = [
@@ -42,6 +43,7 @@ __all__ = [
     "lattice_at_energy",
     "md_runs",
     "md_record_times",
+    "sticky_runs",
     "clear_run_cache",
     "configure_runs",
 ]
@@ -215,6 +217,29 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
             seconds += res.seconds
         return {"times": t_all, "energy": energy, "tau": tau, "snapshots": snaps,
                 "positions": pos, "seconds": seconds}
+
+    return _cached(key, compute)
+
+
+def sticky_runs(n, times, seeds, law="gaussian", progress=False, *, snapshots=False) -> dict:
+    """Exact sticky-gas runs (:class:`particles.sticky.StickyGas`, density 1, one per seed)
+    recorded at ``times`` (t): ``energy`` and ``clusters`` (number of clusters) (R, T),
+    ``seconds``; with ``snapshots=True`` also ``snapshots`` (R, T, N) of v(i).  Seed s draws
+    the initial state of :func:`md_runs` with seed s (same positions and velocities), so the
+    two are paired.  Cached per arguments (read-only)."""
+    key = ("sticky", n, tuple(times), tuple(seeds), law, bool(snapshots))
+
+    def compute():
+        engine = StickyGas(StickyParams(int(n), 1.0, law))
+        res = [simulate(engine, list(times), int(s), progress=progress,
+                        snapshots=bool(snapshots)) for s in seeds]
+        out = {"times": np.asarray(times, dtype=float),
+               "energy": np.array([r.energy for r in res]),
+               "clusters": np.array([r.extras["clusters"] for r in res]),
+               "seconds": float(sum(r.seconds for r in res))}
+        if snapshots:
+            out["snapshots"] = np.array([r.snapshots for r in res])
+        return out
 
     return _cached(key, compute)
 

@@ -1,0 +1,382 @@
+"""Comparison 9: the paper's late-stage figures at the paper's sizes, with the exact sticky gas
+(:mod:`particles.sticky`, SPEC §7) standing in for late MD — rescaled P(x), E ~ t^{−2/3}, the
+cluster-mass law m^{−1/2}, S(k) against k t^{2/3} with its Porod tail, the shocks of v(x) and
+v(i), and the velocity tail.  ``run`` computes, ``plot`` draws."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from particles.observables import structure_factor
+from particles.progress import progress_bar
+from particles.sticky import (
+    StickyGas,
+    StickyParams,
+    cluster_mass_distribution,
+    profile_x,
+    velocity_tail_exponent,
+)
+
+from .analysis import (
+    block_means,
+    coarse_increment_skewness,
+    log_binned,
+    porod_fit,
+    profile_scales,
+    velocity_on_grid,
+)
+from .base import Comparison, jsonable, preset, register_plot
+from .drawing import colors, panels
+
+__all__ = ["NAME", "PRESETS", "run", "plot", "mass_density"]
+
+NAME = "late_stage"
+
+
+def _times(lo, hi, count):
+    return tuple(float(t) for t in np.round(np.geomspace(lo, hi, count), 3))
+
+
+#: ``times`` (t, density 1) span two decades or more; ``mass_t_min``: the cluster-mass law is
+#: fitted on the times t ≥ it (typical mass (n t)^{2/3} ≥ 20, so that 1 ≪ m ≪ (n t)^{2/3} has
+#: room); ``tail_time``: where the velocity tail is measured (early in the late stage: most
+#: clusters, so the deepest tail); ``tail_quantiles``: the upper-tail fractions of the global
+#: tail fit (the lowest holds ≥ 10 particles' worth of clusters at ``tail_time``).
+PRESETS = {
+    "small": {"n": 100_000, "seeds": 3, "times": _times(10.0, 1000.0, 9),
+              "mass_t_min": 90.0, "mass_mu": (0.03, 0.3), "mass_m_min": 2,
+              "porod_x": (3.0, 15.0), "k_max": 0.6, "tail_time": 10.0,
+              "tail_quantiles": (1e-2, 1e-4), "x_edges": (-5.0, 5.0, 0.2)},
+    "default": {"n": 1_000_000, "seeds": 4, "times": _times(10.0, 2000.0, 11),
+                "mass_t_min": 90.0, "mass_mu": (0.03, 0.3), "mass_m_min": 2,
+                "porod_x": (3.0, 15.0), "k_max": 0.6, "tail_time": 10.0,
+                "tail_quantiles": (1e-2, 1e-5), "x_edges": (-5.0, 5.0, 0.1)},
+    "full": {"n": 10_000_000, "seeds": 4, "times": _times(10.0, 5000.0, 13),
+             "mass_t_min": 90.0, "mass_mu": (0.03, 0.3), "mass_m_min": 2,
+             "porod_x": (3.0, 15.0), "k_max": 0.6, "tail_time": 10.0,
+             "tail_quantiles": (1e-2, 1e-6), "x_edges": (-5.0, 5.0, 0.1)},
+}
+
+
+def mass_density(masses_counts, times, length, mu_edges, m_min=1):
+    """Scaled cluster-mass density Φ(μ) = M² n(m, t) with μ = m/M, M = t^{2/3} (density 1),
+    pooled over ``times``: ``masses_counts`` is a list (one per time) of ``(m, count)`` from
+    :func:`particles.sticky.cluster_mass_distribution`, n(m, t) = count(m)/L the number of
+    clusters of mass m per unit length.  In each bin [a, b) of ``mu_edges``, with C_t the
+    clusters and k_t the integers m ≥ ``m_min`` with a M ≤ m < b M at time t,
+    Φ = Σ_t M² C_t / (L Σ_t k_t) (bins with no integer are NaN).  Σ_m m n(m) = n = 1 makes
+    ∫ μ Φ dμ time-independent in the scaling state; the sticky gas has Φ ~ μ^{−1/2} at small μ
+    (SPEC §7)."""
+    mu_edges = np.asarray(mu_edges, dtype=float)
+    num = np.zeros(mu_edges.size - 1)
+    den = np.zeros(mu_edges.size - 1)
+    for (m, c), t in zip(masses_counts, times, strict=True):
+        big_m = float(t) ** (2.0 / 3.0)
+        lo = np.maximum(np.ceil(mu_edges[:-1] * big_m), m_min)
+        hi = np.ceil(mu_edges[1:] * big_m)  # integers in [a M, b M)
+        k = np.maximum(hi - lo, 0.0)
+        idx = np.searchsorted(mu_edges * big_m, m, side="right") - 1
+        ok = (idx >= 0) & (idx < num.size) & (m >= m_min)
+        clusters = np.bincount(idx[ok], weights=c[ok], minlength=num.size)
+        num += big_m**2 * clusters / length
+        den += k
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 0, num / den, np.nan)
+
+
+def _line_fit(x, y):
+    """Least-squares slope of ln y on ln x over the finite positive points (None below 3)."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    ok = np.isfinite(y) & (y > 0)
+    if ok.sum() < 3:
+        return None
+    return float(np.polyfit(np.log(x[ok]), np.log(y[ok]), 1)[0])
+
+
+def _mean_se(values):
+    v = np.asarray([x for x in values if x is not None], dtype=float)
+    if v.size == 0:
+        return [None, None]
+    return [float(v.mean()), float(v.std(ddof=1) / math.sqrt(v.size)) if v.size > 1 else None]
+
+
+def run(size=None, progress: bool = True, **overrides) -> Comparison:
+    """Comparison 9: the late stage at the paper's sizes (N = 10⁵ small, 10⁶ default, 10⁷
+    full), with the exact sticky gas standing in for late MD (SPEC §7: from the same initial
+    state MD at r = 0.5, δ = 10⁻⁴ and the sticky gas agree within a few per cent, comparison 8).
+    Gaussian initial velocities of unit variance, uniform positions, density 1, one run per
+    seed; every number is mean ± standard error over the seeds (each run's own fit):
+
+    * ``energy``: E t^{2/3} per time, and the exponent of E ~ t^{z}: slope of ln E on ln t over
+      all ``times`` (two decades or more), with the window ``drift`` (half the difference of the
+      slopes on the two halves) reported beside it;
+    * ``mass``: the exponent of the scaled cluster-mass density Φ(μ) = M² n(m, t), μ = m/M,
+      M = t^{2/3} (:func:`mass_density`, 10 log bins per decade, pooled over times
+      t ≥ ``mass_t_min``, masses m ≥ ``mass_m_min``), fitted on μ ∈ ``mass_mu`` (expected −1/2;
+      measured at N = 10⁶, 4 seeds: −0.431 ± 0.008, so this window is not yet asymptotic);
+    * ``structure``: S(k) of v(i) in label order (:func:`particles.observables.structure_factor`,
+      as for MD) against k t^{2/3}; the collapse spread (rms over x ∈ [0.5, porod_x[1]] of the
+      std over times of ln S) at z = 2/3 and unscaled; Porod slope of ln S on ln k over
+      x ∈ ``porod_x``, k ≤ ``k_max`` (:func:`.analysis.porod_fit`) per time (expected −2);
+    * ``kurtosis``: ⟨x⁴⟩ of x = v/√E per time (Gaussian 3; Fig. 1b: late P(x) is
+      Gaussian-like), the histograms at the first and last time in the figure;
+    * ``skewness``: the sign of the large gradients of v(i) and of v(x) (particles' velocities
+      interpolated on a grid of spacing L/N, :func:`.analysis.velocity_on_grid`) at the last
+      time, raw and coarse-grained over m = 1, 4, 16, … ≤ N/64
+      (:func:`.analysis.coarse_increment_skewness`; paper Fig. 4: v(x) negative, v(i)
+      positive);
+    * ``tail``: the local exponent β of P(|v| > w) ~ exp(−c w^β) at ``tail_time``
+      (:func:`particles.sticky.velocity_tail_exponent`) over ``tail_quantiles`` and per decade
+      of quantile; the sticky gas tends to β = 3 (Frachebourg 1999) only for N far beyond
+      these sizes (SPEC §7: 1.2–1.7 at ~10⁴ clusters).
+    """
+    start = time.perf_counter()
+    prm = preset(PRESETS, size, overrides)
+    n, times = int(prm["n"]), np.asarray(prm["times"], dtype=float)
+    seeds = tuple(range(int(prm["seeds"])))
+    engine = StickyGas(StickyParams(n, 1.0, "gaussian"))
+    length = engine.p.length
+    lo, hi, step = prm["x_edges"]
+    edges = np.round(np.arange(lo, hi + 0.5 * step, step), 12)
+    nt = times.size
+    energy = np.empty((len(seeds), nt))
+    kurt = np.empty_like(energy)
+    clusters = np.empty_like(energy)
+    sb_sum = None  # log-binned S(k) summed over seeds, per time (binning is linear)
+    j_tail = int(np.argmin(np.abs(times - prm["tail_time"])))
+    porod_seed = [[None] * nt for _ in seeds]
+    hist = np.zeros((2, edges.size - 1))
+    mass_tables = [[] for _ in seeds]
+    mu_edges = 10.0 ** np.arange(-2.0, 1.01, 0.1)
+    mass_times = times[times >= prm["mass_t_min"]]
+    scales = profile_scales(n)
+    skew = {"vi": [], "vx": []}
+    tail_rows, profile = [], {}
+    decades = np.geomspace(prm["tail_quantiles"][0], prm["tail_quantiles"][1],
+                           round(math.log10(prm["tail_quantiles"][0]
+                                            / prm["tail_quantiles"][1])) + 1)
+    with progress_bar(len(seeds) * nt, f"sticky N={n}", "time", enabled=progress) as bar:
+        for i, seed in enumerate(seeds):
+            s0 = engine.initial_state(np.random.default_rng(seed))
+            for j, t in enumerate(times):
+                st = engine.advance(s0, float(t))
+                v = st.velocities
+                e = float(np.mean(v * v))
+                energy[i, j] = e
+                kurt[i, j] = float(np.mean(v**4)) / e**2
+                clusters[i, j] = st.starts.size
+                k, s = structure_factor(v)
+                kb, sb = log_binned(k, s)
+                if sb_sum is None:
+                    sb_sum = np.zeros((nt, sb.size))
+                sb_sum[j] += sb
+                fit = porod_fit(k, s, t, 2.0 / 3.0, prm["porod_x"], prm["k_max"])
+                porod_seed[i][j] = None if fit is None else fit[0]
+                if j in (0, nt - 1):
+                    hist[0 if j == 0 else 1] += np.histogram(v / math.sqrt(e), edges)[0]
+                if t >= prm["mass_t_min"]:
+                    mass_tables[i].append(cluster_mass_distribution(st))
+                if j == j_tail:
+                    beta = velocity_tail_exponent(v, quantiles=tuple(prm["tail_quantiles"]))
+                    local = [velocity_tail_exponent(v, quantiles=(a, b))
+                             for a, b in zip(decades[:-1], decades[1:], strict=True)]
+                    tail_rows.append((beta, local, float(t)))
+                if j == nt - 1:
+                    y, vv = profile_x(st)
+                    vx = velocity_on_grid(y, vv, length)
+                    skew["vi"].append([coarse_increment_skewness(v, m) for m in scales])
+                    skew["vx"].append([coarse_increment_skewness(vx, m) for m in scales])
+                    if i == 0:
+                        show = min(5000, n)
+                        profile = {"vi": np.array(v[:show]), "vx": vx[:show],
+                                   "means_vi": block_means(v[:show], 64),
+                                   "means_vx": block_means(vx[:show], 64)}
+                bar.update(1)
+    # energy
+    lt, le = np.log(times), np.log(energy)
+    slopes = [float(np.polyfit(lt, row, 1)[0]) for row in le]
+    half = nt // 2
+    drift = [0.5 * abs(float(np.polyfit(lt[:half + 1], row[:half + 1], 1)[0])
+                       - float(np.polyfit(lt[half:], row[half:], 1)[0])) for row in le]
+    et = energy * times ** (2.0 / 3.0)
+    energy_out = {
+        "times": times.tolist(), "e_t23": [_mean_se(et[:, j]) for j in range(nt)],
+        "exponent": _mean_se(slopes), "per_seed": slopes, "drift": _mean_se(drift)[0],
+        "fit_range": [float(times[0]), float(times[-1])], "expected": -2.0 / 3.0,
+        "clusters": clusters.mean(axis=0).tolist(),
+    }
+    # cluster masses
+    mu_mid = np.sqrt(mu_edges[:-1] * mu_edges[1:])
+    phi = np.array([mass_density(tab, mass_times, length, mu_edges, prm["mass_m_min"])
+                    for tab in mass_tables])
+    win = (mu_mid >= prm["mass_mu"][0]) & (mu_mid <= prm["mass_mu"][1])
+    mslopes = [_line_fit(mu_mid[win], row[win]) for row in phi]
+    mass_out = {"exponent": _mean_se(mslopes), "per_seed": mslopes, "expected": -0.5,
+                "mu_window": list(prm["mass_mu"]), "times": mass_times.tolist(),
+                "m_min": int(prm["mass_m_min"])}
+    # structure factor
+    sb_mean = sb_sum / len(seeds)
+    structure_out = _structure_numbers(kb, sb_mean, times, porod_seed, prm)
+    # kurtosis, skewness, tail
+    kurt_out = {"times": times.tolist(), "kurtosis": [_mean_se(kurt[:, j]) for j in range(nt)],
+                "gaussian": 3.0}
+    sk = {key: np.array(rows) for key, rows in skew.items()}
+    skew_out = {"time": float(times[-1]), "scales": list(scales),
+                **{key: [_mean_se(sk[key][:, q]) for q in range(len(scales))] for key in sk}}
+    betas = [b[0][0] for b in tail_rows]
+    local = np.array([[x[0] for x in b[1]] for b in tail_rows])
+    w_local = [float(np.sqrt(x[2][0] * x[2][1])) for x in tail_rows[0][1]]
+    tail_out = {"time": tail_rows[0][2], "quantiles": list(prm["tail_quantiles"]),
+                "beta": _mean_se(betas), "per_seed": betas,
+                "fit_error_seed0": tail_rows[0][0][1],
+                "w_range_seed0": list(tail_rows[0][0][2]),
+                "local": {"quantiles": [[float(a), float(b)] for a, b in
+                                        zip(decades[:-1], decades[1:], strict=True)],
+                          "w": w_local,
+                          "beta": [_mean_se(local[:, q]) for q in range(local.shape[1])]},
+                "sticky_gas_limit": 3.0, "gaussian": 2.0}
+    summary = {"parameters": jsonable(prm), "model": "exact sticky gas standing in for late MD",
+               "energy": energy_out, "mass": mass_out, "structure": structure_out,
+               "kurtosis": kurt_out, "skewness": skew_out, "tail": tail_out,
+               "seconds": time.perf_counter() - start}
+    data = {"times": times, "e_t23": et, "mu": mu_mid, "phi": phi,
+            "kb": kb, "sb": sb_mean, "x_edges": edges,
+            "hist": hist / (hist.sum(axis=1, keepdims=True) * step), "profile": profile,
+            "length": length, "n": n}
+    return Comparison(NAME, summary, data)
+
+
+def _binned_porod_fit(kb, sb, t, z, x_window, k_max):
+    """:func:`.analysis.porod_fit` on spectra already log-binned (the seed mean): (slope,
+    intercept, k of the bins used) or None with fewer than 3 bins."""
+    x = kb * t**z
+    sel = (x >= x_window[0]) & (x <= x_window[1]) & (kb <= k_max)
+    if sel.sum() < 3:
+        return None
+    b, a = np.polyfit(np.log(kb[sel]), np.log(sb[sel]), 1)
+    return float(b), float(a), kb[sel]
+
+
+def _structure_numbers(kb, sb_mean, times, porod_seed, prm) -> dict:
+    """Collapse spread and Porod slopes (see :func:`run`); ``sb_mean`` (T, bins) is the seed
+    mean of the log-binned S(k) on the bin centres ``kb``."""
+    x_range = (0.5, prm["porod_x"][1])
+    xs = np.geomspace(*x_range, 40)
+
+    def spread(z):
+        curves = [np.interp(np.log(xs), np.log(kb * t**z), np.log(sb))
+                  for sb, t in zip(sb_mean, times, strict=True)]
+        return float(np.sqrt(np.mean(np.var(np.array(curves), axis=0, ddof=1))))
+
+    fits = [_binned_porod_fit(kb, sb, t, 2.0 / 3.0, prm["porod_x"], prm["k_max"])
+            for sb, t in zip(sb_mean, times, strict=True)]
+    per_time = [_mean_se([row[j] for row in porod_seed]) for j in range(len(times))]
+    last = max((j for j, f in enumerate(fits) if f is not None), default=None)
+    return {
+        "times": list(map(float, times)), "z": 2.0 / 3.0,
+        "collapse_spread_at_z": spread(2.0 / 3.0), "collapse_spread_unscaled": spread(0.0),
+        "porod_window": {"x": list(prm["porod_x"]), "k_max": float(prm["k_max"])},
+        "porod_slope_per_time": per_time,
+        "porod_fit_of_mean": [None if f is None else [f[0], f[1], float(f[2][0]),
+                                                      float(f[2][-1])] for f in fits],
+        "porod_slope_last_fitted_time": per_time[last] if last is not None else [None, None],
+        "expected": -2.0,
+    }
+
+
+def plot(c, ax=None):
+    """Six panels: rescaled P(x) (first and last time, Gaussian), E t^{2/3} against t, the scaled
+    cluster-mass density with μ^{−1/2}, S(k) against k t^{2/3} with the Porod fit and k⁻², the
+    profiles v(i) and v(x) of seed 0 at the last time (first 5000 points), the skewness of
+    their coarse-grained increments and the local tail exponent.  Every title says that this
+    is the sticky gas standing in for late MD."""
+    d, s = c.data, c.summary
+    own = ax is None
+    fig, axes = panels(6, ax, width=4.0, height=4.0)
+    a, b, m_ax, sk_ax, pr, tl = axes
+    n = d["n"]
+    tag = f"sticky gas for late MD, N={n:.0e}"
+    centres = 0.5 * (d["x_edges"][:-1] + d["x_edges"][1:])
+    times = d["times"]
+    for row, t, style in ((0, times[0], "C0."), (1, times[-1], "C3-")):
+        a.semilogy(centres, np.where(d["hist"][row] > 0, d["hist"][row], np.nan), style,
+                   ms=3, label=f"t = {t:g}")
+    a.semilogy(centres, np.exp(-centres**2 / 2) / math.sqrt(2 * math.pi), "k:", label="Gaussian")
+    kur = s["kurtosis"]["kurtosis"][-1][0]
+    a.set(xlabel="x = v/√E", ylabel="P(x)", ylim=(1e-6, 1),
+          title=f"Fig. 1b-like: {tag}\nkurtosis at t={times[-1]:g}: {kur:.2f} (Gaussian 3)")
+    a.legend(fontsize=7)
+    et = d["e_t23"]
+    b.errorbar(times, et.mean(axis=0),
+               yerr=et.std(axis=0, ddof=1) / math.sqrt(et.shape[0]) if et.shape[0] > 1 else None,
+               fmt="o-", ms=3, capsize=2)
+    ex = s["energy"]["exponent"]
+    b.set(xscale="log", xlabel="t", ylabel="E t^(2/3)",
+          title=f"E ~ t^z, z = {ex[0]:.4f} ± {ex[1] or 0:.4f}\n{tag}")
+    mu, phi = d["mu"], d["phi"]
+    finite = np.isfinite(phi).all(axis=0)
+    ph = np.full(mu.size, np.nan)
+    ph[finite] = phi[:, finite].mean(axis=0)
+    m_ax.loglog(mu, ph, "o", ms=3)
+    w = s["mass"]["mu_window"]
+    sel = (mu >= w[0]) & (mu <= w[1]) & np.isfinite(ph)
+    if sel.any():
+        ref = ph[sel][0] * (mu[sel] / mu[sel][0]) ** -0.5
+        m_ax.loglog(mu[sel], ref, "k--", label="μ^(-1/2)")
+    mx = s["mass"]["exponent"]
+    m_ax.axvspan(*w, color="0.9", zorder=0, label="fit window")
+    m_ax.set(xlabel="μ = m / t^(2/3)", ylabel="t^(4/3) n(m, t)",
+             title=f"cluster masses: slope {mx[0]:.3f} ± {mx[1] or 0:.3f}\n{tag}")
+    m_ax.legend(fontsize=7)
+    cols = colors(len(times))
+    for j, t in enumerate(times):
+        sk_ax.loglog(d["kb"] * t ** (2 / 3), d["sb"][j], "-", lw=0.8, color=cols[j],
+                     label=f"t = {t:g}" if j in (0, len(times) - 1) else None)
+    st_ = s["structure"]
+    fits = st_["porod_fit_of_mean"]
+    jl = max((j for j, f in enumerate(fits) if f is not None), default=None)
+    if jl is not None:
+        slope, icpt, k0, k1 = fits[jl]
+        kl = np.array([k0, k1])
+        t = times[jl]
+        sk_ax.loglog(kl * t ** (2 / 3), np.exp(icpt) * kl**slope, "r-", lw=2.5,
+                     label=f"fit t={t:g}: slope {slope:.2f}")
+        sk_ax.loglog(kl * t ** (2 / 3), 0.3 * np.exp(icpt) * kl[0] ** (slope + 2) * kl**-2.0,
+                     "k:", label="k⁻²")
+    sk_ax.axvspan(*st_["porod_window"]["x"], color="0.9", zorder=0)
+    sk_ax.set(xlabel="k t^(2/3)", ylabel="S(k)",
+              title=f"S(k) of v(i): spread {st_['collapse_spread_at_z']:.2f} "
+              f"(unscaled {st_['collapse_spread_unscaled']:.2f})\n{tag}")
+    sk_ax.legend(fontsize=6, loc="lower left")
+    p = d["profile"]
+    if p:
+        xs = np.arange(p["vi"].size)
+        pr.plot(xs, p["vi"], "-", lw=0.4, color="C2", alpha=0.7, label="v(i) (label)")
+        pr.plot(xs, p["vx"] + 3 * np.std(p["vi"]), "-", lw=0.4, color="C0", alpha=0.7,
+                label="v(x) (grid L/N), shifted")
+        sk = s["skewness"]
+        q = min(2, len(sk["scales"]) - 1)  # coarse-grained over 16 points where possible
+        pr.set(xlabel="label i / grid point", ylabel="v",
+               title=f"Fig. 4-like, t={sk['time']:g}: skewness (m={sk['scales'][q]}) "
+               f"v(i) {sk['vi'][q][0]:+.2f}, v(x) {sk['vx'][q][0]:+.2f}\n{tag}")
+        pr.legend(fontsize=7, loc="lower right")
+    tail = s["tail"]
+    wl = np.asarray(tail["local"]["w"])
+    bl = np.array([np.nan if v is None else v for v, _ in tail["local"]["beta"]])
+    el = np.array([0.0 if e is None else e for _, e in tail["local"]["beta"]])
+    tl.errorbar(wl, bl, yerr=el, fmt="o-", capsize=2, label="local exponent")
+    tl.axhline(3.0, color="k", ls="--", lw=0.8, label="sticky gas limit 3")
+    tl.axhline(2.0, color="k", ls=":", lw=0.8, label="Gaussian 2")
+    bt = tail["beta"]
+    tl.set(xlabel="w = |v|/√E", ylabel="β: P(|v|>w) ~ exp(-c w^β)",
+           title=f"velocity tail at t={tail['time']:g}: β = {bt[0]:.2f} ± {bt[1] or 0:.2f}\n{tag}")
+    tl.legend(fontsize=7)
+    if own:
+        fig.tight_layout()
+    return fig
+
+
+register_plot(NAME, plot)

@@ -1,0 +1,167 @@
+"""Comparisons 8 (sticky_vs_md) and 9 (late_stage) at the small size, and direct checks of the
+exact sticky gas at N = 10⁶ (SPEC §7, issue 15)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics.comparisons import Comparison, late_stage, sticky_vs_md
+from maxwell_kinetics.comparisons._sticky_vs_md import paired_numbers
+from particles.sticky import StickyGas, StickyParams, cluster_mass_distribution
+
+# Student t with 2 degrees of freedom (3 seeds): |t| > 5 has two-sided probability 0.038, so
+# "within 5 standard errors over 3 seeds" is a ~96 % statement, not a 3σ Gaussian one.
+T_3_SEEDS = 5.0
+
+
+@pytest.fixture(scope="module")
+def paired():
+    return sticky_vs_md("small", progress=False)  # ~25 s: MD N = 1000 to t = 40, 3 seeds
+
+
+@pytest.fixture(scope="module")
+def late():
+    return late_stage("small", progress=False)  # ~3 s: sticky gas N = 10⁵, 3 seeds, 9 times
+
+
+def _assert_same(a, b):
+    if isinstance(a, np.ndarray):
+        np.testing.assert_array_equal(a, b)
+    elif isinstance(a, dict):
+        assert a.keys() == b.keys()
+        for k in a:
+            _assert_same(a[k], b[k])
+    elif isinstance(a, (list, tuple)):
+        assert type(a) is type(b) and len(a) == len(b)
+        for x, y in zip(a, b, strict=True):
+            _assert_same(x, y)
+    else:
+        assert a == b or (isinstance(a, float) and math.isnan(a) and math.isnan(b))
+
+
+# --------------------------------------------------------------------- comparison 8
+
+
+def test_paired_numbers_against_a_hand_computed_case():
+    e_md = np.array([[1.0, 2.0], [3.0, 4.0]])
+    e_st = np.array([[2.0, 2.0], [3.0, 8.0]])
+    p, u = paired_numbers(e_md, e_st)
+    np.testing.assert_allclose(p, [[-0.5, 0.0], [0.0, -0.5]])
+    np.testing.assert_allclose(u, [[1 / 3 - 1, 2 / 8 - 1], [3 / 2 - 1, 4 / 2 - 1]])
+
+
+def test_paired_md_and_sticky_agree_better_than_independent_seeds(paired):
+    p = paired.summary["paired"]
+    # Independent initial states of N = 1000 differ by the seed-to-seed scatter of E t^{2/3}
+    # (measured here: 16-27 % relative std over 3 seeds; SPEC §7: 3.8 % at N = 2·10⁴, i.e.
+    # ~17 % at N = 1000 by 1/√N), while paired runs share it (SPEC §7: 0.4-2 % at N = 2·10⁴).
+    # The unpaired rms comes from 6 seed pairs × 8 times; its relative uncertainty is ~40 %
+    # (3 independent seeds), so a factor 3 below it is a margin the estimate cannot erase.
+    assert p["paired_rms"] < p["unpaired_rms_window"] / 3.0
+    assert p["paired_rms"] < float(np.mean(p["seed_relative_std"]))
+    # The mean paired difference over the window is zero within its error: no bias between
+    # MD (δ = 10⁻⁴) and the sticky gas in the late stage (5 s.e. of 3 seeds, see T_3_SEEDS).
+    rel = np.array(paired.data["paired"])  # (seeds, times)
+    per_seed = rel.mean(axis=1)
+    se = per_seed.std(ddof=1) / math.sqrt(per_seed.size)
+    assert abs(per_seed.mean()) < T_3_SEEDS * se + 1e-12
+    assert all(t >= 10.0 for t in p["times"]) and p["times"][-1] == 40.0
+
+
+def test_departure_runs_are_reported_per_t_delta(paired):
+    for dep in paired.summary["departure"]:
+        assert len(dep["ratio"]) == len(dep["t_delta"]) == len(dep["times"])
+        np.testing.assert_allclose(dep["t_delta"], np.asarray(dep["times"]) * dep["delta"])
+        # both sides come from the same initial state: equal at t = 10 (t δ = 1) within the
+        # paired scatter of the late stage (3.6 % rms at N = 1000 above; 5 of it)
+        assert abs(dep["ratio"][0] - 1.0) < 0.18
+
+
+# --------------------------------------------------------------------- comparison 9
+
+
+def test_energy_decays_as_t_to_minus_two_thirds_over_two_decades(late):
+    e = late.summary["energy"]
+    assert e["fit_range"][1] / e["fit_range"][0] >= 100.0
+    z, se = e["exponent"]
+    # 5 s.e. over 3 seeds (T_3_SEEDS).  The drift of E t^{2/3} itself (0.445-0.450 over
+    # t ∈ [10, 1000], SPEC §7) shifts the fitted exponent by at most ln(0.450/0.445)/ln 100 =
+    # 0.0024, below the tolerance (measured se 0.0044).
+    assert abs(z + 2.0 / 3.0) < T_3_SEEDS * se
+
+
+def test_cluster_mass_density_has_slope_minus_one_half(late):
+    m = late.summary["mass"]
+    slope, se = m["exponent"]
+    # 3 seeds (T_3_SEEDS); measured here -0.473 ± 0.025.  OPEN: at the default size (N = 10⁶,
+    # 4 seeds) the same window gives -0.431 ± 0.008, 8.6 s.e. from -1/2 (local slopes of Φ
+    # scatter between -0.24 and -0.53 for μ ∈ [0.05, 0.9]): a correction to scaling or the
+    # discreteness of small m; this test passes at N = 10⁵ only through its larger error.
+    assert abs(slope + 0.5) < T_3_SEEDS * se
+
+
+def test_structure_factor_collapses_with_a_porod_tail(late):
+    s = late.summary["structure"]
+    slope, se = s["porod_slope_last_fitted_time"]
+    # Per-seed Porod fits at the last time with a fit, 3 seeds (T_3_SEEDS); the discrete
+    # step spectrum 1/(4 sin²(k/2)) differs from k⁻² by ≤ 3 % at k = 0.6, a slope bias ≤ 0.03.
+    assert abs(slope + 2.0) < T_3_SEEDS * se + 0.03
+    # rescaling by t^{2/3} collapses 2 decades of time (spread of ln S: measured 0.11 against
+    # 2.1 unscaled)
+    assert s["collapse_spread_at_z"] < 0.25 * s["collapse_spread_unscaled"]
+
+
+def test_shocks_have_the_signs_of_the_paper(late):
+    sk = late.summary["skewness"]
+    q = sk["scales"].index(4)
+    vi, vi_se = sk["vi"][q]
+    vx, vx_se = sk["vx"][q]
+    # Fig. 4: v(i) large positive gradients, v(x) large negative ones (3 seeds, T_3_SEEDS)
+    assert vi > T_3_SEEDS * vi_se and vx < -T_3_SEEDS * vx_se
+
+
+def test_late_velocity_law_is_gaussian_like_with_a_sub_gaussian_tail_exponent(late):
+    k = np.array([v for v, _ in late.summary["kurtosis"]["kurtosis"]])
+    assert np.all(np.abs(k - 3.0) < 0.5)  # Fig. 1b: Gaussian-like (measured 3.08-3.19)
+    beta, se = late.summary["tail"]["beta"]
+    # SPEC §7: at these sizes the local exponent is only 1.2-1.7, far from the limit 3
+    assert 1.0 < beta < 2.0 and se is not None
+
+
+def test_both_comparisons_save_load_and_draw(paired, late, tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    for c in (paired, late):
+        path = tmp_path / f"{c.name}.npz"
+        c.save(path)
+        back = Comparison.load(path)
+        assert back.name == c.name
+        _assert_same(c.summary, back.summary)
+        _assert_same(c.data, back.data)
+        fig = back.figure()
+        assert len(fig.axes) >= 3
+        plt.close(fig)
+
+
+# --------------------------------------------------------------------- engine at N = 10⁶
+
+
+def test_sticky_gas_at_a_million_particles():
+    engine = StickyGas(StickyParams(1_000_000, 1.0))
+    s0 = engine.initial_state(np.random.default_rng(0))
+    for t, sigma in ((10.0, 0.001), (100.0, 0.0022)):
+        st = engine.advance(s0, t)
+        m, c = cluster_mass_distribution(st)
+        assert int((m * c).sum()) == 1_000_000
+        assert abs(st.velocities.sum()) < 1e-6
+        # SPEC §7 (independent code): E t^{2/3} = 0.445-0.450 for t ∈ [10, 1000], single-run
+        # std 0.001 at N = 10⁶, t = 10; the std grows like √(t^{2/3}/N) (independent clusters),
+        # 0.0022 at t = 100.  Allowed: half the range of the constant plus 4 such stds.
+        et = float(np.mean(st.velocities**2)) * t ** (2.0 / 3.0)
+        assert abs(et - 0.4475) < 0.0025 + 4 * sigma
