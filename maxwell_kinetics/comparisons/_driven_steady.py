@@ -25,7 +25,7 @@ NAME = "driven_steady"
 PRESETS = {
     "small": {"restitutions": (0.0, 0.5), "driving": 1.0, "n": 20_000, "seeds": 4,
               "tau": 60.0, "bin_width": 0.25},
-    "default": {"restitutions": (0.0, 0.5, 0.9), "driving": 1.0, "n": 200_000, "seeds": 8,
+    "default": {"restitutions": (0.0, 0.5, 0.9), "driving": 1.0, "n": 100_000, "seeds": 4,
                 "tau": 100.0, "bin_width": 0.2},
     "full": {"restitutions": (0.0, 0.5, 0.9), "driving": 1.0, "n": 1_000_000, "seeds": 8,
              "tau": 200.0, "bin_width": 0.1},
