@@ -5,6 +5,7 @@
     python benchmarks/solver.py floor      # error floor: long runs (r = 0, .5), fixed point (all r)
     python benchmarks/solver.py scale      # the floor as a rescaling of f̂: what it depends on
     python benchmarks/solver.py sweep      # 10 values of r in one process: compiles and wall time
+    python benchmarks/solver.py isotropic  # d = 1, 2, 3 at the default resolution, τ ≤ 1000
 
 Each mode prints a Markdown table and writes JSON next to this file (benchmarks/solver_<mode>.json).
 """
@@ -230,12 +231,35 @@ def sweep(restitutions=(0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9), resol
     return summary
 
 
+def isotropic(restitution=0.5, resolution="default", tau_end=1000.0):
+    """solve(..., dimension=d) for d = 1, 2, 3 (uniform angular model, default η nodes): wall
+    and CPU time of τ ∈ [0, 1000] after JIT (second call), against d = 1 (issue 17 target:
+    within 5x)."""
+    rows = []
+    for d in (1, 2, 3):
+        w0 = time.perf_counter()
+        solve(restitution, "gaussian", [tau_end], resolution, dimension=d)
+        first = time.perf_counter() - w0
+        w0, c0 = time.perf_counter(), time.process_time()
+        sol = solve(restitution, "gaussian", [tau_end], resolution, dimension=d)
+        rows.append({"dimension": d, "first_call_s": first, "wall_s": time.perf_counter() - w0,
+                     "cpu_s": time.process_time() - c0,
+                     "G_at_1": float(sol.evaluate([1.0])[0].real)})
+    print("| d | first call, with compile (s) | after JIT wall (s) | CPU (s) | CPU / CPU(d = 1) |")
+    print("|---|---|---|---|---|")
+    for row in rows:
+        print(f"| {row['dimension']} | {row['first_call_s']:.2f} | {row['wall_s']:.2f} | "
+              f"{row['cpu_s']:.2f} | {row['cpu_s'] / rows[0]['cpu_s']:.1f} |")
+    return rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("mode", choices=["timing", "stability", "floor", "scale", "sweep"])
+    parser.add_argument("mode", choices=["timing", "stability", "floor", "scale", "sweep",
+                                         "isotropic"])
     args = parser.parse_args()
     rows = {"timing": timing, "stability": stability, "floor": floor, "scale": scale,
-            "sweep": sweep}[args.mode]()
+            "sweep": sweep, "isotropic": isotropic}[args.mode]()
     (HERE / f"solver_{args.mode}.json").write_text(json.dumps(rows, indent=1))
 
 

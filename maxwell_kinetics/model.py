@@ -13,7 +13,28 @@ from dataclasses import dataclass
 
 from particles.validation import check_restitution
 
-__all__ = ["MaxwellModel"]
+__all__ = ["MaxwellModel", "angular_law", "ANGULAR_MODELS"]
+
+#: Angular models of the d-dimensional isotropic equation (see :func:`angular_law`).
+ANGULAR_MODELS = ("uniform", "hard")
+
+
+def angular_law(dimension: int, angular: str = "uniform") -> tuple[float, float]:
+    """(a, b) of η = (k̂·n)² ~ Beta(a, b) in d = ``dimension`` ∈ {2, 3}, or (1, 0) (η ≡ 1)
+    for d = 1.
+
+    "uniform": n uniform on the sphere, η ~ Beta(1/2, (d − 1)/2); "hard": the collision rate
+    weighted by |k̂·n|, η ~ Beta(1, (d − 1)/2).
+    """
+    from particles.validation import InvalidArgumentError
+
+    if dimension not in (1, 2, 3) or isinstance(dimension, bool):
+        raise InvalidArgumentError("dimension", dimension, "1, 2 or 3")
+    if angular not in ANGULAR_MODELS:
+        raise InvalidArgumentError("angular", angular, "one of " + ", ".join(ANGULAR_MODELS))
+    if dimension == 1:
+        return 1.0, 0.0
+    return (0.5 if angular == "uniform" else 1.0), 0.5 * (dimension - 1)
 
 
 @dataclass(frozen=True)
@@ -54,6 +75,15 @@ class MaxwellModel:
         d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂) (Bobylev–Cercignani–Toscani).
         """
         return -self.growth_rate(s)
+
+    def energy_rate(self, dimension: int = 1, angular: str = "uniform") -> float:
+        """Λ = 2 p (1 − p) ⟨η⟩ of the d-dimensional isotropic model: ⟨|v|²⟩ ∝ e^{−Λτ}.
+
+        η = (k̂·n)² has the law of :func:`angular_law` (⟨η⟩ = 1/d "uniform", 2/(d + 1)
+        "hard"; η ≡ 1 for d = 1, where Λ = 2λ).
+        """
+        a, b = angular_law(dimension, angular)
+        return 2.0 * self.lam * a / (a + b)
 
     def energy(self, tau: float) -> float:
         """⟨v²⟩(τ) for unit initial variance and zero mean."""
