@@ -54,9 +54,9 @@ import optimistix as optx
 
 from particles.initial import InitialLaw
 
+from .deviation import SolverOptions, _expm1_minus_x, source_parts
 from .grid import INFLOW_CUT, Resolution, lagrange_weights
 from .model import MaxwellModel
-from .solver import SolverOptions, source_parts
 
 #: Traces (= compilations) of each jitted function since import: {"advance": n, "output": n}.
 TRACES: collections.Counter = collections.Counter()
@@ -318,8 +318,6 @@ def _rhs_isotropic(st: Static, t, y, args):
     + w(b_i q) w(a_i q)] with b_i = p √η_i, a_i = √(1 − (1 − (1−p)²) η_i) and the source
     S = e^{−q²/2} Σ_i ω_i (e^{x_i} − 1 − x_i), x_i = p(1 − p) η_i q² (no cancellation: the
     series for x_i < 1/2, else e^{−(a_i² + b_i²) q²/2} − e^{−q²/2}(1 + x_i))."""
-    from .solver import _expm1_minus_x
-
     tau_w, dy = args
     p, lam = dy.p, dy.lam
     w = y
