@@ -68,3 +68,22 @@ def test_simulate_ulam_in_2d_decays_at_the_rate_of_the_theory(capsys):
     expected = 2 * math.exp(-decay_rate(2, 0.5, "hard") * 2 * 20000 / 19999)
     assert out["energy"][0] == pytest.approx(expected, rel=0.05)
     assert out["params"]["dimension"] == 2 and out["params"]["angular"] == "hard"
+
+
+def test_solve_in_two_dimensions(capsys):
+    # the isotropic solver through the CLI: G(0) = 1 and G''(0) = -1 are kept, so at small q
+    # G ≈ 1 - q²/2 (to O(q⁴): 1e-4 at q = 0.1)
+    out = run_json(capsys, ["solve", "-r", "0.5", "--tau", "0,2", "--q", "0.1,1",
+                            "--resolution", "coarse", "--dimension", "2", "--angular", "hard",
+                            "--json", "--no-progress"])
+    assert out["dimension"] == 2 and out["angular"] == "hard"
+    g_small = out["G_real"][-1][0]
+    assert g_small == pytest.approx(1 - 0.005, abs=1e-4)
+
+
+@pytest.mark.parametrize("extra, named", [(["--dimension", "4"], "dimension="),
+                                          (["--dimension", "2", "--angular", "soft"],
+                                           "angular=")])
+def test_solve_refuses_bad_dimension_or_angular(capsys, extra, named):
+    err = run_error(capsys, ["solve", "-r", "0.5", "--tau", "1"] + extra)
+    assert named in err

@@ -10,7 +10,13 @@ import time
 import numpy as np
 
 from particles.initial import get_law
-from particles.validation import InvalidArgumentError, check_times, parse_float_list
+from particles.validation import (
+    InvalidArgumentError,
+    check_choice,
+    check_times,
+    parse_float_list,
+    parse_int,
+)
 
 from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
 from ..model import MaxwellModel
@@ -28,6 +34,11 @@ def add_parser(subparsers) -> None:
     p.add_argument("--tau", required=True, help="comma-separated increasing times, e.g. 10,50,100")
     p.add_argument("--q", default="0.5,1,2,5", help="comma-separated q at which to report G")
     p.add_argument("--resolution", default="default", help="one of " + ", ".join(RESOLUTIONS))
+    p.add_argument("--dimension", default="1",
+                   help="velocity dimension d = 1, 2 or 3 (isotropic inelastic Maxwell model)")
+    p.add_argument("--angular", default="uniform",
+                   help="d > 1: collision directions uniform on the sphere ('uniform') or "
+                   "weighted by |g.n| ('hard')")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE", help="write a PNG of G and |G − f̂|")
     p.add_argument("--save", metavar="FILE", help="save the Solution (.npz)")
@@ -55,7 +66,12 @@ def run(args) -> int:
     from ..solver import solve  # JAX: imported only when a solve runs
 
     start = time.perf_counter()
-    sol = solve(model.restitution, law, taus, grid, progress=progress_enabled(args))
+    dimension = parse_int(args.dimension, "dimension")
+    if dimension not in (1, 2, 3):
+        raise InvalidArgumentError("dimension", args.dimension, "1, 2 or 3")
+    angular = check_choice(args.angular, "angular", ("uniform", "hard"))
+    sol = solve(model.restitution, law, taus, grid, progress=progress_enabled(args),
+                dimension=dimension, angular=angular)
     seconds = time.perf_counter() - start
     sup = sol.sup_error()
     values = np.array([sol.evaluate(q, k) for k in range(len(taus))])
@@ -68,6 +84,8 @@ def run(args) -> int:
     if args.json:
         emit_json({
             "restitution": model.restitution,
+            "dimension": dimension,
+            "angular": angular,
             "initial": law.name,
             "resolution": grid.name,
             "tau": taus.tolist(),
