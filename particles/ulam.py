@@ -181,14 +181,14 @@ def _largest_occurrence_ufunc(first: np.ndarray, flat: np.ndarray, occ: np.ndarr
     return first[flat]
 
 
-def _fire_rounds(
-    v: np.ndarray, reversed_pairs: np.ndarray, p: float, first: np.ndarray, occurrence: np.ndarray
-) -> int:
-    """Apply the events of ``reversed_pairs`` ((K, 2) int32, C-contiguous, **last event first**)
-    to ``v`` in place, round by round.  ``first`` is int32 scratch of size N, ``occurrence`` is
-    ``arange(≥ 2K, dtype=int32)``.  Returns the number of rounds."""
+def _rounds(reversed_pairs: np.ndarray, first: np.ndarray, occurrence: np.ndarray):
+    """The round schedule of the events of ``reversed_pairs`` ((K, 2) int32, C-contiguous,
+    **last event first**): yields, round by round, ``(fired, fire)`` where ``fire`` masks the
+    events still pending that fire now (each is the earliest pending event of both its
+    particles) and ``fired`` = [a_0, b_0, a_1, …] their particles, all distinct.  ``first`` is
+    int32 scratch of size N, ``occurrence`` is ``arange(≥ 2K, dtype=int32)``.  The caller
+    applies the round before asking for the next (``fire`` is reused afterwards)."""
     packed = reversed_pairs.view(np.int64).reshape(-1)  # one int64 per event: cheap compaction
-    rounds = 0
     while packed.size:
         m = packed.size
         # a_0, b_0, a_1, b_1, ... (reverse time order); intp indices index ~2x faster than int32
@@ -201,12 +201,22 @@ def _fire_rounds(
         fire &= own_is_first[1::2]
         # np.compress, not packed[fire]: boolean indexing is ~5x slower on random masks.
         fired = np.compress(fire, packed).view(np.int32).astype(np.intp)
+        yield fired, fire
+        np.logical_not(fire, out=fire)
+        packed = np.compress(fire, packed)
+
+
+def _fire_rounds(
+    v: np.ndarray, reversed_pairs: np.ndarray, p: float, first: np.ndarray, occurrence: np.ndarray
+) -> int:
+    """Apply the events of ``reversed_pairs`` to ``v`` in place, round by round (:func:`_rounds`).
+    Returns the number of rounds."""
+    rounds = 0
+    for fired, _ in _rounds(reversed_pairs, first, occurrence):
         vv = v[fired]
         vv2 = vv.reshape(-1, 2)
         collide_arrays(vv2[:, 0], vv2[:, 1], p)
         v[fired] = vv
-        np.logical_not(fire, out=fire)
-        packed = np.compress(fire, packed)
         rounds += 1
     return rounds
 
@@ -304,22 +314,11 @@ def _fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide) -> int
     """:func:`_fire_rounds` for events that carry data: ``collide(v, fired, rows)`` applies the
     events of rows ``rows`` of ``reversed_pairs`` (particles ``fired`` = [a_0, b_0, a_1, …], all
     distinct)."""
-    packed = reversed_pairs.view(np.int64).reshape(-1)
-    rows = np.arange(packed.size, dtype=np.intp)
+    rows = np.arange(len(reversed_pairs), dtype=np.intp)
     rounds = 0
-    while packed.size:
-        m = packed.size
-        flat = packed.view(np.int32).astype(np.intp)
-        occ = occurrence[: 2 * m]
-        own = _largest_occurrence(first, flat, occ)
-        own_is_first = own == occ
-        fire = own_is_first[0::2]
-        fire &= own_is_first[1::2]
-        fired = np.compress(fire, packed).view(np.int32).astype(np.intp)
+    for fired, fire in _rounds(reversed_pairs, first, occurrence):
         collide(v, fired, np.compress(fire, rows))
-        np.logical_not(fire, out=fire)
-        packed = np.compress(fire, packed)
-        rows = np.compress(fire, rows)
+        rows = np.compress(~fire, rows)
         rounds += 1
     return rounds
 
