@@ -49,6 +49,8 @@ __all__ = [
     "moment_decay_rates",
     "tail_exponent_from_solution",
     "tail_root_from_solution",
+    "resonant_log_amplitude",
+    "resonant_log_fit",
 ]
 
 
@@ -212,6 +214,42 @@ def tail_root_from_solution(solution: Solution, window=(1e-4, 0.1), tau_index: i
     mid = math.sqrt(lo * hi)
     err = max(abs(fit(lo, mid) - s), abs(fit(mid, hi) - s))
     return s, err
+
+
+def resonant_log_amplitude(dimension, restitution, angular="uniform") -> float:
+    """A of the q⁴ ln q term of the scaling solution when s* = 2 exactly (λ(2) = 2λ(1), e.g.
+    d = 2, r = 0, "hard"): the stationary balance of the q⁴ terms gives
+    A = 2 K(2, 1) C₁² / F'(2), F(s) = λ(s) − s λ(1), C₁ = −1/2 (F' by a centred difference,
+    step 1e-4, relative error ~1e-8)."""
+    h = 1e-4
+    lam1 = float(growth_rate(dimension, restitution, 1.0, angular))
+    slope = (float(growth_rate(dimension, restitution, 2.0 + h, angular))
+             - float(growth_rate(dimension, restitution, 2.0 - h, angular))) / (2 * h) - lam1
+    return 2.0 * gain_coefficient(dimension, restitution, 2, 1, angular) * 0.25 / slope
+
+
+def resonant_log_fit(solution: Solution, window=(1e-4, 0.1), tau_index: int = -1,
+                     analytic_terms: int = 3) -> tuple[float, float, float]:
+    """(A, rms of the log model, rms of the best power model) for w/q⁴ near q = 0.
+
+    The log model is w/q⁴ = b₀ + A ln q + b₁q² + … (the resonant s* = 2 form, compare A with
+    :func:`resonant_log_amplitude`); the power model is that of :func:`tail_root_from_solution`
+    with β ∈ [0.02, 6].  A log-model rms far below the power model's says s* = 2 exactly."""
+    lo, hi = _window(window, "window")
+    k = solution._index(tau_index)
+    q = solution.q
+    sel = (q >= lo) & (q <= hi)
+    if np.count_nonzero(sel) < analytic_terms + 4:
+        raise InvalidArgumentError("window", window, f"at least {analytic_terms + 4} points")
+    w = (solution.deviation[k] - deviation_from_f_hat(q, solution.skewness)).real[sel]
+    qs = q[sel]
+    y = w / qs**4
+    x = qs / qs.max()
+    basis = np.stack([np.log(qs)] + [x ** (2 * j) for j in range(analytic_terms)], axis=1)
+    coef, *_ = np.linalg.lstsq(basis, y, rcond=None)
+    rms_log = float(np.sqrt(np.mean((basis @ coef - y) ** 2)))
+    _, rms_power = _nonanalytic_fit(qs, y, analytic_terms, (0.02, 6.0))
+    return float(coef[0]), rms_log, rms_power
 
 
 def _window(window, name):
