@@ -67,9 +67,9 @@ def test_hierarchy_is_the_one_dimensional_one_and_its_rates_are_the_equations():
 def test_moment_coefficients_follow_the_exact_hierarchy(planar):
     # Coarse-grid discretisation error of C₂, C₃ (order 8 in h: the default grid's errors are
     # 250x smaller, measured 1.9e-8 and 2.7e-5 at τ = 20 against 1.1e-6 and 6.8e-5 on coarse; the
-    # τ = 20 C₃ error is the window: 4.8e-5 on q ∈ [1e-3, 1e-2]).  Measured on coarse at
-    # τ ≤ 20: |rel err C₂| ≤ 1.1e-6, |rel err C₃| ≤ 4.8e-5.  Tolerances 5e-6 and 2e-4
-    # (4-5x); a transport speed off by 1e-6 would move C₂ by 2 · 1e-6 · τ relatively.
+    # τ = 20 C₃ error is the window: 4.8e-5 on q ∈ [1e-3, 1e-2]; 16 nodes).  Measured on
+    # coarse, 8 nodes, at τ ≤ 20: |rel err C₂| ≤ 9.4e-7, |rel err C₃| ≤ 4.1e-5.  Tolerances
+    # 5e-6 and 2e-4 (5x); a transport speed off by 1e-6 would move C₂ by 2 · 1e-6 · τ.
     exact = rescaled_coefficients(D, R, TAUS, 3, ANGULAR)
     for k, tau in enumerate(TAUS):
         if tau > 20:
