@@ -22,9 +22,13 @@ C_n = c_n e^{nΛτ}
 rate is nΛ − d ln|C_n|/dτ, which tends to min(λ(n), nλ(1)) (:func:`moment_decay_rates`).
 :func:`series_coefficients` measures C_n from the solver's G near q = 0.
 
-Tail.  One component of the scaling solution decays as x^{−1−2s*}.
-:func:`tail_exponent_from_solution` fits the local slope of ln P against ln x of the solver's
-inverted density (:meth:`Solution.density` at given x: Gauss–Legendre, no aliasing).
+Tail.  Near q = 0 the scaling solution is G = 1 − q²/2 + (analytic q⁴, q⁶, …) + A|q|^{2s*}, and
+one component of it decays as x^{−1−2s*}.  :func:`tail_root_from_solution` fits the non-analytic
+power of G (the primary estimator: s* to ~1e-5 for 2s* < 6 once τ ≳ 400, see
+benchmarks/README.md); :func:`tail_exponent_from_solution` fits the local slope of ln P against
+ln x of the solver's inverted density (:meth:`Solution.density` at given x: Gauss–Legendre, no
+aliasing; resolves only the r = 0 tails).  At the resonance s* = 2 (λ(2) = 2λ(1); d = 2, r = 0,
+"hard") the term is A q⁴ ln q: :func:`resonant_log_fit` against :func:`resonant_log_amplitude`.
 """
 
 from __future__ import annotations
