@@ -253,13 +253,55 @@ def isotropic(restitution=0.5, resolution="default", tau_end=1000.0):
     return rows
 
 
+def scaling_tails(resolution="coarse", angular_nodes=16, taus=(200.0, 500.0, 1000.0)):
+    """Tail root s* measured from the solver's G (the |q|^{2s*} term near q = 0,
+    :func:`maxwell_kinetics.scaling_tails.tail_root_from_solution`) and the density tail slope
+    against the root of λ(s) = s λ(1), for d = 2, 3, both angular models, r = 0 and 0.5."""
+    from maxwell_kinetics.scaling_tails import tail_exponent_from_solution, tail_root_from_solution
+    from maxwell_kinetics.tails import tail_exponent
+    from particles.validation import InvalidArgumentError
+
+    fits = {"q in [1e-4, 0.1], 3 analytic": ((1e-4, 0.1), 3),
+            "q in [1e-2, 0.5], 5 analytic": ((1e-2, 0.5), 5)}
+    rows = []
+    for d in (2, 3):
+        for angular in ("uniform", "hard"):
+            for r in (0.0, 0.5):
+                sol = solve(r, "gaussian", list(taus), resolution, dimension=d, angular=angular,
+                            angular_nodes=angular_nodes)
+                exact = tail_exponent(d, r, angular)
+                for k, tau in enumerate(taus):
+                    row = {"d": d, "angular": angular, "r": r, "tau": tau, "s_star": exact.s,
+                           "component_exponent": exact.exponents["component"]}
+                    for name, (window, terms) in fits.items():
+                        row[name] = tail_root_from_solution(sol, window, k, terms,
+                                                            beta_range=(0.02, 8.0))
+                    try:
+                        row["density slope x in [10, 30]"] = tail_exponent_from_solution(
+                            sol, (10.0, 30.0), k)
+                    except InvalidArgumentError:  # P <= 0 in the window: tail not resolved
+                        row["density slope x in [10, 30]"] = None
+                    rows.append(row)
+    print("| d | angular | r | τ | s* (equation) | " + " | ".join(fits) +
+          " | 1 + 2s* | density slope x ∈ [10, 30] |")
+    print("|---|---|---|---|---|" + "---|" * len(fits) + "---|---|")
+    for row in rows:
+        cells = [f"{row[n][0]:.5f} ± {row[n][1]:.1e}" for n in fits]
+        dens = row["density slope x in [10, 30]"]
+        dens = "P ≤ 0 in window" if dens is None else f"{dens[0]:.4f} ± {dens[1]:.4f}"
+        print(f"| {row['d']} | {row['angular']} | {row['r']:g} | {row['tau']:g} | "
+              f"{row['s_star']:.5f} | " + " | ".join(cells) +
+              f" | {row['component_exponent']:.4f} | {dens} |")
+    return rows
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("mode", choices=["timing", "stability", "floor", "scale", "sweep",
-                                         "isotropic"])
+                                         "isotropic", "scaling_tails"])
     args = parser.parse_args()
     rows = {"timing": timing, "stability": stability, "floor": floor, "scale": scale,
-            "sweep": sweep, "isotropic": isotropic}[args.mode]()
+            "sweep": sweep, "isotropic": isotropic, "scaling_tails": scaling_tails}[args.mode]()
     (HERE / f"solver_{args.mode}.json").write_text(json.dumps(rows, indent=1))
 
 

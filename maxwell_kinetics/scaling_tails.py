@@ -1,0 +1,268 @@
+"""Tails and multiscaling measured from the solver's d-dimensional G (issue 17, SPEC §8).
+
+The exponents of :mod:`maxwell_kinetics.tails` come from the equation alone (the root s* of
+λ(s) = s λ(1), the rates min(λ(n), n λ(1))).  This module measures the same quantities from a
+:class:`maxwell_kinetics.solver.Solution` of ``solve(..., dimension=d, angular=...)``, so that the
+two are independent checks of each other.
+
+Conventions.  G(q, τ) = Φ(q / v₀(τ), τ) is the characteristic function of one Cartesian
+component x = v_x / v₀ of the rescaled velocity, v₀² = e^{−Λτ} (unit initial variance per
+component, Λ = λ(1) = 2pq⟨η⟩), τ = collisions per particle.  Its Taylor coefficients
+G = Σ_n C_n q^{2n} are C_n = (−1)^n ⟨x^{2n}⟩/(2n)! (C_0 = 1, C_1 = −1/2 exactly).
+
+Moments.  Put Φ(k) = Σ c_n k^{2n} into the isotropic equation of :func:`solve`; with
+a = 1 − q₁², q₁ = 1 − p, the coefficient of k^{2n} gives a closed triangular hierarchy, and for
+C_n = c_n e^{nΛτ}
+
+    dC_n/dτ = (n λ(1) − λ(n)) C_n + Σ_{m=1}^{n−1} K(n, m) C_m C_{n−m},
+    K(n, m) = ⟨(1 − aη)^m (p² η)^{n−m}⟩ = p^{2(n−m)} Σ_i binom(m, i) (−a)^i ⟨η^{i+n−m}⟩
+
+(:func:`rescaled_coefficients`; the Beta moments ⟨η^j⟩ are exact).  For an isotropic law
+⟨|v|^{2n}⟩ is a fixed multiple of ⟨v_x^{2n}⟩, so ⟨|v|^{2n}⟩ ∝ |C_n| e^{−nΛτ} and its local decay
+rate is nΛ − d ln|C_n|/dτ, which tends to min(λ(n), nλ(1)) (:func:`moment_decay_rates`).
+:func:`series_coefficients` measures C_n from the solver's G near q = 0.
+
+Tail.  Near q = 0 the scaling solution is G = 1 − q²/2 + (analytic q⁴, q⁶, …) + A|q|^{2s*}, and
+one component of it decays as x^{−1−2s*}.  :func:`tail_root_from_solution` fits the non-analytic
+power of G (the primary estimator: s* to ~1e-5 for 2s* < 6 once τ ≳ 400, see
+benchmarks/README.md); :func:`tail_exponent_from_solution` fits the local slope of ln P against
+ln x of the solver's inverted density (:meth:`Solution.density` at given x: Gauss–Legendre, no
+aliasing; resolves only the r = 0 tails).  At the resonance s* = 2 (λ(2) = 2λ(1); d = 2, r = 0,
+"hard") the term is A q⁴ ln q: :func:`resonant_log_fit` against :func:`resonant_log_amplitude`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import minimize_scalar
+from scipy.special import comb
+
+from particles.collision import transfer_fraction
+from particles.validation import InvalidArgumentError, check_times
+
+from .solver import Solution, deviation_from_f_hat
+from .tails import angular_law, eta_moment, growth_rate
+
+__all__ = [
+    "gain_coefficient",
+    "rescaled_coefficients",
+    "series_coefficients",
+    "moment_decay_rates",
+    "tail_exponent_from_solution",
+    "tail_root_from_solution",
+    "resonant_log_amplitude",
+    "resonant_log_fit",
+]
+
+
+def gain_coefficient(dimension, restitution, n: int, m: int, angular="uniform") -> float:
+    """K(n, m) = ⟨(1 − aη)^m (p²η)^{n−m}⟩, a = 1 − (1 − p)², from the exact Beta moments."""
+    law = angular_law(dimension, angular)
+    p = transfer_fraction(restitution)
+    a = 1.0 - (1.0 - p) ** 2
+    total = sum(comb(m, i, exact=True) * (-a) ** i * float(eta_moment(law, i + n - m))
+                for i in range(m + 1))
+    return float(p ** (2 * (n - m)) * total)
+
+
+def rescaled_coefficients(dimension, restitution, tau, n_max: int = 3, angular="uniform",
+                          initial=None) -> np.ndarray:
+    """C_n(τ), n = 0 .. n_max, of the rescaled G from the exact moment hierarchy (module
+    docstring), integrated by scipy (DOP853, rtol 1e-12).  ``initial``: C_n(0) (default: the
+    unit Gaussian, C_n = (−1/2)^n / n!).  Returns an array of shape (len(tau), n_max + 1)."""
+    taus = check_times(tau, "tau")
+    if isinstance(n_max, bool) or not isinstance(n_max, int) or n_max < 1:
+        raise InvalidArgumentError("n_max", n_max, "an integer >= 1")
+    if initial is None:
+        initial = [(-0.5) ** n / math.factorial(n) for n in range(n_max + 1)]
+    c0 = np.asarray(initial, dtype=float)
+    if c0.shape != (n_max + 1,) or c0[0] != 1.0 or c0[1] != -0.5:
+        raise InvalidArgumentError("initial", initial, f"n_max + 1 = {n_max + 1} coefficients "
+                                   "starting 1, -1/2")
+    lam = growth_rate(dimension, restitution, np.arange(n_max + 1), angular)
+    K = np.zeros((n_max + 1, n_max + 1))
+    for n in range(2, n_max + 1):
+        for m in range(1, n):
+            K[n, m] = gain_coefficient(dimension, restitution, n, m, angular)
+    rates = np.arange(n_max + 1) * lam[1] - lam
+
+    def rhs(_, c):
+        out = rates * c
+        for n in range(2, n_max + 1):
+            out[n] += sum(K[n, m] * c[m] * c[n - m] for m in range(1, n))
+        out[:2] = 0.0
+        return out
+
+    sol = solve_ivp(rhs, (0.0, float(taus[-1])), c0, method="DOP853", t_eval=taus,
+                    rtol=1e-12, atol=1e-300)
+    return sol.y.T
+
+
+def series_coefficients(solution: Solution, tau_index: int = -1, n_max: int = 3,
+                        window=(0.01, 0.1)) -> np.ndarray:
+    """C_2 .. C_{n_max} of G at the saved τ from the solver's values near q = 0.
+
+    Estimator: w = G − e^{−q²/2} (from the cancellation-free ``deviation``) equals
+    Σ_{n≥2} (C_n − (−1/2)^n/n!) q^{2n}; least squares of w/q⁴ against a polynomial in q² of
+    degree n_max − 2 + 2 (two extra terms absorb the truncation) on the grid points with
+    window[0] ≤ q ≤ window[1].  Valid while G is analytic on the window (the |q|^{2s*} term of
+    the scaling solution builds up in a boundary layer that shrinks toward q = 0 in τ).
+    """
+    lo, hi = _window(window, "window")
+    k = solution._index(tau_index)
+    q = solution.q
+    sel = (q >= lo) & (q <= hi)
+    if np.count_nonzero(sel) < n_max + 2:
+        raise InvalidArgumentError("window", window, f"at least {n_max + 2} grid points")
+    w = (solution.deviation[k] - deviation_from_f_hat(q, solution.skewness)).real[sel]
+    qs = q[sel]
+    coef = np.polynomial.polynomial.polyfit(qs**2, w / qs**4, n_max)
+    gauss = np.array([(-0.5) ** n / math.factorial(n) for n in range(2, n_max + 1)])
+    return coef[: n_max - 1] + gauss
+
+
+def moment_decay_rates(solution: Solution, n: int, window=(0.01, 0.1),
+                       tau_indices=None) -> tuple[np.ndarray, np.ndarray]:
+    """Local decay rates of ⟨|v|^{2n}⟩ measured from the solver: nΛ − d ln|C_n|/dτ.
+
+    C_n is :func:`series_coefficients` at the saved τ (``tau_indices``, default all); the
+    derivative is the centred finite difference of ln|C_n| in τ between neighbours.  Returns
+    (midpoints τ, rates).  Λ = 2pq⟨η⟩ is the exact energy rate of the solution's model.
+    """
+    idx = list(range(len(solution.tau))) if tau_indices is None else list(tau_indices)
+    c = np.array([series_coefficients(solution, k, max(n, 2), window)[n - 2] for k in idx])
+    t = solution.tau[idx]
+    lam1 = float(growth_rate(solution.dimension, solution.restitution, 1.0, solution.angular))
+    slope = np.diff(np.log(np.abs(c))) / np.diff(t)
+    return 0.5 * (t[1:] + t[:-1]), n * lam1 - slope
+
+
+def tail_exponent_from_solution(solution: Solution, window=(10.0, 30.0), tau_index: int = -1,
+                                points: int = 41) -> tuple[float, float]:
+    """(exponent, error estimate) of the power-law tail P(x) ∝ x^{−α} of one component.
+
+    Estimator: least-squares slope of ln P against ln x on ``points`` log-spaced x in
+    ``window``, P from :meth:`Solution.density` at those x (Gauss–Legendre, no aliasing).
+    Compare α with 1 + 2s* (``tail_exponent(d, r, angular).exponents["component"]``).
+    The error estimate is the difference between the slopes fitted on the lower and upper
+    halves of the window (in ln x): the drift of the local slope, i.e. the size of the
+    corrections to pure power law that the window does not remove.
+    """
+    lo, hi = _window(window, "window")
+    x = np.geomspace(lo, hi, int(points))
+    _, P = solution.density(x, tau_index)
+    if np.any(P <= 0):
+        raise InvalidArgumentError("window", window, "a window where the density is positive")
+    lx, lp = np.log(x), np.log(P)
+    slope = np.polyfit(lx, lp, 1)[0]
+    mid = x.size // 2
+    low = np.polyfit(lx[: mid + 1], lp[: mid + 1], 1)[0]
+    high = np.polyfit(lx[mid:], lp[mid:], 1)[0]
+    return float(-slope), float(abs(high - low))
+
+
+def _nonanalytic_fit(q, y, analytic_terms, beta_range):
+    """min over β of the linear least squares of y against [1, q², …, q^{2(m−1)}, q^β]
+    (variable projection): a grid scan of β, then bounded refinement.  Returns (β, rms)."""
+    x = q / q.max()
+    base = np.stack([x ** (2 * j) for j in range(analytic_terms)], axis=1)
+
+    def rms(beta):
+        A = np.concatenate([base, x[:, None] ** beta], axis=1)
+        coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+        return float(np.sqrt(np.mean((A @ coef - y) ** 2)))
+
+    grid = np.linspace(*beta_range, 400)
+    values = [rms(b) for b in grid]
+    i = int(np.argmin(values))
+    lo, hi = grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)]
+    best = minimize_scalar(rms, bounds=(lo, hi), method="bounded", options={"xatol": 1e-12})
+    return float(best.x), float(best.fun)
+
+
+def tail_root_from_solution(solution: Solution, window=(1e-4, 0.1), tau_index: int = -1,
+                            analytic_terms: int = 3,
+                            beta_range=(0.02, 6.0)) -> tuple[float, float]:
+    """(s, error estimate): the tail root s* measured from the non-analytic term of G near q = 0.
+
+    Estimator: near q = 0 the scaling solution is G = 1 − q²/2 + Σ_{n≥2} a_n q^{2n} + A|q|^{2s*}
+    + …, so w = G − e^{−q²/2} (from the cancellation-free ``deviation``) satisfies
+    w/q⁴ = b₀ + b₁q² + … + A q^β with β = 2s* − 4.  β is the minimiser, over ``beta_range``,
+    of the residual of the linear least squares of w/q⁴ on the grid points in ``window``
+    against ``analytic_terms`` powers q^{2j} (j = 0 .. m − 1) and q^β; s = 2 + β/2.
+    The analytic terms are fitted, not assumed, so 2s* may lie above 4 (subleading to q⁴).
+    Error estimate: the largest change of s when the fit is repeated on the lower and the upper
+    half of the window (in ln q).  Compare with ``tail_exponent(d, r, angular).s``.
+
+    Needs G at its fixed point on the window: at finite τ G is analytic for Gaussian data and
+    the |q|^{2s*} term only forms above a crossover q that falls exponentially in τ.  The
+    resonant case s* = 2 (d = 2, r = 0, "hard": A q⁴ ln q) is outside this form.
+    """
+    lo, hi = _window(window, "window")
+    k = solution._index(tau_index)
+    q = solution.q
+    w = (solution.deviation[k] - deviation_from_f_hat(q, solution.skewness)).real
+
+    def fit(a, b):
+        sel = (q >= a) & (q <= b)
+        if np.count_nonzero(sel) < analytic_terms + 4:
+            raise InvalidArgumentError("window", window,
+                                       f"at least {2 * (analytic_terms + 4)} grid points")
+        return 2.0 + 0.5 * _nonanalytic_fit(q[sel], w[sel] / q[sel] ** 4, analytic_terms,
+                                            beta_range)[0]
+
+    s = fit(lo, hi)
+    mid = math.sqrt(lo * hi)
+    err = max(abs(fit(lo, mid) - s), abs(fit(mid, hi) - s))
+    return s, err
+
+
+def resonant_log_amplitude(dimension, restitution, angular="uniform") -> float:
+    """A of the q⁴ ln q term of the scaling solution when s* = 2 exactly (λ(2) = 2λ(1), e.g.
+    d = 2, r = 0, "hard"): the stationary balance of the q⁴ terms gives
+    A = 2 K(2, 1) C₁² / F'(2), F(s) = λ(s) − s λ(1), C₁ = −1/2 (F' by a centred difference,
+    step 1e-4, relative error ~1e-8)."""
+    h = 1e-4
+    lam1 = float(growth_rate(dimension, restitution, 1.0, angular))
+    slope = (float(growth_rate(dimension, restitution, 2.0 + h, angular))
+             - float(growth_rate(dimension, restitution, 2.0 - h, angular))) / (2 * h) - lam1
+    return 2.0 * gain_coefficient(dimension, restitution, 2, 1, angular) * 0.25 / slope
+
+
+def resonant_log_fit(solution: Solution, window=(1e-4, 0.1), tau_index: int = -1,
+                     analytic_terms: int = 3) -> tuple[float, float, float]:
+    """(A, rms of the log model, rms of the best power model) for w/q⁴ near q = 0.
+
+    The log model is w/q⁴ = b₀ + A ln q + b₁q² + … (the resonant s* = 2 form, compare A with
+    :func:`resonant_log_amplitude`); the power model is that of :func:`tail_root_from_solution`
+    with β ∈ [0.02, 6].  A log-model rms far below the power model's says s* = 2 exactly."""
+    lo, hi = _window(window, "window")
+    k = solution._index(tau_index)
+    q = solution.q
+    sel = (q >= lo) & (q <= hi)
+    if np.count_nonzero(sel) < analytic_terms + 4:
+        raise InvalidArgumentError("window", window, f"at least {analytic_terms + 4} points")
+    w = (solution.deviation[k] - deviation_from_f_hat(q, solution.skewness)).real[sel]
+    qs = q[sel]
+    y = w / qs**4
+    x = qs / qs.max()
+    basis = np.stack([np.log(qs)] + [x ** (2 * j) for j in range(analytic_terms)], axis=1)
+    coef, *_ = np.linalg.lstsq(basis, y, rcond=None)
+    rms_log = float(np.sqrt(np.mean((basis @ coef - y) ** 2)))
+    _, rms_power = _nonanalytic_fit(qs, y, analytic_terms, (0.02, 6.0))
+    return float(coef[0]), rms_log, rms_power
+
+
+def _window(window, name):
+    try:
+        lo, hi = (float(v) for v in window)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(name, window, "a pair (lo, hi)") from None
+    if not (0.0 < lo < hi and math.isfinite(hi)):
+        raise InvalidArgumentError(name, window, "0 < lo < hi < inf")
+    return lo, hi
+
+
