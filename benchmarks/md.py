@@ -165,6 +165,11 @@ def main(argv=None):
     )
     ap.add_argument("--skip-homogeneous", action="store_true")
     ap.add_argument(
+        "--no-reference",
+        action="store_true",
+        help="skip the sequential Python reference in the clustered run (long windows)",
+    )
+    ap.add_argument(
         "--clustered-t",
         type=float,
         default=20.0,
@@ -192,7 +197,7 @@ def main(argv=None):
             MDParams(n_c, 1.0, args.clustered_r, delta=1e-4),
             args.clustered_t,
             args.clustered_t + args.clustered_window,
-            args.clustered_t + args.clustered_window,
+            None if args.no_reference else args.clustered_t + args.clustered_window,
             1,
             critical_path=args.critical_path,
             depth=args.causal_depth,
