@@ -37,7 +37,7 @@ sys.path.insert(0, str(ROOT))
 
 from particles import persistence  # noqa: E402
 from particles.driver import simulate  # noqa: E402
-from particles.ensemble import FORMAT_VERSION, EnsembleSpec, run_ensemble  # noqa: E402
+from particles.ensemble import FORMAT_VERSION, EnsembleSpec, local_cluster, run_ensemble  # noqa: E402
 from particles.ulam import Ulam  # noqa: E402
 
 
@@ -62,7 +62,7 @@ def main(argv=None) -> dict:
     n = int(args.n or (1e5 if args.quick else 1e6))
     spec = EnsembleSpec("ulam", {"n": n, "restitution": 0.5}, list(range(1, args.runs + 1)),
                         [args.tau])
-    from distributed import Client, LocalCluster
+    from distributed import Client
 
     out: dict = {"n": n, "tau": args.tau, "runs": args.runs, "workers": args.workers,
                  "cpus": os.cpu_count(), "load_average_before": os.getloadavg()}
@@ -73,8 +73,7 @@ def main(argv=None) -> dict:
         out["commit"] = None
 
     t0 = time.perf_counter()
-    cluster = LocalCluster(n_workers=args.workers, threads_per_worker=1, processes=True,
-                           dashboard_address=":0", scheduler_kwargs={"dashboard": False})
+    cluster = local_cluster(args.workers)  # the cluster run_ensemble makes
     client = Client(cluster)
     client.wait_for_workers(args.workers)
     out["cluster_start_s"] = time.perf_counter() - t0
