@@ -23,11 +23,17 @@ def prepare_output(out, argument: str = "out") -> Path:
     """Create the output folder and prove that a file can be written in it, before any work;
     a failure raises ``InvalidArgumentError`` naming ``argument``."""
     out = Path(out)
+    created = [p for p in (out, *out.parents) if not p.exists()]
     try:
         out.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryFile(dir=out):
             pass
     except OSError as exc:
+        for folder in created:  # nothing written: remove the folders made here
+            try:
+                folder.rmdir()
+            except OSError:
+                pass
         raise InvalidArgumentError(
             argument, str(out), f"a writable directory ({exc.strerror or exc})"
         ) from None

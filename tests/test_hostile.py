@@ -475,3 +475,34 @@ def test_absurd_kinetic_runs_are_refused_before_they_start(capsys, tmp_path, arg
     err = run_error(capsys, argv)
     assert named in err and "estimate" in err
     assert not (tmp_path / "cv").exists()
+
+
+@pytest.mark.parametrize("case", ["a file", "under a file", "unwritable"])
+def test_reproduce_out_is_checked_before_any_work(capsys, tmp_path, monkeypatch, case):
+    # exit 2 naming --out and the value, before the first comparison runs (a comparison that
+    # ran would raise here), and nothing written.  "unwritable": the folder refuses a file (as
+    # root, permissions do not stop writes, so the refusal is simulated at the OS call).
+    import tempfile
+
+    from maxwell_kinetics import comparisons
+
+    def must_not_run(*args, **kwargs):
+        raise AssertionError("a comparison ran before --out was checked")
+
+    monkeypatch.setitem(comparisons.COMPARISONS, "kinetic_theory", must_not_run)
+    blocker = tmp_path / "blocker"
+    blocker.write_text("x")
+    out = {"a file": blocker, "under a file": blocker / "sub",
+           "unwritable": tmp_path / "ro"}[case]
+    if case == "unwritable":
+        real = tempfile.TemporaryFile
+
+        def refuse(*args, dir=None, **kwargs):
+            if dir is not None and str(dir) == str(out):
+                raise PermissionError(13, "Permission denied")
+            return real(*args, dir=dir, **kwargs)
+
+        monkeypatch.setattr(tempfile, "TemporaryFile", refuse)
+    err = run_error(capsys, ["reproduce", "--only", "kinetic_theory", "--out", str(out)])
+    assert "out=" in err and str(out.name) in err
+    assert blocker.read_text() == "x" and not (tmp_path / "ro").exists()
