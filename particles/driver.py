@@ -52,6 +52,7 @@ from .validation import (
     InvalidArgumentError,
     check_count,
     check_nonnegative,
+    check_output_file,
     check_path,
     check_times,
 )
@@ -121,14 +122,9 @@ def next_grid_point(time: float, step: float) -> float:
 
 
 def check_writable(path, name: str) -> Path:
-    """``path`` must name a file (not a directory) in an existing, writable directory."""
-    path = check_path(path, name)
-    directory = path.parent if str(path.parent) else Path(".")
-    if path.is_dir() or not directory.is_dir() or not os.access(directory, os.W_OK):
-        raise InvalidArgumentError(
-            name, str(path), "a file path in an existing, writable directory"
-        )
-    return path
+    """``path`` must name a file (not a directory) in an existing, writable directory
+    (:func:`particles.validation.check_output_file`, the one check of output files)."""
+    return check_output_file(path, name)
 
 
 def _write_npz(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
