@@ -41,11 +41,12 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     """For each r: the exact steady variance D/(pq) (with the finite-N factor (1 − 1/N)² of a
     gas of zero total momentum) and kurtosis against the particles' (mean ± standard error:
     the seed scatter for the kurtosis, the larger of the seed scatter and the pooled particles'
-    error for the variance; in units of that error); the steady density P(v) against the pooled particle
-    histogram (χ²/dof with the errors from the seed scatter); the tail slope of ln P on
-    |v|/√D ∈ [3, 6] against −1/√D.  The runs start from a unit Gaussian and are taken at τ =
-    ``tau``: the slowest relaxation, of ⟨v²⟩, is e^{−2pqτ} (r = 0.9: 2pq = 0.095, e^{−9.5} at
-    τ = 100; the small size takes r ≤ 0.5 only)."""
+    error for the variance; in units of that error); the steady density P(v) against the
+    pooled particle histogram (χ²/dof, binomial errors of the pooled counts, bins with ≥ 10
+    counts); the tail slope of ln P on |v|/√D ∈ [3, 6], particles against the exact density on
+    the same window (the asymptotic −1/√D is reported too).  The runs start from a unit
+    Gaussian and are taken at τ = ``tau``: the slowest relaxation, of ⟨v²⟩, is e^{−2pqτ}
+    (r = 0.9: 2pq = 0.095, e^{−9.5} at τ = 100; the small size takes r ≤ 0.5 only)."""
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     d, n = float(prm["driving"]), int(prm["n"])

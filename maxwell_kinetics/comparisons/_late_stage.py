@@ -21,6 +21,7 @@ from particles.sticky import (
 )
 
 from .analysis import (
+    binned_porod_fit,
     block_means,
     coarse_increment_skewness,
     log_binned,
@@ -249,17 +250,6 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     return Comparison(NAME, summary, data)
 
 
-def _binned_porod_fit(kb, sb, t, z, x_window, k_max):
-    """:func:`.analysis.porod_fit` on spectra already log-binned (the seed mean): (slope,
-    intercept, k of the bins used) or None with fewer than 3 bins."""
-    x = kb * t**z
-    sel = (x >= x_window[0]) & (x <= x_window[1]) & (kb <= k_max)
-    if sel.sum() < 3:
-        return None
-    b, a = np.polyfit(np.log(kb[sel]), np.log(sb[sel]), 1)
-    return float(b), float(a), kb[sel]
-
-
 def _structure_numbers(kb, sb_mean, times, porod_seed, prm) -> dict:
     """Collapse spread and Porod slopes (see :func:`run`); ``sb_mean`` (T, bins) is the seed
     mean of the log-binned S(k) on the bin centres ``kb``."""
@@ -271,7 +261,7 @@ def _structure_numbers(kb, sb_mean, times, porod_seed, prm) -> dict:
                   for sb, t in zip(sb_mean, times, strict=True)]
         return float(np.sqrt(np.mean(np.var(np.array(curves), axis=0, ddof=1))))
 
-    fits = [_binned_porod_fit(kb, sb, t, 2.0 / 3.0, prm["porod_x"], prm["k_max"])
+    fits = [binned_porod_fit(kb, sb, t, 2.0 / 3.0, prm["porod_x"], prm["k_max"])
             for sb, t in zip(sb_mean, times, strict=True)]
     per_time = [_mean_se([row[j] for row in porod_seed]) for j in range(len(times))]
     last = max((j for j, f in enumerate(fits) if f is not None), default=None)

@@ -19,6 +19,7 @@ __all__ = [
     "profile_scales",
     "log_binned",
     "porod_fit",
+    "binned_porod_fit",
     "porod_slope",
     "jackknife",
 ]
@@ -110,7 +111,11 @@ def log_binned(k, s):
 def porod_fit(k, s, t, z, x_window, k_max):
     """Least-squares line ln S = a + b ln k over the log bins with k·t^z in ``x_window`` and
     k ≤ ``k_max``: (b, a, k of the bins used), or None with fewer than 3 bins."""
-    kb, sb = log_binned(k, s)
+    return binned_porod_fit(*log_binned(k, s), t, z, x_window, k_max)
+
+
+def binned_porod_fit(kb, sb, t, z, x_window, k_max):
+    """:func:`porod_fit` on a spectrum already log-binned (``kb``, ``sb``)."""
     x = kb * t**z
     sel = (x >= x_window[0]) & (x <= x_window[1]) & (kb <= k_max)
     if sel.sum() < 3:
