@@ -101,6 +101,24 @@ def rescaled_coefficients(dimension, restitution, tau, n_max: int = 3, angular="
     return sol.y.T
 
 
+def _deviation_from_scaling(solution, tau_index):
+    """(q, w): the solver's grid and w = G − f̂ there (real part) at output ``tau_index``."""
+    k = solution._index(tau_index)
+    q = solution.q
+    return q, (solution.deviation[k] - deviation_from_f_hat(q, solution.skewness)).real
+
+
+def _window_points(solution, window, tau_index, minimum: int, need: str):
+    """(q, w) of :func:`_deviation_from_scaling` on the points of ``window``; at least
+    ``minimum`` of them, else InvalidArgumentError naming ``window`` (expected ``need``)."""
+    lo, hi = _window(window, "window")
+    q, w = _deviation_from_scaling(solution, tau_index)
+    sel = (q >= lo) & (q <= hi)
+    if np.count_nonzero(sel) < minimum:
+        raise InvalidArgumentError("window", window, need)
+    return q[sel], w[sel]
+
+
 def series_coefficients(solution: Solution, tau_index: int = -1, n_max: int = 3,
                         window=(0.01, 0.1)) -> np.ndarray:
     """C_2 .. C_{n_max} of G at the saved τ from the solver's values near q = 0.
@@ -111,14 +129,8 @@ def series_coefficients(solution: Solution, tau_index: int = -1, n_max: int = 3,
     window[0] ≤ q ≤ window[1].  Valid while G is analytic on the window (the |q|^{2s*} term of
     the scaling solution builds up in a boundary layer that shrinks toward q = 0 in τ).
     """
-    lo, hi = _window(window, "window")
-    k = solution._index(tau_index)
-    q = solution.q
-    sel = (q >= lo) & (q <= hi)
-    if np.count_nonzero(sel) < n_max + 2:
-        raise InvalidArgumentError("window", window, f"at least {n_max + 2} grid points")
-    w = (solution.deviation[k] - deviation_from_f_hat(q, solution.skewness)).real[sel]
-    qs = q[sel]
+    qs, w = _window_points(solution, window, tau_index, n_max + 2,
+                           f"at least {n_max + 2} grid points")
     coef = np.polynomial.polynomial.polyfit(qs**2, w / qs**4, n_max)
     gauss = np.array([(-0.5) ** n / math.factorial(n) for n in range(2, n_max + 1)])
     return coef[: n_max - 1] + gauss
@@ -202,9 +214,7 @@ def tail_root_from_solution(solution: Solution, window=(1e-4, 0.1), tau_index: i
     resonant case s* = 2 (d = 2, r = 0, "hard": A q⁴ ln q) is outside this form.
     """
     lo, hi = _window(window, "window")
-    k = solution._index(tau_index)
-    q = solution.q
-    w = (solution.deviation[k] - deviation_from_f_hat(q, solution.skewness)).real
+    q, w = _deviation_from_scaling(solution, tau_index)
 
     def fit(a, b):
         sel = (q >= a) & (q <= b)
@@ -239,14 +249,8 @@ def resonant_log_fit(solution: Solution, window=(1e-4, 0.1), tau_index: int = -1
     The log model is w/q⁴ = b₀ + A ln q + b₁q² + … (the resonant s* = 2 form, compare A with
     :func:`resonant_log_amplitude`); the power model is that of :func:`tail_root_from_solution`
     with β ∈ [0.02, 6].  A log-model rms far below the power model's says s* = 2 exactly."""
-    lo, hi = _window(window, "window")
-    k = solution._index(tau_index)
-    q = solution.q
-    sel = (q >= lo) & (q <= hi)
-    if np.count_nonzero(sel) < analytic_terms + 4:
-        raise InvalidArgumentError("window", window, f"at least {analytic_terms + 4} points")
-    w = (solution.deviation[k] - deviation_from_f_hat(q, solution.skewness)).real[sel]
-    qs = q[sel]
+    qs, w = _window_points(solution, window, tau_index, analytic_terms + 4,
+                           f"at least {analytic_terms + 4} points")
     y = w / qs**4
     x = qs / qs.max()
     basis = np.stack([np.log(qs)] + [x ** (2 * j) for j in range(analytic_terms)], axis=1)
