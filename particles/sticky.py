@@ -52,7 +52,13 @@ smaller by a factor t).  With m = (nt)^{2/3} s, a particle's velocity is (nt)^{�
 increment of a two-sided Brownian motion B over the segment covering s = 0 of the convex
 minorant of B(s) + s²/2, so E t^{2/3} → n^{−2/3} ⟨U²⟩ for any law of variance 1 (the
 white-noise Burgers problem; Frachebourg, Martin, Piasecki).  The constant ⟨U²⟩ is not derived
-here; measured with this module: ≈ 0.444–0.450 for t ∈ [10, 1000] (``benchmarks/README.md``).
+here; measured with this module (N = 10⁷, 12 seeds): 0.4497, 0.4438, 0.4425, 0.4420, 0.4439
+(± 0.0002 … 0.003) at t = 10, 10², 10³, 10⁴, 10⁵.  What is exact: the *displacements* of the
+particles.  A particle's position at t is the slope of the minorant, so D/t^{2/3} tends in law
+to a multiple of Chernoff's argmax of W(u) − u² (:func:`displacements`,
+:func:`displacement_scale`, :func:`chernoff_density`), with ⟨D²⟩ t^{−4/3} → 0.664129 at unit
+variance and density; ⟨U²⟩ = ⟨D²⟩ t^{−4/3} − ⟨(c − x₀)²⟩ t^{−4/3}, c the centre of the initial
+positions of the particle's cluster (the cross term sums to zero over each cluster).
 
 Conventions
 -----------
@@ -88,6 +94,10 @@ __all__ = [
     "profile_x",
     "profile_i",
     "total_momentum",
+    "displacements",
+    "chernoff_density",
+    "displacement_scale",
+    "CHERNOFF_VARIANCE",
     "velocity_tail_exponent",
 ]
 
@@ -255,6 +265,65 @@ def total_momentum(state: StickyState) -> float:
     """Σ_j v_j (unit masses): conserved, zero at t = 0 up to round-off."""
     _check_state(state)
     return float(np.sum(state.velocities))
+
+
+def displacements(state: StickyState) -> np.ndarray:
+    """Each particle's displacement since t = 0, unwrapped (not reduced mod L): its cluster's
+    position minus its initial position, with the labels j < ``starts[0]`` of a cluster across
+    the seam counted at x_j + L (module docstring).  Σ_j of it is t Σ_j v_j(0) (the centre of
+    mass flies freely).  At t ≫ 1/n it tends in law to :func:`displacement_scale` · t^{2/3} · Z,
+    Z of Chernoff's law (:func:`chernoff_density`)."""
+    _check_state(state)
+    where = np.roll(np.repeat(state.positions, state.masses), state.starts[0])
+    d = where - state.initial_positions
+    d[: state.starts[0]] -= state.length
+    return d
+
+
+#: Var Z of Chernoff's law, Z = argmax_t (W(t) − t²) for a two-sided standard Brownian motion W
+#: (Groeneboom and Wellner, J. Comput. Graph. Stat. 10, 388 (2001): 0.26355964); the quadrature
+#: of :func:`chernoff_density` gives 0.2635596413 (``tests/test_sticky_displacement.py``).
+CHERNOFF_VARIANCE = 0.26355964
+
+
+def chernoff_density(z, *, cutoff: float = 40.0, nodes: int = 800) -> np.ndarray:
+    """Chernoff's density f(z) = g(z) g(−z) / 2 of Z = argmax_t (W(t) − t²) (Groeneboom,
+    Probab. Th. Rel. Fields 81, 79 (1989)), where g has the Fourier transform
+    ĝ(λ) = ∫ e^{iλz} g(z) dz = 2^{1/3} / Ai(i 2^{−1/3} λ).  ĝ(−λ) is the conjugate of ĝ(λ), so
+    g(z) = (1/π) ∫_0^∞ Re[e^{−iλz} ĝ(λ)] dλ, computed by Gauss–Legendre quadrature with
+    ``nodes`` nodes on [0, ``cutoff``]: |ĝ(λ)| falls like exp(−(√2/3) (2^{−1/3} λ)^{3/2}), below
+    1e-23 at λ = 40, and the integrand's phase λ|z| needs |z| ≲ 10 for 800 nodes.  f is even,
+    ∫ f = 1 and Var Z = :data:`CHERNOFF_VARIANCE` (both checked by the tests)."""
+    from scipy.special import airy
+
+    z = np.asarray(z, dtype=float)
+    x, w = np.polynomial.legendre.leggauss(int(nodes))
+    lam = 0.5 * cutoff * (x + 1.0)
+    w = 0.5 * cutoff * w
+    ghat = 2.0 ** (1.0 / 3.0) / airy(1j * 2.0 ** (-1.0 / 3.0) * lam)[0]
+
+    def g(values):
+        phase = np.exp(-1j * np.multiply.outer(values, lam))
+        return (phase * ghat).real @ w / math.pi
+
+    flat = z.ravel()
+    return (0.5 * g(flat) * g(-flat)).reshape(z.shape)
+
+
+def displacement_scale(density: float = 1.0, variance: float = 1.0) -> float:
+    """b with displacement / t^{2/3} → b Z in law (Z of :func:`chernoff_density`), for
+    independent initial velocities of ``variance`` σ² and number ``density`` n, at t ≫ 1/n:
+    b = 2^{2/3} σ^{2/3} n^{−1/3}, so ⟨D²⟩ t^{−4/3} → b² Var Z (= 0.664129 at σ = n = 1).
+
+    Derivation (module docstring, "Energy decay", for the scaling m = a s, a = (σ n t)^{2/3}):
+    a particle's position is the slope of the convex minorant of F, and its initial position
+    that of m²/(2n), so D = σ^{2/3} n^{−1/3} t^{2/3} (X(s) − s), X(s) the slope at s of the
+    convex minorant of W(s) + s²/2.  X(s) − s is stationary in s and, by the switching
+    relation X(0) ≤ x ⇔ argmin_u (W(u) + u²/2 − x u) ≥ 0, distributed as
+    argmax_u (W(u) − u²/2) = 2^{2/3} Z."""
+    n = check_positive(density, "density")
+    s2 = check_positive(variance, "variance")
+    return 2.0 ** (2.0 / 3.0) * s2 ** (1.0 / 3.0) * n ** (-1.0 / 3.0)
 
 
 def velocity_tail_exponent(v, energy: float | None = None, *, quantiles=(1e-2, 1e-5)):
