@@ -40,7 +40,22 @@ d dimensions (SPEC §8), ``dimension`` = 2 or 3.  Velocities have shape (N, d). 
 (:func:`collide_vectors`; operations in a fixed order, dot products summed column by column, so
 the fast path and :func:`collide_sequential_vectors` agree bit for bit).  The same window scheme
 is used; each event's angular variables are drawn with the window, in advance
-(:func:`draw_angles`), and turned into n when the event fires (:func:`collision_directions`):
+(:func:`draw_angles`).
+
+d = 2 runs in complex numbers: inside ``advance`` the (N, 2) array is viewed as N complex
+velocities v = v_x + i v_y (one 16-byte element per particle, so each round is one 1-D gather
+and one scatter).  Write n = ĝ e^{iφ}, φ the angle from ĝ to n; then (g·n) n = g cos φ e^{iφ}
+(= (g + ḡ n²)/2), and since n and −n are the same collision, φ ∈ [−π/2, π/2] with
+c = cos φ = √(1 − s²), s = sin φ.  So δ = g t with t = p (c² + i s c) (:func:`plane_transfer`,
+:func:`collide_complex`): no |g|, no normalisation, one drawn number s per event.  Its law:
+
+* ``"uniform"``: n uniform and independent of g, so φ is uniform and independent of g, and s =
+  sin φ has the arcsine law, drawn as s = cos(πu), u uniform;
+* ``"hard"``: density ∝ |cos φ| dφ = |ds|, so s is uniform on [−1, 1], drawn as 2u − 1.
+
+Then η = c² = 1 − s² is Beta(1/2, 1/2), resp. Beta(1, 1/2) (SPEC §8 at d = 2).  The product g t is
+written out in real operations (:func:`collide_complex`).  In d = 3 each event's variables are
+turned into n when the event fires (:func:`collision_directions`):
 
 * ``"uniform"``: n = z/|z|, z a standard normal vector (n uniform on the sphere, independent
   of g);
@@ -52,11 +67,11 @@ is used; each event's angular variables are drawn with the window, in advance
   n = √η ĝ + √(1 − η) e⊥ (the sign of n does not matter: n enters twice).  If g = 0 the
   collision changes nothing, whatever n.
 
-Throughput (measured once per configuration, best of 3 runs of 10⁶ collisions at N = 10⁶, on a
-shared 2-core machine with load 5-6, so only the ratios mean much): 1D 3.1e6 to 6.9e6
-collisions/s, 2D uniform 2.0 to 2.8 times slower, 2D hard 2.5 to 3.8, 3D uniform 3.0 to 4.2,
-driven 1D 2.2 to 2.3.  The d-dimensional cost is dominated by the random-access gathers and
-scatters of (N, d) rows and by the per-event normal draws.
+Throughput: ``benchmarks/ulam_dimensions.py`` (N = 10⁶, 10⁶ collisions, configurations
+interleaved; the table is in benchmarks/README.md).  With complex arithmetic, 2D uniform runs
+about 2 times slower than 1D and 2D hard about 1.6 (before it: 2.8 and 3.2); the 2D cost is the
+random-access gather and scatter, the round schedule (as in 1D) and, for "uniform", the cosine
+of the draws.  3D (not changed) is about 4-5 times slower than 1D.
 
 Initial velocities in d dimensions: each Cartesian component is an independent draw of the
 initial law, centred and scaled to unit variance (so ⟨|v|²⟩ = d at τ = 0).  Recentring subtracts
@@ -272,10 +287,13 @@ def plane_transfer(sine: np.ndarray, p: float) -> np.ndarray:
     collision, so φ ∈ [−π/2, π/2]).  Element by element with correctly rounded operations, so
     the same bits whether computed for one event or for a window."""
     s = np.asarray(sine, dtype=float)
-    c2 = (1.0 - s) * (1.0 + s)
+    c2 = 1.0 - s  # (1 − s)(1 + s), not 1 − s²: c is accurate to round-off even near s = ±1
+    c2 *= 1.0 + s
     t = np.empty(s.shape, dtype=np.complex128)
-    t.real = c2 * p
-    t.imag = s * np.sqrt(c2) * p
+    np.multiply(c2, p, out=t.real)
+    c = np.sqrt(c2, out=c2)
+    c *= s
+    np.multiply(c, p, out=t.imag)
     return t
 
 
