@@ -40,7 +40,22 @@ d dimensions (SPEC §8), ``dimension`` = 2 or 3.  Velocities have shape (N, d). 
 (:func:`collide_vectors`; operations in a fixed order, dot products summed column by column, so
 the fast path and :func:`collide_sequential_vectors` agree bit for bit).  The same window scheme
 is used; each event's angular variables are drawn with the window, in advance
-(:func:`draw_angles`), and turned into n when the event fires (:func:`collision_directions`):
+(:func:`draw_angles`).
+
+d = 2 runs in complex numbers: inside ``advance`` the (N, 2) array is viewed as N complex
+velocities v = v_x + i v_y (one 16-byte element per particle, so each round is one 1-D gather
+and one scatter).  Write n = ĝ e^{iφ}, φ the angle from ĝ to n; then (g·n) n = g cos φ e^{iφ}
+(= (g + ḡ n²)/2), and since n and −n are the same collision, φ ∈ [−π/2, π/2] with
+c = cos φ = √(1 − s²), s = sin φ.  So δ = g t with t = p (c² + i s c) (:func:`plane_transfer`,
+:func:`collide_complex`): no |g|, no normalisation, one drawn number s per event.  Its law:
+
+* ``"uniform"``: n uniform and independent of g, so φ is uniform and independent of g, and s =
+  sin φ has the arcsine law, drawn as s = cos(πu), u uniform;
+* ``"hard"``: density ∝ |cos φ| dφ = |ds|, so s is uniform on [−1, 1], drawn as 2u − 1.
+
+Then η = c² = 1 − s² is Beta(1/2, 1/2), resp. Beta(1, 1/2) (SPEC §8 at d = 2).  The product g t is
+written out in real operations (:func:`collide_complex`).  In d = 3 each event's variables are
+turned into n when the event fires (:func:`collision_directions`):
 
 * ``"uniform"``: n = z/|z|, z a standard normal vector (n uniform on the sphere, independent
   of g);
@@ -52,11 +67,11 @@ is used; each event's angular variables are drawn with the window, in advance
   n = √η ĝ + √(1 − η) e⊥ (the sign of n does not matter: n enters twice).  If g = 0 the
   collision changes nothing, whatever n.
 
-Throughput (measured once per configuration, best of 3 runs of 10⁶ collisions at N = 10⁶, on a
-shared 2-core machine with load 5-6, so only the ratios mean much): 1D 3.1e6 to 6.9e6
-collisions/s, 2D uniform 2.0 to 2.8 times slower, 2D hard 2.5 to 3.8, 3D uniform 3.0 to 4.2,
-driven 1D 2.2 to 2.3.  The d-dimensional cost is dominated by the random-access gathers and
-scatters of (N, d) rows and by the per-event normal draws.
+Throughput: ``benchmarks/ulam_dimensions.py`` (N = 10⁶, 10⁶ collisions, configurations
+interleaved; the table is in benchmarks/README.md).  With complex arithmetic, 2D uniform runs
+about 2 times slower than 1D and 2D hard about 1.6 (before it: 2.8 and 3.2); the 2D cost is the
+random-access gather and scatter, the round schedule (as in 1D) and, for "uniform", the cosine
+of the draws.  3D (not changed) is about 4-5 times slower than 1D.
 
 Initial velocities in d dimensions: each Cartesian component is an independent draw of the
 initial law, centred and scaled to unit variance (so ⟨|v|²⟩ = d at τ = 0).  Recentring subtracts
@@ -107,6 +122,8 @@ __all__ = [
     "draw_angles",
     "collision_directions",
     "collide_vectors",
+    "collide_complex",
+    "plane_transfer",
     "collide_in_order",
     "collide_sequential",
     "collide_in_order_vectors",
@@ -236,15 +253,25 @@ def recentre(v: np.ndarray) -> None:
 
 @dataclass(frozen=True)
 class AngularDraws:
-    """Angular variables of K events drawn in advance: ``z`` standard normal vectors (K, d);
-    for the "hard" model also ``eta`` = (ĝ·n)² ~ Beta(1, (d − 1)/2) (K,), else ``None``."""
+    """Angular variables of K events drawn in advance.  d = 3: ``z`` standard normal vectors
+    (K, 3), for the "hard" model also ``eta`` = (ĝ·n)² ~ Beta(1, 1) (K,), else ``None``.
+    d = 2: ``sine`` = sin φ (K,), φ the angle from ĝ to n (``z`` and ``eta`` are ``None``)."""
 
-    z: np.ndarray
+    z: np.ndarray | None
     eta: np.ndarray | None = None
+    sine: np.ndarray | None = None
 
 
 def draw_angles(rng: np.random.Generator, k: int, dimension: int, angular: str) -> AngularDraws:
-    """The angular variables of ``k`` events (module docstring): normals first, then η."""
+    """The angular variables of ``k`` events (module docstring).  d = 2: one uniform u per
+    event, sin φ = cos(πu) ("uniform") or 2u − 1 ("hard").  d = 3: normals first, then η."""
+    if dimension == 2:
+        u = rng.random(k)
+        if angular == "uniform":
+            return AngularDraws(None, sine=np.cos(np.pi * u))
+        u *= 2.0
+        u -= 1.0  # exact: u is a multiple of 2⁻⁵³ in [0, 1)
+        return AngularDraws(None, sine=u)
     z = rng.standard_normal((k, dimension))
     if angular == "uniform":
         return AngularDraws(z)
@@ -252,6 +279,43 @@ def draw_angles(rng: np.random.Generator, k: int, dimension: int, angular: str) 
     # η = 1 − u^{2/(d−1)} inverts the CDF 1 − (1 − η)^{(d−1)/2}; 1 − u (not u) keeps η < 1
     eta = 1.0 - (1.0 - u) ** (2.0 / (dimension - 1))
     return AngularDraws(z, eta)
+
+
+def plane_transfer(sine: np.ndarray, p: float) -> np.ndarray:
+    """d = 2: the complex factor t = p (g·n) n / g = p cos φ e^{iφ} = p (c² + i s c) of events
+    with sin φ = ``sine`` = s, c = cos φ = √((1 − s)(1 + s)) ≥ 0 (n and −n are the same
+    collision, so φ ∈ [−π/2, π/2]).  Element by element with correctly rounded operations, so
+    the same bits whether computed for one event or for a window."""
+    s = np.asarray(sine, dtype=float)
+    c2 = 1.0 - s  # (1 − s)(1 + s), not 1 − s²: c is accurate to round-off even near s = ±1
+    c2 *= 1.0 + s
+    t = np.empty(s.shape, dtype=np.complex128)
+    np.multiply(c2, p, out=t.real)
+    c = np.sqrt(c2, out=c2)
+    c *= s
+    np.multiply(c, p, out=t.imag)
+    return t
+
+
+def collide_complex(va: np.ndarray, vb: np.ndarray, transfer: np.ndarray) -> None:
+    """The 2D rule in place on complex velocities v = v_x + i v_y: with g = v_a − v_b and
+    δ = g · ``transfer`` (= p (g·n) n, :func:`plane_transfer`), v_a −= δ and v_b += δ.
+
+    The product g · t is written out in real operations, each correctly rounded, so that it
+    gives the same bits for one event as for a window: NumPy's own complex multiply fuses
+    multiply-adds in its SIMD loop but not in its scalar fallback, which it takes for some
+    one-element in-place calls (measured: NumPy 2.4, x86-64 with FMA)."""
+    g = va - vb
+    delta = np.empty_like(g)
+    re, im = delta.real, delta.imag
+    np.multiply(g.real, transfer.real, out=re)
+    tmp = g.imag * transfer.imag
+    re -= tmp
+    np.multiply(g.real, transfer.imag, out=im)
+    np.multiply(g.imag, transfer.real, out=tmp)
+    im += tmp
+    va -= delta
+    vb += delta
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -263,7 +327,16 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def collision_directions(g: np.ndarray, draws: AngularDraws, angular: str) -> np.ndarray:
-    """Unit vectors n (m, d) for relative velocities ``g`` (m, d) and the events' ``draws``."""
+    """Unit vectors n (m, d) for relative velocities ``g`` (m, d) and the events' ``draws``.
+    d = 2: n = ĝ e^{iφ} (as a vector), the direction :func:`plane_transfer` collides along
+    (ĝ = x̂ where g = 0: the collision changes nothing)."""
+    if g.shape[1] == 2:
+        gc = np.ascontiguousarray(g, dtype=float).view(np.complex128).reshape(-1)
+        g_norm = np.abs(gc)
+        g_hat = np.where(g_norm > 0.0, gc / np.where(g_norm > 0.0, g_norm, 1.0), 1.0)
+        s = draws.sine
+        n = g_hat * (np.sqrt((1.0 - s) * (1.0 + s)) + 1j * s)
+        return np.stack([n.real, n.imag], axis=1)
     z = draws.z
     if angular == "uniform":
         return z / np.sqrt(_dot(z, z))[:, None]
@@ -323,9 +396,26 @@ def _fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide) -> int
     return rounds
 
 
+def _fire_rounds_plane(w, reversed_pairs, transfer, first, occurrence) -> int:
+    """d = 2: :func:`_fire_rounds` on complex velocities ``w`` (N,) with one complex factor
+    per event (``transfer``, rows as ``reversed_pairs``; :func:`plane_transfer`).  A gather, the
+    rule and a scatter of 16-byte elements per round; the factors of the pending events are
+    compacted alongside the pairs."""
+    rounds = 0
+    for fired, fire in _rounds(reversed_pairs, first, occurrence):
+        vv = np.take(w, fired)
+        collide_complex(vv[0::2], vv[1::2], np.compress(fire, transfer))
+        w[fired] = vv
+        transfer = np.compress(~fire, transfer)
+        rounds += 1
+    return rounds
+
+
 def _subset(draws: AngularDraws, rows) -> AngularDraws:
-    z = np.take(draws.z, rows, axis=0)
-    return AngularDraws(z, None if draws.eta is None else draws.eta[rows])
+    def take(a, axis=None):
+        return None if a is None else np.take(a, rows, axis=axis)
+
+    return AngularDraws(take(draws.z, 0), take(draws.eta), take(draws.sine))
 
 
 def _check_vector_events(v, pairs, restitution, draws, angular):
@@ -336,9 +426,14 @@ def _check_vector_events(v, pairs, restitution, draws, angular):
     angular = _check_angular(angular)
     pairs = np.asarray(pairs)
     _check_events(np.zeros(v.shape[0]), pairs, restitution)
-    if draws.z.shape != (len(pairs), v.shape[1]) or (
-        angular == "hard" and (draws.eta is None or draws.eta.shape != (len(pairs),))
-    ):
+    k = (len(pairs),)
+    if v.shape[1] == 2:
+        bad = draws.sine is None or np.shape(draws.sine) != k
+    else:
+        bad = (draws.z is None or draws.z.shape != (len(pairs), v.shape[1])) or (
+            angular == "hard" and (draws.eta is None or draws.eta.shape != k)
+        )
+    if bad:
         raise InvalidArgumentError("draws", "arrays of other shapes", "one draw per event")
     return v, pairs, p, angular
 
@@ -352,6 +447,10 @@ def collide_in_order_vectors(v, pairs, restitution, draws: AngularDraws, angular
     reversed_draws = _subset(draws, np.arange(k - 1, -1, -1))
     first = np.empty(v.shape[0], dtype=np.int32)
     occurrence = np.arange(2 * k, dtype=np.int32)
+    if v.shape[1] == 2:
+        transfer = plane_transfer(reversed_draws.sine, p)
+        _fire_rounds_plane(_as_complex(v), reversed_pairs, transfer, first, occurrence)
+        return v
 
     def collide(w, fired, rows):
         _collide_events_vectors(w, fired, _subset(reversed_draws, rows), angular, p)
@@ -363,10 +462,22 @@ def collide_in_order_vectors(v, pairs, restitution, draws: AngularDraws, angular
 def collide_sequential_vectors(v, pairs, restitution, draws: AngularDraws, angular="uniform"):
     """Reference: a Python loop over the events in time order, one event at a time."""
     v, pairs, p, angular = _check_vector_events(v, pairs, restitution, draws, angular)
+    if v.shape[1] == 2:
+        w = _as_complex(v)
+        for k, (a, b) in enumerate(pairs.astype(np.intp)):
+            pair = w[[a, b]]
+            collide_complex(pair[0:1], pair[1:2], plane_transfer(draws.sine[k : k + 1], p))
+            w[[a, b]] = pair
+        return v
     for k, (a, b) in enumerate(pairs.astype(np.intp)):
         row = np.array([k], dtype=np.intp)
         _collide_events_vectors(v, np.array([a, b]), _subset(draws, row), angular, p)
     return v
+
+
+def _as_complex(v: np.ndarray) -> np.ndarray:
+    """The (N,) complex128 view v_x + i v_y of a C-contiguous (N, 2) float array."""
+    return v.view(np.complex128).reshape(-1)
 
 
 def _check_angular(angular) -> str:
@@ -550,6 +661,7 @@ class Ulam:
         v = state.velocities.copy()
         collisions = int(state.collisions)
         p, angular = self.p, self.angular
+        plane = _as_complex(v) if self.dimension == 2 else None  # a view: v changes with it
         first = np.empty(self.n, dtype=np.int32)
         occurrence = np.empty(0, dtype=np.int32)
         for a, b in self.windows(state.time, until):
@@ -558,11 +670,15 @@ class Ulam:
                 occurrence = self._occurrences(occurrence, k)
                 pairs = draw_pairs(rng, self.n, k)  # row 0 is the window's last event
                 draws = draw_angles(rng, k, self.dimension, angular)
+                if plane is not None:
+                    transfer = plane_transfer(draws.sine, p)
+                    _fire_rounds_plane(plane, pairs, transfer, first, occurrence)
+                else:
 
-                def collide(w, fired, rows, draws=draws):
-                    _collide_events_vectors(w, fired, _subset(draws, rows), angular, p)
+                    def collide(w, fired, rows, draws=draws):
+                        _collide_events_vectors(w, fired, _subset(draws, rows), angular, p)
 
-                _fire_rounds_with_rows(v, pairs, first, occurrence, collide)
+                    _fire_rounds_with_rows(v, pairs, first, occurrence, collide)
                 collisions += k
             if _is_grid_point(b, self.stop_step):
                 recentre(v)

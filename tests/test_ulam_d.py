@@ -19,14 +19,19 @@ from particles.ulam import (
     AngularDraws,
     Ulam,
     UlamReference,
+    collide_complex,
     collide_in_order_vectors,
     collide_sequential_vectors,
+    collide_vectors,
     collision_directions,
     draw_angles,
     draw_pairs,
+    plane_transfer,
     recentre,
 )
 from particles.validation import InvalidArgumentError
+
+ANGULAR = ("uniform", "hard")
 
 
 def energy(v):
@@ -75,28 +80,86 @@ def test_law_of_eta_is_beta(dimension, angular, a):
         assert stats.kstest(phi, stats.uniform(-np.pi, 2 * np.pi).cdf).pvalue > 1e-4
 
 
-def test_hard_directions_match_rejection_sampling():
-    # The construction against rejection (n uniform, accepted with probability |ĝ·n|), for one
-    # fixed g in 3D: two-sample KS on the three components of n, 5e4 samples each, p > 1e-4.
-    rng = np.random.default_rng(4)
-    g = np.array([[0.3, -1.2, 0.5]])
+@pytest.mark.parametrize("dimension, angular", [(2, "uniform"), (2, "hard"), (3, "hard")])
+def test_directions_match_rejection_sampling(dimension, angular):
+    # The construction against n uniform on the sphere, accepted with probability |ĝ·n| for
+    # "hard" (always for "uniform"), for one fixed g: two-sample KS on each component of n,
+    # 5e4 samples each, p > 1e-4.  In 2D this also checks that the side of ĝ that n falls on
+    # is fair, which the law of η alone does not see.
+    rng = np.random.default_rng(4 + dimension)
+    g = np.array([[0.3, -1.2, 0.5][:dimension]])
     k = 50_000
-    built = collision_directions(np.repeat(g, k, 0), draw_angles(rng, k, 3, "hard"), "hard")
+    built = collision_directions(
+        np.repeat(g, k, 0), draw_angles(rng, k, dimension, angular), angular
+    )
     built *= np.sign(built @ g[0])[:, None]  # n and −n are the same collision
-    z = rng.standard_normal((4 * k, 3))
+    z = rng.standard_normal((4 * k, dimension))
     z /= np.linalg.norm(z, axis=1, keepdims=True)
     cos = z @ (g[0] / np.linalg.norm(g[0]))
-    kept = z[rng.random(4 * k) < np.abs(cos)][:k]
+    accept = np.abs(cos) if angular == "hard" else 1.0
+    kept = z[rng.random(4 * k) < accept][:k]
     kept *= np.sign(kept @ g[0])[:, None]
-    for c in range(3):
+    for c in range(dimension):
         assert stats.ks_2samp(built[:, c], kept[:, c]).pvalue > 1e-4
 
 
+def test_complex_rule_is_the_vector_rule():
+    # d = 2 in complex numbers: for any unit n at angle φ from ĝ (n = ĝ e^{iφ}),
+    # (g·n) n = g cos φ e^{iφ} = (g + ḡ n²)/2.  Checked for arbitrary g and n against
+    # collide_vectors, to round-off (1e-14 of the speeds, ~50 ulp).  Then plane_transfer(s)
+    # is p cos φ e^{iφ} with sin φ = s, cos φ ≥ 0 (−n is the same collision), and the engine's
+    # rule collides along collision_directions (whose law the tests above check).
+    rng = np.random.default_rng(11)
+    m, p = 10_000, 0.35
+    va = rng.standard_normal((m, 2)) * rng.exponential(1.0, (m, 1))
+    vb = rng.standard_normal((m, 2))
+    n = rng.standard_normal((m, 2))
+    n /= np.linalg.norm(n, axis=1, keepdims=True)
+
+    def as_complex(x):
+        return x[:, 0] + 1j * x[:, 1]
+
+    def both_rules(along, transfer):
+        expect_a, expect_b = va.copy(), vb.copy()
+        collide_vectors(expect_a, expect_b, along, p)
+        ca, cb = as_complex(va), as_complex(vb)
+        collide_complex(ca, cb, transfer)
+        scale = 1e-14 * (np.abs(as_complex(va)) + np.abs(as_complex(vb)))
+        assert np.all(np.abs(ca - as_complex(expect_a)) <= scale)
+        assert np.all(np.abs(cb - as_complex(expect_b)) <= scale)
+        return as_complex(va) - ca, scale
+
+    g, nc = as_complex(va - vb), as_complex(n)
+    e_phi = nc * np.conj(g) / np.abs(g)  # n / ĝ
+    delta, scale = both_rules(n, p * e_phi.real * e_phi)
+    assert np.all(np.abs(delta - p * (g + np.conj(g) * nc**2) / 2) <= scale)
+    s = rng.uniform(-1.0, 1.0, m)
+    phi = np.arcsin(s)
+    assert np.allclose(plane_transfer(s, p), p * np.cos(phi) * np.exp(1j * phi), rtol=0, atol=1e-15)
+    for angular in ANGULAR:
+        draws = draw_angles(rng, m, 2, angular)
+        both_rules(collision_directions(va - vb, draws, angular), plane_transfer(draws.sine, p))
+
+
 def test_zero_relative_velocity_leaves_the_pair_unchanged():
-    v = np.array([[1.0, 2.0], [1.0, 2.0], [0.0, 0.0]])
-    draws = AngularDraws(np.array([[0.3, 0.4]]), np.array([0.5]))
+    v = np.array([[1.0, 2.0, 3.0], [1.0, 2.0, 3.0], [0.0, 0.0, 0.0]])
+    draws = AngularDraws(np.array([[0.3, 0.4, 0.1]]), np.array([0.5]))
     out = collide_in_order_vectors(v, [[0, 1]], 0.0, draws, "hard")
     assert np.array_equal(out, v)
+    out = collide_in_order_vectors(v[:, :2], [[0, 1]], 0.0, AngularDraws(None, sine=[0.6]))
+    assert np.array_equal(out, v[:, :2])
+    n = collision_directions(np.zeros((1, 2)), AngularDraws(None, sine=np.array([0.6])), "hard")
+    assert np.allclose(n, [[0.8, 0.6]])
+
+
+def test_draws_of_the_wrong_shape_are_refused():
+    v = np.zeros((4, 2))
+    with pytest.raises(InvalidArgumentError, match="draws"):
+        collide_in_order_vectors(v, [[0, 1]], 0.5, AngularDraws(np.ones((1, 2))))
+    with pytest.raises(InvalidArgumentError, match="draws"):
+        collide_in_order_vectors(v, [[0, 1]], 0.5, AngularDraws(None, sine=np.ones(2)))
+    with pytest.raises(InvalidArgumentError, match="draws"):
+        collide_in_order_vectors(np.zeros((4, 3)), [[0, 1]], 0.5, AngularDraws(None))
 
 
 def test_engine_applies_the_drawn_events_exactly():
@@ -116,8 +179,7 @@ def test_engine_applies_the_drawn_events_exactly():
         if k:
             pairs = draw_pairs(replay, engine.n, k)
             draws = draw_angles(replay, k, 2, "hard")
-            order = np.arange(k)[::-1]
-            draws = AngularDraws(draws.z[order], draws.eta[order])
+            draws = AngularDraws(None, sine=draws.sine[::-1])
             v = collide_sequential_vectors(v, pairs[::-1], 0.4, draws, "hard")
             collisions += k
         if b == 4.0:
@@ -226,10 +288,11 @@ def _reference_stats(cls, kwargs, tau, seeds):
     "kwargs",
     [
         {"n": 40, "restitution": 0.3, "dimension": 2, "angular": "hard"},
+        {"n": 40, "restitution": 0.3, "dimension": 2, "angular": "uniform"},
         {"n": 40, "restitution": 0.3, "dimension": 3, "angular": "uniform"},
         {"n": 40, "restitution": 0.3, "driving": 0.5, "initial": "uniform"},
     ],
-    ids=["2d-hard", "3d-uniform", "driven"],
+    ids=["2d-hard", "2d-uniform", "3d-uniform", "driven"],
 )
 def test_fast_engine_and_independent_reference_agree_in_distribution(kwargs):
     # The reference draws exponential waiting times, "hard" directions by rejection and heats
@@ -328,11 +391,12 @@ def test_bad_parameters_are_named(kwargs, match):
         Ulam(10, 0.5, **kwargs)
 
 
-def test_fortran_ordered_input_is_handled():
+@pytest.mark.parametrize("d", [2, 3])
+def test_fortran_ordered_input_is_handled(d):
     rng = np.random.default_rng(2)
-    v = np.asfortranarray(rng.standard_normal((50, 3)))
+    v = np.asfortranarray(rng.standard_normal((50, d)))
     pairs = draw_pairs(rng, 50, 200)
-    draws = draw_angles(rng, 200, 3, "hard")
+    draws = draw_angles(rng, 200, d, "hard")
     fast = collide_in_order_vectors(v, pairs, 0.5, draws, "hard")
     slow = collide_sequential_vectors(np.ascontiguousarray(v), pairs, 0.5, draws, "hard")
     assert np.array_equal(fast, slow) and not np.array_equal(fast, v)
