@@ -443,7 +443,8 @@ class Solution:
         """Velocity-space density P(x, τ) of the rescaled velocity x = v / v0: returns ``(x, P)``.
 
         Units: x = v / v0(τ) with v0² = ⟨v²⟩ = e^{−2λτ} (unit initial variance), so P has unit
-        variance; the density of v itself is P(v / v0) / v0.
+        variance; the density of v itself is P(v / v0) / v0.  For ``dimension`` d ≥ 2, x is one
+        Cartesian component and v0² = e^{−Λτ} its variance (:meth:`MaxwellModel.energy_rate`).
 
         Sign and normalisation (SPEC §2): the characteristic function is P̂(k) = ∫ e^{ikv} P(v) dv
         (so G(q) = E[e^{iqx}]), and its inverse carries e^{−iqx} and 1/(2π):

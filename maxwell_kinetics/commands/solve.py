@@ -27,7 +27,8 @@ def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "solve", help="integrate the rescaled Fourier-space equation",
         description="Integrate dG/dτ = λ q G' − G + G(pq) G((1−p)q) from the initial law and "
-        "report G at the requested τ and q.",
+        "report G at the requested τ and q (and, with --speed, the density of the speed "
+        "|v|/v0 in d = 1, 2, 3).",
     )
     p.add_argument("--restitution", "-r", required=True, help="restitution coefficient r in [0, 1]")
     p.add_argument("--initial", default="gaussian", help="initial law (gaussian, uniform, ...)")
