@@ -88,14 +88,16 @@ def test_scaling_profile_is_the_student_law_with_three_degrees(d):
 @pytest.mark.parametrize("d", [2, 3])
 def test_non_integer_power_at_small_k(d):
     # ν = 2.5: Φ has a |k|^{2.5} term at k = 0, the kind of non-analytic term the solver's G
-    # has (|q|^{2s*}); the graded first panel resolves it.  Speeds up to 30.
+    # has (|q|^{2s*}).  Speeds up to 30.  Measured: absolute ≤ 7.4e-15, relative (where
+    # P > 1e-8) 1.7e-11 (d = 2) and 8.4e-11 (d = 3); without the graded first panel 3.6e-10
+    # and 7.5e-11: the |k|^ν term costs little even ungraded, as density_at's docstring says.
     phi, f = _student(2.5, d)
     v = np.concatenate([[0.0], np.geomspace(1e-3, 30.0, 80)])
     P = speed_density_at(phi, v, d, q_max=60.0)
     exact = SPHERE[d] * v ** (d - 1) * f(v)
     assert np.max(np.abs(P - exact)) < 1e-12
     big = exact > 1e-8
-    assert np.max(np.abs(P[big] / exact[big] - 1)) < 1e-7
+    assert np.max(np.abs(P[big] / exact[big] - 1)) < 1e-9
 
 
 def test_one_dimension_folds_the_two_signs():
