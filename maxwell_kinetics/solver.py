@@ -237,12 +237,15 @@ def solve(
     pair of shifted stencils, so the cost grows with it), and Λ/2 is taken as p q₁ Σ ω_i η_i
     with the quadrature's own ⟨η⟩ so that G''(0) = −1 is kept exactly.  G(0) = 1, and G is the
     characteristic function of one Cartesian component of v / v₀ along any axis, so
-    :meth:`Solution.density` gives the density of one component.  The initial law's φ is used
+    :meth:`Solution.density` gives the density of one component and
+    :meth:`Solution.speed_density` that of the speed |v| / v₀.  The initial law's φ is used
     as the radial profile Φ: it must be a d-dimensional characteristic function (the Gaussian
     is, in every d); d ≥ 2 needs a symmetric law with m₃ = 0 and r < 1 (at r = 1 the d ≥ 2
-    equation still relaxes, and Λ = 0 leaves the scheme no transport).  Diagnostics against
-    f̂ (``deviation``, ``sup_error``) compare with the one-dimensional scaling solution also in
-    d ≥ 2, where the scaling solution is another function.
+    equation still relaxes, and Λ = 0 leaves the scheme no transport).  The distances to f̂
+    (:meth:`Solution.sup_error`, :meth:`Solution.fourier_distance`) are defined for d = 1 only
+    and raise for d ≥ 2: f̂ is the one-dimensional scaling solution, and none is known in closed
+    form for d ≥ 2 (SPEC §8).  The stored array ``deviation`` = G − f̂ is then only the
+    representation :meth:`Solution.evaluate` interpolates, not a distance to anything.
 
     Parameters
     ----------
@@ -325,7 +328,8 @@ class Solution:
 
     ``G[k, j]`` is G(q_j, tau[k]) for the grid q_j = e^{s_min + j h} (q ≥ 0; G(−q) = conj G(q)).
     ``deviation[k, j]`` is G − f̂ at the same points, computed without the cancellation of
-    G − f̂ ≈ (1 − q²/2) − (1 − q²/2) at small q (it is what the diagnostics use).
+    G − f̂ ≈ (1 − q²/2) − (1 − q²/2) at small q (it is what :meth:`evaluate` interpolates and,
+    for ``dimension`` 1, what the distances to f̂ use; they refuse ``dimension`` ≥ 2).
     """
 
     restitution: float
@@ -390,8 +394,22 @@ class Solution:
             out += wk * values[first + k]
         return out
 
+    def _require_one_dimension(self, what: str) -> None:
+        if self.dimension != 1:
+            raise InvalidArgumentError(
+                "dimension", self.dimension,
+                f"dimension 1 for {what}: f̂ = (1 + |q|) e^{{−|q|}} is the scaling solution of "
+                "the one-dimensional equation only (none is known in closed form for d >= 2)",
+            )
+
     def sup_error(self, tau_index: int | None = None) -> np.ndarray | float:
-        """sup over q ≥ 0 of |G(q, τ) − f̂(q)|: on the grid, refined 16× around the maximum."""
+        """sup over q ≥ 0 of |G(q, τ) − f̂(q)|: on the grid, refined 16× around the maximum.
+
+        Only for ``dimension`` 1 (InvalidArgumentError naming ``dimension`` otherwise): f̂ is
+        the scaling solution of the one-dimensional equation, and in d ≥ 2 the distance to it
+        does not tend to zero.
+        """
+        self._require_one_dimension("sup_error")
         if tau_index is None:
             return np.array([self.sup_error(k) for k in range(len(self.tau))])
         return self._weighted_sup(self._index(tau_index), 0.0, self.resolution.q_min)
@@ -401,8 +419,10 @@ class Solution:
 
         Restricting the sup to q ≥ q_low gives a lower bound of the full metric, so it obeys the
         contraction bound too; small q_low makes the value sensitive to round-off (|ΔG| ~ 1e-16
-        divided by q_low^s) and to the grid's cut at q_min (SPEC §2).
+        divided by q_low^s) and to the grid's cut at q_min (SPEC §2).  Only for ``dimension`` 1,
+        as :meth:`sup_error`.
         """
+        self._require_one_dimension("fourier_distance")
         if tau_index is None:
             return np.array([self.fourier_distance(s, k, q_low) for k in range(len(self.tau))])
         q_low = self.resolution.q_min if q_low is None else q_low
@@ -423,7 +443,8 @@ class Solution:
         """Velocity-space density P(x, τ) of the rescaled velocity x = v / v0: returns ``(x, P)``.
 
         Units: x = v / v0(τ) with v0² = ⟨v²⟩ = e^{−2λτ} (unit initial variance), so P has unit
-        variance; the density of v itself is P(v / v0) / v0.
+        variance; the density of v itself is P(v / v0) / v0.  For ``dimension`` d ≥ 2, x is one
+        Cartesian component and v0² = e^{−Λτ} its variance (:meth:`MaxwellModel.energy_rate`).
 
         Sign and normalisation (SPEC §2): the characteristic function is P̂(k) = ∫ e^{ikv} P(v) dv
         (so G(q) = E[e^{iqx}]), and its inverse carries e^{−iqx} and 1/(2π):
@@ -442,17 +463,44 @@ class Solution:
         """
         from .velocity import invert
 
+        return invert(self._truncated(tau_index), q_max=self.resolution.q_max, x=x)
+
+    def _truncated(self, tau_index: int):
+        """G(q) at saved time ``tau_index`` as a callable, zero beyond the grid's end q_max
+        (|G| < 1e-13 there once near the scaling solution)."""
         q_max = self.resolution.q_max
         k = self._index(tau_index)
 
-        def G(q):  # G is truncated at the grid's end (|G| < 1e-13 there once near f̂)
+        def G(q):
             q = np.asarray(q, dtype=float)
             out = np.zeros(q.shape, dtype=complex)
             inside = np.abs(q) <= q_max
             out[inside] = self.evaluate(q[inside], k)
             return out
 
-        return invert(G, q_max=q_max, x=x)
+        return G
+
+    def speed_density(self, s, tau_index: int = -1):
+        """Density of the rescaled speed |v| / v0 in d = ``dimension``: returns ``(s, P)``.
+
+        Units: v0² = e^{−Λτ} is the variance of one component (unit initial variance per
+        component, Λ = :meth:`MaxwellModel.energy_rate`; d = 1: Λ = 2λ), so ⟨s²⟩ = d and
+        ∫_0^∞ P ds = 1; the density of |v| itself is P(|v| / v0) / v0.
+
+        G(q) is the radial profile Φ(|k|) of the isotropic characteristic function
+        E[e^{ik·v/v0}] (sign and normalisation of SPEC §2), and P(s) = S_d s^{d−1} f(s) with
+        the radial inverse transform f (:func:`maxwell_kinetics.velocity.speed_density_at`,
+        where the formulas and the errors are): d = 3, P(s) = (2/π) s ∫_0^{q_max} k sin(ks)
+        G(k) dk; d = 2, P(s) = s ∫_0^{q_max} k J₀(ks) G(k) dk; d = 1, P(s) = (2/π) ∫_0^{q_max}
+        cos(ks) Re G(k) dk (the density of |x|), G cut at the grid's end q_max as in
+        :meth:`density`.  Gauss–Legendre panels, no aliasing.  ``s``: finite speeds ≥ 0
+        (InvalidArgumentError naming ``s`` otherwise).
+        """
+        from .velocity import _check_speeds, speed_density_at
+
+        s = _check_speeds(s, "s")
+        G = self._truncated(tau_index)
+        return s, speed_density_at(G, s, self.dimension, q_max=self.resolution.q_max)
 
     # -- persistence --------------------------------------------------------------------
     def to_record(self) -> tuple[dict, dict[str, np.ndarray]]:

@@ -27,12 +27,16 @@ def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "solve", help="integrate the rescaled Fourier-space equation",
         description="Integrate dG/dτ = λ q G' − G + G(pq) G((1−p)q) from the initial law and "
-        "report G at the requested τ and q.",
+        "report G at the requested τ and q (and, with --speed, the density of the speed "
+        "|v|/v0 in d = 1, 2, 3).",
     )
     p.add_argument("--restitution", "-r", required=True, help="restitution coefficient r in [0, 1]")
     p.add_argument("--initial", default="gaussian", help="initial law (gaussian, uniform, ...)")
     p.add_argument("--tau", required=True, help="comma-separated increasing times, e.g. 10,50,100")
     p.add_argument("--q", default="0.5,1,2,5", help="comma-separated q at which to report G")
+    p.add_argument("--speed", default=None,
+                   help="comma-separated speeds |v|/v0 >= 0 at which to report the density of "
+                   "the speed (d-dimensional radial inverse transform of G)")
     p.add_argument("--resolution", default="default", help="one of " + ", ".join(RESOLUTIONS))
     p.add_argument("--dimension", default="1",
                    help="velocity dimension d = 1, 2 or 3 (isotropic inelastic Maxwell model)")
@@ -61,6 +65,11 @@ def run(args) -> int:
         raise InvalidArgumentError(
             "q", args.q, f"values with |q| <= q_max={grid.q_max:.6g} of resolution {grid.name!r}"
         )
+    speeds = None
+    if args.speed is not None:
+        speeds = np.asarray(parse_float_list(args.speed, "speed"))
+        if np.any(~np.isfinite(speeds)) or np.any(speeds < 0):
+            raise InvalidArgumentError("speed", args.speed, "finite speeds |v|/v0 >= 0")
     check_outputs(save=args.save, images={"plot": args.plot})
     check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force)
     from ..solver import solve  # JAX: imported only when a solve runs
@@ -73,8 +82,12 @@ def run(args) -> int:
     sol = solve(model.restitution, law, taus, grid, progress=progress_enabled(args),
                 dimension=dimension, angular=angular)
     seconds = time.perf_counter() - start
-    sup = sol.sup_error()
+    # The distance to f̂ is defined in d = 1 only (f̂ is the 1D scaling solution): null for d > 1.
+    sup = sol.sup_error() if dimension == 1 else None
     values = np.array([sol.evaluate(q, k) for k in range(len(taus))])
+    speed_density = None
+    if speeds is not None:
+        speed_density = np.array([sol.speed_density(speeds, k)[1] for k in range(len(taus))])
     if args.plot:
         from ..plotting import plot_solution
 
@@ -82,6 +95,9 @@ def run(args) -> int:
     if args.save:
         sol.save(args.save)
     if args.json:
+        extra = {}
+        if speeds is not None:
+            extra = {"speed": speeds.tolist(), "speed_density": speed_density.tolist()}
         emit_json({
             "restitution": model.restitution,
             "dimension": dimension,
@@ -89,17 +105,26 @@ def run(args) -> int:
             "initial": law.name,
             "resolution": grid.name,
             "tau": taus.tolist(),
-            "sup_error": sup.tolist(),
+            "sup_error": None if sup is None else sup.tolist(),
             "q": q.tolist(),
             "G_real": values.real.tolist(),
             "G_imag": values.imag.tolist(),
+            **extra,
             "seconds": seconds,
         })
     else:
         print(f"r = {model.restitution:g}, initial {law.name}, resolution {grid.name} "
               f"({grid.n} points), {seconds:.2f} s")
-        for tau, err in zip(taus, sup, strict=True):
-            print(f"  tau = {tau:<10g} sup_q |G - f_hat| = {err:.3e}")
+        if sup is not None:
+            for tau, err in zip(taus, sup, strict=True):
+                print(f"  tau = {tau:<10g} sup_q |G - f_hat| = {err:.3e}")
+        else:
+            print(f"  dimension {dimension} ({angular}): no distance to f_hat "
+                  "(the one-dimensional scaling solution)")
+        if speeds is not None:
+            print("  speed density P(s) at s = " + ", ".join(f"{v:g}" for v in speeds))
+            for tau, row in zip(taus, speed_density, strict=True):
+                print(f"  tau = {tau:<10g} " + " ".join(f"{v:.6e}" for v in row))
     return 0
 
 
