@@ -20,26 +20,39 @@ def _figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
 
 
 def plot_solution(solution):
-    """Left: Re G(q, τ) against q with f̂.  Right: |G − f̂| against q on log axes."""
+    """Left: Re G(q, τ) against q (with f̂ in d = 1).  Right: in d = 1, |G − f̂| against q on
+    log axes; in d ≥ 2, where f̂ is not the scaling solution, the density of the rescaled
+    speed P(s) (:meth:`~maxwell_kinetics.solver.Solution.speed_density`) on a log scale."""
     from .exact import f_hat
 
     fig, axes = _figure(2)
     left, right = axes[0]
     q = solution.q
     show = q > 1e-3
+    one_d = getattr(solution, "dimension", 1) == 1
     from matplotlib import colormaps
 
     colors = colormaps["viridis"](np.linspace(0, 0.9, len(solution.tau)))
+    speeds = np.linspace(0.0, 12.0, 241)
     for k, tau in enumerate(solution.tau):
         left.plot(q[show], solution.G[k, show].real, color=colors[k], label=f"τ = {tau:g}")
-        right.loglog(q[show], np.abs(solution.deviation[k, show]) + 1e-300, color=colors[k])
-    left.plot(q[show], f_hat(q[show]), "k--", label=r"$\hat f=(1+q)\,e^{-q}$")
+        if one_d:
+            right.loglog(q[show], np.abs(solution.deviation[k, show]) + 1e-300, color=colors[k])
+        else:
+            p = solution.speed_density(speeds, k)[1]
+            right.semilogy(speeds, np.where(p > 0, p, np.nan), color=colors[k])
+    title = f"r = {solution.restitution:g}, initial {solution.initial}"
+    if one_d:
+        left.plot(q[show], f_hat(q[show]), "k--", label=r"$\hat f=(1+q)\,e^{-q}$")
+        right.set(xlabel="q", ylabel="|G − f̂|", ylim=(1e-16, 2),
+                  title="distance to the scaling solution")
+    else:
+        title += f", d = {solution.dimension} ({solution.angular})"
+        right.set(xlabel="s = |v| / v0", ylabel="P(s)", ylim=(1e-8, 1),
+                  title="density of the rescaled speed")
     left.set_xscale("log")
-    left.set(xlabel="q", ylabel="Re G(q, τ)", title=f"r = {solution.restitution:g}, "
-             f"initial {solution.initial}")
+    left.set(xlabel="q", ylabel="Re G(q, τ)", title=title)
     left.legend(fontsize=7)
-    right.set(xlabel="q", ylabel="|G − f̂|", ylim=(1e-16, 2),
-              title="distance to the scaling solution")
     fig.tight_layout()
     return fig
 

@@ -237,6 +237,20 @@ def test_distances_to_f_hat_refuse_two_and_three_dimensions(planar, spatial):
                                rtol=0, atol=1e-11)
 
 
+def test_solution_figure_shows_the_speed_density_in_two_dimensions(planar):
+    from maxwell_kinetics.plotting import plot_solution
+
+    fig = plot_solution(planar)
+    right = fig.axes[1]
+    assert right.get_ylabel() == "P(s)"  # not |G − f̂|, which means nothing for d ≥ 2
+    s, p = right.get_lines()[-1].get_data()
+    expected = planar.speed_density(s, len(planar.tau) - 1)[1]
+    drawn = np.isfinite(p)  # non-positive values are not drawn on the log axis
+    assert np.array_equal(drawn, expected > 0)
+    np.testing.assert_allclose(p[drawn], expected[drawn])
+    assert "d = 2" in fig.axes[0].get_title()
+
+
 # -- the command line -------------------------------------------------------------------------
 
 
