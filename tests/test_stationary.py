@@ -188,3 +188,70 @@ def test_cli_fixed_point_bad_restitution(bad, capsys):
     captured = capsys.readouterr()
     assert captured.out == ""
     assert f"restitution='{bad}'" in captured.err
+
+
+# -- d = 2, 3 ---------------------------------------------------------------------------------
+
+
+def test_isotropic_path_with_the_single_node_eta_1_is_the_one_dimensional_fixed_point():
+    # The NumPy Jacobian of d >= 2 against the JAX one of d = 1 on the same equation (η ≡ 1).
+    from maxwell_kinetics.stationary import _isotropic_fixed_point
+
+    one = fixed_point(0.5, n=64)
+    iso = _isotropic_fixed_point(MaxwellModel(0.5), [1.0], [1.0], 64, 40.0, None, 1e-13, 50)
+    assert iso.converged
+    assert np.max(np.abs(iso.G - one.G)) < 1e-12
+    assert np.max(np.abs(iso.G - f_hat(iso.q))) < 1e-10
+
+
+@pytest.mark.parametrize(("d", "angular", "r"), [(2, "uniform", 0.5), (3, "hard", 0.5)])
+def test_isotropic_fixed_point_has_the_exact_fourth_moment(d, angular, r):
+    # The stationary hierarchy (scaling_tails module docstring) gives C₂ of G = 1 − q²/2 + C₂q⁴
+    # + … exactly when s* > 2: C₂ = K(2, 1) C₁² / (λ(2) − 2λ(1)), C₁ = −1/2.  From the fixed
+    # point: (G − 1 + q²/2)/q⁴ fitted on q ∈ [0.03, 0.4] by C₂ + c q² + A q^{2s*−4} + c' q⁴,
+    # s* from tail_exponent.  Measured relative errors 5.8e-7 (2D uniform) and 8.9e-8 (3D hard).
+    from maxwell_kinetics.scaling_tails import gain_coefficient
+    from maxwell_kinetics.tails import growth_rate, tail_exponent
+
+    fp = fixed_point(r, dimension=d, angular=angular)
+    assert fp.converged and fp.residual < 1e-12 and fp.check_residual < 1e-12
+    assert fp.dimension == d and fp.angular == angular and math.isnan(fp.max_error)
+    assert fp(0.0) == pytest.approx(1.0, abs=1e-14)
+    lam = growth_rate(d, r, np.array([0.0, 1.0, 2.0]), angular)
+    exact = gain_coefficient(d, r, 2, 1, angular) * 0.25 / (lam[2] - 2.0 * lam[1])
+    q = np.geomspace(0.03, 0.4, 40)
+    beta = 2.0 * tail_exponent(d, r, angular).s - 4.0
+    basis = np.stack([np.ones_like(q), q**2, q**beta, q**4], axis=1)
+    c2 = np.linalg.lstsq(basis, (fp(q) - 1.0 + 0.5 * q * q) / q**4, rcond=None)[0][0]
+    assert c2 == pytest.approx(exact, rel=1e-5)
+
+
+def test_isotropic_fixed_point_arguments():
+    with pytest.raises(InvalidArgumentError, match="dimension"):
+        fixed_point(0.5, dimension=4)
+    with pytest.raises(InvalidArgumentError, match="angular"):
+        fixed_point(0.5, dimension=2, angular="soft")
+    with pytest.raises(InvalidArgumentError, match="angular_nodes"):
+        fixed_point(0.5, dimension=2, angular_nodes=0)
+    with pytest.raises(InvalidArgumentError, match="restitution"):
+        fixed_point(1.0, dimension=3)
+
+
+def test_fixed_point_cli_in_two_dimensions(capsys):
+    assert main(["fixed-point", "-r", "0.5", "--dimension", "2", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["dimension"] == 2 and out["angular"] == "uniform" and out["converged"]
+    assert out["residual"] < 1e-12
+    # no closed form and no linearisation around f̂ in d >= 2
+    assert out["max_error"] is None and out["decay_rates"] is None
+
+
+@pytest.mark.parametrize(("argv", "named"), [
+    (["--dimension", "4"], "dimension=4"),
+    (["--dimension", "2", "--angular", "soft"], "angular='soft'"),
+    (["--dimension", "two"], "dimension='two'"),
+])
+def test_fixed_point_cli_refuses_bad_models(argv, named, capsys):
+    assert main(["fixed-point", "-r", "0.5", *argv]) == 2
+    captured = capsys.readouterr()
+    assert named in captured.err and captured.out == ""

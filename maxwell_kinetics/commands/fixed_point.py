@@ -36,10 +36,16 @@ def add_parser(subparsers) -> None:
         help="solve the stationary rescaled equation directly and compute linear decay rates",
         description="Solve λ q G' − G + G(pq) G((1−p)q) = 0 with G(0) = 1, G''(0) = −1 by "
         "Chebyshev collocation and Gauss–Newton, report the max error to f̂ = (1+q)e^{−q}, and "
-        "the slowest decay rates of the equation linearised around f̂ next to γ(s).",
+        "the slowest decay rates of the equation linearised around f̂ next to γ(s).  With "
+        "--dimension 2 or 3: the stationary isotropic equation (η-averaged gain); no closed "
+        "form and no decay rates there.",
     )
     p.add_argument("--restitution", "-r", required=True, help="restitution r in [0, 1)")
-    p.add_argument("--n", default="64", help="Chebyshev degree of the fixed point")
+    p.add_argument("--n", default=None, help="Chebyshev degree (default 64 in 1D, 128 in 2D/3D)")
+    p.add_argument("--dimension", default="1",
+                   help="velocity dimension d in {1, 2, 3} (d >= 2: the isotropic model)")
+    p.add_argument("--angular", default="uniform",
+                   help="angular model for d >= 2: uniform or hard")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=run)
 
@@ -48,37 +54,49 @@ def run(args) -> int:
     from ..stationary import fixed_point, linear_decay_rates  # JAX: imported only when it runs
 
     start = time.perf_counter()
-    n = parse_count(args.n, "n", 8)
+    from ..model import angular_law
+
+    dimension = parse_count(args.dimension, "dimension", 1)
+    angular_law(dimension, args.angular)  # checks both, before any work
+    n = parse_count(args.n, "n", 8) if args.n is not None else (64 if dimension == 1 else 128)
     check_fixed_point_budget(n)
-    fp = fixed_point(args.restitution, n=n)
+    fp = fixed_point(args.restitution, n=n, dimension=dimension, angular=args.angular)
     # Newton may stop on a small step at a non-solution (n = 8, r = 0.99: residual 4.8e-3):
     # a fixed point counts as converged only when its residual is small too
     converged = bool(fp.converged) and fp.residual <= RESIDUAL_TOLERANCE
-    rates = linear_decay_rates(fp.restitution)
+    # The linearisation is around f̂, the one-dimensional scaling solution: d = 1 only.
+    rates = linear_decay_rates(fp.restitution) if dimension == 1 else None
     payload = {
         "restitution": fp.restitution,
-        "max_error": fp.max_error,
+        "dimension": dimension,
+        "angular": args.angular if dimension > 1 else None,
+        "max_error": fp.max_error if dimension == 1 else None,
         "residual": fp.residual,
         "iterations": fp.iterations,
         "converged": converged,
-        "decay_rates": list(rates.rates),
-        "gamma": {str(s): g for s, g in rates.gamma.items()},
-        "gamma_star": rates.gamma_star,
-        "s_star": rates.s_star,
-        "q_min": rates.q_min,
+        "decay_rates": list(rates.rates) if rates else None,
+        "gamma": {str(s): g for s, g in rates.gamma.items()} if rates else None,
+        "gamma_star": rates.gamma_star if rates else None,
+        "s_star": rates.s_star if rates else None,
+        "q_min": rates.q_min if rates else None,
         "seconds": time.perf_counter() - start,
     }
     status = 0
     if not converged:  # never a silent success: a warning and exit status 3
         print(f"maxwell-kinetics fixed-point: warning: Gauss-Newton did not converge in "
               f"{fp.iterations} iterations (residual {fp.residual:.3e} against "
-              f"{RESIDUAL_TOLERANCE:g}, max |G - f_hat| "
-              f"{fp.max_error:.3e}); the result is not a fixed point", file=sys.stderr)
+              f"{RESIDUAL_TOLERANCE:g}); the result is not a fixed point", file=sys.stderr)
         status = 3
     if args.json:
         emit_json(payload)
         return status
-    print(f"fixed point, r = {fp.restitution:g}: Chebyshev n = {fp.n} on [0, {fp.q_max:g}]")
+    model = "" if dimension == 1 else f", d = {dimension} ({args.angular})"
+    print(f"fixed point, r = {fp.restitution:g}{model}: Chebyshev n = {fp.n} on "
+          f"[0, {fp.q_max:g}]")
+    if rates is None:
+        print(f"  residual = {fp.residual:.3e}   Gauss-Newton iterations = {fp.iterations}")
+        print(f"  ({payload['seconds']:.2f} s)")
+        return status
     print(f"  max |G - f_hat| = {fp.max_error:.3e}   residual = {fp.residual:.3e}   "
           f"Gauss-Newton iterations = {fp.iterations}")
     print(f"  slowest linear decay rates (q >= q_min = {rates.q_min:.3g}): "
