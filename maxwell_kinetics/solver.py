@@ -179,19 +179,21 @@ class _Stepper:
         from . import _kinetic_scheme as scheme
 
         self.model, self.law, self.grid, self.opts = model, law, grid, opts
-        eta, eta_weights = scheme.angular_quadrature(dimension, angular, angular_nodes)
+        tiers = scheme.angular_tiers(dimension, angular, angular_nodes, grid)
         if law.traceable:  # the inflow evaluates φ (in JAX) far beyond q_max: check it first
             _checked_phi(law, inflow_wavenumbers(model, grid, opts), "the inflow's k = q e^{λτ}")
         self.m3 = m3 = _check_skewness_finite(law)
         self.complex = m3 != 0.0 or not law.symmetric
-        self.static = scheme.Static(grid, law, opts, self.complex, m3, dimension, angular,
-                                    eta.size)
-        self.speed = scheme.transport_speed(model, eta, eta_weights)
+        self.static = scheme.Static(
+            grid, law, opts, self.complex, m3, dimension, angular,
+            sum(t.eta.size for t in tiers),
+            tuple((t.first, t.eta.size) for t in tiers) if dimension != 1 else ())
+        self.speed = scheme.transport_speed(model, tiers[0].eta, tiers[0].weights)
         self.cells, self.dtau = scheme.window_cells(self.speed, grid, opts)
         w0 = initial_deviation(law, np.exp(grid.s_min + grid.h * np.arange(grid.n + self.cells)))
         self._scheme, self._x64 = scheme, jax.enable_x64
         with jax.enable_x64(True):
-            self.dynamic = scheme.dynamic(model, grid, opts, eta, eta_weights)
+            self.dynamic = scheme.dynamic(model, grid, opts, tiers)
             self.y0 = scheme.initial_state(self.static, w0)
 
     def advance(self, y, i_start: int, count: int):
