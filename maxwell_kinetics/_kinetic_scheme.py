@@ -190,7 +190,7 @@ def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution
     Why: at wavenumber q the gain integrand G(√(1 − (1 − q₁²)η) q) G(p √η q) varies with η on
     the scale ~1/q², and its non-analytic term at η = 0 (from |x|^{2s*} in G) carries
     (p q)^{2s*}; at small q few nodes integrate it.  On the log grid 62 % of the state nodes
-    have q < 0.001, so the cost is ~4.6 right-hand sides of d = 1 per right-hand side instead
+    have q < 0.001, so a right-hand side evaluates 4.76 nodes per state node on average instead
     of 16.  A node moves to smaller q within a window, never to larger q, so the tier picked at
     the window start has at least the nodes its q needs.
 
@@ -198,8 +198,10 @@ def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution
     G at τ = 30 and 300 against 32 Gauss–Jacobi nodes at every q): the per-q error of the η
     integral of the solver's own G is not enough, because an error at small q feeds the slowly
     relaxing (neutral) |q|^{2s*} and q² modes and grows with τ; e.g. 1 node below q = 0.01 gave
-    9.8e-7 at τ = 300 (r = 0.5, d = 2 uniform), and 2 nodes below q = 0.1 gave 1.2e-6 (r = 0,
-    d = 2 hard) against 2.3e-9 for 16 nodes at every q.
+    9.8e-7 at τ = 300 (r = 0.5, d = 2 uniform), and 2, 4, 8 nodes below q = 0.1, 0.4, 1 gave
+    1.2e-6 (r = 0, d = 2 hard) against 2.3e-9 for 16 nodes at every q.  The default differs
+    from 32 nodes at every q by at most 1.0e-8 (d = 2 uniform, r = 0; 16 nodes at every q:
+    6.7e-9) and 5.4e-9 elsewhere (d = 2, 3, uniform and hard, r = 0, 0.5, 0.9).
 
     Every tier's rule has the exact ⟨η⟩ (to round-off), so the transport speed p q₁ ⟨η⟩ is the
     same for all of them; :func:`transport_speed` takes the lowest tier's ⟨η⟩, the rule of

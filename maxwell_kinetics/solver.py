@@ -238,7 +238,7 @@ def solve(
     The η integral is Gauss–Jacobi quadrature with a node count that grows with q
     (:func:`maxwell_kinetics._kinetic_scheme.angular_tiers`): at the default ``angular_nodes`` =
     16, 2 nodes below q = 0.001 up to 16 for q in [0.6, 10]; each node is one pair of shifted
-    stencils on its range of q, so the cost is ~4.6 one-dimensional right-hand sides instead of
+    stencils on its range of q, so a right-hand side costs ~4.8 one-dimensional ones instead of
     16.  ``angular_nodes`` scales every range (32 doubles them). Measured (coarse grid, Gaussian
     start, G at τ = 30 and 300 against 32 nodes at every q; d = 2, 3, uniform and hard, r = 0,
     0.5, 0.9): the default differs by at most 1.0e-8 (d = 2 uniform, r = 0; 16 nodes at every q:
