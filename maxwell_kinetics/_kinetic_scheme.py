@@ -55,7 +55,7 @@ import optimistix as optx
 
 from particles.initial import InitialLaw
 
-from .deviation import SolverOptions, _expm1_minus_x, source_parts
+from .deviation import SolverOptions, source_parts
 from .grid import INFLOW_CUT, Resolution, lagrange_weights
 from .model import MaxwellModel
 
@@ -128,6 +128,7 @@ class Dynamic(NamedTuple):
     weights_b: jax.Array
     eta: jax.Array  # (nodes,) quadrature nodes η_i of all tiers (η ≡ 1 for d = 1)
     eta_weights: jax.Array  # (nodes,) their weights, summing to 1 in each tier
+    eta_series: jax.Array  # (tiers, SERIES_TERMS + 1): Σ_i ω_i η_i^k / k! of each tier's rule
 
 
 def window_cells(speed: float, grid: Resolution, opts) -> tuple[int, float]:
@@ -273,6 +274,9 @@ def dynamic(model: MaxwellModel, grid: Resolution, opts, tiers=None) -> Dynamic:
         weights_b=jnp.asarray(np.array(wb), jnp.float64),
         eta=jnp.asarray(eta, jnp.float64),
         eta_weights=jnp.asarray(weights, jnp.float64),
+        eta_series=jnp.asarray(np.array([
+            [float(t.weights @ t.eta**k) / math.factorial(k) for k in range(SERIES_TERMS + 1)]
+            for t in tiers]), jnp.float64),
     )
 
 
@@ -394,12 +398,31 @@ def _stencil_range(st: Static, padded, first, weights, j0: int, j1: int):
     return sum(weights[k] * source[:, k : k + length] for k in range(st.grid.order))
 
 
+#: Highest power of the series of e^x − 1 − x (truncation < 1e-17 relative for x < 1/2, as
+#: :func:`maxwell_kinetics.deviation._expm1_minus_x`).
+SERIES_TERMS = 16
+
+
+def _series_terms(x_max: float) -> int:
+    """Highest power K ≥ 2 with x_max^{K+1}/(K+1)! ≤ 1e-17 x_max²/2 (capped at SERIES_TERMS)."""
+    k = 2
+    while k < SERIES_TERMS and x_max ** (k - 1) / math.factorial(k + 1) > 0.5e-17:
+        k += 1
+    return k
+
+
 def _rhs_isotropic(st: Static, t, y, args):
     """d ≥ 2, real G: ∂w = S − w + Σ_i ω_i [g(b_i q) w(a_i q) + w(b_i q) g(a_i q)
     + w(b_i q) w(a_i q)] with b_i = p √η_i, a_i = √(1 − (1 − (1−p)²) η_i) and the source
-    S = e^{−q²/2} Σ_i ω_i (e^{x_i} − 1 − x_i), x_i = p(1 − p) η_i q² (no cancellation: the
-    series for x_i < 1/2, else e^{−(a_i² + b_i²) q²/2} − e^{−q²/2}(1 + x_i)).  The sums over
-    i run over the nodes of the tier (:func:`angular_tiers`) each state node belongs to."""
+    S = e^{−q²/2} Σ_i ω_i (e^{x_i} − 1 − x_i), x_i = X η_i, X = p(1 − p) q².  The sums over i
+    run over the nodes of the tier (:func:`angular_tiers`) each state node belongs to.
+
+    The source without cancellation and without a series per node: for X < 1/2 it is
+    e^{−q²/2} Σ_{k≥2} X^k ⟨η^k⟩/k! with the tier rule's moments ⟨η^k⟩ = Σ_i ω_i η_i^k (the
+    same sum, reordered; truncated where the terms fall below 1e-17 relative for the largest X
+    of the tier), else Σ_i ω_i e^{−(a_i² + b_i²) q²/2} − e^{−q²/2}(1 + X⟨η⟩) (≥ e^{X⟨η⟩} −
+    1 − X⟨η⟩ ≥ 0.03 e^{−q²/2} there, by Jensen: no cancellation).
+    """
     tau_w, dy = args
     p, lam = dy.p, dy.lam
     w = y
@@ -412,23 +435,35 @@ def _rhs_isotropic(st: Static, t, y, args):
     node = 0
     for k, (j0, count) in enumerate(st.tiers):
         j1 = st.tiers[k + 1][0] if k + 1 < len(st.tiers) else st.n_state
+        q_top = math.exp(st.grid.s_min + st.grid.h * (j1 - 1))  # largest q of the tier
+        x_top = 0.25 * q_top * q_top  # p(1 − p) ≤ 1/4
         q = q_all[j0:j1]
         qq = q * q
         gauss = jnp.exp(-0.5 * qq)
+        big_x = pq * qq
+        moments = dy.eta_series[k]
+        terms = _series_terms(min(x_top, 0.5))
+        series = moments[terms] + jnp.zeros_like(q)
+        for power in range(terms - 1, 1, -1):
+            series = series * big_x + moments[power]
+        series = gauss * series * big_x * big_x
         gain = jnp.zeros((st.parts, j1 - j0))
-        source = jnp.zeros_like(q)
+        both = jnp.zeros_like(q)  # Σ ω_i e^{−(a_i² + b_i²) q²/2}, needed where X ≥ 1/2
         for i in range(node, node + count):
             eta, omega = dy.eta[i], dy.eta_weights[i]
             w_b = _stencil_range(st, padded, dy.first_a[i], dy.weights_a[i], j0, j1)
             w_a = _stencil_range(st, padded, dy.first_b[i], dy.weights_b[i], j0, j1)
             g_b = jnp.exp(-0.5 * (p * p * eta) * qq)
             g_a = jnp.exp(-0.5 * (1.0 - one_minus_q2 * eta) * qq)
-            x = pq * eta * qq
-            source = source + omega * jnp.where(
-                x < 0.5, gauss * _expm1_minus_x(x, jnp), g_a * g_b - gauss * (1.0 + x)
-            )
+            if x_top >= 0.5:
+                both = both + omega * (g_a * g_b)
             gain = gain + omega * (g_b[None] * w_a + w_b * g_a[None] + w_b * w_a)
         node += count
+        if x_top >= 0.5:
+            source = jnp.where(big_x < 0.5, series,
+                               both - gauss * (1.0 + big_x * moments[1]))
+        else:
+            source = series
         pieces.append(gain + source[None])
     return jnp.concatenate(pieces, axis=1) - w
 
