@@ -166,7 +166,7 @@ def angular_quadrature(dimension: int, angular: str, nodes: int) -> tuple[np.nda
 #: (q from which the tier applies, its Gauss–Jacobi nodes at ``angular_nodes`` = 16; None: all
 #: ``angular_nodes``), by increasing q; see :func:`angular_tiers`.
 ANGULAR_TIERS: tuple[tuple[float, int | None], ...] = (
-    (0.0, 2), (1e-3, 3), (1e-2, 4), (0.05, 6), (0.15, 8), (0.35, 12), (0.6, None), (10.0, 12))
+    (0.0, 2), (1e-6, None), (10.0, 12))
 
 
 @dataclass(frozen=True)
@@ -182,27 +182,31 @@ class AngularTier:
 def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution
                   ) -> tuple[AngularTier, ...]:
     """The η quadrature of the gain per range of q: Gauss–Jacobi (:func:`angular_quadrature`)
-    with min(⌈N_k ``nodes`` / 16⌉, ``nodes``) nodes at the state nodes whose q at the window
+    with min(max(⌈N_k ``nodes`` / 16⌉, 2), ``nodes``) nodes at the state nodes whose q at the window
     start is ≥ q_k, for (q_k, N_k) in :data:`ANGULAR_TIERS` (N_k = None: ``nodes``): at the
-    default ``nodes`` = 16, 2 nodes below q = 0.001, 3 below 0.01, 4 below 0.05, 6 below 0.15,
-    8 below 0.35, 12 below 0.6, 16 from 0.6 to 10 and 12 above.  ``nodes`` scales every tier,
-    so it stays the accuracy knob (32 doubles them all).  d = 1: one tier, η ≡ 1.
+    default ``nodes`` = 16, 2 nodes below q = 1e-6 (37 % of the state nodes), 16 up to q = 10
+    and 12 above: 10.7 nodes per state node on average instead of 16.  ``nodes`` scales every
+    tier, so it stays the accuracy knob (32 doubles them all), but never below 2 nodes (unless
+    ``nodes`` = 1): 2 nodes are exact for η³, so the q⁴ and q⁶ Taylor coefficients of G (C₂,
+    C₃ of :mod:`maxwell_kinetics.scaling_tails`) follow their exact hierarchy at small q.
+    d = 1: one tier, η ≡ 1.  A node moves to smaller q within a window, never to larger q, so
+    the tier picked at the window start has at least the nodes its q needs.
 
-    Why: at wavenumber q the gain integrand G(√(1 − (1 − q₁²)η) q) G(p √η q) varies with η on
-    the scale ~1/q², and its non-analytic term at η = 0 (from |x|^{2s*} in G) carries
-    (p q)^{2s*}; at small q few nodes integrate it.  On the log grid 62 % of the state nodes
-    have q < 0.001, so a right-hand side evaluates 4.76 nodes per state node on average instead
-    of 16.  A node moves to smaller q within a window, never to larger q, so the tier picked at
-    the window start has at least the nodes its q needs.
-
-    The counts were chosen by measurement, not by an error bound (coarse grid, Gaussian start,
-    G at τ = 30 and 300 against 32 Gauss–Jacobi nodes at every q): the per-q error of the η
-    integral of the solver's own G is not enough, because an error at small q feeds the slowly
-    relaxing (neutral) |q|^{2s*} and q² modes and grows with τ; e.g. 1 node below q = 0.01 gave
-    9.8e-7 at τ = 300 (r = 0.5, d = 2 uniform), and 2, 4, 8 nodes below q = 0.1, 0.4, 1 gave
-    1.2e-6 (r = 0, d = 2 hard) against 2.3e-9 for 16 nodes at every q.  The default differs
-    from 32 nodes at every q by at most 1.0e-8 (d = 2 uniform, r = 0; 16 nodes at every q:
-    6.7e-9) and 5.4e-9 elsewhere (d = 2, 3, uniform and hard, r = 0, 0.5, 0.9).
+    Why not fewer nodes at small q: at wavenumber q the gain integrand G(√(1 − (1 − q₁²)η) q)
+    G(p √η q) varies with η on the scale ~1/q², so for G alone few nodes suffice at small q:
+    measured (coarse grid, Gaussian start, G at τ = 30 and 300 against 32 Gauss–Jacobi nodes at
+    every q; d = 2, 3, uniform and hard, r = 0, 0.5, 0.9) the ladder 2, 3, 4, 6, 8, 12, 16, 12
+    nodes from q = 0, 1e-3, 1e-2, 0.05, 0.15, 0.35, 0.6, 10 (4.76 nodes per state node, 3.7–4x
+    the CPU time of d = 1) differs by at most 1.0e-8 (d = 2 uniform, r = 0; 16 nodes at every
+    q: 6.7e-9) and 5.4e-9 elsewhere.  But the non-analytic |q|^{2s*} term that
+    :mod:`maxwell_kinetics.scaling_tails` fits on q ∈ [1e-4, 0.1] is a slowly relaxing
+    (neutral) mode whose rate needs ⟨η^{s*}⟩ to ~1e-6 (Gauss–Jacobi: 16 nodes 4e-7, 4 nodes
+    1e-4 for s ∈ [1.5, 5]): with that ladder the fitted s* moved by 5e-4 (tolerance 3e-4) and
+    the resonant q⁴ ln q amplitude by 4e-3 relative; with 2 nodes below q = 1e-4, s* still
+    failed; below 1e-6 it passes.  Errors at small q also grow with τ through the neutral modes
+    (1 node below q = 0.01 gave 9.8e-7 at τ = 300, r = 0.5, d = 2 uniform).  A rule with few
+    nodes that is exact for η^k, k ≤ 3, and accurate for η^s, s ∈ [2, 5], at small q would
+    give the 4x; Gauss in u = η^{1/m} (m = 2, 3) reached 1.5e-6 with 5 nodes only for m = 2.
 
     Every tier's rule has the exact ⟨η⟩ (to round-off), so the transport speed p q₁ ⟨η⟩ is the
     same for all of them; :func:`transport_speed` takes the lowest tier's ⟨η⟩, the rule of
@@ -213,7 +217,8 @@ def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution
         return (AngularTier(0, eta, weights),)
     tiers: list[AngularTier] = []
     for q_from, tier_nodes in ANGULAR_TIERS:
-        count = nodes if tier_nodes is None else min(math.ceil(tier_nodes * nodes / 16), nodes)
+        count = nodes if tier_nodes is None else min(max(math.ceil(tier_nodes * nodes / 16), 2),
+                                                     nodes)
         first = 0 if q_from == 0.0 else max(0, math.ceil((math.log(q_from) - grid.s_min)
                                                          / grid.h - 1e-9))
         if first >= grid.n:

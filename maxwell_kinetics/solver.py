@@ -236,22 +236,22 @@ def solve(
 
     the d = 1 equation with transport speed Λ/2 in place of λ and the gain averaged over η.
     The η integral is Gauss–Jacobi quadrature with a node count that grows with q
-    (:func:`maxwell_kinetics._kinetic_scheme.angular_tiers`): at the default ``angular_nodes`` =
-    16, 2 nodes below q = 0.001 up to 16 for q in [0.6, 10]; each node is one pair of shifted
-    stencils on its range of q, so a right-hand side costs ~4.8 one-dimensional ones instead of
-    16.  ``angular_nodes`` scales every range (32 doubles them). Measured (coarse grid, Gaussian
-    start, G at τ = 30 and 300 against 32 nodes at every q; d = 2, 3, uniform and hard, r = 0,
-    0.5, 0.9): the default differs by at most 1.0e-8 (d = 2 uniform, r = 0; 16 nodes at every q:
-    6.7e-9), ≤ 5.4e-9 in the other cases, as 16 nodes at every q do (1.9e-9 to 3.1e-9 at r =
-    0.5).  Λ/2 is taken as p q₁ Σ ω_i η_i with the quadrature's own ⟨η⟩ (exact in every range) so
-    that G''(0) = −1 is kept exactly. G(0) = 1, and G is the characteristic function of one
-    Cartesian component of v / v₀ along any axis, so :meth:`Solution.density` gives the density
-    of one component.  The initial law's φ is used as the radial profile Φ: it must be a
-    d-dimensional characteristic function (the Gaussian is, in every d); d ≥ 2 needs a symmetric
-    law with m₃ = 0 and r < 1 (at r = 1 the d ≥ 2 equation still relaxes, and Λ = 0 leaves the
-    scheme no transport).  Diagnostics against f̂ (``deviation``, ``sup_error``) compare with the
-    one-dimensional scaling solution also in d ≥ 2, where the scaling solution is another
-    function.
+    (:func:`maxwell_kinetics._kinetic_scheme.angular_tiers`): at the default ``angular_nodes``
+    = 16, 2 nodes below q = 1e-6, 16 up to q = 10 and 12 above (each node is one pair of
+    shifted stencils on its range of q: 10.7 nodes per grid point on average instead of 16).
+    ``angular_nodes`` scales every range (32 doubles them; at least 2 nodes).  The fewer nodes
+    at small q keep G to 1e-8 but move the |q|^{2s*} term that
+    :mod:`maxwell_kinetics.scaling_tails` fits (angular_tiers' docstring).  Measured (coarse
+    grid, r = 0.5, G at τ = 30 and 300 against 32 nodes at every q): 16 nodes at every q differ
+    by 3.1e-9 (d = 2) and 2.7e-9 (d = 3).  Λ/2 is taken as p q₁ Σ ω_i η_i with the quadrature's
+    own ⟨η⟩ (exact in every range) so that G''(0) = −1 is kept exactly.  G(0) = 1, and G is the
+    characteristic function of one Cartesian component of v / v₀ along any axis, so
+    :meth:`Solution.density` gives the density of one component.  The initial law's φ is used as
+    the radial profile Φ: it must be a d-dimensional characteristic function (the Gaussian is,
+    in every d); d ≥ 2 needs a symmetric law with m₃ = 0 and r < 1 (at r = 1 the d ≥ 2 equation
+    still relaxes, and Λ = 0 leaves the scheme no transport).  Diagnostics against f̂
+    (``deviation``, ``sup_error``) compare with the one-dimensional scaling solution also in d
+    ≥ 2, where the scaling solution is another function.
 
     Parameters
     ----------

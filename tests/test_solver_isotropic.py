@@ -164,8 +164,8 @@ def _model_phi(x):
 @pytest.mark.parametrize(("d", "angular", "r"), [(2, "uniform", 0.0), (3, "hard", 0.5)])
 def test_tiered_eta_rule_is_as_accurate_as_the_full_rule_at_every_q(d, angular, r):
     # ∫ w(η) Φ(a q) Φ(b q) dη by quad against the tier's rule and against 16 nodes at every q
-    # (coarse grid, q ≥ e^{−6}; below, every rule is at round-off).  Measured: the tiers lose
-    # at most 7e-11 (2 nodes below q = 0.1 lose 1e-9).
+    # (coarse grid, q ≥ e^{−6}; below, every rule is at round-off).  Measured with the 4.76-node
+    # ladder of angular_tiers' docstring: it loses at most 7e-11 (2 nodes below q = 0.1: 6e-2).
     grid = get_resolution("coarse")
     model = MaxwellModel(r)
     p, q1 = model.p, 1 - model.p
@@ -193,8 +193,9 @@ def test_tiered_eta_rule_is_as_accurate_as_the_full_rule_at_every_q(d, angular, 
 def test_default_eta_rule_converges_to_many_nodes_at_every_q(monkeypatch):
     # Coarse grid, r = 0, d = 2 "hard" (s* = 2, the slowest tail mode; the hardest case
     # measured), G at τ = 100 and 300: the default tiers against Gauss–Jacobi with 32 nodes at
-    # every q.  Measured 5.1e-9 (16 nodes at every q: 2.3e-9; 2 nodes up to q = 0.1, 4 to 0.4
-    # and 8 to 1: 1.2e-6, an error at small q that grows with τ through the slow modes).
+    # every q.  Measured: 16 nodes at every q 2.3e-9; the 4.76-node ladder of angular_tiers'
+    # docstring 5.1e-9; 2 nodes up to q = 0.1, 4 to 0.4 and 8 to 1: 1.2e-6 (an error at small q
+    # that grows with τ through the slow modes).  Tolerance 1e-8.
     taus = [100.0, 300.0]
     sol = solve(0.0, "gaussian", taus, "coarse", dimension=2, angular="hard")
     monkeypatch.setattr(scheme, "ANGULAR_TIERS", ((0.0, None),))
