@@ -29,8 +29,9 @@ was 4–6x slower.
 
 The isotropic d-dimensional model (d = 2, 3; :func:`maxwell_kinetics.solver.solve` with
 ``dimension``) uses the same windows with transport speed Λ/2 = p(1 − p)⟨η⟩ and one pair of
-gain stencils per Gauss–Jacobi node η_i (:func:`angular_quadrature`, :func:`_rhs_isotropic`);
-d = 1 is the single node η = 1 and runs the one-dimensional code unchanged.
+gain stencils per Gauss–Jacobi node η_i (:func:`angular_quadrature`, :func:`_rhs_isotropic`),
+with more nodes at larger q (:func:`angular_tiers`); d = 1 is the single node η = 1 and runs
+the one-dimensional code unchanged.
 
 Every call must run with float64 enabled (``jax.enable_x64(True)``): the solver does that
 itself, without changing JAX's global configuration.
@@ -54,7 +55,7 @@ import optimistix as optx
 
 from particles.initial import InitialLaw
 
-from .deviation import SolverOptions, _expm1_minus_x, source_parts
+from .deviation import SolverOptions, source_parts
 from .grid import INFLOW_CUT, Resolution, lagrange_weights
 from .model import MaxwellModel
 
@@ -72,7 +73,9 @@ class Static:
     m3: float
     dimension: int = 1
     angular: str = "uniform"
-    nodes: int = 1  # η quadrature nodes (1 for d = 1)
+    nodes: int = 1  # η quadrature nodes of all tiers together (1 for d = 1)
+    # (first state node, nodes) per angular tier, increasing first (angular_tiers); () for d = 1
+    tiers: tuple[tuple[int, int], ...] = ()
 
     @property
     def parts(self) -> int:
@@ -123,8 +126,9 @@ class Dynamic(NamedTuple):
     weights_a: jax.Array  # (nodes, order)
     first_b: jax.Array  # int32 (nodes,): the same for ln √(1 − (1 − (1−p)²) η) / h
     weights_b: jax.Array
-    eta: jax.Array  # (nodes,) quadrature nodes η_i (η ≡ 1 for d = 1)
-    eta_weights: jax.Array  # (nodes,) their weights, summing to 1
+    eta: jax.Array  # (nodes,) quadrature nodes η_i of all tiers (η ≡ 1 for d = 1)
+    eta_weights: jax.Array  # (nodes,) their weights, summing to 1 in each tier
+    eta_series: jax.Array  # (tiers, SERIES_TERMS + 1): Σ_i ω_i η_i^k / k! of each tier's rule
 
 
 def window_cells(speed: float, grid: Resolution, opts) -> tuple[int, float]:
@@ -141,9 +145,11 @@ def angular_quadrature(dimension: int, angular: str, nodes: int) -> tuple[np.nda
 
     Measured convergence (r = 0.5, coarse grid, G at τ = 30 and 300 against 32 nodes): 4, 6, 8,
     12, 16 nodes differ by 1.4e-5, 3.5e-7, 2.0e-8, 4.5e-9, 3.1e-9 (d = 2) and 2.6e-6, 4.5e-8,
-    1.1e-8, 6.6e-9, 2.7e-9 (d = 3): algebraic beyond 8 nodes (the integrand has an η^{3/2}
-    term at η = 0 from the |x|³ of G).  Gauss–Jacobi in u = √η instead was worse at these
-    node counts (8 nodes: 3.8e-7 and 6.8e-8).
+    1.1e-8, 6.6e-9, 2.7e-9 (d = 3).  Gauss–Jacobi in u = √η instead was worse at these node
+    counts (8 nodes: 3.8e-7 and 6.8e-8), and so was Gauss in u = η^{1/m} for m = 2, 3, 4 with
+    4–6 nodes (3e-5 to 9e-4 at r = 0.5, d = 2 uniform): the error at few nodes is not the
+    η^{s*} term at η = 0 but the scale ~1/q² in η on which G(p √η q) varies at q ≳ 1.  The
+    solver therefore uses this rule with a node count that grows with q (:func:`angular_tiers`).
     """
     from scipy.special import roots_jacobi
 
@@ -157,6 +163,74 @@ def angular_quadrature(dimension: int, angular: str, nodes: int) -> tuple[np.nda
     return 0.5 * (1.0 + x), w / w.sum()
 
 
+#: (q from which the tier applies, its Gauss–Jacobi nodes at ``angular_nodes`` = 16; None: all
+#: ``angular_nodes``), by increasing q; see :func:`angular_tiers`.
+ANGULAR_TIERS: tuple[tuple[float, int | None], ...] = (
+    (0.0, 2), (1e-6, None), (10.0, 12))
+
+
+@dataclass(frozen=True)
+class AngularTier:
+    """The η rule (:func:`angular_quadrature`) of the state nodes j ≥ ``first`` (up to the
+    next tier's first node)."""
+
+    first: int
+    eta: np.ndarray
+    weights: np.ndarray
+
+
+def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution
+                  ) -> tuple[AngularTier, ...]:
+    """The η quadrature of the gain per range of q: Gauss–Jacobi (:func:`angular_quadrature`)
+    with min(max(⌈N_k ``nodes`` / 16⌉, 2), ``nodes``) nodes at the state nodes whose q at the window
+    start is ≥ q_k, for (q_k, N_k) in :data:`ANGULAR_TIERS` (N_k = None: ``nodes``): at the
+    default ``nodes`` = 16, 2 nodes below q = 1e-6 (37 % of the state nodes), 16 up to q = 10
+    and 12 above: 10.7 nodes per state node on average instead of 16.  ``nodes`` scales every
+    tier, so it stays the accuracy knob (32 doubles them all), but never below 2 nodes (unless
+    ``nodes`` = 1): 2 nodes are exact for η³, so the q⁴ and q⁶ Taylor coefficients of G (C₂,
+    C₃ of :mod:`maxwell_kinetics.scaling_tails`) follow their exact hierarchy at small q.
+    d = 1: one tier, η ≡ 1.  A node moves to smaller q within a window, never to larger q, so
+    the tier picked at the window start has at least the nodes its q needs.
+
+    Why not fewer nodes at small q: at wavenumber q the gain integrand G(√(1 − (1 − q₁²)η) q)
+    G(p √η q) varies with η on the scale ~1/q², so for G alone few nodes suffice at small q:
+    measured (coarse grid, Gaussian start, G at τ = 30 and 300 against 32 Gauss–Jacobi nodes at
+    every q; d = 2, 3, uniform and hard, r = 0, 0.5, 0.9) the ladder 2, 3, 4, 6, 8, 12, 16, 12
+    nodes from q = 0, 1e-3, 1e-2, 0.05, 0.15, 0.35, 0.6, 10 (4.76 nodes per state node, 3.7–4x
+    the CPU time of d = 1) differs by at most 1.0e-8 (d = 2 uniform, r = 0; 16 nodes at every
+    q: 6.7e-9) and 5.4e-9 elsewhere.  But the non-analytic |q|^{2s*} term that
+    :mod:`maxwell_kinetics.scaling_tails` fits on q ∈ [1e-4, 0.1] is a slowly relaxing
+    (neutral) mode whose rate needs ⟨η^{s*}⟩ to ~1e-6 (Gauss–Jacobi: 16 nodes 4e-7, 4 nodes
+    1e-4 for s ∈ [1.5, 5]): with that ladder the fitted s* moved by 5e-4 (tolerance 3e-4) and
+    the resonant q⁴ ln q amplitude by 4e-3 relative; with 2 nodes below q = 1e-4, s* still
+    failed; below 1e-6 it passes.  Errors at small q also grow with τ through the neutral modes
+    (1 node below q = 0.01 gave 9.8e-7 at τ = 300, r = 0.5, d = 2 uniform).  A rule with few
+    nodes that is exact for η^k, k ≤ 3, and accurate for η^s, s ∈ [2, 5], at small q would
+    give the 4x; Gauss in u = η^{1/m} (m = 2, 3) reached 1.5e-6 with 5 nodes only for m = 2.
+
+    Every tier's rule has the exact ⟨η⟩ (to round-off), so the transport speed p q₁ ⟨η⟩ is the
+    same for all of them; :func:`transport_speed` takes the lowest tier's ⟨η⟩, the rule of
+    q → 0 where G''(0) = −1 is decided.
+    """
+    if dimension == 1:
+        eta, weights = angular_quadrature(1, angular, 1)
+        return (AngularTier(0, eta, weights),)
+    tiers: list[AngularTier] = []
+    for q_from, tier_nodes in ANGULAR_TIERS:
+        count = nodes if tier_nodes is None else min(max(math.ceil(tier_nodes * nodes / 16), 2),
+                                                     nodes)
+        first = 0 if q_from == 0.0 else max(0, math.ceil((math.log(q_from) - grid.s_min)
+                                                         / grid.h - 1e-9))
+        if first >= grid.n:
+            break
+        if tiers and tiers[-1].eta.size == count:
+            continue  # the same rule as the tier below: extend that one
+        if tiers and tiers[-1].first == first:
+            tiers.pop()
+        tiers.append(AngularTier(first, *angular_quadrature(dimension, angular, count)))
+    return tuple(tiers)
+
+
 def transport_speed(model: MaxwellModel, eta: np.ndarray, weights: np.ndarray) -> float:
     """p (1 − p) Σ ω_i η_i (= Λ/2 with the quadrature's own ⟨η⟩, so that the discrete
     equation keeps G''(0) = −1 exactly; λ for d = 1)."""
@@ -165,15 +239,18 @@ def transport_speed(model: MaxwellModel, eta: np.ndarray, weights: np.ndarray) -
     return model.lam * float(weights @ eta)
 
 
-def dynamic(model: MaxwellModel, grid: Resolution, opts, eta=None, weights=None) -> Dynamic:
+def dynamic(model: MaxwellModel, grid: Resolution, opts, tiers=None) -> Dynamic:
     """The traced data for restitution ``model.restitution`` (λ > 0), computed on the host.
 
+    ``tiers``: :func:`angular_tiers` (None: d = 1); their nodes are stored one after the other.
     Gain shifts per node: ln(p √η) and ln √(1 − (1 − (1 − p)²) η) (ln p and ln(1 − p) when
     η = 1, the d = 1 equation; computed there exactly as before, by log and log1p).
     """
-    eta = np.ones(1) if eta is None else eta
-    weights = np.ones(1) if weights is None else weights
-    speed = transport_speed(model, eta, weights)
+    if tiers is None:
+        tiers = (AngularTier(0, np.ones(1), np.ones(1)),)
+    eta = np.concatenate([t.eta for t in tiers])
+    weights = np.concatenate([t.weights for t in tiers])
+    speed = transport_speed(model, tiers[0].eta, tiers[0].weights)
     cells, dtau = window_cells(speed, grid, opts)
     p, q = model.p, 1.0 - model.p
     fa, wa, fb, wb = [], [], [], []
@@ -202,6 +279,9 @@ def dynamic(model: MaxwellModel, grid: Resolution, opts, eta=None, weights=None)
         weights_b=jnp.asarray(np.array(wb), jnp.float64),
         eta=jnp.asarray(eta, jnp.float64),
         eta_weights=jnp.asarray(weights, jnp.float64),
+        eta_series=jnp.asarray(np.array([
+            [float(t.weights @ t.eta**k) / math.factorial(k) for k in range(SERIES_TERMS + 1)]
+            for t in tiers]), jnp.float64),
     )
 
 
@@ -313,35 +393,84 @@ def _rhs(st: Static, t, y, args):
     return dw
 
 
+def _stencil_range(st: Static, padded, first, weights, j0: int, j1: int):
+    """Σ_k weights[k] · w[j + first + k] for the state nodes j0 ≤ j < j1 (a dynamic slice
+    of the j1 − j0 + order − 1 values read; clamped into ``padded`` like :func:`_stencil`)."""
+    length = j1 - j0
+    source = jax.lax.dynamic_slice(
+        padded, (jnp.int32(0), jnp.int32(st.n_left + j0) + first),
+        (st.parts, length + st.grid.order - 1))
+    return sum(weights[k] * source[:, k : k + length] for k in range(st.grid.order))
+
+
+#: Highest power of the series of e^x − 1 − x (truncation < 1e-17 relative for x < 1/2, as
+#: :func:`maxwell_kinetics.deviation._expm1_minus_x`).
+SERIES_TERMS = 16
+
+
+def _series_terms(x_max: float) -> int:
+    """Highest power K ≥ 2 with x_max^{K+1}/(K+1)! ≤ 1e-17 x_max²/2 (capped at SERIES_TERMS)."""
+    k = 2
+    while k < SERIES_TERMS and x_max ** (k - 1) / math.factorial(k + 1) > 0.5e-17:
+        k += 1
+    return k
+
+
 def _rhs_isotropic(st: Static, t, y, args):
     """d ≥ 2, real G: ∂w = S − w + Σ_i ω_i [g(b_i q) w(a_i q) + w(b_i q) g(a_i q)
     + w(b_i q) w(a_i q)] with b_i = p √η_i, a_i = √(1 − (1 − (1−p)²) η_i) and the source
-    S = e^{−q²/2} Σ_i ω_i (e^{x_i} − 1 − x_i), x_i = p(1 − p) η_i q² (no cancellation: the
-    series for x_i < 1/2, else e^{−(a_i² + b_i²) q²/2} − e^{−q²/2}(1 + x_i))."""
+    S = e^{−q²/2} Σ_i ω_i (e^{x_i} − 1 − x_i), x_i = X η_i, X = p(1 − p) q².  The sums over i
+    run over the nodes of the tier (:func:`angular_tiers`) each state node belongs to.
+
+    The source without cancellation and without a series per node: for X < 1/2 it is
+    e^{−q²/2} Σ_{k≥2} X^k ⟨η^k⟩/k! with the tier rule's moments ⟨η^k⟩ = Σ_i ω_i η_i^k (the
+    same sum, reordered; truncated where the terms fall below 1e-17 relative for the largest X
+    of the tier), else Σ_i ω_i e^{−(a_i² + b_i²) q²/2} − e^{−q²/2}(1 + X⟨η⟩) (≥ e^{X⟨η⟩} −
+    1 − X⟨η⟩ ≥ 0.03 e^{−q²/2} there, by Jensen: no cancellation).
+    """
     tau_w, dy = args
     p, lam = dy.p, dy.lam
     w = y
     padded = _padded(st, dy, w, t, tau_w)
     j_grid = jnp.arange(st.n_state, dtype=jnp.float64)
-    q = jnp.exp(st.grid.s_min + st.grid.h * j_grid) * jnp.exp(-lam * t)
-    qq = q * q
-    gauss = jnp.exp(-0.5 * qq)
+    q_all = jnp.exp(st.grid.s_min + st.grid.h * j_grid) * jnp.exp(-lam * t)
     pq = p * (1.0 - p)
     one_minus_q2 = 1.0 - (1.0 - p) ** 2
-    dw = -w
-    source = jnp.zeros_like(q)
-    for i in range(st.nodes):
-        eta, omega = dy.eta[i], dy.eta_weights[i]
-        w_b = _stencil(st, padded, dy.first_a[i], dy.weights_a[i])  # w(p √η q)
-        w_a = _stencil(st, padded, dy.first_b[i], dy.weights_b[i])  # w(√(1 − (1 − q²)η) q)
-        g_b = jnp.exp(-0.5 * (p * p * eta) * qq)
-        g_a = jnp.exp(-0.5 * (1.0 - one_minus_q2 * eta) * qq)
-        x = pq * eta * qq
-        source = source + omega * jnp.where(
-            x < 0.5, gauss * _expm1_minus_x(x, jnp), g_a * g_b - gauss * (1.0 + x)
-        )
-        dw = dw + omega * (g_b[None] * w_a + w_b * g_a[None] + w_b * w_a)
-    return dw + source[None]
+    pieces = []
+    node = 0
+    for k, (j0, count) in enumerate(st.tiers):
+        j1 = st.tiers[k + 1][0] if k + 1 < len(st.tiers) else st.n_state
+        q_top = math.exp(st.grid.s_min + st.grid.h * (j1 - 1))  # largest q of the tier
+        x_top = 0.25 * q_top * q_top  # p(1 − p) ≤ 1/4
+        q = q_all[j0:j1]
+        qq = q * q
+        gauss = jnp.exp(-0.5 * qq)
+        big_x = pq * qq
+        moments = dy.eta_series[k]
+        terms = _series_terms(min(x_top, 0.5))
+        series = moments[terms] + jnp.zeros_like(q)
+        for power in range(terms - 1, 1, -1):
+            series = series * big_x + moments[power]
+        series = gauss * series * big_x * big_x
+        gain = jnp.zeros((st.parts, j1 - j0))
+        both = jnp.zeros_like(q)  # Σ ω_i e^{−(a_i² + b_i²) q²/2}, needed where X ≥ 1/2
+        for i in range(node, node + count):
+            eta, omega = dy.eta[i], dy.eta_weights[i]
+            w_b = _stencil_range(st, padded, dy.first_a[i], dy.weights_a[i], j0, j1)
+            w_a = _stencil_range(st, padded, dy.first_b[i], dy.weights_b[i], j0, j1)
+            g_b = jnp.exp(-0.5 * (p * p * eta) * qq)
+            g_a = jnp.exp(-0.5 * (1.0 - one_minus_q2 * eta) * qq)
+            if x_top >= 0.5:
+                both = both + omega * (g_a * g_b)
+            gain = gain + omega * (g_b[None] * w_a + w_b * g_a[None] + w_b * w_a)
+        node += count
+        if x_top >= 0.5:
+            source = jnp.where(big_x < 0.5, series,
+                               both - gauss * (1.0 + big_x * moments[1]))
+        else:
+            source = series
+        pieces.append(gain + source[None])
+    return jnp.concatenate(pieces, axis=1) - w
 
 
 def _integrate(st: Static, dy: Dynamic, y, tau_w, t_end):
