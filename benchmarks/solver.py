@@ -268,7 +268,7 @@ def scaling_tails(resolution="coarse", angular_nodes=16, taus=(200.0, 500.0, 100
         for angular in ("uniform", "hard"):
             for r in (0.0, 0.5):
                 sol = solve(r, "gaussian", list(taus), resolution, dimension=d, angular=angular,
-                            angular_nodes=angular_nodes)
+                            angular_nodes=angular_nodes, angular_rule="accurate")
                 exact = tail_exponent(d, r, angular)
                 for k, tau in enumerate(taus):
                     row = {"d": d, "angular": angular, "r": r, "tau": tau, "s_star": exact.s,

@@ -213,6 +213,7 @@ def tail_root_from_solution(solution: Solution, window=(1e-4, 0.1), tau_index: i
     the |q|^{2s*} term only forms above a crossover q that falls exponentially in τ.  The
     resonant case s* = 2 (d = 2, r = 0, "hard": A q⁴ ln q) is outside this form.
     """
+    _require_accurate_rule(solution)
     lo, hi = _window(window, "window")
     q, w = _deviation_from_scaling(solution, tau_index)
 
@@ -249,6 +250,7 @@ def resonant_log_fit(solution: Solution, window=(1e-4, 0.1), tau_index: int = -1
     The log model is w/q⁴ = b₀ + A ln q + b₁q² + … (the resonant s* = 2 form, compare A with
     :func:`resonant_log_amplitude`); the power model is that of :func:`tail_root_from_solution`
     with β ∈ [0.02, 6].  A log-model rms far below the power model's says s* = 2 exactly."""
+    _require_accurate_rule(solution)
     qs, w = _window_points(solution, window, tau_index, analytic_terms + 4,
                            f"at least {analytic_terms + 4} points")
     y = w / qs**4
@@ -258,6 +260,17 @@ def resonant_log_fit(solution: Solution, window=(1e-4, 0.1), tau_index: int = -1
     rms_log = float(np.sqrt(np.mean((basis @ coef - y) ** 2)))
     _, rms_power = _nonanalytic_fit(qs, y, analytic_terms, (0.02, 6.0))
     return float(coef[0]), rms_log, rms_power
+
+
+def _require_accurate_rule(solution) -> None:
+    """The fits of the non-analytic term need the "accurate" η rule in d ≥ 2: the "fast" one
+    keeps G to 1e-8 but moves s* by ~5e-4 and the resonant amplitude by ~4e-3 relative
+    (:data:`maxwell_kinetics._kinetic_scheme.ANGULAR_RULES`)."""
+    if getattr(solution, "dimension", 1) != 1 and solution.angular_rule != "accurate":
+        raise InvalidArgumentError(
+            "solution", f"a solve with angular_rule={solution.angular_rule!r}",
+            "solve(..., angular_rule='accurate') for fits of the |q|^{2s*} term (the fast "
+            "rule's few η nodes at small q move that slowly relaxing term)")
 
 
 def _window(window, name):

@@ -173,13 +173,14 @@ class _Stepper:
     """
 
     def __init__(self, model: MaxwellModel, law: InitialLaw, grid: Resolution, opts: SolverOptions,
-                 dimension: int = 1, angular: str = "uniform", angular_nodes: int = 1):
+                 dimension: int = 1, angular: str = "uniform", angular_nodes: int = 1,
+                 angular_rule: str = "accurate"):
         import jax
 
         from . import _kinetic_scheme as scheme
 
         self.model, self.law, self.grid, self.opts = model, law, grid, opts
-        tiers = scheme.angular_tiers(dimension, angular, angular_nodes, grid)
+        tiers = scheme.angular_tiers(dimension, angular, angular_nodes, grid, angular_rule)
         if law.traceable:  # the inflow evaluates φ (in JAX) far beyond q_max: check it first
             _checked_phi(law, inflow_wavenumbers(model, grid, opts), "the inflow's k = q e^{λτ}")
         self.m3 = m3 = _check_skewness_finite(law)
@@ -218,6 +219,7 @@ def solve(
     dimension: int = 1,
     angular: str = "uniform",
     angular_nodes: int = 16,
+    angular_rule: str = "fast",
 ) -> Solution:
     """Integrate the rescaled equation from G(q, 0) = φ(q) and save G at the requested τ.
 
@@ -236,12 +238,15 @@ def solve(
 
     the d = 1 equation with transport speed Λ/2 in place of λ and the gain averaged over η.
     The η integral is Gauss–Jacobi quadrature with a node count that grows with q
-    (:func:`maxwell_kinetics._kinetic_scheme.angular_tiers`): at the default ``angular_nodes``
-    = 16, 2 nodes below q = 1e-6, 16 up to q = 10 and 12 above (each node is one pair of
-    shifted stencils on its range of q: 10.7 nodes per grid point on average instead of 16).
-    ``angular_nodes`` scales every range (32 doubles them; at least 2 nodes).  The fewer nodes
-    at small q keep G to 1e-8 but move the |q|^{2s*} term that
-    :mod:`maxwell_kinetics.scaling_tails` fits (angular_tiers' docstring).  Measured (coarse
+    (:func:`maxwell_kinetics._kinetic_scheme.angular_tiers`; each node is one pair of shifted
+    stencils on its range of q).  ``angular_rule`` "fast" (the default): 2, 3, 4, 6, 8, 12, 16,
+    12 nodes from q = 0, 1e-3, 1e-2, 0.05, 0.15, 0.35, 0.6, 10 (4.76 per grid point; G within
+    1.0e-8 of 32 nodes at every q, measured on the coarse grid for d = 2, 3, both angular
+    models, r = 0, 0.5, 0.9).  "accurate": 2 nodes below q = 1e-6, 16 up to q = 10 and 12 above
+    (10.7 per grid point, about 2.3× the cost): the fewer nodes of "fast" at small q keep G to
+    1e-8 but move the slowly relaxing |q|^{2s*} term that :mod:`maxwell_kinetics.scaling_tails`
+    fits (s* by 5e-4), so those fits require "accurate".  ``angular_nodes`` (16) scales every
+    range of either rule (32 doubles them; at least 2 nodes).  Measured (coarse
     grid, r = 0.5, G at τ = 30 and 300 against 32 nodes at every q): 16 nodes at every q differ
     by 3.1e-9 (d = 2) and 2.7e-9 (d = 3).  Λ/2 is taken as p q₁ Σ ω_i η_i with the quadrature's
     own ⟨η⟩ (exact in every range) so that G''(0) = −1 is kept exactly.  G(0) = 1, and G is the
@@ -273,13 +278,18 @@ def solve(
     angular_law(dimension, angular)  # checks both
     if dimension != 1:
         angular_nodes = check_count(angular_nodes, "angular_nodes", 1)
+        from ._kinetic_scheme import ANGULAR_RULES
+
+        if angular_rule not in ANGULAR_RULES:
+            raise InvalidArgumentError("angular_rule", angular_rule,
+                                       "one of " + ", ".join(ANGULAR_RULES))
         if model.restitution >= 1.0:
             raise InvalidArgumentError("restitution", restitution, "r < 1 when dimension >= 2")
         if law.skewness != 0.0 or not law.symmetric:
             raise InvalidArgumentError("initial", law.name,
                                        "a symmetric law (real Φ) when dimension >= 2")
     else:
-        angular, angular_nodes = "uniform", 1
+        angular, angular_nodes, angular_rule = "uniform", 1, "accurate"
     grid = get_resolution(resolution)
     opts = options or SolverOptions()
     start = time.perf_counter()
@@ -297,7 +307,7 @@ def solve(
         return Solution(model.restitution, law.name, grid, taus, saved, deviation, m3, opts,
                         time.perf_counter() - start)
 
-    stepper = _Stepper(model, law, grid, opts, dimension, angular, angular_nodes)
+    stepper = _Stepper(model, law, grid, opts, dimension, angular, angular_nodes, angular_rule)
     y = stepper.y0
     i_window = 0
     bar = None
@@ -328,7 +338,7 @@ def solve(
             bar.update(float(taus[-1]) - bar.n)
             bar.close()
     return Solution(model.restitution, law.name, grid, taus, saved, deviation, m3, opts,
-                    time.perf_counter() - start, dimension, angular)
+                    time.perf_counter() - start, dimension, angular, angular_rule)
 
 
 @dataclass(frozen=True)
@@ -352,6 +362,7 @@ class Solution:
     seconds: float = 0.0
     dimension: int = 1
     angular: str = "uniform"
+    angular_rule: str = "accurate"  # the η rule of solve (d = 1: exact, η ≡ 1)
 
     @property
     def q(self) -> np.ndarray:
@@ -524,6 +535,7 @@ class Solution:
             "seconds": self.seconds,
             "dimension": self.dimension,
             "angular": self.angular,
+            "angular_rule": self.angular_rule,
         }
         return meta, {"tau": self.tau, "G": self.G, "deviation": self.deviation}
 
@@ -544,6 +556,8 @@ class Solution:
                 float(meta["seconds"]),
                 int(meta.get("dimension", 1)),
                 str(meta.get("angular", "uniform")),
+                # files written before the rule existed used the 16-node ("accurate") rule
+                str(meta.get("angular_rule", "accurate")),
             )
         except (KeyError, ValueError, TypeError) as exc:
             raise persistence.FileFormatError(

@@ -11,6 +11,7 @@ A second solve (d = 2, "hard", r = 0) checks the resonant case s* = 2 (a q⁴ ln
 (benchmarks/README.md).
 """
 
+import dataclasses
 import math
 
 import numpy as np
@@ -38,7 +39,8 @@ D, ANGULAR, R = 2, "uniform", 0.0
 
 @pytest.fixture(scope="module")
 def planar():
-    return solve(R, "gaussian", TAUS, "coarse", dimension=D, angular=ANGULAR, angular_nodes=8)
+    return solve(R, "gaussian", TAUS, "coarse", dimension=D, angular=ANGULAR, angular_nodes=8,
+                 angular_rule="accurate")
 
 
 def test_hierarchy_is_the_one_dimensional_one_and_its_rates_are_the_equations():
@@ -121,7 +123,7 @@ def test_resonant_tail_has_the_logarithm():
     # tolerance 1e-3.  Log-model rms 1.8e-6 against 4.3e-3 for the best power q^{4+β}
     # (β ≥ 0.02; the power fit runs to that bound, s = 2.01): ratio 4e-4, asserted < 1e-2.
     sol = solve(0.0, "gaussian", [400.0], "coarse", dimension=2, angular="hard",
-                angular_nodes=8)
+                angular_nodes=8, angular_rule="accurate")
     A, rms_log, rms_power = resonant_log_fit(sol, (1e-4, 0.1))
     assert A == pytest.approx(resonant_log_amplitude(2, 0.0, "hard"), rel=1e-3)
     assert rms_log < 1e-2 * rms_power  # no pure power q^{2s} fits (s ≥ 2.01)
@@ -130,6 +132,12 @@ def test_resonant_tail_has_the_logarithm():
 def test_input_checks(planar):
     with pytest.raises(InvalidArgumentError, match="window"):
         tail_root_from_solution(planar, window=(0.1, 0.01))
+    # the fits of the |q|^{2s*} term refuse the fast η rule (it moves s* by ~5e-4)
+    fast = dataclasses.replace(planar, angular_rule="fast")
+    with pytest.raises(InvalidArgumentError, match="angular_rule"):
+        tail_root_from_solution(fast)
+    with pytest.raises(InvalidArgumentError, match="angular_rule"):
+        resonant_log_fit(fast)
     with pytest.raises(InvalidArgumentError, match="n_max"):
         rescaled_coefficients(2, 0.0, [1.0], 0)
     with pytest.raises(InvalidArgumentError, match="initial"):

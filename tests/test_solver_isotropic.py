@@ -114,6 +114,8 @@ def test_isotropic_input_checks():
         solve(0.5, "gaussian", [1.0], "coarse", dimension=4)
     with pytest.raises(InvalidArgumentError, match="angular"):
         solve(0.5, "gaussian", [1.0], "coarse", dimension=2, angular="soft")
+    with pytest.raises(InvalidArgumentError, match="angular_rule"):
+        solve(0.5, "gaussian", [1.0], "coarse", dimension=2, angular_rule="exact")
     with pytest.raises(InvalidArgumentError, match="initial"):
         solve(0.5, "asymmetric", [1.0], "coarse", dimension=3)
     with pytest.raises(InvalidArgumentError, match="restitution"):
@@ -138,12 +140,13 @@ def test_gauss_jacobi_rule_integrates_the_beta_moments_of_its_degree(d, angular)
                 assert abs(float(w @ eta**k) / exact - 1) > 1e-7, (n, k)
 
 
+@pytest.mark.parametrize("rule", ["fast", "accurate"])
 @pytest.mark.parametrize("nodes", [3, 16, 32])
-def test_angular_tiers_cover_the_grid_grow_with_q_and_keep_the_transport_speed(nodes):
+def test_angular_tiers_cover_the_grid_grow_with_q_and_keep_the_transport_speed(nodes, rule):
     grid = get_resolution("default")
     model = MaxwellModel(0.3)
     for d, angular in [(2, "uniform"), (3, "hard")]:
-        tiers = angular_tiers(d, angular, nodes, grid)
+        tiers = angular_tiers(d, angular, nodes, grid, rule)
         firsts = [t.first for t in tiers]
         assert firsts[0] == 0 and firsts == sorted(set(firsts)) and firsts[-1] < grid.n
         counts = [t.eta.size for t in tiers]
@@ -159,9 +162,9 @@ def test_angular_tiers_cover_the_grid_grow_with_q_and_keep_the_transport_speed(n
         # Λ/2 = p(1 − p)⟨η⟩ (energy ∝ e^{−Λτ}) from the rule the solver takes for it
         speed = transport_speed(model, tiers[0].eta, tiers[0].weights)
         assert speed == pytest.approx(model.energy_rate(d, angular) / 2, rel=1e-13)
-    more = angular_tiers(2, "uniform", 2 * nodes, grid)
+    more = angular_tiers(2, "uniform", 2 * nodes, grid, rule)
     assert sum(t.eta.size for t in more) > sum(t.eta.size for t in angular_tiers(
-        2, "uniform", nodes, grid))
+        2, "uniform", nodes, grid, rule))
 
 
 def _model_phi(x):
@@ -172,8 +175,9 @@ def _model_phi(x):
     return (1 + ax + ax * ax / 3) * np.exp(-ax)
 
 
+@pytest.mark.parametrize("rule", ["fast", "accurate"])
 @pytest.mark.parametrize(("d", "angular", "r"), [(2, "uniform", 0.0), (3, "hard", 0.5)])
-def test_tiered_eta_rule_is_as_accurate_as_the_full_rule_at_every_q(d, angular, r):
+def test_tiered_eta_rule_is_as_accurate_as_the_full_rule_at_every_q(d, angular, r, rule):
     # ∫ w(η) Φ(a q) Φ(b q) dη by quad against the tier's rule and against 16 nodes at every q
     # (coarse grid, q ≥ e^{−6}; below, every rule is at round-off).  Measured with the 4.76-node
     # ladder of angular_tiers' docstring: it loses at most 7e-11 (2 nodes below q = 0.1: 6e-2).
@@ -182,7 +186,7 @@ def test_tiered_eta_rule_is_as_accurate_as_the_full_rule_at_every_q(d, angular, 
     p, q1 = model.p, 1 - model.p
     a, b = angular_law(d, angular)
     full_eta, full_w = angular_quadrature(d, angular, 16)
-    tiers = angular_tiers(d, angular, 16, grid)
+    tiers = angular_tiers(d, angular, 16, grid, rule)
     for k, tier in enumerate(tiers):
         end = tiers[k + 1].first if k + 1 < len(tiers) else grid.n
         for j in range(max(tier.first, 180), end):
@@ -203,14 +207,16 @@ def test_tiered_eta_rule_is_as_accurate_as_the_full_rule_at_every_q(d, angular, 
 
 def test_default_eta_rule_converges_to_many_nodes_at_every_q(monkeypatch):
     # Coarse grid, r = 0, d = 2 "hard" (s* = 2, the slowest tail mode; the hardest case
-    # measured), G at τ = 100 and 300: the default tiers against Gauss–Jacobi with 32 nodes at
-    # every q.  Measured: 16 nodes at every q 2.3e-9; the 4.76-node ladder of angular_tiers'
-    # docstring 5.1e-9; 2 nodes up to q = 0.1, 4 to 0.4 and 8 to 1: 1.2e-6 (an error at small q
-    # that grows with τ through the slow modes).  Tolerance 1e-8.
+    # measured), G at τ = 100 and 300: the default ("fast") tiers against Gauss–Jacobi with 32
+    # nodes at every q.  Measured: 16 nodes at every q 2.3e-9; the "fast" 4.76-node ladder
+    # 5.1e-9; 2 nodes up to q = 0.1, 4 to 0.4 and 8 to 1: 1.2e-6 (an error at small q that
+    # grows with τ through the slow modes).  Tolerance 1e-8.
     taus = [100.0, 300.0]
     sol = solve(0.0, "gaussian", taus, "coarse", dimension=2, angular="hard")
-    monkeypatch.setattr(scheme, "ANGULAR_TIERS", ((0.0, None),))
-    ref = solve(0.0, "gaussian", taus, "coarse", dimension=2, angular="hard", angular_nodes=32)
+    assert sol.angular_rule == "fast"
+    monkeypatch.setitem(scheme.ANGULAR_RULES, "accurate", ((0.0, None),))
+    ref = solve(0.0, "gaussian", taus, "coarse", dimension=2, angular="hard", angular_nodes=32,
+                angular_rule="accurate")
     assert np.abs(sol.G - ref.G).max() < 1e-8
     q = sol.q
     small = (q > 1e-5) & (q < 1e-4)

@@ -271,3 +271,16 @@ def test_solve_cli_bad_speed_writes_nothing(bad, capsys, tmp_path):
                              "--dimension", "2", "--speed", bad, "--save", str(save)])
     assert f"speed={bad!r}" in err
     assert not save.exists()
+
+
+@pytest.mark.parametrize(("argv", "named"), [
+    (["--dimension", "2", "--angular-rule", "exact"], "angular-rule='exact'"),
+    (["--dimension", "4"], "dimension='4'"),
+    (["--dimension", "2", "--angular", "soft"], "angular='soft'"),
+])
+def test_solve_cli_bad_model_writes_nothing(argv, named, capsys, tmp_path):
+    save = tmp_path / "s.npz"
+    err = run_error(capsys, ["solve", "-r", "0.5", "--tau", "1", "--resolution", "coarse",
+                             *argv, "--save", str(save)])
+    assert named in err
+    assert not save.exists()
