@@ -13,9 +13,13 @@ import numpy as np
 from particles.observables import structure_factor
 from particles.progress import progress_bar
 from particles.sticky import (
+    CHERNOFF_VARIANCE,
     StickyGas,
     StickyParams,
+    chernoff_density,
     cluster_mass_distribution,
+    displacement_scale,
+    displacements,
     profile_x,
     velocity_tail_exponent,
 )
@@ -213,7 +217,11 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     * ``tail``: the local exponent β of P(|v| > w) ~ exp(−c w^β) at ``tail_time``
       (:func:`particles.sticky.velocity_tail_exponent`) over ``tail_quantiles`` and per decade
       of quantile; the sticky gas tends to β = 3 (Frachebourg 1999) only for N far beyond
-      these sizes (SPEC §7: 1.2–1.7 at ~10⁴ clusters).
+      these sizes (SPEC §7: 1.2–1.7 at ~10⁴ clusters);
+    * ``displacement``: each particle's displacement D since t = 0 at the last time, as
+      z = D / (b t^{2/3}) (:func:`particles.sticky.displacement_scale`): ⟨z²⟩ per seed against
+      Var Z = 0.26356 of Chernoff's law, the exact large-t limit, and the histogram of z
+      against Chernoff's density in the figure.
     """
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
@@ -237,6 +245,10 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     scales = profile_scales(n)
     skew = {"vi": [], "vx": []}
     tail_rows, profile = [], {}
+    scale = displacement_scale(1.0, 1.0)  # D / t^{2/3} → scale · Z (density 1, unit variance)
+    z_edges = np.round(np.arange(-3.0, 3.0 + 1e-9, 0.1), 12)
+    disp_hist = np.zeros(z_edges.size - 1)
+    disp_var = []
     decades = np.geomspace(prm["tail_quantiles"][0], prm["tail_quantiles"][1],
                            round(math.log10(prm["tail_quantiles"][0]
                                             / prm["tail_quantiles"][1])) + 1)
@@ -267,6 +279,9 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
                              for a, b in zip(decades[:-1], decades[1:], strict=True)]
                     tail_rows.append((beta, local, float(t)))
                 if j == nt - 1:
+                    z = displacements(st) / (scale * float(t) ** (2.0 / 3.0))
+                    disp_var.append(float(np.mean(z * z)))
+                    disp_hist += np.histogram(z, z_edges)[0]
                     y, vv = profile_x(st)
                     vx = velocity_on_grid(y, vv, length)
                     skew["vi"].append([coarse_increment_skewness(v, m) for m in scales])
@@ -322,13 +337,17 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
                           "w": w_local,
                           "beta": [_mean_se(local[:, q]) for q in range(local.shape[1])]},
                 "sticky_gas_limit": 3.0, "gaussian": 2.0}
+    disp_out = {"time": float(times[-1]), "scale": scale, "variance": _mean_se(disp_var),
+                "per_seed": disp_var, "chernoff_variance": CHERNOFF_VARIANCE}
     summary = {"parameters": jsonable(prm), "model": "exact sticky gas standing in for late MD",
                "energy": energy_out, "mass": mass_out, "structure": structure_out,
                "kurtosis": kurt_out, "skewness": skew_out, "tail": tail_out,
+               "displacement": disp_out,
                "seconds": time.perf_counter() - start}
     data = {"times": times, "e_t23": et, "mu": mu_mid, "phi": phi, **small["data"],
             "kb": kb, "sb": sb_mean, "x_edges": edges,
             "hist": hist / (hist.sum(axis=1, keepdims=True) * step), "profile": profile,
+            "z_edges": z_edges, "z_hist": disp_hist / (disp_hist.sum() * 0.1),
             "length": length, "n": n}
     return Comparison(NAME, summary, data)
 
@@ -395,15 +414,16 @@ def _structure_numbers(kb, sb_mean, times, porod_seed, prm) -> dict:
 
 
 def plot(c, ax=None):
-    """Six panels: rescaled P(x) (first and last time, Gaussian), E t^{2/3} against t, the scaled
-    cluster-mass density with μ^{−1/2}, S(k) against k t^{2/3} with the Porod fit and k⁻², the
-    profiles v(i) and v(x) of seed 0 at the last time (first 5000 points), the skewness of
-    their coarse-grained increments and the local tail exponent.  Every title says that this
-    is the sticky gas standing in for late MD."""
+    """Seven panels: rescaled P(x) (first and last time, Gaussian), E t^{2/3} against t, the
+    scaled cluster-mass density with its fits, S(k) against k t^{2/3} with the Porod fit and
+    k⁻², the profiles v(i) and v(x) of seed 0 at the last time (first 5000 points), the
+    skewness of their coarse-grained increments, the local tail exponent, and the displacements
+    against Chernoff's density.  Every title says that this is the sticky gas standing in for
+    late MD."""
     d, s = c.data, c.summary
     own = ax is None
-    fig, axes = panels(6, ax, width=4.0, height=4.0)
-    a, b, m_ax, sk_ax, pr, tl = axes
+    fig, axes = panels(7, ax, width=4.0, height=4.0)
+    a, b, m_ax, sk_ax, pr, tl, dz = axes
     n = d["n"]
     tag = f"sticky gas for late MD, N={n:.0e}"
     centres = 0.5 * (d["x_edges"][:-1] + d["x_edges"][1:])
@@ -488,6 +508,17 @@ def plot(c, ax=None):
     tl.set(xlabel="w = |v|/√E", ylabel="β: P(|v|>w) ~ exp(-c w^β)",
            title=f"velocity tail at t={tail['time']:g}: β = {bt[0]:.2f} ± {bt[1] or 0:.2f}\n{tag}")
     tl.legend(fontsize=7)
+    ze = d["z_edges"]
+    zc = 0.5 * (ze[:-1] + ze[1:])
+    dz.semilogy(zc, np.where(d["z_hist"] > 0, d["z_hist"], np.nan), "C0.", ms=4,
+                label=f"sticky gas, t = {times[-1]:g}")
+    fine = np.linspace(ze[0], ze[-1], 301)
+    dz.semilogy(fine, chernoff_density(fine), "k-", lw=0.8, label="Chernoff (exact limit)")
+    dv = s["displacement"]["variance"]
+    dz.set(xlabel="z = D / (2^(2/3) t^(2/3))", ylabel="P(z)", ylim=(1e-4, 1.5),
+           title=f"displacements: ⟨z²⟩ = {dv[0]:.4f} ± {dv[1] or 0:.4f}\n"
+                 f"(exact {CHERNOFF_VARIANCE:.5f}), {tag}")
+    dz.legend(fontsize=7)
     if own:
         fig.tight_layout()
     return fig
