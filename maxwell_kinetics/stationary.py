@@ -247,12 +247,7 @@ def _isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_ite
              + np.einsum("i,ij,ijk->jk", weights, AG, B))
         return np.vstack([J, conditions])
 
-    start = initial if initial is not None else (lambda x: np.exp(-0.5 * x * x))
-    G = np.asarray(start(q), dtype=float)
-    if G.shape != q.shape or not np.all(np.isfinite(G)):
-        raise InvalidArgumentError(
-            "initial", initial, "a callable giving finite values on the grid"
-        )
+    G = _start_values(initial, q)
     G, iterations, converged = _gauss_newton(G, residual, jacobian, tol, max_iterations)
     fp = FixedPoint(restitution=model.restitution, q=q, G=G,
                     residual=float(np.max(np.abs(residual(G)[: n + 1]))), check_residual=0.0,
@@ -264,6 +259,17 @@ def _isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_ite
                for e, w in zip(eta, weights, strict=True))
     check = half_rate * fine * dG - fp(fine) + gain
     return replace(fp, check_residual=float(np.max(np.abs(check))))
+
+
+def _start_values(initial, q) -> np.ndarray:
+    """G at the nodes ``q`` from the callable ``initial`` (None: e^{−q²/2}), checked."""
+    start = initial if initial is not None else (lambda x: np.exp(-0.5 * x * x))
+    G = np.asarray(start(q), dtype=float)
+    if G.shape != q.shape or not np.all(np.isfinite(G)):
+        raise InvalidArgumentError(
+            "initial", initial, "a callable giving finite values on the grid"
+        )
+    return G
 
 
 def _gauss_newton(G, res_fn, jac_fn, tol, max_iterations):
@@ -405,12 +411,7 @@ def fixed_point(
             with jax.enable_x64(True):
                 return np.asarray(_jacobian(jnp.asarray(G), *operators))
 
-    start = initial if initial is not None else (lambda x: np.exp(-0.5 * x * x))
-    G = np.asarray(start(q), dtype=float)
-    if G.shape != q.shape or not np.all(np.isfinite(G)):
-        raise InvalidArgumentError(
-            "initial", initial, "a callable giving finite values on the grid"
-        )
+    G = _start_values(initial, q)
 
     G, iterations, converged = _gauss_newton(G, res_fn, jac_fn, tol, max_iterations)
     eq = np.asarray(res_fn(G))[: n + 1]
