@@ -174,7 +174,6 @@ ANGULAR_RULES: dict[str, tuple[tuple[float, int | None], ...]] = {
              (10.0, 12)),
     "accurate": ((0.0, 2), (1e-6, None), (10.0, 12)),
 }
-ANGULAR_TIERS = ANGULAR_RULES["accurate"]
 
 
 @dataclass(frozen=True)
