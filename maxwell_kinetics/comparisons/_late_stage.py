@@ -53,24 +53,18 @@ def _times(lo, hi, count):
 #: ``mass_n``, ``mass_seeds``, ``mass_times``: separate, later runs for the small-μ mass law
 #: (typical masses 460–2150, so that m ≥ ``mass_small_m_min`` = 10 still reaches μ ~ 0.005;
 #: the sticky gas costs the same at any t), fitted for μ ≤ ``mass_mu_max``.
+_SHARED = {"mass_t_min": 90.0, "mass_mu": (0.03, 0.3), "mass_m_min": 2,
+           "mass_times": (1e4, 3e4, 1e5), "mass_small_m_min": 10, "mass_mu_max": 0.3,
+           "porod_x": (3.0, 15.0), "k_max": 0.6, "tail_time": 10.0}
 PRESETS = {
-    "small": {"n": 100_000, "seeds": 3, "times": _times(10.0, 1000.0, 9),
-              "mass_t_min": 90.0, "mass_mu": (0.03, 0.3), "mass_m_min": 2,
-              "mass_n": 4_000_000, "mass_seeds": 4, "mass_times": (1e4, 3e4, 1e5),
-              "mass_small_m_min": 10, "mass_mu_max": 0.3,
-              "porod_x": (3.0, 15.0), "k_max": 0.6, "tail_time": 10.0,
+    "small": {**_SHARED, "n": 100_000, "seeds": 3, "times": _times(10.0, 1000.0, 9),
+              "mass_n": 4_000_000, "mass_seeds": 4,
               "tail_quantiles": (1e-2, 1e-4), "x_edges": (-5.0, 5.0, 0.2)},
-    "default": {"n": 1_000_000, "seeds": 4, "times": _times(10.0, 2000.0, 11),
-                "mass_t_min": 90.0, "mass_mu": (0.03, 0.3), "mass_m_min": 2,
-                "mass_n": 10_000_000, "mass_seeds": 8, "mass_times": (1e4, 3e4, 1e5),
-                "mass_small_m_min": 10, "mass_mu_max": 0.3,
-                "porod_x": (3.0, 15.0), "k_max": 0.6, "tail_time": 10.0,
+    "default": {**_SHARED, "n": 1_000_000, "seeds": 4, "times": _times(10.0, 2000.0, 11),
+                "mass_n": 10_000_000, "mass_seeds": 8,
                 "tail_quantiles": (1e-2, 1e-5), "x_edges": (-5.0, 5.0, 0.1)},
-    "full": {"n": 10_000_000, "seeds": 4, "times": _times(10.0, 5000.0, 13),
-             "mass_t_min": 90.0, "mass_mu": (0.03, 0.3), "mass_m_min": 2,
-             "mass_n": 10_000_000, "mass_seeds": 32, "mass_times": (1e4, 3e4, 1e5),
-             "mass_small_m_min": 10, "mass_mu_max": 0.3,
-             "porod_x": (3.0, 15.0), "k_max": 0.6, "tail_time": 10.0,
+    "full": {**_SHARED, "n": 10_000_000, "seeds": 4, "times": _times(10.0, 5000.0, 13),
+             "mass_n": 10_000_000, "mass_seeds": 32,
              "tail_quantiles": (1e-2, 1e-6), "x_edges": (-5.0, 5.0, 0.1)},
 }
 
