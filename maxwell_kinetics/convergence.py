@@ -17,6 +17,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from particles import persistence
 from particles.validation import check_restitution
 
 from .grid import RESOLUTIONS, get_resolution
@@ -104,7 +105,7 @@ def write_results(runs: list[ConvergenceRun], out_dir) -> dict:
         ],
         "order_fit": order_of_accuracy(runs),
     }
-    (out / "convergence.json").write_text(json.dumps(summary, indent=1))
+    persistence.write_text(out / "convergence.json", json.dumps(summary, indent=1), "out")
     fig = plot_convergence(runs)
-    fig.savefig(out / "convergence.png", dpi=120)
+    persistence.save_figure(fig, out / "convergence.png", "out", dpi=120)
     return summary

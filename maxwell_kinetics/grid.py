@@ -28,7 +28,8 @@ import numpy as np
 
 from particles.validation import InvalidArgumentError
 
-__all__ = ["Resolution", "RESOLUTIONS", "get_resolution", "lagrange_weights"]
+__all__ = ["Resolution", "RESOLUTIONS", "get_resolution", "lagrange_weights", "estimate_solve",
+           "check_solve_budget", "format_seconds", "MAX_SOLVE_SECONDS"]
 
 
 #: Beyond this τ the free-streaming inflow e^{−τ} φ of the solver is below 4e-18 and is set to
@@ -118,21 +119,55 @@ def lagrange_weights(offset: float, order: int) -> tuple[int, np.ndarray]:
     return first, w
 
 
-#: A kinetic solve of more windows than this is refused unless forced (at ~1 ms per window
-#: of the default grid, 10⁹ windows are about 12 days).
-MAX_WINDOWS = 1e9
+#: Seconds per grid node and window of a solve after compilation, by dimension (d ≥ 2 with the
+#: "fast" η rule; "accurate" costs :data:`ACCURATE_RULE_FACTOR` times more).  Measured on the
+#: 2-core development machine, r = 0.5, coarse and default grids, one core: 1.3–1.6 µs in 1D,
+#: 5.6–6.1 µs in 2D (3D within 10 % of 2D); rounded up.
+SECONDS_PER_NODE_WINDOW = {1: 1.7e-6, 2: 6.5e-6, 3: 6.5e-6}
+ACCURATE_RULE_FACTOR = 2.3
+#: A solve estimated to take longer than this (one day) is refused unless forced (``--force``).
+MAX_SOLVE_SECONDS = 86400.0
+
+
+def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension: int = 1,
+                   angular_rule: str = "fast", window: float = 2.0) -> dict:
+    """What a solve will cost, before it starts: ``windows`` (τ_max / ``window``: each is one
+    integration over the grid), ``seconds`` (windows × grid nodes ×
+    :data:`SECONDS_PER_NODE_WINDOW`, after compilation, which adds a few seconds to the first
+    solve of a process) and ``memory`` in bytes (the stored G and deviation at every output
+    time, 24 bytes per node and time, plus the working state)."""
+    windows = float(tau_max) / float(window)
+    per = SECONDS_PER_NODE_WINDOW.get(int(dimension), SECONDS_PER_NODE_WINDOW[3])
+    if int(dimension) > 1 and angular_rule == "accurate":
+        per *= ACCURATE_RULE_FACTOR
+    return {"windows": windows, "seconds": windows * grid.n * per,
+            "memory": 24.0 * grid.n * (n_times + 64)}
+
+
+def format_seconds(seconds: float) -> str:
+    """``"40 s"``, ``"12 min"``, ``"3.5 h"``, ``"12 days"``."""
+    if not math.isfinite(seconds):
+        return str(seconds)
+    if seconds < 120:
+        return f"{seconds:.2g} s" if seconds < 10 else f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    if seconds < 2 * 86400:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 86400:.3g} days"
 
 
 def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window: float = 2.0,
-                       force: bool = False, name: str = "tau") -> dict:
-    """Estimate a solve before it starts: its windows (τ_max / ``window``: each is one diffrax
-    integration over the grid) and its memory (the stored G and deviation at every output time,
-    24 bytes per node and time, plus the working state); refuse what cannot fit in memory, and
-    more than :data:`MAX_WINDOWS` windows unless ``force``.  Returns the estimate."""
+                       force: bool = False, name: str = "tau", dimension: int = 1,
+                       angular_rule: str = "fast") -> dict:
+    """:func:`estimate_solve`, then refuse (:class:`InvalidArgumentError` naming ``name``) a
+    solve that cannot fit in the memory available, and one estimated to take more than
+    :data:`MAX_SOLVE_SECONDS` unless ``force``.  Returns the estimate."""
     from particles.budget import available_memory, format_bytes
 
-    windows = float(tau_max) / float(window)
-    memory = 24.0 * grid.n * (n_times + 64)
+    estimate = estimate_solve(grid, tau_max, n_times, dimension=dimension,
+                              angular_rule=angular_rule, window=window)
+    memory, seconds = estimate["memory"], estimate["seconds"]
     available = available_memory()
     if not memory <= available:
         raise InvalidArgumentError(
@@ -140,10 +175,11 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
             f"a solve that fits in the {format_bytes(available)} of memory available "
             f"(estimate {format_bytes(memory)})",
         )
-    if not force and not windows <= MAX_WINDOWS:
+    if not force and not seconds <= MAX_SOLVE_SECONDS:
         raise InvalidArgumentError(
             name, tau_max,
-            f"a solve of at most {MAX_WINDOWS:.0e} windows of {window:g} in τ (estimate "
-            f"{windows:.3g}); pass --force to run it anyway",
+            f"a solve estimated to take at most {format_seconds(MAX_SOLVE_SECONDS)} (this one: "
+            f"{estimate['windows']:.3g} windows of {window:g} in τ on {grid.n} nodes, about "
+            f"{format_seconds(seconds)}); pass --force to run it anyway",
         )
-    return {"windows": windows, "memory": memory}
+    return estimate

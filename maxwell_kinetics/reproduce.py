@@ -12,7 +12,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from particles.validation import InvalidArgumentError
+from particles import persistence
+from particles.validation import InvalidArgumentError, check_workers
 
 from .output import clean_json
 
@@ -40,7 +41,8 @@ def prepare_output(out, argument: str = "out") -> Path:
     return out
 
 
-def run_all(out="results", size="default", only=None, progress=True, workers=None) -> dict:
+def run_all(out="results", size="default", only=None, progress=True, workers=None,
+            force: bool = False) -> dict:
     """Run the comparisons (``only``: a list of names); write ``<name>.png``, ``<name>.npz``
     (:meth:`Comparison.save`: summary and figure data, reload with ``Comparison.load``) and
     ``summary.json``.
@@ -48,15 +50,17 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
     With ``workers`` (an integer), or at ``size="full"``, the particle runs of fixed times go
     through the ensemble engine on dask (``workers`` processes; default one per core), one task
     file per run in ``<out>/runs``: a rerun after an interruption takes the finished runs from
-    there, and the results equal the serial ones bit for bit."""
+    there, and the results equal the serial ones bit for bit.  More workers than
+    :func:`particles.validation.max_workers` (4 × the CPUs) are refused unless ``force``."""
     import matplotlib.pyplot as plt
 
     from .comparisons import COMPARISONS, particle_runs
 
     names = list(COMPARISONS) if only is None else list(only)
+    check_workers(workers, "workers", force=force)
     out = prepare_output(out)
     if workers is not None or size == "full":
-        particle_runs.configure_runs(out / "runs", workers)
+        particle_runs.configure_runs(out / "runs", workers, force)
     summary = {"size": size, "comparisons": {}}
     start = time.perf_counter()
     try:
@@ -65,7 +69,7 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
                 print(f"[reproduce] {name} ...", flush=True)
             result = COMPARISONS[name](size, progress=progress)
             fig = result.figure()
-            fig.savefig(out / f"{name}.png", dpi=110)
+            persistence.save_figure(fig, out / f"{name}.png", "out", dpi=110)
             result.save(out / f"{name}.npz")
             plt.close(fig)
             summary["comparisons"][name] = clean_json(result.summary)
@@ -75,6 +79,6 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
     finally:
         particle_runs.configure_runs(None)
     summary["seconds"] = time.perf_counter() - start
-    with open(out / "summary.json", "w") as fh:
-        json.dump(clean_json(summary), fh, indent=1, allow_nan=False)
+    persistence.write_text(out / "summary.json",
+                           json.dumps(clean_json(summary), indent=1, allow_nan=False), "out")
     return summary

@@ -311,11 +311,15 @@ def solve(
     y = stepper.y0
     i_window = 0
     bar = None
-    if progress:
-        from tqdm.auto import tqdm
+    if progress:  # the bar shows the estimate of grid.estimate_solve until its own ETA is known
+        from particles.progress import progress_bar
 
-        bar = tqdm(total=float(taus[-1]), unit="τ", desc=f"solve r={model.restitution:g}",
-                   bar_format="{l_bar}{bar}| {n:.4g}/{total:.4g} τ [{elapsed}<{remaining}]")
+        from .grid import estimate_solve, format_seconds
+
+        cost = estimate_solve(grid, float(taus[-1]), len(taus), dimension=dimension,
+                              angular_rule=angular_rule, window=opts.window)
+        bar = progress_bar(float(taus[-1]), f"solve r={model.restitution:g}", "τ",
+                           postfix=f"estimate ~{format_seconds(cost['seconds'])} after compile")
     chunk = max(1, int(math.ceil(taus[-1] / stepper.dtau / 200)))
     try:
         for k, target in enumerate(taus):

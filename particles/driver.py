@@ -121,12 +121,6 @@ def next_grid_point(time: float, step: float) -> float:
 # --------------------------------------------------------------------------- files
 
 
-def check_writable(path, name: str) -> Path:
-    """``path`` must name a file (not a directory) in an existing, writable directory
-    (:func:`particles.validation.check_output_file`, the one check of output files)."""
-    return check_output_file(path, name)
-
-
 def _write_npz(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
     """Write a result or checkpoint through the one persistence helper (atomic, hashed)."""
     meta = dict(meta)
@@ -629,7 +623,7 @@ def simulate(
     structure_factor = _structure_mode(structure_factor)
     snapshots = bool(snapshots)
     if checkpoint is not None:
-        checkpoint = check_writable(checkpoint, "checkpoint")
+        checkpoint = check_output_file(checkpoint, "checkpoint")
     _check_engine(engine)
     if int(engine.params().get("dimension", 1)) != 1 and (structure_factor or snapshots):
         raise InvalidArgumentError(

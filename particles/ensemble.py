@@ -64,7 +64,13 @@ from . import observables as obs
 from . import persistence
 from .driver import CheckpointError, RunResult, simulate
 from .progress import progress_bar
-from .validation import InvalidArgumentError, check_nonnegative, check_output_dir, check_times
+from .validation import (
+    InvalidArgumentError,
+    check_nonnegative,
+    check_output_dir,
+    check_times,
+    check_workers,
+)
 
 __all__ = [
     "FORMAT_VERSION",
@@ -756,14 +762,16 @@ def _connect(executor, workers, scheduler, cluster, config):
 
 def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, scheduler=None,
                  cluster: str | None = None, config=None, progress: bool = True,
-                 executor: str = "dask") -> EnsembleReport:
+                 executor: str = "dask", force: bool = False) -> EnsembleReport:
     """Run the tasks of ``spec`` that have no valid file in ``out`` and aggregate them all.
 
     ``executor="dask"``: a local cluster of ``workers`` processes (default: the number of
-    CPUs), or ``scheduler=ADDRESS`` (an existing cluster; connection timeout
-    :data:`SCHEDULER_TIMEOUT` seconds), or ``cluster="slurm"|"pbs"`` with ``config`` (TOML,
-    :func:`load_cluster_config`).  ``executor="serial"``: in this process, no dask.  Bad
-    arguments raise :class:`InvalidArgumentError` before anything is written.  A failing task
+    CPUs; never more than the tasks left to run, and at most
+    :func:`particles.validation.max_workers`, 4 × the CPUs, unless ``force``), or
+    ``scheduler=ADDRESS`` (an existing cluster; connection timeout :data:`SCHEDULER_TIMEOUT`
+    seconds), or ``cluster="slurm"|"pbs"`` with ``config`` (TOML, :func:`load_cluster_config`).
+    ``executor="serial"``: in this process, no dask.  Bad arguments raise
+    :class:`InvalidArgumentError` before anything is written.  A failing task
     does not raise: see ``report.failed``.  See the module docstring for the files."""
     started = _time.perf_counter()
     if not isinstance(spec, EnsembleSpec):
@@ -777,9 +785,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
         name = chosen[-1]
         raise InvalidArgumentError(name, given[name],
                                    "one of workers, scheduler, cluster (dask executor only)")
-    if workers is not None:
-        if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-            raise InvalidArgumentError("workers", workers, "an integer >= 1")
+    workers = check_workers(workers, "workers", force=force)
     if cluster is not None:
         load_cluster_config(config, cluster)  # checked before any work
     elif config is not None:
@@ -789,18 +795,19 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     tasks = spec.expand()
     model = _MODELS[spec.model]
 
+    valid, damaged = _check_existing(out, tasks)
+    todo = [t for t in tasks if t.key not in valid]
     closers = []
     client = None
-    if executor == "dask":
-        client, closers = _connect(executor, workers or os.cpu_count() or 1, scheduler,
-                                   cluster, config)
+    if executor == "dask" and todo:
+        # a local cluster of no more workers than tasks: idle ones only cost start-up
+        local = min(workers or os.cpu_count() or 1, len(todo))
+        client, closers = _connect(executor, local, scheduler, cluster, config)
     try:
         out.mkdir(parents=True, exist_ok=True)
         if not (out / MANIFEST).exists():
             persistence.save(out / MANIFEST, "ensemble-manifest", FORMAT_VERSION, {},
                              {"writer": "particles.ensemble"})
-        valid, damaged = _check_existing(out, tasks)
-        todo = [t for t in tasks if t.key not in valid]
         records = _execute(client, todo, model.factory, out.absolute(), progress)
     finally:
         for close in closers:
@@ -821,7 +828,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
                      json.loads(json.dumps(meta, allow_nan=True)))
     notes = tuple(f"{r['key']}: {n}" for r in records for n in r.get("notes", []))
     return EnsembleReport(
-        out=str(out), executor="serial" if client is None else "dask", tasks=len(tasks),
+        out=str(out), executor=executor, tasks=len(tasks),
         ran=tuple(r["key"] for r in records), skipped=tuple(sorted(valid)),
         resumed=tuple(r["key"] for r in records if r.get("resumed")),
         recomputed=tuple(damaged), failed=tuple(failed), aggregate=summary,

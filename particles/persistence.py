@@ -15,7 +15,10 @@ entry holding a JSON object with
 
 Writing goes to a temporary file in the same folder, then :func:`os.replace` renames it into
 place: a reader never sees half a file, and a writer killed half-way leaves only a
-``<name>.<random>.tmp`` that :func:`save` removes on a later write to the same path.
+``<name>.<random>.tmp`` that :func:`save` removes on a later write to the same path.  The rename
+happens only onto a regular file or onto nothing (:func:`write_atomic`): an output path that is
+a device (``/dev/null`` too), a FIFO, a socket or a directory is refused, and a symlink is
+followed, so its target is replaced and the link stays.
 
 Reading treats the file as untrusted: only regular files are opened (a FIFO would block); every
 entry's ``.npy`` header (dtype and shape) is read and checked *before* its data is, so a zip
@@ -43,9 +46,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .validation import InvalidArgumentError, check_path
+from .validation import InvalidArgumentError, check_path, file_kind, output_target
 
-__all__ = ["FileFormatError", "Loaded", "FORMAT_TAG", "save", "load", "digest"]
+__all__ = ["FileFormatError", "Loaded", "FORMAT_TAG", "save", "load", "digest", "write_atomic",
+           "write_text", "save_figure"]
 
 FORMAT_TAG = "maxwell-kinetics"
 META = "meta"
@@ -117,10 +121,42 @@ def _clean_stale(path: Path) -> None:
             pass
 
 
+def write_atomic(path, write, name: str = "path") -> Path:
+    """Write a file atomically: ``write(fh)`` fills a temporary file (binary) in the target's
+    folder, which is then renamed onto the target.  Returns ``path``.
+
+    The target is :func:`particles.validation.output_target`: ``path`` itself, or the file a
+    symlink names (the link stays a link).  The rename happens only onto a regular file or onto
+    nothing: a directory, a device (``/dev/null`` included), a FIFO or a socket is refused with
+    :class:`InvalidArgumentError` naming ``name``, before anything is written, and checked
+    again just before the rename (nothing is replaced if one appeared meanwhile)."""
+    path = check_path(path, name)
+    target = output_target(path, name)
+    directory = target.parent if str(target.parent) else Path(".")
+    _clean_stale(target)
+    fd, tmp = tempfile.mkstemp(prefix=target.name + ".", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            write(fh)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
+        if file_kind(target) not in (None, "regular file"):  # appeared while we wrote
+            output_target(target, name)
+        os.replace(tmp, target)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return path
+
+
 def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) -> Path:
-    """Write ``arrays`` and ``meta`` to ``path`` atomically, with the format tag, ``kind``,
-    ``version`` and the content hash.  Returns the path."""
+    """Write ``arrays`` and ``meta`` to ``path`` atomically (:func:`write_atomic`: never onto a
+    device, a FIFO, a socket or a directory; a symlink's target is written), with the format
+    tag, ``kind``, ``version`` and the content hash.  Returns the path."""
     path = check_path(path, "path")
+    output_target(path, "path")  # refused before the content is hashed
     meta = dict(meta or {})
     clash = [k for k in _RESERVED if k in meta]
     if clash:
@@ -132,21 +168,20 @@ def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) 
     header = {**meta, "format": FORMAT_TAG, "kind": kind, "version": int(version)}
     header["sha256"] = digest(header, arrays)
     text = json.dumps(header, allow_nan=True)
-    directory = path.parent if str(path.parent) else Path(".")
-    _clean_stale(path)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            np.savez(fh, **{META: np.array(text)}, **arrays)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return path
+    return write_atomic(path, lambda fh: np.savez(fh, **{META: np.array(text)}, **arrays))
+
+
+def write_text(path, text: str, name: str = "path") -> Path:
+    """Write ``text`` (UTF-8) to ``path`` through :func:`write_atomic`."""
+    return write_atomic(path, lambda fh: fh.write(text.encode()), name)
+
+
+def save_figure(fig, path, name: str = "path", **kwargs) -> Path:
+    """``fig.savefig`` through :func:`write_atomic` (format from the suffix; ``kwargs`` go to
+    ``savefig``)."""
+    path = check_path(path, name)
+    fmt = path.suffix.lstrip(".").lower() or None
+    return write_atomic(path, lambda fh: fig.savefig(fh, format=fmt, **kwargs), name)
 
 
 # --------------------------------------------------------------------------- reading

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import os
+import stat
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -27,6 +28,10 @@ __all__ = [
     "parse_count",
     "parse_seed",
     "check_output_file",
+    "output_target",
+    "file_kind",
+    "check_workers",
+    "max_workers",
     "check_path",
     "check_choice",
     "check_output_dir",
@@ -202,25 +207,75 @@ def check_choice(value, name: str, choices) -> str:
     raise InvalidArgumentError(name, value, f"one of {sorted(choices)}")
 
 
+def file_kind(path) -> str | None:
+    """What exists at ``path`` without following a final symlink: ``None`` (nothing),
+    ``"regular file"``, ``"directory"``, ``"symlink"``, ``"character device"``,
+    ``"block device"``, ``"FIFO"``, ``"socket"`` or ``"special file"``."""
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        return None
+    except OSError:  # e.g. a component that is a file: nothing can exist there
+        return None
+    for test, kind in ((stat.S_ISREG, "regular file"), (stat.S_ISDIR, "directory"),
+                       (stat.S_ISLNK, "symlink"), (stat.S_ISCHR, "character device"),
+                       (stat.S_ISBLK, "block device"), (stat.S_ISFIFO, "FIFO"),
+                       (stat.S_ISSOCK, "socket")):
+        if test(mode):
+            return kind
+    return "special file"
+
+
+def output_target(path, name: str) -> Path:
+    """The file an output written to ``path`` replaces: ``path`` itself, or the file a symlink
+    (or a chain of them) points to, so that a link stays a link and its target is written.
+
+    Refused (:class:`InvalidArgumentError` naming ``name``, the path and what it is): an
+    existing directory (or a link to one), and anything that is not a regular file: a character
+    or block device (``/dev/null`` included), a FIFO, a socket.  Writing replaces the file by a
+    rename, which would turn such an object into a regular file (as root, ``/dev/null`` itself);
+    to discard an output, leave the option out.  A dangling link is resolved to the file it
+    names, which is then created.
+    """
+    out = check_path(path, name)
+    target = Path(os.path.realpath(out)) if file_kind(out) == "symlink" else out
+    kind = file_kind(target)
+    if kind == "directory":
+        shown = "a symlink to a directory" if target != out else "an existing directory"
+        raise InvalidArgumentError(name, str(path), f"a file path, not {shown}")
+    if kind not in (None, "regular file"):
+        via = f" (through the symlink to {target})" if target != out else ""
+        raise InvalidArgumentError(
+            name, str(path),
+            f"a regular file or a new path, not a {kind}{via}: output is written to a new file "
+            "and renamed into place, which would replace it",
+        )
+    return target
+
+
 def check_output_file(path, name: str) -> Path:
-    """An output file: not an existing directory, in an existing, writable directory.
+    """An output file: a regular file or a new path (:func:`output_target`: never a device, a
+    FIFO, a socket or a directory; a symlink is followed), in an existing, writable directory.
 
     Called before any work so that a bad path fails at once and nothing else is written.
     """
     out = check_path(path, name)
-    if out.is_dir():
-        raise InvalidArgumentError(name, str(path), "a file path, not an existing directory")
-    if not out.parent.is_dir() or not os.access(out.parent, os.W_OK):
+    target = output_target(out, name)
+    if not target.parent.is_dir() or not os.access(target.parent, os.W_OK):
         raise InvalidArgumentError(name, str(path), "a file in an existing, writable directory")
     return out
 
 
 def check_output_dir(path, name: str) -> Path:
-    """An output folder: an existing writable directory, or one that can be created (its
-    nearest existing ancestor is a writable directory)."""
-    out = Path(path)
-    if out.exists():
-        if not out.is_dir() or not os.access(out, os.W_OK):
+    """An output folder: an existing writable directory (or a symlink to one), or one that can
+    be created (its nearest existing ancestor is a writable directory).  Anything else that
+    exists there (a file, a device, a FIFO, a socket) is refused, naming what it is."""
+    out = check_path(path, name)
+    if out.exists() or file_kind(out) is not None:
+        if not out.is_dir():
+            kind = file_kind(Path(os.path.realpath(out))) or "dangling symlink"
+            raise InvalidArgumentError(name, str(path), f"a writable directory, not a {kind}")
+        if not os.access(out, os.W_OK):
             raise InvalidArgumentError(name, str(path), "a writable directory")
         return out
     ancestor = out.absolute().parent
@@ -231,3 +286,34 @@ def check_output_dir(path, name: str) -> Path:
             name, str(path), "a directory that can be created (under a writable directory)"
         )
     return out
+
+
+def max_workers() -> int:
+    """The largest worker count accepted without ``force``: 4 × the CPUs of this machine.
+
+    More processes than that only compete for the same cores (each worker is a process with
+    its own interpreter and imports, about a second and 100 MB to start); a bigger number is
+    almost always a typo (``--workers 64`` for ``4``)."""
+    return 4 * (os.cpu_count() or 1)
+
+
+def check_workers(workers, name: str = "workers", *, tasks: int | None = None,
+                  force: bool = False) -> int | None:
+    """A worker count: an integer ≥ 1, at most :func:`max_workers` unless ``force``, and
+    never more than ``tasks`` (the count is lowered to it: idle workers cost start-up time and
+    memory and do nothing).  ``None`` stays ``None`` (the caller's default)."""
+    if workers is None:
+        return None
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise InvalidArgumentError(name, workers, "an integer >= 1")
+    workers = int(workers)
+    bound = max_workers()
+    if workers > bound and not force:
+        raise InvalidArgumentError(
+            name, workers,
+            f"at most {bound} (4 x the {os.cpu_count() or 1} CPUs of this machine); "
+            "give --force (force=True) to start more",
+        )
+    if tasks is not None:
+        workers = max(1, min(workers, int(tasks)))
+    return workers

@@ -21,6 +21,7 @@ from particles.ensemble import EnsembleSpec, parse_seeds, run_ensemble
 from particles.validation import (
     InvalidArgumentError,
     check_times,
+    check_workers,
     parse_count,
     parse_float_list,
     parse_name_list,
@@ -68,13 +69,16 @@ def add_parser(subparsers) -> None:
                        help="also record S(k) at the last time")
         where = p.add_mutually_exclusive_group()
         where.add_argument("--workers", default=None,
-                           help="local cluster of N single-threaded processes (default: cores)")
+                           help="local cluster of N single-threaded processes (default: cores; "
+                           "never more than the tasks; at most 4 x the CPUs unless --force)")
         where.add_argument("--scheduler", default=None, help="address of a running scheduler")
         where.add_argument("--cluster", choices=["slurm", "pbs"], default=None,
                            help="a batch system through dask-jobqueue (needs --config)")
         where.add_argument("--serial", action="store_true",
                            help="run the tasks one after another in this process (no dask)")
         p.add_argument("--config", default=None, help="TOML file of the batch cluster")
+        p.add_argument("--force", action="store_true",
+                       help="allow more than 4 x the CPUs as --workers")
         p.add_argument("--out", required=True, help="output folder (task files, aggregate)")
         p.add_argument("--json", action="store_true", help="print one JSON object")
         p.add_argument("--no-progress", action="store_true", help="no progress bar or lines")
@@ -115,10 +119,11 @@ def run(args) -> int:
     if args.config is not None and args.cluster is None:
         raise InvalidArgumentError("config", args.config, "--cluster slurm|pbs with it")
     workers = None if args.workers is None else parse_count(args.workers, "workers", 1)
+    check_workers(workers, "workers", force=args.force)
     report = run_ensemble(
         spec, args.out, workers=workers, scheduler=args.scheduler, cluster=args.cluster,
         config=args.config, progress=progress_enabled(args),
-        executor="serial" if args.serial else "dask",
+        executor="serial" if args.serial else "dask", force=args.force,
     )
     payload = report.to_json()
     if args.json:

@@ -9,7 +9,12 @@ fails at once with exit status 2 and nothing written.
 
 from __future__ import annotations
 
-from particles.validation import InvalidArgumentError, parse_count, parse_name_list
+from particles.validation import (
+    InvalidArgumentError,
+    check_workers,
+    parse_count,
+    parse_name_list,
+)
 
 from ..output import check_output_dir, emit_json, progress_enabled
 
@@ -31,7 +36,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("--no-progress", action="store_true", help="no progress lines or bars")
     p.add_argument("--workers", default=None,
                    help="run the particle runs on N dask processes through the ensemble engine "
-                   "(task files in <out>/runs; --full does this with one process per core)")
+                   "(task files in <out>/runs; --full does this with one process per core); "
+                   "at most 4 x the CPUs unless --force")
+    p.add_argument("--force", action="store_true",
+                   help="allow more than 4 x the CPUs as --workers")
     p.set_defaults(handler=run)
 
 
@@ -46,9 +54,11 @@ def run(args) -> int:
         if bad:
             raise InvalidArgumentError("only", args.only, "names among " + ", ".join(COMPARISONS))
     workers = None if args.workers is None else parse_count(args.workers, "workers", 1)
+    check_workers(workers, "workers", force=args.force)
     out = prepare_output(check_output_dir(args.out, "out"), "out")
     size = "full" if args.full else "small" if args.small else "default"
-    summary = run_all(out, size, only, progress=progress_enabled(args), workers=workers)
+    summary = run_all(out, size, only, progress=progress_enabled(args), workers=workers,
+                      force=args.force)
     if args.json:
         emit_json({"out": str(out), "size": size, "seconds": summary["seconds"],
                    "comparisons": sorted(summary["comparisons"])})

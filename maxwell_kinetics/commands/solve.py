@@ -9,6 +9,7 @@ import time
 
 import numpy as np
 
+from particles import persistence
 from particles.initial import get_law
 from particles.validation import (
     InvalidArgumentError,
@@ -51,7 +52,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--save", metavar="FILE", help="save the Solution (.npz)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.add_argument("--force", action="store_true",
-                   help="run even when the estimated number of windows exceeds 1e9")
+                   help="run even when the estimated time exceeds one day")
     p.set_defaults(handler=run)
 
 
@@ -79,7 +80,8 @@ def run(args) -> int:
     angular = check_choice(args.angular, "angular", ("uniform", "hard"))
     rule = check_choice(args.angular_rule, "angular-rule", ("fast", "accurate"))
     check_outputs(save=args.save, images={"plot": args.plot})
-    check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force)
+    cost = check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force,
+                              dimension=dimension, angular_rule=rule)
     from ..solver import solve  # JAX: imported only when a solve runs
 
     start = time.perf_counter()
@@ -95,7 +97,7 @@ def run(args) -> int:
     if args.plot:
         from ..plotting import plot_solution
 
-        plot_solution(sol).savefig(args.plot, dpi=120)
+        persistence.save_figure(plot_solution(sol), args.plot, "plot", dpi=120)
     if args.save:
         sol.save(args.save)
     if args.json:
@@ -116,6 +118,7 @@ def run(args) -> int:
             "G_imag": values.imag.tolist(),
             **extra,
             "seconds": seconds,
+            "estimate_seconds": cost["seconds"],
         })
     else:
         print(f"r = {model.restitution:g}, initial {law.name}, resolution {grid.name} "

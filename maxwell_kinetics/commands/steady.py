@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from particles import persistence
+
 from ..driven import steady_state
 from ..output import check_outputs, emit_json
 
@@ -42,9 +44,10 @@ def run(args) -> int:
     if args.plot:
         from ..plotting import plot_density
 
-        plot_density(state.velocity, state.density, state.variance,
+        fig = plot_density(state.velocity, state.density, state.variance,
                      title=f"driven steady state, r = {state.restitution:g}, "
-                           f"D = {state.driving:g}").savefig(args.plot, dpi=120)
+                           f"D = {state.driving:g}")
+        persistence.save_figure(fig, args.plot, "plot", dpi=120)
     if args.json:
         emit_json(payload)
     else:

@@ -35,6 +35,7 @@ from particles.lattice import Lattice
 from particles.progress import progress_bar
 from particles.sticky import StickyGas, StickyParams
 from particles.ulam import Ulam
+from particles.validation import check_workers
 
 __all__ = [
     "ulam_snapshots",
@@ -73,14 +74,16 @@ def _read_only(value):
     return value
 
 
-_EXECUTOR: dict = {"out": None, "workers": None}
+_EXECUTOR: dict = {"out": None, "workers": None, "force": False}
 
 
-def configure_runs(out=None, workers: int | None = None) -> None:
+def configure_runs(out=None, workers: int | None = None, force: bool = False) -> None:
     """Run the comparisons' particle runs through the ensemble engine, writing task files to
-    ``out`` (a folder), on ``workers`` dask processes (None: one per core); ``out=None`` goes
-    back to serial runs in this process."""
-    _EXECUTOR.update(out=None if out is None else str(out), workers=workers)
+    ``out`` (a folder), on ``workers`` dask processes (None: one per core; more than
+    :func:`particles.validation.max_workers` only with ``force``); ``out=None`` goes back to
+    serial runs in this process."""
+    workers = check_workers(workers, "workers", force=force)
+    _EXECUTOR.update(out=None if out is None else str(out), workers=workers, force=force)
 
 
 def _runs(model: str, params: dict, times, seeds, progress, build, **options) -> list:
@@ -95,7 +98,7 @@ def _runs(model: str, params: dict, times, seeds, progress, build, **options) ->
                         {"structure_factor": options.get("structure_factor", False),
                          "snapshots": bool(options.get("snapshots", False))})
     report = run_ensemble(spec, _EXECUTOR["out"], workers=_EXECUTOR["workers"],
-                          progress=progress)
+                          progress=progress, force=_EXECUTOR["force"])
     if report.failed:
         first = report.failed[0]
         raise RuntimeError(f"{len(report.failed)} {model} run(s) failed, e.g. seed "

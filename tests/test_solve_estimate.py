@@ -1,0 +1,51 @@
+"""The cost of a solve, estimated before it starts: proportional to the windows and the grid
+nodes, shown in the progress line, and refused above one day unless forced."""
+
+from __future__ import annotations
+
+import pytest
+from conftest import run_error
+
+from maxwell_kinetics.grid import (
+    MAX_SOLVE_SECONDS,
+    check_solve_budget,
+    estimate_solve,
+    get_resolution,
+)
+from particles.validation import InvalidArgumentError
+
+
+def test_estimate_scales_with_windows_nodes_dimension_and_rule():
+    coarse, fine = get_resolution("coarse"), get_resolution("fine")
+    a = estimate_solve(coarse, 100.0, 1)
+    assert a["windows"] == pytest.approx(50.0)
+    assert estimate_solve(coarse, 400.0, 1)["seconds"] == pytest.approx(4 * a["seconds"])
+    assert estimate_solve(fine, 100.0, 1)["seconds"] == pytest.approx(
+        a["seconds"] * fine.n / coarse.n)
+    two = estimate_solve(coarse, 100.0, 1, dimension=2)["seconds"]
+    assert two > 2 * a["seconds"]  # the η quadrature makes d ≥ 2 dearer
+    assert estimate_solve(coarse, 100.0, 1, dimension=2, angular_rule="accurate")["seconds"] > two
+
+
+def test_refused_above_one_day_unless_forced():
+    finest = get_resolution("finest")
+    tau = 2.0 * MAX_SOLVE_SECONDS / (finest.n * 1e-6)  # > one day at any per-node cost ≥ 1 µs
+    with pytest.raises(InvalidArgumentError, match=r"tau=.*24\.0 h.*--force"):
+        check_solve_budget(finest, tau, 2)
+    assert check_solve_budget(finest, tau, 2, force=True)["seconds"] > MAX_SOLVE_SECONDS
+    assert check_solve_budget(finest, 1e5, 2)["seconds"] < MAX_SOLVE_SECONDS
+
+
+def test_cli_refuses_a_solve_of_days(capsys, tmp_path):
+    err = run_error(capsys, ["solve", "-r", "0.5", "--tau", "1e8", "--resolution", "finest",
+                             "--save", str(tmp_path / "s.npz")])
+    assert "tau=100000000.0" in err and "days" in err and "--force" in err
+    assert not (tmp_path / "s.npz").exists()
+
+
+def test_progress_line_shows_the_estimate(capsys):
+    from maxwell_kinetics.cli import main
+
+    assert main(["solve", "-r", "0.5", "--tau", "4", "--resolution", "coarse"]) == 0
+    err = capsys.readouterr().err
+    assert "solve r=0.5" in err and "estimate ~" in err
