@@ -10,20 +10,18 @@ by more than a factor 10 after first reaching it.
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from particles import persistence
 from particles.validation import check_restitution
 
 from .grid import RESOLUTIONS, get_resolution
 from .solver import solve
 
-__all__ = ["ConvergenceRun", "convergence_study", "order_of_accuracy"]
+__all__ = ["ConvergenceRun", "convergence_study", "order_of_accuracy", "summarize"]
 
 
 @dataclass(frozen=True)
@@ -88,15 +86,9 @@ def order_of_accuracy(runs: list[ConvergenceRun]) -> dict[str, float]:
     return out
 
 
-def write_results(runs: list[ConvergenceRun], out_dir) -> dict:
-    """Write ``convergence.json`` and ``convergence.png`` into ``out_dir``; return the summary."""
-    from pathlib import Path
-
-    from .plotting import plot_convergence
-
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
-    summary = {
+def summarize(runs: list[ConvergenceRun]) -> dict:
+    """The runs, a table of their floors and the fitted order of accuracy (JSON-able)."""
+    return {
         "runs": [asdict(run) for run in runs],
         "table": [
             {"restitution": run.restitution, "resolution": run.resolution, "h": run.h,
@@ -105,7 +97,3 @@ def write_results(runs: list[ConvergenceRun], out_dir) -> dict:
         ],
         "order_fit": order_of_accuracy(runs),
     }
-    persistence.write_text(out / "convergence.json", json.dumps(summary, indent=1), "out")
-    fig = plot_convergence(runs)
-    persistence.save_figure(fig, out / "convergence.png", "out", dpi=120)
-    return summary

@@ -89,9 +89,6 @@ def _check_skewness_finite(law: InitialLaw) -> float:
     return m3
 
 
-_INFLOW_CUT = INFLOW_CUT  # (grid.py: the scheme's constants live below both modules)
-
-
 def _checked_phi(law: InitialLaw, k: np.ndarray, where: str) -> np.ndarray:
     """φ(k) by NumPy, or InvalidArgumentError naming ``characteristic`` and the first bad k."""
     values = np.broadcast_to(law.phi(k), np.shape(k))
@@ -110,7 +107,7 @@ def inflow_wavenumbers(model: MaxwellModel, grid: Resolution, opts: SolverOption
     The inflow (right ghost) nodes sit at ln q ∈ [ln q_max + h, ln q_max + (cells + cells_max +
     5 order/2) h] with cells h ≤ λ·window + h/2 and cells_max h ≤ window/4 + h/2
     (:mod:`maxwell_kinetics._kinetic_scheme`), and φ is taken at k = q e^{λ min(τ, 40)}
-    (:data:`_INFLOW_CUT`).  The sampled range is wider on both sides,
+    (:data:`maxwell_kinetics.grid.INFLOW_CUT`).  The sampled range is wider on both sides,
     ln k ∈ [ln q_max − window − h, ln q_max + window + 4 order h + 40λ], with 64 points per
     unit of ln k.  Empty for λ = 0 (no inflow).
     """
@@ -118,7 +115,7 @@ def inflow_wavenumbers(model: MaxwellModel, grid: Resolution, opts: SolverOption
     if lam == 0.0:
         return np.empty(0)
     lo = math.log(grid.q_max) - opts.window - grid.h
-    hi = math.log(grid.q_max) + opts.window + 4 * grid.order * grid.h + lam * _INFLOW_CUT
+    hi = math.log(grid.q_max) + opts.window + 4 * grid.order * grid.h + lam * INFLOW_CUT
     return np.exp(np.linspace(lo, hi, max(2, math.ceil(64 * (hi - lo)))))
 
 

@@ -32,6 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from particles.observables import mean_sem
+
 __all__ = [
     "interval_probabilities",
     "f_cdf",
@@ -195,12 +197,12 @@ def compare_histograms(samples, edges, probabilities, mass_below: float, *,
     width = np.diff(edges)
     density = pooled[:-1] / (total * width)
     if runs >= 2:
-        err = counts[:, :-1].std(axis=0, ddof=1) / math.sqrt(runs) / (m * width)
+        err = mean_sem(counts[:, :-1], axis=0)[1] / (m * width)
     else:
         err = np.sqrt(pooled[:-1]) / (total * width)
     cdf = np.concatenate([[0.0], np.cumsum(prob)]) + float(mass_below)
     ks = np.array([ks_distance(r, edges, cdf) for r in rows])
-    ks_err = float(ks.std(ddof=1) / math.sqrt(runs)) if runs >= 2 else float("nan")
+    ks_err = mean_sem(ks)[1]
     return HistogramComparison(
         0.5 * (edges[1:] + edges[:-1]), density, err, prob / width, chi2 / max(dof, 1), dof,
         phi, phi_err, float(ks.mean()), ks_err, m, runs,
@@ -230,5 +232,5 @@ def seed_slope(x, ys, degree: int = 1) -> tuple[float, float, np.ndarray]:
     the linear coefficient, i.e. dy/dx at x = 0."""
     ys = np.atleast_2d(np.asarray(ys, dtype=float))
     slopes = np.array([np.polyfit(x, y, degree)[-2] for y in ys])
-    err = float(slopes.std(ddof=1) / math.sqrt(len(slopes))) if len(slopes) > 1 else float("nan")
-    return float(slopes.mean()), err, slopes
+    mean, err = mean_sem(slopes)
+    return mean, err, slopes

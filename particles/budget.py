@@ -94,7 +94,9 @@ def _md_tau(t: float, params: dict) -> float:
     rate0 = 2.0 / math.sqrt(math.pi) * density  # dτ/dt at t = 0, unit temperature
     if r >= 1.0:
         return rate0 * t
-    t0 = math.sqrt(math.pi) / ((1.0 - r * r) * density)
+    from .md.observables import haff_time
+
+    t0 = haff_time(r, density)
     tau = 2.0 / (1.0 - r * r) * math.log1p(t / t0)
     if delta > 0.0:
         # relative velocities below δ are not dissipated: once Haff's T falls to δ², collisions

@@ -471,13 +471,9 @@ def run_task(task: EnsembleTask, factory: Callable[..., Any], out: str) -> dict:
 
 
 def _mean_sem(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Mean and standard error over axis 0 (NaN standard error for one row)."""
-    m = rows.shape[0]
-    mean = rows.sum(axis=0) / m
-    if m < 2:
-        return mean, np.full_like(mean, np.nan)
-    dev = rows - mean
-    return mean, np.sqrt((dev * dev).sum(axis=0) / (m - 1) / m)
+    """:func:`particles.observables.mean_sem` over the seeds (axis 0), always as arrays."""
+    mean, sem = obs.mean_sem(rows, axis=0)
+    return np.asarray(mean, dtype=float), np.asarray(sem, dtype=float)
 
 
 def aggregate(spec: EnsembleSpec, out, tasks=None, done=None) -> tuple[dict, dict]:

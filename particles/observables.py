@@ -33,6 +33,8 @@ __all__ = [
     "velocity_profile",
     "log_bin",
     "DEFAULT_EDGES",
+    "mean_sem",
+    "mean_sem_json",
 ]
 
 #: Default bin edges for the rescaled velocity x = v / √E: 121 edges, width 0.1, on [-6, 6].
@@ -259,3 +261,31 @@ def log_bin(k, s, bins_per_decade: int = 10) -> tuple[np.ndarray, np.ndarray, np
     ssum = np.bincount(index, weights=s, minlength=edges.size - 1)
     full = count > 0
     return ksum[full] / count[full], ssum[full] / count[full], count[full]
+
+
+def mean_sem(values, axis: int = 0):
+    """Mean and standard error of the mean over ``axis`` (e.g. over seeds): ``s / √m`` with
+    ``s`` the sample standard deviation (ddof = 1) of the ``m`` values; NaN where m < 2.
+    Returns ``(mean, sem)``, floats for a 1-D input, arrays otherwise."""
+    a = np.asarray(values, dtype=float)
+    m = a.shape[axis] if a.ndim else 1
+    if m == 0:
+        raise InvalidArgumentError("values", a.shape, "at least one value along the axis")
+    mean = a.mean(axis=axis)
+    if m < 2:
+        sem = np.full_like(mean, np.nan, dtype=float)
+    else:
+        sem = a.std(axis=axis, ddof=1) / np.sqrt(m)
+    if np.ndim(mean) == 0:
+        return float(mean), float(sem)
+    return mean, sem
+
+
+def mean_sem_json(values) -> list:
+    """``[mean, sem]`` of 1-D ``values`` (:func:`mean_sem`) as JSON numbers, the error ``None``
+    for a single value; ``[None, None]`` for none."""
+    a = np.asarray(values, dtype=float).ravel()
+    if a.size == 0:
+        return [None, None]
+    mean, sem = mean_sem(a)
+    return [mean, sem if a.size > 1 else None]

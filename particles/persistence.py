@@ -266,7 +266,6 @@ def load(
     expected: str | None = None,
     max_bytes: int | None = None,
     check_entry=None,
-    _verify: bool = True,
 ) -> Loaded:
     """Read a file written by :func:`save` of ``kind`` and one of ``versions``.
 
@@ -354,7 +353,7 @@ def load(
                 else:
                     a = a.reshape(shape)
                 arrays[name] = a
-                if legacy is None and _verify:  # hashed in a second thread meanwhile
+                if legacy is None:  # hashed in a second thread meanwhile
                     hashing[name] = pool.submit(entry_digest, name, a)
     except FileFormatError:
         raise
@@ -367,8 +366,6 @@ def load(
         pool.shutdown(wait=True)
     if legacy is not None:
         return Loaded(meta, arrays, version, legacy=True)
-    if not _verify:  # only for benchmarks/persistence.py, which measures the check's cost
-        return Loaded(meta, arrays, version)
     entries = {name: future.result() for name, future in hashing.items()}
     if meta.get("sha256") != digest(meta, arrays, entries):
         raise fail("its contents do not match its hash (edited or damaged)")

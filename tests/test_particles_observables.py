@@ -1,5 +1,7 @@
 """Observables of particles.observables against direct formulas and exact statistics."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -136,3 +138,26 @@ def test_velocity_profile_is_label_ordered():
     assert neighbour(prof) > 0.8 and abs(neighbour(shuffled)) < 5 / np.sqrt(n)
     ulam = obs.velocity_profile(simulate(Ulam(n, 0.5), [40.0], 1, progress=False).velocities)[1]
     assert abs(neighbour(ulam)) < 5 / np.sqrt(n)
+
+
+def test_mean_sem_is_the_standard_error_over_seeds():
+    from particles.observables import mean_sem, mean_sem_json
+
+    # [1, 2, 3, 4]: sample variance 5/3, so sem = sqrt(5/3) / 2
+    mean, sem = mean_sem([1.0, 2.0, 3.0, 4.0])
+    assert mean == 2.5 and sem == pytest.approx(math.sqrt(5.0 / 3.0) / 2.0, rel=1e-15)
+    rows = np.array([[1.0, 10.0], [3.0, 10.0]])
+    m, e = mean_sem(rows, axis=0)
+    assert np.allclose(m, [2.0, 10.0]) and np.allclose(e, [1.0, 0.0])
+    assert math.isnan(mean_sem([7.0])[1])
+    assert mean_sem_json([7.0]) == [7.0, None] and mean_sem_json([]) == [None, None]
+    assert mean_sem_json([1.0, 3.0]) == [2.0, 1.0]
+
+
+def test_haff_time_and_energy():
+    from particles.md.observables import haff_energy, haff_time
+
+    t0 = haff_time(0.5, 2.0)
+    assert t0 == pytest.approx(math.sqrt(math.pi) / (0.75 * 2.0), rel=1e-15)
+    assert haff_energy(t0, 0.5, 2.0) == pytest.approx(0.25, rel=1e-15)  # T₀ / (1 + 1)²
+    assert haff_time(1.0, 1.0) == math.inf

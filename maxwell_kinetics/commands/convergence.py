@@ -39,7 +39,7 @@ def _convergence_options(p) -> None:
 
 
 def run(args) -> int:
-    from ..convergence import convergence_study, write_results  # JAX: imported only when it runs
+    from ..convergence import convergence_study  # JAX: imported only when it runs
 
     rs = [check_restitution(r) for r in parse_float_list(args.restitution, "restitution")]
     names = [get_resolution(n).name for n in parse_name_list(args.resolutions, "resolutions")]
@@ -63,3 +63,22 @@ def run(args) -> int:
         print("fitted order (slope of log floor vs log h):", summary["order_fit"])
         print(f"wrote {Path(args.out) / 'convergence.json'} and convergence.png")
     return 0
+
+
+def write_results(runs, out_dir) -> dict:
+    """Write ``convergence.json`` and ``convergence.png`` into ``out_dir``; return the summary
+    (:func:`maxwell_kinetics.convergence.summarize`)."""
+    import json
+    from pathlib import Path
+
+    from particles import persistence
+
+    from ..convergence import summarize
+    from ..plotting import plot_convergence
+
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    summary = summarize(runs)
+    persistence.write_text(out / "convergence.json", json.dumps(summary, indent=1), "out")
+    persistence.save_figure(plot_convergence(runs), out / "convergence.png", "out", dpi=120)
+    return summary

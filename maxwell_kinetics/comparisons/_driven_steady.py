@@ -13,6 +13,8 @@ import time
 
 import numpy as np
 
+from particles.observables import mean_sem_json
+
 from ..driven import steady_state
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
@@ -32,9 +34,6 @@ PRESETS = {
 }
 
 
-def _ms(a) -> list:
-    a = np.asarray(a, dtype=float)
-    return [float(a.mean()), float(a.std(ddof=1) / math.sqrt(a.size)) if a.size > 1 else None]
 
 
 def run(size=None, progress: bool = True, **overrides) -> Comparison:
@@ -78,7 +77,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
         tail = (w >= 3) & (w <= 6) & (counts >= 10)
         slope = float(np.polyfit(np.abs(centres[tail]), np.log(dens[tail]), 1)[0])
         slope_theory = float(np.polyfit(np.abs(centres[tail]), np.log(exact[tail]), 1)[0])
-        var_p, kurt_p = _ms(m2), _ms(kurt)
+        var_p, kurt_p = mean_sem_json(m2), mean_sem_json(kurt)
         # The seed scatter of a few runs can come out small by chance (4 runs: 3 degrees of
         # freedom); the particles of one steady run are nearly independent, so the error of the
         # pooled ⟨v²⟩ is also sqrt(Var(v²) / (N R)): the larger of the two is used.

@@ -8,6 +8,8 @@ import time
 
 import numpy as np
 
+from particles.md.observables import haff_time
+
 from .. import statistics as st
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
@@ -78,7 +80,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     lat = lattice_runs(r, prm["lattice_n"], lattice_times(prm["lattice_tau_max"]),
                        tuple(range(prm["lattice_seeds"])), progress=progress)
     t, e = md["times"], md["energy"]
-    t0 = math.sqrt(math.pi) / (1.0 - r * r)
+    t0 = haff_time(r, 1.0)  # the presets' MD runs are at density 1
     tau, el = lat["times"], lat["energy"]
     # Each fit: (clock, energies, window name, abscissa of the fit as a function of the clock).
     # The lattice's early fit also uses the exact E(0) = 1 at τ = 0.

@@ -8,6 +8,8 @@ import time
 
 import numpy as np
 
+from particles.observables import mean_sem
+
 from .. import statistics as st
 from ..model import MaxwellModel
 from .analysis import bin_edges
@@ -166,8 +168,9 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
         snaps = ulam_snapshots(r, law, n, [tau], list(range(int(prm["scan_seeds"]))))
         ks = np.array([st.ks_distance(x, edges, cdf)
                        for x in _kinetic_scaled(snaps[0], r, tau)])
-        ks_mean.append(float(ks.mean()))
-        ks_err.append(float(ks.std(ddof=1) / math.sqrt(ks.size)))
+        mean, err = mean_sem(ks)
+        ks_mean.append(mean)
+        ks_err.append(err)
     logn = np.log(np.asarray(prm["scan_n"], dtype=float))
     sig = np.asarray(ks_err) / np.asarray(ks_mean)
     slope, slope_err, icpt = st.weighted_slope(logn, np.log(ks_mean), sig)

@@ -10,7 +10,7 @@ import time
 
 import numpy as np
 
-from particles.observables import structure_factor
+from particles.observables import mean_sem, mean_sem_json, structure_factor
 from particles.progress import progress_bar
 from particles.sticky import (
     CHERNOFF_VARIANCE,
@@ -175,10 +175,7 @@ def _line_fit(x, y):
 
 
 def _mean_se(values):
-    v = np.asarray([x for x in values if x is not None], dtype=float)
-    if v.size == 0:
-        return [None, None]
-    return [float(v.mean()), float(v.std(ddof=1) / math.sqrt(v.size)) if v.size > 1 else None]
+    return mean_sem_json([x for x in values if x is not None])
 
 
 def run(size=None, progress: bool = True, **overrides) -> Comparison:
@@ -432,7 +429,7 @@ def plot(c, ax=None):
     a.legend(fontsize=7)
     et = d["e_t23"]
     b.errorbar(times, et.mean(axis=0),
-               yerr=et.std(axis=0, ddof=1) / math.sqrt(et.shape[0]) if et.shape[0] > 1 else None,
+               yerr=mean_sem(et, axis=0)[1] if et.shape[0] > 1 else None,
                fmt="o-", ms=3, capsize=2)
     ex = s["energy"]["exponent"]
     b.set(xscale="log", xlabel="t", ylabel="E t^(2/3)",

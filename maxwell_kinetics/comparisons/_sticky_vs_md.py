@@ -5,10 +5,11 @@ Rajesh 2007).  ``run`` computes, ``plot`` draws."""
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
+
+from particles.observables import mean_sem_json
 
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors, panels
@@ -94,11 +95,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None, **overrides) -> C
     scale = t ** (2.0 / 3.0)
 
     def mean_se(a):  # per time: [mean, standard error] over the rows (seeds)
-        a = np.asarray(a, float)
-        if a.shape[0] < 2:
-            return [[float(m), None] for m in a.mean(axis=0)]
-        err = a.std(axis=0, ddof=1) / math.sqrt(a.shape[0])
-        return [[float(m), float(e)] for m, e in zip(a.mean(axis=0), err, strict=True)]
+        return [mean_sem_json(column) for column in np.asarray(a, float).T]
 
     rms = float(np.sqrt(np.mean(paired**2)))
     rms_un = float(np.sqrt(np.mean(unpaired**2))) if unpaired.size else None

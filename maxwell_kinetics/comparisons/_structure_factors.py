@@ -3,12 +3,11 @@ and of MD against scaled k, with the Porod tail.  ``run`` computes, ``plot`` dra
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
 
-from particles.observables import log_bin, structure_factor
+from particles.observables import log_bin, mean_sem_json, structure_factor
 
 from .analysis import jackknife, log_binned, porod_fit, porod_slope
 from .base import Comparison, jsonable, preset, register_plot
@@ -180,11 +179,7 @@ def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm, *, latt
         "z_scan": [float(zs[0]), float(zs[-1]), float(zs[1] - zs[0])],
         "porod_window": {"x": list(map(float, window)), "k_max": float(k_max)},
         "porod_slope_per_time": [with_error(v, "slopes", i) for i, v in enumerate(full["slopes"])],
-        "porod_slope_last_time": [
-            float(np.mean(per_seed)) if per_seed else None,
-            float(np.std(per_seed, ddof=1) / math.sqrt(len(per_seed))) if len(per_seed) > 1
-            else None,
-        ],
+        "porod_slope_last_time": mean_sem_json(per_seed),
     }
 
 

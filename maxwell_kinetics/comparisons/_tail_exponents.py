@@ -9,10 +9,11 @@ draws."""
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
+
+from particles.observables import mean_sem
 
 from ..tails import tail_exponent
 from .base import Comparison, jsonable, preset, register_plot
@@ -66,7 +67,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
         speeds = np.sqrt(np.sum(v * v, axis=-1))
         alphas = np.array([hill_exponent(row, int(prm["top"])) for row in speeds])
         s = tail_exponent(d, r, angular).s
-        mean, err = float(alphas.mean()), float(alphas.std(ddof=1) / math.sqrt(alphas.size))
+        mean, err = mean_sem(alphas)
         particles.append({"dimension": int(d), "angular": angular, "restitution": float(r),
                           "alpha": [mean, err], "alpha_exact": 2 * s,
                           "in_sigma": (mean - 2 * s) / err, "per_run": alphas.tolist()})

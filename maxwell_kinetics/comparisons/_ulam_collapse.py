@@ -3,10 +3,11 @@ f(x) = 2/(π(1+x²)²) for several r.  ``run`` computes, ``plot`` draws."""
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
+
+from particles.observables import mean_sem
 
 from .. import statistics as st
 from ..exact import f_density
@@ -97,7 +98,7 @@ def _tail_histogram(x: np.ndarray) -> dict:
     edges = _TAIL_EDGES
     counts = st.bin_counts(np.abs(x), edges)
     dens = counts / (2.0 * x.shape[1] * np.diff(edges))
-    err = (dens.std(axis=0, ddof=1) / math.sqrt(x.shape[0]) if x.shape[0] > 1
+    err = (mean_sem(dens, axis=0)[1] if x.shape[0] > 1
            else np.sqrt(counts[0]) / (2.0 * x.shape[1] * np.diff(edges)))
     return {"centres": np.sqrt(edges[1:] * edges[:-1]), "density": dens.mean(axis=0),
             "error": err, "counts": counts.sum(axis=0)}

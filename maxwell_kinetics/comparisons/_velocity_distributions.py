@@ -9,6 +9,7 @@ import time
 import numpy as np
 
 from particles.md import haff_energy
+from particles.observables import mean_sem, mean_sem_json
 
 from ..exact import f_density
 from ..model import MaxwellModel
@@ -53,13 +54,10 @@ def _shape_numbers(v: np.ndarray, edges) -> dict:
     dens = np.array([np.histogram(row, edges)[0] / (row.size * width) for row in x])
     r = x.shape[0]
 
-    def ms(a):
-        return [float(a.mean()), float(a.std(ddof=1) / math.sqrt(r)) if r > 1 else None]
-
-    return {"kurtosis": ms(kurt), "abs_mean": ms(absm), "per_run_kurtosis": kurt.tolist(),
-            "per_run_abs_mean": absm.tolist(), "_density": dens.mean(axis=0),
-            "_density_error": (dens.std(axis=0, ddof=1) / math.sqrt(r) if r > 1
-                               else np.zeros(dens.shape[1]))}
+    return {"kurtosis": mean_sem_json(kurt), "abs_mean": mean_sem_json(absm),
+            "per_run_kurtosis": kurt.tolist(), "per_run_abs_mean": absm.tolist(),
+            "_density": dens.mean(axis=0),
+            "_density_error": (mean_sem(dens, axis=0)[1] if r > 1 else np.zeros(dens.shape[1]))}
 
 
 def run(size=None, progress: bool = True, checkpoint_dir=None,

@@ -4,10 +4,11 @@ lattice at equal energy, and the sign asymmetry of their large gradients.  ``run
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
+
+from particles.observables import mean_sem_json
 
 from .analysis import block_means, coarse_increment_skewness, profile_scales, velocity_on_grid
 from .base import Comparison, jsonable, preset, register_plot
@@ -83,15 +84,12 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     scales = {"md_vx": md_scales, "md_vi": md_scales,
               "lattice_vi": profile_scales(prm["lattice_n"])}
 
-    def mean_sem(a):
-        return [float(a.mean()), float(a.std(ddof=1) / math.sqrt(a.size)) if a.size > 1 else None]
-
     out, coarse = {}, {}
     for k, runs in profiles.items():
         table = np.array([[coarse_increment_skewness(v, m) for m in scales[k]] for v in runs])
-        out[k] = {"skewness": mean_sem(table[:, 0]), "per_run": table[:, 0].tolist()}
+        out[k] = {"skewness": mean_sem_json(table[:, 0]), "per_run": table[:, 0].tolist()}
         coarse[k] = {"scales": list(scales[k]),
-                     "skewness": [mean_sem(table[:, q]) for q in range(len(scales[k]))],
+                     "skewness": [mean_sem_json(table[:, q]) for q in range(len(scales[k]))],
                      "per_run": table.tolist()}
     summary = {"parameters": jsonable(prm), "md_time": float(md["times"][j]),
                "energy": target, "lattice_tau": lat["tau"].tolist(),

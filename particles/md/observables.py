@@ -3,7 +3,7 @@
 Energy, histogram, S(k) and C(r) are those of :mod:`particles.observables` applied to the
 velocities in label order (``state.velocities``: the lattice conventions); this module adds what
 is MD-specific: τ(t), the total momentum, rod positions, the profiles v(x, t) and v(i, t) and
-Haff's law (SPEC §4).
+Haff's law (:func:`haff_time`, :func:`haff_energy`).
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ __all__ = [
     "rod_positions",
     "profile_x",
     "profile_i",
+    "haff_time",
     "haff_energy",
     "initial_cooling_rate",
 ]
@@ -53,13 +54,24 @@ def profile_i(state: MDState):
     return np.arange(state.velocities.size), state.velocities.copy()
 
 
+def haff_time(restitution: float, density: float, t0_energy: float = 1.0) -> float:
+    """Haff's time t₀ = √π / ((1 − r²) n √T₀): the homogeneous cooling state of point-like
+    rods (Gaussian velocities, collision rate (2/√π) n √T per particle, each collision losing
+    (1 − r²)/4 of the pair's squared relative velocity) has T(t) = T₀ / (1 + t/t₀)² and
+    τ(t) = (2/(1 − r²)) ln(1 + t/t₀) collisions per particle.  ``inf`` for r = 1 (no
+    cooling).  ``density`` is the reduced density n / (1 − n σ) for rods of length σ."""
+    if restitution >= 1.0:
+        return math.inf
+    return math.sqrt(math.pi) / ((1.0 - restitution**2) * density * math.sqrt(t0_energy))
+
+
 def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
-    """Haff's law T₀ / (1 + t/t₀)², t₀ = √π / ((1 − r²) n √T₀) (SPEC §4)."""
+    """Haff's law T₀ / (1 + t/t₀)² with t₀ = :func:`haff_time`."""
     t = np.asarray(t, dtype=float)
-    lam = (1.0 - restitution**2) * density * math.sqrt(t0_energy)
-    return t0_energy / (1.0 + t * lam / math.sqrt(math.pi)) ** 2
+    return t0_energy / (1.0 + t / haff_time(restitution, density, t0_energy)) ** 2
 
 
 def initial_cooling_rate(restitution: float, density: float, t0_energy: float = 1.0) -> float:
-    """dT/dt at t = 0⁺ for Gaussian velocities: −(2/√π)(1 − r²) n T₀^{3/2} (SPEC §4)."""
+    """dT/dt at t = 0⁺ for Gaussian velocities: −(2/√π)(1 − r²) n T₀^{3/2} (the derivative
+    of :func:`haff_energy` at t = 0)."""
     return -2.0 / math.sqrt(math.pi) * (1.0 - restitution**2) * density * t0_energy**1.5
