@@ -29,7 +29,7 @@ was 4–6x slower.
 
 The isotropic d-dimensional model (d = 2, 3; :func:`maxwell_kinetics.solver.solve` with
 ``dimension``) uses the same windows with transport speed Λ/2 = p(1 − p)⟨η⟩ and one pair of
-gain stencils per Gauss–Jacobi node η_i (:func:`angular_quadrature`, :func:`_rhs_isotropic`),
+gain stencils per Gauss–Jacobi node η_i (:meth:`.AngularLaw.quadrature`, :func:`_rhs_isotropic`),
 with more nodes at larger q (:func:`angular_tiers`); d = 1 is the single node η = 1 and runs
 the one-dimensional code unchanged.
 
@@ -57,7 +57,7 @@ from particles.initial import InitialLaw
 
 from .deviation import SolverOptions, source_parts
 from .grid import INFLOW_CUT, Resolution, lagrange_weights
-from .model import MaxwellModel
+from .model import MaxwellModel, angular_law
 
 #: Traces (= compilations) of each jitted function since import: {"advance": n, "output": n}.
 TRACES: collections.Counter = collections.Counter()
@@ -138,31 +138,12 @@ def window_cells(speed: float, grid: Resolution, opts) -> tuple[int, float]:
     return cells, cells * grid.h / speed
 
 
-def angular_quadrature(dimension: int, angular: str, nodes: int) -> tuple[np.ndarray, np.ndarray]:
-    """Gauss–Jacobi nodes η_i and weights ω_i (Σ ω_i = 1) for η ~ Beta(a, b) of
-    :func:`maxwell_kinetics.model.angular_law`: exact for polynomials in η of degree
-    2 nodes − 1, in particular ⟨η⟩.  d = 1: the single node η = 1.
-
-    Measured convergence (r = 0.5, coarse grid, G at τ = 30 and 300 against 32 nodes): 4, 6, 8,
-    12, 16 nodes differ by 1.4e-5, 3.5e-7, 2.0e-8, 4.5e-9, 3.1e-9 (d = 2) and 2.6e-6, 4.5e-8,
-    1.1e-8, 6.6e-9, 2.7e-9 (d = 3).  Gauss–Jacobi in u = √η instead was worse at these node
-    counts (8 nodes: 3.8e-7 and 6.8e-8), and so was Gauss in u = η^{1/m} for m = 2, 3, 4 with
-    4–6 nodes (3e-5 to 9e-4 at r = 0.5, d = 2 uniform): the error at few nodes is not the
-    η^{s*} term at η = 0 but the scale ~1/q² in η on which G(p √η q) varies at q ≳ 1.  The
-    solver therefore uses this rule with a node count that grows with q (:func:`angular_tiers`).
-    """
-    from scipy.special import roots_jacobi
-
-    from .model import angular_law
-
-    a, b = angular_law(dimension, angular)
-    if dimension == 1:
-        return np.ones(1), np.ones(1)
-    # weight (1 − x)^α (1 + x)^β on [−1, 1]; η = (1 + x)/2 gives η^β (1 − η)^α.
-    x, w = roots_jacobi(nodes, b - 1.0, a - 1.0)
-    return 0.5 * (1.0 + x), w / w.sum()
-
-
+#: The η rule is :meth:`maxwell_kinetics.model.AngularLaw.quadrature` (Gauss–Jacobi).  Measured
+#: convergence (r = 0.5, coarse grid, G at τ = 30 and 300 against 32 nodes): 4, 6, 8, 12, 16
+#: nodes differ by 1.4e-5, 3.5e-7, 2.0e-8, 4.5e-9, 3.1e-9 (d = 2) and 2.6e-6, 4.5e-8, 1.1e-8,
+#: 6.6e-9, 2.7e-9 (d = 3).  Gauss–Jacobi in u = √η was worse at these node counts, and so was
+#: Gauss in u = η^{1/m} (m = 2, 3, 4): the error at few nodes comes from the scale ~1/q² in η on
+#: which G(p √η q) varies at q ≳ 1, hence a node count that grows with q.
 #: Per angular rule: (q from which the tier applies, its Gauss–Jacobi nodes at
 #: ``angular_nodes`` = 16; None: all ``angular_nodes``), by increasing q; see
 #: :func:`angular_tiers`.  "fast" (the default of :func:`maxwell_kinetics.solver.solve`):
@@ -178,7 +159,7 @@ ANGULAR_RULES: dict[str, tuple[tuple[float, int | None], ...]] = {
 
 @dataclass(frozen=True)
 class AngularTier:
-    """The η rule (:func:`angular_quadrature`) of the state nodes j ≥ ``first`` (up to the
+    """The η rule (:meth:`.AngularLaw.quadrature`) of the state nodes j ≥ ``first`` (up to the
     next tier's first node)."""
 
     first: int
@@ -188,7 +169,7 @@ class AngularTier:
 
 def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution,
                   rule: str = "accurate") -> tuple[AngularTier, ...]:
-    """The η quadrature of the gain per range of q: Gauss–Jacobi (:func:`angular_quadrature`)
+    """The η quadrature of the gain per range of q: Gauss–Jacobi (:meth:`.AngularLaw.quadrature`)
     with min(max(⌈N_k ``nodes`` / 16⌉, 2), ``nodes``) nodes at the state nodes whose q at the
     window start is ≥ q_k, for (q_k, N_k) in :data:`ANGULAR_RULES` [``rule``] (N_k = None:
     ``nodes``).  "accurate", at ``nodes`` = 16: 2 nodes below q = 1e-6 (37 % of the state
@@ -221,9 +202,9 @@ def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution,
     same for all of them; :func:`transport_speed` takes the lowest tier's ⟨η⟩, the rule of
     q → 0 where G''(0) = −1 is decided.
     """
+    law = angular_law(dimension, angular)
     if dimension == 1:
-        eta, weights = angular_quadrature(1, angular, 1)
-        return (AngularTier(0, eta, weights),)
+        return (AngularTier(0, *law.quadrature(1)),)
     tiers: list[AngularTier] = []
     for q_from, tier_nodes in ANGULAR_RULES[rule]:
         count = nodes if tier_nodes is None else min(max(math.ceil(tier_nodes * nodes / 16), 2),
@@ -236,7 +217,7 @@ def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution,
             continue  # the same rule as the tier below: extend that one
         if tiers and tiers[-1].first == first:
             tiers.pop()
-        tiers.append(AngularTier(first, *angular_quadrature(dimension, angular, count)))
+        tiers.append(AngularTier(first, *law.quadrature(count)))
     return tuple(tiers)
 
 

@@ -11,30 +11,74 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from particles.validation import check_restitution
 
-__all__ = ["MaxwellModel", "angular_law", "ANGULAR_MODELS"]
+__all__ = ["MaxwellModel", "AngularLaw", "angular_law", "ANGULAR_MODELS"]
 
-#: Angular models of the d-dimensional isotropic equation (see :func:`angular_law`).
-ANGULAR_MODELS = ("uniform", "hard")
+#: Angular models of the d-dimensional isotropic equation, each with the Beta parameter a of
+#: η ~ Beta(a, (d − 1)/2) (see :func:`angular_law`).
+ANGULAR_MODELS = {"uniform": 0.5, "hard": 1.0}
 
 
-def angular_law(dimension: int, angular: str = "uniform") -> tuple[float, float]:
-    """(a, b) of η = (k̂·n)² ~ Beta(a, b) in d = ``dimension`` ∈ {2, 3}, or (1, 0) (η ≡ 1)
-    for d = 1.
+@dataclass(frozen=True)
+class AngularLaw:
+    """The law of η = (k̂·n)², k̂ the wave vector's direction and n the collision direction:
+    Beta(a, b) with b = (d − 1)/2 in d = 2, 3, and the point mass η ≡ 1 in d = 1 (stored as
+    a = 1, b = 0).  ``a, b = law`` unpacks the two parameters."""
+
+    dimension: int
+    angular: str
+    a: float
+    b: float
+
+    @property
+    def degenerate(self) -> bool:
+        """True in d = 1 (η ≡ 1)."""
+        return self.dimension == 1
+
+    @property
+    def mean(self) -> float:
+        """⟨η⟩ = a / (a + b): 1/d ("uniform"), 2/(d + 1) ("hard"), 1 in d = 1."""
+        return self.a / (self.a + self.b)
+
+    def __iter__(self):
+        yield self.a
+        yield self.b
+
+    def quadrature(self, nodes: int) -> tuple[np.ndarray, np.ndarray]:
+        """Gauss–Jacobi nodes η_i and weights ω_i (Σ ω_i = 1) of ``nodes`` points for this
+        Beta law: exact for polynomials in η of degree 2 nodes − 1, in particular ⟨η⟩.
+        d = 1: the single node η = 1 whatever ``nodes``.
+
+        The gain integrand G(q √(1 − (1 − q₁²)η)) G(p q √η) varies with η on a scale ~1/q²,
+        so few nodes suffice at small q; the solver picks the count per range of q
+        (``maxwell_kinetics._kinetic_scheme.angular_tiers``)."""
+        if self.degenerate:
+            return np.ones(1), np.ones(1)
+        from scipy.special import roots_jacobi
+
+        # weight (1 − x)^α (1 + x)^β on [−1, 1]; η = (1 + x)/2 gives η^β (1 − η)^α.
+        x, w = roots_jacobi(int(nodes), self.b - 1.0, self.a - 1.0)
+        return 0.5 * (1.0 + x), w / w.sum()
+
+
+def angular_law(dimension: int, angular: str = "uniform") -> AngularLaw:
+    """The checked :class:`AngularLaw` of η for ``dimension`` d ∈ {1, 2, 3} and ``angular``:
 
     "uniform": n uniform on the sphere, η ~ Beta(1/2, (d − 1)/2); "hard": the collision rate
-    weighted by |k̂·n|, η ~ Beta(1, (d − 1)/2).
+    weighted by |k̂·n|, η ~ Beta(1, (d − 1)/2); d = 1: η ≡ 1.
     """
-    from particles.validation import InvalidArgumentError
+    from particles.validation import InvalidArgumentError, check_choice
 
     if dimension not in (1, 2, 3) or isinstance(dimension, bool):
         raise InvalidArgumentError("dimension", dimension, "1, 2 or 3")
-    if angular not in ANGULAR_MODELS:
-        raise InvalidArgumentError("angular", angular, "one of " + ", ".join(ANGULAR_MODELS))
-    if dimension == 1:
-        return 1.0, 0.0
-    return (0.5 if angular == "uniform" else 1.0), 0.5 * (dimension - 1)
+    angular = check_choice(angular, "angular", ANGULAR_MODELS)
+    d = int(dimension)
+    if d == 1:
+        return AngularLaw(1, angular, 1.0, 0.0)
+    return AngularLaw(d, angular, ANGULAR_MODELS[angular], 0.5 * (d - 1))
 
 
 @dataclass(frozen=True)
@@ -82,8 +126,7 @@ class MaxwellModel:
         η = (k̂·n)² has the law of :func:`angular_law` (⟨η⟩ = 1/d "uniform", 2/(d + 1)
         "hard"; η ≡ 1 for d = 1, where Λ = 2λ).
         """
-        a, b = angular_law(dimension, angular)
-        return 2.0 * self.lam * a / (a + b)
+        return 2.0 * self.lam * angular_law(dimension, angular).mean
 
     def energy(self, tau: float) -> float:
         """⟨v²⟩(τ) for unit initial variance and zero mean."""

@@ -44,7 +44,8 @@ from particles.collision import transfer_fraction
 from particles.validation import InvalidArgumentError, check_times
 
 from .solver import Solution, deviation_from_f_hat
-from .tails import angular_law, eta_moment, growth_rate
+from .model import angular_law
+from .tails import eta_moment, growth_rate
 
 __all__ = [
     "gain_coefficient",

@@ -356,7 +356,7 @@ def fixed_point(
 
     ``dimension`` 2 or 3 solves the stationary form of the isotropic equation of
     :func:`maxwell_kinetics.solver.solve` (``angular`` model; the η integral is the solver's own
-    quadrature with ``angular_nodes`` nodes, ``_kinetic_scheme.angular_quadrature``):
+    quadrature with ``angular_nodes`` nodes, :meth:`maxwell_kinetics.model.AngularLaw.quadrature`):
 
         (Λ/2) q G' − G + Σ_i ω_i G(a_i q) G(b_i q) = 0,   a_i = √(1 − (1 − (1−p)²) η_i),
         b_i = p √η_i,   Λ/2 = p (1 − p) Σ_i ω_i η_i,
@@ -385,9 +385,7 @@ def fixed_point(
     tol = check_positive(tol, "tol")
     max_iterations = check_count(max_iterations, "max_iterations", 1)
     if dimension != 1:
-        from ._kinetic_scheme import angular_quadrature
-
-        eta, weights = angular_quadrature(dimension, angular, angular_nodes)
+        eta, weights = angular_law(dimension, angular).quadrature(angular_nodes)
         fp = _isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_iterations)
         return replace(fp, dimension=dimension, angular=angular, angular_nodes=angular_nodes,
                        seconds=time.perf_counter() - t0)

@@ -62,13 +62,12 @@ from scipy.special import beta as beta_function
 from scipy.special import hyp2f1
 
 from particles.collision import transfer_fraction
-from particles.validation import InvalidArgumentError, check_choice, check_restitution
+from particles.validation import InvalidArgumentError, check_restitution
+
+from .model import AngularLaw, angular_law
 
 __all__ = [
-    "ANGULAR_MODELS",
-    "AngularLaw",
     "TailExponent",
-    "angular_law",
     "eta_moment",
     "mixed_moment",
     "growth_rate",
@@ -76,43 +75,6 @@ __all__ = [
     "moment_rates",
     "tail_exponent",
 ]
-
-#: Names of the angular models: the Beta parameter a of η ~ Beta(a, (d − 1)/2).
-ANGULAR_MODELS = {"uniform": 0.5, "hard": 1.0}
-
-
-@dataclass(frozen=True)
-class AngularLaw:
-    """The law of η = (k̂·n)² in ``dimension`` d for the model ``angular``: Beta(a, b) with
-    b = (d − 1)/2, or the point mass η ≡ 1 in d = 1 (``b`` is then 0)."""
-
-    dimension: int
-    angular: str
-    a: float
-    b: float
-
-    @property
-    def degenerate(self) -> bool:
-        """True in d = 1 (η ≡ 1)."""
-        return self.dimension == 1
-
-
-def _check_dimension(dimension) -> int:
-    if isinstance(dimension, bool) or dimension not in (1, 2, 3):
-        raise InvalidArgumentError("dimension", dimension, "1, 2 or 3")
-    return int(dimension)
-
-
-def _check_angular(angular) -> str:
-    return check_choice(angular, "angular", ANGULAR_MODELS)
-
-
-def angular_law(dimension, angular="uniform") -> AngularLaw:
-    """The checked law of η for ``dimension`` ∈ {1, 2, 3} and ``angular`` ∈ {"uniform", "hard"}."""
-    d = _check_dimension(dimension)
-    angular = _check_angular(angular)
-    return AngularLaw(d, angular, ANGULAR_MODELS[angular], (d - 1) / 2.0)
-
 
 def eta_moment(law: AngularLaw, s):
     """⟨η^s⟩ = B(a + s, b)/B(a, b) (1 in d = 1), for s ≥ 0 (array-like)."""

@@ -15,7 +15,7 @@ from scipy.integrate import IntegrationWarning, quad
 from scipy.special import beta as beta_function
 
 import maxwell_kinetics._kinetic_scheme as scheme
-from maxwell_kinetics._kinetic_scheme import angular_quadrature, angular_tiers, transport_speed
+from maxwell_kinetics._kinetic_scheme import angular_tiers, transport_speed
 from maxwell_kinetics.grid import get_resolution
 from maxwell_kinetics.model import MaxwellModel, angular_law
 from maxwell_kinetics.solver import solve
@@ -38,7 +38,7 @@ def test_energy_rate_matches_the_sphere(d, angular):
     # closed forms: ⟨η⟩ = 1/d and 2/(d + 1); the quadrature reproduces them to round-off
     exact = 1 / d if angular == "uniform" else 2 / (d + 1)
     assert model.energy_rate(d, angular) == pytest.approx(2 * model.lam * exact, rel=1e-14)
-    eta, w = angular_quadrature(d, angular, 12)
+    eta, w = angular_law(d, angular).quadrature(12)
     assert float(w @ eta) == pytest.approx(exact, rel=1e-13)
     assert MaxwellModel(0.3).energy_rate(1) == pytest.approx(2 * model.lam, rel=1e-15)
 
@@ -129,7 +129,7 @@ def test_gauss_jacobi_rule_integrates_the_beta_moments_of_its_degree(d, angular)
     # (its relative error is 7e-7 for n = 6, below round-off for n = 16: checked for n ≤ 6).
     a, b = angular_law(d, angular)
     for n in (1, 2, 3, 6, 16):
-        eta, w = angular_quadrature(d, angular, n)
+        eta, w = angular_law(d, angular).quadrature(n)
         assert np.all((eta > 0) & (eta < 1)) and np.all(w > 0)
         assert w.sum() == pytest.approx(1.0, abs=1e-15)
         for k in range(2 * n + 1):
@@ -185,7 +185,7 @@ def test_tiered_eta_rule_is_as_accurate_as_the_full_rule_at_every_q(d, angular, 
     model = MaxwellModel(r)
     p, q1 = model.p, 1 - model.p
     a, b = angular_law(d, angular)
-    full_eta, full_w = angular_quadrature(d, angular, 16)
+    full_eta, full_w = angular_law(d, angular).quadrature(16)
     tiers = angular_tiers(d, angular, 16, grid, rule)
     for k, tier in enumerate(tiers):
         end = tiers[k + 1].first if k + 1 < len(tiers) else grid.n

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 from scipy import integrate, stats
 
+from maxwell_kinetics.model import angular_law
 from maxwell_kinetics.tails import (
-    angular_law,
     decay_rate,
     eta_moment,
     growth_rate,
