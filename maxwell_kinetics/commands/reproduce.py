@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from particles.validation import InvalidArgumentError, parse_count, parse_name_list
 
+from .. import compile_cache
 from ..output import check_output_dir, emit_json, progress_enabled
 
 __all__ = ["add_parser", "run"]
@@ -32,6 +33,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--workers", default=None,
                    help="run the particle runs on N dask processes through the ensemble engine "
                    "(task files in <out>/runs; --full does this with one process per core)")
+    compile_cache.add_option(p)
     p.set_defaults(handler=run)
 
 
@@ -48,6 +50,7 @@ def run(args) -> int:
     workers = None if args.workers is None else parse_count(args.workers, "workers", 1)
     out = prepare_output(check_output_dir(args.out, "out"), "out")
     size = "full" if args.full else "small" if args.small else "default"
+    compile_cache.from_args(args)
     summary = run_all(out, size, only, progress=progress_enabled(args), workers=workers)
     if args.json:
         emit_json({"out": str(out), "size": size, "seconds": summary["seconds"],

@@ -18,6 +18,7 @@ from particles.validation import (
     parse_int,
 )
 
+from .. import compile_cache
 from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
 from ..model import MaxwellModel
 from ..output import check_outputs, emit_json, progress_enabled
@@ -52,6 +53,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.add_argument("--force", action="store_true",
                    help="run even when the estimated number of windows exceeds 1e9")
+    compile_cache.add_option(p)
     p.set_defaults(handler=run)
 
 
@@ -80,6 +82,7 @@ def run(args) -> int:
     rule = check_choice(args.angular_rule, "angular-rule", ("fast", "accurate"))
     check_outputs(save=args.save, images={"plot": args.plot})
     check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force)
+    compile_cache.from_args(args)
     from ..solver import solve  # JAX: imported only when a solve runs
 
     start = time.perf_counter()

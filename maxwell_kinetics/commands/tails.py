@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from particles.validation import parse_int
 
+from .. import compile_cache
 from ..output import emit_json
 from ..tails import tail_exponent
 
@@ -27,6 +28,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--restitution", "-r", required=True, help="restitution r in [0, 1)")
     p.add_argument("--angular", default="uniform", help="uniform or hard (default uniform)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    compile_cache.add_option(p, compiles=False)
     p.set_defaults(handler=run)
 
 
