@@ -47,11 +47,9 @@ import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
-import diffrax
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 
 from particles.initial import InitialLaw
 
@@ -498,6 +496,11 @@ def _integrate(st: Static, dy: Dynamic, y, tau_w, t_end):
 
 
 def _solve_window(st: Static, dy: Dynamic, y, tau_w, t_end):
+    # Imported when the scheme is traced: a process that loads the compiled scheme from the
+    # persistent cache (maxwell_kinetics.compile_cache) never imports them.
+    import diffrax
+    import optimistix as optx
+
     active_values = (dy.n_active * st.parts).astype(jnp.float64)
 
     active = _active(st, dy)

@@ -14,7 +14,6 @@ from particles.validation import parse_int
 
 from .. import compile_cache
 from ..output import emit_json
-from ..tails import tail_exponent
 
 __all__ = ["add_parser", "run"]
 
@@ -33,6 +32,8 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    from ..tails import tail_exponent  # scipy.optimize: imported only when it runs
+
     dimension = parse_int(args.dimension, "dimension")
     tail = tail_exponent(dimension, args.restitution, args.angular)
     payload = {"dimension": tail.dimension, "restitution": tail.restitution,
