@@ -32,7 +32,9 @@ CASES = {
 }
 
 
-def _run(argv: list[str], cache: Path, workdir: Path) -> float:
+def _run(argv: list[str], cache: Path, workdir: Path) -> tuple[float, dict]:
+    """Wall time of one fresh process; for ``reproduce``, also the seconds of each comparison
+    (from its summary.json)."""
     env = dict(os.environ, MAXWELL_KINETICS_CACHE=str(cache))
     env["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), env.get("PYTHONPATH")]))
     if argv[0] == "reproduce":
@@ -40,7 +42,13 @@ def _run(argv: list[str], cache: Path, workdir: Path) -> float:
     start = time.perf_counter()
     subprocess.run([sys.executable, "-m", "maxwell_kinetics.cli", *argv, "--json",
                     "--no-progress"], check=True, env=env, cwd=workdir, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - start
+    wall = time.perf_counter() - start
+    parts = {}
+    if argv[0] == "reproduce":
+        summary = json.loads((workdir / "results" / "summary.json").read_text())
+        parts = {name: entry["seconds"] for name, entry in summary["comparisons"].items()
+                 if isinstance(entry, dict) and "seconds" in entry}
+    return wall, parts
 
 
 def _entries(cache: Path) -> int:
@@ -59,11 +67,11 @@ def main() -> None:
         with tempfile.TemporaryDirectory() as tmp:
             tmp = Path(tmp)
             cache = tmp / "cache"
-            cold = _run(CASES[name], cache, tmp)
+            cold, cold_parts = _run(CASES[name], cache, tmp)
             entries = _entries(cache)
-            warm = min(_run(CASES[name], cache, tmp) for _ in range(args.repeat))
+            warm, warm_parts = min(_run(CASES[name], cache, tmp) for _ in range(args.repeat))
         rows.append({"case": name, "cold_s": cold, "warm_s": warm, "ratio": warm / cold,
-                     "entries": entries})
+                     "entries": entries, "parts_cold_s": cold_parts, "parts_warm_s": warm_parts})
         print(f"{name}: cold {cold:.2f} s, warm {warm:.2f} s, ratio {warm / cold:.2f}",
               file=sys.stderr)
     load_after = os.getloadavg()
@@ -75,6 +83,13 @@ def main() -> None:
     print(f"load average (1, 5, 15 min) before {load_before[0]:.2f}, {load_before[1]:.2f}, "
           f"{load_before[2]:.2f}; after {load_after[0]:.2f}, {load_after[1]:.2f}, "
           f"{load_after[2]:.2f}")
+    for row in rows:
+        if row["parts_cold_s"]:
+            print(f"\n`{row['case']}`, seconds of each comparison (cold, warm):")
+            print("| comparison | cold | warm |\n|---|---|---|")
+            for part, cold in row["parts_cold_s"].items():
+                warm = row["parts_warm_s"].get(part, float("nan"))
+                print(f"| {part} | {cold:.1f} | {warm:.1f} |")
     commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                             text=True, cwd=ROOT).stdout.strip()
     (HERE / "compile_cache.json").write_text(json.dumps({
