@@ -1,12 +1,13 @@
 """The persistent compilation cache: wall time of fresh processes, cold cache then warm.
 
     python benchmarks/compile_cache.py            # the three cases, one pair of runs each
-    python benchmarks/compile_cache.py --repeat 2 # each warm run twice (the table keeps the min)
+    python benchmarks/compile_cache.py --repeat 2 # two pairs per case (the table keeps the mins)
 
 For each case, side by side in one run: a new empty cache folder (``MAXWELL_KINETICS_CACHE``),
-one fresh ``maxwell-kinetics`` process that fills it (cold), then fresh processes that read it
-(warm).  Wall time is measured around the whole subprocess (interpreter start, imports,
-tracing, compiling or loading, the solve).  Prints a Markdown table with the load average and
+one fresh ``maxwell-kinetics`` process that fills it (cold), then a fresh process that reads it
+(warm); with ``--repeat N``, N such pairs, each on a new folder, and the minimum of each.
+Wall time is measured around the whole subprocess (interpreter start, imports, tracing,
+compiling or loading, the solve).  Prints a Markdown table with the load average and
 writes benchmarks/compile_cache.json.
 """
 
@@ -57,21 +58,26 @@ def _entries(cache: Path) -> int:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--repeat", type=int, default=1, help="warm runs per case (min kept)")
+    parser.add_argument("--repeat", type=int, default=1,
+                        help="cold/warm pairs per case (mins kept)")
     parser.add_argument("--only", default=None, help="comma-separated case names")
     args = parser.parse_args()
     names = list(CASES) if args.only is None else args.only.split(",")
     rows = []
     load_before = os.getloadavg()
     for name in names:
-        with tempfile.TemporaryDirectory() as tmp:
-            tmp = Path(tmp)
-            cache = tmp / "cache"
-            cold, cold_parts = _run(CASES[name], cache, tmp)
-            entries = _entries(cache)
-            warm, warm_parts = min(_run(CASES[name], cache, tmp) for _ in range(args.repeat))
+        colds, warms = [], []
+        for _ in range(args.repeat):  # each repeat: a new empty cache, one cold run, one warm
+            with tempfile.TemporaryDirectory() as tmp:
+                tmp = Path(tmp)
+                cache = tmp / "cache"
+                colds.append(_run(CASES[name], cache, tmp))
+                entries = _entries(cache)
+                warms.append(_run(CASES[name], cache, tmp))
+        (cold, cold_parts), (warm, warm_parts) = min(colds), min(warms)
         rows.append({"case": name, "cold_s": cold, "warm_s": warm, "ratio": warm / cold,
-                     "entries": entries, "parts_cold_s": cold_parts, "parts_warm_s": warm_parts})
+                     "entries": entries, "parts_cold_s": cold_parts, "parts_warm_s": warm_parts,
+                     "all_cold_s": [c[0] for c in colds], "all_warm_s": [w[0] for w in warms]})
         print(f"{name}: cold {cold:.2f} s, warm {warm:.2f} s, ratio {warm / cold:.2f}",
               file=sys.stderr)
     load_after = os.getloadavg()
