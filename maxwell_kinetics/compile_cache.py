@@ -253,13 +253,31 @@ def _static_token(static) -> str | None:
     return ";".join(parts)
 
 
+def _jax_settings() -> str:
+    """The backend, its device and JAX's settings that change a trace (those that jit itself
+    keys its traces on; values without a stable text are left out)."""
+    import enum
+
+    import jax
+
+    try:
+        from jax._src.config import trace_context
+
+        plain = (bool, int, float, str, type(None), enum.Enum, tuple)
+        settings = [repr(v) for v in trace_context() if isinstance(v, plain)]
+    except Exception:  # noqa: BLE001 - another JAX: the public x64 switch at least
+        settings = [repr(jax.config.jax_enable_x64)]
+    device = jax.devices()[0]
+    return f"{jax.default_backend()}:{device.device_kind}:{','.join(settings)}"
+
+
 def _exported_key(name: str, token: str, args) -> str:
     import jax
 
     leaves, tree = jax.tree_util.tree_flatten(args)
     avals = [(getattr(x, "shape", ()), str(getattr(x, "dtype", type(x).__name__)),
               bool(getattr(x, "weak_type", False))) for x in leaves]
-    text = f"{name}|{token}|{tree}|{avals}|{_code_fingerprint()}"
+    text = f"{name}|{token}|{tree}|{avals}|{_jax_settings()}|{_code_fingerprint()}"
     return f"aot_{name}-" + hashlib.sha256(text.encode()).hexdigest()
 
 
