@@ -2,8 +2,14 @@
 
 Without it every new process compiles the kinetic solver again (seconds in 1D, about 15 s in 2D
 and 3D).  With it, the first process writes each compiled executable to disk and the next ones
-load it instead of compiling (tracing still runs: it is Python and costs a fraction of a second
-to a few seconds).
+load it instead of compiling.  Two layers, in one folder:
+
+* JAX's persistent compilation cache, with a checked store (below) in place of JAX's file
+  cache: every function that JAX compiles; a warm process still traces (Python: seconds for
+  the solver in 2D) and then loads instead of compiling.
+* The solver's two big functions (``advance``, ``output`` of the kinetic scheme) compiled ahead
+  of time and kept as serialized executables (:func:`call`): a warm process neither traces nor
+  compiles them, and does not even import diffrax.
 
 The command line turns the cache on for every subcommand that compiles (``solve``,
 ``fixed-point``, ``convergence``, ``reproduce``); ``--no-cache`` turns it off for one run.
@@ -20,7 +26,7 @@ Where
 Safety
     * Each entry is written to a temporary file and renamed into place, so a reader sees a
       whole entry or none, and two processes that start at once (and both compile) both succeed;
-      the second rename replaces an equal entry.
+      the second rename replaces an equivalent entry.
     * Each entry carries a header and a SHA-256 of its key and content.  An entry that fails the
       check (truncated, garbage, renamed from another key, written by another program, or not
       owned by the current user) is never given to JAX: it is deleted and compiled again, and
@@ -31,9 +37,10 @@ Safety
     * The checksum guards against damage, not against an attacker: like JAX's cache, the folder
       is trusted, so it is created readable and writable by its owner only.
 
-This module relies on two private names of ``jax._src.compilation_cache`` (``_cache``,
-``_cache_initialized``) to put the checked store in place of JAX's file cache; when they are
-missing (another JAX), the cache stays off with one warning line, and nothing else changes.
+This module relies on private names of ``jax._src.compilation_cache`` (``_cache``,
+``_cache_initialized``, ``_cache_initialized_mutex``) to put the checked store in place of JAX's
+file cache; when they are missing (another JAX), the cache stays off with one warning line, and
+nothing else changes.
 """
 
 from __future__ import annotations
@@ -310,7 +317,9 @@ def call(name: str, function, jitted, static, args: tuple):
     with the cache on, through an executable compiled ahead of time and kept in the cache.
 
     A warm process loads the executable and neither traces nor compiles.  The key hashes
-    ``name``, the static part, the shapes and dtypes of ``args`` and :func:`_code_fingerprint`.
+    ``name``, the static part, the shapes and dtypes of ``args``, the backend and JAX's trace
+    settings (:func:`_jax_settings`) and :func:`_code_fingerprint`.  An entry that does not
+    load (checked, but from a JAX that cannot read it) is compiled again and replaced.
     With the cache off, or a static part without a key (a user's law), ``jitted`` runs as it is.
     """
     store = _state.get("store")
@@ -363,7 +372,8 @@ def enable(path: str | os.PathLike | None = None) -> Path | None:
         return None
     from jax._src import compilation_cache as cc
 
-    if not all(hasattr(cc, name) for name in ("_cache", "_cache_initialized", "reset_cache")):
+    hooks = ("_cache", "_cache_initialized", "_cache_initialized_mutex", "reset_cache")
+    if not all(hasattr(cc, name) for name in hooks):
         _warn_once(root, f"jax {jax.__version__} has no hook for it")
         return None
     options = ("jax_compilation_cache_dir", "jax_persistent_cache_min_compile_time_secs",
