@@ -30,6 +30,7 @@ bench: install
 	$(PY) benchmarks/solver.py timing
 	$(PY) benchmarks/particles_ulam_lattice.py
 	$(PY) benchmarks/md.py
+	$(PY) benchmarks/compile_cache.py
 
 clean:
 	rm -rf $(VENV) $(RESULTS) build *.egg-info

@@ -47,11 +47,9 @@ import math
 from dataclasses import dataclass
 from typing import NamedTuple
 
-import diffrax
 import jax
 import jax.numpy as jnp
 import numpy as np
-import optimistix as optx
 
 from particles.initial import InitialLaw
 
@@ -464,7 +462,26 @@ def _rhs_isotropic(st: Static, t, y, args):
 
 
 def _integrate(st: Static, dy: Dynamic, y, tau_w, t_end):
-    """Integrate the window that started at τ_w from local time 0 to ``t_end``."""
+    """Integrate the window that started at τ_w from local time 0 to ``t_end``.
+
+    A failed integration (step limit, non-finite values) gives NaN, which the solver reports
+    after the window (a non-finite G); a state that is already NaN is passed on without a
+    solve.  diffrax's own ``throw=True`` check would be a host callback, and JAX's persistent
+    compilation cache does not store executables with host callbacks.
+    """
+    return jax.lax.cond(
+        jnp.all(jnp.isfinite(y)),
+        lambda: _solve_window(st, dy, y, tau_w, t_end),
+        lambda: jnp.full_like(y, jnp.nan),
+    )
+
+
+def _solve_window(st: Static, dy: Dynamic, y, tau_w, t_end):
+    # Imported when the scheme is traced: a process that loads the compiled scheme from the
+    # persistent cache (maxwell_kinetics.compile_cache) never imports them.
+    import diffrax
+    import optimistix as optx
+
     active_values = (dy.n_active * st.parts).astype(jnp.float64)
 
     active = _active(st, dy)
@@ -486,8 +503,9 @@ def _integrate(st: Static, dy: Dynamic, y, tau_w, t_end):
         ),
         saveat=diffrax.SaveAt(t1=True),
         max_steps=st.opts.max_steps_per_window,
+        throw=False,
     )
-    return sol.ys[0]
+    return jnp.where(sol.result == diffrax.RESULTS.successful, sol.ys[0], jnp.nan)
 
 
 def _window(st: Static, dy: Dynamic, i, y):

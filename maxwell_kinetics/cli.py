@@ -28,6 +28,7 @@ import sys
 
 from particles.validation import InvalidArgumentError
 
+from . import compile_cache
 from .commands import (
     convergence,
     ensemble,
@@ -142,6 +143,8 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:  # at any moment, start-up included: one line, no traceback
         print(f"{command}: interrupted", file=sys.stderr)
         return 130
+    finally:
+        compile_cache.end_command()  # an in-process run leaves JAX's cache settings as they were
 
 
 if __name__ == "__main__":  # pragma: no cover

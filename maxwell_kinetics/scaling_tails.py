@@ -43,8 +43,8 @@ from scipy.special import comb
 from particles.collision import transfer_fraction
 from particles.validation import InvalidArgumentError, check_times
 
-from .solver import Solution, deviation_from_f_hat
 from .model import angular_law
+from .solver import Solution, deviation_from_f_hat
 from .tails import eta_moment, growth_rate
 
 __all__ = [

@@ -70,6 +70,7 @@ from particles.validation import (
     check_times,
 )
 
+from . import compile_cache
 from .deviation import SolverOptions, reference
 from .exact import f_hat
 from .grid import INFLOW_CUT, Resolution, get_resolution
@@ -197,12 +198,14 @@ class _Stepper:
     def advance(self, y, i_start: int, count: int):
         """The state after ``count`` windows from window ``i_start``."""
         with self._x64(True):
-            return self._scheme.advance(self.static, self.dynamic, y, i_start, count)
+            return compile_cache.call("advance", self._scheme._advance, self._scheme.advance,
+                                      self.static, (self.dynamic, y, i_start, count))
 
     def output(self, y, i_window: int, tau: float):
         """w on the fixed grid at τ (≥ i_window Δτ) as a (parts, n) array."""
         with self._x64(True):
-            return self._scheme.output(self.static, self.dynamic, y, i_window, tau)
+            return compile_cache.call("output", self._scheme._output, self._scheme.output,
+                                      self.static, (self.dynamic, y, i_window, tau))
 
 
 def solve(

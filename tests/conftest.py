@@ -91,3 +91,20 @@ def fresh_interpreter_code():
         return done.stdout
 
     return run
+
+
+@pytest.fixture(scope="session", autouse=True)
+def _compile_cache_in_tmp(tmp_path_factory):
+    """The command line turns the persistent compilation cache on: during the tests it lives in
+    a temporary folder (shared by the test processes, never the user's own cache)."""
+    import os
+
+    from maxwell_kinetics.compile_cache import ENV
+
+    before = os.environ.get(ENV)
+    os.environ[ENV] = str(tmp_path_factory.mktemp("compile-cache"))
+    yield
+    if before is None:
+        os.environ.pop(ENV, None)
+    else:
+        os.environ[ENV] = before

@@ -13,6 +13,7 @@ from particles.validation import (
     parse_name_list,
 )
 
+from .. import compile_cache
 from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
 from ..output import emit_json, progress_enabled
 
@@ -35,7 +36,8 @@ def _convergence_options(p) -> None:
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     p.add_argument("--force", action="store_true",
-                   help="run even when the estimated number of windows exceeds 1e9")
+                   help="run even when the estimated time exceeds one day")
+    compile_cache.add_option(p)
 
 
 def run(args) -> int:
@@ -49,6 +51,7 @@ def run(args) -> int:
     check_output_dir(args.out, "out")
     for name in names:
         check_solve_budget(get_resolution(name), tau_max, 64, name="tau-max", force=args.force)
+    compile_cache.from_args(args)
     runs = convergence_study(rs, names, tau_max, progress=progress_enabled(args))
     summary = write_results(runs, args.out)
     if args.json:

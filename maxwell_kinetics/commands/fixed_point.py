@@ -8,6 +8,7 @@ import time
 
 from particles.validation import InvalidArgumentError, parse_count
 
+from .. import compile_cache
 from ..output import emit_json
 
 #: Dense matrices of the Chebyshev collocation: about 12 of (n + 1)² doubles at once.
@@ -47,6 +48,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--angular", default="uniform",
                    help="angular model for d >= 2: uniform or hard")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    compile_cache.add_option(p)
     p.set_defaults(handler=run)
 
 
@@ -60,6 +62,7 @@ def run(args) -> int:
     angular_law(dimension, args.angular)  # checks both, before any work
     n = parse_count(args.n, "n", 8) if args.n is not None else (64 if dimension == 1 else 128)
     check_fixed_point_budget(n)
+    compile_cache.from_args(args)
     fp = fixed_point(args.restitution, n=n, dimension=dimension, angular=args.angular)
     # Newton may stop on a small step at a non-solution (n = 8, r = 0.99: residual 4.8e-3):
     # a fixed point counts as converged only when its residual is small too

@@ -16,6 +16,7 @@ from particles.validation import (
     parse_name_list,
 )
 
+from .. import compile_cache
 from ..output import check_output_dir, emit_json, progress_enabled
 
 __all__ = ["add_parser", "run"]
@@ -40,6 +41,7 @@ def add_parser(subparsers) -> None:
                    "at most 4 x the CPUs unless --force")
     p.add_argument("--force", action="store_true",
                    help="allow more than 4 x the CPUs as --workers")
+    compile_cache.add_option(p)
     p.set_defaults(handler=run)
 
 
@@ -57,6 +59,7 @@ def run(args) -> int:
     check_workers(workers, "workers", force=args.force)
     out = prepare_output(check_output_dir(args.out, "out"), "out")
     size = "full" if args.full else "small" if args.small else "default"
+    compile_cache.from_args(args)
     summary = run_all(out, size, only, progress=progress_enabled(args), workers=workers,
                       force=args.force)
     if args.json:

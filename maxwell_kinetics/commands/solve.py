@@ -19,6 +19,7 @@ from particles.validation import (
     parse_int,
 )
 
+from .. import compile_cache
 from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
 from ..model import MaxwellModel
 from ..output import check_outputs, emit_json, progress_enabled
@@ -53,6 +54,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.add_argument("--force", action="store_true",
                    help="run even when the estimated time exceeds one day")
+    compile_cache.add_option(p)
     p.set_defaults(handler=run)
 
 
@@ -82,6 +84,7 @@ def run(args) -> int:
     check_outputs(save=args.save, images={"plot": args.plot})
     cost = check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force,
                               dimension=dimension, angular_rule=rule)
+    compile_cache.from_args(args)
     from ..solver import solve  # JAX: imported only when a solve runs
 
     start = time.perf_counter()

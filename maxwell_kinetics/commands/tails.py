@@ -12,8 +12,8 @@ from __future__ import annotations
 
 from particles.validation import parse_int
 
+from .. import compile_cache
 from ..output import emit_json
-from ..tails import tail_exponent
 
 __all__ = ["add_parser", "run"]
 
@@ -27,10 +27,13 @@ def add_parser(subparsers) -> None:
     p.add_argument("--restitution", "-r", required=True, help="restitution r in [0, 1)")
     p.add_argument("--angular", default="uniform", help="uniform or hard (default uniform)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    compile_cache.add_option(p, compiles=False)
     p.set_defaults(handler=run)
 
 
 def run(args) -> int:
+    from ..tails import tail_exponent  # scipy.optimize: imported only when it runs
+
     dimension = parse_int(args.dimension, "dimension")
     tail = tail_exponent(dimension, args.restitution, args.angular)
     payload = {"dimension": tail.dimension, "restitution": tail.restitution,

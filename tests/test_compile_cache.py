@@ -1,0 +1,237 @@
+"""The persistent compilation cache (maxwell_kinetics.compile_cache).
+
+Fresh processes are the point of the cache, so the main checks run the solver in subprocesses
+(1D, coarse grid, τ ≤ 3: a few seconds cold, about one and a half warm).  Whether a process
+traced the scheme is read from ``_kinetic_scheme.TRACES``: a process that loads the executables
+from the cache traces nothing.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics import compile_cache
+
+_SOLVE = """
+import hashlib, json, sys
+import numpy as np
+from maxwell_kinetics import _kinetic_scheme, compile_cache
+from maxwell_kinetics.solver import solve
+folder = compile_cache.enable(sys.argv[1])
+sol = solve(0.5, "gaussian", (1.0, 3.0), "coarse")
+print(json.dumps({"folder": str(folder), "traces": dict(_kinetic_scheme.TRACES),
+                  "G": hashlib.sha256(np.ascontiguousarray(sol.G).tobytes()).hexdigest()}))
+"""
+
+
+def _start(cache: Path) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-c", _SOLVE, str(cache)], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
+
+def _finish(proc: subprocess.Popen) -> dict:
+    out, err = proc.communicate(timeout=300)
+    assert proc.returncode == 0, err
+    assert err == "", err  # no warning either (a damaged entry is rebuilt silently)
+    return json.loads(out)
+
+
+def _solve_in_fresh_process(cache: Path) -> dict:
+    return _finish(_start(cache))
+
+
+def _entries(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.glob("*.entry"))}
+
+
+def _valid(name: str, data: bytes) -> bool:
+    return compile_cache._open(name.removesuffix(".entry"), data) is not None
+
+
+def _reference_digest() -> str:
+    """G of the same solve in this process, without the cache (plain ``jax.jit``)."""
+    from maxwell_kinetics.solver import solve
+
+    assert compile_cache.active_path() is None
+    sol = solve(0.5, "gaussian", (1.0, 3.0), "coarse")
+    return hashlib.sha256(np.ascontiguousarray(sol.G).tobytes()).hexdigest()
+
+
+@pytest.fixture(scope="module")
+def warm(tmp_path_factory):
+    """A cache filled by one fresh process: (root, folder of entries, that process's report)."""
+    root = tmp_path_factory.mktemp("warm") / "cache"
+    cold = _solve_in_fresh_process(root)
+    return root, Path(cold["folder"]), cold
+
+
+def test_a_fresh_process_fills_the_cache_and_the_next_one_loads_it(warm):
+    root, folder, cold = warm
+    assert folder.parent == root
+    assert cold["traces"] == {"advance": 1, "output": 1}
+    before = _entries(folder)
+    names = {name.split("-")[0] for name in before}
+    assert {"aot_advance", "aot_output"} <= names  # the executables compiled ahead of time
+    assert all(_valid(name, data) for name, data in before.items())
+
+    again = _solve_in_fresh_process(root)
+    assert again["traces"] == {}  # loaded: nothing traced, nothing compiled
+    assert again["G"] == cold["G"]
+    assert _entries(folder) == before  # nothing added or rewritten
+    # and the numbers are those of the solver without any cache
+    assert cold["G"] == _reference_digest()
+
+
+def test_damaged_entries_are_never_trusted_and_are_rebuilt(warm, tmp_path):
+    root = tmp_path / "cache"
+    shutil.copytree(warm[0], root)
+    folder = root / warm[1].name
+    damaged = {}
+    for i, path in enumerate(sorted(folder.glob("*.entry"))):
+        data = path.read_bytes()
+        if i % 3 == 0:
+            data = data[: len(data) // 2]  # truncated (a writer killed mid-way)
+        elif i % 3 == 1:
+            data = data[:-1] + bytes([data[-1] ^ 0xFF])  # one flipped byte in the content
+        else:
+            data = os.urandom(len(data))  # garbage
+        path.write_bytes(data)
+        damaged[path.name] = data
+    assert damaged and not any(_valid(n, d) for n, d in damaged.items())
+
+    report = _solve_in_fresh_process(root)
+    assert report["G"] == warm[2]["G"]
+    assert report["traces"] == {"advance": 1, "output": 1}  # compiled again, not loaded
+    rebuilt = _entries(folder)
+    assert set(damaged) <= set(rebuilt)
+    assert all(_valid(name, data) for name, data in rebuilt.items())
+
+
+def test_two_processes_starting_at_once_on_an_empty_cache(tmp_path):
+    root = tmp_path / "cache"
+    procs = [_start(root), _start(root)]
+    first, second = (_finish(p) for p in procs)
+    assert first["G"] == second["G"]
+    folder = Path(first["folder"])
+    entries = _entries(folder)
+    assert entries and all(_valid(name, data) for name, data in entries.items())
+    assert not list(folder.glob(".tmp-*"))  # every write was renamed into place
+
+
+# -- the store itself ------------------------------------------------------------------------
+def test_an_entry_read_under_another_key_is_foreign_and_removed(tmp_path):
+    store = compile_cache._store_class()(tmp_path)
+    store.put("jit_a-01", b"payload of a")
+    assert store.get("jit_a-01") == b"payload of a"
+    shutil.copy(tmp_path / "jit_a-01.entry", tmp_path / "jit_b-02.entry")
+    assert store.get("jit_b-02") is None
+    assert not (tmp_path / "jit_b-02.entry").exists()
+    (tmp_path / "jit_c-03.entry").write_bytes(b"not an entry at all")
+    assert store.get("jit_c-03") is None
+    assert store.get("jit_a-01") == b"payload of a"  # the good one is left alone
+
+
+# -- where the cache lives, and turning it off ------------------------------------------------
+def test_default_folder_follows_xdg(monkeypatch, tmp_path):
+    monkeypatch.delenv(compile_cache.ENV, raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    assert compile_cache.configured_path() == tmp_path / "maxwell-kinetics" / "jax"
+    monkeypatch.setenv("XDG_CACHE_HOME", "relative/ignored")
+    assert compile_cache.default_path() == Path.home() / ".cache" / "maxwell-kinetics" / "jax"
+    monkeypatch.setenv(compile_cache.ENV, str(tmp_path / "mine"))
+    assert compile_cache.configured_path() == tmp_path / "mine"
+
+
+@pytest.mark.parametrize("word", ["0", "off", "OFF", "none", "false", "no"])
+def test_the_variable_turns_the_cache_off(monkeypatch, tmp_path, word):
+    monkeypatch.setenv(compile_cache.ENV, word)
+    monkeypatch.chdir(tmp_path)
+    assert compile_cache.enable() is None
+    assert compile_cache.active_path() is None
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_enable_and_disable_restore_jax_settings(tmp_path):
+    import jax
+
+    before = jax.config.jax_compilation_cache_dir
+    folder = compile_cache.enable(tmp_path / "c")
+    try:
+        assert folder is not None and folder.is_dir()
+        assert jax.config.jax_compilation_cache_dir == str(folder)
+        assert compile_cache.enable(tmp_path / "c") == folder  # again: the same, no change
+    finally:
+        compile_cache.disable()
+    assert jax.config.jax_compilation_cache_dir == before
+    assert compile_cache.active_path() is None
+
+
+_CLI = ["solve", "-r", "0.5", "--tau", "1", "--resolution", "coarse", "--json", "--no-progress"]
+
+
+def _main(capsys, argv):
+    from maxwell_kinetics.cli import main
+
+    status = main(argv)
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+@pytest.mark.parametrize("where", ["file", "file/sub"])
+def test_an_unusable_folder_gives_one_warning_line_and_the_solve_runs(
+        monkeypatch, tmp_path, capsys, where):
+    (tmp_path / "file").write_text("a regular file is in the way")
+    monkeypatch.setenv(compile_cache.ENV, str(tmp_path / where))
+    status, out, err = _main(capsys, _CLI)
+    assert status == 0
+    assert json.loads(out)["G_real"]
+    lines = err.splitlines()
+    assert len(lines) == 1 and "warning" in lines[0] and str(tmp_path / where) in lines[0]
+    assert compile_cache.active_path() is None
+    assert (tmp_path / "file").read_text() == "a regular file is in the way"
+
+
+def test_no_cache_writes_nothing_and_cli_runs_leave_jax_as_found(monkeypatch, tmp_path, capsys):
+    import jax
+
+    root = tmp_path / "cache"
+    monkeypatch.setenv(compile_cache.ENV, str(root))
+    status, out, err = _main(capsys, [*_CLI, "--no-cache"])
+    assert status == 0 and err == ""
+    assert not root.exists()
+    status, _, err = _main(capsys, _CLI)  # the default: on, in the folder of the variable
+    assert status == 0 and err == ""
+    assert list(root.rglob("*.entry"))
+    assert compile_cache.active_path() is None  # switched off again when the command ended
+    assert jax.config.jax_compilation_cache_dir is None
+
+
+@pytest.mark.parametrize("command", ["solve", "fixed-point", "steady", "tail-exponent",
+                                     "convergence", "reproduce"])
+def test_every_kinetic_subcommand_takes_no_cache(command):
+    from maxwell_kinetics.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command").choices[command]
+    assert "--no-cache" in sub._option_string_actions
+
+
+def test_a_failed_window_is_reported_not_hidden():
+    # diffrax runs with throw=False (a host callback would keep the executable out of the
+    # cache): a window that fails (here: two steps allowed) must still stop the solve.
+    from maxwell_kinetics.deviation import SolverOptions
+    from maxwell_kinetics.solver import solve
+
+    options = dataclasses.replace(SolverOptions(), max_steps_per_window=2)
+    with pytest.raises(FloatingPointError, match="non-finite G at tau=1"):
+        solve(0.5, "gaussian", (1.0,), "coarse", options=options)
