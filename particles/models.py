@@ -131,7 +131,8 @@ class Parameter:
             parts.append(f"[{self.unit}]")
         if self.choices:
             parts.append("(" + " | ".join(map(str, self.choices)) + ")")
-        parts.append("(required)" if self.required else f"(default {self.default!r})")
+        default = str(self.default).lower() if isinstance(self.default, bool) else self.default
+        parts.append("(required)" if self.required else f"(default {default})")
         return " ".join(p for p in parts if p)
 
 
