@@ -192,12 +192,14 @@ class EnsembleTask:
 
 @dataclass(frozen=True)
 class EnsembleSpec:
-    """What to run: ``model``; ``params``, {name: value or list of values} (a list is swept;
-    every list must be non-empty and without repeats); ``seeds`` (integers in [0, 2⁶⁴ − 1],
-    distinct, or a string for :func:`parse_seeds`); ``times`` (increasing, ≥ 0: τ, or t for
-    MD); ``options``: ``structure_factor`` (False, True/"all" or "last"), ``bins`` (histogram
-    edges in x = v/√E), ``checkpoint_interval`` (seconds between a task's checkpoints,
-    default 60).  Everything is checked here, every engine of the grid is built once, so a bad
+    """What to run: ``model`` (a name of the catalogue :mod:`particles.models`); ``params``,
+    {name: value or list of values} (a list is swept; every list must be non-empty and without
+    repeats); ``seeds`` (integers in [0, 2⁶⁴ − 1], distinct, or a string for
+    :func:`parse_seeds`); ``times`` (increasing, ≥ 0, in the engines' time
+    :attr:`time_name`; every engine of the grid must have the same); ``options``:
+    ``structure_factor`` (False, True/"all" or "last"), ``bins`` (histogram edges in
+    x = v/√E), ``checkpoint_interval`` (seconds between a task's checkpoints,
+    default 60).  Everything is checked here and every engine of the grid is built, so a bad
     spec fails before any work."""
 
     model: str

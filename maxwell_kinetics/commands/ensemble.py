@@ -1,6 +1,7 @@
 """``maxwell-kinetics ensemble MODEL``: many runs of a particle model on dask.
 
-    maxwell-kinetics ensemble MODEL [the options of simulate MODEL] --seeds 1-16
+    maxwell-kinetics ensemble MODEL [the model options of simulate MODEL] --tau|--t T1,T2
+        --seeds 1-16 [--structure-factor] [--checkpoint-interval S]
         [--workers N | --scheduler ADDRESS | --cluster slurm|pbs --config FILE | --serial]
         --out DIR [--json] [--no-progress]
 
