@@ -12,7 +12,10 @@ Modules, one job each:
 * :mod:`.progress` — progress bars (plain lines when stderr is not a terminal);
 * :mod:`.driver` — the run loop shared by every engine: seeds, checkpoints, results;
 * the models: :mod:`.ulam` (mean-field pseudo-Maxwell), :mod:`.lattice` (ring lattice),
-  :mod:`.md` (event-driven inelastic hard rods), :mod:`.sticky` (the sticky gas, exact).
+  :mod:`.md` (event-driven inelastic hard rods), :mod:`.sticky` (the sticky gas, exact);
+* :mod:`.models` — the catalogue of the models: factories and typed parameters, from which the
+  command line, the ensembles and the comparisons' runs are generated;
+* :mod:`.ensemble` — many runs of one model over parameters and seeds (dask or serial).
 """
 
 from .driver import CheckpointError as CheckpointError

@@ -1,8 +1,10 @@
 """Ensembles: many runs of one particle model over a grid of parameters and a set of seeds.
 
-An ensemble is an :class:`EnsembleSpec`: a model name (``"ulam"``, ``"lattice"``, ``"md"``, or
-any name added with :func:`register_model`), its parameters (a value, or a list of values that
-is swept), the seeds, the requested times (τ for Ulam and lattice, t for MD) and options of
+An ensemble is an :class:`EnsembleSpec`: a model of the catalogue :mod:`particles.models`
+(``"ulam"``, ``"lattice"``, ``"md"``, ``"sticky"``, or any name added with
+:func:`register_model`), its parameters (a value, or a list of values that is swept), the seeds,
+the requested times (in the engines' time, ``engine.time_name``: τ for Ulam and the constant-rate
+lattice, t for MD, the sticky gas and the lattice of rate |Δ|) and options of
 :func:`particles.driver.simulate` (``structure_factor``, ``bins``, ``checkpoint_interval``).
 :meth:`EnsembleSpec.expand` gives the tasks: the Cartesian product of the swept parameters (in
 the order the parameters are given, the first one slowest) times the seeds (fastest).
@@ -46,7 +48,6 @@ the ``m`` seeds that finished; NaN where m = 1.
 from __future__ import annotations
 
 import hashlib
-import inspect
 import itertools
 import json
 import math
@@ -63,6 +64,7 @@ import numpy as np
 from . import observables as obs
 from . import persistence
 from .driver import CheckpointError, RunResult, simulate
+from .models import get_model, register_model, registered_models
 from .progress import progress_bar
 from .validation import (
     InvalidArgumentError,
@@ -102,73 +104,7 @@ SCHEDULER_TIMEOUT = 10.0
 # --------------------------------------------------------------------------- model registry
 
 
-@dataclass(frozen=True)
-class _Model:
-    name: str
-    factory: Callable[..., Any]
-    time_name: str
-    parameters: tuple[str, ...]
-    required: tuple[str, ...]
-
-
-_MODELS: dict[str, _Model] = {}
-
-
-def register_model(name: str, factory: Callable[..., Any], *, time_name: str = "tau") -> None:
-    """Make ``name`` a model of ensembles: ``factory(**params)`` builds its engine (the engine
-    protocol of :mod:`particles.driver`).  The parameters an ensemble may set are the keyword
-    parameters of ``factory`` (those without a default are required); ``time_name`` names the
-    model's time (``"tau"`` or ``"t"``).  The factory travels to the workers by reference (by
-    pickle), so it must be importable there (a function or class of a module).  Registering a
-    name again replaces it."""
-    if not isinstance(name, str) or not name:
-        raise InvalidArgumentError("name", name, "a non-empty string")
-    if not callable(factory):
-        raise InvalidArgumentError("factory", factory, "a callable that builds an engine")
-    params, required = [], []
-    for p in inspect.signature(factory).parameters.values():
-        if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY):
-            params.append(p.name)
-            if p.default is p.empty:
-                required.append(p.name)
-    _MODELS[name] = _Model(name, factory, str(time_name), tuple(params), tuple(required))
-
-
-def registered_models() -> dict[str, tuple[str, ...]]:
-    """{model name: the parameters it accepts}."""
-    return {name: m.parameters for name, m in _MODELS.items()}
-
-
-def _ulam(n, restitution, initial="gaussian", dimension=1, angular="uniform", driving=0.0):
-    from .ulam import Ulam
-
-    return Ulam(n, restitution, initial, dimension=dimension, angular=angular, driving=driving)
-
-
-def _lattice(n, restitution, initial="gaussian", constraint=True):
-    from .lattice import Lattice
-
-    return Lattice(n, restitution, initial, constraint)
-
-
-def _md(n, density, restitution, delta=0.0, rod_length=0.0, initial="gaussian", method="fast",
-        stop_step=1.0):
-    from .md import MDEngine, MDParams
-
-    return MDEngine(MDParams(n, density, restitution, delta, rod_length, initial), method,
-                    stop_step=stop_step)
-
-
-def _sticky(n, density, initial="gaussian"):
-    from .sticky import StickyGas, StickyParams
-
-    return StickyGas(StickyParams(n, density, initial))
-
-
-register_model("ulam", _ulam)
-register_model("lattice", _lattice)
-register_model("md", _md, time_name="t")
-register_model("sticky", _sticky, time_name="t")
+# The models are those of the catalogue, :mod:`particles.models` (``register_model`` adds one).
 
 
 # --------------------------------------------------------------------------- seeds
@@ -262,12 +198,14 @@ class EnsembleTask:
 
 @dataclass(frozen=True)
 class EnsembleSpec:
-    """What to run: ``model``; ``params``, {name: value or list of values} (a list is swept;
-    every list must be non-empty and without repeats); ``seeds`` (integers in [0, 2⁶⁴ − 1],
-    distinct, or a string for :func:`parse_seeds`); ``times`` (increasing, ≥ 0: τ, or t for
-    MD); ``options``: ``structure_factor`` (False, True/"all" or "last"), ``bins`` (histogram
-    edges in x = v/√E), ``checkpoint_interval`` (seconds between a task's checkpoints,
-    default 60).  Everything is checked here, every engine of the grid is built once, so a bad
+    """What to run: ``model`` (a name of the catalogue :mod:`particles.models`); ``params``,
+    {name: value or list of values} (a list is swept; every list must be non-empty and without
+    repeats); ``seeds`` (integers in [0, 2⁶⁴ − 1], distinct, or a string for
+    :func:`parse_seeds`); ``times`` (increasing, ≥ 0, in the engines' time
+    :attr:`time_name`; every engine of the grid must have the same); ``options``:
+    ``structure_factor`` (False, True/"all" or "last"), ``bins`` (histogram edges in
+    x = v/√E), ``checkpoint_interval`` (seconds between a task's checkpoints,
+    default 60).  Everything is checked here and every engine of the grid is built, so a bad
     spec fails before any work."""
 
     model: str
@@ -277,17 +215,12 @@ class EnsembleSpec:
     options: Mapping[str, Any] = field(default_factory=dict)
 
     def __post_init__(self):
-        if not isinstance(self.model, str) or self.model not in _MODELS:
-            raise InvalidArgumentError("model", self.model, f"one of {sorted(_MODELS)}")
-        m = _MODELS[self.model]
+        m = get_model(self.model)
         if not isinstance(self.params, Mapping):
             raise InvalidArgumentError("params", self.params, "a mapping {name: value or list}")
         params = {}
         for name, value in self.params.items():
-            if name not in m.parameters:
-                raise InvalidArgumentError(
-                    "params", name, f"a parameter of {self.model}: one of {list(m.parameters)}"
-                )
+            m.parameter(name)  # an unknown name is refused
             values = list(value) if isinstance(value, (list, tuple)) else [value]
             if not values:
                 raise InvalidArgumentError(name, value, "a non-empty list (the grid is empty)")
@@ -305,7 +238,15 @@ class EnsembleSpec:
         except TypeError:
             raise InvalidArgumentError("seeds", self.seeds, "a list of integers") from None
         object.__setattr__(self, "seeds", _check_seeds(seeds, self.seeds))
-        times = check_times(self.times, m.time_name)
+        engines = [m.build(values) for values in self.parameter_sets()]  # bad values fail here
+        time_names = sorted({m.time_name(e) for e in engines})
+        if len(time_names) != 1:
+            raise InvalidArgumentError(
+                "params", {k: list(v) for k, v in params.items()},
+                f"parameter sets whose engines share one time (got {time_names})",
+            )
+        object.__setattr__(self, "_time_name", time_names[0])
+        times = check_times(self.times, time_names[0])
         object.__setattr__(self, "times", tuple(float(t) for t in times))
         if not isinstance(self.options, Mapping):
             raise InvalidArgumentError("options", self.options, f"a mapping of {_OPTIONS}")
@@ -332,7 +273,9 @@ class EnsembleSpec:
 
     @property
     def time_name(self) -> str:
-        return _MODELS[self.model].time_name
+        """The name of the time of the spec's engines (``engine.time_name``: ``"tau"``, or
+        ``"t"`` for MD, the sticky gas and the lattice of rate |Δ|)."""
+        return self._time_name
 
     def parameter_sets(self) -> list[dict]:
         """The grid: one dict per parameter set, first parameter slowest."""
@@ -342,7 +285,7 @@ class EnsembleSpec:
 
     def expand(self) -> list[EnsembleTask]:
         """The tasks: every parameter set × every seed (seeds fastest)."""
-        m = _MODELS[self.model]
+        m = get_model(self.model)
         edges = obs.rescaled_histogram(np.array([1.0, -1.0]), self.options["bins"]).edges
         result_options = {
             "structure_factor": self.options["structure_factor"],
@@ -352,7 +295,7 @@ class EnsembleSpec:
             result_options["snapshots"] = True
         tasks = []
         for index, values in enumerate(self.parameter_sets()):
-            engine = _build(m, values)
+            engine = m.build(values)
             for seed in self.seeds:
                 identity = json.loads(json.dumps({
                     "model": self.model,
@@ -372,17 +315,6 @@ class EnsembleSpec:
         return {"model": self.model, "params": {k: list(v) for k, v in self.params.items()},
                 "seeds": list(self.seeds), "times": list(self.times),
                 "options": dict(self.options)}
-
-
-def _build(model: _Model, values: dict):
-    try:
-        return model.factory(**values)
-    except InvalidArgumentError:
-        raise
-    except (TypeError, ValueError) as exc:
-        raise InvalidArgumentError(
-            "params", values, f"parameters of {model.name} ({exc})"
-        ) from None
 
 
 # --------------------------------------------------------------------------- one task
@@ -789,7 +721,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     if out.exists():
         _check_folder(out)
     tasks = spec.expand()
-    model = _MODELS[spec.model]
+    model = get_model(spec.model)
 
     valid, damaged = _check_existing(out, tasks)
     todo = [t for t in tasks if t.key not in valid]

@@ -115,6 +115,11 @@ class StickyParams:
     def __post_init__(self):
         object.__setattr__(self, "n", check_count(self.n, "n", 2))
         object.__setattr__(self, "density", check_positive(self.density, "density"))
+        if not math.isfinite(self.length):  # n/density overflows: density underflows
+            raise InvalidArgumentError(
+                "density", self.density,
+                f"a density whose ring length n/density is finite (n = {self.n})",
+            )
         law = get_law(self.initial)
         if law.sampler is None:
             raise InvalidArgumentError("initial", self.initial, "a law with a sampler")

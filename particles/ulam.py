@@ -549,6 +549,8 @@ class Ulam:
     angular: str = "uniform"
     driving: float = 0.0
     name: ClassVar[str] = "ulam"
+    #: The model's time: τ (N/2 collisions per unit on average).
+    time_name: ClassVar[str] = "tau"
 
     def __post_init__(self):
         object.__setattr__(self, "n", check_count(self.n, "n", 2))

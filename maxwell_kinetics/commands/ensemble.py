@@ -1,11 +1,16 @@
-"""``maxwell-kinetics ensemble MODEL``: many runs of a particle model on dask (issue 16).
+"""``maxwell-kinetics ensemble MODEL``: many runs of a particle model on dask.
 
-    maxwell-kinetics ensemble MODEL [the options of simulate MODEL] --seeds 1-16
+    maxwell-kinetics ensemble MODEL [the model options of simulate MODEL] --tau|--t T1,T2
+        --seeds 1-16 [--structure-factor] [--checkpoint-interval S]
         [--workers N | --scheduler ADDRESS | --cluster slurm|pbs --config FILE | --serial]
         --out DIR [--json] [--no-progress]
 
-Models: ``ulam``, ``lattice``, ``md``, ``sticky``.  A parameter given as a comma list
-(``--restitution 0.3,0.5,0.9``) is swept; ``--seeds`` takes ranges and lists (``1-16,20``).
+Models: those of the catalogue :mod:`particles.models` (``ulam``, ``lattice``, ``md``,
+``sticky``), with the options of ``simulate MODEL`` generated from it alike: every parameter,
+the time (``--tau`` or ``--t``), ``--structure-factor``, ``--checkpoint-interval``,
+``--progress/--no-progress``, ``--json``.  Any parameter given as a comma list
+(``--restitution 0.3,0.5,0.9``, ``--constraint true,false``) is swept; ``--seeds`` takes
+ranges and lists (``1-16,20``).
 Each task writes its result to its own file in ``--out`` (named by a hash of the model, the
 parameters, the seed, the times and the format version); a rerun skips the finished tasks, so an
 interrupted ensemble resumes where it stopped.  The aggregate (mean and standard error over
@@ -18,34 +23,26 @@ Exit status: 0 all tasks finished; 3 some task failed (listed with its parameter
 from __future__ import annotations
 
 from particles.ensemble import EnsembleSpec, parse_seeds, run_ensemble
+from particles.models import get_model
 from particles.validation import (
     InvalidArgumentError,
     check_times,
     check_workers,
     parse_count,
     parse_float_list,
-    parse_name_list,
 )
 
-from ..output import emit_json, progress_enabled
+from ..output import emit_json
+from .model_options import (
+    add_model_options,
+    add_run_options,
+    add_time_option,
+    cli_models,
+    model_params,
+    time_option,
+)
 
-__all__ = ["add_parser", "run"]
-
-#: Per model: (option, parameter, kind) where kind is "int", "float", "name" or "flag".
-_OPTIONS = {
-    "ulam": [("--n", "n", "int"), ("--restitution", "restitution", "float"),
-             ("--initial", "initial", "name")],
-    "lattice": [("--n", "n", "int"), ("--restitution", "restitution", "float"),
-                ("--initial", "initial", "name"), ("--no-constraint", "constraint", "flag")],
-    "md": [("--n", "n", "int"), ("--density", "density", "float"),
-           ("--restitution", "restitution", "float"), ("--delta", "delta", "float"),
-           ("--rod-length", "rod_length", "float"), ("--initial", "initial", "name"),
-           ("--method", "method", "name")],
-    "sticky": [("--n", "n", "int"), ("--density", "density", "float"),
-               ("--initial", "initial", "name")],
-}
-_REQUIRED = {"n", "restitution", "density"}
-_TIME = {"ulam": "--tau", "lattice": "--tau", "md": "--t", "sticky": "--t"}
+__all__ = ["add_parser", "run", "spec_from_args"]
 
 
 def add_parser(subparsers) -> None:
@@ -54,19 +51,13 @@ def add_parser(subparsers) -> None:
         description=__doc__.split("\n\n", 1)[1],
     )
     models = ensemble.add_subparsers(dest="model", required=True)
-    for model, options in _OPTIONS.items():
-        p = models.add_parser(model, help=f"an ensemble of simulate {model}")
-        for option, name, kind in options:
-            if kind == "flag":
-                p.add_argument(option, action="store_true", help="as in simulate " + model)
-            else:
-                p.add_argument(option, dest=name, required=name in _REQUIRED,
-                               default=None, help="a value or a comma list (swept)")
-        p.add_argument(_TIME[model], dest="times", required=True, metavar="T1,T2,...",
-                       help="increasing, non-negative times at which to record")
+    for model in cli_models():
+        p = models.add_parser(model.name, help=f"an ensemble of simulate {model.name}",
+                              description=model.description or model.help)
+        add_model_options(p, model, sweep=True)
+        add_time_option(p, model)
         p.add_argument("--seeds", required=True, help="seeds: ranges and lists, e.g. 1-16,20")
-        p.add_argument("--structure-factor", action="store_true",
-                       help="also record S(k) at the last time")
+        add_run_options(p)
         where = p.add_mutually_exclusive_group()
         where.add_argument("--workers", default=None,
                            help="local cluster of N single-threaded processes (default: cores; "
@@ -80,38 +71,28 @@ def add_parser(subparsers) -> None:
         p.add_argument("--force", action="store_true",
                        help="allow more than 4 x the CPUs as --workers")
         p.add_argument("--out", required=True, help="output folder (task files, aggregate)")
-        p.add_argument("--json", action="store_true", help="print one JSON object")
-        p.add_argument("--no-progress", action="store_true", help="no progress bar or lines")
         p.set_defaults(handler=run)
-
-
-def _values(text: str, name: str, kind: str) -> list:
-    if kind == "int":
-        return [parse_count(part, name, 2) for part in parse_name_list(text, name)]
-    if kind == "float":
-        values = parse_float_list(text, name)
-        if len(set(values)) != len(values):
-            raise InvalidArgumentError(name, text, "a list without repeats")
-        return values
-    return parse_name_list(text, name)
 
 
 def spec_from_args(args) -> EnsembleSpec:
     """The :class:`EnsembleSpec` of the command line (checked: nothing runs if it is bad)."""
-    params = {}
-    for option, name, kind in _OPTIONS[args.model]:
-        value = getattr(args, name if kind != "flag" else option.lstrip("-").replace("-", "_"))
-        if kind == "flag":
-            if value:
-                params[name] = False  # --no-constraint
-            continue
-        if value is not None:
-            values = _values(value, name, kind)
-            params[name] = values if len(values) > 1 else values[0]
-    time_name = _TIME[args.model].lstrip("-")
-    times = check_times(parse_float_list(args.times, time_name), time_name)
-    options = {"structure_factor": "last"} if args.structure_factor else {}
-    return EnsembleSpec(args.model, params, parse_seeds(args.seeds), tuple(times), options)
+    model = get_model(args.model)
+    params = model_params(args, model, sweep=True)
+    given = [name for name in model.time_names if getattr(args, f"times_{name}") is not None]
+    name = given[0]
+    text = getattr(args, f"times_{name}")
+    times = check_times(parse_float_list(text, name), name)
+    options = {"checkpoint_interval": args.checkpoint_interval}
+    if args.structure_factor:
+        options["structure_factor"] = "last"
+    spec = EnsembleSpec(args.model, params, parse_seeds(args.seeds), tuple(times), options)
+    time_option(args, model, spec.time_name)  # the option given names the engines' time
+    return spec
+
+
+def _progress(args) -> bool:
+    """``--progress/--no-progress`` as given; by default on unless ``--json``."""
+    return (not args.json) if args.progress is None else args.progress
 
 
 def run(args) -> int:
@@ -122,7 +103,7 @@ def run(args) -> int:
     check_workers(workers, "workers", force=args.force)
     report = run_ensemble(
         spec, args.out, workers=workers, scheduler=args.scheduler, cluster=args.cluster,
-        config=args.config, progress=progress_enabled(args),
+        config=args.config, progress=_progress(args),
         executor="serial" if args.serial else "dask", force=args.force,
     )
     payload = report.to_json()

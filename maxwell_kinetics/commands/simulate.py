@@ -1,17 +1,20 @@
-"""``maxwell-kinetics simulate {ulam,lattice,md}``: the particle models on the command line.
+"""``maxwell-kinetics simulate MODEL``: the particle models on the command line.
 
-Each model is one sub-subcommand, added by a small ``_add_<model>`` function that declares its
-own options, calls :func:`add_common_options` for the shared ones (size, restitution, initial
-law, times, seed, output, checkpointing) and sets ``handler``; the handler builds the engine and
-hands it to :func:`run_engine`, which runs it and prints the result.  A new model (MD) adds one
-``_add_md`` function and one line in :func:`register`.
+One sub-subcommand per model of the catalogue :mod:`particles.models`, generated from it by
+:mod:`maxwell_kinetics.commands.model_options`: every parameter of the model is an option (with
+its default, unit and help), the time option is ``--tau`` or ``--t`` as the engine names its
+time, and the run options (times, seed, output, checkpointing) are added by
+:func:`add_common_options`.  The handler parses and checks every value, builds the engine with
+the model's factory and hands it to :func:`run_engine`, which runs it and prints the result.  A
+new model or parameter is an entry of the catalogue, not an edit here; only what a model adds
+to the output (``--profile`` of MD and the sticky gas) is written here.
 
-``--json`` prints one object with keys ``tau`` (the requested times; ``t`` for MD), ``energy``
-(⟨v²⟩ at each time), ``collisions`` (the total), ``seconds`` (wall clock), ``histogram``
-(``centres``, ``density``, ``error`` of x = v/√E at the last time) and, with
-``--structure-factor``, ``k`` and ``S`` (S(k) = |v̂(k)|²/N at the last time); also ``model``,
-``params`` and ``seed``.  A run that ends with every velocity 0 (possible at r = 0) is valid:
-``histogram`` is then ``null`` and ``histogram_note`` says why.
+``--json`` prints one object with keys ``tau`` (the requested times; ``t`` for the models whose
+engine runs in t), ``energy`` (⟨v²⟩ at each time), ``collisions`` (the total), ``seconds``
+(wall clock), ``histogram`` (``centres``, ``density``, ``error`` of x = v/√E at the last time)
+and, with ``--structure-factor``, ``k`` and ``S`` (S(k) = |v̂(k)|²/N at the last time); also
+``model``, ``params`` and ``seed``.  A run that ends with every velocity 0 (possible at r = 0) is
+valid: ``histogram`` is then ``null`` and ``histogram_note`` says why.
 
 ``simulate md`` (time ``--t``) adds, one entry per requested time, ``collisions_per_particle``
 (τ(t) = 2 · collisions / N), ``momentum`` (the total momentum Σ_i v_i) and ``collisions`` (a list:
@@ -32,22 +35,26 @@ import sys
 
 from particles import driver
 from particles import observables as obs
-from particles.lattice import Lattice
-from particles.md import InelasticCollapseError, MDEngine, MDParams, profile_x
-from particles.sticky import StickyGas, StickyParams
+from particles.md import InelasticCollapseError, profile_x
+from particles.models import get_model
 from particles.sticky import profile_x as sticky_profile_x
-from particles.ulam import Ulam
 from particles.validation import (
     check_times,
-    parse_count,
     parse_float_list,
-    parse_int,
     parse_seed,
 )
 
 from ..output import check_outputs, emit_json
+from .model_options import (
+    add_model_options,
+    add_run_options,
+    add_time_option,
+    cli_models,
+    model_params,
+    time_option,
+)
 
-__all__ = ["add_parser", "add_common_options", "run_engine", "resumed_state"]
+__all__ = ["add_parser", "add_common_options", "run_engine", "run_model", "resumed_state"]
 
 
 def resumed_state(path) -> dict:
@@ -57,47 +64,18 @@ def resumed_state(path) -> dict:
     return {k[len("state."):]: v for k, v in arrays.items() if k.startswith("state.")}
 
 
-def add_common_options(parser: argparse.ArgumentParser, *, time_option: str = "--tau",
-                       restitution: bool = True) -> None:
-    """Options shared by every particle model.  Values stay strings here; they are checked by
-    the engines and :func:`run_engine`, so errors name the option and the value received."""
-    parser.add_argument("--n", required=True, help="number of particles / sites (e.g. 2e5)")
-    if restitution:
-        parser.add_argument("--restitution", required=True,
-                            help="restitution coefficient r in [0, 1]")
-    parser.add_argument(
-        "--initial", default="gaussian", help="initial velocity law (default: gaussian)"
-    )
-    parser.add_argument(
-        time_option,
-        dest="times",
-        required=True,
-        metavar="T1,T2,...",
-        help="increasing, non-negative times at which to record",
-    )
+def add_common_options(parser: argparse.ArgumentParser) -> None:
+    """The run options of ``simulate MODEL`` (the model's parameters and time are added from
+    the catalogue).  Values stay strings here; they are checked by :func:`run_engine` and the
+    run driver, so errors name the option and the value received."""
     parser.add_argument("--seed", default="0", help="integer seed >= 0 (default 0)")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
-    parser.add_argument(
-        "--structure-factor", action="store_true", help="also output S(k) at the last time"
-    )
+    add_run_options(parser)
     parser.add_argument("--checkpoint", metavar="FILE", help="write checkpoints to FILE")
     parser.add_argument("--resume", metavar="FILE", help="continue the run saved in FILE")
     parser.add_argument("--save", metavar="FILE", help="save the full result (.npz) to FILE")
     parser.add_argument(
-        "--checkpoint-interval",
-        default="60",
-        metavar="SECONDS",
-        help="wall-clock seconds between checkpoints (default 60)",
-    )
-    parser.add_argument(
         "--force", action="store_true",
         help="run even when the estimated work exceeds 1e13 events",
-    )
-    parser.add_argument(
-        "--progress",
-        action=argparse.BooleanOptionalAction,
-        default=None,
-        help="progress bar on stderr (default: when stderr is a terminal)",
     )
 
 
@@ -151,68 +129,15 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
     return 0
 
 
-def _run_ulam(args) -> int:
-    engine = Ulam(parse_count(args.n, "n", 2), args.restitution, args.initial,
-                  dimension=parse_int(args.dimension, "dimension"), angular=args.angular,
-                  driving=args.driving)
-    return run_engine(engine, args)
-
-
-def _add_ulam(models) -> None:
-    parser = models.add_parser(
-        "ulam", help="mean-field pseudo-Maxwell (Ulam) model, exact continuous time in τ"
-    )
-    add_common_options(parser)
-    parser.add_argument("--dimension", default="1",
-                        help="velocity dimension d = 1, 2 or 3 (default 1; d > 1: SPEC §8)")
-    parser.add_argument("--angular", default="uniform",
-                        help="d > 1: collision direction uniform on the sphere ('uniform') or "
-                        "weighted by |g.n| ('hard')")
-    parser.add_argument("--driving", default="0",
-                        help="white-noise heating strength D >= 0 (d = 1; default 0: cooling)")
-    parser.set_defaults(handler=_run_ulam)
-
-
-def _run_lattice(args) -> int:
-    engine = Lattice(
-        parse_count(args.n, "n", 3), args.restitution, args.initial, not args.no_constraint,
-        rate=args.rate,
-    )
-    # the rate-|Δ| lattice runs in MD's time t: its JSON reports "t", as simulate md does
-    return run_engine(engine, args, time_key=getattr(engine, "time_name", "tau"))
-
-
-def _add_lattice(models) -> None:
-    parser = models.add_parser("lattice", help="ring lattice model, τ = attempts / N")
-    add_common_options(parser)
-    parser.add_argument(
-        "--no-constraint",
-        action="store_true",
-        help="collide every chosen bond (default: only approaching pairs, v_i > v_{i+1})",
-    )
-    parser.add_argument(
-        "--rate", default="constant", choices=["constant", "relative_velocity"],
-        help="bond collision rate: constant (the paper's lattice, time τ = attempts/N) or "
-        "proportional to |v_i - v_{i+1}| as for MD pairs (time t of MD at density 1)",
-    )
-    parser.set_defaults(handler=_run_lattice)
-
-
-def _run_md(args) -> int:
-    params = MDParams(
-        parse_count(args.n, "n", 2),
-        args.density,
-        args.restitution,
-        delta=args.delta,
-        rod_length=args.rod_length,
-        initial=args.initial,
-    )
-    engine = MDEngine(params, args.method)
+def _md_extend(engine, args):
+    """``simulate md``: τ(t), the momentum, the collisions at each time; C(r) with
+    ``--structure-factor``, v(x) and v(i) with ``--profile``."""
+    params = engine.p
 
     def extend(result, payload):
         payload["collisions_per_particle"] = result.extras["collisions_per_particle"].tolist()
         payload["momentum"] = result.extras["total_momentum"].tolist()
-        payload.pop("total_momentum", None)  # the issue's name is `momentum`; one key, not two
+        payload.pop("total_momentum", None)  # the name is `momentum`; one key, not two
         payload["collisions"] = result.collisions.tolist()
         if args.structure_factor:
             half = params.n // 2 + 1
@@ -228,44 +153,13 @@ def _run_md(args) -> int:
                 "v_i": state.velocities.tolist(),
             }
 
-    try:
-        return run_engine(engine, args, time_key="t", extend=extend)
-    except InelasticCollapseError as exc:
-        print(f"maxwell-kinetics simulate md: error: {exc}", file=sys.stderr)
-        return 3
+    return extend
 
 
-def _add_md(models) -> None:
-    parser = models.add_parser(
-        "md",
-        help="event-driven molecular dynamics of inelastic hard rods on a ring (time t)",
-        description="Exact event-driven MD of N hard rods on a ring (SPEC §4).  Exit status 2: "
-        "bad input (nothing written); 3: inelastic collapse (set --delta > 0, or increase "
-        "a tiny one: see the message).",
-    )
-    add_common_options(parser, time_option="--t")
-    parser.add_argument("--density", required=True, help="number density n = N/L > 0")
-    parser.add_argument(
-        "--delta",
-        default="0",
-        help="regularisation: collisions with |Δv| < δ are elastic (default 0: none)",
-    )
-    parser.add_argument("--rod-length", default="0", help="rod length σ >= 0 (default 0: points)")
-    parser.add_argument(
-        "--profile", action="store_true", help="also output v(x) and v(i) at the last time"
-    )
-    parser.add_argument(
-        "--method",
-        default="fast",
-        choices=["fast", "reference"],
-        help="light-cone vectorised engine (default) or the sequential heap reference",
-    )
-    parser.set_defaults(handler=_run_md)
-
-
-def _run_sticky(args) -> int:
-    params = StickyParams(parse_count(args.n, "n", 2), args.density, args.initial)
-    engine = StickyGas(params)
+def _sticky_extend(engine, args):
+    """``simulate sticky``: the momentum, collisions and clusters at each time; C(r) with
+    ``--structure-factor``, v(x) and v(i) with ``--profile``."""
+    params = engine.p
     last = {}
 
     def observe(state, _observe=engine.observe):
@@ -290,31 +184,39 @@ def _run_sticky(args) -> int:
             payload["profile"] = {"x": x.tolist(), "v_x": v_x.tolist(),
                                   "v_i": state.velocities.tolist()}
 
-    return run_engine(engine, args, time_key="t", extend=extend)
+    return extend
 
 
-def _add_sticky(models) -> None:
-    parser = models.add_parser(
-        "sticky",
-        help="the sticky gas (r = 0), exact at any time from the convex minorant (time t)",
-        description="Perfectly inelastic point particles on a ring (SPEC §7): clusters merge on "
-        "contact and move with their mean velocity.  The state at each requested time is "
-        "computed directly (no events); the initial state is MD's for the same --n, --density, "
-        "--initial and --seed.",
-    )
-    add_common_options(parser, time_option="--t", restitution=False)
-    parser.add_argument("--density", required=True, help="number density n = N/L > 0")
-    parser.add_argument(
-        "--profile", action="store_true", help="also output v(x) and v(i) at the last time"
-    )
-    parser.set_defaults(handler=_run_sticky)
+#: What a model adds to the output: {model: builder of ``extend(result, payload)``}; the
+#: models named here also take ``--profile``.
+_EXTEND = {"md": _md_extend, "sticky": _sticky_extend}
+
+
+def run_model(args) -> int:
+    """The handler of ``simulate MODEL``: parameters checked, engine built, run."""
+    model = get_model(args.model)
+    engine = model.build(model_params(args, model, sweep=False))
+    time_name, args.times = time_option(args, model, model.time_name(engine))
+    extend = _EXTEND[model.name](engine, args) if model.name in _EXTEND else None
+    try:
+        return run_engine(engine, args, time_key=time_name, extend=extend)
+    except InelasticCollapseError as exc:
+        print(f"maxwell-kinetics simulate {model.name}: error: {exc}", file=sys.stderr)
+        return 3
 
 
 def add_parser(subparsers) -> None:
-    """Add the ``simulate`` subcommand to the top-level parser's ``subparsers``."""
+    """Add the ``simulate`` subcommand to the top-level parser's ``subparsers``: one
+    sub-subcommand per model of the catalogue."""
     simulate = subparsers.add_parser("simulate", help="run a particle model")
     models = simulate.add_subparsers(dest="model", required=True)
-    _add_ulam(models)
-    _add_lattice(models)
-    _add_md(models)
-    _add_sticky(models)
+    for model in cli_models():
+        parser = models.add_parser(model.name, help=model.help,
+                                   description=model.description or model.help)
+        add_model_options(parser, model, sweep=False)
+        add_time_option(parser, model)
+        add_common_options(parser)
+        if model.name in _EXTEND:
+            parser.add_argument("--profile", action="store_true",
+                                help="also output v(x) and v(i) at the last time")
+        parser.set_defaults(handler=run_model)

@@ -10,12 +10,11 @@ import time
 
 import numpy as np
 
+from particles.models import get_model
 from particles.observables import mean_sem, mean_sem_json, structure_factor
 from particles.progress import progress_bar
 from particles.sticky import (
     CHERNOFF_VARIANCE,
-    StickyGas,
-    StickyParams,
     chernoff_density,
     cluster_mass_distribution,
     displacement_scale,
@@ -218,7 +217,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     prm = preset(PRESETS, size, overrides)
     n, times = int(prm["n"]), np.asarray(prm["times"], dtype=float)
     seeds = tuple(range(int(prm["seeds"])))
-    engine = StickyGas(StickyParams(n, 1.0, "gaussian"))
+    engine = get_model("sticky").build({"n": n, "density": 1.0, "initial": "gaussian"})
     length = engine.p.length
     lo, hi, step = prm["x_edges"]
     edges = np.round(np.arange(lo, hi + 0.5 * step, step), 12)
@@ -350,7 +349,7 @@ def _small_mass_runs(prm, progress) -> dict:
     fitted by :func:`small_mass_law` for μ ≤ ``mass_mu_max``, plus the pure power law's slope
     on three windows of μ, to show it steepen towards −1/2 as μ → 0."""
     n, times = int(prm["mass_n"]), [float(t) for t in prm["mass_times"]]
-    engine = StickyGas(StickyParams(n, 1.0, "gaussian"))
+    engine = get_model("sticky").build({"n": n, "density": 1.0, "initial": "gaussian"})
     tables, table_times = [], []
     with progress_bar(int(prm["mass_seeds"]) * len(times), f"sticky masses N={n}", "time",
                       enabled=progress) as bar:

@@ -16,6 +16,10 @@ the runs of fixed times (Ulam, lattice, MD) go through the ensemble engine
 task file of its own in that folder, so an interrupted ``reproduce`` resumes from the finished
 runs.  Each task is the same :func:`particles.driver.simulate` call as the serial path, so the
 results are the same bit for bit (tested).
+
+Every run is named by a model of the catalogue :mod:`particles.models` and its parameters, and
+nothing else: the engine is built by the catalogue's factory (:func:`_engine`), in this process
+or by the ensemble engine on its workers.
 """
 
 from __future__ import annotations
@@ -28,13 +32,10 @@ from pathlib import Path
 
 import numpy as np
 
-from particles import md
 from particles.driver import simulate
 from particles.ensemble import EnsembleSpec, load_task, run_ensemble
-from particles.lattice import Lattice
+from particles.models import get_model
 from particles.progress import progress_bar
-from particles.sticky import StickyGas, StickyParams
-from particles.ulam import Ulam
 from particles.validation import check_workers
 
 __all__ = [
@@ -86,12 +87,17 @@ def configure_runs(out=None, workers: int | None = None, force: bool = False) ->
     _EXECUTOR.update(out=None if out is None else str(out), workers=workers, force=force)
 
 
-def _runs(model: str, params: dict, times, seeds, progress, build, **options) -> list:
-    """One :class:`particles.driver.RunResult` per seed: ``simulate(build(), times, seed,
-    **options)`` serially, or the same runs as tasks of the ensemble engine (module
-    docstring)."""
+def _engine(model: str, params: dict):
+    """The engine of ``model`` with ``params``, built by the catalogue."""
+    return get_model(model).build(params)
+
+
+def _runs(model: str, params: dict, times, seeds, progress, **options) -> list:
+    """One :class:`particles.driver.RunResult` per seed: ``simulate(engine, times, seed,
+    **options)`` serially (the engine of ``model`` with ``params``), or the same runs as tasks
+    of the ensemble engine (module docstring)."""
     if _EXECUTOR["out"] is None:
-        engine = build()
+        engine = _engine(model, params)
         return [simulate(engine, list(times), int(seed), progress=progress, **options)
                 for seed in seeds]
     spec = EnsembleSpec(model, params, tuple(int(s) for s in seeds), tuple(times),
@@ -120,7 +126,7 @@ def ulam_snapshots(restitution, law, n, taus, seeds, progress=False) -> np.ndarr
     cached: a new array each call)."""
     out = np.empty((len(taus), len(seeds), int(n)))
     runs = _runs("ulam", {"n": int(n), "restitution": restitution, "initial": law}, taus, seeds,
-                 progress, lambda: Ulam(int(n), restitution, law), snapshots=True)
+                 progress, snapshots=True)
     for j, res in enumerate(runs):
         out[:, j, :] = res.snapshots
     return out
@@ -130,7 +136,7 @@ def ulam_final(params: dict, tau: float, seeds, progress=False) -> np.ndarray:
     """Final velocities of Ulam runs of any kind (``params``: the keyword arguments of
     :class:`particles.ulam.Ulam`, e.g. ``dimension``, ``angular``, ``driving``) at τ = ``tau``:
     array (len(seeds), N) in 1D, (len(seeds), N, d) in d > 1 (not cached)."""
-    runs = _runs("ulam", dict(params), [float(tau)], seeds, progress, lambda: Ulam(**params))
+    runs = _runs("ulam", dict(params), [float(tau)], seeds, progress)
     return np.array([r.velocities for r in runs])
 
 
@@ -147,7 +153,6 @@ def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", 
         params = {"n": int(n), "restitution": restitution, "initial": law,
                   "constraint": bool(constraint)}
         res = _runs("lattice", params, times, seeds, progress,
-                    lambda: Lattice(int(n), restitution, law, constraint),
                     structure_factor=bool(structure), snapshots=bool(snapshots))
         out = {"times": np.asarray(times, dtype=float),
                "energy": np.array([r.energy for r in res]),
@@ -168,8 +173,9 @@ def md_record_times(t_max) -> tuple[float, ...]:
     return tuple(float(t) for t in np.round(np.geomspace(0.05, t_max, 36), 6))
 
 
-def _checkpoint_path(directory, prm: md.MDParams, times, seed) -> Path:
-    """A checkpoint file of its own for each MD run: parameters, seed and a hash of the times."""
+def _checkpoint_path(directory, prm, times, seed) -> Path:
+    """A checkpoint file of its own for each MD run (``prm``: its
+    :class:`particles.md.MDParams`): parameters, seed and a hash of the times."""
     digest = hashlib.sha256(json.dumps([float(t) for t in times]).encode()).hexdigest()[:12]
     return Path(directory) / (f"md_n{prm.n}_r{prm.restitution:g}_d{prm.delta:g}_{prm.initial}"
                               f"_seed{int(seed)}_{digest}.npz")
@@ -190,8 +196,8 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
     key = ("md", restitution, n, delta, tuple(times), tuple(seeds), law)
 
     def compute():
-        prm = md.MDParams(n=int(n), density=1.0, restitution=restitution, delta=delta,
-                          initial=law)
+        params = {"n": int(n), "density": 1.0, "restitution": restitution, "delta": delta,
+                  "initial": law, "stop_step": MD_STOP_STEP}
         t_all = np.asarray(times, dtype=float)
         energy = np.empty((len(seeds), t_all.size))
         tau = np.empty_like(energy)
@@ -199,19 +205,17 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
         pos = np.empty_like(snaps)
         seconds = 0.0
         if _EXECUTOR["out"] is not None:  # through the ensemble engine (its own checkpoints)
-            params = {"n": int(n), "density": 1.0, "restitution": restitution, "delta": delta,
-                      "initial": law, "stop_step": MD_STOP_STEP}
-            runs = _runs("md", params, t_all, seeds, progress, None, snapshots=True)
+            runs = _runs("md", params, t_all, seeds, progress, snapshots=True)
         else:
             runs = []
             for seed in seeds:
+                engine = _engine("md", params)
                 path = resume = None
                 if checkpoint_dir is not None:
-                    path = _checkpoint_path(checkpoint_dir, prm, t_all, seed)
+                    path = _checkpoint_path(checkpoint_dir, engine.p, t_all, seed)
                     resume = path if path.exists() else None
-                runs.append(simulate(md.MDEngine(prm, stop_step=MD_STOP_STEP), t_all, int(seed),
-                                     progress=progress, snapshots=True, checkpoint=path,
-                                     resume=resume))
+                runs.append(simulate(engine, t_all, int(seed), progress=progress, snapshots=True,
+                                     checkpoint=path, resume=resume))
         for i, res in enumerate(runs):
             energy[i] = res.energy
             tau[i] = res.extras["collisions_per_particle"]
@@ -233,7 +237,7 @@ def sticky_runs(n, times, seeds, law="gaussian", progress=False, *, snapshots=Fa
     key = ("sticky", n, tuple(times), tuple(seeds), law, bool(snapshots))
 
     def compute():
-        engine = StickyGas(StickyParams(int(n), 1.0, law))
+        engine = _engine("sticky", {"n": int(n), "density": 1.0, "initial": law})
         res = [simulate(engine, list(times), int(s), progress=progress,
                         snapshots=bool(snapshots)) for s in seeds]
         out = {"times": np.asarray(times, dtype=float),
@@ -263,7 +267,8 @@ def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gauss
            rate)
 
     def compute():
-        engine = Lattice(int(n), restitution, law, constraint, rate=rate)
+        engine = _engine("lattice", {"n": int(n), "restitution": restitution, "initial": law,
+                                     "constraint": constraint, "rate": rate})
         start = time.perf_counter()
         taus, energies, snaps, traces = [], [], [], []
         with progress_bar(len(seeds), f"lattice r={restitution:g} E={target:.2g}", "run",

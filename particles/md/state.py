@@ -101,11 +101,22 @@ class MDParams:
         if law.sampler is None:
             raise InvalidArgumentError("initial", self.initial, "a law with a sampler")
         object.__setattr__(self, "initial", law.name)
+        if not math.isfinite(self.length):  # n/density overflows: density underflows
+            raise InvalidArgumentError(
+                "density", self.density,
+                f"a density whose ring length n/density is finite (n = {self.n})",
+            )
         if not self.reduced_length > 0.0:
             raise InvalidArgumentError(
                 "rod_length",
                 self.rod_length,
                 f"rods that fit: n*rod_length < L = n/density = {self.length!r}",
+            )
+        if not math.isfinite(self.reduced_density):  # L - n*rod_length is subnormal
+            raise InvalidArgumentError(
+                "rod_length", self.rod_length,
+                f"rods that leave a free length L - n*rod_length that n can be divided by "
+                f"(L = {self.length!r})",
             )
 
     @property

@@ -1,0 +1,111 @@
+"""The command-line options of the particle models, generated from the catalogue
+:mod:`particles.models`, for ``simulate MODEL`` and ``ensemble MODEL`` alike.
+
+Every parameter of a model is an option (``Parameter.option``; a boolean also has its switch,
+e.g. ``--no-constraint``).  ``simulate`` takes one value per option, ``ensemble`` a value or a
+comma list (swept); each value is read by ``Parameter.parse``, so one bad value gets one message
+from both commands.  The time option is ``--tau`` or ``--t``, as the engine names its time
+(``engine.time_name``; the lattice takes either, and the one given must be its engine's).  The
+run options that mean the same in both commands (``--json``, ``--structure-factor``,
+``--checkpoint-interval``, ``--progress/--no-progress``) are added by :func:`add_run_options`.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from particles.models import MODELS, Model
+from particles.validation import InvalidArgumentError, parse_name_list
+
+__all__ = [
+    "cli_models",
+    "add_model_options",
+    "add_time_option",
+    "add_run_options",
+    "model_params",
+    "time_option",
+]
+
+
+def cli_models() -> list[Model]:
+    """The models of the catalogue whose parameters are all declared (a model registered with
+    only a factory has parameters of kind ``"any"``: it is for Python, not the command line)."""
+    return [m for m in MODELS.values() if all(p.kind != "any" for p in m.parameters)]
+
+
+def add_model_options(parser: argparse.ArgumentParser, model: Model, *, sweep: bool) -> None:
+    """One option per parameter of ``model`` (values stay strings until
+    :func:`model_params`)."""
+    for p in model.parameters:
+        text = p.describe()
+        if p.example is not None:
+            text += f"; e.g. {p.option} {_shown(p.example)}"
+        if sweep:
+            text += "; a comma list is swept"
+        target = parser
+        if p.kind == "flag" and p.switch:
+            target = parser.add_mutually_exclusive_group()
+            target.add_argument(p.switch, dest=p.name, action="store_const",
+                                const=not p.default, default=None,
+                                help=f"same as {p.option} {_shown(not p.default)}")
+        target.add_argument(p.option, dest=p.name, required=p.required, default=None,
+                            metavar="VALUE" if not sweep else "V1,V2,...", help=text)
+
+
+def _shown(value) -> str:
+    return str(value).lower() if isinstance(value, bool) else str(value)
+
+
+def add_time_option(parser: argparse.ArgumentParser, model: Model) -> None:
+    """``--tau`` or ``--t`` (or both, one of them required) as the model's engines name their
+    time."""
+    group = parser.add_mutually_exclusive_group(required=True)
+    for name in model.time_names:
+        group.add_argument(f"--{name}", dest=f"times_{name}", metavar="T1,T2,...",
+                           help=f"increasing times >= 0 at which to record ({name})")
+
+
+def add_run_options(parser: argparse.ArgumentParser) -> None:
+    """The run options shared by ``simulate MODEL`` and ``ensemble MODEL``."""
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument(
+        "--structure-factor", action="store_true", help="also record S(k) at the last time"
+    )
+    parser.add_argument("--checkpoint-interval", default="60", metavar="SECONDS",
+                        help="wall-clock seconds between checkpoints (default 60)")
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                        help="progress on stderr (default: simulate when stderr is a terminal, "
+                        "ensemble unless --json)")
+
+
+def model_params(args, model: Model, *, sweep: bool) -> dict:
+    """{name: value} of the parameters given on the command line (``sweep``: a list of values
+    where a comma list was given), each checked by ``Parameter.parse``; the others are left to
+    the factory's defaults."""
+    params = {}
+    for p in model.parameters:
+        text = getattr(args, p.name, None)
+        if text is None:
+            continue
+        if isinstance(text, bool):  # the switch of a flag
+            params[p.name] = text
+        elif sweep:
+            values = [p.parse(part) for part in parse_name_list(text, p.name)]
+            params[p.name] = values if len(values) > 1 else values[0]
+        else:
+            params[p.name] = p.parse(text)
+    return params
+
+
+def time_option(args, model: Model, time_name: str) -> tuple[str, str]:
+    """(name, text) of the time option given; it must be ``time_name``, the engine's."""
+    for name in model.time_names:
+        text = getattr(args, f"times_{name}", None)
+        if text is not None:
+            if name != time_name:
+                raise InvalidArgumentError(
+                    name, text, f"times given as --{time_name} (the time of this {model.name} "
+                    f"engine is {time_name})"
+                )
+            return name, text
+    raise InvalidArgumentError(time_name, None, f"--{time_name} T1,T2,...")  # pragma: no cover

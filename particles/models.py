@@ -1,0 +1,407 @@
+"""The catalogue of particle models: each model declared once, everything else generated from it.
+
+A :class:`Model` is a name, a factory that builds the model's engine (the engine protocol of
+:mod:`particles.driver`) from keyword parameters, and the typed :class:`Parameter` list of those
+keywords: kind (``"int"``, ``"float"``, ``"choice"``, ``"flag"``; ``"any"`` for models added
+with :func:`register_model` without declarations), default (or :data:`REQUIRED`), validator
+(from :mod:`particles.validation`), unit, help text and command-line option.  The model's time
+(``"tau"`` or ``"t"``) is not declared here: it is the engine's ``time_name`` (the lattice with
+``rate="relative_velocity"`` runs in MD's t, the constant-rate one in τ).
+
+What is generated from :data:`MODELS`: the ``simulate MODEL`` and ``ensemble MODEL`` commands of
+the command line (every parameter an option; in ``ensemble`` every option takes a comma list,
+which is swept), the models of :class:`particles.ensemble.EnsembleSpec`, and the particle runs of
+the comparisons (which pass only a model name and its parameters).  Adding a model or a
+parameter is one entry here.
+
+A value given on the command line is read by :meth:`Parameter.parse`; a bad one raises
+:class:`particles.validation.InvalidArgumentError` naming the parameter and the text as given,
+so every command reports one bad value with the same message.  Conditions that tie parameters
+together (rods that fit on the ring, driving only in one dimension) are the engine's, checked
+when it is built.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from .initial import LAWS
+from .validation import (
+    InvalidArgumentError,
+    check_choice,
+    check_count,
+    check_nonnegative,
+    check_positive,
+    check_restitution,
+    parse_int,
+)
+
+__all__ = [
+    "REQUIRED",
+    "KINDS",
+    "Parameter",
+    "Model",
+    "MODELS",
+    "get_model",
+    "register_model",
+    "registered_models",
+]
+
+
+class _Required:
+    def __repr__(self) -> str:
+        return "REQUIRED"
+
+
+#: The default of a parameter that must be given.
+REQUIRED: Any = _Required()
+#: The kinds of parameters.
+KINDS = ("int", "float", "choice", "flag", "any")
+_TRUE, _FALSE = ("true", "yes", "1"), ("false", "no", "0")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One keyword parameter of a model's factory.
+
+    ``check(value, name)`` validates a value of the right type and returns it normalised (one of
+    the checks of :mod:`particles.validation`); ``option`` is the command-line option (default
+    ``--`` and the name with ``-`` for ``_``); a ``"flag"`` (a boolean) also has ``switch``, an
+    option without a value that sets it to ``not default`` (``--no-constraint``).  ``example``
+    is a valid value other than the default (shown in the help, and what the generated tests
+    run)."""
+
+    name: str
+    kind: str
+    default: Any = REQUIRED
+    check: Callable[[Any, str], Any] | None = None
+    unit: str = ""
+    help: str = ""
+    option: str = ""
+    switch: str = ""
+    choices: tuple = ()
+    example: Any = None
+
+    def __post_init__(self):
+        if self.kind not in KINDS:
+            raise InvalidArgumentError("kind", self.kind, f"one of {KINDS}")
+        if not self.option:
+            object.__setattr__(self, "option", "--" + self.name.replace("_", "-"))
+        if self.kind == "choice" and self.check is None:
+            object.__setattr__(self, "check", functools.partial(_choice, choices=self.choices))
+
+    @property
+    def required(self) -> bool:
+        return self.default is REQUIRED
+
+    def validate(self, value):
+        """``value`` checked (and normalised) by the parameter's validator."""
+        if self.kind == "flag" and not isinstance(value, bool):
+            raise InvalidArgumentError(self.name, value, "true or false")
+        return value if self.check is None else self.check(value, self.name)
+
+    def parse(self, text: str):
+        """The value of the command-line text ``text``, checked; a bad one raises
+        :class:`InvalidArgumentError` naming this parameter and ``text`` as given."""
+        try:
+            if self.kind == "int":
+                value = parse_int(text, self.name)
+            elif self.kind == "float":
+                value = float(text)
+            elif self.kind == "flag":
+                word = str(text).strip().lower()
+                if word not in _TRUE + _FALSE:
+                    raise InvalidArgumentError(self.name, text, "true or false")
+                value = word in _TRUE
+            else:
+                value = text
+            return self.validate(value)
+        except ValueError as exc:  # InvalidArgumentError included: shown with the text given
+            expected = getattr(exc, "expected", "a real number")
+            raise InvalidArgumentError(self.name, text, expected) from None
+
+    def describe(self) -> str:
+        """The help text of the option: help, unit, choices and default."""
+        parts = [self.help]
+        if self.unit:
+            parts.append(f"[{self.unit}]")
+        if self.choices:
+            parts.append("(" + " | ".join(map(str, self.choices)) + ")")
+        default = str(self.default).lower() if isinstance(self.default, bool) else self.default
+        parts.append("(required)" if self.required else f"(default {default})")
+        return " ".join(p for p in parts if p)
+
+
+def _choice(value, name, choices):
+    return check_choice(value, name, choices)
+
+
+def _count(minimum: int) -> Callable[[Any, str], int]:
+    return functools.partial(_check_count, minimum=minimum)
+
+
+def _check_count(value, name, minimum):
+    return check_count(value, name, minimum)
+
+
+def _dimension(value, name):
+    if isinstance(value, bool) or value not in (1, 2, 3):
+        raise InvalidArgumentError(name, value, "1, 2 or 3")
+    return int(value)
+
+
+def _restitution(value, name):
+    return check_restitution(value, name)
+
+
+@dataclass(frozen=True)
+class Model:
+    """A particle model: ``factory(**params)`` builds its engine; ``parameters`` declares the
+    keywords it takes; ``help`` and ``description`` are its command-line texts."""
+
+    name: str
+    factory: Callable[..., Any]
+    parameters: tuple[Parameter, ...]
+    help: str = ""
+    description: str = ""
+    #: time name of engines that have no ``time_name`` (models of :func:`register_model`)
+    default_time_name: str = "tau"
+    _by_name: dict = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "parameters", tuple(self.parameters))
+        names = [p.name for p in self.parameters]
+        if len(set(names)) != len(names):
+            raise InvalidArgumentError("parameters", names, "distinct names")
+        object.__setattr__(self, "_by_name", {p.name: p for p in self.parameters})
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters)
+
+    @property
+    def required(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters if p.required)
+
+    def parameter(self, name: str) -> Parameter:
+        try:
+            return self._by_name[name]
+        except KeyError:
+            raise InvalidArgumentError(
+                "params", name, f"a parameter of {self.name}: one of {list(self.names)}"
+            ) from None
+
+    def build(self, params: Mapping[str, Any]):
+        """The engine of ``params`` (unknown or missing parameters are refused)."""
+        for name in params:
+            self.parameter(name)
+        missing = [p for p in self.required if p not in params]
+        if missing:
+            raise InvalidArgumentError("params", sorted(params), f"values for {missing}")
+        try:
+            return self.factory(**params)
+        except InvalidArgumentError:
+            raise
+        except (TypeError, ValueError) as exc:
+            raise InvalidArgumentError(
+                "params", dict(params), f"parameters of {self.name} ({exc})"
+            ) from None
+
+    def time_name(self, engine) -> str:
+        """The name of ``engine``'s time: its ``time_name``."""
+        return str(getattr(engine, "time_name", self.default_time_name))
+
+    @functools.cached_property
+    def time_names(self) -> tuple[str, ...]:
+        """Every time name an engine of this model may have (the time options of the command
+        line): the engines built from the examples, once per value of each choice and flag."""
+        base = {p.name: p.example for p in self.parameters if p.required}
+        if any(v is None for v in base.values()):
+            return (self.default_time_name,)
+        variants = [{}]
+        for p in self.parameters:
+            values = p.choices if p.kind == "choice" else (True, False) if p.kind == "flag" else ()
+            variants += [{p.name: v} for v in values]
+        names = []
+        for extra in variants:
+            try:
+                name = self.time_name(self.build({**base, **extra}))
+            except InvalidArgumentError:
+                continue
+            if name not in names:
+                names.append(name)
+        return tuple(names) or (self.default_time_name,)
+
+
+# --------------------------------------------------------------------------- factories
+# Module-level functions: the ensemble sends them to its workers by reference (pickle).
+
+
+def _ulam(n, restitution, initial="gaussian", dimension=1, angular="uniform", driving=0.0):
+    from .ulam import Ulam
+
+    return Ulam(n, restitution, initial, dimension=dimension, angular=angular, driving=driving)
+
+
+def _lattice(n, restitution, initial="gaussian", constraint=True, rate="constant"):
+    from .lattice import Lattice
+
+    return Lattice(n, restitution, initial, constraint, rate=rate)
+
+
+def _md(n, density, restitution, delta=0.0, rod_length=0.0, initial="gaussian", method="fast",
+        stop_step=1.0):
+    from .md import MDEngine, MDParams
+
+    return MDEngine(MDParams(n, density, restitution, delta, rod_length, initial), method,
+                    stop_step=stop_step)
+
+
+def _sticky(n, density, initial="gaussian"):
+    from .sticky import StickyGas, StickyParams
+
+    return StickyGas(StickyParams(n, density, initial))
+
+
+# --------------------------------------------------------------------------- parameters
+
+
+def _n(minimum: int, what: str = "particles") -> Parameter:
+    return Parameter("n", "int", check=_count(minimum), unit=what, example=40,
+                     help=f"number of {what}, an integer >= {minimum} (2e5 is accepted)")
+
+
+def _restitution_parameter() -> Parameter:
+    return Parameter("restitution", "float", check=_restitution, example=0.5,
+                     help="restitution coefficient r in [0, 1]")
+
+
+def _initial() -> Parameter:
+    laws = tuple(name for name, law in LAWS.items() if law.sampler is not None)
+    return Parameter("initial", "choice", default="gaussian", choices=laws, example="uniform",
+                     help="initial velocity law (zero mean, unit energy)")
+
+
+def _density() -> Parameter:
+    return Parameter("density", "float", check=check_positive, unit="1/length", example=1.0,
+                     help="number density N/L > 0 (L, the ring length, must stay finite)")
+
+
+MODELS: dict[str, Model] = {}
+
+
+def _declare(model: Model) -> Model:
+    MODELS[model.name] = model
+    return model
+
+
+_declare(Model(
+    "ulam", _ulam,
+    (
+        _n(2),
+        _restitution_parameter(),
+        _initial(),
+        Parameter("dimension", "int", default=1, check=_dimension, example=2,
+                  help="velocity dimension d: 1, 2 or 3"),
+        Parameter("angular", "choice", default="uniform", choices=("uniform", "hard"),
+                  example="hard", help="d > 1: law of the collision direction, uniform on the "
+                  "sphere or weighted by |g.n|"),
+        Parameter("driving", "float", default=0.0, check=check_nonnegative,
+                  unit="energy per unit time", example=0.1,
+                  help="white-noise heating strength D >= 0 (d = 1 only; 0: free cooling)"),
+    ),
+    help="mean-field pseudo-Maxwell (Ulam) model, exact continuous time in τ",
+))
+
+_declare(Model(
+    "lattice", _lattice,
+    (
+        _n(3, "sites"),
+        _restitution_parameter(),
+        _initial(),
+        Parameter("constraint", "flag", default=True, switch="--no-constraint", example=False,
+                  help="collide only approaching pairs, v_i > v_{i+1} (false: every chosen "
+                  "bond)"),
+        Parameter("rate", "choice", default="constant",
+                  choices=("constant", "relative_velocity"), example="relative_velocity",
+                  help="bond collision rate: constant (the paper's lattice, time τ = "
+                  "attempts/N) or proportional to |v_i - v_{i+1}| as for MD pairs (time t of "
+                  "MD at density 1)"),
+    ),
+    help="ring lattice model (time τ = attempts / N; t with --rate relative_velocity)",
+))
+
+_declare(Model(
+    "md", _md,
+    (
+        _n(2),
+        _density(),
+        _restitution_parameter(),
+        Parameter("delta", "float", default=0.0, check=check_nonnegative, unit="velocity",
+                  example=0.01,
+                  help="regularisation: collisions with |Δv| < δ are elastic (0: none)"),
+        Parameter("rod_length", "float", default=0.0, check=check_nonnegative, unit="length",
+                  example=0.01, help="rod length σ >= 0 (0: point particles)"),
+        _initial(),
+        Parameter("method", "choice", default="fast", choices=("fast", "reference"),
+                  example="reference",
+                  help="light-cone vectorised engine or the sequential heap reference "
+                  "(same result)"),
+        Parameter("stop_step", "float", default=1.0, check=check_positive, unit="time t",
+                  example=0.5, help="the run stops every stop_step of t for progress and "
+                  "checkpoints (changes no result)"),
+    ),
+    help="event-driven molecular dynamics of inelastic hard rods on a ring (time t)",
+    description="Exact event-driven MD of N hard rods on a ring.  Exit status 2: bad input "
+    "(nothing written); 3: inelastic collapse (set --delta > 0, or increase a tiny one: see "
+    "the message).",
+))
+
+_declare(Model(
+    "sticky", _sticky,
+    (_n(2), _density(), _initial()),
+    help="the sticky gas (r = 0), exact at any time from the convex minorant (time t)",
+    description="Perfectly inelastic point particles on a ring: clusters merge on contact and "
+    "move with their mean velocity.  The state at each requested time is computed directly (no "
+    "events); the initial state is MD's for the same --n, --density, --initial and --seed.",
+))
+
+
+# --------------------------------------------------------------------------- registration
+
+
+def get_model(name) -> Model:
+    """The model named ``name`` (an error naming ``model`` and listing the models otherwise)."""
+    if isinstance(name, str) and name in MODELS:
+        return MODELS[name]
+    raise InvalidArgumentError("model", name, f"one of {sorted(MODELS)}")
+
+
+def register_model(name: str, factory: Callable[..., Any], *, time_name: str = "tau",
+                   parameters=None) -> Model:
+    """Add ``name`` to the catalogue: ``factory(**params)`` builds its engine.  ``parameters``
+    (a sequence of :class:`Parameter`) declares them; without it they are the keyword
+    parameters of ``factory``, of kind ``"any"`` (those without a default are required).
+    ``time_name`` is used only for engines that have no ``time_name`` of their own.  The factory
+    travels to ensemble workers by reference (by pickle), so it must be importable there.
+    Registering a name again replaces it."""
+    if not isinstance(name, str) or not name:
+        raise InvalidArgumentError("name", name, "a non-empty string")
+    if not callable(factory):
+        raise InvalidArgumentError("factory", factory, "a callable that builds an engine")
+    if parameters is None:
+        parameters = []
+        for p in inspect.signature(factory).parameters.values():
+            if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY):
+                default = REQUIRED if p.default is p.empty else p.default
+                parameters.append(Parameter(p.name, "any", default=default))
+    return _declare(Model(name, factory, tuple(parameters), default_time_name=str(time_name)))
+
+
+def registered_models() -> dict[str, tuple[str, ...]]:
+    """{model name: the parameters it accepts}."""
+    return {name: m.names for name, m in MODELS.items()}
