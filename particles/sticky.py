@@ -737,8 +737,8 @@ def exact_shock_density(a, b) -> np.ndarray:
     ∫∫ (a + b) J(a, b) da db = 1.
 
     Computing J.  Fix ξ = 0 and follow Z(s) = H₀(s) − h (h the minimum) to the right of a point
-    τ where Z = x > 0: dZ = τ-dependent drift s ds plus dW.  Girsanov's theorem turns the
-    parabolic drift into the potential ∫ X ds of a driftless path X, so the density of Z killed
+    τ where Z = x > 0: dZ = s ds + dW, a Brownian path with the drift s.  Girsanov's theorem
+    turns this drift into the potential ∫ X ds of a driftless path X, so the density of Z killed
     at 0 is q(s₀, x; s₁, y) = e^{s₁ y − s₀ x − (s₁³ − s₀³)/6} K(s₁ − s₀; x, y), K the kernel of
     exp(−t(−½ ∂² + x)) on x > 0 with a Dirichlet wall.  Its eigenfunctions are Ai(2^{1/3} x +
     a_k) with eigenvalues −2^{−1/3} a_k, and ∂_x ∂_y K(t; 0, 0) = k(t) = 2 Σ_k e^{2^{−1/3} a_k
@@ -755,9 +755,11 @@ def exact_shock_density(a, b) -> np.ndarray:
     measure (each level h then counts once, and the count is that of W(0) = 0).  The minimum of
     H₀ sits at s₁ = −a (left part: a path from the left that stays above h, entrance factor
     φ(a) after the reflection s → −s), a second dip to within δμ of h sits at s₂ = b (right
-    part: φ(b)), and between them the killed bridge gives ½ q-derivatives: the flux ½ ∂ at each
-    touching point, the bridge ∂_x∂_y q = e^{−(s₂³ − s₁³)/6} k(μ), and the width δμ of the
-    allowed dip.  Altogether J = ¼ μ k(μ) φ(a) e^{−a³/6} φ(b) e^{−b³/6} = ¼ μ k(μ) ψ(a) ψ(b).
+    part: φ(b)), and between them runs a bridge of Z killed at 0.  Each touching point
+    contributes the flux ½ ∂ of a killed density (as in the joint law of the place and value
+    of a Brownian minimum), the bridge contributes ∂_x∂_y q = e^{−(s₂³ − s₁³)/6} k(μ), and the
+    dip may lie anywhere in a window of width δμ.  Altogether
+    J = ¼ μ k(μ) φ(a) e^{−a³/6} φ(b) e^{−b³/6} = ¼ μ k(μ) ψ(a) ψ(b).
     Checks (tests): ∫∫ μ J = 1, and the jump rate across s = 0, ∫∫_{a,b>0} J = ½ ψ(0)², equals
     the density of argmin H₀ at 0; the engine reproduces the laws.
 
@@ -791,8 +793,9 @@ def exact_mass_density(mu) -> np.ndarray:
     a = b = μ/2, and k ≈ 2 e^{−λ₁ μ}).
 
     Vectorised; F = 0 for μ < 0, +∞ at μ = 0, and 0 (below 1e-1100) for μ > 40.  Relative
-    accuracy ~1e-12 (tests: two contours, the residue sum against the Hankel contour for k,
-    ψ∗ψ against the convolution of ψ, ∫ μ F = 1).  Not finite → ``InvalidArgumentError``."""
+    accuracy better than 1e-10 (tests: two node counts of the contour, the residue sum against
+    the Hankel contour for k, ψ∗ψ against the convolution of ψ, ∫ μ F = 1 to 1e-11).
+    Not finite → ``InvalidArgumentError``."""
     mu = _check_finite_array(mu, "mu")
     out = np.zeros(mu.shape)
     out[mu == 0.0] = math.inf
@@ -900,8 +903,8 @@ def exact_velocity_survival(w, *, nodes: int = 60) -> np.ndarray:
     For |w| ≤ 1: ½ ∓ ∫_0^{|w|} P by Gauss–Legendre with ``nodes`` nodes.  For |w| > 1 the tail
     integral ∫_w^{w+L} P with the same rule, L the root of x³/6 + w x²/2 + w² x/2 = 65 (the
     cubic part of −ln P(w + x)/P(w), which bounds it: the rest of the decay only adds), so the
-    neglected part is below e^{−65} of the kept one.  Relative accuracy ~1e-11 (tests: 60
-    against 120 nodes; the two formulas against each other at w = 1).  Not finite →
+    neglected part is below e^{−65} of the kept one.  Relative accuracy ~1e-10 (tests: 60
+    against 120 nodes; the two formulas against each other at w = 1; dP_>/dw = −P).  Not finite →
     ``InvalidArgumentError``."""
     w = _check_finite_array(w, "w")
     flat = np.abs(w.ravel())
