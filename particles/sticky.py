@@ -726,7 +726,10 @@ def exact_shock_density(a, b) -> np.ndarray:
     standard two-sided Brownian motion: a cluster is a segment [s₁, s₂] of the convex minorant of
     W(s) + s²/2, its mass is m = ℓ (s₂ − s₁) = ℓ μ, its velocity σ ΔB/Δm = σ^{2/3} (n t)^{−1/3}
     ΔW/Δs, i.e. w = ΔW/Δs, and its position is ℓ/n times the slope ξ of the segment.  So the
-    scaled laws below hold for every n, T₀ and initial law of finite variance, at n t ≫ 1.
+    scaled laws below hold for every n, T₀ and initial law of finite variance, at n t ≫ 1.  In
+    Burgers' terms: each particle carries its velocity over a spacing 1/n, so the initial
+    velocity potential ∫₀^x u₀ = (1/n) Σ_{x_j < x} v_j = (σ/n) B(n x) is a Brownian motion of
+    variance T₀/n per unit length (white-noise velocity of strength T₀/n).
 
     The segment of slope ξ.  H_ξ(s) = W(s) + (s − ξ)²/2 takes its minimum at s₁ = ξ − a and
     s₂ = ξ + b; then W(s₂) − W(s₁) = (a² − b²)/2, so w = (a − b)/2: the cluster's velocity is
