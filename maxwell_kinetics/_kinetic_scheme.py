@@ -519,14 +519,14 @@ def _window(st: Static, dy: Dynamic, i, y):
     return jnp.where(_active(st, dy), moved, 0.0)
 
 
-def _advance(st: Static, dy: Dynamic, y, i_start, count):
+def advance_unjitted(st: Static, dy: Dynamic, y, i_start, count):
     TRACES["advance"] += 1
     return jax.lax.fori_loop(
         i_start, i_start + count, lambda i, y: _window(st, dy, i, y), y
     )
 
 
-def _output(st: Static, dy: Dynamic, y, i_window, tau):
+def output_unjitted(st: Static, dy: Dynamic, y, i_window, tau):
     """w on the fixed grid at τ ≥ τ_w = i_window Δτ (shape (parts, n))."""
     TRACES["output"] += 1
     n, out_order, nl = st.grid.n, st.out_order, st.out_order
@@ -552,9 +552,9 @@ def _output(st: Static, dy: Dynamic, y, i_window, tau):
 
 
 #: ``advance(static, dynamic, y, i_start, count)``: ``count`` windows from window ``i_start``.
-advance = jax.jit(_advance, static_argnums=0)
+advance = jax.jit(advance_unjitted, static_argnums=0)
 #: ``output(static, dynamic, y, i_window, tau)``: w on the fixed grid at τ.
-output = jax.jit(_output, static_argnums=0)
+output = jax.jit(output_unjitted, static_argnums=0)
 
 
 def initial_state(st: Static, w0: np.ndarray):

@@ -7,10 +7,13 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_solution", "plot_convergence", "plot_density"]
+__all__ = ["new_figure", "plot_solution", "plot_convergence", "plot_density"]
 
 
-def _figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
+def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
+    """A figure of one row of ``ncols`` panels, each ``width`` × ``height`` inches, on the
+    non-interactive Agg backend (unless another backend was chosen): ``(fig, axes)`` with
+    ``axes`` of shape (1, ncols)."""
     import matplotlib
 
     matplotlib.use("Agg", force=False)
@@ -25,7 +28,7 @@ def plot_solution(solution):
     speed P(s) (:meth:`~maxwell_kinetics.solver.Solution.speed_density`) on a log scale."""
     from .exact import f_hat
 
-    fig, axes = _figure(2)
+    fig, axes = new_figure(2)
     left, right = axes[0]
     q = solution.q
     show = q > 1e-3
@@ -59,7 +62,7 @@ def plot_solution(solution):
 
 def plot_convergence(runs):
     """sup_q |G − f̂| against τ for each (r, resolution), and the floor against h."""
-    fig, axes = _figure(2)
+    fig, axes = new_figure(2)
     left, right = axes[0]
     rs = sorted({run.restitution for run in runs})
     styles = ["-", "--", ":", "-."]
@@ -91,7 +94,7 @@ def plot_density(x, P, variance: float, title: str = "", ax=None):
     import numpy as np
 
     if ax is None:
-        fig, axes = _figure()
+        fig, axes = new_figure()
         ax = axes[0, 0]
     else:
         fig = ax.figure

@@ -104,7 +104,7 @@ def rescaled_coefficients(dimension, restitution, tau, n_max: int = 3, angular="
 
 def _deviation_from_scaling(solution, tau_index):
     """(q, w): the solver's grid and w = G − f̂ there (real part) at output ``tau_index``."""
-    k = solution._index(tau_index)
+    k = solution.time_index(tau_index)
     q = solution.q
     return q, (solution.deviation[k] - deviation_from_f_hat(q, solution.skewness)).real
 

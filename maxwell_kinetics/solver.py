@@ -198,13 +198,15 @@ class _Stepper:
     def advance(self, y, i_start: int, count: int):
         """The state after ``count`` windows from window ``i_start``."""
         with self._x64(True):
-            return compile_cache.call("advance", self._scheme._advance, self._scheme.advance,
+            scheme = self._scheme
+            return compile_cache.call("advance", scheme.advance_unjitted, scheme.advance,
                                       self.static, (self.dynamic, y, i_start, count))
 
     def output(self, y, i_window: int, tau: float):
         """w on the fixed grid at τ (≥ i_window Δτ) as a (parts, n) array."""
         with self._x64(True):
-            return compile_cache.call("output", self._scheme._output, self._scheme.output,
+            scheme = self._scheme
+            return compile_cache.call("output", scheme.output_unjitted, scheme.output,
                                       self.static, (self.dynamic, y, i_window, tau))
 
 
@@ -376,7 +378,10 @@ class Solution:
     def model(self) -> MaxwellModel:
         return MaxwellModel(self.restitution)
 
-    def _index(self, tau_index: int) -> int:
+    def time_index(self, tau_index: int) -> int:
+        """The non-negative index of saved time ``tau_index`` (negative counts from the end, as
+        in Python); :class:`~particles.validation.InvalidArgumentError` naming ``tau_index``
+        when there is no such saved time."""
         n = len(self.tau)
         if not -n <= tau_index < n:
             raise InvalidArgumentError("tau_index", tau_index, f"an index into {n} saved times")
@@ -398,7 +403,7 @@ class Solution:
             )
         out = np.array(reference(a, self.skewness), dtype=complex)  # G = g below q_min
         inside = a >= grid.q_min
-        dev = self.deviation[self._index(tau_index)]
+        dev = self.deviation[self.time_index(tau_index)]
         out[inside] = f_hat(a[inside]) + self._interpolate(dev, a[inside])
         return np.where(q < 0, np.conj(out), out)
 
@@ -436,7 +441,7 @@ class Solution:
         self._require_one_dimension("sup_error")
         if tau_index is None:
             return np.array([self.sup_error(k) for k in range(len(self.tau))])
-        return self._weighted_sup(self._index(tau_index), 0.0, self.resolution.q_min)
+        return self._weighted_sup(self.time_index(tau_index), 0.0, self.resolution.q_min)
 
     def fourier_distance(self, s: float, tau_index: int | None = None, q_low: float | None = None):
         """d_s(G, f̂) = sup_q |G − f̂| / q^s over q ∈ [q_low, q_max] (default q_low = q_min).
@@ -450,7 +455,7 @@ class Solution:
         if tau_index is None:
             return np.array([self.fourier_distance(s, k, q_low) for k in range(len(self.tau))])
         q_low = self.resolution.q_min if q_low is None else q_low
-        return self._weighted_sup(self._index(tau_index), s, q_low)
+        return self._weighted_sup(self.time_index(tau_index), s, q_low)
 
     def _weighted_sup(self, k: int, s: float, q_low: float) -> float:
         q = self.q
@@ -493,7 +498,7 @@ class Solution:
         """G(q) at saved time ``tau_index`` as a callable, zero beyond the grid's end q_max
         (|G| < 1e-13 there once near the scaling solution)."""
         q_max = self.resolution.q_max
-        k = self._index(tau_index)
+        k = self.time_index(tau_index)
 
         def G(q):
             q = np.asarray(q, dtype=float)
@@ -520,9 +525,9 @@ class Solution:
         :meth:`density`.  Gauss–Legendre panels, no aliasing.  ``s``: finite speeds ≥ 0
         (InvalidArgumentError naming ``s`` otherwise).
         """
-        from .velocity import _check_speeds, speed_density_at
+        from .velocity import check_speeds, speed_density_at
 
-        s = _check_speeds(s, "s")
+        s = check_speeds(s, "s")
         G = self._truncated(tau_index)
         return s, speed_density_at(G, s, self.dimension, q_max=self.resolution.q_max)
 

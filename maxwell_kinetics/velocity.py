@@ -200,7 +200,7 @@ def invert(
 _SPHERE = {1: 2.0, 2: 2.0 * math.pi, 3: 4.0 * math.pi}
 
 
-def _check_speeds(s, name: str) -> np.ndarray:
+def check_speeds(s, name: str) -> np.ndarray:
     """Speeds as a float array: finite and ≥ 0, or InvalidArgumentError naming ``name``."""
     try:
         out = np.asarray(s, dtype=float)
@@ -247,7 +247,7 @@ def radial_density_at(G: Callable, v, dimension: int, q_max: float = 50.0,
     d = _check_dimension(dimension)
     q_max = check_positive(q_max, "q_max")
     npp = check_count(nodes_per_panel, "nodes_per_panel", 1)
-    v = _check_speeds(v, "v")
+    v = check_speeds(v, "v")
     vf = v.ravel()
     q, wq = _radial_nodes(q_max, float(np.max(vf, initial=0.0)), npp)
     phi = _evaluate(G, q).real
@@ -280,6 +280,6 @@ def speed_density_at(G: Callable, s, dimension: int, q_max: float = 50.0,
     Φ(k) dk, in d = 1 P(s) = (2/π) ∫_0^∞ cos(ks) Re Φ(k) dk.  Speeds must be finite and ≥ 0.
     """
     d = _check_dimension(dimension)
-    s = _check_speeds(s, "s")
+    s = check_speeds(s, "s")
     f = radial_density_at(G, s, d, q_max=q_max, nodes_per_panel=nodes_per_panel)
     return _SPHERE[d] * s ** (d - 1) * f

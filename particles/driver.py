@@ -156,7 +156,9 @@ def _entry_checker(kind: str, n: int | None, nt: int | None):
 
 def _read_npz(path, argument: str, kind: str, n: int | None = None,
               nt: int | None = None) -> tuple[dict, dict[str, np.ndarray]]:
-    """(meta, arrays) of a result or checkpoint file; :class:`CheckpointError` if it is not one.
+    """``(meta, arrays)`` of a result (``kind="result"``) or checkpoint (``"checkpoint"``) file,
+    read through :func:`particles.persistence.load` with its checks; :class:`CheckpointError`
+    naming ``argument`` if it is not one.
     ``n`` and ``nt`` (the run's particles and times, when known) bound each entry's size before
     it is read."""
     try:
@@ -184,7 +186,9 @@ class RunResult:
     velocities at ``times[i]`` (when requested); ``velocities`` the final velocities;
     ``extras`` engine-specific scalars per time; ``snapshot_extras[name][i]`` the engine's
     per-particle arrays at ``times[i]`` (with ``snapshots``, e.g. MD ``positions``);
-    ``seconds`` the wall-clock time of the run (of all its resumed pieces).
+    ``seconds`` the wall-clock time of the run (of all its resumed pieces);
+    ``final_state`` the engine's state at the last time (None for a result read from a file:
+    files keep the records, not the state).
     """
 
     model: str
@@ -202,87 +206,86 @@ class RunResult:
     extras: dict[str, np.ndarray] = field(default_factory=dict)
     histogram_note: str | None = None
     snapshot_extras: dict[str, np.ndarray] = field(default_factory=dict)
+    final_state: Any = field(default=None, compare=False, repr=False)
 
-    def _arrays(self) -> dict[str, np.ndarray]:
-        out = {
+    def to_record(self) -> tuple[dict[str, np.ndarray], dict]:
+        """``(arrays, meta)``: the layout of a result file (:meth:`save`, and the ensemble's
+        task files).  ``arrays``: ``times``, ``energy``, ``momentum``, ``collisions``,
+        ``velocities``, ``hist.*``, ``structure.k``/``structure.S``, ``snapshots``,
+        ``snapshot.<field>`` and ``extra.<name>`` where present; ``meta`` (JSON-able):
+        ``model``, ``params``, ``seed``, ``seconds`` (None when NaN), and ``hist`` (samples,
+        v0) and ``histogram_note`` where present.  The final state is not part of it."""
+        arrays = {
             "times": self.times,
             "energy": self.energy,
             "momentum": self.momentum,
             "collisions": self.collisions,
             "velocities": self.velocities,
         }
+        meta = {"model": self.model, "params": self.params, "seed": self.seed,
+                "seconds": None if np.isnan(self.seconds) else self.seconds}
         if self.histogram is not None:
             h = self.histogram
-            out.update(
-                {
-                    "hist.edges": h.edges,
-                    "hist.density": h.density,
-                    "hist.error": h.error,
-                    "hist.count": h.count,
-                }
-            )
-        if self.structure is not None:
-            out["structure.k"], out["structure.S"] = self.structure
-        if self.snapshots is not None:
-            out["snapshots"] = self.snapshots
-        for key, value in self.snapshot_extras.items():
-            out["snapshot." + key] = value
-        for key, value in self.extras.items():
-            out["extra." + key] = value
-        return out
-
-    def save(self, path) -> None:
-        """Save to ``path`` (an ``.npz`` archive with a JSON ``meta`` entry)."""
-        meta = {
-            "kind": "result",
-            "model": self.model,
-            "params": self.params,
-            "seed": self.seed,
-            "seconds": self.seconds,
-        }
-        if self.histogram is not None:
-            meta["hist"] = {"samples": self.histogram.samples, "v0": self.histogram.v0}
+            arrays.update({"hist.edges": h.edges, "hist.density": h.density,
+                           "hist.error": h.error, "hist.count": h.count})
+            meta["hist"] = {"samples": h.samples, "v0": h.v0}
         if self.histogram_note is not None:
             meta["histogram_note"] = self.histogram_note
-        _write_npz(path, self._arrays(), meta)
+        if self.structure is not None:
+            arrays["structure.k"], arrays["structure.S"] = self.structure
+        if self.snapshots is not None:
+            arrays["snapshots"] = self.snapshots
+        for key, value in self.snapshot_extras.items():
+            arrays["snapshot." + key] = value
+        for key, value in self.extras.items():
+            arrays["extra." + key] = value
+        return arrays, meta
+
+    @classmethod
+    def from_record(cls, arrays: dict[str, np.ndarray], meta: dict) -> RunResult:
+        """The inverse of :meth:`to_record` (``final_state`` None; ``seconds`` NaN when the
+        record has none).  ``KeyError`` or ``TypeError`` when an entry is missing or malformed;
+        the readers turn them into a file-format error naming the file."""
+        a = arrays
+        hist = None
+        if "hist.edges" in a:
+            edges = a["hist.edges"]
+            hist = obs.Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), a["hist.density"],
+                                 a["hist.error"], a["hist.count"], int(meta["hist"]["samples"]),
+                                 float(meta["hist"]["v0"]))
+        seconds = meta.get("seconds")
+        return cls(
+            model=meta["model"],
+            params=meta["params"],
+            seed=int(meta["seed"]),
+            times=a["times"],
+            energy=a["energy"],
+            momentum=a["momentum"],
+            collisions=a["collisions"],
+            velocities=a["velocities"],
+            histogram=hist,
+            seconds=float("nan") if seconds is None else float(seconds),
+            structure=(a["structure.k"], a["structure.S"]) if "structure.k" in a else None,
+            snapshots=a.get("snapshots"),
+            extras={k[len("extra."):]: v for k, v in a.items() if k.startswith("extra.")},
+            histogram_note=meta.get("histogram_note"),
+            snapshot_extras={k[len("snapshot."):]: v for k, v in a.items()
+                             if k.startswith("snapshot.")},
+        )
+
+    def save(self, path) -> None:
+        """Save to ``path`` (an ``.npz`` archive with a JSON ``meta`` entry; the layout of
+        :meth:`to_record`)."""
+        arrays, meta = self.to_record()
+        _write_npz(path, arrays, {"kind": "result", **meta})
 
     @classmethod
     def load(cls, path) -> RunResult:
         """Reload a result written by :meth:`save`."""
-        meta, a = _read_npz(path, "path", "result")
+        meta, arrays = _read_npz(path, "path", "result")
         try:
-            hist = None
-            if "hist.edges" in a:
-                edges = a["hist.edges"]
-                hist = obs.Histogram(
-                    edges,
-                    0.5 * (edges[1:] + edges[:-1]),
-                    a["hist.density"],
-                    a["hist.error"],
-                    a["hist.count"],
-                    int(meta["hist"]["samples"]),
-                    float(meta["hist"]["v0"]),
-                )
-            structure = (a["structure.k"], a["structure.S"]) if "structure.k" in a else None
-            extras = {k[len("extra.") :]: v for k, v in a.items() if k.startswith("extra.")}
-            return cls(
-                meta["model"],
-                meta["params"],
-                int(meta["seed"]),
-                a["times"],
-                a["energy"],
-                a["momentum"],
-                a["collisions"],
-                a["velocities"],
-                hist,
-                float(meta["seconds"]),
-                structure,
-                a.get("snapshots"),
-                extras,
-                meta.get("histogram_note"),
-                {k[len("snapshot."):]: v for k, v in a.items() if k.startswith("snapshot.")},
-            )
-        except KeyError as exc:
+            return cls.from_record(arrays, meta)
+        except (KeyError, TypeError) as exc:
             raise CheckpointError(path, f"missing entry {exc}", "path") from None
 
     def summary(self) -> dict:
@@ -759,4 +762,5 @@ def _run(engine, times, seed, identity, state, rng, records, progress, checkpoin
         snapshot_extras=records.snapshot_extras,
         extras=records.extras,
         histogram_note=histogram_note,
+        final_state=state,
     )

@@ -322,18 +322,12 @@ class EnsembleSpec:
 _TASK_KIND = "ensemble-task"
 
 
-def _result_arrays(result: RunResult) -> dict[str, np.ndarray]:
-    return result._arrays()  # the RunResult.save layout (same package)
-
-
 def _save_task(path: Path, task: EnsembleTask, result: RunResult) -> None:
-    """The result of ``task`` without its wall-clock seconds (files of one task are identical)."""
-    meta = {"task": task.identity, "engine_params": result.params}
-    if result.histogram is not None:
-        meta["hist"] = {"samples": result.histogram.samples, "v0": result.histogram.v0}
-    if result.histogram_note is not None:
-        meta["histogram_note"] = result.histogram_note
-    persistence.save(path, _TASK_KIND, FORMAT_VERSION, _result_arrays(result), meta)
+    """The result of ``task`` without its wall-clock seconds (files of one task are identical),
+    in the layout of :meth:`particles.driver.RunResult.to_record`."""
+    arrays, meta = result.to_record()
+    meta.update(seconds=None, task=task.identity)
+    persistence.save(path, _TASK_KIND, FORMAT_VERSION, arrays, meta)
 
 
 def load_task(path, identity: dict | None = None) -> RunResult:
@@ -346,21 +340,11 @@ def load_task(path, identity: dict | None = None) -> RunResult:
         raise persistence.FileFormatError(path, "written for another task", "path",
                                           "this task's file")
     try:
-        hist = None
-        if "hist.edges" in a:
-            edges = a["hist.edges"]
-            hist = obs.Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), a["hist.density"],
-                                 a["hist.error"], a["hist.count"], int(meta["hist"]["samples"]),
-                                 float(meta["hist"]["v0"]))
-        structure = (a["structure.k"], a["structure.S"]) if "structure.k" in a else None
-        extras = {k[len("extra."):]: v for k, v in a.items() if k.startswith("extra.")}
-        task = meta["task"]
-        return RunResult(task["model"], meta["engine_params"], int(task["seed"]), a["times"],
-                         a["energy"], a["momentum"], a["collisions"], a["velocities"], hist,
-                         float("nan"), structure, a.get("snapshots"), extras,
-                         meta.get("histogram_note"),
-                         {k[len("snapshot."):]: v for k, v in a.items()
-                          if k.startswith("snapshot.")})
+        if "model" not in meta:  # a task file of 0.1: the run's names were kept in the task
+            task = meta["task"]
+            meta = {**meta, "model": task["model"], "params": meta["engine_params"],
+                    "seed": task["seed"]}
+        return RunResult.from_record(a, meta)
     except (KeyError, TypeError) as exc:
         raise persistence.FileFormatError(path, f"missing entry {exc}", "path") from None
 

@@ -1,4 +1,4 @@
-"""The package layers (issue 14): ``particles`` is the base and imports nothing from
+"""The package layers: ``particles`` is the base and imports nothing from
 ``maxwell_kinetics``; no module of the project imports another that imports it back, directly or
 around a circle.  Checked from the source with ``ast`` (every import statement, those inside
 functions included), and by importing ``particles`` in a fresh interpreter."""
@@ -134,7 +134,7 @@ def test_no_test_loads_a_benchmark_by_path():
 
 
 def test_importing_the_package_changes_no_global_configuration():
-    # A library does not change global configuration when imported (issue 14): after importing
+    # A library does not change global configuration when imported: after importing
     # maxwell_kinetics and its solver, JAX's x64 flag and the environment are as they were.
     import os
 
@@ -146,3 +146,95 @@ def test_importing_the_package_changes_no_global_configuration():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=True, cwd=ROOT, env=env)
     assert done.stdout.strip() == "False None"
+
+
+#: The application: the command line, the comparisons with their drawings and runs, the
+#: reproduction of the paper, and the output helpers.  The library (``particles`` and the rest of
+#: ``maxwell_kinetics``) never imports them.
+APPLICATION = ("maxwell_kinetics.cli", "maxwell_kinetics.commands", "maxwell_kinetics.comparisons",
+               "maxwell_kinetics.reproduce", "maxwell_kinetics.output", "maxwell_kinetics.plotting")
+
+
+def _is_application(name: str) -> bool:
+    return any(name == a or name.startswith(a + ".") for a in APPLICATION)
+
+
+def library_to_application(graph) -> dict[str, list[str]]:
+    """Library modules that import application modules (``maxwell_kinetics`` itself, the
+    package's ``__init__``, only names the library)."""
+    return {name: sorted(t for t in targets if _is_application(t))
+            for name, targets in graph.items()
+            if not _is_application(name) and any(_is_application(t) for t in targets)}
+
+
+def test_the_library_never_imports_the_application():
+    assert library_to_application(import_graph()) == {}
+
+
+def test_the_application_checker_finds_a_library_module_that_plots():
+    graph = {"maxwell_kinetics.convergence": {"maxwell_kinetics.plotting"},
+             "maxwell_kinetics.commands.solve": {"maxwell_kinetics.solver"}}
+    assert library_to_application(graph) == {
+        "maxwell_kinetics.convergence": ["maxwell_kinetics.plotting"]}
+
+
+def private_uses(name: str, path: Path, modules: dict[str, Path]) -> list[str]:
+    """Private names of other modules that module ``name`` uses: ``from m import _x`` where m is
+    another project module (a private module itself, ``from . import _scheme``, is fine: its
+    package owns it), and attribute reads ``obj._x`` on anything but ``self``, ``cls`` or a
+    name the module defines (dunder names are not private)."""
+    tree = ast.parse(path.read_text(), str(path))
+    own = {node.name for node in ast.walk(tree)
+           if isinstance(node, ast.FunctionDef | ast.ClassDef | ast.AsyncFunctionDef)}
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.level + bool(node.module):
+            for alias in node.names:
+                if alias.name.startswith("_") and not alias.name.startswith("__"):
+                    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
+                    base = package.split(".") if node.level else []
+                    base = base[: len(base) - (node.level - 1)] if node.level else []
+                    target = ".".join(base + ([node.module] if node.module else []))
+                    if f"{target}.{alias.name}" not in modules:  # a name, not a module
+                        found.append(f"from {target} import {alias.name}")
+        elif isinstance(node, ast.Attribute):
+            attr = node.attr
+            if not attr.startswith("_") or attr.startswith("__"):
+                continue
+            owner = node.value
+            if isinstance(owner, ast.Name) and (owner.id in ("self", "cls") or owner.id in own):
+                continue
+            found.append(f"{ast.unparse(owner)}.{attr}")
+    return found
+
+
+#: Private names of other libraries that the project reads on purpose, with the reason.
+THIRD_PARTY_PRIVATE = {
+    # the CLI's errors name the option as typed and list a subcommand's choices: argparse keeps
+    # both only in private attributes
+    "maxwell_kinetics.cli": {"parser._option_string_actions", "parser._actions",
+                             "argparse._SubParsersAction"},
+    # the compile cache installs its checked store (atomic, hashed entries) as JAX's persistent
+    # cache: JAX has no public hook for a cache of one's own
+    "maxwell_kinetics.compile_cache": {"cc._cache_initialized_mutex", "cc._cache",
+                                       "cc._cache_initialized"},
+}
+
+
+def test_no_module_reads_another_modules_private_names():
+    modules = project_modules()
+    bad = {}
+    for name, path in modules.items():
+        uses = set(private_uses(name, path, modules)) - THIRD_PARTY_PRIVATE.get(name, set())
+        if uses:
+            bad[name] = sorted(uses)
+    assert bad == {}
+
+
+def test_the_private_name_checker_finds_both_kinds(tmp_path):
+    path = tmp_path / "m.py"
+    path.write_text("from .driver import _read_npz\nfrom . import _kinetic_scheme\n"
+                    "def f(solution, self):\n    return solution._index(1), self._x\n")
+    modules = {"particles.driver": path, "particles._kinetic_scheme": path}
+    assert private_uses("particles.m", path, modules) == [
+        "from particles.driver import _read_npz", "solution._index"]

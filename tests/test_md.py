@@ -467,7 +467,7 @@ def test_driver_run_records_md_observables():
     prm = MDParams(2048, 1.0, 0.9, delta=1e-3)
     engine = MDEngine(prm)
     res = simulate(engine, [0.0, 1.0, 2.5], 4, progress=False, structure_factor=True)
-    state = engine.last_state
+    state = res.final_state
     assert state.time == 2.5 and res.model == "md" and res.params["delta"] == 1e-3
     np.testing.assert_array_equal(res.velocities, state.velocities)
     assert res.energy[0] == pytest.approx(1.0, rel=1e-14)

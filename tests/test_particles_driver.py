@@ -220,6 +220,24 @@ def test_result_save_and_load_round_trip(tmp_path):
     assert back.summary() == res.summary()
 
 
+def test_record_round_trip_and_final_state(tmp_path):
+    # to_record/from_record is the one layout of result and task files; the final state comes
+    # back with the run, also from a checkpoint whose run had already finished
+    engine = Lattice(128, 0.5)
+    res = simulate(engine, [1.0, 3.0], 7, progress=False, checkpoint=tmp_path / "c.npz")
+    arrays, meta = res.to_record()
+    back = RunResult.from_record(arrays, meta)
+    _assert_same_run(res, back)
+    assert back.final_state is None and back.seconds == res.seconds
+    assert res.final_state.time == 3.0
+    assert np.array_equal(res.final_state.velocities, res.velocities)
+    again = simulate(engine, [1.0, 3.0], 7, progress=False, resume=tmp_path / "c.npz")
+    assert again.final_state.time == 3.0
+    assert np.array_equal(again.final_state.velocities, res.velocities)
+    with pytest.raises(KeyError):
+        RunResult.from_record({k: v for k, v in arrays.items() if k != "energy"}, meta)
+
+
 @pytest.mark.parametrize(
     "times, match", [([1.0, 0.5], "tau"), ([-1.0], "tau"), ([], "tau"), ([np.nan], "tau")]
 )

@@ -25,6 +25,14 @@ def test_json_has_the_md_keys_and_the_clusters(capsys, tmp_path):
     assert len(out["profile"]["x"]) == 500
 
 
+def test_profile_of_a_finished_checkpoint_is_the_profile_of_the_run(capsys, tmp_path):
+    ckpt = tmp_path / "s.ckpt"
+    argv = BASE + ["--t", "1,30", "--json", "--profile"]
+    plain = run_json(capsys, argv + ["--checkpoint", str(ckpt)])
+    resumed = run_json(capsys, argv + ["--resume", str(ckpt)])  # already finished
+    assert resumed["profile"] == plain["profile"] and resumed["energy"] == plain["energy"]
+
+
 @pytest.mark.parametrize(
     "extra, named",
     [

@@ -54,14 +54,7 @@ from .model_options import (
     time_option,
 )
 
-__all__ = ["add_parser", "add_common_options", "run_engine", "run_model", "resumed_state"]
-
-
-def resumed_state(path) -> dict:
-    """The ``state.*`` arrays of the checkpoint at ``path`` (read through the persistence helper,
-    with its checks)."""
-    _, arrays = driver._read_npz(path, "resume", "checkpoint")
-    return {k[len("state."):]: v for k, v in arrays.items() if k.startswith("state.")}
+__all__ = ["add_parser", "add_common_options", "run_engine", "run_model"]
 
 
 def add_common_options(parser: argparse.ArgumentParser) -> None:
@@ -143,9 +136,7 @@ def _md_extend(engine, args):
             half = params.n // 2 + 1
             payload["C"] = obs.correlation(result.velocities)[:half].tolist()
         if args.profile:
-            state = engine.last_state
-            if state is None:  # a resumed run that had already finished
-                state = engine.state_from_arrays(resumed_state(args.resume))
+            state = result.final_state
             x, v_x = profile_x(state, params)
             payload["profile"] = {
                 "x": x.tolist(),
@@ -160,13 +151,6 @@ def _sticky_extend(engine, args):
     """``simulate sticky``: the momentum, collisions and clusters at each time; C(r) with
     ``--structure-factor``, v(x) and v(i) with ``--profile``."""
     params = engine.p
-    last = {}
-
-    def observe(state, _observe=engine.observe):
-        last["state"] = state
-        return _observe(state)
-
-    engine.observe = observe
 
     def extend(result, payload):
         payload["momentum"] = result.extras["total_momentum"].tolist()
@@ -177,9 +161,7 @@ def _sticky_extend(engine, args):
             half = params.n // 2 + 1
             payload["C"] = obs.correlation(result.velocities)[:half].tolist()
         if args.profile:
-            state = last.get("state")
-            if state is None:  # a resumed run that had already finished
-                state = engine.state_from_arrays(resumed_state(args.resume))
+            state = result.final_state
             x, v_x = sticky_profile_x(state)
             payload["profile"] = {"x": x.tolist(), "v_x": v_x.tolist(),
                                   "v_i": state.velocities.tolist()}

@@ -7,7 +7,7 @@ import numpy as np
 
 from particles.validation import InvalidArgumentError
 
-from ..plotting import _figure
+from ..plotting import new_figure
 
 __all__ = ["panels", "colors"]
 
@@ -17,7 +17,7 @@ def panels(n: int, ax=None, width: float = 5.0, height: float = 4.0):
     figure, or the ``n`` axes of ``ax`` (a sequence of matplotlib axes, or one axis when
     ``n == 1``) and their figure."""
     if ax is None:
-        fig, grid = _figure(n, width=width, height=height)
+        fig, grid = new_figure(n, width=width, height=height)
         return fig, list(grid[0])
     axes = [ax] if hasattr(ax, "plot") else list(np.ravel(ax))
     if len(axes) != n:

@@ -44,9 +44,9 @@ class MDEngine:
     (time unit t; the rng is unused, the dynamics is deterministic); ``next_stop(t)`` is the
     next point of the grid ``stop_step · m`` (m integer); ``state_from_arrays`` rebuilds a
     checkpointed :class:`MDState`; ``observe(state)`` gives τ(t) (``collisions_per_particle``)
-    and the ``total_momentum`` Σ v_i, and remembers the state in ``last_state`` (for the
-    position profile v(x, t) of the last requested time).  ``method`` is ``"fast"`` (light-cone
-    scheme) or ``"reference"`` (sequential heap).
+    and the ``total_momentum`` Σ v_i (the state at the last requested time comes back as
+    :attr:`particles.driver.RunResult.final_state`, e.g. for the profile v(x, t)).
+    ``method`` is ``"fast"`` (light-cone scheme) or ``"reference"`` (sequential heap).
 
     Stopping at intermediate times changes nothing: ``advance`` never moves a particle except
     at its collisions (positions are stored lazily), so advance(advance(s, t1), t2) equals
@@ -108,7 +108,6 @@ class MDEngine:
         }
         self.record = [] if record else None
         self.stop_step = check_positive(stop_step, "stop_step")
-        self.last_state: MDState | None = None
 
     # -- driver interface ---------------------------------------------------------------------
 
@@ -133,7 +132,6 @@ class MDEngine:
         return {"positions": rod_positions(state, self.p)}
 
     def observe(self, state: MDState) -> dict[str, float]:
-        self.last_state = state
         return {
             "collisions_per_particle": collisions_per_particle(state),
             "total_momentum": total_momentum(state),
@@ -174,7 +172,7 @@ class MDEngine:
 
     # shared helpers ------------------------------------------------------------------------
 
-    def _watch(self):
+    def collapse_watch(self):
         """(dt_tiny, streak limit, message) of the collapse watch.
 
         With δ > 0 (or r = 1) collapse is impossible in exact arithmetic: every inelastic
@@ -187,7 +185,9 @@ class MDEngine:
         dt, k = self.collapse_dt, self.collapse_streak
         return dt, k, f"{k} collisions of one particle, each within {dt:g} of the previous"
 
-    def _collapse(self, t, particles, collisions, detail=""):
+    def raise_collapse(self, t, particles, collisions, detail=""):
+        """Raise :class:`InelasticCollapseError` at time ``t`` for ``particles`` after
+        ``collisions`` collisions (``detail``: what the watch saw)."""
         raise InelasticCollapseError(
             t, particles, collisions, detail, self.p.delta, self.p.restitution
         )

@@ -98,7 +98,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     p = prm.p
     delta = prm.delta
     elastic_only = prm.restitution == 1.0
-    dt_tiny, limit, detail = engine._watch()
+    dt_tiny, limit, detail = engine.collapse_watch()
     record = engine.record
     inf = math.inf
     full = cand.size * _FULL_COPY_RATIO >= n
@@ -148,7 +148,7 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
         ST[j] = sj
         if si >= limit or sj >= limit:
             involved = [k for k in (range(n) if full else ST.keys()) if ST[k] > 0]
-            engine._collapse(cb, involved, count + done, detail)
+            engine.raise_collapse(cb, involved, count + done, detail)
         vi = V[i]
         vj = V[j]
         xc = X[i] + vi * (cb - ti)
@@ -487,7 +487,7 @@ def advance_fast(engine, state: MDState, until: float):
     v = state.velocities.copy()
     count = int(state.collisions)
     streak = np.zeros(n, dtype=np.int64)
-    dt_tiny, limit, detail = engine._watch()
+    dt_tiny, limit, detail = engine.collapse_watch()
     record = engine.record
     target = engine.target_candidates
     seq_below = engine.sequential_below
@@ -583,7 +583,7 @@ def advance_fast(engine, state: MDState, until: float):
             streak[j] = sj
             if si.max() >= limit or sj.max() >= limit:
                 bad = np.flatnonzero((si >= limit) | (sj >= limit))[0]
-                engine._collapse(
+                engine.raise_collapse(
                     tev[bad],
                     np.flatnonzero(streak > 0),
                     count + bad,

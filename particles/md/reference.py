@@ -33,7 +33,7 @@ def advance_reference(engine, state: MDState, until: float):
     count = int(state.collisions)
     last = n - 1
     streak = [0] * n
-    dt_tiny, limit, detail = engine._watch()
+    dt_tiny, limit, detail = engine.collapse_watch()
     record = engine.record
 
     ctime = [collision_time(x, tl, b, v[b], b + 1, v[b + 1], lr) for b in range(last)]
@@ -55,7 +55,7 @@ def advance_reference(engine, state: MDState, until: float):
                 streak[k] = 0
         if streak[i] >= limit or streak[j] >= limit:
             involved = [k for k in range(n) if streak[k] > 0]
-            engine._collapse(c, involved, count, detail)
+            engine.raise_collapse(c, involved, count, detail)
         vi = v[i]
         vj = v[j]
         xc = x[i] + vi * (c - tl[i])
