@@ -327,18 +327,24 @@ def call(name: str, function, jitted, static, args: tuple):
     if token is None:
         return jitted(static, *args)
     key = _exported_key(name, token, args)
-    compiled = _state.setdefault("compiled", {}).get(key)
+    # Executables in memory: per cache folder (so that each folder gets its entries), and by
+    # key alone (an executable compiled here for another folder is stored, not compiled again).
+    in_folder = _state.setdefault("compiled", {})
+    any_folder = _state.setdefault("compiled_any", {})
+    compiled = in_folder.get((_state["path"], key))
     if compiled is None:
         blob = store.get(key)
         compiled = None if blob is None else _load_compiled(blob)
         if compiled is None:
-            import jax
+            compiled = any_folder.get(key)
+            if compiled is None:
+                import jax
 
-            compiled = jax.jit(lambda *a: function(static, *a)).lower(*args).compile()
+                compiled = jax.jit(lambda *a: function(static, *a)).lower(*args).compile()
             blob = _dump_compiled(compiled)
             if blob is not None:
                 store.put(key, blob)
-        _state["compiled"][key] = compiled
+        in_folder[(_state["path"], key)] = any_folder[key] = compiled
     return compiled(*args)
 
 

@@ -126,7 +126,7 @@ def test_import_particles_loads_neither_jax_nor_maxwell_kinetics():
 
 
 def test_no_test_loads_a_benchmark_by_path():
-    for path in (ROOT / "tests").glob("*.py"):
+    for path in (ROOT / "tests").rglob("*.py"):
         if path.name == Path(__file__).name:
             continue
         text = path.read_text()

@@ -1,16 +1,34 @@
-"""Execute every notebook in notebooks/ at the small size (MAXWELL_KINETICS_SMALL=1)."""
+"""The notebooks in notebooks/: stored without outputs, and their code runs at the small size.
+
+Each notebook calls one comparison of ``maxwell_kinetics.comparisons`` and then draws and prints
+from its result.  The comparison itself is computed once per test session (the ``comparison``
+fixture, shared with the comparison tests): here each notebook's code runs in this process with
+that comparison's function answering from the session's result, so everything the notebook does
+after the call runs for real against the real result.  One notebook also runs end to end in a
+Jupyter kernel, so that the kernel path (imports, the small-size switch, the backend) is covered.
+"""
 
 from __future__ import annotations
 
 import os
+import re
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
+#: ``comparisons.NAME(comparisons.default_size())``: the one call each notebook makes.
+CALL = re.compile(r"comparisons\.(\w+)\(comparisons\.default_size\(\)\)")
 
 pytestmark = pytest.mark.slow
+
+
+def _code(path) -> str:
+    import nbformat
+
+    nb = nbformat.read(path, as_version=4)
+    return "\n".join(cell.source for cell in nb.cells if cell.cell_type == "code")
 
 
 def test_notebooks_are_stored_without_outputs():
@@ -24,7 +42,29 @@ def test_notebooks_are_stored_without_outputs():
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
-def test_notebook_runs(path, monkeypatch):
+def test_notebook_code_runs_on_its_comparison(path, comparison, monkeypatch):
+    import matplotlib.pyplot as plt
+
+    from maxwell_kinetics import comparisons
+
+    code = _code(path)
+    names = CALL.findall(code)
+    assert len(names) == 1 and names[0] in comparisons.__all__, names
+    result = comparison(names[0])  # before the function is replaced
+    monkeypatch.setenv("MAXWELL_KINETICS_SMALL", "1")
+    calls = []
+
+    def from_the_session(size, *args, **kwargs):
+        calls.append(size)
+        return result
+
+    monkeypatch.setattr(comparisons, names[0], from_the_session)
+    exec(compile(code, str(path), "exec"), {"__name__": "__notebook__"})  # noqa: S102
+    assert calls == ["small"]  # default_size() honours the small-size switch
+    plt.close("all")
+
+
+def test_one_notebook_runs_in_a_kernel(monkeypatch):
     import nbformat
     from nbclient import NotebookClient
 
@@ -34,6 +74,10 @@ def test_notebook_runs(path, monkeypatch):
     monkeypatch.setenv("MPLBACKEND", "Agg")
     paths = [str(ROOT)] + [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join(paths))
+    path = ROOT / "notebooks" / "11_driven_steady.ipynb"  # the cheapest comparison (~3 s)
     nb = nbformat.read(path, as_version=4)
     NotebookClient(nb, timeout=300, kernel_name="python3", resources={
         "metadata": {"path": str(path.parent)}}).execute()
+    outputs = [o for cell in nb.cells if cell.cell_type == "code" for o in cell.outputs]
+    printed = "".join(o.get("text", "") for o in outputs if o.get("output_type") == "stream")
+    assert '"kurtosis"' in printed  # the summary it prints (a cell error would have raised)

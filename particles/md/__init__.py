@@ -42,8 +42,9 @@ are clipped to the old interval and swapped if round-off left them approaching):
 
 Both engines apply the same floating-point operations to the same data, so in non-chaotic
 settings they agree bit for bit (tested).  Where a scalar loop writes a kernel formula out by
-hand for speed, the copy is marked ``kernel copy`` and ``tests/test_md_kernel.py`` runs the very
-lines of that copy against the kernel, bit for bit.
+hand for speed, the copy is marked ``kernel copy``, and a test
+(``tests/test_particles/test_md_kernel.py``) runs the very lines of that copy against the kernel,
+bit for bit.
 
 Modules
 -------

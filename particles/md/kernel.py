@@ -4,9 +4,10 @@ and the collision with its separation guard, in a scalar and an array form.
 Both engines (:mod:`particles.md.reference`, :mod:`particles.md.lightcone`) use these functions;
 where a hot scalar loop writes one out by hand for speed (the scalar heap loop and the zero-gap
 burst of the light-cone engine, which would pay a Python call on every collision), the copy sits
-between ``# kernel copy: NAME (begin)`` and ``(end)`` comments, and ``tests/test_md_kernel.py``
-executes the very lines of each copy against the kernel on many random and edge-case inputs, bit
-for bit.  The array forms give element-wise the bits of the scalar forms (tested likewise).
+between ``# kernel copy: NAME (begin)`` and ``(end)`` comments, and
+``tests/test_particles/test_md_kernel.py`` executes the very lines of each copy against the
+kernel on many random and edge-case inputs, bit for bit.  The array forms give element-wise the
+bits of the scalar forms (tested likewise).
 
 Prediction.  Pair (i, j), j = i + 1 or j = 0 at the seam (the partner seen at x_0 + L_r), stored
 lazily (position x at the particle's own last-update time t_last): both are moved to the later of

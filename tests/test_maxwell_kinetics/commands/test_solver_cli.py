@@ -10,7 +10,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import run_error, run_json
+from helpers import run_error, run_json
 
 from maxwell_kinetics.cli import build_parser, join_negative_values
 

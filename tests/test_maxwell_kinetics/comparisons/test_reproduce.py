@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import math
-from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -24,46 +23,32 @@ from maxwell_kinetics.comparisons import (
 from maxwell_kinetics.exact import f_hat
 from particles.validation import InvalidArgumentError
 
-# The comparisons' public names, plus the internals these tests reach into under the names they
-# had when the comparisons were one module.
-cmp = SimpleNamespace(
-    **{name: getattr(comparisons, name) for name in comparisons.__all__},
-    InvalidArgumentError=InvalidArgumentError,
-    _edges=analysis.bin_edges,
-    _rescaled=analysis.rescaled,
-    _jackknife=analysis.jackknife,
-    _smoothed_comparison=_kinetic_vs_ulam._smoothed_comparison,
-    _ENERGY=_energy_decay.PRESETS,
-    _DISTRIBUTIONS=_velocity_distributions.PRESETS,
-    _PROFILES=_velocity_profiles.PRESETS,
-)
-
 pytestmark = pytest.mark.slow
 
 
 @pytest.fixture(scope="module")
-def kinetic():
-    return cmp.kinetic_theory("small")
+def kinetic(comparison):
+    return comparison("kinetic_theory")
 
 
 @pytest.fixture(scope="module")
-def vs_ulam():
-    return cmp.kinetic_vs_ulam("small")
+def vs_ulam(comparison):
+    return comparison("kinetic_vs_ulam")
 
 
 @pytest.fixture(scope="module")
-def collapse():
-    return cmp.ulam_collapse("small")
+def collapse(comparison):
+    return comparison("ulam_collapse")
 
 
 @pytest.fixture(scope="module")
-def energy():
-    return cmp.energy_decay("small")
+def energy(comparison):
+    return comparison("energy_decay")
 
 
 @pytest.fixture(scope="module")
-def structure():
-    return cmp.structure_factors("small")
+def structure(comparison):
+    return comparison("structure_factors")
 
 
 def _chi2_tolerance(row) -> float:
@@ -94,7 +79,7 @@ def test_contraction_bound_holds(kinetic):
 
 def test_contraction_check_with_nothing_to_check_reports_none():
     """With only τ = 0 saved (an override) no bound can be checked: None, not a crash."""
-    c = cmp.kinetic_theory("small", tau=(0.0,))
+    c = comparisons.kinetic_theory("small", tau=(0.0,))
     assert set(c.summary["max_distance_over_bound"].values()) == {None}
     assert set(c.summary["bound_checked_up_to_tau"].values()) == {None}
 
@@ -128,11 +113,12 @@ def test_kinetic_matches_ulam_within_statistics(vs_ulam):
 def test_smoothed_comparison_detects_a_wrong_law(vs_ulam):
     """The smoothed comparison has teeth: the particles at τ = 0.5 against the solver's law at
     a later τ (r = 0.5, bimodal: the humps have moved) are far outside the tolerance."""
-    sol = cmp.kinetic_solution(0.5, "bimodal", vs_ulam.summary["parameters"]["tau"],
+    sol = comparisons.kinetic_solution(0.5, "bimodal", vs_ulam.summary["parameters"]["tau"],
                                "fine")
-    edges = cmp._edges(vs_ulam.summary["parameters"]["edges"])
-    x = cmp._rescaled(cmp.ulam_snapshots(0.5, "bimodal", 20_000, [0.5], list(range(6)))[0])
-    wrong = cmp._smoothed_comparison(sol, 1, x, edges, 0.15, seed=0).summary()
+    edges = analysis.bin_edges(vs_ulam.summary["parameters"]["edges"])
+    snapshots = comparisons.ulam_snapshots(0.5, "bimodal", 20_000, [0.5], list(range(6)))
+    x = analysis.rescaled(snapshots[0])
+    wrong = _kinetic_vs_ulam._smoothed_comparison(sol, 1, x, edges, 0.15, seed=0).summary()
     assert wrong["chi2_over_overdispersion"] > 10 * _chi2_tolerance(wrong)
 
 
@@ -198,7 +184,7 @@ def test_md_fits_use_the_preset_windows(energy):
     time inside them and no other: the summary's windows are the preset's, and the per-run
     slopes recomputed here from the recorded energies on those windows are the reported ones."""
     s, d = energy.summary, energy.data
-    prm = cmp._ENERGY["small"]
+    prm = _energy_decay.PRESETS["small"]
     t, e, t0 = d["md_t"], d["md_energy"], d["t0"]
     for key, window, abscissa in (("md_haff_exponent", "md_haff_window",
                                    lambda c: np.log1p(c / t0)),
@@ -246,11 +232,11 @@ def test_structure_numbers_carry_uncertainties(structure):
 
 
 def test_jackknife_needs_three_replicas():
-    assert cmp._jackknife([1.0, 2.0]) is None
-    assert cmp._jackknife([1.0, None, 2.0]) is None
+    assert analysis.jackknife([1.0, 2.0]) is None
+    assert analysis.jackknife([1.0, None, 2.0]) is None
     # Leave-one-out means of (1, 2, 3, 4): the jackknife error equals the standard error.
     loo = [np.mean(np.delete([1.0, 2.0, 3.0, 4.0], i)) for i in range(4)]
-    assert cmp._jackknife(loo) == pytest.approx(np.std([1, 2, 3, 4], ddof=1) / 2)
+    assert analysis.jackknife(loo) == pytest.approx(np.std([1, 2, 3, 4], ddof=1) / 2)
 
 
 def test_no_porod_tail_without_constraint(structure):
@@ -279,7 +265,7 @@ def test_reproduce_cli_small(tmp_path, capsys):
     summary = json.loads((out / "summary.json").read_text())
     assert "max_distance_over_bound" in summary["comparisons"]["kinetic_theory"]
     assert (out / "kinetic_theory.png").stat().st_size > 0
-    again = cmp.Comparison.load(out / "kinetic_theory.npz")
+    again = comparisons.Comparison.load(out / "kinetic_theory.npz")
     assert again.name == "kinetic_theory"
     assert again.summary["sup_error"] == summary["comparisons"]["kinetic_theory"]["sup_error"]
 
@@ -320,7 +306,7 @@ def test_comparison_save_load_round_trip(name, request, tmp_path):
 
     result = request.getfixturevalue(name)
     result.save(tmp_path / "c.npz")
-    again = cmp.Comparison.load(tmp_path / "c.npz")
+    again = comparisons.Comparison.load(tmp_path / "c.npz")
     assert again.name == result.name
     _assert_same(result.summary, again.summary, "summary")
     _assert_same(result.data, again.data)
@@ -330,15 +316,15 @@ def test_comparison_save_load_round_trip(name, request, tmp_path):
 def test_comparison_load_rejects_other_files(tmp_path):
     bad = tmp_path / "bad.npz"
     np.savez(bad, x=np.arange(3))
-    with pytest.raises(cmp.InvalidArgumentError, match="path"):
-        cmp.Comparison.load(bad)
+    with pytest.raises(InvalidArgumentError, match="path"):
+        comparisons.Comparison.load(bad)
     other = tmp_path / "other.npz"
     np.savez(other, __skeleton__=np.array('{"format": "something else/9"}'))
-    with pytest.raises(cmp.InvalidArgumentError, match="something else"):
-        cmp.Comparison.load(other)
+    with pytest.raises(InvalidArgumentError, match="something else"):
+        comparisons.Comparison.load(other)
     (tmp_path / "junk.npz").write_bytes(b"not a zip")
-    with pytest.raises(cmp.InvalidArgumentError, match="junk.npz"):
-        cmp.Comparison.load(tmp_path / "junk.npz")
+    with pytest.raises(InvalidArgumentError, match="junk.npz"):
+        comparisons.Comparison.load(tmp_path / "junk.npz")
 
 
 def test_reproduce_cli_bad_only(tmp_path, capsys):
@@ -350,8 +336,8 @@ def test_reproduce_cli_bad_only(tmp_path, capsys):
 
 
 @pytest.fixture(scope="module")
-def distributions():
-    return cmp.velocity_distributions("small")
+def distributions(comparison):
+    return comparison("velocity_distributions")
 
 
 def _sigma(m, a, b, q):
@@ -408,7 +394,7 @@ def test_velocity_profiles_report_increment_skewness(tmp_path):
     errors, raw and coarse-grained on the scales of ``profile_scales`` (the paper's sign test is
     ``test_md_shock_asymmetry_in_the_coarse_grained_profiles``, at N = 2·10⁴: at this size there
     are too few clusters).  Its result survives save/load."""
-    res = cmp.velocity_profiles("small")
+    res = comparisons.velocity_profiles("small")
     for key in ("md_vx", "md_vi", "lattice_vi"):
         value, err = res.summary["increment_skewness"][key]["skewness"]
         assert math.isfinite(value) and err > 0
@@ -418,7 +404,7 @@ def test_velocity_profiles_report_increment_skewness(tmp_path):
         assert all(math.isfinite(v) and e > 0 for v, e in coarse["skewness"])
     res.figure()
     res.save(tmp_path / "p.npz")
-    again = cmp.Comparison.load(tmp_path / "p.npz")
+    again = comparisons.Comparison.load(tmp_path / "p.npz")
     _assert_same(res.summary, again.summary, "summary")
     _assert_same(res.data, again.data)
 
@@ -435,15 +421,15 @@ def test_coarse_increment_skewness_of_a_sawtooth():
     v = np.tile(saw, 1000)
     p = 0.05
     exact = -(1 - 2 * p) / math.sqrt(p * (1 - p))
-    assert cmp.coarse_increment_skewness(v, 1) == pytest.approx(exact, rel=1e-9)
-    assert cmp.coarse_increment_skewness(-v, 1) == pytest.approx(-exact, rel=1e-9)
+    assert comparisons.coarse_increment_skewness(v, 1) == pytest.approx(exact, rel=1e-9)
+    assert comparisons.coarse_increment_skewness(-v, 1) == pytest.approx(-exact, rel=1e-9)
     for m in (5, 20):  # the mirror identity holds at every scale, and so does the sign
-        assert cmp.coarse_increment_skewness(-v, m) == pytest.approx(
-            -cmp.coarse_increment_skewness(v, m), rel=1e-12)
-        assert cmp.coarse_increment_skewness(v, m) < 0
+        assert comparisons.coarse_increment_skewness(-v, m) == pytest.approx(
+            -comparisons.coarse_increment_skewness(v, m), rel=1e-12)
+        assert comparisons.coarse_increment_skewness(v, m) < 0
     noisy = v + np.random.default_rng(0).normal(0.0, 1.0, v.size)
-    assert abs(cmp.coarse_increment_skewness(noisy, 1)) < 0.05
-    assert cmp.coarse_increment_skewness(noisy, 20) < -0.4
+    assert abs(comparisons.coarse_increment_skewness(noisy, 1)) < 0.05
+    assert comparisons.coarse_increment_skewness(noisy, 20) < -0.4
 
 
 def test_coarse_increment_skewness_matches_a_plain_loop_and_rejects_bad_input():
@@ -455,14 +441,14 @@ def test_coarse_increment_skewness_matches_a_plain_loop_and_rejects_bad_input():
         mu = sum(inc) / len(inc)
         m2 = sum((d - mu) ** 2 for d in inc) / len(inc)
         m3 = sum((d - mu) ** 3 for d in inc) / len(inc)
-        assert cmp.coarse_increment_skewness(v, m) == pytest.approx(m3 / m2**1.5, rel=1e-10)
+        assert comparisons.coarse_increment_skewness(v, m) == pytest.approx(m3 / m2**1.5, rel=1e-10)
     for bad in (0, -2, 1.5, True, 400):
         with pytest.raises(ValueError, match="scale"):
-            cmp.coarse_increment_skewness(v, bad)
+            comparisons.coarse_increment_skewness(v, bad)
     with pytest.raises(ValueError, match="profile"):
-        cmp.coarse_increment_skewness(v.reshape(17, 59), 2)
-    assert cmp.profile_scales(2000) == (1, 4, 16)
-    assert cmp.profile_scales(20_000) == (1, 4, 16, 64, 256)
+        comparisons.coarse_increment_skewness(v.reshape(17, 59), 2)
+    assert comparisons.profile_scales(2000) == (1, 4, 16)
+    assert comparisons.profile_scales(20_000) == (1, 4, 16, 64, 256)
 
 
 def test_md_shock_asymmetry_in_the_coarse_grained_profiles():
@@ -474,14 +460,14 @@ def test_md_shock_asymmetry_in_the_coarse_grained_profiles():
     all 24 < 0): the 4-seed means sit 4.2 and 4.4 standard errors from zero; raw −0.011 (sd
     0.007) and −0.019 (sd 0.017), far inside the bound 0.1.  The test can fail: at t = 400, in
     the homogeneous stage, the same seeds give m = 256 means of +0.15 (v(i)) and +0.12 (v(x))."""
-    prm = cmp._PROFILES["default"]
-    md = cmp.md_runs(prm["restitution"], prm["md_n"], prm["delta"],
+    prm = _velocity_profiles.PRESETS["default"]
+    md = comparisons.md_runs(prm["restitution"], prm["md_n"], prm["delta"],
                      (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])))
     vi, vx = [], []
     for x, v in zip(md["positions"][:, 1], md["snapshots"][:, 1], strict=True):
-        g = cmp.velocity_on_grid(x, v, float(prm["md_n"]))  # density 1: L = N
-        vi.append([cmp.coarse_increment_skewness(v, m) for m in (1, 256)])
-        vx.append([cmp.coarse_increment_skewness(g, m) for m in (1, 256)])
+        g = comparisons.velocity_on_grid(x, v, float(prm["md_n"]))  # density 1: L = N
+        vi.append([comparisons.coarse_increment_skewness(v, m) for m in (1, 256)])
+        vx.append([comparisons.coarse_increment_skewness(g, m) for m in (1, 256)])
     vi, vx = np.mean(vi, axis=0), np.mean(vx, axis=0)
     assert abs(vi[0]) < 0.1 and abs(vx[0]) < 0.1
     assert vi[1] > 0 > vx[1], (vi, vx)
@@ -491,14 +477,14 @@ def test_velocity_profiles_preset():
     """Fig. 4 at the paper's size at ``--full`` (issue: r = 0.99, N = 2·10⁴ for MD and the
     lattice), with more seeds than the default; at small and default size the run parameters
     equal comparison 4's, so that one process shares the MD and lattice runs of the two."""
-    full = cmp._PROFILES["full"]
+    full = _velocity_profiles.PRESETS["full"]
     assert full["restitution"] == 0.99
     assert full["md_n"] == full["lattice_n"] == 20_000
-    assert full["md_seeds"] > cmp._PROFILES["default"]["md_seeds"]
-    assert full["lattice_seeds"] > cmp._PROFILES["default"]["lattice_seeds"]
+    assert full["md_seeds"] > _velocity_profiles.PRESETS["default"]["md_seeds"]
+    assert full["lattice_seeds"] > _velocity_profiles.PRESETS["default"]["lattice_seeds"]
     for size in ("small", "default"):
-        for key, value in cmp._PROFILES[size].items():
-            assert cmp._DISTRIBUTIONS[size][key] == value, (size, key)
+        for key, value in _velocity_profiles.PRESETS[size].items():
+            assert _velocity_distributions.PRESETS[size][key] == value, (size, key)
 
 
 def test_fft_density_agrees_with_quadrature_bins(vs_ulam):

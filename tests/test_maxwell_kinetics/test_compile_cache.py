@@ -204,6 +204,11 @@ def test_an_unusable_folder_gives_one_warning_line_and_the_solve_runs(
 def test_no_cache_writes_nothing_and_cli_runs_leave_jax_as_found(monkeypatch, tmp_path, capsys):
     import jax
 
+    # first a run with another folder: its executables are in this process's memory, and the
+    # next folder must still get its own entries
+    monkeypatch.setenv(compile_cache.ENV, str(tmp_path / "other"))
+    assert _main(capsys, _CLI)[0] == 0
+    assert list((tmp_path / "other").rglob("*.entry"))
     root = tmp_path / "cache"
     monkeypatch.setenv(compile_cache.ENV, str(root))
     status, out, err = _main(capsys, [*_CLI, "--no-cache"])

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import run_error
+from helpers import run_error
 
 from maxwell_kinetics.cli import build_parser, main
 from particles import persistence

@@ -9,13 +9,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import ROOT
 
 from maxwell_kinetics.comparisons import particle_runs as pr
 from particles import md, observables
 from particles.driver import simulate
 from particles.lattice import Lattice
 
-PACKAGE = Path(__file__).resolve().parents[1] / "maxwell_kinetics" / "comparisons"
+PACKAGE = ROOT / "maxwell_kinetics" / "comparisons"
 
 
 @pytest.fixture(autouse=True)

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import run_error, run_json
+from helpers import run_error, run_json
 from scipy.special import gammaln, kv
 
 from maxwell_kinetics.solver import solve

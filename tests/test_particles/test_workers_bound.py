@@ -6,7 +6,7 @@ from __future__ import annotations
 import os
 
 import pytest
-from conftest import run_error
+from helpers import run_error
 
 from particles import ensemble
 from particles.ensemble import EnsembleSpec, run_ensemble
@@ -82,7 +82,7 @@ def test_cli_refuses_above_the_bound(capsys, tmp_path):
 
 
 def test_cli_force_starts_only_as_many_workers_as_tasks(capsys, monkeypatch, tmp_path):
-    from conftest import run_json
+    from helpers import run_json
 
     seen = _spy_connect(monkeypatch)
     payload = run_json(capsys, ["ensemble", "ulam", "--n", "100", "--restitution", "0.5",

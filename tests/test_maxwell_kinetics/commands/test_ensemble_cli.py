@@ -3,7 +3,7 @@ the dask paths are tested in ``test_ensemble.py``)."""
 
 import numpy as np
 import pytest
-from conftest import run_error, run_json
+from helpers import run_error, run_json
 
 from maxwell_kinetics.cli import main
 from particles.driver import simulate

@@ -18,7 +18,7 @@ import zipfile
 
 import numpy as np
 import pytest
-from conftest import edited_file, read_entries, run_error, run_json, write_entries
+from helpers import edited_file, read_entries, run_error, run_json, write_entries
 
 from particles import persistence
 from particles.driver import CheckpointError, _CheckpointLock, simulate

@@ -5,7 +5,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import run_error, run_json
+from helpers import run_error, run_json
 
 from maxwell_kinetics.driven import steady_kurtosis
 

@@ -4,7 +4,7 @@ nodes, shown in the progress line, and refused above one day unless forced."""
 from __future__ import annotations
 
 import pytest
-from conftest import run_error
+from helpers import run_error
 
 from maxwell_kinetics.grid import (
     MAX_SOLVE_SECONDS,

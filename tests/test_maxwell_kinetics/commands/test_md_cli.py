@@ -5,7 +5,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import run_json
+from helpers import run_json
 
 from maxwell_kinetics.cli import main
 
@@ -69,7 +69,7 @@ def test_checkpoint_resume_and_reference_give_the_same_numbers(capsys, tmp_path)
 
 
 def test_inelastic_collapse_exits_3_with_a_clear_message(capsys, tmp_path):
-    # delta = 0, N(1 - r) = 500: collapses near t = 4 (tests/test_md.py)
+    # delta = 0, N(1 - r) = 500: collapses near t = 4 (tests/test_particles/test_md.py)
     saved = tmp_path / "never.npz"
     argv = ["simulate", "md", "--n", "1000", "--density", "1", "--restitution", "0.5"]
     code = main(argv + ["--t", "50", "--seed", "3", "--json", "--save", str(saved)])

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import run_error, run_json
+from helpers import run_error, run_json
 
 from particles.driver import RunResult
 from particles.ensemble import EnsembleSpec, load_task

@@ -5,18 +5,18 @@ import math
 
 import pytest
 
-from maxwell_kinetics import comparisons as cmp
+from maxwell_kinetics import comparisons
 from maxwell_kinetics.tails import tail_exponent
 
 
 @pytest.fixture(scope="module")
-def tails():
-    return cmp.tail_exponents("small")
+def tails(comparison):
+    return comparison("tail_exponents")
 
 
 @pytest.fixture(scope="module")
-def driven():
-    return cmp.driven_steady("small")
+def driven(comparison):
+    return comparison("driven_steady")
 
 
 def test_tail_exponents_from_the_equation(tails):
@@ -59,6 +59,6 @@ def test_save_load_and_figure(request, tmp_path, name):
     result = request.getfixturevalue(name)
     result.figure()
     result.save(tmp_path / "c.npz")
-    again = cmp.Comparison.load(tmp_path / "c.npz")
+    again = comparisons.Comparison.load(tmp_path / "c.npz")
     assert again.summary == result.summary
     again.figure()

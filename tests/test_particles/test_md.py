@@ -9,7 +9,7 @@ import signal
 
 import numpy as np
 import pytest
-from conftest import read_entries, write_entries
+from helpers import read_entries, write_entries
 
 from particles import observables as obs
 from particles.driver import CheckpointError, RunResult, simulate

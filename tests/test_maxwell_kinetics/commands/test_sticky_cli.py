@@ -3,7 +3,7 @@
 
 import numpy as np
 import pytest
-from conftest import run_error, run_json
+from helpers import run_error, run_json
 
 from particles.driver import simulate
 from particles.sticky import StickyGas, StickyParams

@@ -5,7 +5,7 @@ import re
 
 import numpy as np
 import pytest
-from conftest import edited_file, run_json
+from helpers import ROOT, edited_file, run_json
 
 from maxwell_kinetics.cli import main
 
@@ -285,7 +285,7 @@ def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
         "3",
         "--json",
     ]
-    root = str(__import__("pathlib").Path(__file__).resolve().parents[1])
+    root = str(ROOT)
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([root, os.environ.get("PYTHONPATH", "")]))
     err_chunks = []
     started = re.compile(r"\| *([0-9.e+]+)/400")  # the bar's "n/total"
