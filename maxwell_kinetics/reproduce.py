@@ -54,30 +54,27 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
     :func:`particles.validation.max_workers` (4 × the CPUs) are refused unless ``force``."""
     import matplotlib.pyplot as plt
 
-    from .comparisons import COMPARISONS, particle_runs
+    from .comparisons import COMPARISONS, ParticleRuns
 
     names = list(COMPARISONS) if only is None else list(only)
     check_workers(workers, "workers", force=force)
     out = prepare_output(out)
-    if workers is not None or size == "full":
-        particle_runs.configure_runs(out / "runs", workers, force)
+    ensemble = workers is not None or size == "full"
+    runner = ParticleRuns(out / "runs" if ensemble else None, workers, force)
     summary = {"size": size, "comparisons": {}}
     start = time.perf_counter()
-    try:
-        for name in names:
-            if progress:
-                print(f"[reproduce] {name} ...", flush=True)
-            result = COMPARISONS[name](size, progress=progress)
-            fig = result.figure()
-            persistence.save_figure(fig, out / f"{name}.png", "out", dpi=110)
-            result.save(out / f"{name}.npz")
-            plt.close(fig)
-            summary["comparisons"][name] = clean_json(result.summary)
-            if progress:
-                print(f"[reproduce] {name}: {result.summary.get('seconds', 0):.1f} s",
-                      flush=True)
-    finally:
-        particle_runs.configure_runs(None)
+    for name in names:
+        if progress:
+            print(f"[reproduce] {name} ...", flush=True)
+        result = COMPARISONS[name](size, progress=progress, runner=runner)
+        fig = result.figure()
+        persistence.save_figure(fig, out / f"{name}.png", "out", dpi=110)
+        result.save(out / f"{name}.npz")
+        plt.close(fig)
+        summary["comparisons"][name] = clean_json(result.summary)
+        if progress:
+            print(f"[reproduce] {name}: {result.summary.get('seconds', 0):.1f} s",
+                  flush=True)
     summary["seconds"] = time.perf_counter() - start
     persistence.write_text(out / "summary.json",
                            json.dumps(clean_json(summary), indent=1, allow_nan=False), "out")

@@ -14,14 +14,16 @@ import pytest
 @pytest.fixture(scope="session")
 def comparison():
     """``comparison(name)`` → ``maxwell_kinetics.comparisons.<name>("small", progress=False)``,
-    computed on first use and kept for the session."""
+    computed on first use and kept for the session (the comparisons share one runner, as in
+    ``reproduce``)."""
     from maxwell_kinetics import comparisons
 
     done = {}
+    runner = comparisons.ParticleRuns()  # one runner: comparisons share their particle runs
 
     def get(name: str):
         if name not in done:
-            done[name] = getattr(comparisons, name)("small", progress=False)
+            done[name] = getattr(comparisons, name)("small", progress=False, runner=runner)
         return done[name]
 
     return get

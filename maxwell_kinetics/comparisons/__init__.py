@@ -58,7 +58,14 @@ from .kinetic_predictions import (
     never_collided_cut,
     solution_bin_probabilities,
 )
-from .particle_runs import lattice_at_energy, lattice_runs, md_runs, sticky_runs, ulam_snapshots
+from .particle_runs import (
+    ParticleRuns,
+    lattice_at_energy,
+    lattice_runs,
+    md_runs,
+    sticky_runs,
+    ulam_snapshots,
+)
 
 __all__ = [
     "SIZES",
@@ -88,6 +95,7 @@ __all__ = [
     "never_collided_cut",
     "law_cdf",
     "lattice_runs",
+    "ParticleRuns",
     "md_runs",
     "sticky_runs",
     "ulam_snapshots",

@@ -18,7 +18,7 @@ from particles.observables import mean_sem_json
 from ..driven import steady_state
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
-from .particle_runs import ulam_final
+from .particle_runs import ParticleRuns
 
 __all__ = ["NAME", "PRESETS", "run", "plot"]
 
@@ -36,7 +36,7 @@ PRESETS = {
 
 
 
-def run(size=None, progress: bool = True, **overrides) -> Comparison:
+def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
     """For each r: the exact steady variance D/(pq) (with the finite-N factor (1 − 1/N)² of a
     gas of zero total momentum) and kurtosis against the particles' (mean ± standard error:
     the seed scatter for the kurtosis, the larger of the seed scatter and the pooled particles'
@@ -46,6 +46,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     the same window (the asymptotic −1/√D is reported too).  The runs start from a unit
     Gaussian and are taken at τ = ``tau``: the slowest relaxation, of ⟨v²⟩, is e^{−2pqτ}
     (r = 0.9: 2pq = 0.095, e^{−9.5} at τ = 100; the small size takes r ≤ 0.5 only)."""
+    runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     d, n = float(prm["driving"]), int(prm["n"])
@@ -53,8 +54,8 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     rows, curves = [], []
     for r in prm["restitutions"]:
         theory = steady_state(r, d)
-        v = ulam_final({"n": n, "restitution": float(r), "driving": d}, prm["tau"], seeds,
-                       progress=progress)
+        v = runner.ulam_final({"n": n, "restitution": float(r), "driving": d}, prm["tau"], seeds,
+                              progress=progress)
         var_exact = theory.variance * (1.0 - 1.0 / n) ** 2
         m2 = np.mean(v * v, axis=1)
         kurt = np.mean(v**4, axis=1) / m2**2

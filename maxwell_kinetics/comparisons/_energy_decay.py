@@ -13,7 +13,7 @@ from particles.md.observables import haff_time
 from .. import statistics as st
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
-from .particle_runs import lattice_runs, md_record_times, md_runs
+from .particle_runs import ParticleRuns, md_record_times
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "lattice_times"]
 
@@ -44,7 +44,7 @@ def lattice_times(tau_max):
 
 
 def run(size=None, progress: bool = True, checkpoint_dir=None,
-        **overrides) -> Comparison:
+        runner=None, **overrides) -> Comparison:
     """Comparison 5: E(t) of MD (Haff's t⁻², then t^{−2/3}) and E(τ) of the lattice
     (exponential, then τ^{−1/2}), r = ``restitution``.
 
@@ -71,14 +71,15 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
     resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
     """
+    runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     r = prm["restitution"]
-    md = md_runs(r, prm["md_n"], prm["delta"], md_record_times(prm["md_t_max"]),
-                 tuple(range(prm["md_seeds"])), progress=progress,
-                 checkpoint_dir=checkpoint_dir)
-    lat = lattice_runs(r, prm["lattice_n"], lattice_times(prm["lattice_tau_max"]),
-                       tuple(range(prm["lattice_seeds"])), progress=progress)
+    md = runner.md_runs(r, prm["md_n"], prm["delta"], md_record_times(prm["md_t_max"]),
+                        tuple(range(prm["md_seeds"])), progress=progress,
+                        checkpoint_dir=checkpoint_dir)
+    lat = runner.lattice_runs(r, prm["lattice_n"], lattice_times(prm["lattice_tau_max"]),
+                              tuple(range(prm["lattice_seeds"])), progress=progress)
     t, e = md["times"], md["energy"]
     t0 = haff_time(r, 1.0)  # the presets' MD runs are at density 1
     tau, el = lat["times"], lat["energy"]

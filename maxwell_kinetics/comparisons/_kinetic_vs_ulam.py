@@ -21,7 +21,7 @@ from .kinetic_predictions import (
     never_collided_cut,
     solution_bin_probabilities,
 )
-from .particle_runs import ulam_snapshots
+from .particle_runs import ParticleRuns
 
 __all__ = ["NAME", "PRESETS", "run", "plot"]
 
@@ -87,7 +87,7 @@ def _smoothed_comparison(sol, tau_index, x, edges, width, seed):
 _SMOOTHING_SEED = 2026
 
 
-def run(size=None, progress: bool = True, **overrides) -> Comparison:
+def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
     """Comparison 2: the solver's P(x, τ) against the Ulam particles at the same τ.
 
     For each case (r, law) and each τ: the pooled histogram of ``seeds`` runs of ``n`` particles
@@ -128,6 +128,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
       3.4e-10 for the asymmetric law at τ = 0.5, 2, 8, largest next to the jump), checked in
       the tests against 5e-6.
     """
+    runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     edges = bin_edges(prm["edges"])
@@ -136,7 +137,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     cases = []
     for r, law in prm["cases"]:
         sol = kinetic_solution(r, law, taus, _VS_ULAM_RESOLUTION, progress=progress)
-        snaps = ulam_snapshots(r, law, prm["n"], taus, seeds, progress=progress)
+        snaps = runner.ulam_snapshots(r, law, prm["n"], taus, seeds, progress=progress)
         rows = []
         for k, tau in enumerate(taus):
             x = _kinetic_scaled(snaps[k], r, tau)
@@ -165,7 +166,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     cdf = np.concatenate([[0.0], np.cumsum(prob)]) + below
     ks_mean, ks_err = [], []
     for n in prm["scan_n"]:
-        snaps = ulam_snapshots(r, law, n, [tau], list(range(int(prm["scan_seeds"]))))
+        snaps = runner.ulam_snapshots(r, law, n, [tau], list(range(int(prm["scan_seeds"]))))
         ks = np.array([st.ks_distance(x, edges, cdf)
                        for x in _kinetic_scaled(snaps[0], r, tau)])
         mean, err = mean_sem(ks)

@@ -177,7 +177,7 @@ def _mean_se(values):
     return mean_sem_json([x for x in values if x is not None])
 
 
-def run(size=None, progress: bool = True, **overrides) -> Comparison:
+def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
     """Comparison 9: the late stage at the paper's sizes (N = 10⁵ small, 10⁶ default, 10⁷
     full), with the exact sticky gas standing in for late MD (SPEC §7: from the same initial
     state MD at r = 0.5, δ = 10⁻⁴ and the sticky gas agree within a few per cent, comparison 8).

@@ -13,7 +13,7 @@ from particles.observables import mean_sem_json
 
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors, panels
-from .particle_runs import md_record_times, md_runs, sticky_runs
+from .particle_runs import ParticleRuns, md_record_times
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "paired_numbers"]
 
@@ -54,7 +54,8 @@ def paired_numbers(e_md, e_sticky):
     return paired, unpaired
 
 
-def run(size=None, progress: bool = True, checkpoint_dir=None, **overrides) -> Comparison:
+def run(size=None, progress: bool = True, checkpoint_dir=None,
+        runner=None, **overrides) -> Comparison:
     """Comparison 8: MD (r = ``restitution``, δ = ``delta``) against the exact sticky gas from
     the same initial state (seed s of :func:`.particle_runs.md_runs` and of
     :func:`.particle_runs.sticky_runs` draws the same positions and velocities: N, density 1,
@@ -80,13 +81,15 @@ def run(size=None, progress: bool = True, checkpoint_dir=None, **overrides) -> C
     ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
     resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
     """
+    runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     r, n, delta = prm["restitution"], int(prm["n"]), prm["delta"]
     seeds = tuple(range(int(prm["seeds"])))
     times = md_record_times(prm["t_max"])
-    md = md_runs(r, n, delta, times, seeds, progress=progress, checkpoint_dir=checkpoint_dir)
-    sticky = sticky_runs(n, times, seeds, progress=False)
+    md = runner.md_runs(r, n, delta, times, seeds, progress=progress,
+                        checkpoint_dir=checkpoint_dir)
+    sticky = runner.sticky_runs(n, times, seeds, progress=False)
     t_all = np.asarray(times)
     sel = (t_all >= prm["window"][0]) & (t_all <= prm["window"][1])
     t = t_all[sel]
@@ -115,9 +118,9 @@ def run(size=None, progress: bool = True, checkpoint_dir=None, **overrides) -> C
     t_dep = tuple(float(x) for x in np.round(np.geomspace(10.0, prm["departure_t_max"], 12), 3))
     sc = np.asarray(t_dep) ** (2.0 / 3.0)
     for d_delta, d_n in prm["departure"]:
-        m = md_runs(r, int(d_n), d_delta, t_dep, (0,), progress=progress,
-                    checkpoint_dir=checkpoint_dir)
-        s = sticky_runs(int(d_n), t_dep, (0,), progress=False)
+        m = runner.md_runs(r, int(d_n), d_delta, t_dep, (0,), progress=progress,
+                           checkpoint_dir=checkpoint_dir)
+        s = runner.sticky_runs(int(d_n), t_dep, (0,), progress=False)
         ratio = m["energy"][0] / s["energy"][0]
         beyond = np.flatnonzero(np.abs(ratio - 1.0) > 0.1)
         departure.append({

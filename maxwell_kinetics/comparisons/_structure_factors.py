@@ -12,7 +12,7 @@ from particles.observables import log_bin, mean_sem_json, structure_factor
 from .analysis import jackknife, log_binned, porod_fit, porod_slope
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors, panels
-from .particle_runs import lattice_runs, md_record_times, md_runs
+from .particle_runs import ParticleRuns, md_record_times
 
 __all__ = ["NAME", "PRESETS", "run", "plot"]
 
@@ -50,7 +50,7 @@ def _collapse_spread(k, spectra, times, z, x_range):
 
 
 def run(size=None, progress: bool = True, checkpoint_dir=None,
-        **overrides) -> Comparison:
+        runner=None, **overrides) -> Comparison:
     """Comparison 6 (paper Fig. 3): S(k, τ) of the lattice against k τ^{1/2} (with and without the
     kinematic constraint) and S(k, t) of MD against k t^{2/3}, r = 0.5.
 
@@ -79,6 +79,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
     resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
     """
+    runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     r = prm["restitution"]
@@ -87,16 +88,16 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     x_range = (0.5, prm["porod_x"][1])
     zs = np.round(np.arange(0.0, 1.0001, 0.01), 2)
     for label, constraint in (("lattice", True), ("lattice_no_constraint", False)):
-        runs = lattice_runs(r, prm["lattice_n"], prm["lattice_tau"], seeds, constraint,
-                            progress=progress, structure=True)
+        runs = runner.lattice_runs(r, prm["lattice_n"], prm["lattice_tau"], seeds, constraint,
+                                   progress=progress, structure=True)
         k, spec = runs["k"], runs["structure"]  # (R, T, K)
         mean = spec.mean(axis=0)
         times = runs["times"]
         out[label] = _structure_numbers(k, spec, mean, times, 0.5, zs, x_range, prm, lattice=True)
         data[label] = {"k": k, "S": mean, "times": times, "z": 0.5}
-    md = md_runs(r, prm["md_n"], prm["md_delta"], md_record_times(prm["md_t_max"]),
-                 tuple(range(prm["md_seeds"])), progress=progress,
-                 checkpoint_dir=checkpoint_dir)
+    md = runner.md_runs(r, prm["md_n"], prm["md_delta"], md_record_times(prm["md_t_max"]),
+                        tuple(range(prm["md_seeds"])), progress=progress,
+                        checkpoint_dir=checkpoint_dir)
     idx = [int(np.argmin(np.abs(md["times"] - t))) for t in prm["md_times"]]
     times = md["times"][idx]
     spec = np.array([[structure_factor(md["snapshots"][i, j])[1] for j in idx]

@@ -18,7 +18,7 @@ from particles.observables import mean_sem
 from ..tails import tail_exponent
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
-from .particle_runs import ulam_final
+from .particle_runs import ParticleRuns
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "hill_exponent"]
 
@@ -45,12 +45,13 @@ def hill_exponent(speeds, top: int) -> float:
     return float(1.0 / np.mean(np.log(c[:top] / c[top])))
 
 
-def run(size=None, progress: bool = True, **overrides) -> Comparison:
+def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
     """The exponents against r ∈ [0, 0.95] for d = 2, 3 and both angular models, the paper's
     "α = 5 at r = 0 in 2D" against each, and the particles' tail: d-dimensional Ulam runs (from
     a unit Gaussian per component, at τ = ``tau``, N particles, ``seeds`` runs), Hill's
     estimator of α = 2s* from the ``top`` largest speeds of each run, mean ± standard error over
     runs (which includes the correlation of one run's particles), against 2s*."""
+    runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     rs = np.linspace(0.0, 0.95, int(prm["curve_points"]))
@@ -62,8 +63,8 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     particles = []
     seeds = tuple(range(int(prm["seeds"])))
     for d, angular, r in prm["particle_cases"]:
-        v = ulam_final({"n": int(prm["n"]), "restitution": float(r), "dimension": int(d),
-                        "angular": angular}, prm["tau"], seeds, progress=progress)
+        v = runner.ulam_final({"n": int(prm["n"]), "restitution": float(r), "dimension": int(d),
+                               "angular": angular}, prm["tau"], seeds, progress=progress)
         speeds = np.sqrt(np.sum(v * v, axis=-1))
         alphas = np.array([hill_exponent(row, int(prm["top"])) for row in speeds])
         s = tail_exponent(d, r, angular).s

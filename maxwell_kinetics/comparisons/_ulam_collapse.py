@@ -15,7 +15,7 @@ from .analysis import bin_edges, rescaled
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
 from .kinetic_predictions import kinetic_solution, solution_bin_probabilities
-from .particle_runs import ulam_snapshots
+from .particle_runs import ParticleRuns
 
 __all__ = ["NAME", "PRESETS", "run", "plot"]
 
@@ -32,7 +32,7 @@ PRESETS = {
 }
 
 
-def run(size=None, progress: bool = True, **overrides) -> Comparison:
+def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
     """Comparison 3 (paper Fig. 2): Ulam P(v, τ) against v/v0 for several r, against
     f(x) = 2/(π(1+x²)²), at a late τ per r (``tau``, one per restitution).  The τ are chosen
     with λτ ≈ 30, the largest that float64 particle runs support (see
@@ -51,6 +51,7 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     statistical error (√(Σ (Δp)² M/p) / √dof), so that one sees whether the finite-τ deviation
     from f could be resolved at this sample size.
     """
+    runner = ParticleRuns() if runner is None else runner
     from scipy.optimize import brentq
 
     start = time.perf_counter()
@@ -62,7 +63,8 @@ def run(size=None, progress: bool = True, **overrides) -> Comparison:
     seeds = list(range(int(prm["seeds"])))
     rows, hists, shapes, tails = [], [], [], []
     for r, tau in zip(prm["restitutions"], prm["tau"], strict=True):
-        snaps = ulam_snapshots(r, prm["law"], prm["n"], [float(tau)], seeds, progress=progress)
+        snaps = runner.ulam_snapshots(r, prm["law"], prm["n"], [float(tau)], seeds,
+                                      progress=progress)
         x = rescaled(snaps[0])
         cmp = st.compare_histograms(x, edges, prob_f, below_f)
         # Shape only: rescale each run so that its median |x| is f's (robust to the tail).

@@ -16,7 +16,7 @@ from ..model import MaxwellModel
 from .analysis import bin_edges, rescaled
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
-from .particle_runs import lattice_at_energy, md_runs, ulam_snapshots
+from .particle_runs import ParticleRuns
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "ABS_MEAN_F", "ABS_MEAN_GAUSSIAN"]
 
@@ -61,7 +61,7 @@ def _shape_numbers(v: np.ndarray, edges) -> dict:
 
 
 def run(size=None, progress: bool = True, checkpoint_dir=None,
-        **overrides) -> Comparison:
+        runner=None, **overrides) -> Comparison:
     """Comparison 4 (paper Figs. 1a/1b): rescaled P(x), x = (v − ⟨v⟩)/v0, of MD, the lattice and
     the Ulam model at equal energy, early (MD homogeneous) and late (MD inhomogeneous).
 
@@ -93,14 +93,15 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
     resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
     """
+    runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     edges = bin_edges(prm["edges"])
     r = prm["restitution"]
-    md = md_runs(prm["restitution"], prm["md_n"], prm["delta"],
-                 (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
-                 progress=progress,
-                 checkpoint_dir=checkpoint_dir)
+    md = runner.md_runs(prm["restitution"], prm["md_n"], prm["delta"],
+                        (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
+                        progress=progress,
+                        checkpoint_dir=checkpoint_dir)
     stages = {}
     for j, stage in enumerate(("early", "late")):
         t = float(md["times"][j])
@@ -114,9 +115,9 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
         lat_rs = [r] if stage == "early" else [r, prm["lattice_late_restitution"]]
         lattices = [(rl, "constant") for rl in lat_rs] + [(r, "relative_velocity")]
         for rl, rate in lattices:
-            lat = lattice_at_energy(rl, prm["lattice_n"], target,
-                                    tuple(range(prm["lattice_seeds"])), progress=progress,
-                                    rate=rate)
+            lat = runner.lattice_at_energy(rl, prm["lattice_n"], target,
+                                           tuple(range(prm["lattice_seeds"])), progress=progress,
+                                           rate=rate)
             lab = f"lattice_r{rl:g}" if rate == "constant" else f"lattice_rv_r{rl:g}"
             models[lab] = _shape_numbers(lat["snapshots"], edges)
             info[lab + ("_tau" if rate == "constant" else "_t")] = lat["tau"].tolist()
@@ -124,8 +125,8 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
         lam = MaxwellModel(r).lam
         n_u = int(prm["ulam_n"])
         tau_u = -math.log(target) / (2.0 * lam) * (n_u - 1) / n_u
-        snaps = ulam_snapshots(r, "gaussian", n_u, [tau_u],
-                               list(range(prm["ulam_seeds"])), progress=progress)
+        snaps = runner.ulam_snapshots(r, "gaussian", n_u, [tau_u],
+                                      list(range(prm["ulam_seeds"])), progress=progress)
         models["ulam"] = _shape_numbers(snaps[0], edges)
         info["ulam_tau"] = tau_u
         stages[stage] = {"info": info, "models": models}

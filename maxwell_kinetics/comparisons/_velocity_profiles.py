@@ -13,7 +13,7 @@ from particles.observables import mean_sem_json
 from .analysis import block_means, coarse_increment_skewness, profile_scales, velocity_on_grid
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
-from .particle_runs import lattice_at_energy, md_runs
+from .particle_runs import ParticleRuns
 
 __all__ = ["NAME", "PRESETS", "run", "plot"]
 
@@ -37,7 +37,7 @@ PRESETS = {
 
 
 def run(size=None, progress: bool = True, checkpoint_dir=None,
-        **overrides) -> Comparison:
+        runner=None, **overrides) -> Comparison:
     """Comparison 7 (paper Fig. 4): v(x, t) and v(i, t) of MD and v(i, τ) of the lattice at
     equal energy, r = 0.99 — the late (clustered) stage of comparison 4 (MD recorded at
     ``md_t_early`` and ``md_t_late``, the profiles taken at ``md_t_late``).  Preset
@@ -62,17 +62,18 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
     resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
     """
+    runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     prm = preset(PRESETS, size, overrides)
     r = prm["restitution"]
-    md = md_runs(prm["restitution"], prm["md_n"], prm["delta"],
-                 (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
-                 progress=progress,
-                 checkpoint_dir=checkpoint_dir)
+    md = runner.md_runs(prm["restitution"], prm["md_n"], prm["delta"],
+                        (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
+                        progress=progress,
+                        checkpoint_dir=checkpoint_dir)
     j = 1  # the late stage
     target = float(np.mean(md["energy"][:, j]))
-    lat = lattice_at_energy(r, prm["lattice_n"], target, tuple(range(prm["lattice_seeds"])),
-                            progress=progress)
+    lat = runner.lattice_at_energy(r, prm["lattice_n"], target, tuple(range(prm["lattice_seeds"])),
+                                   progress=progress)
     length = prm["md_n"] / 1.0  # density 1
     profiles = {
         "md_vx": [velocity_on_grid(x, v, length)

@@ -1,6 +1,6 @@
-"""The particle runs behind the comparisons (maxwell_kinetics.comparisons.particle_runs): the
-cache hands out read-only data, MD goes through the run driver with the same results as
-advancing the engine directly, and the package's modules import each other without cycles."""
+"""The particle runs behind the comparisons (maxwell_kinetics.comparisons.particle_runs): a
+runner keeps its runs and hands out read-only data, runners share nothing, MD goes through the
+run driver with the same results as advancing the engine directly, and the package's modules import each other without cycles."""
 
 from __future__ import annotations
 
@@ -19,24 +19,18 @@ from particles.lattice import Lattice
 PACKAGE = ROOT / "maxwell_kinetics" / "comparisons"
 
 
-@pytest.fixture(autouse=True)
-def fresh_cache():
-    pr.clear_run_cache()
-    yield
-    pr.clear_run_cache()
-
-
 def test_cached_lattice_runs_cannot_be_changed_by_a_caller():
     """A caller that writes into a returned array gets an error, and one that replaces entries
     of the returned dict changes nothing: the next caller gets the values of a fresh run."""
     args = (0.5, 64, (1.0, 2.0, 4.0), (0, 1))
-    first = pr.lattice_runs(*args, structure=True)
+    runner = pr.ParticleRuns()
+    first = runner.lattice_runs(*args, structure=True)
     for key in ("times", "energy", "k", "structure"):
         assert not first[key].flags.writeable, key
         with pytest.raises(ValueError, match="read-only"):
             first[key][0] = 123.0
     first["energy"] = np.zeros(3)
-    second = pr.lattice_runs(*args, structure=True)
+    second = runner.lattice_runs(*args, structure=True)
     fresh = [simulate(Lattice(64, 0.5, "gaussian", True), [1.0, 2.0, 4.0], s, progress=False,
                       structure_factor=True) for s in (0, 1)]
     np.testing.assert_array_equal(second["energy"], [r.energy for r in fresh])
@@ -92,6 +86,27 @@ def test_md_runs_through_the_driver_equal_the_direct_engine_loop():
         assert not got[key].flags.writeable, key
 
 
+def test_a_runner_keeps_its_runs_and_runners_share_nothing(monkeypatch):
+    calls = []
+    real = pr.ParticleRuns._runs
+
+    def counted(self, *args, **kwargs):
+        calls.append(args[0])
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(pr.ParticleRuns, "_runs", counted)
+    args = (0.5, 32, (1.0,), (0,))
+    a, b = pr.ParticleRuns(), pr.ParticleRuns()
+    a.lattice_runs(*args)
+    a.lattice_runs(*args)
+    assert calls == ["lattice"]  # kept by a
+    b.lattice_runs(*args)
+    assert calls == ["lattice", "lattice"]  # b has its own
+    a.clear()
+    a.lattice_runs(*args)
+    assert len(calls) == 3
+
+
 def test_md_runs_checkpoint_and_resume(tmp_path, monkeypatch):
     """With a checkpoint folder each run leaves its checkpoint; a later process (cache cleared)
     reads the finished runs back instead of running them (the engine's advance is made to fail),
@@ -101,7 +116,6 @@ def test_md_runs_checkpoint_and_resume(tmp_path, monkeypatch):
     first = pr.md_runs(0.7, 40, 1e-4, times, seeds, checkpoint_dir=tmp_path)
     files = sorted(tmp_path.glob("md_*.npz"))
     assert len(files) == 2
-    pr.clear_run_cache()
 
     def no_advance(*args, **kwargs):
         raise AssertionError("a finished run was run again")
@@ -168,20 +182,15 @@ def test_runs_through_the_ensemble_equal_the_serial_runs(tmp_path):
         "lattice": pr.lattice_runs(0.5, 300, (1.0, 4.0), (0, 1), structure=True, snapshots=True),
         "md": pr.md_runs(0.7, 60, 1e-4, (0.5, 7.5), (0, 1)),
     }
-    pr.clear_run_cache()
-    pr.configure_runs(tmp_path / "runs", workers=2)
-    try:
-        parallel = {
-            "ulam": pr.ulam_snapshots(0.5, "gaussian", 300, [0.5, 2.0], (0, 1, 2)),
-            "lattice": pr.lattice_runs(0.5, 300, (1.0, 4.0), (0, 1), structure=True,
+    runner = pr.ParticleRuns(tmp_path / "runs", workers=2)
+    parallel = {
+        "ulam": runner.ulam_snapshots(0.5, "gaussian", 300, [0.5, 2.0], (0, 1, 2)),
+        "lattice": runner.lattice_runs(0.5, 300, (1.0, 4.0), (0, 1), structure=True,
                                        snapshots=True),
-            "md": pr.md_runs(0.7, 60, 1e-4, (0.5, 7.5), (0, 1)),
-        }
-        tasks = sorted((tmp_path / "runs").glob("task-*.npz"))
-        assert len(tasks) == 3 + 2 + 2
-    finally:
-        pr.configure_runs(None)
-        pr.clear_run_cache()
+        "md": runner.md_runs(0.7, 60, 1e-4, (0.5, 7.5), (0, 1)),
+    }
+    tasks = sorted((tmp_path / "runs").glob("task-*.npz"))
+    assert len(tasks) == 3 + 2 + 2
     np.testing.assert_array_equal(parallel["ulam"], serial["ulam"])
     for model in ("lattice", "md"):
         for key, value in serial[model].items():
