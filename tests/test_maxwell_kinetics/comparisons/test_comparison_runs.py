@@ -1,6 +1,7 @@
 """The particle runs behind the comparisons (maxwell_kinetics.comparisons.particle_runs): a
 runner keeps its runs and hands out read-only data, runners share nothing, MD goes through the
-run driver with the same results as advancing the engine directly, and the package's modules import each other without cycles."""
+run driver with the same results as advancing the engine directly, and the package's modules
+import each other without cycles."""
 
 from __future__ import annotations
 
