@@ -23,6 +23,7 @@ _LAZY = {
     "RESOLUTIONS": "grid",
     "solve": "solver",
     "Solution": "solver",
+    "SolverOptions": "solver",
     "fixed_point": "stationary",
     "FixedPoint": "stationary",
     "f_hat": "exact",

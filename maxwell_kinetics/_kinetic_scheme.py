@@ -53,7 +53,7 @@ import numpy as np
 
 from particles.initial import InitialLaw
 
-from .deviation import SolverOptions, source_parts
+from .deviation import source_parts
 from .grid import INFLOW_CUT, Resolution, lagrange_weights
 from .model import MaxwellModel, angular_law
 
@@ -66,7 +66,7 @@ class Static:
 
     grid: Resolution
     law: InitialLaw
-    opts: SolverOptions
+    opts: object  # the solver's SolverOptions (tolerances, window)
     complex: bool
     m3: float
     dimension: int = 1

@@ -7,33 +7,10 @@ time-integration settings.  Used by :mod:`maxwell_kinetics.solver` and by its co
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
-from particles.validation import check_positive
-
-__all__ = ["SolverOptions", "reference", "source", "source_parts"]
-
-
-@dataclass(frozen=True)
-class SolverOptions:
-    """Time-integration settings.
-
-    ``rtol``/``atol``: diffrax PID controller tolerances (RMS norm over the grid).
-    ``window``: target length in τ of one semi-Lagrangian window (rounded so that the grid moves
-    by a whole number of cells).
-    """
-
-    rtol: float = 1e-11
-    atol: float = 1e-13
-    window: float = 2.0
-    max_steps_per_window: int = 100_000
-
-    def __post_init__(self):
-        check_positive(self.rtol, "rtol")
-        check_positive(self.atol, "atol")
-        check_positive(self.window, "window")
+__all__ = ["reference", "source", "source_parts"]
 
 
 def reference(q, m3: float, xp=np):

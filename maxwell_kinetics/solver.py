@@ -67,16 +67,37 @@ from particles.initial import InitialLaw, first_non_finite, get_law
 from particles.validation import (
     InvalidArgumentError,
     check_count,
+    check_positive,
     check_times,
 )
 
 from . import compile_cache
-from .deviation import SolverOptions, reference
+from .deviation import reference
 from .exact import f_hat
 from .grid import INFLOW_CUT, Resolution, get_resolution
 from .model import MaxwellModel
 
 __all__ = ["solve", "Solution", "SolverOptions"]
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Time-integration settings.
+
+    ``rtol``/``atol``: diffrax PID controller tolerances (RMS norm over the grid).
+    ``window``: target length in τ of one semi-Lagrangian window (rounded so that the grid moves
+    by a whole number of cells).
+    """
+
+    rtol: float = 1e-11
+    atol: float = 1e-13
+    window: float = 2.0
+    max_steps_per_window: int = 100_000
+
+    def __post_init__(self):
+        check_positive(self.rtol, "rtol")
+        check_positive(self.atol, "atol")
+        check_positive(self.window, "window")
 
 
 #: Version of the saved Solution format (2: particles.persistence, hashed; 1 still loads).

@@ -234,8 +234,7 @@ def test_every_kinetic_subcommand_takes_no_cache(command):
 def test_a_failed_window_is_reported_not_hidden():
     # diffrax runs with throw=False (a host callback would keep the executable out of the
     # cache): a window that fails (here: two steps allowed) must still stop the solve.
-    from maxwell_kinetics.deviation import SolverOptions
-    from maxwell_kinetics.solver import solve
+    from maxwell_kinetics.solver import SolverOptions, solve
 
     options = dataclasses.replace(SolverOptions(), max_steps_per_window=2)
     with pytest.raises(FloatingPointError, match="non-finite G at tau=1"):
