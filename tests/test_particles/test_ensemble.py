@@ -199,10 +199,10 @@ def test_interrupted_ensemble_runs_only_the_missing_tasks(tmp_path, monkeypatch)
         calls.append(task.key)
         return real(task, factory, out)
 
-    monkeypatch.setattr(ensemble, "run_task", interrupted)
+    monkeypatch.setattr(ensemble.run, "run_task", interrupted)
     with pytest.raises(KeyboardInterrupt):
         run_ensemble(spec, tmp_path, executor="serial", progress=False)
-    monkeypatch.setattr(ensemble, "run_task", real)
+    monkeypatch.setattr(ensemble.run, "run_task", real)
     report = run_ensemble(spec, tmp_path, executor="serial", progress=False)
     assert len(report.skipped) == 4 and set(report.skipped) == set(calls)
     assert len(report.ran) == 2 and not set(report.ran) & set(calls)
@@ -313,7 +313,7 @@ def test_bad_executor_arguments_write_nothing(tmp_path):
 
 
 def test_unreachable_scheduler_is_a_clear_error(tmp_path, monkeypatch):
-    monkeypatch.setattr(ensemble, "SCHEDULER_TIMEOUT", 1.0)
+    monkeypatch.setattr(ensemble.cluster, "SCHEDULER_TIMEOUT", 1.0)
     out = tmp_path / "out"
     with pytest.raises(InvalidArgumentError) as err:
         run_ensemble(_spec(), out, scheduler="tcp://127.0.0.1:9", progress=False)
@@ -367,7 +367,7 @@ def test_batch_cluster_path_failure_is_reported_others_finish(tmp_path, monkeypa
                             dashboard_address=":0", scheduler_kwargs={"dashboard": False}))
         return made[-1]
 
-    monkeypatch.setattr(ensemble, "make_cluster", make)
+    monkeypatch.setattr(ensemble.cluster, "make_cluster", make)
     config = tmp_path / "c.toml"
     config.write_text('cores = 2\nmemory = "2GB"\njobs = 1\n')
     spec = EnsembleSpec("md", {"n": 200, "density": 1.0, "restitution": 0.0,

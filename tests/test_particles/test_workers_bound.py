@@ -44,7 +44,7 @@ def _spy_connect(monkeypatch):
         seen.append(workers)
         return None, []
 
-    monkeypatch.setattr(ensemble, "_connect", connect)
+    monkeypatch.setattr(ensemble.run, "connect", connect)
     return seen
 
 

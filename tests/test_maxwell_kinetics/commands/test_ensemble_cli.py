@@ -69,9 +69,9 @@ def test_unknown_model_or_parameter_exits_2(capsys, tmp_path):
 def test_an_unreachable_scheduler_fails_within_the_timeout(capsys, tmp_path, monkeypatch):
     import time
 
-    import particles.ensemble
+    import particles.ensemble.cluster
 
-    monkeypatch.setattr(particles.ensemble, "SCHEDULER_TIMEOUT", 1.0)
+    monkeypatch.setattr(particles.ensemble.cluster, "SCHEDULER_TIMEOUT", 1.0)
     start = time.monotonic()
     err = run_error(capsys, ["ensemble", "ulam", "--n", "300", "--restitution", "0.5",
                              "--tau", "1", "--seeds", "1", "--scheduler", "tcp://127.0.0.1:9",

@@ -1,0 +1,228 @@
+"""An ensemble's description: the seeds, the spec (model, swept parameters, seeds, times,
+options) and the tasks it expands to, each with its identity and key."""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .. import observables as obs
+from ..models import get_model
+from ..validation import InvalidArgumentError, check_nonnegative, check_times
+
+#: Format version of the task, manifest and aggregate files (part of every task's key).
+FORMAT_VERSION = 1
+#: Largest seed accepted (``np.random.default_rng`` takes any integer ≥ 0; 64 bits is plenty).
+MAX_SEED = 2**64 - 1
+
+
+def parse_seeds(text: str) -> tuple[int, ...]:
+    """Seeds from a list such as ``"1-16,20,25-27"``: comma-separated integers ≥ 0 and ranges
+    ``a-b`` (a ≤ b, both included), in the order given.  Empty elements, descending ranges,
+    duplicates and seeds above 2⁶⁴ − 1 are refused."""
+    if not isinstance(text, str):
+        raise InvalidArgumentError("seeds", text, "a string such as '1-16,20,25-27'")
+    seeds: list[int] = []
+    for part in text.split(","):
+        part = part.strip()
+        bounds = [b.strip() for b in part.split("-")] if part else [""]
+        if len(bounds) > 2 or not all(b.isdigit() and b.isascii() for b in bounds):
+            raise InvalidArgumentError(
+                "seeds", text, f"comma-separated integers >= 0 and ranges a-b (element {part!r})"
+            )
+        lo, hi = int(bounds[0]), int(bounds[-1])
+        if hi < lo:
+            raise InvalidArgumentError("seeds", text, f"ascending ranges (got {part!r})")
+        if hi > MAX_SEED:
+            raise InvalidArgumentError("seeds", text, f"seeds <= 2**64 - 1 (got {part!r})")
+        if hi - lo > 10**7:
+            raise InvalidArgumentError("seeds", text, f"ranges of at most 10**7 seeds ({part!r})")
+        seeds.extend(range(lo, hi + 1))
+    return _check_seeds(seeds, text)
+
+
+def _check_seeds(seeds, shown) -> tuple[int, ...]:
+    out = []
+    for s in seeds:
+        if isinstance(s, (bool, np.bool_)) or not isinstance(s, (int, np.integer)):
+            raise InvalidArgumentError("seeds", shown, "integers >= 0")
+        if not 0 <= int(s) <= MAX_SEED:
+            raise InvalidArgumentError("seeds", shown, "integers in [0, 2**64 - 1]")
+        out.append(int(s))
+    if not out:
+        raise InvalidArgumentError("seeds", shown, "at least one seed")
+    dup = sorted({s for s in out if out.count(s) > 1}) if len(set(out)) != len(out) else []
+    if dup:
+        raise InvalidArgumentError("seeds", shown, f"distinct seeds (repeated: {dup[:10]})")
+    return tuple(out)
+
+
+_OPTIONS = ("structure_factor", "bins", "checkpoint_interval", "snapshots")
+
+
+def _json_value(name: str, value):
+    if isinstance(value, (bool, str)) or value is None:
+        return value
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        if not math.isfinite(value):
+            raise InvalidArgumentError(name, value, "a finite number")
+        return float(value)
+    raise InvalidArgumentError(name, value, "a number, a string or a boolean (or a list of them)")
+
+
+@dataclass(frozen=True)
+class EnsembleTask:
+    """One run of an ensemble: ``params`` (this task's values of the spec's parameters),
+    ``seed``, the index ``set_index`` of its parameter set in the grid, and ``key``, the hash of
+    ``identity`` (what the run's result depends on) that names its file."""
+
+    model: str
+    params: dict
+    seed: int
+    times: tuple[float, ...]
+    options: dict
+    set_index: int
+    identity: dict = field(repr=False)
+    key: str = ""
+
+    @property
+    def filename(self) -> str:
+        return f"task-{self.key}.npz"
+
+    @property
+    def checkpoint_name(self) -> str:
+        return f"task-{self.key}.ckpt.npz"
+
+    def describe(self) -> dict:
+        """JSON-able {"params", "seed"} (how failures and damaged files are reported)."""
+        return {"params": dict(self.params), "seed": self.seed, "key": self.key}
+
+
+@dataclass(frozen=True)
+class EnsembleSpec:
+    """What to run: ``model`` (a name of the catalogue :mod:`particles.models`); ``params``,
+    {name: value or list of values} (a list is swept; every list must be non-empty and without
+    repeats); ``seeds`` (integers in [0, 2⁶⁴ − 1], distinct, or a string for
+    :func:`parse_seeds`); ``times`` (increasing, ≥ 0, in the engines' time
+    :attr:`time_name`; every engine of the grid must have the same); ``options``:
+    ``structure_factor`` (False, True/"all" or "last"), ``bins`` (histogram edges in
+    x = v/√E), ``checkpoint_interval`` (seconds between a task's checkpoints,
+    default 60).  Everything is checked here and every engine of the grid is built, so a bad
+    spec fails before any work."""
+
+    model: str
+    params: Mapping[str, Any]
+    seeds: tuple[int, ...]
+    times: tuple[float, ...]
+    options: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self):
+        m = get_model(self.model)
+        if not isinstance(self.params, Mapping):
+            raise InvalidArgumentError("params", self.params, "a mapping {name: value or list}")
+        params = {}
+        for name, value in self.params.items():
+            m.parameter(name)  # an unknown name is refused
+            values = list(value) if isinstance(value, (list, tuple)) else [value]
+            if not values:
+                raise InvalidArgumentError(name, value, "a non-empty list (the grid is empty)")
+            values = [_json_value(name, v) for v in values]
+            if len({json.dumps(v) for v in values}) != len(values):
+                raise InvalidArgumentError(name, value, "distinct values")
+            params[name] = tuple(values)
+        missing = [p for p in m.required if p not in params]
+        if missing:
+            raise InvalidArgumentError("params", sorted(params), f"values for {missing}")
+        object.__setattr__(self, "params", params)
+        seeds = parse_seeds(self.seeds) if isinstance(self.seeds, str) else self.seeds
+        try:
+            seeds = list(seeds)
+        except TypeError:
+            raise InvalidArgumentError("seeds", self.seeds, "a list of integers") from None
+        object.__setattr__(self, "seeds", _check_seeds(seeds, self.seeds))
+        engines = [m.build(values) for values in self.parameter_sets()]  # bad values fail here
+        time_names = sorted({m.time_name(e) for e in engines})
+        if len(time_names) != 1:
+            raise InvalidArgumentError(
+                "params", {k: list(v) for k, v in params.items()},
+                f"parameter sets whose engines share one time (got {time_names})",
+            )
+        object.__setattr__(self, "_time_name", time_names[0])
+        times = check_times(self.times, time_names[0])
+        object.__setattr__(self, "times", tuple(float(t) for t in times))
+        if not isinstance(self.options, Mapping):
+            raise InvalidArgumentError("options", self.options, f"a mapping of {_OPTIONS}")
+        options = dict(self.options)
+        unknown = [k for k in options if k not in _OPTIONS]
+        if unknown:
+            raise InvalidArgumentError("options", unknown, f"options among {list(_OPTIONS)}")
+        sf = options.get("structure_factor", False)
+        if sf not in (False, True, "all", "last"):
+            raise InvalidArgumentError("structure_factor", sf, "False, True, 'all' or 'last'")
+        options["structure_factor"] = {True: True, "all": True}.get(sf, sf)
+        bins = options.get("bins")
+        edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
+        options["bins"] = None if bins is None else [float(e) for e in edges]
+        snaps = options.get("snapshots", False)
+        if not isinstance(snaps, bool):
+            raise InvalidArgumentError("snapshots", snaps, "True or False")
+        options["snapshots"] = snaps
+        options["checkpoint_interval"] = check_nonnegative(
+            options.get("checkpoint_interval", 60.0), "checkpoint_interval"
+        )
+        object.__setattr__(self, "options", options)
+        self.expand()  # builds every engine: bad values fail here
+
+    @property
+    def time_name(self) -> str:
+        """The name of the time of the spec's engines (``engine.time_name``: ``"tau"``, or
+        ``"t"`` for MD, the sticky gas and the lattice of rate |Δ|)."""
+        return self._time_name
+
+    def parameter_sets(self) -> list[dict]:
+        """The grid: one dict per parameter set, first parameter slowest."""
+        names = list(self.params)
+        return [dict(zip(names, combo, strict=True))
+                for combo in itertools.product(*(self.params[n] for n in names))]
+
+    def expand(self) -> list[EnsembleTask]:
+        """The tasks: every parameter set × every seed (seeds fastest)."""
+        m = get_model(self.model)
+        edges = obs.rescaled_histogram(np.array([1.0, -1.0]), self.options["bins"]).edges
+        result_options = {
+            "structure_factor": self.options["structure_factor"],
+            "bins": [float(e) for e in edges],
+        }
+        if self.options["snapshots"]:  # only then, so that earlier task keys stay valid
+            result_options["snapshots"] = True
+        tasks = []
+        for index, values in enumerate(self.parameter_sets()):
+            engine = m.build(values)
+            for seed in self.seeds:
+                identity = json.loads(json.dumps({
+                    "model": self.model,
+                    "params": engine.params(),
+                    "seed": seed,
+                    "times": list(self.times),
+                    "options": result_options,
+                    "version": FORMAT_VERSION,
+                }))
+                key = hashlib.sha256(json.dumps(identity, sort_keys=True).encode()).hexdigest()
+                tasks.append(EnsembleTask(self.model, values, seed, self.times, dict(self.options),
+                                          index, identity, key[:24]))
+        return tasks
+
+    def to_dict(self) -> dict:
+        """JSON-able description (stored in the aggregate)."""
+        return {"model": self.model, "params": {k: list(v) for k, v in self.params.items()},
+                "seeds": list(self.seeds), "times": list(self.times),
+                "options": dict(self.options)}
