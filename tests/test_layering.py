@@ -96,7 +96,7 @@ def test_the_checker_finds_a_cycle_and_a_package_edge():
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
     assert cycles({"a": {"b"}, "b": set()}) == []
     graph = import_graph()
-    assert "particles.persistence" in graph["particles.driver"]
+    assert "particles.persistence" in graph["particles.driver.result"]
     assert "particles.validation" in graph["maxwell_kinetics.solver"]
 
 

@@ -10,6 +10,7 @@ from particles.driver import (
     RunResult,
     initial_velocities,
     next_grid_point,
+    read_checkpoint,
     simulate,
 )
 from particles.initial import law_names
@@ -120,9 +121,9 @@ def test_ctrl_c_while_recording_gives_a_resumable_checkpoint(structure, tmp_path
     times = [1.0, 2.0, 3.0]
     kw = dict(progress=False, structure_factor=structure, snapshots=True)
     reference = simulate(engine, times, 5, **kw)
-    from particles import driver
+    from particles import observables
 
-    real = driver.obs.structure_factor
+    real = observables.structure_factor
     calls = []
 
     def interrupted(v):
@@ -132,10 +133,10 @@ def test_ctrl_c_while_recording_gives_a_resumable_checkpoint(structure, tmp_path
         return real(v)
 
     path = tmp_path / "run.ckpt"
-    monkeypatch.setattr(driver.obs, "structure_factor", interrupted)
+    monkeypatch.setattr(observables, "structure_factor", interrupted)
     with pytest.raises(KeyboardInterrupt):
         simulate(engine, times, 5, checkpoint=path, **kw)
-    monkeypatch.setattr(driver.obs, "structure_factor", real)
+    monkeypatch.setattr(observables, "structure_factor", real)
     assert path.exists()
     resumed = simulate(engine, times, 5, resume=path, **kw)
     _assert_same_run(reference, resumed)
@@ -218,6 +219,19 @@ def test_result_save_and_load_round_trip(tmp_path):
     assert np.array_equal(back.snapshots, res.snapshots)
     assert np.array_equal(back.snapshots[-1], res.velocities)
     assert back.summary() == res.summary()
+
+
+def test_read_checkpoint_gives_the_run_its_records_and_its_state(tmp_path):
+    engine = Lattice(64, 0.5)
+    res = simulate(engine, [1.0, 2.0], 3, progress=False, checkpoint=tmp_path / "c.npz")
+    ckpt = read_checkpoint(tmp_path / "c.npz")
+    assert ckpt["done"] == 2 and ckpt["run"]["seed"] == 3 and ckpt["run"]["times"] == [1.0, 2.0]
+    np.testing.assert_array_equal(ckpt["records"]["energy"], res.energy)
+    state = engine.state_from_arrays(ckpt["state"])
+    assert state.time == 2.0 and np.array_equal(state.velocities, res.velocities)
+    res.save(tmp_path / "result.npz")  # a result file is not a checkpoint
+    with pytest.raises(CheckpointError, match="result.npz"):
+        read_checkpoint(tmp_path / "result.npz")
 
 
 def test_record_round_trip_and_final_state(tmp_path):

@@ -21,7 +21,8 @@ import pytest
 from helpers import edited_file, read_entries, run_error, run_json, write_entries
 
 from particles import persistence
-from particles.driver import CheckpointError, _CheckpointLock, simulate
+from particles.driver import CheckpointError, simulate
+from particles.driver.checkpoint import CheckpointLock
 from particles.initial import law_from_characteristic
 from particles.lattice import Lattice
 from particles.ulam import Ulam
@@ -243,7 +244,7 @@ def test_a_stale_temporary_file_is_cleaned_on_the_next_write(tmp_path):
 
 def test_a_locked_checkpoint_path_is_refused(tmp_path):
     target = tmp_path / "run.ckpt"
-    with _CheckpointLock(target):  # another run holds it
+    with CheckpointLock(target):  # another run holds it
         with pytest.raises(CheckpointError, match="run.ckpt.*another run"):
             simulate(Ulam(200, 0.5), [1.0], 3, progress=False, checkpoint=target)
     simulate(Ulam(200, 0.5), [1.0], 3, progress=False, checkpoint=target)  # free again

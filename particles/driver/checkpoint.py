@@ -1,0 +1,323 @@
+"""Checkpoints of a run: the records so far, the identity of the run, writing and reading a
+checkpoint with its consistency checks, and the lock that keeps two runs off one checkpoint."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from .. import observables as obs
+from .result import CheckpointError, read_file, write_file
+
+
+class Records:
+    """Per-time records of a run in progress (also what a checkpoint stores)."""
+
+    def __init__(self, nt: int, n: int, structure: str | None, snapshots: bool,
+                 snapshot_fields: tuple[str, ...] = ()):
+        self.done = 0
+        self.energy = np.full(nt, np.nan)
+        self.momentum = np.full(nt, np.nan)
+        self.collisions = np.zeros(nt, dtype=np.int64)
+        # S(k) at every time ("all": nt rows of N/2 + 1, 40 MB per time at N = 1e7) or at the
+        # last time only ("last": one row).
+        self.structure_last = structure == "last"
+        rows = 1 if self.structure_last else nt
+        self.structure = np.full((rows, n // 2 + 1), np.nan) if structure else None
+        self.snapshots = np.full((nt, n), np.nan) if snapshots else None
+        # per-particle arrays an engine adds to each snapshot (MD: the rods' positions)
+        self.snapshot_extras = {name: np.full((nt, n), np.nan) for name in snapshot_fields}
+        self.extras: dict[str, np.ndarray] = {}
+        self.seconds = 0.0
+
+    def record(self, engine, state, nt: int) -> None:
+        """Record the observables of ``state`` as entry ``done`` and count it (a Ctrl-C in here
+        may leave entry ``done`` half written: :meth:`arrays` never stores it)."""
+        i = self.done
+        v = state.velocities
+        if v.ndim == 2:  # (N, d) velocities: ⟨|v|²⟩ per particle and |⟨v⟩|
+            self.energy[i] = float(np.mean(np.einsum("ij,ij->i", v, v)))
+            self.momentum[i] = float(np.linalg.norm(v.mean(axis=0)))
+        else:
+            self.energy[i] = obs.energy(v)
+            self.momentum[i] = obs.momentum(v)
+        self.collisions[i] = int(state.collisions)
+        if self.structure is not None and not (self.structure_last and i < nt - 1):
+            self.structure[0 if self.structure_last else i] = obs.structure_factor(v)[1]
+        if self.snapshots is not None:
+            self.snapshots[i] = v
+        if self.snapshot_extras:
+            for key, value in engine.snapshot_arrays(state).items():
+                self.snapshot_extras[key][i] = value
+        observe = getattr(engine, "observe", None)
+        if observe is not None:
+            for key, value in observe(state).items():
+                self.extras.setdefault(key, np.full(nt, np.nan))[i] = value
+        self.done += 1
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """The records as stored in a checkpoint: the rows from ``done`` on are unrecorded
+        (NaN; 0 for the integer collision counts), whatever an interrupted :meth:`record` wrote
+        there, so a checkpoint saved at any moment is consistent."""
+        done = self.done
+
+        def unrecorded_from(a, row):
+            fill = 0 if a.dtype.kind in "iu" else np.nan
+            tail = a[row:]
+            if np.array_equal(tail, np.full_like(tail, fill), equal_nan=True):
+                return a  # nothing to reset: no copy
+            a = a.copy()
+            a[row:] = fill
+            return a
+
+        out = {
+            "rec.energy": unrecorded_from(self.energy, done),
+            "rec.momentum": unrecorded_from(self.momentum, done),
+            "rec.collisions": unrecorded_from(self.collisions, done),
+        }
+        if self.structure is not None:
+            # "last": its one row is recorded only together with the last time
+            row = int(done == self.energy.size) if self.structure_last else done
+            out["rec.structure"] = unrecorded_from(self.structure, row)
+        if self.snapshots is not None:
+            out["rec.snapshots"] = unrecorded_from(self.snapshots, done)
+        for key, value in self.snapshot_extras.items():
+            out["rec.snapshot." + key] = unrecorded_from(value, done)
+        for key, value in self.extras.items():
+            out["rec.extra." + key] = unrecorded_from(value, done)
+        return out
+
+    def restore(self, arrays: dict[str, np.ndarray], done: int, seconds: float) -> None:
+        self.done = done
+        self.seconds = seconds
+        self.energy = arrays["rec.energy"]
+        self.momentum = arrays["rec.momentum"]
+        self.collisions = arrays["rec.collisions"]
+        if self.structure is not None:
+            self.structure = arrays["rec.structure"]
+        if self.snapshots is not None:
+            self.snapshots = arrays["rec.snapshots"]
+        for key in self.snapshot_extras:
+            self.snapshot_extras[key] = arrays["rec.snapshot." + key]
+        prefix = "rec.extra."
+        self.extras = {k[len(prefix) :]: v for k, v in arrays.items() if k.startswith(prefix)}
+
+
+def run_identity(engine, times, seed, edges, structure, snapshots) -> dict:
+    identity = {
+        "model": engine.name,
+        "params": engine.params(),
+        "times": [float(t) for t in times],
+        "seed": int(seed),
+        "options": {
+            "bins": [float(e) for e in edges],
+            # True for "all" (what every checkpoint so far holds), "last", or False
+            "structure_factor": {None: False, "all": True, "last": "last"}[structure],
+            "snapshots": bool(snapshots),
+        },
+    }
+    return json.loads(json.dumps(identity))  # normalise tuples, numpy scalars
+
+
+def save_checkpoint(path, identity, state, rng_state, records: Records) -> None:
+    arrays = {"state." + k: np.asarray(v) for k, v in state.to_arrays().items()}
+    arrays.update(records.arrays())
+    meta = {
+        "kind": "checkpoint",
+        "run": identity,
+        "rng": rng_state,
+        "done": records.done,
+        "seconds": records.seconds,
+    }
+    write_file(path, arrays, meta)
+
+
+def load_checkpoint(path, engine, identity, records: Records):
+    n = int(identity["params"]["n"])
+    meta, arrays = read_file(path, "resume", "checkpoint", n, len(identity["times"]))
+    run = meta.get("run", {})
+    arrays = _structure_all_to_last(run, identity, arrays)
+    diffs = [key for key in identity if run.get(key) != identity[key]]
+    if diffs:
+        shown = ", ".join(f"{k}: file {run.get(k)!r} vs run {identity[k]!r}" for k in diffs)
+        if len(shown) > 400:
+            shown = shown[:400] + "..."
+        raise CheckpointError(path, f"written for a different run; {shown}")
+    try:
+        state = engine.state_from_arrays(
+            {k[len("state.") :]: v for k, v in arrays.items() if k.startswith("state.")}
+        )
+        done = meta["done"]
+        if isinstance(done, bool) or not isinstance(done, int):
+            raise ValueError(f"done={done!r} is not an integer")
+        records.restore(arrays, done, float(meta["seconds"]))
+        rng = np.random.default_rng(identity["seed"])
+        rng.bit_generator.state = meta["rng"]
+    except (KeyError, TypeError, ValueError) as exc:
+        raise CheckpointError(path, f"incomplete checkpoint: {type(exc).__name__}: {exc}") from None
+    problem = _inconsistency(engine, identity["times"], state, records)
+    if problem is not None:
+        raise CheckpointError(path, f"inconsistent checkpoint: {problem}")
+    return state, rng
+
+
+def _structure_all_to_last(run: dict, identity: dict, arrays: dict) -> dict:
+    """Let a run that keeps S(k) at its last time only (``"last"``, what the CLI asks for) resume
+    a checkpoint that kept it at every time (``True``, e.g. written by an earlier version of the
+    CLI): the dynamics is the same, only the last row is kept.  ``run`` (the file's identity) is
+    updated in place to match; anything else about the files is checked as usual."""
+    options, wanted = run.get("options"), identity["options"]
+    if not (isinstance(options, dict) and options.get("structure_factor") is True
+            and wanted["structure_factor"] == "last"):
+        return arrays
+    rows = arrays.get("rec.structure")
+    if rows is None or np.ndim(rows) != 2 or len(rows) != len(identity["times"]):
+        return arrays  # not a well-formed "all" file: let the usual checks name the problem
+    options["structure_factor"] = "last"
+    arrays = dict(arrays)
+    arrays["rec.structure"] = np.asarray(rows)[-1:]
+    return arrays
+
+
+#: Stops walked at most when checking that a checkpoint's time is one the driver stops at.
+_MAX_STOPS_CHECKED = 100_000
+
+
+def _inconsistency(engine, times: list[float], state, records: Records) -> str | None:
+    """Why the fields of a checkpoint disagree with each other or with the run, or ``None``.
+
+    A checkpoint the driver wrote satisfies all of these: ``done`` (records made) is between 0
+    and the number of times; the recorded entries are finite and the others are unrecorded
+    (NaN); the record arrays have one entry per time (S(k) and snapshots: N/2 + 1 and N wide);
+    the state is finite, its collisions at least the last recorded count, and its time is a
+    stop of the driver after the last recorded time: ``times[done-1]`` (0 if none), reached by
+    the engine's ``next_stop`` grid and not beyond ``times[done]`` (equal to the last time once
+    all are done).  Editing any one of them is caught here."""
+    nt = len(times)
+    n = int(engine.params()["n"])
+    done = records.done
+    if not 0 <= done <= nt:
+        return f"done={done}, the run has {nt} requested times (0 <= done <= {nt})"
+    if not (math.isfinite(records.seconds) and records.seconds >= 0):
+        return f"seconds={records.seconds!r}, expected a finite number >= 0"
+    shapes = {
+        "rec.energy": (records.energy, (nt,)),
+        "rec.momentum": (records.momentum, (nt,)),
+        "rec.collisions": (records.collisions, (nt,)),
+    }
+    if records.structure is not None:
+        rows = 1 if records.structure_last else nt
+        shapes["rec.structure"] = (records.structure, (rows, n // 2 + 1))
+    if records.snapshots is not None:
+        shapes["rec.snapshots"] = (records.snapshots, (nt, n))
+    for key, value in records.snapshot_extras.items():
+        shapes["rec.snapshot." + key] = (value, (nt, n))
+    for key, value in records.extras.items():
+        shapes["rec.extra." + key] = (value, (nt,))
+    for key, (value, shape) in shapes.items():
+        if np.shape(value) != shape:
+            return f"{key} has shape {np.shape(value)}, expected {shape}"
+    for key in ("rec.energy", "rec.momentum"):
+        value = shapes[key][0]
+        if not np.all(np.isfinite(value[:done])):
+            return f"{key} is not finite among the {done} recorded entries (done={done})"
+        if not np.all(np.isnan(value[done:])):
+            return f"{key} has entries beyond the {done} recorded (done={done})"
+    recorded = records.collisions[:done]
+    if np.any(recorded < 0) or np.any(np.diff(recorded) < 0):
+        return f"rec.collisions={recorded.tolist()} is not a non-decreasing count"
+    t = float(state.time)
+    v = np.asarray(state.velocities)
+    d = int(engine.params().get("dimension", 1))
+    shape = (n,) if d == 1 else (n, d)
+    if v.shape != shape or not np.all(np.isfinite(v)):
+        return f"state.velocities: shape {v.shape}, expected {shape} and finite"
+    collisions = int(state.collisions)
+    last = int(recorded[-1]) if done else 0
+    if collisions < last:
+        return f"state.collisions={collisions} is below the last recorded count {last}"
+    start = float(times[done - 1]) if done else 0.0
+    end = float(times[done]) if done < nt else start
+    if not start <= t <= end:
+        return (
+            f"state.time={t!r}, expected between the last recorded time {start!r} and the next "
+            f"requested time {end!r} (done={done})"
+        )
+    if done and t == start and collisions != last:
+        return f"state.collisions={collisions}, recorded {last} at the same time {t!r}"
+    stop, walked = start, 0
+    while stop < t and walked < _MAX_STOPS_CHECKED:
+        stop = min(float(engine.next_stop(stop)), end)
+        walked += 1
+    if stop != t and walked < _MAX_STOPS_CHECKED:
+        return (
+            f"state.time={t!r} is not a stop of this run between {start!r} and {end!r} "
+            f"(the stop grid passes {stop!r})"
+        )
+    return None
+
+
+class CheckpointLock:
+    """An exclusive ``flock`` on ``<checkpoint>.lock`` while a run writes ``checkpoint`` (the
+    kernel drops it when the process dies, so a killed run leaves no stale lock)."""
+
+    def __init__(self, checkpoint):
+        self.path = None if checkpoint is None else Path(str(checkpoint) + ".lock")
+        self.fd = None
+
+    def __enter__(self):
+        if self.path is None:
+            return self
+        import fcntl
+
+        self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            os.close(self.fd)
+            self.fd = None
+            raise CheckpointError(
+                self.path.with_suffix(""), "another run is writing this checkpoint now",
+                "checkpoint",
+            ) from None
+        return self
+
+    def __exit__(self, *exc):
+        if self.fd is not None:
+            try:
+                os.unlink(self.path)
+            except OSError:
+                pass
+            os.close(self.fd)  # closing releases the lock
+            self.fd = None
+
+
+def read_checkpoint(path, argument: str = "path") -> dict:
+    """The content of the checkpoint file at ``path``, read through the persistence helper with
+    its checks (content hash, entry names and sizes); :class:`CheckpointError` naming
+    ``argument`` when it is not a checkpoint.
+
+    Returns ``{"run", "done", "seconds", "state", "records"}``: ``run`` the identity of the run
+    that wrote it (model, parameters, times, seed, options), ``done`` the number of requested
+    times recorded, ``seconds`` the wall-clock time so far, ``state`` the engine's state arrays
+    (``engine.state_from_arrays(state)`` rebuilds the state) and ``records`` the record arrays
+    (``energy``, ``momentum``, ``collisions``, ... per requested time; NaN where not yet
+    recorded).  Reading it runs nothing and checks nothing against an engine: to continue the
+    run, pass the file to :func:`particles.driver.simulate` as ``resume``.
+    """
+    meta, arrays = read_file(path, argument, "checkpoint")
+    try:
+        return {
+            "run": meta["run"],
+            "done": int(meta["done"]),
+            "seconds": float(meta["seconds"]),
+            "state": {k[len("state."):]: v for k, v in arrays.items() if k.startswith("state.")},
+            "records": {k[len("rec."):]: v for k, v in arrays.items() if k.startswith("rec.")},
+        }
+    except (KeyError, TypeError, ValueError) as exc:
+        raise CheckpointError(path, f"incomplete checkpoint: {type(exc).__name__}: {exc}",
+                              argument) from None

@@ -1,0 +1,205 @@
+"""The record of a run (:class:`RunResult`) and the files of results and checkpoints: one
+layout, written and read through :mod:`particles.persistence` (atomic, hashed)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from .. import observables as obs
+from .. import persistence
+
+#: Version of the result and checkpoint formats written now (2: through
+#: :mod:`particles.persistence`, with a content hash); 1 (0.1.0, no hash) still loads.
+FORMAT_VERSION = 2
+READABLE_VERSIONS = (1, 2)
+
+
+class CheckpointError(persistence.FileFormatError):
+    """A checkpoint or result file that cannot be read or belongs to another run."""
+
+    def __init__(self, path, reason: str, argument: str = "resume"):
+        super().__init__(path, reason, argument, "a readable checkpoint of this run")
+
+
+def write_file(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
+    """Write a result or checkpoint through the one persistence helper (atomic, hashed)."""
+    meta = dict(meta)
+    kind = meta.pop("kind")
+    persistence.save(path, kind, FORMAT_VERSION, arrays, meta)
+
+
+_ENTRY_PREFIXES = {
+    "checkpoint": ("state.", "rec."),
+    "result": ("times", "energy", "momentum", "collisions", "velocities", "hist.", "structure.",
+               "snapshots", "snapshot.", "extra."),
+}
+
+
+def _entry_checker(kind: str, n: int | None, nt: int | None):
+    """A check of each entry's header before its data is read: the names a file of ``kind``
+    holds, and (when the run is known) at most ``max(nt, 1) · (n + 2) · d`` elements per entry,
+    d ≤ 3 the velocity dimension: the largest record, snapshots of every time, is nt · n."""
+    prefixes = _ENTRY_PREFIXES[kind]
+
+    def check(name, dtype, shape, meta):
+        if not name.startswith(prefixes):
+            return f"not an entry of a {kind} file"
+        if n is not None:
+            limit = max(nt or 1, 1) * (n + 2) * 3
+            count = int(np.prod(shape, dtype=object)) if shape else 1
+            if count > limit:
+                return f"declares shape {shape}, more than a run of N = {n} can hold"
+        return None
+
+    return check
+
+
+def read_file(path, argument: str, kind: str, n: int | None = None,
+              nt: int | None = None) -> tuple[dict, dict[str, np.ndarray]]:
+    """``(meta, arrays)`` of a result (``kind="result"``) or checkpoint (``"checkpoint"``) file,
+    read through :func:`particles.persistence.load` with its checks; :class:`CheckpointError`
+    naming ``argument`` if it is not one.
+    ``n`` and ``nt`` (the run's particles and times, when known) bound each entry's size before
+    it is read."""
+    try:
+        loaded = persistence.load(path, kind, READABLE_VERSIONS, argument=argument,
+                                  check_entry=_entry_checker(kind, n, nt))
+    except persistence.FileFormatError as exc:
+        raise CheckpointError(path, exc.reason, argument) from None
+    return loaded.meta, loaded.arrays
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """What a run recorded at its requested times ``times`` (τ, or t for MD).
+
+    ``energy[i]`` = ⟨v²⟩, ``momentum[i]`` = ⟨v⟩, ``collisions[i]`` = total collisions so far;
+    ``histogram`` is the rescaled histogram at the last time, or ``None`` where x = v/√E is
+    undefined (every velocity 0: a valid end state, e.g. r = 0 and N = 2 after one collision),
+    with the reason in ``histogram_note``; ``structure`` is ``(k, S)`` with
+    ``S[i]`` the structure factor at ``times[i]`` (``structure_factor=True``), or ``S`` of one
+    row, at the last time (``structure_factor="last"``); ``S[-1]`` is the last time either way;
+    ``snapshots[i]`` the
+    velocities at ``times[i]`` (when requested); ``velocities`` the final velocities;
+    ``extras`` engine-specific scalars per time; ``snapshot_extras[name][i]`` the engine's
+    per-particle arrays at ``times[i]`` (with ``snapshots``, e.g. MD ``positions``);
+    ``seconds`` the wall-clock time of the run (of all its resumed pieces);
+    ``final_state`` the engine's state at the last time (None for a result read from a file:
+    files keep the records, not the state).
+    """
+
+    model: str
+    params: dict
+    seed: int
+    times: np.ndarray
+    energy: np.ndarray
+    momentum: np.ndarray
+    collisions: np.ndarray
+    velocities: np.ndarray
+    histogram: obs.Histogram | None
+    seconds: float
+    structure: tuple[np.ndarray, np.ndarray] | None = None
+    snapshots: np.ndarray | None = None
+    extras: dict[str, np.ndarray] = field(default_factory=dict)
+    histogram_note: str | None = None
+    snapshot_extras: dict[str, np.ndarray] = field(default_factory=dict)
+    final_state: Any = field(default=None, compare=False, repr=False)
+
+    def to_record(self) -> tuple[dict[str, np.ndarray], dict]:
+        """``(arrays, meta)``: the layout of a result file (:meth:`save`, and the ensemble's
+        task files).  ``arrays``: ``times``, ``energy``, ``momentum``, ``collisions``,
+        ``velocities``, ``hist.*``, ``structure.k``/``structure.S``, ``snapshots``,
+        ``snapshot.<field>`` and ``extra.<name>`` where present; ``meta`` (JSON-able):
+        ``model``, ``params``, ``seed``, ``seconds`` (None when NaN), and ``hist`` (samples,
+        v0) and ``histogram_note`` where present.  The final state is not part of it."""
+        arrays = {
+            "times": self.times,
+            "energy": self.energy,
+            "momentum": self.momentum,
+            "collisions": self.collisions,
+            "velocities": self.velocities,
+        }
+        meta = {"model": self.model, "params": self.params, "seed": self.seed,
+                "seconds": None if np.isnan(self.seconds) else self.seconds}
+        if self.histogram is not None:
+            h = self.histogram
+            arrays.update({"hist.edges": h.edges, "hist.density": h.density,
+                           "hist.error": h.error, "hist.count": h.count})
+            meta["hist"] = {"samples": h.samples, "v0": h.v0}
+        if self.histogram_note is not None:
+            meta["histogram_note"] = self.histogram_note
+        if self.structure is not None:
+            arrays["structure.k"], arrays["structure.S"] = self.structure
+        if self.snapshots is not None:
+            arrays["snapshots"] = self.snapshots
+        for key, value in self.snapshot_extras.items():
+            arrays["snapshot." + key] = value
+        for key, value in self.extras.items():
+            arrays["extra." + key] = value
+        return arrays, meta
+
+    @classmethod
+    def from_record(cls, arrays: dict[str, np.ndarray], meta: dict) -> RunResult:
+        """The inverse of :meth:`to_record` (``final_state`` None; ``seconds`` NaN when the
+        record has none).  ``KeyError`` or ``TypeError`` when an entry is missing or malformed;
+        the readers turn them into a file-format error naming the file."""
+        a = arrays
+        hist = None
+        if "hist.edges" in a:
+            edges = a["hist.edges"]
+            hist = obs.Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), a["hist.density"],
+                                 a["hist.error"], a["hist.count"], int(meta["hist"]["samples"]),
+                                 float(meta["hist"]["v0"]))
+        seconds = meta.get("seconds")
+        return cls(
+            model=meta["model"],
+            params=meta["params"],
+            seed=int(meta["seed"]),
+            times=a["times"],
+            energy=a["energy"],
+            momentum=a["momentum"],
+            collisions=a["collisions"],
+            velocities=a["velocities"],
+            histogram=hist,
+            seconds=float("nan") if seconds is None else float(seconds),
+            structure=(a["structure.k"], a["structure.S"]) if "structure.k" in a else None,
+            snapshots=a.get("snapshots"),
+            extras={k[len("extra."):]: v for k, v in a.items() if k.startswith("extra.")},
+            histogram_note=meta.get("histogram_note"),
+            snapshot_extras={k[len("snapshot."):]: v for k, v in a.items()
+                             if k.startswith("snapshot.")},
+        )
+
+    def save(self, path) -> None:
+        """Save to ``path`` (an ``.npz`` archive with a JSON ``meta`` entry; the layout of
+        :meth:`to_record`)."""
+        arrays, meta = self.to_record()
+        write_file(path, arrays, {"kind": "result", **meta})
+
+    @classmethod
+    def load(cls, path) -> RunResult:
+        """Reload a result written by :meth:`save`."""
+        meta, arrays = read_file(path, "path", "result")
+        try:
+            return cls.from_record(arrays, meta)
+        except (KeyError, TypeError) as exc:
+            raise CheckpointError(path, f"missing entry {exc}", "path") from None
+
+    def summary(self) -> dict:
+        """JSON-able summary (the ``--json`` output of ``simulate`` without the extras)."""
+        out = {
+            "model": self.model,
+            "tau": self.times.tolist(),
+            "energy": self.energy.tolist(),
+            "collisions": int(self.collisions[-1]),
+            "seconds": self.seconds,
+        }
+        if self.histogram is not None:
+            out["histogram"] = self.histogram.to_dict()
+        elif self.histogram_note is not None:
+            out["histogram"] = None
+            out["histogram_note"] = self.histogram_note
+        return out

@@ -1,0 +1,240 @@
+"""The run loop: initial velocities, the engine protocol, and :func:`simulate` (progress bar,
+checkpoints, Ctrl-C, the final histogram)."""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from typing import Any, Protocol
+
+import numpy as np
+
+from .. import budget
+from .. import observables as obs
+from ..initial import get_law
+from ..progress import progress_bar
+from ..validation import (
+    InvalidArgumentError,
+    check_count,
+    check_nonnegative,
+    check_output_file,
+    check_path,
+    check_times,
+)
+from .checkpoint import CheckpointLock, Records, load_checkpoint, run_identity, save_checkpoint
+from .result import RunResult
+
+
+class Engine(Protocol):  # pragma: no cover - typing only
+    name: str
+
+    def params(self) -> dict: ...
+
+    def initial_state(self, rng: np.random.Generator) -> Any: ...
+
+    def advance(self, state: Any, until: float, rng: np.random.Generator) -> Any: ...
+
+    def next_stop(self, time: float) -> float: ...
+
+    def state_from_arrays(self, arrays: dict[str, np.ndarray]) -> Any: ...
+
+
+def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
+    """Draw ``n`` velocities from ``law`` (a name or an ``InitialLaw``), then subtract their mean
+    and rescale them so that the mean is 0 and ⟨v²⟩ = 1 up to round-off."""
+    n = check_count(n, "n", 2)
+    v = get_law(law).sample(rng, n)
+    v = v - v.mean()
+    e = float(np.mean(v * v))
+    if not e > 0.0:
+        raise InvalidArgumentError(
+            "initial", getattr(law, "name", law), "a law with non-zero variance"
+        )
+    v *= 1.0 / math.sqrt(e)
+    return v
+
+
+def next_grid_point(time: float, step: float) -> float:
+    """Smallest ``m * step`` (m an integer) strictly greater than ``time``."""
+    m = math.floor(time / step) + 1
+    while m * step <= time:
+        m += 1
+    while m > 1 and (m - 1) * step > time:
+        m -= 1
+    return m * step
+
+
+def _structure_mode(value) -> str | None:
+    """``structure_factor`` option: False → None, True or ``"all"`` → ``"all"``, ``"last"``."""
+    if value is False or value is None:
+        return None
+    if value is True or value == "all":
+        return "all"
+    if value == "last":
+        return "last"
+    raise InvalidArgumentError("structure_factor", value, "False, True, 'all' or 'last'")
+
+
+def _final_histogram(v: np.ndarray, edges) -> tuple[obs.Histogram | None, str | None]:
+    """The rescaled histogram of the final velocities (of one Cartesian component in d > 1), or
+    ``(None, reason)`` where it is undefined.
+
+    A state with every velocity 0 (energy 0) is a valid end of a run, not bad input: r = 0 makes
+    colliding velocities equal, so N = 2 reaches it after one collision.  x = v/√E has no meaning
+    there, so no histogram is made (``rescaled_histogram`` would raise, and a raise after the
+    run would turn a valid run into exit status 2)."""
+    if v.ndim == 2:
+        v = np.ascontiguousarray(v[:, 0])
+    if not np.any(v):
+        return None, "every velocity is 0 at the last time (energy 0): x = v/sqrt(E) is undefined"
+    return obs.rescaled_histogram(v, edges), None
+
+
+def simulate(
+    engine,
+    times,
+    seed,
+    *,
+    progress: bool = True,
+    checkpoint=None,
+    resume=None,
+    bins=None,
+    structure_factor: bool = False,
+    snapshots: bool = False,
+    checkpoint_interval: float = 60.0,
+    force: bool = False,
+) -> RunResult:
+    """Run ``engine`` from its initial state through the requested ``times`` (increasing, ≥ 0).
+
+    Records at every requested time the energy ⟨v²⟩, the mean velocity, the total number of
+    collisions, the structure factor (``structure_factor=True`` or ``"all"``; ``"last"`` keeps
+    it at the last time only, which is all the CLI prints: one row of N/2 + 1 floats instead of
+    one per time) and the velocities (``snapshots=True``); at the last time the rescaled
+    histogram on ``bins`` (edges in x = v/√E, default
+    :data:`particles.observables.DEFAULT_EDGES`).
+
+    ``seed`` (an integer ≥ 0) seeds the one ``np.random.default_rng`` of the run.  With
+    ``checkpoint=PATH`` the state, the RNG state and the records so far are written to PATH
+    every ``checkpoint_interval`` wall-clock seconds (at the engine's stops), at the end, and on
+    Ctrl-C before the ``KeyboardInterrupt`` propagates; the propagating exception then carries
+    the path as ``checkpoint_saved`` (absent if nothing was saved on the interrupt, e.g. when it
+    came before the run loop).  ``resume=PATH`` continues from such a
+    file; the run (model, parameters, times, seed, options) must be the one that wrote it, else
+    :class:`CheckpointError`.  A resumed run equals an uninterrupted one bit for bit.  While
+    the run writes ``checkpoint`` it holds a lock on ``<checkpoint>.lock``: a second run on the
+    same path is refused (:class:`CheckpointError` naming it).
+
+    Before anything is drawn, the run's memory and work are estimated
+    (:mod:`particles.budget`): a run that cannot fit in the memory available is refused, and so
+    is one of more than 10¹³ events unless ``force=True``.
+    """
+    times = check_times(times, getattr(engine, "time_name", "tau"))
+    seed = check_count(seed, "seed", 0)
+    hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
+    checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
+    structure_factor = _structure_mode(structure_factor)
+    snapshots = bool(snapshots)
+    if checkpoint is not None:
+        checkpoint = check_output_file(checkpoint, "checkpoint")
+    _check_engine(engine)
+    if int(engine.params().get("dimension", 1)) != 1 and (structure_factor or snapshots):
+        raise InvalidArgumentError(
+            "structure_factor" if structure_factor else "snapshots", True,
+            "a one-dimensional model (S(k) and snapshots are recorded in d = 1 only)",
+        )
+    identity = run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
+    time_name = getattr(engine, "time_name", "tau")
+    estimate = budget.check_budget(
+        budget.estimate_run(engine.name, identity["params"], float(times[-1]),
+                            n_times=len(times), structure=structure_factor, snapshots=snapshots),
+        force=force, time_name=time_name,
+    )
+    n = int(engine.params()["n"])
+    with CheckpointLock(checkpoint):
+        fields = tuple(getattr(engine, "snapshot_fields", ())) if snapshots else ()
+        records = Records(len(times), n, structure_factor, snapshots, fields)
+        if resume is not None:
+            state, rng = load_checkpoint(check_path(resume, "resume"), engine, identity,
+                                          records)
+        else:
+            rng = np.random.default_rng(seed)
+            state = engine.initial_state(rng)
+        return _run(engine, times, seed, identity, state, rng, records, progress, checkpoint,
+                    checkpoint_interval, hist_edges, estimate)
+
+
+def _check_engine(engine) -> None:
+    """The engine protocol, checked at the boundary (a wrong object is bad input, not an
+    AttributeError deep inside)."""
+    missing = [name for name in ("name", "params", "initial_state", "advance", "next_stop",
+                                 "state_from_arrays") if not hasattr(engine, name)]
+    if missing:
+        raise InvalidArgumentError(
+            "engine", type(engine).__name__, f"an engine of the driver protocol (missing {missing})"
+        )
+
+
+def _run(engine, times, seed, identity, state, rng, records, progress, checkpoint,
+         checkpoint_interval, hist_edges, estimate) -> RunResult:
+    """The run loop of :func:`simulate` (arguments checked, lock held)."""
+    rng_state = rng.bit_generator.state
+
+    started = _time.perf_counter()
+    seconds_before = records.seconds
+    last_save = _time.monotonic()
+    bar = None
+    if progress:
+        bar = progress_bar(float(times[-1]), engine.name, getattr(engine, "time_name", "τ"),
+                           initial=float(state.time), postfix=f"estimate {estimate.describe()}")
+    try:
+        while records.done < len(times):
+            target = float(times[records.done])
+            while state.time < target:
+                stop = min(float(engine.next_stop(state.time)), target)
+                new = engine.advance(state, stop, rng)
+                new_rng_state = rng.bit_generator.state
+                # One statement: Ctrl-C cannot separate the state from its RNG state.
+                state, rng_state, previous = new, new_rng_state, state
+                if bar is not None:
+                    bar.update(state.time - previous.time)
+                if checkpoint is not None and _time.monotonic() - last_save >= checkpoint_interval:
+                    records.seconds = seconds_before + _time.perf_counter() - started
+                    save_checkpoint(checkpoint, identity, state, rng_state, records)
+                    last_save = _time.monotonic()
+            records.record(engine, state, len(times))
+    except KeyboardInterrupt as exc:
+        if checkpoint is not None:
+            records.seconds = seconds_before + _time.perf_counter() - started
+            save_checkpoint(checkpoint, identity, state, rng_state, records)
+            exc.checkpoint_saved = str(checkpoint)  # only once the file is in place
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+    records.seconds = seconds_before + _time.perf_counter() - started
+    v = state.velocities
+    histogram, histogram_note = _final_histogram(v, hist_edges)  # before anything is written
+    if checkpoint is not None:
+        save_checkpoint(checkpoint, identity, state, rng_state, records)
+
+    structure = None
+    if records.structure is not None:
+        structure = (obs.wavenumbers(v.size), records.structure)
+    return RunResult(
+        model=engine.name,
+        params=identity["params"],
+        seed=seed,
+        times=times,
+        energy=records.energy,
+        momentum=records.momentum,
+        collisions=records.collisions,
+        velocities=v,
+        histogram=histogram,
+        seconds=records.seconds,
+        structure=structure,
+        snapshots=records.snapshots,
+        snapshot_extras=records.snapshot_extras,
+        extras=records.extras,
+        histogram_note=histogram_note,
+        final_state=state,
+    )
