@@ -26,6 +26,8 @@ _LAZY = {
     "SolverOptions": "solver",
     "fixed_point": "stationary",
     "FixedPoint": "stationary",
+    "linear_decay_rates": "linear_rates",
+    "LinearRates": "linear_rates",
     "f_hat": "exact",
     "f_density": "exact",
     "get_law": "particles.initial",

@@ -53,7 +53,8 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..stationary import fixed_point, linear_decay_rates  # JAX: imported only when it runs
+    from ..linear_rates import linear_decay_rates
+    from ..stationary import fixed_point  # JAX: imported only when it runs
 
     start = time.perf_counter()
     from ..model import angular_law

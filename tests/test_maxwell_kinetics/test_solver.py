@@ -257,12 +257,12 @@ def test_odd_interpolation_order_is_rejected():
 
 def test_late_time_decay_rate_approaches_the_slowest_linear_rate():
     # Linearised around f̂ the slowest rate is γ* = max_{s∈(2,3)} γ(s) (the edge of a continuous
-    # spectrum; maxwell_kinetics.stationary.linear_decay_rates).  The measured decay rate of
+    # spectrum; maxwell_kinetics.linear_rates.linear_decay_rates).  The measured decay rate of
     # sup|G − f̂| must stay above γ* (no mode decays slower), fall with τ, and approach γ*.
     # Measured here (r = 0.5, default grid, rates over successive intervals of 50):
     # 0.01613 on [400, 450] falling to 0.01503 on [650, 700], against γ* = 0.01294, i.e. the
     # last is 1.16 γ*; the excess over γ* shrinks like 1/τ (excess × τ = 1.36 .. 1.41).
-    from maxwell_kinetics.stationary import linear_decay_rates
+    from maxwell_kinetics.linear_rates import linear_decay_rates
 
     rates = linear_decay_rates(0.5)
     taus = np.arange(400.0, 701.0, 50.0)

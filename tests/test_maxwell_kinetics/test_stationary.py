@@ -9,13 +9,13 @@ import pytest
 
 from maxwell_kinetics.cli import main
 from maxwell_kinetics.exact import f_hat
-from maxwell_kinetics.model import MaxwellModel
-from maxwell_kinetics.stationary import (
-    fixed_point,
+from maxwell_kinetics.linear_rates import (
     linear_decay_rates,
     linearised_operator,
     weighted_operator,
 )
+from maxwell_kinetics.model import MaxwellModel
+from maxwell_kinetics.stationary import fixed_point
 from particles.validation import InvalidArgumentError
 
 RESTITUTIONS = [0.0, 0.3, 0.5, 0.9, 0.99]
