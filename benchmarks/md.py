@@ -59,19 +59,19 @@ def compile_baseline(workdir: Path) -> Path:
     return exe
 
 
-def run_c(exe: Path, workdir: Path, prm: MDParams, state: MDState, until: float):
+def run_c(exe: Path, workdir: Path, params: MDParams, state: MDState, until: float):
     fin, fout = workdir / "in.bin", workdir / "out.bin"
     np.concatenate([state.positions, state.t_last, state.velocities]).tofile(fin)
-    args = [str(exe), str(fin), str(fout), repr(prm.reduced_length), repr(prm.restitution)]
-    args += [repr(prm.delta), repr(float(until))]
+    args = [str(exe), str(fin), str(fout), repr(params.reduced_length), repr(params.restitution)]
+    args += [repr(params.delta), repr(float(until))]
     out = subprocess.run(args, check=True, capture_output=True, text=True).stdout.split()
     count, seconds = int(out[0]), float(out[1])
-    x, tl, v = np.fromfile(fout).reshape(3, prm.n)
+    x, tl, v = np.fromfile(fout).reshape(3, params.n)
     return MDState(float(until), x, tl, v, state.collisions + count), count, seconds
 
 
-def run_py(prm, method, state, until, profile=False, **options):
-    engine = MDEngine(prm, method, **options)
+def run_py(params, method, state, until, profile=False, **options):
+    engine = MDEngine(params, method, **options)
     prof = cProfile.Profile() if profile else None
     start = time.perf_counter()
     if prof is not None:
@@ -99,7 +99,7 @@ def same(a: MDState, b: MDState) -> bool:
 def regime(
     exe,
     workdir,
-    prm,
+    params,
     t_start,
     t_end,
     t_ref,
@@ -109,15 +109,15 @@ def regime(
     depth=False,
     **options,
 ):
-    engine = MDEngine(prm)
+    engine = MDEngine(params)
     s0 = engine.initial_state(np.random.default_rng(seed))
-    row = {"n": prm.n, "restitution": prm.restitution, "delta": prm.delta}
+    row = {"n": params.n, "restitution": params.restitution, "delta": params.delta}
     row["window"] = [t_start, t_end]
     if t_start > 0:
-        s0, count, secs = run_c(exe, workdir, prm, s0, t_start)
+        s0, count, secs = run_c(exe, workdir, params, s0, t_start)
         row["warmup_c"] = {"collisions": count, "seconds": secs, "energy": energy(s0)}
-    sc, cc, csec = run_c(exe, workdir, prm, s0, t_end)
-    sf, cf, fsec, stats, top = run_py(prm, "fast", s0, t_end, profile=profile, **options)
+    sc, cc, csec = run_c(exe, workdir, params, s0, t_end)
+    sf, cf, fsec, stats, top = run_py(params, "fast", s0, t_end, profile=profile, **options)
     row["c"] = {"collisions": cc, "seconds": csec, "rate": cc / csec}
     row["fast"] = {"collisions": cf, "seconds": fsec, "rate": cf / fsec, "stats": stats}
     row["ratio_fast_over_c"] = (cf / fsec) / (cc / csec)
@@ -126,7 +126,7 @@ def regime(
     if critical_path:
         # vectorised passes only: the number of passes is the length of the longest causal
         # chain the light-cone scheme can see (an upper bound on the true one)
-        sp, cp, psec, pstats, _ = run_py(prm, "fast", s0, t_end, sequential_below=0)
+        sp, cp, psec, pstats, _ = run_py(params, "fast", s0, t_end, sequential_below=0)
         row["critical_path"] = {
             "passes": pstats["passes"],
             "collisions": cp,
@@ -134,11 +134,11 @@ def regime(
             "identical": same(sc, sp),
         }
     if depth:
-        row["anatomy"], block = cluster_anatomy(prm, s0)
-        row["causal_depth"] = causal_depth(prm, s0, t_end, block)
+        row["anatomy"], block = cluster_anatomy(params, s0)
+        row["causal_depth"] = causal_depth(params, s0, t_end, block)
     row["energy_end"] = energy(sf)
     if t_ref is not None:
-        _, cr, rsec, _, _ = run_py(prm, "reference", s0, t_ref)
+        _, cr, rsec, _, _ = run_py(params, "reference", s0, t_ref)
         row["reference"] = {"collisions": cr, "seconds": rsec, "rate": cr / rsec, "until": t_ref}
         row["ratio_fast_over_reference"] = (cf / fsec) / (cr / rsec)
     if top is not None:

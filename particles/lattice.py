@@ -310,7 +310,7 @@ class Lattice:
     def time_name(self) -> str:
         return "t" if self.relative_velocity_rate else "tau"
 
-    def params(self) -> dict:
+    def to_dict(self) -> dict:
         """JSON-able parameters; ``"rate"`` appears only for the rate-|Δ| variant, so the
         checkpoints of constant-rate runs keep their identity."""
         out = {

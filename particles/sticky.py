@@ -404,11 +404,11 @@ class StickyGas:
     def __init__(self, params: StickyParams, *, stop_step: float | None = None):
         if not isinstance(params, StickyParams):
             raise InvalidArgumentError("params", params, "a StickyParams")
-        self.p = params
+        self.params = params
         self.stop_step = math.inf if stop_step is None else check_positive(stop_step, "stop_step")
 
-    def params(self) -> dict:
-        out = self.p.to_dict()
+    def to_dict(self) -> dict:
+        out = self.params.to_dict()
         out["model"] = self.name
         out["stop_step"] = self.stop_step if math.isfinite(self.stop_step) else None
         return out
@@ -423,7 +423,7 @@ class StickyGas:
         ⟨v²⟩ = 1 (:func:`particles.driver.initial_velocities`): the draws of MD."""
         if not isinstance(rng, np.random.Generator):
             raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
-        p = self.p
+        p = self.params
         x = np.sort(rng.uniform(0.0, p.length, p.n))
         v = initial_velocities(p.initial, p.n, rng)
         return sticky_state(x, v, p.length, 0.0)
@@ -434,9 +434,9 @@ class StickyGas:
         until = check_nonnegative(until, "until")
         if until < state.time:
             raise InvalidArgumentError("until", until, f"a time >= the state's time {state.time}")
-        if state.velocities.size != self.p.n:
-            raise InvalidArgumentError("state", f"N={state.velocities.size}", f"N={self.p.n}")
-        return sticky_state(state.initial_positions, state.initial_velocities, self.p.length,
+        if state.velocities.size != self.params.n:
+            raise InvalidArgumentError("state", f"N={state.velocities.size}", f"N={self.params.n}")
+        return sticky_state(state.initial_positions, state.initial_velocities, self.params.length,
                             until)
 
     def state_from_arrays(self, arrays) -> StickyState:
@@ -459,11 +459,11 @@ class StickyGas:
             count = int(np.asarray(arrays["collisions"]))
         except (TypeError, ValueError) as exc:
             raise InvalidArgumentError("checkpoint", str(exc), "a sticky-gas state") from None
-        n = self.p.n
+        n = self.params.n
         if x0.shape != (n,) or v0.shape != (n,) or v.shape != (n,):
             shapes = (x0.shape, v0.shape, v.shape)
             raise InvalidArgumentError("checkpoint", f"shapes {shapes}", f"arrays of length {n}")
-        ok = (math.isfinite(t) and t >= 0.0 and length == self.p.length
+        ok = (math.isfinite(t) and t >= 0.0 and length == self.params.length
               and np.all(np.isfinite(x0)) and np.all(np.isfinite(v0))
               and np.all(np.diff(x0) >= 0.0) and x0[0] >= 0.0 and x0[-1] < length)
         if not ok:

@@ -586,7 +586,7 @@ class Ulam:
         keep that copy below ~3% of the run time at N = 1e6."""
         return max(4.0, self.window)
 
-    def params(self) -> dict:
+    def to_dict(self) -> dict:
         out = {
             "n": self.n,
             "restitution": self.restitution,

@@ -3,7 +3,7 @@
 * ``comparison(name)``: the comparison ``maxwell_kinetics.comparisons.<name>`` at the small size,
   computed once per test session and shared by every test that reads it (the comparison tests
   and the notebooks);
-* the persistent compilation cache lives in a temporary folder during the tests.
+* the persistent compilation cache is off during the tests (its own tests turn it on).
 """
 
 from __future__ import annotations
@@ -44,15 +44,18 @@ def fresh_interpreter_code():
 
 
 @pytest.fixture(scope="session", autouse=True)
-def _compile_cache_in_tmp(tmp_path_factory):
-    """The command line turns the persistent compilation cache on: during the tests it lives in
-    a temporary folder (shared by the test processes, never the user's own cache)."""
+def _compile_cache_off():
+    """The command line turns the persistent compilation cache on by default.  During the tests
+    it is off (``MAXWELL_KINETICS_CACHE=off``): the user's own cache is never touched, and a
+    command run in-process reuses what the library calls of the same session compiled (the
+    cache's executables are compiled apart from ``jax.jit``'s, so with it on every command would
+    compile again).  The cache's own tests turn it on in folders of their own."""
     import os
 
     from maxwell_kinetics.compile_cache import ENV
 
     before = os.environ.get(ENV)
-    os.environ[ENV] = str(tmp_path_factory.mktemp("compile-cache"))
+    os.environ[ENV] = "off"
     yield
     if before is None:
         os.environ.pop(ENV, None)

@@ -125,7 +125,7 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
 def _md_extend(engine, args):
     """``simulate md``: τ(t), the momentum, the collisions at each time; C(r) with
     ``--structure-factor``, v(x) and v(i) with ``--profile``."""
-    params = engine.p
+    params = engine.params
 
     def extend(result, payload):
         payload["collisions_per_particle"] = result.extras["collisions_per_particle"].tolist()
@@ -150,7 +150,7 @@ def _md_extend(engine, args):
 def _sticky_extend(engine, args):
     """``simulate sticky``: the momentum, collisions and clusters at each time; C(r) with
     ``--structure-factor``, v(x) and v(i) with ``--profile``."""
-    params = engine.p
+    params = engine.params
 
     def extend(result, payload):
         payload["momentum"] = result.extras["total_momentum"].tolist()

@@ -48,19 +48,19 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     (r = 0.9: 2pq = 0.095, e^{−9.5} at τ = 100; the small size takes r ≤ 0.5 only)."""
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    d, n = float(prm["driving"]), int(prm["n"])
-    seeds = tuple(range(int(prm["seeds"])))
+    params = preset(PRESETS, size, overrides)
+    d, n = float(params["driving"]), int(params["n"])
+    seeds = tuple(range(int(params["seeds"])))
     rows, curves = [], []
-    for r in prm["restitutions"]:
+    for r in params["restitutions"]:
         theory = steady_state(r, d)
-        v = runner.ulam_final({"n": n, "restitution": float(r), "driving": d}, prm["tau"], seeds,
+        v = runner.ulam_final({"n": n, "restitution": float(r), "driving": d}, params["tau"], seeds,
                               progress=progress)
         var_exact = theory.variance * (1.0 - 1.0 / n) ** 2
         m2 = np.mean(v * v, axis=1)
         kurt = np.mean(v**4, axis=1) / m2**2
         sd = math.sqrt(theory.variance)
-        width = prm["bin_width"] * sd
+        width = params["bin_width"] * sd
         edges = np.arange(-8 * sd, 8 * sd + width / 2, width)
         # pooled histogram; binomial errors of the pooled counts (in the steady state of the
         # mean-field model the particles of one run are nearly independent)
@@ -95,7 +95,7 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
         })
         curves.append({"x": theory.velocity, "P": theory.density, "centres": centres,
                        "density": dens, "error": err})
-    summary = {"parameters": jsonable(prm), "rows": rows,
+    summary = {"parameters": jsonable(params), "rows": rows,
                "seconds": time.perf_counter() - start}
     return Comparison(NAME, summary, {"curves": curves, "rows": rows})
 

@@ -73,13 +73,13 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    r = prm["restitution"]
-    md = runner.md_runs(r, prm["md_n"], prm["delta"], md_record_times(prm["md_t_max"]),
-                        tuple(range(prm["md_seeds"])), progress=progress,
+    params = preset(PRESETS, size, overrides)
+    r = params["restitution"]
+    md = runner.md_runs(r, params["md_n"], params["delta"], md_record_times(params["md_t_max"]),
+                        tuple(range(params["md_seeds"])), progress=progress,
                         checkpoint_dir=checkpoint_dir)
-    lat = runner.lattice_runs(r, prm["lattice_n"], lattice_times(prm["lattice_tau_max"]),
-                              tuple(range(prm["lattice_seeds"])), progress=progress)
+    lat = runner.lattice_runs(r, params["lattice_n"], lattice_times(params["lattice_tau_max"]),
+                              tuple(range(params["lattice_seeds"])), progress=progress)
     t, e = md["times"], md["energy"]
     t0 = haff_time(r, 1.0)  # the presets' MD runs are at density 1
     tau, el = lat["times"], lat["energy"]
@@ -93,7 +93,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
             ("md_late", t, e, "md_late_window", np.log, 1),
             ("lattice_early", tau, el, "lattice_early_window", lambda c: c, 2),
             ("lattice_late", tau, el, "lattice_late_window", np.log, 1)):
-        lo, hi = prm[key]
+        lo, hi = params[key]
         w = (clock >= lo) & (clock <= hi)
         c, y = clock[w], np.log(energy[:, w])
         if name == "lattice_early":
@@ -104,7 +104,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
         # is linear in y); they draw the fitted curve in the figure.
         coef = np.polyfit(fx(c), y.mean(axis=0), degree)
         lines[name] = {"clock": c, "slope": float(coef[-2]), "intercept": float(coef[-1]),
-                       "curvature": float(coef[0]) if degree == 2 else 0.0, "window": prm[key]}
+                       "curvature": float(coef[0]) if degree == 2 else 0.0, "window": params[key]}
     haff, md_late, lat_early, lat_late = (
         seed_fits[k] for k in ("md_haff", "md_late", "lattice_early", "lattice_late"))
     md_late_xy, lat_late_xy = used["md_late"], used["lattice_late"]
@@ -128,7 +128,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
         return out
 
     summary = {
-        "parameters": jsonable(prm),
+        "parameters": jsonable(params),
         "md_haff_exponent": fit(haff, -2.0, "md_haff"),
         "md_late_exponent": fit(md_late, -2.0 / 3.0, "md_late", *md_late_xy),
         "md_collisions_per_particle_at_end": md["tau"][:, -1].tolist(),
@@ -139,7 +139,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
         "seconds": time.perf_counter() - start,
     }
     data = {"md_t": t, "md_energy": e, "t0": t0, "lattice_tau": tau, "lattice_energy": el,
-            "windows": {k: prm[k] for k in ("md_haff_window", "md_late_window",
+            "windows": {k: params[k] for k in ("md_haff_window", "md_late_window",
                                             "lattice_early_window", "lattice_late_window")},
             "fits": lines, "restitution": r}
     return Comparison(NAME, summary, data)

@@ -49,14 +49,14 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     of M_n/M_2^{n/2}) and P(x, τ) developing the x⁻⁴ tail (fitted log-log slope on
     ``tail_window``)."""
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    model = MaxwellModel(prm["restitution"])
-    sol = kinetic_solution(model.restitution, prm["law"], prm["tau"], progress=progress)
+    params = preset(PRESETS, size, overrides)
+    model = MaxwellModel(params["restitution"])
+    sol = kinetic_solution(model.restitution, params["law"], params["tau"], progress=progress)
     taus = np.asarray(sol.tau)
     sup = sol.sup_error()
     q_low = 1e-4
     dist, bounds, ratio, checked_to = {}, {}, {}, {}
-    for s in prm["s"]:
+    for s in params["s"]:
         d = sol.fourier_distance(s, q_low=q_low)
         bound = d[0] * np.exp(-model.contraction_rate(s) * taus)
         dist[s], bounds[s] = d, bound
@@ -71,9 +71,9 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
         else:  # no saved τ > 0 where the bound is above the floor (e.g. an override tau=(0,))
             ratio[s] = checked_to[s] = None
     # Moments: the exact hierarchy from the law's moments (Gaussian only: known in closed form).
-    if prm["law"] != "gaussian":
-        raise InvalidArgumentError("law", prm["law"], "'gaussian' (moments known exactly)")
-    mt = np.linspace(0.0, prm["moments_tau_max"], 201)
+    if params["law"] != "gaussian":
+        raise InvalidArgumentError("law", params["law"], "'gaussian' (moments known exactly)")
+    mt = np.linspace(0.0, params["moments_tau_max"], 201)
     resc = rescaled_moments(model, _GAUSSIAN_MOMENTS, mt)
     late = mt >= 0.5 * mt[-1]
     growth = {}
@@ -84,7 +84,7 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     # Densities and tail slopes.
     x = np.geomspace(0.05, 30.0, 160)
     dens = np.array([sol.density(x, k)[1] for k in range(len(taus))])
-    lo, hi = prm["tail_window"]
+    lo, hi = params["tail_window"]
     sel = (x >= lo) & (x <= hi)
     tails = []
     for k in range(len(taus)):
@@ -93,14 +93,14 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
                      else None)
     f_slope = float(np.polyfit(np.log(x[sel]), np.log(f_density(x[sel])), 1)[0])
     summary = {
-        "parameters": jsonable(prm),
+        "parameters": jsonable(params),
         "tau": taus.tolist(),
         "sup_error": sup.tolist(),
-        "fourier_distance": {str(s): dist[s].tolist() for s in prm["s"]},
-        "contraction_rate": {str(s): model.contraction_rate(s) for s in prm["s"]},
-        "max_distance_over_bound": {str(s): ratio[s] for s in prm["s"]},
+        "fourier_distance": {str(s): dist[s].tolist() for s in params["s"]},
+        "contraction_rate": {str(s): model.contraction_rate(s) for s in params["s"]},
+        "max_distance_over_bound": {str(s): ratio[s] for s in params["s"]},
         "bound_checked_where_above": _BOUND_CHECKED_ABOVE,
-        "bound_checked_up_to_tau": {str(s): checked_to[s] for s in prm["s"]},
+        "bound_checked_up_to_tau": {str(s): checked_to[s] for s in params["s"]},
         "fourier_distance_q_low": q_low,
         "moment_growth_rates": growth,
         "tail_slope": tails,

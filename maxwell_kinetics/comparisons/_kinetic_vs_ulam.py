@@ -130,20 +130,20 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    edges = bin_edges(prm["edges"])
-    taus = [float(t) for t in prm["tau"]]
-    seeds = list(range(int(prm["seeds"])))
+    params = preset(PRESETS, size, overrides)
+    edges = bin_edges(params["edges"])
+    taus = [float(t) for t in params["tau"]]
+    seeds = list(range(int(params["seeds"])))
     cases = []
-    for r, law in prm["cases"]:
+    for r, law in params["cases"]:
         sol = kinetic_solution(r, law, taus, _VS_ULAM_RESOLUTION, progress=progress)
-        snaps = runner.ulam_snapshots(r, law, prm["n"], taus, seeds, progress=progress)
+        snaps = runner.ulam_snapshots(r, law, params["n"], taus, seeds, progress=progress)
         rows = []
         for k, tau in enumerate(taus):
             x = _kinetic_scaled(snaps[k], r, tau)
             prob, below = solution_bin_probabilities(sol, k, edges)
             cmp = st.compare_histograms(x, edges, prob, below)
-            smoothed = _smoothed_comparison(sol, k, x, edges, prm["smoothing"], seed=k)
+            smoothed = _smoothed_comparison(sol, k, x, edges, params["smoothing"], seed=k)
             fft_prob, fft_x, fft_p = fft_bin_probabilities(sol, k, edges)
             diff = fft_prob - prob
             cut = never_collided_cut(sol, k, edges)
@@ -154,30 +154,30 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
                          "never_collided_cut_max_abs": float(np.max(np.abs(cut))),
                          "max_abs_cut_removed": float(np.max(np.abs(diff - cut)))}
             rows.append({"tau": tau, **cmp.summary(), "comparison": cmp,
-                         "smoothed": {"width": prm["smoothing"], **smoothed.summary()},
+                         "smoothed": {"width": params["smoothing"], **smoothed.summary()},
                          "fft_vs_quadrature": fft_check,
                          "fft": {"x": fft_x, "density": fft_p}})
         cases.append({"restitution": r, "initial": law, "rows": rows})
     # The N scan.
-    r, law = prm["scan_case"]
-    tau = float(prm["scan_tau"])
+    r, law = params["scan_case"]
+    tau = float(params["scan_tau"])
     sol = kinetic_solution(r, law, [tau], _VS_ULAM_RESOLUTION, progress=progress)
     prob, below = solution_bin_probabilities(sol, 0, edges)
     cdf = np.concatenate([[0.0], np.cumsum(prob)]) + below
     ks_mean, ks_err = [], []
-    for n in prm["scan_n"]:
-        snaps = runner.ulam_snapshots(r, law, n, [tau], list(range(int(prm["scan_seeds"]))))
+    for n in params["scan_n"]:
+        snaps = runner.ulam_snapshots(r, law, n, [tau], list(range(int(params["scan_seeds"]))))
         ks = np.array([st.ks_distance(x, edges, cdf)
                        for x in _kinetic_scaled(snaps[0], r, tau)])
         mean, err = mean_sem(ks)
         ks_mean.append(mean)
         ks_err.append(err)
-    logn = np.log(np.asarray(prm["scan_n"], dtype=float))
+    logn = np.log(np.asarray(params["scan_n"], dtype=float))
     sig = np.asarray(ks_err) / np.asarray(ks_mean)
     slope, slope_err, icpt = st.weighted_slope(logn, np.log(ks_mean), sig)
     chi2_fit = float(np.sum(((np.log(ks_mean) - (icpt + slope * logn)) / sig) ** 2))
     summary = {
-        "parameters": jsonable(prm),
+        "parameters": jsonable(params),
         "distance": "per τ: Pearson chi2/dof of the pooled histogram (expectation 1 for "
                     "independent samples, phi with correlated ones, phi measured from the seed "
                     "scatter) and the Kolmogorov-Smirnov distance of single runs on the bin edges "
@@ -192,13 +192,13 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
                       for row in c["rows"]]}
             for c in cases
         ],
-        "n_scan": {"restitution": r, "initial": law, "tau": tau, "n": list(prm["scan_n"]),
+        "n_scan": {"restitution": r, "initial": law, "tau": tau, "n": list(params["scan_n"]),
                    "ks": ks_mean, "ks_error": ks_err, "slope": [slope, slope_err],
                    "slope_expected": -0.5, "fit_chi2": chi2_fit,
                    "fit_dof": len(ks_mean) - 2},
         "seconds": time.perf_counter() - start,
     }
-    data = {"cases": cases, "edges": edges, "scan_n": np.asarray(prm["scan_n"]),
+    data = {"cases": cases, "edges": edges, "scan_n": np.asarray(params["scan_n"]),
             "scan_ks": np.asarray(ks_mean), "scan_ks_error": np.asarray(ks_err),
             "scan_fit": (slope, icpt)}
     return Comparison(NAME, summary, data)

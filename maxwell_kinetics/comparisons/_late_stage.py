@@ -214,24 +214,24 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
       against Chernoff's density in the figure.
     """
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    n, times = int(prm["n"]), np.asarray(prm["times"], dtype=float)
-    seeds = tuple(range(int(prm["seeds"])))
+    params = preset(PRESETS, size, overrides)
+    n, times = int(params["n"]), np.asarray(params["times"], dtype=float)
+    seeds = tuple(range(int(params["seeds"])))
     engine = get_model("sticky").build({"n": n, "density": 1.0, "initial": "gaussian"})
-    length = engine.p.length
-    lo, hi, step = prm["x_edges"]
+    length = engine.params.length
+    lo, hi, step = params["x_edges"]
     edges = np.round(np.arange(lo, hi + 0.5 * step, step), 12)
     nt = times.size
     energy = np.empty((len(seeds), nt))
     kurt = np.empty_like(energy)
     clusters = np.empty_like(energy)
     sb_sum = None  # log-binned S(k) summed over seeds, per time (binning is linear)
-    j_tail = int(np.argmin(np.abs(times - prm["tail_time"])))
+    j_tail = int(np.argmin(np.abs(times - params["tail_time"])))
     porod_seed = [[None] * nt for _ in seeds]
     hist = np.zeros((2, edges.size - 1))
     mass_tables = [[] for _ in seeds]
     mu_edges = 10.0 ** np.arange(-2.0, 1.01, 0.1)
-    mass_times = times[times >= prm["mass_t_min"]]
+    mass_times = times[times >= params["mass_t_min"]]
     scales = profile_scales(n)
     skew = {"vi": [], "vx": []}
     tail_rows, profile = [], {}
@@ -239,9 +239,9 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     z_edges = np.round(np.arange(-3.0, 3.0 + 1e-9, 0.1), 12)
     disp_hist = np.zeros(z_edges.size - 1)
     disp_var = []
-    decades = np.geomspace(prm["tail_quantiles"][0], prm["tail_quantiles"][1],
-                           round(math.log10(prm["tail_quantiles"][0]
-                                            / prm["tail_quantiles"][1])) + 1)
+    decades = np.geomspace(params["tail_quantiles"][0], params["tail_quantiles"][1],
+                           round(math.log10(params["tail_quantiles"][0]
+                                            / params["tail_quantiles"][1])) + 1)
     with progress_bar(len(seeds) * nt, f"sticky N={n}", "time", enabled=progress) as bar:
         for i, seed in enumerate(seeds):
             s0 = engine.initial_state(np.random.default_rng(seed))
@@ -257,14 +257,14 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
                 if sb_sum is None:
                     sb_sum = np.zeros((nt, sb.size))
                 sb_sum[j] += sb
-                fit = porod_fit(k, s, t, 2.0 / 3.0, prm["porod_x"], prm["k_max"])
+                fit = porod_fit(k, s, t, 2.0 / 3.0, params["porod_x"], params["k_max"])
                 porod_seed[i][j] = None if fit is None else fit[0]
                 if j in (0, nt - 1):
                     hist[0 if j == 0 else 1] += np.histogram(v / math.sqrt(e), edges)[0]
-                if t >= prm["mass_t_min"]:
+                if t >= params["mass_t_min"]:
                     mass_tables[i].append(cluster_mass_distribution(st))
                 if j == j_tail:
-                    beta = velocity_tail_exponent(v, quantiles=tuple(prm["tail_quantiles"]))
+                    beta = velocity_tail_exponent(v, quantiles=tuple(params["tail_quantiles"]))
                     local = [velocity_tail_exponent(v, quantiles=(a, b))
                              for a, b in zip(decades[:-1], decades[1:], strict=True)]
                     tail_rows.append((beta, local, float(t)))
@@ -297,18 +297,18 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     }
     # cluster masses
     mu_mid = np.sqrt(mu_edges[:-1] * mu_edges[1:])
-    phi = np.array([mass_density(tab, mass_times, length, mu_edges, prm["mass_m_min"])
+    phi = np.array([mass_density(tab, mass_times, length, mu_edges, params["mass_m_min"])
                     for tab in mass_tables])
-    win = (mu_mid >= prm["mass_mu"][0]) & (mu_mid <= prm["mass_mu"][1])
+    win = (mu_mid >= params["mass_mu"][0]) & (mu_mid <= params["mass_mu"][1])
     mslopes = [_line_fit(mu_mid[win], row[win]) for row in phi]
-    small = _small_mass_runs(prm, progress)
+    small = _small_mass_runs(params, progress)
     mass_out = {"window_exponent": _mean_se(mslopes), "per_seed": mslopes, "expected": -0.5,
-                "mu_window": list(prm["mass_mu"]), "times": mass_times.tolist(),
-                "m_min": int(prm["mass_m_min"]), "small_mu": small["summary"],
+                "mu_window": list(params["mass_mu"]), "times": mass_times.tolist(),
+                "m_min": int(params["mass_m_min"]), "small_mu": small["summary"],
                 "exponent": small["summary"]["exponent"]}
     # structure factor
     sb_mean = sb_sum / len(seeds)
-    structure_out = _structure_numbers(kb, sb_mean, times, porod_seed, prm)
+    structure_out = _structure_numbers(kb, sb_mean, times, porod_seed, params)
     # kurtosis, skewness, tail
     kurt_out = {"times": times.tolist(), "kurtosis": [_mean_se(kurt[:, j]) for j in range(nt)],
                 "gaussian": 3.0}
@@ -318,7 +318,7 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     betas = [b[0][0] for b in tail_rows]
     local = np.array([[x[0] for x in b[1]] for b in tail_rows])
     w_local = [float(np.sqrt(x[2][0] * x[2][1])) for x in tail_rows[0][1]]
-    tail_out = {"time": tail_rows[0][2], "quantiles": list(prm["tail_quantiles"]),
+    tail_out = {"time": tail_rows[0][2], "quantiles": list(params["tail_quantiles"]),
                 "beta": _mean_se(betas), "per_seed": betas,
                 "fit_error_seed0": tail_rows[0][0][1],
                 "w_range_seed0": list(tail_rows[0][0][2]),
@@ -329,7 +329,7 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
                 "sticky_gas_limit": 3.0, "gaussian": 2.0}
     disp_out = {"time": float(times[-1]), "scale": scale, "variance": _mean_se(disp_var),
                 "per_seed": disp_var, "chernoff_variance": CHERNOFF_VARIANCE}
-    summary = {"parameters": jsonable(prm), "model": "exact sticky gas standing in for late MD",
+    summary = {"parameters": jsonable(params), "model": "exact sticky gas standing in for late MD",
                "energy": energy_out, "mass": mass_out, "structure": structure_out,
                "kurtosis": kurt_out, "skewness": skew_out, "tail": tail_out,
                "displacement": disp_out,
@@ -342,18 +342,18 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     return Comparison(NAME, summary, data)
 
 
-def _small_mass_runs(prm, progress) -> dict:
+def _small_mass_runs(params, progress) -> dict:
     """The small-μ cluster-mass law from separate late runs (``mass_n`` particles,
     ``mass_seeds`` seeds 1000, 1001, …, times ``mass_times``, density 1): Φ pooled over runs
     and times with Poisson errors (:func:`mass_density`), masses m ≥ ``mass_small_m_min``,
     fitted by :func:`small_mass_law` for μ ≤ ``mass_mu_max``, plus the pure power law's slope
     on three windows of μ, to show it steepen towards −1/2 as μ → 0."""
-    n, times = int(prm["mass_n"]), [float(t) for t in prm["mass_times"]]
+    n, times = int(params["mass_n"]), [float(t) for t in params["mass_times"]]
     engine = get_model("sticky").build({"n": n, "density": 1.0, "initial": "gaussian"})
     tables, table_times = [], []
-    with progress_bar(int(prm["mass_seeds"]) * len(times), f"sticky masses N={n}", "time",
+    with progress_bar(int(params["mass_seeds"]) * len(times), f"sticky masses N={n}", "time",
                       enabled=progress) as bar:
-        for seed in range(1000, 1000 + int(prm["mass_seeds"])):
+        for seed in range(1000, 1000 + int(params["mass_seeds"])):
             state = engine.initial_state(np.random.default_rng(seed))
             for t in times:
                 tables.append(cluster_mass_distribution(engine.advance(state, t)))
@@ -361,25 +361,25 @@ def _small_mass_runs(prm, progress) -> dict:
                 bar.update(1)
     edges = 10.0 ** np.arange(-3.5, 0.51, 0.1)
     mu = np.sqrt(edges[:-1] * edges[1:])
-    phi, err, counted = mass_density(tables, table_times, engine.p.length, edges,
-                                     int(prm["mass_small_m_min"]), errors=True)
-    fits = small_mass_law(mu, phi, err, counted, float(prm["mass_mu_max"]))
+    phi, err, counted = mass_density(tables, table_times, engine.params.length, edges,
+                                     int(params["mass_small_m_min"]), errors=True)
+    fits = small_mass_law(mu, phi, err, counted, float(params["mass_mu_max"]))
     windows = {}
     for lo, hi in ((3e-3, 3e-2), (1e-2, 1e-1), (3e-2, 3e-1)):
         sub = small_mass_law(mu, phi, err, counted, hi, mu_min=lo, models=("power",))
         windows[f"{lo:g}-{hi:g}"] = None if sub["power"] is None else sub["power"]["a"]
-    summary = {"n": n, "seeds": int(prm["mass_seeds"]), "times": times,
-               "m_min": int(prm["mass_small_m_min"]), "mu_max": float(prm["mass_mu_max"]),
+    summary = {"n": n, "seeds": int(params["mass_seeds"]), "times": times,
+               "m_min": int(params["mass_small_m_min"]), "mu_max": float(params["mass_mu_max"]),
                "fits": fits, "window_slopes": windows,
                "exponent": fits["corrected"]["a"] if fits["corrected"] else [None, None]}
     return {"summary": summary,
             "data": {"mass_mu": mu, "mass_phi": phi, "mass_err": err, "mass_counted": counted}}
 
 
-def _structure_numbers(kb, sb_mean, times, porod_seed, prm) -> dict:
+def _structure_numbers(kb, sb_mean, times, porod_seed, params) -> dict:
     """Collapse spread and Porod slopes (see :func:`run`); ``sb_mean`` (T, bins) is the seed
     mean of the log-binned S(k) on the bin centres ``kb``."""
-    x_range = (0.5, prm["porod_x"][1])
+    x_range = (0.5, params["porod_x"][1])
     xs = np.geomspace(*x_range, 40)
 
     def spread(z):
@@ -387,14 +387,14 @@ def _structure_numbers(kb, sb_mean, times, porod_seed, prm) -> dict:
                   for sb, t in zip(sb_mean, times, strict=True)]
         return float(np.sqrt(np.mean(np.var(np.array(curves), axis=0, ddof=1))))
 
-    fits = [binned_porod_fit(kb, sb, t, 2.0 / 3.0, prm["porod_x"], prm["k_max"])
+    fits = [binned_porod_fit(kb, sb, t, 2.0 / 3.0, params["porod_x"], params["k_max"])
             for sb, t in zip(sb_mean, times, strict=True)]
     per_time = [_mean_se([row[j] for row in porod_seed]) for j in range(len(times))]
     last = max((j for j, f in enumerate(fits) if f is not None), default=None)
     return {
         "times": list(map(float, times)), "z": 2.0 / 3.0,
         "collapse_spread_at_z": spread(2.0 / 3.0), "collapse_spread_unscaled": spread(0.0),
-        "porod_window": {"x": list(prm["porod_x"]), "k_max": float(prm["k_max"])},
+        "porod_window": {"x": list(params["porod_x"]), "k_max": float(params["k_max"])},
         "porod_slope_per_time": per_time,
         "porod_fit_of_mean": [None if f is None else [f[0], f[1], float(f[2][0]),
                                                       float(f[2][-1])] for f in fits],

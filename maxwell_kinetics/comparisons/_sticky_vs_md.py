@@ -83,15 +83,15 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    r, n, delta = prm["restitution"], int(prm["n"]), prm["delta"]
-    seeds = tuple(range(int(prm["seeds"])))
-    times = md_record_times(prm["t_max"])
+    params = preset(PRESETS, size, overrides)
+    r, n, delta = params["restitution"], int(params["n"]), params["delta"]
+    seeds = tuple(range(int(params["seeds"])))
+    times = md_record_times(params["t_max"])
     md = runner.md_runs(r, n, delta, times, seeds, progress=progress,
                         checkpoint_dir=checkpoint_dir)
     sticky = runner.sticky_runs(n, times, seeds, progress=False)
     t_all = np.asarray(times)
-    sel = (t_all >= prm["window"][0]) & (t_all <= prm["window"][1])
+    sel = (t_all >= params["window"][0]) & (t_all <= params["window"][1])
     t = t_all[sel]
     e_md, e_st = md["energy"][:, sel], sticky["energy"][:, sel]
     paired, unpaired = paired_numbers(e_md, e_st)
@@ -115,9 +115,9 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
         "md_tau_last": md["tau"][:, -1].tolist(), "md_seconds": md["seconds"],
     }
     departure, dep_data = [], []
-    t_dep = tuple(float(x) for x in np.round(np.geomspace(10.0, prm["departure_t_max"], 12), 3))
+    t_dep = tuple(float(x) for x in np.round(np.geomspace(10.0, params["departure_t_max"], 12), 3))
     sc = np.asarray(t_dep) ** (2.0 / 3.0)
-    for d_delta, d_n in prm["departure"]:
+    for d_delta, d_n in params["departure"]:
         m = runner.md_runs(r, int(d_n), d_delta, t_dep, (0,), progress=progress,
                            checkpoint_dir=checkpoint_dir)
         s = runner.sticky_runs(int(d_n), t_dep, (0,), progress=False)
@@ -135,7 +135,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
         })
         dep_data.append({"times": np.asarray(t_dep), "md": m["energy"][0] * sc,
                          "sticky": s["energy"][0] * sc, "delta": float(d_delta), "n": int(d_n)})
-    summary = {"parameters": jsonable(prm), "paired": paired_out, "departure": departure,
+    summary = {"parameters": jsonable(params), "paired": paired_out, "departure": departure,
                "seconds": time.perf_counter() - start}
     data = {"times": t, "md_e_t23": e_md * scale, "sticky_e_t23": e_st * scale,
             "paired": paired, "unpaired": unpaired, "departure": tuple(dep_data),

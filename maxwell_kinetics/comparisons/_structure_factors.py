@@ -81,32 +81,34 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    r = prm["restitution"]
-    seeds = tuple(range(prm["lattice_seeds"]))
+    params = preset(PRESETS, size, overrides)
+    r = params["restitution"]
+    seeds = tuple(range(params["lattice_seeds"]))
     out, data = {}, {}
-    x_range = (0.5, prm["porod_x"][1])
+    x_range = (0.5, params["porod_x"][1])
     zs = np.round(np.arange(0.0, 1.0001, 0.01), 2)
     for label, constraint in (("lattice", True), ("lattice_no_constraint", False)):
-        runs = runner.lattice_runs(r, prm["lattice_n"], prm["lattice_tau"], seeds, constraint,
+        runs = runner.lattice_runs(r, params["lattice_n"], params["lattice_tau"], seeds, constraint,
                                    progress=progress, structure=True)
         k, spec = runs["k"], runs["structure"]  # (R, T, K)
         mean = spec.mean(axis=0)
         times = runs["times"]
-        out[label] = _structure_numbers(k, spec, mean, times, 0.5, zs, x_range, prm, lattice=True)
+        out[label] = _structure_numbers(k, spec, mean, times, 0.5, zs, x_range, params,
+                                        lattice=True)
         data[label] = {"k": k, "S": mean, "times": times, "z": 0.5}
-    md = runner.md_runs(r, prm["md_n"], prm["md_delta"], md_record_times(prm["md_t_max"]),
-                        tuple(range(prm["md_seeds"])), progress=progress,
+    md = runner.md_runs(r, params["md_n"], params["md_delta"], md_record_times(params["md_t_max"]),
+                        tuple(range(params["md_seeds"])), progress=progress,
                         checkpoint_dir=checkpoint_dir)
-    idx = [int(np.argmin(np.abs(md["times"] - t))) for t in prm["md_times"]]
+    idx = [int(np.argmin(np.abs(md["times"] - t))) for t in params["md_times"]]
     times = md["times"][idx]
     spec = np.array([[structure_factor(md["snapshots"][i, j])[1] for j in idx]
                      for i in range(md["snapshots"].shape[0])])
     k = structure_factor(md["snapshots"][0, 0])[0]
     mean = spec.mean(axis=0)
-    out["md"] = _structure_numbers(k, spec, mean, times, 2.0 / 3.0, zs, x_range, prm, lattice=False)
+    out["md"] = _structure_numbers(k, spec, mean, times, 2.0 / 3.0, zs, x_range, params,
+                                   lattice=False)
     data["md"] = {"k": k, "S": mean, "times": times, "z": 2.0 / 3.0}
-    summary = {"parameters": jsonable(prm), **out, "seconds": time.perf_counter() - start}
+    summary = {"parameters": jsonable(params), **out, "seconds": time.perf_counter() - start}
     return Comparison(NAME, summary, data)
 
 
@@ -130,7 +132,8 @@ def _z_minimum(k, spectra, times, zs, x_range) -> tuple[float, bool]:
     return z, False
 
 
-def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm, *, lattice: bool) -> dict:
+def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, params, *,
+                       lattice: bool) -> dict:
     """Numbers of one model (see :func:`run`); ``spec`` (R, T, K) per seed.
 
     Every number of the seed-mean spectrum gets a jackknife error over the seeds (leave one
@@ -145,8 +148,8 @@ def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, prm, *, latt
     """
     n_runs = spec.shape[0]
     z_best, at_edge = _z_minimum(k, mean, times, zs, x_range)
-    window, k_max = ((prm["lattice_porod_x"], prm["lattice_k_max"]) if lattice
-                     else (prm["porod_x"], prm["k_max"]))
+    window, k_max = ((params["lattice_porod_x"], params["lattice_k_max"]) if lattice
+                     else (params["porod_x"], params["k_max"]))
 
     def numbers(m):
         return {"theory": _collapse_spread(k, m, times, z_theory, x_range),

@@ -53,27 +53,27 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     runs (which includes the correlation of one run's particles), against 2s*."""
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    rs = np.linspace(0.0, 0.95, int(prm["curve_points"]))
+    params = preset(PRESETS, size, overrides)
+    rs = np.linspace(0.0, 0.95, int(params["curve_points"]))
     curves = {}
-    for d in prm["dimensions"]:
+    for d in params["dimensions"]:
         for angular in ("uniform", "hard"):
             curves[f"d{d}_{angular}"] = np.array([tail_exponent(d, r, angular).s for r in rs])
     paper = {angular: tail_exponent(2, 0.0, angular).exponents for angular in ("uniform", "hard")}
     particles = []
-    seeds = tuple(range(int(prm["seeds"])))
-    for d, angular, r in prm["particle_cases"]:
-        v = runner.ulam_final({"n": int(prm["n"]), "restitution": float(r), "dimension": int(d),
-                               "angular": angular}, prm["tau"], seeds, progress=progress)
+    seeds = tuple(range(int(params["seeds"])))
+    for d, angular, r in params["particle_cases"]:
+        v = runner.ulam_final({"n": int(params["n"]), "restitution": float(r), "dimension": int(d),
+                               "angular": angular}, params["tau"], seeds, progress=progress)
         speeds = np.sqrt(np.sum(v * v, axis=-1))
-        alphas = np.array([hill_exponent(row, int(prm["top"])) for row in speeds])
+        alphas = np.array([hill_exponent(row, int(params["top"])) for row in speeds])
         s = tail_exponent(d, r, angular).s
         mean, err = mean_sem(alphas)
         particles.append({"dimension": int(d), "angular": angular, "restitution": float(r),
                           "alpha": [mean, err], "alpha_exact": 2 * s,
                           "in_sigma": (mean - 2 * s) / err, "per_run": alphas.tolist()})
     summary = {
-        "parameters": jsonable(prm),
+        "parameters": jsonable(params),
         "paper_2d_r0": {"claim": "alpha = 5 at r = 0 in 2D",
                         "uniform": paper["uniform"], "hard": paper["hard"],
                         "reading": "the hard (uniform impact parameter) model gives s* = 2: "

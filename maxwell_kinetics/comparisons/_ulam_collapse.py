@@ -55,22 +55,22 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     from scipy.optimize import brentq
 
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    edges = bin_edges(prm["edges"])
+    params = preset(PRESETS, size, overrides)
+    edges = bin_edges(params["edges"])
     prob_f = st.f_interval_probabilities(edges)
     below_f = float(st.f_cdf(edges[0]))
     median_f = brentq(lambda m: float(st.f_cdf(m)) - 0.75, 0.1, 10.0)  # median of |x| under f
-    seeds = list(range(int(prm["seeds"])))
+    seeds = list(range(int(params["seeds"])))
     rows, hists, shapes, tails = [], [], [], []
-    for r, tau in zip(prm["restitutions"], prm["tau"], strict=True):
-        snaps = runner.ulam_snapshots(r, prm["law"], prm["n"], [float(tau)], seeds,
+    for r, tau in zip(params["restitutions"], params["tau"], strict=True):
+        snaps = runner.ulam_snapshots(r, params["law"], params["n"], [float(tau)], seeds,
                                       progress=progress)
         x = rescaled(snaps[0])
         cmp = st.compare_histograms(x, edges, prob_f, below_f)
         # Shape only: rescale each run so that its median |x| is f's (robust to the tail).
         xs = x * (median_f / np.median(np.abs(x), axis=1, keepdims=True))
         shape = st.compare_histograms(xs, edges, prob_f, below_f)
-        sol = kinetic_solution(r, prm["law"], [float(tau)], progress=progress)
+        sol = kinetic_solution(r, params["law"], [float(tau)], progress=progress)
         prob_k, _ = solution_bin_probabilities(sol, 0, edges)
         total = cmp.samples * cmp.runs
         bias = float(np.sqrt(np.sum((prob_k - prob_f) ** 2 * total / np.maximum(prob_f, 1e-300))
@@ -82,7 +82,7 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
         hists.append(cmp)
         shapes.append(shape)
         tails.append(_tail_histogram(xs))
-    summary = {"parameters": jsonable(prm), "rows": rows,
+    summary = {"parameters": jsonable(params), "rows": rows,
                "seconds": time.perf_counter() - start}
     return Comparison(NAME, summary, {"rows": rows, "histograms": hists,
                                                   "shape_histograms": shapes, "tails": tails,

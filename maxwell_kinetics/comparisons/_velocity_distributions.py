@@ -95,11 +95,12 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    edges = bin_edges(prm["edges"])
-    r = prm["restitution"]
-    md = runner.md_runs(prm["restitution"], prm["md_n"], prm["delta"],
-                        (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
+    params = preset(PRESETS, size, overrides)
+    edges = bin_edges(params["edges"])
+    r = params["restitution"]
+    md = runner.md_runs(params["restitution"], params["md_n"], params["delta"],
+                        (params["md_t_early"], params["md_t_late"]),
+                        tuple(range(params["md_seeds"])),
                         progress=progress,
                         checkpoint_dir=checkpoint_dir)
     stages = {}
@@ -112,21 +113,21 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
                 "energy_md_per_run": e_md.tolist(),
                 "energy_over_haff": target / float(haff_energy(t, r, 1.0)),
                 "md_collisions_per_particle": md["tau"][:, j].tolist()}
-        lat_rs = [r] if stage == "early" else [r, prm["lattice_late_restitution"]]
+        lat_rs = [r] if stage == "early" else [r, params["lattice_late_restitution"]]
         lattices = [(rl, "constant") for rl in lat_rs] + [(r, "relative_velocity")]
         for rl, rate in lattices:
-            lat = runner.lattice_at_energy(rl, prm["lattice_n"], target,
-                                           tuple(range(prm["lattice_seeds"])), progress=progress,
+            lat = runner.lattice_at_energy(rl, params["lattice_n"], target,
+                                           tuple(range(params["lattice_seeds"])), progress=progress,
                                            rate=rate)
             lab = f"lattice_r{rl:g}" if rate == "constant" else f"lattice_rv_r{rl:g}"
             models[lab] = _shape_numbers(lat["snapshots"], edges)
             info[lab + ("_tau" if rate == "constant" else "_t")] = lat["tau"].tolist()
             info[lab + "_energy"] = lat["energy"].tolist()
         lam = MaxwellModel(r).lam
-        n_u = int(prm["ulam_n"])
+        n_u = int(params["ulam_n"])
         tau_u = -math.log(target) / (2.0 * lam) * (n_u - 1) / n_u
         snaps = runner.ulam_snapshots(r, "gaussian", n_u, [tau_u],
-                                      list(range(prm["ulam_seeds"])), progress=progress)
+                                      list(range(params["ulam_seeds"])), progress=progress)
         models["ulam"] = _shape_numbers(snaps[0], edges)
         info["ulam_tau"] = tau_u
         stages[stage] = {"info": info, "models": models}
@@ -143,7 +144,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
                     comp[f"{q}:{a}-{b}"] = (va - vb) / err if err > 0 else None
         st_["differences_in_sigma"] = comp
     summary = {
-        "parameters": jsonable(prm),
+        "parameters": jsonable(params),
         "reference_values": {"abs_mean_f": ABS_MEAN_F, "abs_mean_gaussian": ABS_MEAN_GAUSSIAN,
                              "kurtosis_gaussian": 3.0, "kurtosis_f": None},
         "stages": {s: {"info": v["info"],

@@ -64,26 +64,28 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
-    prm = preset(PRESETS, size, overrides)
-    r = prm["restitution"]
-    md = runner.md_runs(prm["restitution"], prm["md_n"], prm["delta"],
-                        (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])),
+    params = preset(PRESETS, size, overrides)
+    r = params["restitution"]
+    md = runner.md_runs(params["restitution"], params["md_n"], params["delta"],
+                        (params["md_t_early"], params["md_t_late"]),
+                        tuple(range(params["md_seeds"])),
                         progress=progress,
                         checkpoint_dir=checkpoint_dir)
     j = 1  # the late stage
     target = float(np.mean(md["energy"][:, j]))
-    lat = runner.lattice_at_energy(r, prm["lattice_n"], target, tuple(range(prm["lattice_seeds"])),
+    lat = runner.lattice_at_energy(r, params["lattice_n"], target,
+                                   tuple(range(params["lattice_seeds"])),
                                    progress=progress)
-    length = prm["md_n"] / 1.0  # density 1
+    length = params["md_n"] / 1.0  # density 1
     profiles = {
         "md_vx": [velocity_on_grid(x, v, length)
                   for x, v in zip(md["positions"][:, j], md["snapshots"][:, j], strict=True)],
         "md_vi": list(md["snapshots"][:, j]),
         "lattice_vi": list(lat["snapshots"]),
     }
-    md_scales = profile_scales(prm["md_n"])
+    md_scales = profile_scales(params["md_n"])
     scales = {"md_vx": md_scales, "md_vi": md_scales,
-              "lattice_vi": profile_scales(prm["lattice_n"])}
+              "lattice_vi": profile_scales(params["lattice_n"])}
 
     out, coarse = {}, {}
     for k, runs in profiles.items():
@@ -92,7 +94,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
         coarse[k] = {"scales": list(scales[k]),
                      "skewness": [mean_sem_json(table[:, q]) for q in range(len(scales[k]))],
                      "per_run": table.tolist()}
-    summary = {"parameters": jsonable(prm), "md_time": float(md["times"][j]),
+    summary = {"parameters": jsonable(params), "md_time": float(md["times"][j]),
                "energy": target, "lattice_tau": lat["tau"].tolist(),
                "lattice_energy": lat["energy"].tolist(), "increment_skewness": out,
                "coarse_skewness": coarse, "seconds": time.perf_counter() - start}

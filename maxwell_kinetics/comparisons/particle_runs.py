@@ -80,11 +80,12 @@ def md_record_times(t_max) -> tuple[float, ...]:
     return tuple(float(t) for t in np.round(np.geomspace(0.05, t_max, 36), 6))
 
 
-def _checkpoint_path(directory, prm, times, seed) -> Path:
-    """A checkpoint file of its own for each MD run (``prm``: its
+def _checkpoint_path(directory, md_params, times, seed) -> Path:
+    """A checkpoint file of its own for each MD run (``md_params``: its
     :class:`particles.md.MDParams`): parameters, seed and a hash of the times."""
     digest = hashlib.sha256(json.dumps([float(t) for t in times]).encode()).hexdigest()[:12]
-    return Path(directory) / (f"md_n{prm.n}_r{prm.restitution:g}_d{prm.delta:g}_{prm.initial}"
+    p = md_params
+    return Path(directory) / (f"md_n{p.n}_r{p.restitution:g}_d{p.delta:g}_{p.initial}"
                               f"_seed{int(seed)}_{digest}.npz")
 
 
@@ -215,7 +216,7 @@ class ParticleRuns:
                     engine = _engine("md", params)
                     path = resume = None
                     if checkpoint_dir is not None:
-                        path = _checkpoint_path(checkpoint_dir, engine.p, t_all, seed)
+                        path = _checkpoint_path(checkpoint_dir, engine.params, t_all, seed)
                         resume = path if path.exists() else None
                     runs.append(simulate(engine, t_all, int(seed), progress=progress,
                                          snapshots=True, checkpoint=path, resume=resume))

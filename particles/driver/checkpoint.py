@@ -110,7 +110,7 @@ class Records:
 def run_identity(engine, times, seed, edges, structure, snapshots) -> dict:
     identity = {
         "model": engine.name,
-        "params": engine.params(),
+        "params": engine.to_dict(),
         "times": [float(t) for t in times],
         "seed": int(seed),
         "options": {
@@ -198,7 +198,7 @@ def _inconsistency(engine, times: list[float], state, records: Records) -> str |
     the engine's ``next_stop`` grid and not beyond ``times[done]`` (equal to the last time once
     all are done).  Editing any one of them is caught here."""
     nt = len(times)
-    n = int(engine.params()["n"])
+    n = int(engine.to_dict()["n"])
     done = records.done
     if not 0 <= done <= nt:
         return f"done={done}, the run has {nt} requested times (0 <= done <= {nt})"
@@ -232,7 +232,7 @@ def _inconsistency(engine, times: list[float], state, records: Records) -> str |
         return f"rec.collisions={recorded.tolist()} is not a non-decreasing count"
     t = float(state.time)
     v = np.asarray(state.velocities)
-    d = int(engine.params().get("dimension", 1))
+    d = int(engine.to_dict().get("dimension", 1))
     shape = (n,) if d == 1 else (n, d)
     if v.shape != shape or not np.all(np.isfinite(v)):
         return f"state.velocities: shape {v.shape}, expected {shape} and finite"

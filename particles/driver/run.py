@@ -28,7 +28,7 @@ from .result import RunResult
 class Engine(Protocol):  # pragma: no cover - typing only
     name: str
 
-    def params(self) -> dict: ...
+    def to_dict(self) -> dict: ...
 
     def initial_state(self, rng: np.random.Generator) -> Any: ...
 
@@ -137,7 +137,7 @@ def simulate(
     if checkpoint is not None:
         checkpoint = check_output_file(checkpoint, "checkpoint")
     _check_engine(engine)
-    if int(engine.params().get("dimension", 1)) != 1 and (structure_factor or snapshots):
+    if int(engine.to_dict().get("dimension", 1)) != 1 and (structure_factor or snapshots):
         raise InvalidArgumentError(
             "structure_factor" if structure_factor else "snapshots", True,
             "a one-dimensional model (S(k) and snapshots are recorded in d = 1 only)",
@@ -149,7 +149,7 @@ def simulate(
                             n_times=len(times), structure=structure_factor, snapshots=snapshots),
         force=force, time_name=time_name,
     )
-    n = int(engine.params()["n"])
+    n = int(engine.to_dict()["n"])
     with CheckpointLock(checkpoint):
         fields = tuple(getattr(engine, "snapshot_fields", ())) if snapshots else ()
         records = Records(len(times), n, structure_factor, snapshots, fields)
@@ -166,7 +166,7 @@ def simulate(
 def _check_engine(engine) -> None:
     """The engine protocol, checked at the boundary (a wrong object is bad input, not an
     AttributeError deep inside)."""
-    missing = [name for name in ("name", "params", "initial_state", "advance", "next_stop",
+    missing = [name for name in ("name", "to_dict", "initial_state", "advance", "next_stop",
                                  "state_from_arrays") if not hasattr(engine, name)]
     if missing:
         raise InvalidArgumentError(

@@ -14,7 +14,7 @@ the order the parameters are given, the first one slowest) times the seeds (fast
 * ``manifest.npz`` (kind ``"ensemble-manifest"``): marks the folder as holding ensemble files
   of format version :data:`FORMAT_VERSION`; a folder of another version is refused;
 * one file per task, ``task-<key>.npz`` (kind ``"ensemble-task"``), where ``<key>`` is a
-  SHA-256 of the task's identity: model, the engine's parameters (``engine.params()``, so
+  SHA-256 of the task's identity: model, the engine's parameters (``engine.to_dict()``, so
   ``n=1e6`` and ``n=1000000`` are one task), seed, times, the options that change the result
   (``structure_factor``, histogram edges) and :data:`FORMAT_VERSION`.  A task file holds the
   :class:`particles.driver.RunResult` arrays and its identity, and NOT the wall-clock time, so

@@ -210,7 +210,7 @@ class EnsembleSpec:
             for seed in self.seeds:
                 identity = json.loads(json.dumps({
                     "model": self.model,
-                    "params": engine.params(),
+                    "params": engine.to_dict(),
                     "seed": seed,
                     "times": list(self.times),
                     "options": result_options,

@@ -16,7 +16,7 @@ from .kernel import collide
 __all__ = ["causal_depth", "cluster_anatomy"]
 
 
-def causal_depth(prm: MDParams, state: MDState, until: float, block=None) -> dict:
+def causal_depth(params: MDParams, state: MDState, until: float, block=None) -> dict:
     """How many collisions of [state.time, until] an *ideal* exact parallel scheme runs at once.
 
     The reference runs the window with ``record=True``; its collisions are then replayed in
@@ -37,10 +37,10 @@ def causal_depth(prm: MDParams, state: MDState, until: float, block=None) -> dic
     soft blocks of :func:`cluster_anatomy`; ``in_blocks`` counts the collisions of two particles
     of one group, and ``in_blocks_elastic`` those of them that were elastic.
     """
-    engine = MDEngine(prm, "reference", record=True)
+    engine = MDEngine(params, "reference", record=True)
     end = engine.advance(state, until)
-    n, p, delta = prm.n, prm.p, prm.delta
-    elastic_only = prm.restitution == 1.0
+    n, p, delta = params.n, params.p, params.delta
+    elastic_only = params.restitution == 1.0
     v = state.velocities.tolist()
     level = [0] * n  # level of each particle's last collision
     carrier = list(range(n))  # which velocity carrier each particle holds
@@ -78,7 +78,7 @@ def causal_depth(prm: MDParams, state: MDState, until: float, block=None) -> dic
     }
 
 
-def cluster_anatomy(prm: MDParams, state: MDState) -> tuple[dict, np.ndarray]:
+def cluster_anatomy(params: MDParams, state: MDState) -> tuple[dict, np.ndarray]:
     """Clusters at the state's time: runs of particles with gaps below δ (``cluster_sizes``, the
     five largest) and, in label order from particle 0, maximal runs of neighbours whose velocities
     span less than δ (``soft_blocks``, the five largest, and the particles in runs of ≥ 5).  Every
@@ -86,15 +86,15 @@ def cluster_anatomy(prm: MDParams, state: MDState) -> tuple[dict, np.ndarray]:
     run of ≥ 5 each particle belongs to (−1 for none), for :func:`causal_depth`."""
     x = state.positions_at()
     v = state.velocities
-    gaps = np.diff(np.append(x, x[0] + prm.reduced_length))
-    cuts = np.flatnonzero(gaps >= prm.delta)
-    sizes = np.diff(np.append(cuts, cuts[0] + prm.n)) if cuts.size else np.array([prm.n])
+    gaps = np.diff(np.append(x, x[0] + params.reduced_length))
+    cuts = np.flatnonzero(gaps >= params.delta)
+    sizes = np.diff(np.append(cuts, cuts[0] + params.n)) if cuts.size else np.array([params.n])
     soft, i = [], 0
-    block = np.full(prm.n, -1)
-    while i < prm.n:
+    block = np.full(params.n, -1)
+    while i < params.n:
         lo = hi = v[i]
         j = i + 1
-        while j < prm.n and max(hi, v[j]) - min(lo, v[j]) < prm.delta:
+        while j < params.n and max(hi, v[j]) - min(lo, v[j]) < params.delta:
             lo, hi = min(lo, v[j]), max(hi, v[j])
             j += 1
         if j - i >= 5:

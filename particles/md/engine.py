@@ -88,7 +88,7 @@ class MDEngine:
             raise InvalidArgumentError("params", params, "an MDParams")
         if method not in ("fast", "reference"):
             raise InvalidArgumentError("method", method, "'fast' or 'reference'")
-        self.p = params
+        self.params = params
         self.method = method
         self.collapse_dt = check_positive(collapse_dt, "collapse_dt") / params.reduced_density
         self.collapse_streak = check_count(collapse_streak, "collapse_streak", 2)
@@ -111,8 +111,8 @@ class MDEngine:
 
     # -- driver interface ---------------------------------------------------------------------
 
-    def params(self) -> dict:
-        out = self.p.to_dict()
+    def to_dict(self) -> dict:
+        out = self.params.to_dict()
         out["model"] = self.name
         out["method"] = self.method
         out["stop_step"] = self.stop_step
@@ -122,14 +122,14 @@ class MDEngine:
         return next_grid_point(time, self.stop_step)
 
     def state_from_arrays(self, arrays) -> MDState:
-        return MDState.from_arrays(arrays, self.p)
+        return MDState.from_arrays(arrays, self.params)
 
     #: Recorded with each snapshot of the run driver: the rods' positions in [0, L).
     snapshot_fields = ("positions",)
 
     def snapshot_arrays(self, state: MDState) -> dict[str, np.ndarray]:
         """The rods' positions y_i in [0, L) at the state's time (label order)."""
-        return {"positions": rod_positions(state, self.p)}
+        return {"positions": rod_positions(state, self.params)}
 
     def observe(self, state: MDState) -> dict[str, float]:
         return {
@@ -145,7 +145,7 @@ class MDEngine:
         """
         if not isinstance(rng, np.random.Generator):
             raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
-        p = self.p
+        p = self.params
         x = np.sort(rng.uniform(0.0, p.reduced_length, p.n))
         v = initial_velocities(p.initial, p.n, rng)
         return MDState(0.0, x, np.zeros(p.n), v, 0)
@@ -157,8 +157,8 @@ class MDEngine:
         until = check_nonnegative(until, "until")
         if until < state.time:
             raise InvalidArgumentError("until", until, f"a time >= the state's time {state.time}")
-        if state.velocities.size != self.p.n:
-            raise InvalidArgumentError("state", f"N={state.velocities.size}", f"N={self.p.n}")
+        if state.velocities.size != self.params.n:
+            raise InvalidArgumentError("state", f"N={state.velocities.size}", f"N={self.params.n}")
         run = advance_reference if self.method == "reference" else advance_fast
         x, tl, v, count = run(self, state, until)
         return MDState(float(until), x, tl, v, int(count))
@@ -180,7 +180,7 @@ class MDEngine:
         in finite time.  Only a stall (a particle colliding again and again with no time
         advance at all) is then reported, after ``_STALL_STREAK`` collisions.
         """
-        if self.p.delta > 0.0 or self.p.restitution == 1.0:
+        if self.params.delta > 0.0 or self.params.restitution == 1.0:
             return 0.0, _STALL_STREAK, f"{_STALL_STREAK} collisions of one particle at one time"
         dt, k = self.collapse_dt, self.collapse_streak
         return dt, k, f"{k} collisions of one particle, each within {dt:g} of the previous"
@@ -189,5 +189,5 @@ class MDEngine:
         """Raise :class:`InelasticCollapseError` at time ``t`` for ``particles`` after
         ``collisions`` collisions (``detail``: what the watch saw)."""
         raise InelasticCollapseError(
-            t, particles, collisions, detail, self.p.delta, self.p.restitution
+            t, particles, collisions, detail, self.params.delta, self.params.restitution
         )

@@ -92,12 +92,12 @@ def _sequential_slab(engine, x, tl, v, c, streak, cand, horizon, count):
     chain, where list access is about twice as fast and pays for the copy).  Either way the
     results are written back to the arrays.  Returns the number of collisions processed.
     """
-    prm = engine.p
-    n = prm.n
-    lr = prm.reduced_length
-    p = prm.p
-    delta = prm.delta
-    elastic_only = prm.restitution == 1.0
+    params = engine.params
+    n = params.n
+    lr = params.reduced_length
+    p = params.p
+    delta = params.delta
+    elastic_only = params.restitution == 1.0
     dt_tiny, limit, detail = engine.collapse_watch()
     record = engine.record
     inf = math.inf
@@ -476,12 +476,12 @@ def _burst_flush(X, TL, V, ST, C, heap, t, horizon, lo, hi, w, s, dh, lr, last):
 def advance_fast(engine, state: MDState, until: float):
     """Every collision of ``state`` up to ``until`` by the light-cone scheme (module docstring);
     returns the arrays (positions, t_last, velocities) and the collision count at ``until``."""
-    prm = engine.p
-    n = prm.n
-    lr = prm.reduced_length
-    p = prm.p
-    delta = prm.delta
-    elastic_only = prm.restitution == 1.0
+    params = engine.params
+    n = params.n
+    lr = params.reduced_length
+    p = params.p
+    delta = params.delta
+    elastic_only = params.restitution == 1.0
     x = state.positions.copy()
     tl = state.t_last.copy()
     v = state.velocities.copy()

@@ -21,12 +21,12 @@ __all__ = ["advance_reference"]
 def advance_reference(engine, state: MDState, until: float):
     """Every collision of ``state`` up to ``until`` in (time, pair) order; returns the arrays
     (positions, t_last, velocities) and the collision count of the state at ``until``."""
-    prm = engine.p
-    n = prm.n
-    lr = prm.reduced_length
-    p = prm.p
-    delta = prm.delta
-    elastic_only = prm.restitution == 1.0
+    params = engine.params
+    n = params.n
+    lr = params.reduced_length
+    p = params.p
+    delta = params.delta
+    elastic_only = params.restitution == 1.0
     x = state.positions.tolist()
     tl = state.t_last.tolist()
     v = state.velocities.tolist()

@@ -371,8 +371,8 @@ def test_relative_velocity_checkpoint_resumes_bit_for_bit_and_is_its_own_run(tmp
     from particles.driver import CheckpointError
 
     engine = Lattice(400, 0.7, "uniform", rate="relative_velocity")
-    assert engine.params()["rate"] == "relative_velocity"
-    assert "rate" not in Lattice(400, 0.7, "uniform").params()  # old checkpoints stay valid
+    assert engine.to_dict()["rate"] == "relative_velocity"
+    assert "rate" not in Lattice(400, 0.7, "uniform").to_dict()  # old checkpoints stay valid
     assert engine.time_name == "t"
     times = [1.0, 6.0, 13.0]
     reference = simulate(engine, times, 4, progress=False)

@@ -86,9 +86,9 @@ def test_fast_matches_reference_bit_for_bit(n, r, delta, law, until):
     # Non-chaotic settings (a few collisions per particle, r >= 0.8): both engines apply the
     # same floating-point operations in a causal order, so the collisions (as an
     # order-independent set of (time, pair)) and the final state agree exactly.
-    prm = MDParams(n, 1.0, r, delta=delta, initial=law)
-    ref, _, a = run(prm, until, seed=7, method="reference", record=True)
-    fast, _, b = run(prm, until, seed=7, method="fast", record=True)
+    params = MDParams(n, 1.0, r, delta=delta, initial=law)
+    ref, _, a = run(params, until, seed=7, method="reference", record=True)
+    fast, _, b = run(params, until, seed=7, method="fast", record=True)
     assert a.collisions > n  # more than one collision per particle on average
     assert_same_state(a, b)
     np.testing.assert_array_equal(ref.events(), fast.events())
@@ -97,8 +97,8 @@ def test_fast_matches_reference_bit_for_bit(n, r, delta, law, until):
 def test_fast_path_is_parallel_and_uses_both_modes():
     # At N = 1e5 the vectorised passes must carry almost all collisions (the scalar fallback is
     # for the sparse tail of a slab): a regression guard for the speed of the homogeneous stage.
-    prm = MDParams(100_000, 1.0, 0.9, delta=1e-3)
-    engine, _, s = run(prm, 1.0, seed=1)
+    params = MDParams(100_000, 1.0, 0.9, delta=1e-3)
+    engine, _, s = run(params, 1.0, seed=1)
     assert s.collisions > 50_000
     assert engine.stats["sequential"] < 0.05 * s.collisions
     assert engine.stats["passes"] < s.collisions / 100
@@ -111,14 +111,14 @@ def test_tied_collisions_in_separate_clusters_fire_in_parallel():
     # only the global earliest fired per pass (121 passes for 121 collisions, measured); the
     # tie-group rule fires the earliest of each cluster at once.  Pure vectorised passes
     # (sequential_below=0) must still reproduce the sequential reference bit for bit.
-    prm = MDParams(50, 1.0, 0.5, delta=1e-3)
+    params = MDParams(50, 1.0, 0.5, delta=1e-3)
     rng = np.random.default_rng(0)
     x = np.repeat(np.arange(10) * 5.0, 5)
     v = np.tile([0.2, 0.1, 0.0, -0.1, -0.2], 10) + 0.01 * rng.standard_normal(50)
     s0 = MDState(0.0, x, np.zeros(50), v - v.mean(), 0)
-    ref = MDEngine(prm, "reference", record=True)
+    ref = MDEngine(params, "reference", record=True)
     a = ref.advance(s0, 0.5)
-    fast = MDEngine(prm, sequential_below=0, record=True)
+    fast = MDEngine(params, sequential_below=0, record=True)
     b = fast.advance(s0, 0.5)
     assert a.collisions > 100
     assert_same_state(a, b)
@@ -140,17 +140,17 @@ def test_clustered_run_is_bit_for_bit_in_every_mode(delta, until, sequential_bel
     # on (1e9; it starts on lazy views of the arrays and switches to lists after N/4
     # collisions) must all process the same collisions as the sequential reference, in its
     # (time, pair) order: same collisions, same state.
-    prm = MDParams(1000, 1.0, 0.5, delta=delta)
-    s0 = MDEngine(prm).initial_state(np.random.default_rng(2))
-    ref = MDEngine(prm, "reference", record=True)
+    params = MDParams(1000, 1.0, 0.5, delta=delta)
+    s0 = MDEngine(params).initial_state(np.random.default_rng(2))
+    ref = MDEngine(params, "reference", record=True)
     a = ref.advance(s0, until)
-    fast = MDEngine(prm, sequential_below=sequential_below, record=True)
+    fast = MDEngine(params, sequential_below=sequential_below, record=True)
     b = fast.advance(s0, until)
-    assert a.collisions > 5 * prm.n
+    assert a.collisions > 5 * params.n
     assert_same_state(a, b)
     np.testing.assert_array_equal(ref.events(), fast.events())
     if sequential_below > 100:
-        assert fast.stats["sequential"] > prm.n // 4  # the lazy-to-list switch happened
+        assert fast.stats["sequential"] > params.n // 4  # the lazy-to-list switch happened
     if delta == 1e-4:
         assert fast.stats["burst"] > 0.3 * b.collisions  # measured 47 %
 
@@ -170,8 +170,8 @@ def _tie_heavy_state(seed):
     return MDParams(n, 1.0, r, delta=delta), MDState(0.0, x, np.zeros(n), v - v.mean(), 0)
 
 
-def _outcome(prm, s0, method, **kw):
-    engine = MDEngine(prm, method, record=True, **kw)
+def _outcome(params, s0, method, **kw):
+    engine = MDEngine(params, method, record=True, **kw)
     try:
         s = engine.advance(s0, 3.0)
     except InelasticCollapseError as err:
@@ -196,15 +196,16 @@ def test_zero_gap_bursts_match_the_reference_in_tie_heavy_states(monkeypatch):
     burst = {}
     for limit, modes in cases:
         for seed in range(30):
-            prm, s0 = _tie_heavy_state(seed)
+            params, s0 = _tie_heavy_state(seed)
             watch = {}
-            if limit and prm.delta == 0 and prm.restitution < 1:
+            if limit and params.delta == 0 and params.restitution < 1:
                 watch = {"collapse_streak": limit}
             elif limit:
                 monkeypatch.setattr(md, "_STALL_STREAK", limit)
-            ref, _ = _outcome(prm, s0, "reference", **watch)
+            ref, _ = _outcome(params, s0, "reference", **watch)
             for sequential_below in modes:
-                fast, stats = _outcome(prm, s0, "fast", sequential_below=sequential_below, **watch)
+                fast, stats = _outcome(params, s0, "fast", sequential_below=sequential_below,
+                                       **watch)
                 same = fast[:2] == ref[:2] if ref[0] == "collapse" else fast == ref
                 assert same, (seed, limit, sequential_below)
                 if sequential_below == 10**9:
@@ -223,12 +224,12 @@ def test_fast_and_reference_agree_statistically_in_clustered_states():
     # 4 standard errors of the difference of the two 16-seed means (measured |z| = 0.13, 1.19,
     # 1.86).  What it can detect (measured with the fast engine changed): r = 0.55 instead of 0.5
     # moves tau by 4.0 SE, delta = 1e-2 instead of 1e-3 by 6.2 SE.
-    prm = MDParams(1000, 1.0, 0.5, delta=1e-3)
+    params = MDParams(1000, 1.0, 0.5, delta=1e-3)
     res = {}
     for method, seeds in (("fast", range(16)), ("reference", range(100, 116))):
         rows = []
         for seed in seeds:
-            _, _, s = run(prm, 10.0, seed=seed, method=method)
+            _, _, s = run(params, 10.0, seed=seed, method=method)
             v = s.velocities
             rows.append((energy(s), collisions_per_particle(s), np.mean(v**4) / np.mean(v**2) ** 2))
         res[method] = np.array(rows)
@@ -242,8 +243,8 @@ def test_fast_and_reference_agree_statistically_in_clustered_states():
 def test_stops_do_not_change_the_dynamics():
     # advance never moves a particle except at its collisions, so stopping anywhere (the
     # driver's grid, a checkpoint) continues bit for bit, with either engine.
-    prm = MDParams(3000, 1.0, 0.7, delta=1e-3)
-    engine = MDEngine(prm)
+    params = MDParams(3000, 1.0, 0.7, delta=1e-3)
+    engine = MDEngine(params)
     s0 = engine.initial_state(np.random.default_rng(3))
     direct = engine.advance(s0, 4.0)
     half = engine.advance(s0, 1.5)
@@ -251,7 +252,7 @@ def test_stops_do_not_change_the_dynamics():
     back = engine.state_from_arrays(half.to_arrays())
     assert_same_state(engine.advance(back, 4.0), direct)
     # the reference engine continues the fast one's state identically too
-    assert_same_state(MDEngine(prm, "reference").advance(back, 4.0), direct)
+    assert_same_state(MDEngine(params, "reference").advance(back, 4.0), direct)
 
 
 # --- conservation laws ---------------------------------------------------------------------
@@ -259,10 +260,10 @@ def test_stops_do_not_change_the_dynamics():
 
 @pytest.mark.parametrize("method", ["fast", "reference"])
 def test_momentum_conserved_to_round_off(method):
-    prm = MDParams(2000, 2.0, 0.3, delta=1e-3, initial="asymmetric")
-    _, s0, s = run(prm, 5.0, seed=5, method=method)
+    params = MDParams(2000, 2.0, 0.3, delta=1e-3, initial="asymmetric")
+    _, s0, s = run(params, 5.0, seed=5, method=method)
     assert abs(momentum(s0)) < 1e-12 * s0.velocities.size
-    assert s.collisions > 10 * prm.n
+    assert s.collisions > 10 * params.n
     # each inelastic collision changes the pair sum by at most one rounding of |v|, eps|v|
     bound = 4 * np.finfo(float).eps * np.sqrt(s.collisions) * np.abs(s0.velocities).max()
     assert abs(momentum(s) - momentum(s0)) < max(bound, 1e-13)
@@ -270,9 +271,9 @@ def test_momentum_conserved_to_round_off(method):
 
 def test_elastic_gas_conserves_energy_exactly():
     # r = 1: every collision is an exact swap, so the multiset of velocities never changes.
-    prm = MDParams(2000, 1.0, 1.0)
-    _, s0, s = run(prm, 5.0, seed=2)
-    assert s.collisions > prm.n
+    params = MDParams(2000, 1.0, 1.0)
+    _, s0, s = run(params, 5.0, seed=2)
+    assert s.collisions > params.n
     np.testing.assert_array_equal(np.sort(s.velocities), np.sort(s0.velocities))
     assert energy(s) == pytest.approx(energy(s0), rel=1e-14)
     assert energy(s0) == pytest.approx(1.0, rel=1e-14)
@@ -290,8 +291,8 @@ def test_initial_cooling_rates():
     r, n_part, t, seeds = 0.5, 200_000, 0.05, 6
     slopes_t, slopes_tau = [], []
     for seed in range(seeds):
-        prm = MDParams(n_part, 1.0, r)
-        _, s0, s = run(prm, t, seed=seed)
+        params = MDParams(n_part, 1.0, r)
+        _, s0, s = run(params, t, seed=seed)
         lost = energy(s) - energy(s0)
         tau = collisions_per_particle(s)
         slopes_t.append(lost / t)
@@ -393,16 +394,17 @@ def test_rods_match_an_independent_rod_simulation(n, density, sigma, r):
     # (measured: 144-175, about 6 per rod) and end with the same velocities (the collision rule
     # uses velocities only, so they agree exactly while the order of collisions agrees) and the
     # same rod positions up to round-off (measured <= 4.3e-14; tolerance 1e-9).
-    prm = MDParams(n, density, r, delta=1e-3, rod_length=sigma)
-    engine = MDEngine(prm)
+    params = MDParams(n, density, r, delta=1e-3, rod_length=sigma)
+    engine = MDEngine(params)
     s0 = engine.initial_state(np.random.default_rng(5))
     s = engine.advance(s0, 8.0)
     rods0 = s0.positions + np.arange(n) * sigma
-    y, v, count = _brute_force_rods(rods0, s0.velocities, prm.length, sigma, r, 1e-3, 8.0)
+    y, v, count = _brute_force_rods(rods0, s0.velocities, params.length, sigma, r, 1e-3, 8.0)
     assert count == s.collisions > 4 * n
     np.testing.assert_array_equal(v, s.velocities)
     np.testing.assert_allclose(y, s.positions_at() + np.arange(n) * sigma, rtol=0, atol=1e-9)
-    np.testing.assert_allclose(np.mod(y, prm.length), rod_positions(s, prm), rtol=0, atol=1e-9)
+    np.testing.assert_allclose(np.mod(y, params.length), rod_positions(s, params),
+                               rtol=0, atol=1e-9)
 
 
 # --- inelastic collapse --------------------------------------------------------------------
@@ -411,8 +413,8 @@ def test_rods_match_an_independent_rod_simulation(n, density, sigma, r):
 @pytest.mark.parametrize("method", ["fast", "reference"])
 def test_collapse_raises_instead_of_hanging(method):
     # delta = 0, N(1 - r) = 500: a collapse within a few time units (measured t = 4.13).
-    prm = MDParams(1000, 1.0, 0.5, delta=0.0)
-    engine = MDEngine(prm, method)
+    params = MDParams(1000, 1.0, 0.5, delta=0.0)
+    engine = MDEngine(params, method)
     s0 = engine.initial_state(np.random.default_rng(3))
     with time_limit(30), pytest.raises(InelasticCollapseError, match="delta > 0") as info:
         engine.advance(s0, 50.0)
@@ -425,9 +427,9 @@ def test_collapse_raises_instead_of_hanging(method):
 
 def test_regularised_run_proceeds_through_clustering():
     # the same setting with delta > 0 runs on (no collapse in exact arithmetic)
-    prm = MDParams(1000, 1.0, 0.5, delta=1e-3)
+    params = MDParams(1000, 1.0, 0.5, delta=1e-3)
     with time_limit(60):
-        _, _, s = run(prm, 10.0, seed=3)
+        _, _, s = run(params, 10.0, seed=3)
     assert s.time == 10.0 and energy(s) < 0.5
 
 
@@ -438,11 +440,11 @@ def test_tiny_delta_stall_is_reported_with_the_right_hint():
     # The stall comes in zero-gap bursts (the fast path's _burst hands back to the heap loop
     # before a streak can reach the limit): the fast path must report it exactly as the
     # reference does, at the same time, particles and collision count.
-    prm = MDParams(300, 1.0, 0.5, delta=1e-9)
+    params = MDParams(300, 1.0, 0.5, delta=1e-9)
     errors = []
     for method in ("fast", "reference"):
         with time_limit(60), pytest.raises(InelasticCollapseError, match="increase delta") as info:
-            run(prm, 30.0, seed=1, method=method)
+            run(params, 30.0, seed=1, method=method)
         errors.append(info.value)
         assert info.value.delta == 1e-9
         assert "set delta > 0" not in str(info.value)
@@ -454,9 +456,9 @@ def test_tiny_delta_stall_is_reported_with_the_right_hint():
 
 def test_small_system_does_not_collapse():
     # delta = 0 but N(1 - r) = 2: no collapse, the run reaches its time
-    prm = MDParams(20, 1.0, 0.9)
+    params = MDParams(20, 1.0, 0.9)
     with time_limit(30):
-        _, _, s = run(prm, 200.0, seed=3)
+        _, _, s = run(params, 200.0, seed=3)
     assert s.time == 200.0
 
 
@@ -464,8 +466,8 @@ def test_small_system_does_not_collapse():
 
 
 def test_driver_run_records_md_observables():
-    prm = MDParams(2048, 1.0, 0.9, delta=1e-3)
-    engine = MDEngine(prm)
+    params = MDParams(2048, 1.0, 0.9, delta=1e-3)
+    engine = MDEngine(params)
     res = simulate(engine, [0.0, 1.0, 2.5], 4, progress=False, structure_factor=True)
     state = res.final_state
     assert state.time == 2.5 and res.model == "md" and res.params["delta"] == 1e-3
@@ -488,10 +490,10 @@ def test_driver_run_records_md_observables():
     assert np.sum(h.density * np.diff(h.edges)) == pytest.approx(1.0, abs=1e-3)
     i, vi = profile_i(state)
     np.testing.assert_array_equal(vi, state.velocities)
-    x, vx = profile_x(state, prm)
+    x, vx = profile_x(state, params)
     assert x.size == 2048 and np.all(np.diff(x) >= 0)
     # the driver's stops (grid of stop_step) change nothing: one advance gives the same state
-    direct = MDEngine(prm).advance(MDEngine(prm).initial_state(np.random.default_rng(4)), 2.5)
+    direct = MDEngine(params).advance(MDEngine(params).initial_state(np.random.default_rng(4)), 2.5)
     assert_same_state(direct, state)
 
 
@@ -516,20 +518,20 @@ def test_ctrl_c_checkpoint_and_resume_are_bit_for_bit(tmp_path, method):
     # r = 0.5, delta = 1e-3, N = 1000 up to t = 10 (4 t0): clustering sets in (chaotic, tens of
     # collisions per particle), so any difference after the resume would show; stop_step 0.5
     # gives 20 advances, the 8th is interrupted.
-    prm = MDParams(1000, 1.0, 0.5, delta=1e-3)
+    params = MDParams(1000, 1.0, 0.5, delta=1e-3)
     times = [0.7, 3.0, 10.0]
     opts = {"progress": False, "structure_factor": True}
-    plain = simulate(MDEngine(prm, method, stop_step=0.5), times, 9, **opts)
+    plain = simulate(MDEngine(params, method, stop_step=0.5), times, 9, **opts)
     path = tmp_path / "md.ckpt"
     with pytest.raises(KeyboardInterrupt):
         simulate(
-            Interrupting(MDEngine(prm, method, stop_step=0.5), after=8),
+            Interrupting(MDEngine(params, method, stop_step=0.5), after=8),
             times,
             9,
             checkpoint=path,
             **opts,
         )
-    resumed = simulate(MDEngine(prm, method, stop_step=0.5), times, 9, resume=path, **opts)
+    resumed = simulate(MDEngine(params, method, stop_step=0.5), times, 9, resume=path, **opts)
     for key in ("energy", "momentum", "collisions", "velocities"):
         np.testing.assert_array_equal(getattr(resumed, key), getattr(plain, key))
     np.testing.assert_array_equal(resumed.structure[1], plain.structure[1])
@@ -571,18 +573,18 @@ def test_bad_parameters(kwargs, match):
 
 
 def test_bad_times_and_states(tmp_path):
-    prm = MDParams(100, 1.0, 0.5, delta=1e-3)
+    params = MDParams(100, 1.0, 0.5, delta=1e-3)
     for times in ([1.0, 0.5], [-1.0]):
         with pytest.raises(InvalidArgumentError, match=r"argument t=\["):
-            simulate(MDEngine(prm), times, 0, progress=False)
-    engine = MDEngine(prm)
+            simulate(MDEngine(params), times, 0, progress=False)
+    engine = MDEngine(params)
     s = engine.advance(engine.initial_state(np.random.default_rng(0)), 2.0)
     with pytest.raises(InvalidArgumentError, match="until=1.0"):
         engine.advance(s, 1.0)
     with pytest.raises(InvalidArgumentError, match="method='heap'"):
-        MDEngine(prm, "heap")
+        MDEngine(params, "heap")
     with pytest.raises(InvalidArgumentError, match="stop_step=0"):
-        MDEngine(prm, stop_step=0)
+        MDEngine(params, stop_step=0)
     # corrupt states
     good = s.to_arrays()
     for bad, match in (

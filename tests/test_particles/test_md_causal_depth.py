@@ -15,8 +15,8 @@ def state(x, v):
 
 def test_two_independent_inelastic_collisions_take_one_round():
     # pairs (0, 1) and (2, 3) meet at t = 0.5, 50 apart; the next contact is at t = 50.5
-    prm = MDParams(4, 0.04, 0.5)
-    out = bench.causal_depth(prm, state([0, 1, 50, 51], [1, -1, 1, -1]), 10.0)
+    params = MDParams(4, 0.04, 0.5)
+    out = bench.causal_depth(params, state([0, 1, 50, 51], [1, -1, 1, -1]), 10.0)
     assert out["collisions"] == 2 and out["depth"] == 1 and out["per_round"] == 2.0
     assert out["inelastic"] == 2 and out["ghost_depth"] == 1
     assert out["replay_matches_reference"]
@@ -25,8 +25,8 @@ def test_two_independent_inelastic_collisions_take_one_round():
 def test_newtons_cradle_is_a_chain_of_two_and_has_no_inelastic_round():
     # elastic: 0 hits 1 at t = 1, 1 hits 2 at t = 2 (the same particle 1: two rounds); as ghosts
     # the one carrier passes through both, so no inelastic collision and no round
-    prm = MDParams(3, 0.03, 1.0)
-    out = bench.causal_depth(prm, state([0, 1, 2], [1, 0, 0]), 10.0)
+    params = MDParams(3, 0.03, 1.0)
+    out = bench.causal_depth(params, state([0, 1, 2], [1, 0, 0]), 10.0)
     assert out["collisions"] == 2 and out["depth"] == 2
     assert out["inelastic"] == 0 and out["ghost_depth"] == 0
 
@@ -44,15 +44,15 @@ def recount(record, n):
 
 @pytest.mark.parametrize("delta", [0.0, 0.3])
 def test_depth_agrees_with_a_brute_force_count_on_a_random_gas(delta):
-    prm = MDParams(200, 1.0, 0.7, delta=delta)
-    s0 = MDEngine(prm).initial_state(np.random.default_rng(3))
-    block = np.full(prm.n, -1)
+    params = MDParams(200, 1.0, 0.7, delta=delta)
+    s0 = MDEngine(params).initial_state(np.random.default_rng(3))
+    block = np.full(params.n, -1)
     block[10:20] = 0
-    out = bench.causal_depth(prm, s0, 3.0, block)
-    rec = MDEngine(prm, "reference", record=True)
+    out = bench.causal_depth(params, s0, 3.0, block)
+    rec = MDEngine(params, "reference", record=True)
     rec.advance(s0, 3.0)
     assert out["collisions"] == len(rec.record) > 100
-    assert out["depth"] == recount(rec.record, prm.n) > 1
+    assert out["depth"] == recount(rec.record, params.n) > 1
     inside = sum(10 <= b < 19 for _, b in rec.record)
     assert out["in_blocks"] == inside > 0 and out["in_blocks_elastic"] <= inside
     assert out["replay_matches_reference"]

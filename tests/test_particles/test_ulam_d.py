@@ -366,13 +366,14 @@ def test_driven_transient_moments_follow_the_moment_equations():
 def test_default_keywords_keep_the_one_dimensional_engine():
     a = Ulam(300, 0.6, "laplace")
     b = Ulam(300, 0.6, "laplace", dimension=1, angular="hard", driving=0.0)
-    assert a.params() == b.params() and set(a.params()) == {"n", "restitution", "initial", "window"}
+    assert a.to_dict() == b.to_dict()
+    assert set(a.to_dict()) == {"n", "restitution", "initial", "window"}
     rng_a, rng_b = np.random.default_rng(1), np.random.default_rng(1)
     va = a.advance(a.initial_state(rng_a), 5.0, rng_a).velocities
     vb = b.advance(b.initial_state(rng_b), 5.0, rng_b).velocities
     assert np.array_equal(va, vb)
-    assert Ulam(10, 0.5, dimension=2).params()["dimension"] == 2
-    assert Ulam(10, 0.5, driving=0.3).params()["driving"] == 0.3
+    assert Ulam(10, 0.5, dimension=2).to_dict()["dimension"] == 2
+    assert Ulam(10, 0.5, driving=0.3).to_dict()["driving"] == 0.3
 
 
 @pytest.mark.parametrize(

@@ -60,19 +60,19 @@ def test_lattice_at_energy_is_read_only():
 def _md_direct(restitution, n, delta, times, seeds):
     """The loop md_runs ran before it used the driver: the engine advanced straight to each
     requested time."""
-    prm = md.MDParams(n=n, density=1.0, restitution=restitution, delta=delta, initial="gaussian")
+    params = md.MDParams(n=n, density=1.0, restitution=restitution, delta=delta, initial="gaussian")
     out = {k: np.empty((len(seeds), len(times), n)) for k in ("snapshots", "positions")}
     out["energy"] = np.empty((len(seeds), len(times)))
     out["tau"] = np.empty_like(out["energy"])
     for i, seed in enumerate(seeds):
-        engine = md.MDEngine(prm)
+        engine = md.MDEngine(params)
         state = engine.initial_state(np.random.default_rng(seed))
         for j, t in enumerate(times):
             state = engine.advance(state, t)
             out["energy"][i, j] = observables.energy(state.velocities)
             out["tau"][i, j] = md.collisions_per_particle(state)
             out["snapshots"][i, j] = state.velocities
-            out["positions"][i, j] = md.rod_positions(state, prm)
+            out["positions"][i, j] = md.rod_positions(state, params)
     return out
 
 

@@ -149,7 +149,7 @@ def test_mass_density_errors_are_poisson():
     rows = []
     for seed in range(12):
         state = engine.advance(engine.initial_state(np.random.default_rng(seed)), 1e4)
-        rows.append(mass_density([cluster_mass_distribution(state)], [1e4], engine.p.length,
+        rows.append(mass_density([cluster_mass_distribution(state)], [1e4], engine.params.length,
                                  edges, 1, errors=True))
     phis = np.array([r[0] for r in rows])
     errs = np.array([r[1] for r in rows])

@@ -184,12 +184,12 @@ def test_md_fits_use_the_preset_windows(energy):
     time inside them and no other: the summary's windows are the preset's, and the per-run
     slopes recomputed here from the recorded energies on those windows are the reported ones."""
     s, d = energy.summary, energy.data
-    prm = _energy_decay.PRESETS["small"]
+    params = _energy_decay.PRESETS["small"]
     t, e, t0 = d["md_t"], d["md_energy"], d["t0"]
     for key, window, abscissa in (("md_haff_exponent", "md_haff_window",
                                    lambda c: np.log1p(c / t0)),
                                   ("md_late_exponent", "md_late_window", np.log)):
-        lo, hi = prm[window]
+        lo, hi = params[window]
         fit = s[key]
         assert fit["window"] == [lo, hi], key
         inside = (t >= lo) & (t <= hi)
@@ -460,12 +460,12 @@ def test_md_shock_asymmetry_in_the_coarse_grained_profiles():
     all 24 < 0): the 4-seed means sit 4.2 and 4.4 standard errors from zero; raw −0.011 (sd
     0.007) and −0.019 (sd 0.017), far inside the bound 0.1.  The test can fail: at t = 400, in
     the homogeneous stage, the same seeds give m = 256 means of +0.15 (v(i)) and +0.12 (v(x))."""
-    prm = _velocity_profiles.PRESETS["default"]
-    md = comparisons.md_runs(prm["restitution"], prm["md_n"], prm["delta"],
-                     (prm["md_t_early"], prm["md_t_late"]), tuple(range(prm["md_seeds"])))
+    params = _velocity_profiles.PRESETS["default"]
+    md = comparisons.md_runs(params["restitution"], params["md_n"], params["delta"],
+                     (params["md_t_early"], params["md_t_late"]), tuple(range(params["md_seeds"])))
     vi, vx = [], []
     for x, v in zip(md["positions"][:, 1], md["snapshots"][:, 1], strict=True):
-        g = comparisons.velocity_on_grid(x, v, float(prm["md_n"]))  # density 1: L = N
+        g = comparisons.velocity_on_grid(x, v, float(params["md_n"]))  # density 1: L = N
         vi.append([comparisons.coarse_increment_skewness(v, m) for m in (1, 256)])
         vx.append([comparisons.coarse_increment_skewness(g, m) for m in (1, 256)])
     vi, vx = np.mean(vi, axis=0), np.mean(vx, axis=0)
