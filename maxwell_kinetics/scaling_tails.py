@@ -121,27 +121,48 @@ def _window_points(solution, window, tau_index, minimum: int, need: str):
 
 
 def series_coefficients(solution: Solution, tau_index: int = -1, n_max: int = 3,
-                        window=(0.01, 0.1)) -> np.ndarray:
+                        window=None, tolerance: float = 1e-6) -> np.ndarray:
     """C_2 .. C_{n_max} of G at the saved τ from the solver's values near q = 0.
 
-    Estimator: w = G − e^{−q²/2} (from the cancellation-free ``deviation``) equals
-    Σ_{n≥2} (C_n − (−1/2)^n/n!) q^{2n}; least squares of w/q⁴ against a polynomial in q² of
-    degree n_max − 2 + 2 (two extra terms absorb the truncation) on the grid points with
-    window[0] ≤ q ≤ window[1].  Valid while G is analytic on the window (the |q|^{2s*} term of
-    the scaling solution builds up in a boundary layer that shrinks toward q = 0 in τ).
+    w = G − e^{−q²/2} (from the cancellation-free ``deviation``) equals
+    Σ_{n≥2} (C_n − (−1/2)^n/n!) q^{2n} where G is analytic.  ``window`` None (the default): each
+    C_n from the window chosen automatically between the |q|^{2s*} term and the grid's floor
+    (:mod:`maxwell_kinetics.moments`; NaN where the coefficient is not resolved).  An explicit
+    ``window`` (q_lo, q_hi): least squares of w/q⁴ against a polynomial in q² of degree n_max
+    (two extra terms absorb the truncation) on the grid points inside it; the window is refused
+    (InvalidArgumentError naming ``window``) when C_2 fitted on its lower and upper halves (in
+    ln q) differ by more than ``tolerance`` relative: the non-analytic term, which builds up in
+    a boundary layer that shrinks toward q = 0 in τ, is then not negligible on it.
     """
-    qs, w = _window_points(solution, window, tau_index, n_max + 2,
-                           f"at least {n_max + 2} grid points")
-    coef = np.polynomial.polynomial.polyfit(qs**2, w / qs**4, n_max)
+    if window is None:
+        from .moments import series_estimate
+
+        q, w = _deviation_from_scaling(solution, tau_index)
+        return series_estimate(q, w, max(2, int(n_max))).values[: n_max - 1]
+    qs, w = _window_points(solution, window, tau_index, 2 * (n_max + 2),
+                           f"at least {2 * (n_max + 2)} grid points")
     gauss = np.array([(-0.5) ** n / math.factorial(n) for n in range(2, n_max + 1)])
+    mid = np.sqrt(qs[0] * qs[-1])
+    halves = [np.polynomial.polynomial.polyfit(qs[sel] ** 2, w[sel] / qs[sel] ** 4, n_max)[0]
+              for sel in (qs <= mid, qs >= mid)]
+    c2 = 0.5 * (halves[0] + halves[1]) + gauss[0]
+    drift = abs(halves[0] - halves[1]) / abs(c2)
+    if not drift <= tolerance:
+        raise InvalidArgumentError(
+            "window", window,
+            f"a window where G is analytic: C_2 fitted on its two halves differs by {drift:.1e} "
+            f"relative (> tolerance {tolerance:g}; the |q|^(2s*) term reaches it); "
+            "window=None chooses one automatically")
+    coef = np.polynomial.polynomial.polyfit(qs**2, w / qs**4, n_max)
     return coef[: n_max - 1] + gauss
 
 
-def moment_decay_rates(solution: Solution, n: int, window=(0.01, 0.1),
+def moment_decay_rates(solution: Solution, n: int, window=None,
                        tau_indices=None) -> tuple[np.ndarray, np.ndarray]:
     """Local decay rates of ⟨|v|^{2n}⟩ measured from the solver: nΛ − d ln|C_n|/dτ.
 
-    C_n is :func:`series_coefficients` at the saved τ (``tau_indices``, default all); the
+    C_n is :func:`series_coefficients` at the saved τ (``tau_indices``, default all; ``window``
+    as there, None: chosen automatically); the
     derivative is the centred finite difference of ln|C_n| in τ between neighbours.  Returns
     (midpoints τ, rates).  Λ = 2pq⟨η⟩ is the exact energy rate of the solution's model.
     """

@@ -552,6 +552,32 @@ class Solution:
         G = self._truncated(tau_index)
         return s, speed_density_at(G, s, self.dimension, q_max=self.resolution.q_max)
 
+    def moments(self, orders=(2, 4, 6), tau_index: int | None = None):
+        """Even moments at the saved τ, read from G near q = 0: a
+        :class:`~maxwell_kinetics.moments.Moments`.
+
+        ``values[k, j]`` is ⟨|v|^n⟩/v₀^n for n = ``orders[j]`` at ``tau[k]`` (d = 1: ⟨x^n⟩ of the
+        rescaled velocity x = v/v₀), ``component`` the moments of one Cartesian component,
+        ``errors`` their error estimates.  v₀² is the variance of one component, so the order-2
+        values are 1 (d = 1) and d.  The q window is chosen per moment and per τ between the
+        non-analytic |q|^{2s*} term and the grid's floor (method, and the cases returned as NaN
+        with a reason: :mod:`maxwell_kinetics.moments`).  ``orders``: even positive integers
+        (InvalidArgumentError naming ``orders`` otherwise); ``tau_index``: one saved time, or
+        None for all.
+        """
+        from .moments import moments_of
+
+        idx = range(len(self.tau)) if tau_index is None else [self.time_index(tau_index)]
+        q = self.q
+        ref = deviation_from_f_hat(q, self.skewness)
+        rows = [(self.deviation[k] - ref).real for k in idx]
+        return moments_of(q, rows, self.tau[list(idx)], self.dimension, orders)
+
+    def kurtosis(self) -> np.ndarray:
+        """⟨|v|⁴⟩/⟨|v|²⟩² at each saved τ (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian; d = 2: 2;
+        d = 3: 5/3), from :meth:`moments`; NaN where the fourth moment is not resolved."""
+        return self.moments(orders=(2, 4)).kurtosis()
+
     # -- persistence --------------------------------------------------------------------
     def to_record(self) -> tuple[dict, dict[str, np.ndarray]]:
         """(meta, arrays): the JSON-able parameters and the arrays ``tau``, ``G``, ``deviation``

@@ -30,7 +30,8 @@ def add_parser(subparsers) -> None:
         "solve", help="integrate the rescaled Fourier-space equation",
         description="Integrate dG/dτ = λ q G' − G + G(pq) G((1−p)q) from the initial law and "
         "report G at the requested τ and q (and, with --speed, the density of the speed "
-        "|v|/v0 in d = 1, 2, 3).",
+        "|v|/v0 in d = 1, 2, 3), with the kurtosis and the even moments read from G near "
+        "q = 0.",
     )
     p.add_argument("--restitution", "-r", required=True, help="restitution coefficient r in [0, 1]")
     p.add_argument("--initial", default="gaussian", help="initial law (gaussian, uniform, ...)")
@@ -94,6 +95,8 @@ def run(args) -> int:
     # The distance to f̂ is defined in d = 1 only (f̂ is the 1D scaling solution): null for d > 1.
     sup = sol.sup_error() if dimension == 1 else None
     values = np.array([sol.evaluate(q, k) for k in range(len(taus))])
+    moments = sol.moments(orders=(2, 4, 6))
+    kurtosis = moments.kurtosis()
     speed_density = None
     if speeds is not None:
         speed_density = np.array([sol.speed_density(speeds, k)[1] for k in range(len(taus))])
@@ -116,6 +119,8 @@ def run(args) -> int:
             "resolution": grid.name,
             "tau": taus.tolist(),
             "sup_error": None if sup is None else sup.tolist(),
+            "kurtosis": [float(k) if np.isfinite(k) else None for k in kurtosis],
+            "moments": moments.to_dict(),
             "q": q.tolist(),
             "G_real": values.real.tolist(),
             "G_imag": values.imag.tolist(),
@@ -127,11 +132,13 @@ def run(args) -> int:
         print(f"r = {model.restitution:g}, initial {law.name}, resolution {grid.name} "
               f"({grid.n} points), {seconds:.2f} s")
         if sup is not None:
-            for tau, err in zip(taus, sup, strict=True):
-                print(f"  tau = {tau:<10g} sup_q |G - f_hat| = {err:.3e}")
+            for tau, err, kurt in zip(taus, sup, kurtosis, strict=True):
+                print(f"  tau = {tau:<10g} sup_q |G - f_hat| = {err:.3e}   kurtosis {kurt:.10g}")
         else:
             print(f"  dimension {dimension} ({angular}): no distance to f_hat "
                   "(the one-dimensional scaling solution)")
+            for tau, kurt in zip(taus, kurtosis, strict=True):
+                print(f"  tau = {tau:<10g} kurtosis <|v|^4>/<|v|^2>^2 = {kurt:.10g}")
         if speeds is not None:
             print("  speed density P(s) at s = " + ", ".join(f"{v:g}" for v in speeds))
             for tau, row in zip(taus, speed_density, strict=True):

@@ -82,16 +82,17 @@ def test_moment_coefficients_follow_the_exact_hierarchy(planar):
 
 
 def test_sixth_moment_multiscales_at_the_rate_of_the_equation(planar):
-    # ⟨|v|⁶⟩: local rate 3Λ − d ln|C₃|/dτ between τ = 20 and 50 (window q ∈ [1e-3, 1e-2],
-    # where the expansion still holds at τ = 50: C₃ off by 1.8e-3 there, 0.45 on [1e-2, 1e-1]).
-    # Measured 0.61650 against the hierarchy's 0.61644 over the same τ and the asymptotic
-    # λ(3) = 0.61914; 3λ(1) = 0.75.
+    # ⟨|v|⁶⟩: local rate 3Λ − d ln|C₃|/dτ between τ = 20 and 50, C₃ read on the automatic
+    # window (on the fixed q ∈ [1e-2, 1e-1] C₃ is off by 0.45 at τ = 50; on [1e-3, 1e-2] by
+    # 1.8e-3, where the rate came out 0.61650).  Measured 0.616448 against the hierarchy's
+    # 0.616445 over the same τ (tolerance 3e-5, 10x) and the asymptotic λ(3) = 0.61914;
+    # 3λ(1) = 0.75.
     i20, i50 = TAUS.index(20.0), TAUS.index(50.0)
-    _, rate = moment_decay_rates(planar, 3, window=(1e-3, 1e-2), tau_indices=[i20, i50])
+    _, rate = moment_decay_rates(planar, 3, tau_indices=[i20, i50])
     C = rescaled_coefficients(D, R, [20.0, 50.0], 3, ANGULAR)[:, 3]
     lam1 = growth_rate(D, R, 1.0, ANGULAR)
     hierarchy = 3 * lam1 - math.log(C[1] / C[0]) / 30.0
-    assert rate[0] == pytest.approx(hierarchy, abs=3e-4)
+    assert rate[0] == pytest.approx(hierarchy, abs=3e-5)
     lam3 = moment_rates(D, R, [3], ANGULAR)[0]
     assert lam3 < 3 * lam1 - 0.1  # this case multiscales
     assert abs(rate[0] - lam3) < 0.01 < abs(rate[0] - 3 * lam1) - 0.1

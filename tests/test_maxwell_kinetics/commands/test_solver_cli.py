@@ -15,7 +15,7 @@ from helpers import run_error, run_json
 from maxwell_kinetics.cli import build_parser, join_negative_values
 
 SOLVE_KEYS = {"restitution", "initial", "resolution", "tau", "sup_error", "q", "G_real", "G_imag",
-              "seconds"}
+              "seconds", "kurtosis", "moments"}
 
 
 
@@ -38,6 +38,13 @@ def test_solve_json_contract_and_spec_values(capsys, tmp_path):
         assert value == pytest.approx(measured, rel=0.01)
     for key in ("G_real", "G_imag"):
         assert np.asarray(out[key]).shape == (3, 4), key
+    # the kurtosis ⟨x⁴⟩ = −3 + 6 e^{9τ/128} of the exact moment equation (r = 0.5), to 1e-7
+    closed = -3 + 6 * np.exp(9 / 128 * np.array(out["tau"]))
+    np.testing.assert_allclose(out["kurtosis"], closed, rtol=1e-7)
+    moments = out["moments"]
+    assert moments["orders"] == [2, 4, 6] and moments["values"][2][1] == out["kurtosis"][2]
+    # ⟨x⁶⟩ at τ = 100 has grown past what the grid resolves: null, with the reason
+    assert moments["values"][2][2] is None and "not analytic" in moments["reasons"][2][2]
     assert np.all(np.asarray(out["G_imag"]) == 0.0)  # symmetric data: G is real
     # G is positive and decreasing over these q at every saved τ
     assert np.all(np.diff(np.asarray(out["G_real"]), axis=1) < 0)
