@@ -42,7 +42,7 @@ window's minorant is a cut over ℤ, so is p − N ≥ p*, and the window's segm
 the clusters of the ring, with no assumption on their size (one cluster may hold all N
 particles: then p − N and p are its ends).  Cost: one PAVA of 2N numbers per time.  Tested against
 an event-driven sticky simulation of the ring, with clusters across the seam
-(``tests/test_sticky.py``).
+(``tests/test_particles/test_sticky.py``).
 
 Energy decay
 ------------
@@ -295,7 +295,8 @@ def displacements(state: StickyState) -> np.ndarray:
 
 #: Var Z of Chernoff's law, Z = argmax_t (W(t) − t²) for a two-sided standard Brownian motion W
 #: (Groeneboom and Wellner, J. Comput. Graph. Stat. 10, 388 (2001): 0.26355964); the quadrature
-#: of :func:`chernoff_density` gives 0.2635596413 (``tests/test_sticky_displacement.py``).
+#: of :func:`chernoff_density` gives 0.2635596413
+#: (``tests/test_particles/test_sticky_displacement.py``).
 CHERNOFF_VARIANCE = 0.26355964
 
 
