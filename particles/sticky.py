@@ -40,9 +40,13 @@ positions + L).  Let p* ≤ N be the first vertex over ℤ in it and q* ≥ N th
 window's vertices in [p*, q*] are exactly the vertices over ℤ.  So the first vertex p ≥ N of the
 window's minorant is a cut over ℤ, so is p − N ≥ p*, and the window's segments in [p − N, p) are
 the clusters of the ring, with no assumption on their size (one cluster may hold all N
-particles: then p − N and p are its ends).  Cost: one PAVA of 2N numbers per time.  Tested against
-an event-driven sticky simulation of the ring, with clusters across the seam
-(``tests/test_particles/test_sticky.py``).
+particles: then p − N and p are its ends).  The second period is the first shifted by L, and
+both are monotone after their own regression, so the regression of the window is that of one
+period except for one block pooled across the junction (:func:`_pool_junction`); one period is
+itself regressed in chunks joined the same way (:func:`_period_regression`).  Cost: one PAVA of
+N numbers per time, with scratch memory of about 32 bytes per cluster.  Tested against an
+event-driven sticky simulation of the ring, with clusters across the seam, and against one PAVA
+of the 2N numbers of the window (``tests/test_particles/test_sticky.py``).
 
 Energy decay
 ------------
@@ -181,55 +185,149 @@ class StickyState:
         }
 
 
+#: Particles per isotonic regression: one period is regressed in chunks of this size, and the
+#: chunks are joined by pooling across each junction (:func:`_period_regression`); it bounds the
+#: regression's scratch memory (about 32 bytes a particle of a chunk).
+CHUNK = 1 << 22
+
+
 def sticky_state(x0, v0, length: float, t: float) -> StickyState:
     """The exact sticky-gas state at time ``t`` ≥ 0 from initial positions ``x0`` (sorted, in
-    [0, ``length``)) and velocities ``v0`` (module docstring: one isotonic regression of the two
-    unrolled periods).  Inputs are trusted (checked by the public callers)."""
+    [0, ``length``)) and velocities ``v0`` (module docstring: the isotonic regression of two
+    unrolled periods, computed as one period's and the pooling across the junction).  At
+    t = 0 every particle is its own cluster.  Inputs are trusted (checked by the public
+    callers)."""
     x0 = np.asarray(x0, dtype=float)
     v0 = np.asarray(v0, dtype=float)
     n = x0.size
     length = float(length)
     t = float(t)
-    g = np.empty(2 * n)
-    np.multiply(v0, t, out=g[:n])
-    g[:n] += x0
-    g[:n] -= length  # a constant: the window's values lie in [-L, L) + v t
-    np.add(g[:n], length, out=g[n:])
+    if t == 0.0:
+        frozen = [a.view() for a in (x0, v0)]
+        for a in frozen:
+            a.flags.writeable = False  # shared with the initial data: read-only
+        return StickyState(0.0, length, x0, v0, np.arange(n, dtype=np.int64), frozen[0],
+                           frozen[1], frozen[1], 0)
+    blocks, means, weights = _period_regression(x0, v0, length, t)
+    i, j, junction = _pool_junction(means, weights, length)
+    # Clusters in label order: the blocks j .. i − 1 of one period, then the junction block
+    # (labels blocks[i] … N − 1 and, when j > 0, 0 … blocks[j] − 1: it wraps across the seam).
+    starts = blocks[j: i + 1].copy()
+    positions = np.empty(starts.size)
+    np.add(means[j:i], length, out=positions[:-1])  # undo the constant
+    positions[-1] = junction + length
+    tail = int(blocks[j])  # labels < tail belong to the junction block (none when j = 0)
+    del blocks, means, weights
+    cvel = np.add.reduceat(v0, starts)
+    if j > 0:  # the wrapping cluster: its tail past the seam, summed in label order after it
+        cvel[-1] = np.add.reduce(np.concatenate([v0[starts[-1]:], v0[:tail]]))
+    k = starts.size
+    velocities = np.empty(n)
+    # masses and per-particle velocities by groups of clusters, so that the scratch stays
+    # about CHUNK particles (a state is computed while the previous one is still held)
+    step = max(1, int(k * min(1.0, CHUNK / n)))
+    for a in range(0, k, step):
+        b = min(k, a + step)
+        ends = starts[a + 1: b + 1] if b < k else np.append(starts[a + 1:], starts[0] + n)
+        masses = ends - starts[a:b]
+        cvel[a:b] /= masses
+        if b == k:
+            masses[-1] -= starts[0]  # the wrapping cluster's labels < starts[0] are set above
+        velocities[starts[a]: starts[a] + int(masses.sum())] = np.repeat(cvel[a:b], masses)
+    velocities[: starts[0]] = cvel[-1]
+    return StickyState(
+        t, length, x0, v0, starts, positions, cvel, velocities, int(n - starts.size),
+    )
+
+
+def _period_regression(x0, v0, length, t):
+    """``(blocks, means, weights)``: the isotonic regression of g_j = x_j + v_j t − L over one
+    period, j = 0 … N − 1, as block starts (labels), block means of g and block sizes.
+
+    Each chunk of :data:`CHUNK` labels is regressed by SciPy's PAVA; two monotone sequences
+    regress to themselves except for one block pooled across their junction, so each chunk
+    joins the blocks so far by pooling adjacent violators across it (a block of the result is
+    a union of whole blocks of the chunks: a vertex of the convex minorant of the whole is one
+    of every contiguous part containing it).  The result is kept on a stack of preallocated
+    arrays, of which only the blocks found are ever written (the views returned keep them, and
+    their resident memory is that of the blocks)."""
     from scipy.optimize import isotonic_regression  # ~1 s to import: on first use only
 
-    fit = isotonic_regression(g)
-    del g
-    blocks = fit.blocks  # window indices of the block starts, with 2n appended
-    values = fit.x
-    # The first window vertex p >= n is a cut of the ring; so is p - n (module docstring).
-    k_hi = int(np.searchsorted(blocks, n, side="left"))
-    p = int(blocks[k_hi])
-    k_lo = int(np.searchsorted(blocks, p - n, side="left"))
-    if int(blocks[k_lo]) != p - n:  # impossible in exact arithmetic; guards the lemma
-        raise RuntimeError(f"sticky: no cut at {p - n} although {p} is one (window {blocks})")
-    wstarts = blocks[k_lo:k_hi]  # cluster starts in window indices, in [p - n, p)
-    wpos = values[wstarts] + length  # undo the constant
-    del fit, values, blocks
-    masses = np.diff(np.append(wstarts, p))
-    q = (p - n) % n  # the label at window index p - n
-    vw = np.roll(v0, -q)  # velocities in window order
-    vel = np.add.reduceat(vw, wstarts - (p - n)) / masses
-    del vw
-    # Label order: clusters starting at window index >= n start at label w - n, positions - L.
-    labels = wstarts % n
-    second = wstarts >= n
-    wpos[second] -= length
-    order = np.concatenate([np.flatnonzero(second), np.flatnonzero(~second)])
-    starts = labels[order]
-    positions = wpos[order]
-    cvel = vel[order]
-    masses = masses[order]
-    velocities = np.repeat(cvel, masses)
-    velocities = np.roll(velocities, starts[0])  # the wrapping cluster's tail sits at labels < s0
-    return StickyState(
-        t, length, x0, v0, starts.astype(np.int64), positions, cvel, velocities,
-        int(n - starts.size),
-    )
+    n = x0.size
+    starts = np.empty(n, dtype=np.int64)
+    means = np.empty(n)
+    weights = np.empty(n)
+    top = 0
+    for a in range(0, n, CHUNK):
+        b = min(n, a + CHUNK)
+        g = np.multiply(v0[a:b], t)
+        g += x0[a:b]
+        g -= length  # a constant: the values lie in [-L, 0) + v t
+        fit = isotonic_regression(g)
+        del g
+        cb = fit.blocks[:-1]
+        cm = fit.x[cb]
+        cw = np.diff(fit.blocks).astype(float)
+        del fit
+        j = 0
+        if top > 0 and means[top - 1] >= cm[0]:  # pool across the junction (PAVA pools ties)
+            i = top - 1
+            total = means[i] * weights[i] + cm[0] * cw[0]
+            mass = weights[i] + cw[0]
+            j = 1
+            while True:
+                m = total / mass
+                if i > 0 and means[i - 1] >= m:
+                    i -= 1
+                    total += means[i] * weights[i]
+                    mass += weights[i]
+                elif j < cm.size and cm[j] <= m:
+                    total += cm[j] * cw[j]
+                    mass += cw[j]
+                    j += 1
+                else:
+                    break
+            means[i], weights[i] = m, mass  # starts[i] stays the pooled block's first label
+            top = i + 1
+        k = cm.size - j
+        starts[top: top + k] = cb[j:] + a
+        means[top: top + k] = cm[j:]
+        weights[top: top + k] = cw[j:]
+        top += k
+    return starts[:top], means[:top], weights[:top]  # views: only written pages are resident
+
+
+def _pool_junction(means, weights, length):
+    """The isotonic regression of two unrolled periods from that of one period.
+
+    ``means`` (nondecreasing) and ``weights`` are one period's blocks; the second period's are
+    the same with means + L.  Both halves are already monotone, so the regression of the two
+    periods differs from them in one block only, pooled across the junction by adjacent
+    violators.  Returns ``(i, j, m)``: that block is the first period's blocks i … end with the
+    second period's blocks 0 … j − 1 (labels ``blocks[i]`` … N − 1 and 0 … ``blocks[j]`` − 1),
+    of mean m; ``(last, 0, its mean)`` when the periods join without a violation (the junction
+    is then a cut and every block is a cluster).  A block never takes a label twice (i ≥ j): at
+    i = j it holds the whole ring.
+    """
+    b = means.size
+    last = b - 1
+    if not means[last] > means[0] + length:
+        return last, 0, float(means[last])
+    total = means[last] * weights[last] + (means[0] + length) * weights[0]
+    mass = weights[last] + weights[0]
+    i, j = last, 1
+    while True:
+        m = total / mass
+        if i > j and means[i - 1] > m:
+            i -= 1
+            total += means[i] * weights[i]
+            mass += weights[i]
+        elif j < i and means[j] + length < m:
+            total += (means[j] + length) * weights[j]
+            mass += weights[j]
+            j += 1
+        else:
+            return i, j, float(m)
 
 
 # ---------------------------------------------------------------------------------------------

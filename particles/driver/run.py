@@ -193,10 +193,14 @@ def _run(engine, times, seed, identity, state, rng, records, progress, checkpoin
                 stop = min(float(engine.next_stop(state.time)), target)
                 new = engine.advance(state, stop, rng)
                 new_rng_state = rng.bit_generator.state
-                # One statement: Ctrl-C cannot separate the state from its RNG state.
-                state, rng_state, previous = new, new_rng_state, state
+                step = new.time - state.time
+                # One statement: Ctrl-C cannot separate the state from its RNG state.  The old
+                # state is dropped here, before the next advance (a large state counts twice
+                # while it is computed, not three times).
+                state, rng_state = new, new_rng_state
+                del new
                 if bar is not None:
-                    bar.update(state.time - previous.time)
+                    bar.update(step)
                 if checkpoint is not None and _time.monotonic() - last_save >= checkpoint_interval:
                     records.seconds = seconds_before + _time.perf_counter() - started
                     save_checkpoint(checkpoint, identity, state, rng_state, records)

@@ -78,6 +78,70 @@ def assert_matches_reference(x0, v0, length, t):
     return state
 
 
+def two_period_regression(x0, v0, length, t):
+    """(starts, masses, positions, velocities) of the clusters from one isotonic regression of
+    the 2N free-streamed positions of two unrolled periods (the module docstring's window, as
+    the engine computed it before it pooled the junction itself)."""
+    from scipy.optimize import isotonic_regression
+
+    n = x0.size
+    g = np.concatenate([x0 + v0 * t, x0 + v0 * t + length])
+    fit = isotonic_regression(g)
+    blocks = fit.blocks
+    p = int(blocks[np.searchsorted(blocks, n)])  # the first vertex >= N
+    w = blocks[(blocks >= p - n) & (blocks < p)]
+    masses = np.diff(np.append(w, p))
+    v2 = np.concatenate([v0, v0])
+    velocities = np.add.reduceat(v2, w) / masses  # the last block sums to p, not past it
+    velocities[-1] = v2[w[-1]:p].sum() / masses[-1]
+    order = np.argsort(w % n, kind="stable")
+    return (w % n)[order], masses[order], fit.x[w][order], velocities[order]
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_one_period_and_the_junction_equal_the_two_period_regression(seed):
+    # N = 2000 with a mean velocity (clusters cross the seam) from t = 0 to the single cluster.
+    rng = np.random.default_rng(seed)
+    n, length = 2000, 2000.0
+    x0 = np.sort(rng.uniform(0, length, n))
+    v0 = rng.standard_normal(n) + (0.0, 0.7, -3.0, 25.0)[seed]
+    wrapped = 0
+    for t in (0.0, 0.5, 3.0, 30.0, 300.0, 3e3, 3e4, 3e6):
+        state = sticky_state(x0, v0, length, t)
+        starts, masses, positions, velocities = two_period_regression(x0, v0, length, t)
+        assert np.array_equal(state.starts, starts) and np.array_equal(state.masses, masses), t
+        scale = length + np.max(np.abs(v0)) * t
+        np.testing.assert_allclose(state.positions, positions, rtol=0, atol=1e-13 * scale)
+        np.testing.assert_allclose(state.cluster_velocities, velocities, rtol=0,
+                                   atol=1e-13 * np.max(np.abs(v0)))
+        wrapped += int(state.starts[0] > 0)
+    assert wrapped >= 3  # the junction was pooled at most of these times
+
+
+@pytest.mark.parametrize("chunk", [1, 2, 7, 64, 1999])
+def test_chunks_joined_at_their_junctions_equal_one_regression(monkeypatch, chunk):
+    # One period regressed in chunks of `chunk` labels (the engine's CHUNK is 2^22; here small,
+    # so that pooled blocks span many junctions) against the two-period regression.
+    import particles.sticky as sticky
+
+    monkeypatch.setattr(sticky, "CHUNK", chunk)
+    rng = np.random.default_rng(chunk)
+    n, length = 2000, 2000.0
+    x0 = np.sort(rng.uniform(0, length, n))
+    v0 = rng.standard_normal(n) + 0.3
+    for t in (0.5, 30.0, 3e3, 3e6):
+        state = sticky_state(x0, v0, length, t)
+        starts, masses, positions, velocities = two_period_regression(x0, v0, length, t)
+        assert np.array_equal(state.starts, starts) and np.array_equal(state.masses, masses), t
+        scale = length + np.max(np.abs(v0)) * t
+        np.testing.assert_allclose(state.positions, positions, rtol=0, atol=1e-13 * scale)
+        np.testing.assert_allclose(state.cluster_velocities, velocities, rtol=0, atol=1e-13)
+        per_particle = np.empty(n)
+        for first, m, v in zip(starts, masses, velocities, strict=True):
+            per_particle[(first + np.arange(m)) % n] = v
+        np.testing.assert_allclose(state.velocities, per_particle, rtol=0, atol=1e-13)
+
+
 @pytest.mark.parametrize("seed", range(6))
 @pytest.mark.parametrize("n", [5, 17, 60])
 def test_matches_event_driven_reference(seed, n):
