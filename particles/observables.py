@@ -27,6 +27,7 @@ __all__ = [
     "energy",
     "momentum",
     "rescaled_histogram",
+    "histogram_from_counts",
     "structure_factor",
     "wavenumbers",
     "correlation",
@@ -155,13 +156,21 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
         raise InvalidArgumentError("v", f"energy {v0**2}", "a finite, non-zero energy per run")
     x = (rows / v0[:, None]).ravel()
     count, _ = np.histogram(x, bins=edges)
-    n = x.size
+    return histogram_from_counts(edges, count, x.size, float(np.mean(v0)))
+
+
+def histogram_from_counts(edges, count, n: int, v0: float) -> Histogram:
+    """The :class:`Histogram` of ``count`` samples per bin of ``edges`` out of ``n`` in all
+    (those outside the edges included), rescaled by ``v0``: density count/(n·width) and the
+    binomial error (see :class:`Histogram`)."""
+    edges = np.asarray(edges, dtype=float)
+    count = np.asarray(count)
     width = np.diff(edges)
     prob = count / n
     density = prob / width
     error = np.sqrt(n * prob * (1.0 - prob)) / (n * width)
     centres = 0.5 * (edges[1:] + edges[:-1])
-    return Histogram(edges, centres, density, error, count, n, float(np.mean(v0)))
+    return Histogram(edges, centres, density, error, count, int(n), float(v0))
 
 
 def _spectrum(arr: np.ndarray) -> np.ndarray:

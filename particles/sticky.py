@@ -42,8 +42,8 @@ window's minorant is a cut over ℤ, so is p − N ≥ p*, and the window's segm
 the clusters of the ring, with no assumption on their size (one cluster may hold all N
 particles: then p − N and p are its ends).  The second period is the first shifted by L, and
 both are monotone after their own regression, so the regression of the window is that of one
-period except for one block pooled across the junction (:func:`_pool_junction`); one period is
-itself regressed in chunks joined the same way (:func:`_period_regression`).  Cost: one PAVA of
+period except for one block pooled across the junction (:func:`pool_junction`); one period is
+itself regressed in chunks joined the same way (:func:`period_regression`).  Cost: one PAVA of
 N numbers per time, with scratch memory of about 32 bytes per cluster.  Tested against an
 event-driven sticky simulation of the ring, with clusters across the seam, and against one PAVA
 of the 2N numbers of the window (``tests/test_particles/test_sticky.py``).
@@ -186,7 +186,7 @@ class StickyState:
 
 
 #: Particles per isotonic regression: one period is regressed in chunks of this size, and the
-#: chunks are joined by pooling across each junction (:func:`_period_regression`); it bounds the
+#: chunks are joined by pooling across each junction (:func:`period_regression`); it bounds the
 #: regression's scratch memory (about 32 bytes a particle of a chunk).
 CHUNK = 1 << 22
 
@@ -208,8 +208,8 @@ def sticky_state(x0, v0, length: float, t: float) -> StickyState:
             a.flags.writeable = False  # shared with the initial data: read-only
         return StickyState(0.0, length, x0, v0, np.arange(n, dtype=np.int64), frozen[0],
                            frozen[1], frozen[1], 0)
-    blocks, means, weights = _period_regression(x0, v0, length, t)
-    i, j, junction = _pool_junction(means, weights, length)
+    blocks, means, weights = period_regression(x0, v0, length, t)
+    i, j, junction = pool_junction(means, weights, length)
     # Clusters in label order: the blocks j .. i − 1 of one period, then the junction block
     # (labels blocks[i] … N − 1 and, when j > 0, 0 … blocks[j] − 1: it wraps across the seam).
     starts = blocks[j: i + 1].copy()
@@ -240,7 +240,7 @@ def sticky_state(x0, v0, length: float, t: float) -> StickyState:
     )
 
 
-def _period_regression(x0, v0, length, t):
+def period_regression(x0, v0, length, t):
     """``(blocks, means, weights)``: the isotonic regression of g_j = x_j + v_j t − L over one
     period, j = 0 … N − 1, as block starts (labels), block means of g and block sizes.
 
@@ -297,7 +297,7 @@ def _period_regression(x0, v0, length, t):
     return starts[:top], means[:top], weights[:top]  # views: only written pages are resident
 
 
-def _pool_junction(means, weights, length):
+def pool_junction(means, weights, length):
     """The isotonic regression of two unrolled periods from that of one period.
 
     ``means`` (nondecreasing) and ``weights`` are one period's blocks; the second period's are

@@ -179,6 +179,8 @@ def run_model(args) -> int:
     model = get_model(args.model)
     engine = model.build(model_params(args, model, sweep=False))
     time_name, args.times = time_option(args, model, model.time_name(engine))
+    if getattr(args, "chunks", None) is not None:
+        return _run_sticky_chunks(engine, args)
     extend = _EXTEND[model.name](engine, args) if model.name in _EXTEND else None
     try:
         return run_engine(engine, args, time_key=time_name, extend=extend)
@@ -201,4 +203,60 @@ def add_parser(subparsers) -> None:
         if model.name in _EXTEND:
             parser.add_argument("--profile", action="store_true",
                                 help="also output v(x) and v(i) at the last time")
+        if model.name == "sticky":
+            _add_chunk_options(parser)
         parser.set_defaults(handler=run_model)
+
+
+def _add_chunk_options(parser) -> None:
+    """``simulate sticky --chunks K [--workers W | --scheduler ADDRESS]``."""
+    parser.add_argument(
+        "--chunks", default=None, metavar="K",
+        help="compute the gas as K chunks of the ring, each drawn from its own child seed "
+        "(K = 1: the single-process engine; K in [1, N/2]); prints energies, clusters, the "
+        "mass distribution and the histogram, and cannot save, checkpoint or profile")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--workers", default=None,
+                       help="with --chunks: a local Dask cluster of W single-threaded processes "
+                       "(default: the chunks run here, one after another)")
+    where.add_argument("--scheduler", default=None,
+                       help="with --chunks: the address of a running Dask scheduler")
+
+
+def _run_sticky_chunks(engine, args) -> int:
+    """``simulate sticky --chunks K``: :func:`particles.sticky_chunks.simulate_chunks`."""
+    from particles.ensemble.cluster import connect
+    from particles.sticky_chunks import check_chunks, simulate_chunks
+    from particles.validation import InvalidArgumentError, check_workers, parse_count
+
+    times = check_times(parse_float_list(args.times, "t"), "t")
+    seed = parse_seed(args.seed)
+    chunks = check_chunks(parse_count(args.chunks, "chunks", 1), engine.params.n)
+    for option in ("checkpoint", "resume", "save"):
+        if getattr(args, option) is not None:
+            raise InvalidArgumentError(option, getattr(args, option), "no --" + option +
+                                       " with --chunks (only the outputs reach this process)")
+    for option in ("structure_factor", "profile"):
+        if getattr(args, option):
+            raise InvalidArgumentError(option.replace("_", "-"), True,
+                                       "not with --chunks (the velocities stay in the chunks)")
+    workers = None if args.workers is None else parse_count(args.workers, "workers", 1)
+    workers = check_workers(workers, "workers", tasks=chunks, force=args.force)
+    client, closers = None, []
+    if workers is not None or args.scheduler is not None:
+        client, closers = connect("dask", workers, args.scheduler, None, None)
+    try:
+        result = simulate_chunks(engine.params, times, seed, chunks, client=client)
+    finally:
+        for close in closers:
+            close()
+    payload = result.to_dict()
+    if args.json:
+        emit_json(payload)
+    else:
+        print(f"sticky: {result.params}  seed {seed}, {chunks} chunks")
+        print(f"{'t':>12} {'energy':>14} {'clusters':>14}")
+        for t, e, c in zip(result.times, result.energy, result.clusters, strict=True):
+            print(f"{t:12.6g} {e:14.6e} {c:14d}")
+        print(f"{result.seconds:.3f} s")
+    return 0

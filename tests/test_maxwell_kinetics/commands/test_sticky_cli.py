@@ -55,3 +55,35 @@ def test_a_corrupt_checkpoint_exits_2(capsys, tmp_path):
     bad.write_bytes(b"PK\x03\x04 not really a zip")
     err = run_error(capsys, BASE + ["--t", "1", "--resume", str(bad)])
     assert "resume=" in err and "bad.ckpt" in err
+
+
+def test_chunks_print_the_library_numbers(capsys):
+    from particles.sticky_chunks import simulate_chunks
+
+    out = run_json(capsys, BASE + ["--t", "1,30", "--chunks", "3", "--json"])
+    res = simulate_chunks(StickyParams(500, 1.5), [1.0, 30.0], 4, 3)
+    assert out["energy"] == res.energy.tolist() and out["clusters"] == res.clusters.tolist()
+    assert out["chunks"] == 3 and sum(out["mass_distribution"]["count"]) == out["clusters"][-1]
+    # one chunk is the single-process engine: the numbers of plain simulate sticky
+    one = run_json(capsys, BASE + ["--t", "1,30", "--chunks", "1", "--json"])
+    plain = run_json(capsys, BASE + ["--t", "1,30", "--json"])
+    assert one["energy"] == plain["energy"] and one["clusters"] == plain["clusters"]
+    assert one["histogram"] == plain["histogram"]
+
+
+@pytest.mark.parametrize("extra, name", [
+    (["--chunks", "0"], "chunks"),
+    (["--chunks", "251"], "chunks"),  # N/2 = 250
+    (["--chunks", "x"], "chunks"),
+    (["--chunks", "2", "--save", "OUT"], "save"),
+    (["--chunks", "2", "--checkpoint", "OUT"], "checkpoint"),
+    (["--chunks", "2", "--structure-factor"], "structure-factor"),
+    (["--chunks", "2", "--profile"], "profile"),
+    (["--chunks", "2", "--workers", "0"], "workers"),
+    (["--chunks", "2", "--workers", "2", "--scheduler", "tcp://127.0.0.1:9"], "--scheduler"),
+])
+def test_bad_chunk_options_exit_2_and_write_nothing(capsys, tmp_path, extra, name):
+    argv = BASE + ["--t", "1"] + [str(tmp_path / "out") if a == "OUT" else a for a in extra]
+    err = run_error(capsys, argv)
+    assert name in err
+    assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,272 @@
+"""One large sticky gas computed as K chunks of the ring, in one process or on Dask.
+
+The N labels of the ring are cut into K chunks of consecutive labels (the first N mod K chunks
+one label longer).  Chunk k draws its own initial data from the child seed
+``SeedSequence(seed).spawn(K)[k]``: n_k positions uniform and sorted on its own arc of length
+L n_k / N (so every arc holds exactly its n_k particles: for K > 1 the initial state is this
+stratified draw, not the single engine's) and n_k velocities of the law, with zero mean and unit
+⟨v²⟩ per chunk (hence also over the ring).  K = 1 is the single-process engine itself
+(:class:`particles.sticky.StickyGas` run by :func:`particles.driver.simulate`), same draw, same
+numbers.
+
+At each output time t every chunk computes the isotonic regression of its free-streamed
+positions x_j + v_j t (:mod:`particles.sticky`): a block of the ring's regression is a union of
+whole blocks of the chunks, and two monotone sequences regress to themselves except for one
+block pooled across their junction.  So only blocks near the junctions (and the seam) can
+change.  Each chunk returns its first and last ``edge`` blocks and, for the blocks between them
+(its *interior*), only sums: their number, Σ m u² and the counts of their masses (u a cluster's
+velocity, m its mass).  Its first and last interior blocks come along as *sentinels*.  The
+client joins the edge blocks by one weighted isotonic regression and pools the seam; if a pooled
+block reached a sentinel, the interior was not out of reach after all, and the time is computed
+again with 4× the edge.  The final histogram of x = v/√E needs E: a second pass counts each
+chunk's interior velocities on its bins.
+
+Every sum over chunks is taken on the client in chunk order, so the result for a given
+(seed, K) does not depend on the number of workers or on where the tasks ran.  A task recomputes
+its chunk from the seed (nothing is held on the workers between tasks): the memory of a worker
+is that of one chunk, about 70 bytes a particle.
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+
+import numpy as np
+
+from .driver import initial_velocities
+from .observables import histogram_from_counts
+from .sticky import StickyParams, period_regression, pool_junction
+from .validation import InvalidArgumentError, check_count, check_times
+
+__all__ = ["ChunkedResult", "chunk_bounds", "chunk_initial", "check_chunks", "simulate_chunks"]
+
+#: Blocks sent from each end of a chunk at first (multiplied by 4 while a pooled block reaches
+#: past them).
+EDGE = 64
+
+
+def check_chunks(chunks, n: int) -> int:
+    """``chunks`` as an integer in [1, N/2] (every chunk holds at least two particles, the least
+    that has a zero-mean, unit-energy draw); InvalidArgumentError naming ``chunks``."""
+    try:
+        k = check_count(chunks, "chunks", 1)
+    except InvalidArgumentError:
+        raise InvalidArgumentError("chunks", chunks, f"an integer in [1, N/2 = {n // 2}]") from None
+    if k > n // 2:
+        raise InvalidArgumentError("chunks", chunks, f"an integer in [1, N/2 = {n // 2}]")
+    return k
+
+
+def chunk_bounds(n: int, chunks: int) -> np.ndarray:
+    """First labels of the K chunks, with N appended (the first N mod K chunks one longer)."""
+    size, extra = divmod(int(n), int(chunks))
+    lengths = np.full(int(chunks), size, dtype=np.int64)
+    lengths[:extra] += 1
+    return np.concatenate([[0], np.cumsum(lengths)])
+
+
+def chunk_initial(params: StickyParams, seed: int, k: int, chunks: int):
+    """(x, v) of chunk ``k`` of ``chunks`` (module docstring); K = 1: the engine's draw."""
+    n, length = params.n, params.length
+    if chunks == 1:
+        rng = np.random.default_rng(seed)
+        x = np.sort(rng.uniform(0.0, length, n))
+        return x, initial_velocities(params.initial, n, rng)
+    bounds = chunk_bounds(n, chunks)
+    nk = int(bounds[k + 1] - bounds[k])
+    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(chunks)[k])
+    a, b = length * bounds[k] / n, length * bounds[k + 1] / n
+    x = np.sort(rng.uniform(a, b, nk))
+    return x, initial_velocities(params.initial, nk, rng)
+
+
+def _chunk_blocks(params: StickyParams, seed, k, chunks, t):
+    x, v = chunk_initial(params, seed, k, chunks)
+    first = int(chunk_bounds(params.n, chunks)[k])
+    if t == 0.0:
+        nk = x.size
+        return (np.arange(nk, dtype=np.int64), x - params.length, np.ones(nk), v.copy(), first,
+                float(np.add.reduce(v)))
+    blocks, means, weights = period_regression(x, v, params.length, t)
+    vsums = np.add.reduceat(v, blocks)
+    return blocks.copy(), means.copy(), weights.copy(), vsums, first, float(np.add.reduce(v))
+
+
+def _interior(nb: int, edge: int):
+    """Indices of the edge blocks and of the two sentinels, and the interior slice (None when a
+    chunk has too few blocks to have an interior)."""
+    if nb <= 2 * edge + 2:
+        return np.arange(nb), np.zeros(nb, dtype=np.int8), None
+    idx = np.concatenate([np.arange(edge + 1), np.arange(nb - edge - 1, nb)])
+    flags = np.zeros(idx.size, dtype=np.int8)
+    flags[edge] = flags[edge + 1] = 1
+    return idx, flags, slice(edge, nb - edge)
+
+
+def chunk_summary(params_dict: dict, seed: int, k: int, chunks: int, t: float, edge: int) -> dict:
+    """One chunk at time ``t``: its edge blocks and sentinels (label starts, means of
+    x + vt − L, masses, velocity sums, sentinel flags), its interior sums and Σ v."""
+    params = StickyParams(**params_dict)
+    blocks, means, weights, vsums, first, momentum = _chunk_blocks(params, seed, k, chunks, t)
+    idx, flags, inner = _interior(blocks.size, edge)
+    out = {"starts": blocks[idx] + first, "means": means[idx], "weights": weights[idx],
+           "vsums": vsums[idx], "flags": flags, "momentum": momentum,
+           "count": 0, "energy": 0.0, "masses": (np.zeros(0, np.int64), np.zeros(0, np.int64))}
+    if inner is not None:
+        w, s = weights[inner], vsums[inner]
+        out["count"] = int(w.size)
+        out["energy"] = float(np.add.reduce(s * s / w))
+        out["masses"] = np.unique(w.astype(np.int64), return_counts=True)
+    return out
+
+
+def chunk_histogram(params_dict: dict, seed: int, k: int, chunks: int, t: float, edge: int,
+                    v0: float, edges) -> np.ndarray:
+    """Counts of the chunk's interior particles on ``edges`` in x = v/``v0`` at time ``t``."""
+    params = StickyParams(**params_dict)
+    blocks, _, weights, vsums, _, _ = _chunk_blocks(params, seed, k, chunks, t)
+    _, _, inner = _interior(blocks.size, edge)
+    if inner is None:
+        return np.zeros(len(edges) - 1, dtype=np.int64)
+    w = weights[inner]
+    u = vsums[inner] / w
+    count, _ = np.histogram(u / v0, bins=edges, weights=w)
+    return np.rint(count).astype(np.int64)
+
+
+def _single(params, times, seed, edges, start) -> ChunkedResult:
+    """K = 1: the single-process engine, run by the driver."""
+    from .driver import simulate
+    from .sticky import StickyGas, cluster_mass_distribution
+
+    run = simulate(StickyGas(params), times, seed, progress=False, bins=edges)
+    clusters = run.extras["clusters"].astype(np.int64)
+    m, mass_counts = cluster_mass_distribution(run.final_state)
+    return ChunkedResult(
+        params=params.to_dict(), seed=int(seed), chunks=1, times=times, energy=run.energy,
+        momentum=run.extras["total_momentum"], clusters=clusters, collisions=run.collisions,
+        masses=m, mass_counts=mass_counts, histogram=run.histogram, edge=None,
+        seconds=_time.perf_counter() - start,
+    )
+
+
+class _Reached(Exception):
+    """A pooled block reached a chunk's interior: ask again with a larger edge."""
+
+
+def _join(parts: list[dict], length: float):
+    """The ring's clusters among the edge blocks: (masses, velocity sums) of the clusters that
+    are not interior sentinels.  Raises :class:`_Reached` when a sentinel was pooled."""
+    from scipy.optimize import isotonic_regression
+
+    means = np.concatenate([p["means"] for p in parts])
+    weights = np.concatenate([p["weights"] for p in parts])
+    vsums = np.concatenate([p["vsums"] for p in parts])
+    flags = np.concatenate([p["flags"] for p in parts]).astype(np.int64)
+    fit = isotonic_regression(means, weights=weights)
+    b = fit.blocks[:-1]
+    sizes = np.diff(fit.blocks)
+    flagged = np.add.reduceat(flags, b)
+    if np.any((flagged > 0) & (sizes > 1)):
+        raise _Reached
+    bm, bw = fit.x[b], np.add.reduceat(weights, b)
+    bv = np.add.reduceat(vsums, b)
+    i, j, _ = pool_junction(bm, bw, length)
+    if j > 0:
+        if np.any(flagged[i:]) or np.any(flagged[:j]):
+            raise _Reached
+        keep = np.flatnonzero(flagged[j:i] == 0) + j
+        masses = np.append(bw[keep], bw[i:].sum() + bw[:j].sum())
+        sums = np.append(bv[keep], bv[i:].sum() + bv[:j].sum())
+    else:
+        keep = np.flatnonzero(flagged == 0)
+        masses, sums = bw[keep], bv[keep]
+    return masses, sums
+
+
+class ChunkedResult:
+    """The outputs of :func:`simulate_chunks`: ``times``, ``energy`` (⟨v²⟩), ``momentum`` (Σ v),
+    ``clusters`` and ``collisions`` (N − clusters) at each time, ``masses`` and ``mass_counts``
+    (the cluster-mass distribution at the last time), ``histogram`` (x = v/√E at the last time,
+    :class:`particles.observables.Histogram`), ``edge`` (the largest edge used), ``seconds``."""
+
+    def __init__(self, **fields):
+        self.__dict__.update(fields)
+
+    def to_dict(self) -> dict:
+        return {
+            "model": "sticky", "params": self.params, "seed": self.seed, "chunks": self.chunks,
+            "t": self.times.tolist(), "energy": self.energy.tolist(),
+            "momentum": self.momentum.tolist(), "clusters": self.clusters.tolist(),
+            "collisions": self.collisions.tolist(),
+            "mass_distribution": {"m": self.masses.tolist(), "count": self.mass_counts.tolist()},
+            "histogram": None if self.histogram is None else self.histogram.to_dict(),
+            "edge": self.edge, "seconds": self.seconds,
+        }
+
+
+def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, client=None,
+                    bins=None, progress=None) -> ChunkedResult:
+    """The sticky gas of ``params`` at ``times`` as ``chunks`` chunks (module docstring).
+
+    ``client``: a ``distributed.Client`` to run the chunk tasks on, or None to run them here in
+    turn.  ``bins``: the histogram's edges in x (default :data:`DEFAULT_EDGES`).
+    ``progress(done, total)`` is called after each time.  Raises ``InvalidArgumentError`` for
+    bad ``times`` or ``chunks``."""
+    from .observables import DEFAULT_EDGES
+
+    if not isinstance(params, StickyParams):
+        raise InvalidArgumentError("params", params, "a StickyParams")
+    times = check_times(times, "t")
+    chunks = check_chunks(chunks, params.n)
+    edges = DEFAULT_EDGES if bins is None else np.asarray(bins, dtype=float)
+    pd = params.to_dict()
+    n = params.n
+    start = _time.perf_counter()
+    if chunks == 1:
+        return _single(params, times, seed, edges, start)
+
+    def run(fn, *args):
+        if client is None:
+            return [fn(pd, seed, k, chunks, *args) for k in range(chunks)]
+        futures = [client.submit(fn, pd, seed, k, chunks, *args, pure=False)
+                   for k in range(chunks)]
+        return client.gather(futures)  # in chunk order
+
+    energy, momentum, clusters = [], [], []
+    edge = EDGE
+    for step, t in enumerate(times):
+        while True:
+            parts = run(chunk_summary, float(t), edge)
+            try:
+                masses, sums = _join(parts, params.length)
+                break
+            except _Reached:
+                edge *= 4
+        e_sum = math.fsum([p["energy"] for p in parts]) + math.fsum(sums * sums / masses)
+        energy.append(e_sum / n)
+        momentum.append(math.fsum([p["momentum"] for p in parts]))
+        clusters.append(sum(p["count"] for p in parts) + masses.size)
+        if progress is not None:
+            progress(step + 1, len(times))
+    # the last time: the mass distribution and the histogram of x = v/√E
+    values = np.concatenate([p["masses"][0] for p in parts] + [masses.astype(np.int64)])
+    counts = np.concatenate([p["masses"][1] for p in parts] + [np.ones(masses.size, np.int64)])
+    m, inverse = np.unique(values, return_inverse=True)
+    mass_counts = np.bincount(inverse, weights=counts).astype(np.int64)
+    histogram = None
+    if energy[-1] > 0.0:
+        v0 = math.sqrt(energy[-1])
+        rows = run(chunk_histogram, float(times[-1]), edge, v0, edges)
+        count = np.sum(rows, axis=0)
+        extra, _ = np.histogram(sums / masses / v0, bins=edges, weights=masses)
+        count = count + np.rint(extra).astype(np.int64)
+        histogram = histogram_from_counts(edges, count, n, v0)
+    clusters = np.array(clusters, dtype=np.int64)
+    return ChunkedResult(
+        params=pd, seed=int(seed), chunks=chunks, times=times, energy=np.array(energy),
+        momentum=np.array(momentum), clusters=clusters, collisions=n - clusters, masses=m,
+        mass_counts=mass_counts, histogram=histogram, edge=edge,
+        seconds=_time.perf_counter() - start,
+    )
