@@ -1194,7 +1194,7 @@ class ExactLawComparison:
         in μ)), ``density_error`` (Poisson), ``exact`` (the expected F on the same bins)."""
         self._need()
         mscale = self._scales[2]
-        upper = max(2, int(8.0 * mscale))
+        upper = max(2, int(8.0 * mscale + 1e-9))
         per_decade = 12
         cuts = np.unique(np.round(np.geomspace(
             1, upper + 1, max(per_decade, int(per_decade * math.log10(upper + 1))) + 1)))
