@@ -509,10 +509,13 @@ _W_MAX = 30.0  # P(w), P_E(w) < 1e-1900 beyond: returned as 0
 
 @functools.lru_cache(maxsize=32)
 def _leggauss(nodes: int):
-    """Gauss–Legendre nodes and weights, cached (numpy computes them by an eigenvalue problem,
-    ~20 ms at 80 nodes, and the exact laws ask for the same few rules many times).  The arrays
-    are shared: read-only."""
-    x, w = np.polynomial.legendre.leggauss(int(nodes))
+    """Gauss–Legendre nodes and weights, cached: the exact laws ask for the same few rules many
+    times.  From ``scipy.special.roots_legendre`` (Golub–Welsch below 150 nodes, asymptotic
+    formulas above: 2 ms at 300 nodes where ``numpy.polynomial.legendre.leggauss`` takes ~1 s;
+    the two agree to 1e-13 relative).  The arrays are shared: read-only."""
+    from scipy.special import roots_legendre
+
+    x, w = roots_legendre(int(nodes))
     x.flags.writeable = False
     w.flags.writeable = False
     return x, w

@@ -212,9 +212,8 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
       P(|w| > w) there.  Engine: chords of ln(−ln S) between neighbouring points of
       :func:`tail_grid`, pooled over the ``exact_seeds`` runs, at ``tail_time`` and per time,
       with their delta-method errors and the same chords of the exact S (z = difference /
-      error; the exact chords at the first time and at ``tail_time`` only), down to the
-      deepest point with ``min_clusters`` clusters beyond, and the ``deepest`` resolved
-      survival;
+      error), down to the deepest point with ``min_clusters`` clusters beyond, and the
+      ``deepest`` resolved survival with the exact one there;
     * ``mass``: the secondary small-μ fit of the mass law (:func:`small_mass_law` on the tables
       at ``fit_times``: A μ^a + B + C μ^{1/2}, expected a = −1/2);
     * ``energy``: E t^{2/3} per time, and the exponent of E ~ t^{z}: slope of ln E on ln t over
@@ -365,9 +364,9 @@ def _exact_runs(params, progress) -> dict:
             del s0
     per_time, vel_data, mass_data, tails = [], [], [], []
     j_tail = times.index(float(params["tail_time"]))
-    for j, c in enumerate(cmps):
+    for c in cmps:
         vel, mass, corr = c.velocity(), c.mass(), c.corrections()
-        tail = c.tail(exact=j in (0, j_tail))  # the exact tail where it is shown
+        tail = c.tail()
         z = (tail["beta"] - tail["beta_exact"]) / tail["beta_error"]
         per_time.append({
             "t": c.t, "clusters": int(round(np.sum(mass["observed"]))),
@@ -675,7 +674,11 @@ def _draw_window(ax, win, skew) -> None:
                     textcoords="offset points", xytext=(0, 6), ha="center", color=col,
                     fontsize=9, fontweight="bold")
     size = 12.0 * np.sqrt(win["masses"] / win["masses"].max())
-    ax.scatter(x, v, s=size**2, facecolors="none", edgecolors="k", lw=0.6, zorder=3)
+    ax.scatter(x, v, s=size**2, facecolors="none", edgecolors="k", lw=0.6, zorder=3,
+               label="cluster (area ∝ mass)")
+    ax.plot([], [], "-", color="C0", label="gradient > 0 (+)")
+    ax.plot([], [], "-", color="C3", label="gradient < 0 (−)")
+    ax.plot([], [], "-", color="C2", label="v(i): one step per cluster")
     for a in range(x.size):
         ax.plot([starts[a], ends[a]], [v[a] - shift] * 2, "-", color="C2", lw=1.5)
         if a + 1 < x.size:
@@ -692,6 +695,7 @@ def _draw_window(ax, win, skew) -> None:
                  f"v(i) steps; skewness (m={skew['scales'][q]}): v(x) {skew['vx'][q][0]:+.2f}, "
                  f"v(i) {skew['vi'][q][0]:+.2f}")
     ax.title.set_fontsize(8)
+    ax.legend(fontsize=6, loc="center right")
 
 
 register_plot(NAME, plot)
