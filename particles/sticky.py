@@ -1084,7 +1084,7 @@ class ExactLawComparison:
       from m = 1 to 8 M, M = (n² T₀ t²)^{1/3}; masses beyond go to the last bin), cluster counts
       taken as independent Poisson numbers (variance = expected count, checked against the
       scatter of independent runs in the comparison's tests); expected N/M ∫ F(μ) dμ over
-      [m_a − ½, m_b + ½]/M (:func:`exact_mass_density`, 12 nodes); bins with fewer than
+      [m_a − ½, m_b + ½]/M (:func:`exact_mass_density`, 8 nodes); bins with fewer than
       ``min_clusters`` expected clusters are merged with their neighbours.  dof = bins.
     * tail: S_k = (mass of the clusters with |w| > w_k)/N, variance Σ m²/N² over those
       clusters; the chord exponent between neighbours β_k = Δ ln(−ln S)/Δ ln w, its error by the
@@ -1202,7 +1202,7 @@ class ExactLawComparison:
         cuts = np.unique(np.round(np.geomspace(
             1, upper + 1, max(per_decade, int(per_decade * math.log10(upper + 1))) + 1)))
         edges = cuts - 0.5
-        fine = self.particles / mscale * _bin_integrals(exact_mass_density, edges / mscale)
+        fine = self.particles / mscale * _bin_integrals(exact_mass_density, edges / mscale, 8)
         starts = [0]
         acc = 0.0
         for i, x in enumerate(fine):  # merge bins with fewer than min_clusters expected
