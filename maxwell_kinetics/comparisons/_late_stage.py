@@ -57,14 +57,16 @@ def _times(lo, hi, count):
 #: * ``n`` particles, ``seeds`` seeds 0, 1, …, at ``times`` (two decades or more): energy,
 #:   S(k), kurtosis, skewness of the gradients, displacements and the zoomed profile;
 #: * ``exact_n`` particles, ``exact_seeds`` seeds 1000, 1001, …, at ``exact_times``: the
-#:   histograms against the exact laws (:class:`particles.sticky.ExactLawComparison`, clusters
-#:   counted only where at least ``min_clusters`` are expected), the tail survival on
+#:   histograms against the exact laws (:class:`particles.sticky.ExactLawComparison`; outer
+#:   bins merged until each holds ``min_clusters`` clusters, tail points resolved where that
+#:   many clusters lie beyond), the tail survival on
 #:   :func:`tail_grid` (``tail_w``: first point, last point, points per octave), its exponent
 #:   reported at ``tail_time``, and the secondary small-μ fit of the mass law on the tables at
 #:   ``fit_times`` (m ≥ ``fit_m_min``, μ ≤ ``fit_mu_max``: typical masses 460–2150, so that
 #:   m ≥ 10 still reaches μ ~ 0.005).  ``beta_curve``: the exact β(w) is evaluated on
 #:   ``count`` geometric points from ``lo`` to ``hi`` plus w = 1, 2, 3, 5, 10, 20, 30 up to
-#:   ``hi`` (about 0.2 s per point).
+#:   ``hi`` (about 0.1 s per point; the crossings of 2 and 2.5 are interpolated between them,
+#:   coarsely at the small size).
 _SHARED = {"porod_x": (3.0, 15.0), "k_max": 0.6, "fit_times": (1e4, 3e4, 1e5), "fit_m_min": 10,
            "fit_mu_max": 0.3, "tail_time": 1000.0, "tail_w": (0.5, 8.0, 3), "min_clusters": 25}
 PRESETS = {
