@@ -1,7 +1,9 @@
 """Comparison 9: the paper's late-stage figures at the paper's sizes, with the exact sticky gas
-(:mod:`particles.sticky`, SPEC §7) standing in for late MD — rescaled P(x), E ~ t^{−2/3}, the
-cluster-mass law m^{−1/2}, S(k) against k t^{2/3} with its Porod tail, the shocks of v(x) and
-v(i), and the velocity tail.  ``run`` computes, ``plot`` draws."""
+(:mod:`particles.sticky`) standing in for late MD, and the sticky gas against its exact late-time
+laws: the velocity law and the cluster-mass law as whole curves (χ² per time, the corrections to
+scaling shrinking with t), the local exponent β(w) of the velocity tail (engine and exact law),
+E ~ t^{−2/3}, S(k) against k t^{2/3} with its Porod tail, the shocks of v(x) and v(i), and the
+displacements against Chernoff's law.  ``run`` computes, ``plot`` draws."""
 
 from __future__ import annotations
 
@@ -15,17 +17,22 @@ from particles.observables import mean_sem, mean_sem_json, structure_factor
 from particles.progress import progress_bar
 from particles.sticky import (
     CHERNOFF_VARIANCE,
+    ExactLawComparison,
     chernoff_density,
     cluster_mass_distribution,
     displacement_scale,
     displacements,
+    exact_mass_density,
+    exact_moments,
+    exact_velocity_density,
+    exact_velocity_survival,
+    exact_velocity_tail_exponent,
     profile_x,
-    velocity_tail_exponent,
 )
+from particles.validation import InvalidArgumentError
 
 from .analysis import (
     binned_porod_fit,
-    block_means,
     coarse_increment_skewness,
     log_binned,
     porod_fit,
@@ -33,9 +40,9 @@ from .analysis import (
     velocity_on_grid,
 )
 from .base import Comparison, jsonable, preset, register_plot
-from .drawing import colors, panels
+from .drawing import colors
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "mass_density"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "mass_density", "small_mass_law", "tail_grid"]
 
 NAME = "late_stage"
 
@@ -44,28 +51,45 @@ def _times(lo, hi, count):
     return tuple(float(t) for t in np.round(np.geomspace(lo, hi, count), 3))
 
 
-#: ``times`` (t, density 1) span two decades or more; ``mass_t_min``: the cluster-mass law is
-#: fitted on the times t ≥ it (typical mass (n t)^{2/3} ≥ 20, so that 1 ≪ m ≪ (n t)^{2/3} has
-#: room); ``tail_time``: where the velocity tail is measured (early in the late stage: most
-#: clusters, so the deepest tail); ``tail_quantiles``: the upper-tail fractions of the global
-#: tail fit (the lowest holds ≥ 10 particles' worth of clusters at ``tail_time``).
-#: ``mass_n``, ``mass_seeds``, ``mass_times``: separate, later runs for the small-μ mass law
-#: (typical masses 460–2150, so that m ≥ ``mass_small_m_min`` = 10 still reaches μ ~ 0.005;
-#: the sticky gas costs the same at any t), fitted for μ ≤ ``mass_mu_max``.
-_SHARED = {"mass_t_min": 90.0, "mass_mu": (0.03, 0.3), "mass_m_min": 2,
-           "mass_times": (1e4, 3e4, 1e5), "mass_small_m_min": 10, "mass_mu_max": 0.3,
-           "porod_x": (3.0, 15.0), "k_max": 0.6, "tail_time": 10.0}
+#: Two sets of runs (density 1, Gaussian initial velocities of unit variance, so w = v t^{1/3}
+#: and μ = m / t^{2/3}):
+#:
+#: * ``n`` particles, ``seeds`` seeds 0, 1, …, at ``times`` (two decades or more): energy,
+#:   S(k), kurtosis, skewness of the gradients, displacements and the zoomed profile;
+#: * ``exact_n`` particles, ``exact_seeds`` seeds 1000, 1001, …, at ``exact_times``: the
+#:   histograms against the exact laws (:class:`particles.sticky.ExactLawComparison`; outer
+#:   bins merged until each holds ``min_clusters`` clusters, tail points resolved where that
+#:   many clusters lie beyond), the tail survival on
+#:   :func:`tail_grid` (``tail_w``: first point, last point, points per octave), its exponent
+#:   reported at ``tail_time``, and the secondary small-μ fit of the mass law on the tables at
+#:   ``fit_times`` (m ≥ ``fit_m_min``, μ ≤ ``fit_mu_max``: typical masses 460–2150, so that
+#:   m ≥ 10 still reaches μ ~ 0.005).  ``beta_curve``: the exact β(w) is evaluated on
+#:   ``count`` geometric points from ``lo`` to ``hi`` plus w = 1, 2, 3, 5, 10, 20, 30 up to
+#:   ``hi`` (about 0.1 s per point; the crossings of 2 and 2.5 are interpolated between them,
+#:   coarsely at the small size).
+_SHARED = {"porod_x": (3.0, 15.0), "k_max": 0.6, "fit_times": (1e4, 3e4, 1e5), "fit_m_min": 10,
+           "fit_mu_max": 0.3, "tail_time": 1000.0, "tail_w": (0.5, 8.0, 3), "min_clusters": 25}
 PRESETS = {
     "small": {**_SHARED, "n": 100_000, "seeds": 3, "times": _times(10.0, 1000.0, 9),
-              "mass_n": 4_000_000, "mass_seeds": 4,
-              "tail_quantiles": (1e-2, 1e-4), "x_edges": (-5.0, 5.0, 0.2)},
+              "exact_n": 2_000_000, "exact_seeds": 4,
+              "exact_times": (10.0, 1000.0, 1e4, 3e4, 1e5), "tail_w": (1.0, 8.0, 3),
+              "beta_curve": (1.0, 10.0, 2)},
     "default": {**_SHARED, "n": 1_000_000, "seeds": 4, "times": _times(10.0, 2000.0, 11),
-                "mass_n": 10_000_000, "mass_seeds": 8,
-                "tail_quantiles": (1e-2, 1e-5), "x_edges": (-5.0, 5.0, 0.1)},
+                "exact_n": 10_000_000, "exact_seeds": 8,
+                "exact_times": (10.0, 31.6, 100.0, 316.0, 1000.0, 1e4, 3e4, 1e5),
+                "beta_curve": (0.5, 30.0, 19)},
     "full": {**_SHARED, "n": 10_000_000, "seeds": 4, "times": _times(10.0, 5000.0, 13),
-             "mass_n": 10_000_000, "mass_seeds": 32,
-             "tail_quantiles": (1e-2, 1e-6), "x_edges": (-5.0, 5.0, 0.1)},
+             "exact_n": 10_000_000, "exact_seeds": 32,
+             "exact_times": (10.0, 31.6, 100.0, 316.0, 1000.0, 1e4, 3e4, 1e5),
+             "beta_curve": (0.5, 30.0, 25)},
 }
+
+
+def tail_grid(first: float, last: float, per_octave: int) -> np.ndarray:
+    """The velocities w_k = first · 2^{k/per_octave} ≤ last at which the tail survival
+    P(|w| > w_k) is counted (geometric, so that the chord exponents sit at even steps of ln w)."""
+    count = int(math.floor(per_octave * math.log2(last / first) + 1e-9)) + 1
+    return first * 2.0 ** (np.arange(count) / per_octave)
 
 
 def mass_density(masses_counts, times, length, mu_edges, m_min=1, *, errors=False):
@@ -75,8 +99,8 @@ def mass_density(masses_counts, times, length, mu_edges, m_min=1, *, errors=Fals
     clusters of mass m per unit length.  In each bin [a, b) of ``mu_edges``, with C_t the
     clusters and k_t the integers m ≥ ``m_min`` with a M ≤ m < b M at time t,
     Φ = Σ_t M² C_t / (L Σ_t k_t) (bins with no integer are NaN).  Σ_m m n(m) = n = 1 makes
-    ∫ μ Φ dμ time-independent in the scaling state; the sticky gas has Φ ~ μ^{−1/2} at small μ
-    (SPEC §7).
+    ∫ μ Φ dμ time-independent in the scaling state; the sticky gas has Φ → F(μ)
+    (:func:`particles.sticky.exact_mass_density`), ~ μ^{−1/2}/√(2π) at small μ.
 
     With ``errors=True`` it returns ``(Φ, σ, clusters)``: σ is the standard error of Φ with the
     cluster counts taken as independent Poisson numbers (var Σ_t M² C_t / L = Σ_t M⁴ C_t / L²),
@@ -164,50 +188,50 @@ def _corrected_chi2(mu, phi, err, a_) -> float:
     return float(np.sum((design @ coef - phi / err) ** 2))
 
 
-def _line_fit(x, y):
-    """Least-squares slope of ln y on ln x over the finite positive points (None below 3)."""
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    ok = np.isfinite(y) & (y > 0)
-    if ok.sum() < 3:
-        return None
-    return float(np.polyfit(np.log(x[ok]), np.log(y[ok]), 1)[0])
-
-
 def _mean_se(values):
     return mean_sem_json([x for x in values if x is not None])
 
 
 def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
     """Comparison 9: the late stage at the paper's sizes (N = 10⁵ small, 10⁶ default, 10⁷
-    full), with the exact sticky gas standing in for late MD (SPEC §7: from the same initial
-    state MD at r = 0.5, δ = 10⁻⁴ and the sticky gas agree within a few per cent, comparison 8).
-    Gaussian initial velocities of unit variance, uniform positions, density 1, one run per
-    seed; every number is mean ± standard error over the seeds (each run's own fit):
+    full), with the exact sticky gas standing in for late MD (from the same initial state MD at
+    r = 0.5, δ = 10⁻⁴ and the sticky gas agree within a few per cent, comparison 8), and the
+    sticky gas against its exact late-time laws (:data:`PRESETS` for the two sets of runs).
+    Every number is mean ± standard error over the seeds unless said otherwise:
 
+    * ``exact`` (the primary verdict): per time of ``exact_times``, χ² of the pooled
+      mass-weighted velocity histogram in w = v t^{1/3} against
+      :func:`particles.sticky.exact_velocity_density` and of the pooled cluster-mass
+      histogram in μ = m/t^{2/3} against :func:`particles.sticky.exact_mass_density`, with
+      their degrees of freedom (nothing is fitted) and the variance models of
+      :class:`particles.sticky.ExactLawComparison` (velocity: Σ m² over the clusters in a bin;
+      mass: Poisson); and the scale-free corrections to scaling E t^{2/3} and clusters ×
+      t^{2/3}/N against their exact limits.  Finite t is the only systematic difference, so
+      χ²/dof falls towards 1 as t grows;
+    * ``tail``: the local exponent β(w) = d ln(−ln P(|w| > w))/d ln w.  Exact: on the
+      ``beta_curve`` points (:func:`particles.sticky.exact_velocity_tail_exponent`), with the w
+      where β crosses 2 and 2.5 (cubic interpolation in ln w of those points) and the exact
+      P(|w| > w) there.  Engine: chords of ln(−ln S) between neighbouring points of
+      :func:`tail_grid`, pooled over the ``exact_seeds`` runs, at ``tail_time`` and per time,
+      with their delta-method errors and the same chords of the exact S (z = difference /
+      error), down to the deepest point with ``min_clusters`` clusters beyond, and the
+      ``deepest`` resolved survival with the exact one there;
+    * ``mass``: the secondary small-μ fit of the mass law (:func:`small_mass_law` on the tables
+      at ``fit_times``: A μ^a + B + C μ^{1/2}, expected a = −1/2);
     * ``energy``: E t^{2/3} per time, and the exponent of E ~ t^{z}: slope of ln E on ln t over
-      all ``times`` (two decades or more), with the window ``drift`` (half the difference of the
-      slopes on the two halves) reported beside it;
-    * ``mass``: the scaled cluster-mass density Φ(μ) = M² n(m, t), μ = m/M, M = t^{2/3}
-      (:func:`mass_density`, 10 log bins per decade).  ``window_exponent``: the slope of a
-      pure power law per seed over μ ∈ ``mass_mu``, pooled over times t ≥ ``mass_t_min``,
-      m ≥ ``mass_m_min`` (measured at N = 10⁶, 4 seeds: −0.431 ± 0.008: not asymptotic).
-      ``small_mu`` and ``exponent``: the separate late runs of :func:`_small_mass_runs`, fitted
-      by :func:`small_mass_law` (expected −1/2 with corrections to scaling);
+      all ``times``, with the window ``drift`` (half the difference of the slopes on the two
+      halves) beside it;
     * ``structure``: S(k) of v(i) in label order (:func:`particles.observables.structure_factor`,
       as for MD) against k t^{2/3}; the collapse spread (rms over x ∈ [0.5, porod_x[1]] of the
       std over times of ln S) at z = 2/3 and unscaled; Porod slope of ln S on ln k over
       x ∈ ``porod_x``, k ≤ ``k_max`` (:func:`.analysis.porod_fit`) per time (expected −2);
     * ``kurtosis``: ⟨x⁴⟩ of x = v/√E per time (Gaussian 3; Fig. 1b: late P(x) is
-      Gaussian-like), the histograms at the first and last time in the figure;
+      Gaussian-like);
     * ``skewness``: the sign of the large gradients of v(i) and of v(x) (particles' velocities
       interpolated on a grid of spacing L/N, :func:`.analysis.velocity_on_grid`) at the last
       time, raw and coarse-grained over m = 1, 4, 16, … ≤ N/64
       (:func:`.analysis.coarse_increment_skewness`; paper Fig. 4: v(x) negative, v(i)
-      positive);
-    * ``tail``: the local exponent β of P(|v| > w) ~ exp(−c w^β) at ``tail_time``
-      (:func:`particles.sticky.velocity_tail_exponent`) over ``tail_quantiles`` and per decade
-      of quantile; the sticky gas tends to β = 3 (Frachebourg 1999) only for N far beyond
-      these sizes (SPEC §7: 1.2–1.7 at ~10⁴ clusters);
+      positive); the figure shows a window of a few clusters of seed 0;
     * ``displacement``: each particle's displacement D since t = 0 at the last time, as
       z = D / (b t^{2/3}) (:func:`particles.sticky.displacement_scale`): ⟨z²⟩ per seed against
       Var Z = 0.26356 of Chernoff's law, the exact large-t limit, and the histogram of z
@@ -215,33 +239,34 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     """
     start = time.perf_counter()
     params = preset(PRESETS, size, overrides)
+    main = _main_runs(params, progress)
+    exact = _exact_runs(params, progress)
+    summary = {"parameters": jsonable(params),
+               "model": "exact sticky gas standing in for late MD",
+               **main["summary"], **exact["summary"], "seconds": time.perf_counter() - start}
+    return Comparison(NAME, summary, {**main["data"], **exact["data"]})
+
+
+def _main_runs(params, progress) -> dict:
+    """The runs of ``n`` particles at ``times`` (:func:`run`: energy, structure, kurtosis,
+    skewness, displacement, and the zoomed window of seed 0 at the last time)."""
     n, times = int(params["n"]), np.asarray(params["times"], dtype=float)
     seeds = tuple(range(int(params["seeds"])))
     engine = get_model("sticky").build({"n": n, "density": 1.0, "initial": "gaussian"})
     length = engine.params.length
-    lo, hi, step = params["x_edges"]
-    edges = np.round(np.arange(lo, hi + 0.5 * step, step), 12)
     nt = times.size
     energy = np.empty((len(seeds), nt))
     kurt = np.empty_like(energy)
     clusters = np.empty_like(energy)
     sb_sum = None  # log-binned S(k) summed over seeds, per time (binning is linear)
-    j_tail = int(np.argmin(np.abs(times - params["tail_time"])))
     porod_seed = [[None] * nt for _ in seeds]
-    hist = np.zeros((2, edges.size - 1))
-    mass_tables = [[] for _ in seeds]
-    mu_edges = 10.0 ** np.arange(-2.0, 1.01, 0.1)
-    mass_times = times[times >= params["mass_t_min"]]
     scales = profile_scales(n)
     skew = {"vi": [], "vx": []}
-    tail_rows, profile = [], {}
+    window = {}
     scale = displacement_scale(1.0, 1.0)  # D / t^{2/3} → scale · Z (density 1, unit variance)
     z_edges = np.round(np.arange(-3.0, 3.0 + 1e-9, 0.1), 12)
     disp_hist = np.zeros(z_edges.size - 1)
     disp_var = []
-    decades = np.geomspace(params["tail_quantiles"][0], params["tail_quantiles"][1],
-                           round(math.log10(params["tail_quantiles"][0]
-                                            / params["tail_quantiles"][1])) + 1)
     with progress_bar(len(seeds) * nt, f"sticky N={n}", "time", enabled=progress) as bar:
         for i, seed in enumerate(seeds):
             s0 = engine.initial_state(np.random.default_rng(seed))
@@ -259,15 +284,6 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
                 sb_sum[j] += sb
                 fit = porod_fit(k, s, t, 2.0 / 3.0, params["porod_x"], params["k_max"])
                 porod_seed[i][j] = None if fit is None else fit[0]
-                if j in (0, nt - 1):
-                    hist[0 if j == 0 else 1] += np.histogram(v / math.sqrt(e), edges)[0]
-                if t >= params["mass_t_min"]:
-                    mass_tables[i].append(cluster_mass_distribution(st))
-                if j == j_tail:
-                    beta = velocity_tail_exponent(v, quantiles=tuple(params["tail_quantiles"]))
-                    local = [velocity_tail_exponent(v, quantiles=(a, b))
-                             for a, b in zip(decades[:-1], decades[1:], strict=True)]
-                    tail_rows.append((beta, local, float(t)))
                 if j == nt - 1:
                     z = displacements(st) / (scale * float(t) ** (2.0 / 3.0))
                     disp_var.append(float(np.mean(z * z)))
@@ -277,12 +293,8 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
                     skew["vi"].append([coarse_increment_skewness(v, m) for m in scales])
                     skew["vx"].append([coarse_increment_skewness(vx, m) for m in scales])
                     if i == 0:
-                        show = min(5000, n)
-                        profile = {"vi": np.array(v[:show]), "vx": vx[:show],
-                                   "means_vi": block_means(v[:show], 64),
-                                   "means_vx": block_means(vx[:show], 64)}
+                        window = _cluster_window(st)
                 bar.update(1)
-    # energy
     lt, le = np.log(times), np.log(energy)
     slopes = [float(np.polyfit(lt, row, 1)[0]) for row in le]
     half = nt // 2
@@ -293,84 +305,164 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
         "times": times.tolist(), "e_t23": [_mean_se(et[:, j]) for j in range(nt)],
         "exponent": _mean_se(slopes), "per_seed": slopes, "drift": _mean_se(drift)[0],
         "fit_range": [float(times[0]), float(times[-1])], "expected": -2.0 / 3.0,
+        "exact_limit": exact_moments()["velocity_variance"],
         "clusters": clusters.mean(axis=0).tolist(),
     }
-    # cluster masses
-    mu_mid = np.sqrt(mu_edges[:-1] * mu_edges[1:])
-    phi = np.array([mass_density(tab, mass_times, length, mu_edges, params["mass_m_min"])
-                    for tab in mass_tables])
-    win = (mu_mid >= params["mass_mu"][0]) & (mu_mid <= params["mass_mu"][1])
-    mslopes = [_line_fit(mu_mid[win], row[win]) for row in phi]
-    small = _small_mass_runs(params, progress)
-    mass_out = {"window_exponent": _mean_se(mslopes), "per_seed": mslopes, "expected": -0.5,
-                "mu_window": list(params["mass_mu"]), "times": mass_times.tolist(),
-                "m_min": int(params["mass_m_min"]), "small_mu": small["summary"],
-                "exponent": small["summary"]["exponent"]}
-    # structure factor
-    sb_mean = sb_sum / len(seeds)
-    structure_out = _structure_numbers(kb, sb_mean, times, porod_seed, params)
-    # kurtosis, skewness, tail
+    structure_out = _structure_numbers(kb, sb_sum / len(seeds), times, porod_seed, params)
     kurt_out = {"times": times.tolist(), "kurtosis": [_mean_se(kurt[:, j]) for j in range(nt)],
                 "gaussian": 3.0}
     sk = {key: np.array(rows) for key, rows in skew.items()}
     skew_out = {"time": float(times[-1]), "scales": list(scales),
                 **{key: [_mean_se(sk[key][:, q]) for q in range(len(scales))] for key in sk}}
-    betas = [b[0][0] for b in tail_rows]
-    local = np.array([[x[0] for x in b[1]] for b in tail_rows])
-    w_local = [float(np.sqrt(x[2][0] * x[2][1])) for x in tail_rows[0][1]]
-    tail_out = {"time": tail_rows[0][2], "quantiles": list(params["tail_quantiles"]),
-                "beta": _mean_se(betas), "per_seed": betas,
-                "fit_error_seed0": tail_rows[0][0][1],
-                "w_range_seed0": list(tail_rows[0][0][2]),
-                "local": {"quantiles": [[float(a), float(b)] for a, b in
-                                        zip(decades[:-1], decades[1:], strict=True)],
-                          "w": w_local,
-                          "beta": [_mean_se(local[:, q]) for q in range(local.shape[1])]},
-                "sticky_gas_limit": 3.0, "gaussian": 2.0}
     disp_out = {"time": float(times[-1]), "scale": scale, "variance": _mean_se(disp_var),
                 "per_seed": disp_var, "chernoff_variance": CHERNOFF_VARIANCE}
-    summary = {"parameters": jsonable(params), "model": "exact sticky gas standing in for late MD",
-               "energy": energy_out, "mass": mass_out, "structure": structure_out,
-               "kurtosis": kurt_out, "skewness": skew_out, "tail": tail_out,
-               "displacement": disp_out,
-               "seconds": time.perf_counter() - start}
-    data = {"times": times, "e_t23": et, "mu": mu_mid, "phi": phi, **small["data"],
-            "kb": kb, "sb": sb_mean, "x_edges": edges,
-            "hist": hist / (hist.sum(axis=1, keepdims=True) * step), "profile": profile,
-            "z_edges": z_edges, "z_hist": disp_hist / (disp_hist.sum() * 0.1),
-            "length": length, "n": n}
-    return Comparison(NAME, summary, data)
+    return {"summary": {"energy": energy_out, "structure": structure_out, "kurtosis": kurt_out,
+                        "skewness": skew_out, "displacement": disp_out},
+            "data": {"times": times, "e_t23": et, "kb": kb, "sb": sb_sum / len(seeds),
+                     "window": window, "z_edges": z_edges,
+                     "z_hist": disp_hist / (disp_hist.sum() * 0.1), "length": length, "n": n}}
 
 
-def _small_mass_runs(params, progress) -> dict:
-    """The small-μ cluster-mass law from separate late runs (``mass_n`` particles,
-    ``mass_seeds`` seeds 1000, 1001, …, times ``mass_times``, density 1): Φ pooled over runs
-    and times with Poisson errors (:func:`mass_density`), masses m ≥ ``mass_small_m_min``,
-    fitted by :func:`small_mass_law` for μ ≤ ``mass_mu_max``, plus the pure power law's slope
-    on three windows of μ, to show it steepen towards −1/2 as μ → 0."""
-    n, times = int(params["mass_n"]), [float(t) for t in params["mass_times"]]
+def _cluster_window(state, count: int = 8) -> dict:
+    """A window of ``count`` consecutive clusters from the middle of ``state`` (plus one on each
+    side, for the gradients at the ends): their first labels, masses, positions (unwrapped, in
+    the ring's order) and velocities, and the time."""
+    k = state.starts.size
+    lo = max(0, k // 2 - count // 2 - 1)
+    hi = min(k, lo + count + 2)
+    sel = slice(lo, hi)
+    return {"starts": state.starts[sel].copy(), "masses": state.masses[sel].copy(),
+            "positions": state.positions[sel].copy(),
+            "velocities": state.cluster_velocities[sel].copy(), "time": float(state.time),
+            "spacing": state.length / state.velocities.size}
+
+
+def _exact_runs(params, progress) -> dict:
+    """The runs of ``exact_n`` particles at ``exact_times`` against the exact laws, the tail
+    exponent, and the secondary small-μ fit (:func:`run`)."""
+    n, times = int(params["exact_n"]), [float(t) for t in params["exact_times"]]
+    fit_times = [float(t) for t in params["fit_times"]]
+    if not set(fit_times) <= set(times) or float(params["tail_time"]) not in times:
+        raise InvalidArgumentError("fit_times", fit_times,
+                                   f"times among exact_times {times} (tail_time too)")
     engine = get_model("sticky").build({"n": n, "density": 1.0, "initial": "gaussian"})
+    grid = tail_grid(*params["tail_w"])
+    mc = int(params["min_clusters"])
+    cmps = [ExactLawComparison(t, tail_w=grid, min_clusters=mc) for t in times]
     tables, table_times = [], []
-    with progress_bar(int(params["mass_seeds"]) * len(times), f"sticky masses N={n}", "time",
+    seeds = range(1000, 1000 + int(params["exact_seeds"]))
+    with progress_bar(len(seeds) * len(times), f"sticky exact laws N={n}", "time",
                       enabled=progress) as bar:
-        for seed in range(1000, 1000 + int(params["mass_seeds"])):
-            state = engine.initial_state(np.random.default_rng(seed))
-            for t in times:
-                tables.append(cluster_mass_distribution(engine.advance(state, t)))
-                table_times.append(t)
+        for seed in seeds:
+            s0 = engine.initial_state(np.random.default_rng(seed))
+            for j, t in enumerate(times):
+                state = engine.advance(s0, t)
+                cmps[j].add(state)
+                if t in fit_times:
+                    tables.append(cluster_mass_distribution(state))
+                    table_times.append(t)
+                del state
                 bar.update(1)
+            del s0
+    per_time, vel_data, mass_data, tails = [], [], [], []
+    j_tail = times.index(float(params["tail_time"]))
+    for c in cmps:
+        vel, mass, corr = c.velocity(), c.mass(), c.corrections()
+        tail = c.tail()
+        z = (tail["beta"] - tail["beta_exact"]) / tail["beta_error"]
+        per_time.append({
+            "t": c.t, "clusters": int(round(np.sum(mass["observed"]))),
+            "velocity": {"chi2": vel["chi2"], "dof": vel["dof"],
+                         "chi2_dof": vel["chi2"] / vel["dof"]},
+            "mass": {"chi2": mass["chi2"], "dof": mass["dof"],
+                     "chi2_dof": mass["chi2"] / mass["dof"]},
+            "energy": corr["energy"], "cluster_number": corr["clusters"],
+            "tail": {"beta_w": tail["beta_w"].tolist(), "beta": tail["beta"].tolist(),
+                     "beta_error": tail["beta_error"].tolist(),
+                     "beta_exact": tail["beta_exact"].tolist(), "z": z.tolist(),
+                     "deepest": tail["deepest"]},
+        })
+        vel_data.append({"density": vel["density"], "error": vel["density_error"]})
+        mass_data.append({"mu": mass["mu"], "density": mass["density"],
+                          "error": mass["density_error"], "exact": mass["exact"]})
+        tails.append(tail)
+    exact_tail = _exact_tail(params["beta_curve"])
+    edges = cmps[0].w_edges
+    w_fine = np.linspace(-4.0, 4.0, 49)
+    mu_fine = np.geomspace(1e-3, 6.0, 80)
+    small = _small_mass_fit(tables, table_times, engine.params.length, params)
+    summary = {
+        "exact": {
+            "n": n, "seeds": len(seeds), "times": times, "per_time": per_time,
+            "variance_models": "velocity: Σ m² over the clusters in a bin (clusters independent);"
+                               " mass: Poisson (expected count); dof = bins, nothing fitted",
+            "limits": exact_moments(),
+        },
+        "tail": {"time": times[j_tail], "grid": grid.tolist(), "min_clusters": mc,
+                 "engine": per_time[j_tail]["tail"], "exact": exact_tail["summary"],
+                 "sticky_gas_limit": 3.0, "gaussian": 2.0},
+        "mass": {"secondary_fit": small["summary"], "exponent": small["summary"]["exponent"],
+                 "expected": -0.5},
+    }
+    data = {
+        "exact_times": np.asarray(times), "w_edges": edges, "w_fine": w_fine,
+        "p_fine": exact_velocity_density(w_fine), "mu_fine": mu_fine,
+        "f_fine": exact_mass_density(mu_fine), "velocity_hist": vel_data, "mass_hist": mass_data,
+        "tail_w": grid, "tail_survival": [t_["survival"] for t_ in tails],
+        "tail_error": [t_["survival_error"] for t_ in tails],
+        "tail_exact": [t_["exact_survival"] for t_ in tails],
+        "beta_curve_w": exact_tail["w"], "beta_curve": exact_tail["beta"], **small["data"],
+    }
+    return {"summary": summary, "data": data}
+
+
+#: Values of w at which the exact β is always reported (up to ``beta_curve``'s last point).
+_BETA_AT = (1.0, 2.0, 3.0, 5.0, 10.0, 20.0, 30.0)
+
+
+def _exact_tail(curve) -> dict:
+    """The exact β(w) on the ``beta_curve`` points (:data:`PRESETS`), its crossings of 2 and
+    2.5 (cubic spline of β in ln w; β increases with w) and the exact P(|w| > w) there."""
+    from scipy.interpolate import CubicSpline
+
+    lo, hi, count = float(curve[0]), float(curve[1]), int(curve[2])
+    w = np.unique(np.concatenate([np.geomspace(lo, hi, count),
+                                  [x for x in _BETA_AT if lo <= x <= hi]]))
+    beta = exact_velocity_tail_exponent(w)
+    spline = CubicSpline(np.log(w), beta)
+    crossings = {}
+    for level in (2.0, 2.5):
+        roots = [r for r in spline.solve(level, extrapolate=False) if np.isfinite(r)]
+        if roots:
+            wc = float(np.exp(roots[0]))
+            crossings[f"{level:g}"] = {"w": wc,
+                                       "survival": float(2.0 * exact_velocity_survival(wc))}
+        else:
+            crossings[f"{level:g}"] = None
+    at = {f"{x:g}": float(beta[np.flatnonzero(w == x)[0]]) for x in _BETA_AT if lo <= x <= hi}
+    return {"w": w, "beta": beta,
+            "summary": {"w": w.tolist(), "beta": beta.tolist(), "crossings": crossings,
+                        "beta_at": at, "limit": 3.0}}
+
+
+def _small_mass_fit(tables, table_times, length, params) -> dict:
+    """The secondary small-μ fit of the cluster-mass law: Φ pooled over the runs and the
+    ``fit_times`` with Poisson errors (:func:`mass_density`), masses m ≥ ``fit_m_min``,
+    fitted by :func:`small_mass_law` for μ ≤ ``fit_mu_max``, plus the pure power law's slope
+    on three windows of μ, to show it steepen towards −1/2 as μ → 0.  (The whole curve is
+    compared with the exact law in ``exact``; this fit only tests the exponent.)"""
     edges = 10.0 ** np.arange(-3.5, 0.51, 0.1)
     mu = np.sqrt(edges[:-1] * edges[1:])
-    phi, err, counted = mass_density(tables, table_times, engine.params.length, edges,
-                                     int(params["mass_small_m_min"]), errors=True)
-    fits = small_mass_law(mu, phi, err, counted, float(params["mass_mu_max"]))
+    phi, err, counted = mass_density(tables, table_times, length, edges,
+                                     int(params["fit_m_min"]), errors=True)
+    fits = small_mass_law(mu, phi, err, counted, float(params["fit_mu_max"]))
     windows = {}
     for lo, hi in ((3e-3, 3e-2), (1e-2, 1e-1), (3e-2, 3e-1)):
         sub = small_mass_law(mu, phi, err, counted, hi, mu_min=lo, models=("power",))
         windows[f"{lo:g}-{hi:g}"] = None if sub["power"] is None else sub["power"]["a"]
-    summary = {"n": n, "seeds": int(params["mass_seeds"]), "times": times,
-               "m_min": int(params["mass_small_m_min"]), "mu_max": float(params["mass_mu_max"]),
-               "fits": fits, "window_slopes": windows,
+    summary = {"n": int(params["exact_n"]), "seeds": int(params["exact_seeds"]),
+               "times": sorted(set(table_times)), "m_min": int(params["fit_m_min"]),
+               "mu_max": float(params["fit_mu_max"]), "fits": fits, "window_slopes": windows,
                "exponent": fits["corrected"]["a"] if fits["corrected"] else [None, None]}
     return {"summary": summary,
             "data": {"mass_mu": mu, "mass_phi": phi, "mass_err": err, "mass_counted": counted}}
@@ -403,115 +495,209 @@ def _structure_numbers(kb, sb_mean, times, porod_seed, params) -> dict:
     }
 
 
+def _grid(ax):
+    """Eight axes in two rows of four (a new figure), or the eight axes given."""
+    if ax is None:
+        import matplotlib
+
+        matplotlib.use("Agg", force=False)
+        import matplotlib.pyplot as plt
+
+        fig, axes = plt.subplots(2, 4, figsize=(19.0, 9.0))
+        return fig, list(axes.ravel()), True
+    axes = list(np.ravel(ax))
+    if len(axes) != 8:
+        raise InvalidArgumentError("ax", f"{len(axes)} axes", "8 axes (two rows of four)")
+    return axes[0].figure, axes, False
+
+
+def _shown_times(times) -> list[int]:
+    """Indices of the first, a middle and the last time."""
+    k = len(times)
+    return sorted({0, k // 2, k - 1})
+
+
 def plot(c, ax=None):
-    """Seven panels: rescaled P(x) (first and last time, Gaussian), E t^{2/3} against t, the
-    scaled cluster-mass density with its fits, S(k) against k t^{2/3} with the Porod fit and
-    k⁻², the profiles v(i) and v(x) of seed 0 at the last time (first 5000 points), the
-    skewness of their coarse-grained increments, the local tail exponent, and the displacements
-    against Chernoff's density.  Every title says that this is the sticky gas standing in for
-    late MD."""
+    """Two rows of four panels.  Top: the velocity law in w = v t^{1/3} and the cluster-mass
+    law in μ = m/t^{2/3} at three times against the exact curves, the local tail exponent β(w)
+    (exact, and the engine's chords at the first time and at ``tail_time``), and χ²/dof
+    against t.  Bottom: E t^{2/3} against t with its exact limit, S(k) against k t^{2/3} with
+    the Porod fit, a zoomed window of a few clusters (v(x) as ramps between clusters, v(i) as
+    steps, the sign of each gradient marked), and the displacements against Chernoff's
+    density.  Every panel is the sticky gas standing in for late MD."""
     d, s = c.data, c.summary
-    own = ax is None
-    fig, axes = panels(7, ax, width=4.0, height=4.0)
-    a, b, m_ax, sk_ax, pr, tl, dz = axes
-    n = d["n"]
-    tag = f"sticky gas for late MD, N={n:.0e}"
-    centres = 0.5 * (d["x_edges"][:-1] + d["x_edges"][1:])
-    times = d["times"]
-    for row, t, style in ((0, times[0], "C0."), (1, times[-1], "C3-")):
-        a.semilogy(centres, np.where(d["hist"][row] > 0, d["hist"][row], np.nan), style,
-                   ms=3, label=f"t = {t:g}")
-    a.semilogy(centres, np.exp(-centres**2 / 2) / math.sqrt(2 * math.pi), "k:", label="Gaussian")
-    kur = s["kurtosis"]["kurtosis"][-1][0]
-    a.set(xlabel="x = v/√E", ylabel="P(x)", ylim=(1e-6, 1),
-          title=f"Fig. 1b-like: {tag}\nkurtosis at t={times[-1]:g}: {kur:.2f} (Gaussian 3)")
-    a.legend(fontsize=7)
-    et = d["e_t23"]
-    b.errorbar(times, et.mean(axis=0),
-               yerr=mean_sem(et, axis=0)[1] if et.shape[0] > 1 else None,
-               fmt="o-", ms=3, capsize=2)
-    ex = s["energy"]["exponent"]
-    b.set(xscale="log", xlabel="t", ylabel="E t^(2/3)",
-          title=f"E ~ t^z, z = {ex[0]:.4f} ± {ex[1] or 0:.4f}\n{tag}")
-    mu, phi = d["mu"], d["phi"]
-    finite = np.isfinite(phi).all(axis=0)
-    ph = np.full(mu.size, np.nan)
-    ph[finite] = phi[:, finite].mean(axis=0)
-    m_ax.loglog(mu, ph, "o", ms=3, mfc="none", label=f"t ≤ {times[-1]:g}, N={n:.0e}")
-    sm = s["mass"]["small_mu"]
-    mm, mp, me = d["mass_mu"], d["mass_phi"], d["mass_err"]
-    shown = np.isfinite(mp) & (d["mass_counted"] >= 50)
-    m_ax.errorbar(mm[shown], mp[shown], yerr=me[shown], fmt="C3.", ms=3, capsize=0,
-                  label=f"t = {sm['times'][0]:g}…{sm['times'][-1]:g}, N={sm['n']:.0e}, "
-                        f"m ≥ {sm['m_min']}")
-    fit = sm["fits"]["corrected"]
-    if fit is not None:
-        grid = np.geomspace(*sm["fits"]["mu_range"], 60)
-        m_ax.loglog(grid, MASS_MODELS["corrected"][0](grid, *fit["parameters"]), "k-", lw=0.8,
-                    label="A μ^a + B + C μ^(1/2)")
-        a0, amp = -0.5, fit["parameters"][1]
-        m_ax.loglog(grid, amp * grid**a0, "k--", lw=0.8, label="A μ^(-1/2)")
+    fig, axes, own = _grid(ax)
+    vel_ax, mass_ax, beta_ax, chi_ax, e_ax, sk_ax, zoom_ax, dz = axes
+    ex = s["exact"]
+    times = d["exact_times"]
+    shown = _shown_times(times)
+    cols = colors(len(shown))
+    tag = f"sticky gas, N={ex['n']:.0e} × {ex['seeds']}"
+    # velocity law
+    edges = d["w_edges"]
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    for col, j in zip(cols, shown, strict=True):
+        h = d["velocity_hist"][j]
+        ok = h["density"] > 0
+        vel_ax.errorbar(centres[ok], h["density"][ok], yerr=h["error"][ok], fmt="o", ms=3,
+                        color=col, capsize=0,
+                        label=f"t = {times[j]:g}: χ²/dof = "
+                              f"{ex['per_time'][j]['velocity']['chi2_dof']:.2f}")
+    vel_ax.semilogy(d["w_fine"], d["p_fine"], "k-", lw=1, label="exact P(w)")
+    var = ex["limits"]["velocity_variance"]
+    vel_ax.semilogy(d["w_fine"], np.exp(-d["w_fine"] ** 2 / (2 * var)) / math.sqrt(2 * math.pi
+                                                                                    * var),
+                    "k:", lw=0.8, label="Gaussian, same variance")
+    vel_ax.set(xlabel="w = v t^(1/3)", ylabel="P(w), particles", ylim=(1e-6, 1.5),
+               title=f"velocity law against the exact one\n{tag}")
+    vel_ax.legend(fontsize=7, loc="lower center")
+    # mass law
+    for col, j in zip(cols, shown, strict=True):
+        h = d["mass_hist"][j]
+        ok = h["density"] > 0
+        mass_ax.errorbar(h["mu"][ok], h["density"][ok], yerr=h["error"][ok], fmt="o", ms=3,
+                         color=col, capsize=0,
+                         label=f"t = {times[j]:g}: χ²/dof = "
+                               f"{ex['per_time'][j]['mass']['chi2_dof']:.2f}")
+    mass_ax.loglog(d["mu_fine"], d["f_fine"], "k-", lw=1, label="exact F(μ)")
+    mass_ax.loglog(d["mu_fine"], d["mu_fine"] ** -0.5 / math.sqrt(2 * math.pi), "k--", lw=0.7,
+                   label="μ^(-1/2)/√(2π)")
     mx = s["mass"]["exponent"]
-    m_ax.set(xlabel="μ = m / t^(2/3)", ylabel="t^(4/3) n(m, t)",
-             title=f"cluster masses: a = {mx[0]:.3f} ± {mx[1] or 0:.3f} (expected −1/2)\n{tag}")
-    m_ax.legend(fontsize=7)
-    cols = colors(len(times))
-    for j, t in enumerate(times):
-        sk_ax.loglog(d["kb"] * t ** (2 / 3), d["sb"][j], "-", lw=0.8, color=cols[j],
-                     label=f"t = {t:g}" if j in (0, len(times) - 1) else None)
+    mass_ax.set(xlabel="μ = m / t^(2/3)", ylabel="F(μ) = t^(4/3) clusters(m)/N",
+                ylim=(1e-5, 30),
+                title=f"cluster-mass law against the exact one\n(secondary fit: a = "
+                      f"{mx[0]:.3f} ± {mx[1] or 0:.3f}, expected −1/2)")
+    mass_ax.legend(fontsize=7, loc="lower left")
+    # tail exponent
+    tail = s["tail"]
+    beta_ax.semilogx(d["beta_curve_w"], d["beta_curve"], "k-", lw=1, label="exact β(w)")
+    j_tail = int(np.flatnonzero(times == tail["time"])[0])
+    for j, style in ((0, "C1s"), (j_tail, "C3o")):
+        e = ex["per_time"][j]["tail"]
+        b = np.asarray(e["beta"], float)
+        ok = np.isfinite(b)
+        beta_ax.errorbar(np.asarray(e["beta_w"])[ok], b[ok],
+                         yerr=np.asarray(e["beta_error"])[ok], fmt=style, ms=4, capsize=2,
+                         label=f"engine, t = {times[j]:g}")
+    beta_ax.axhline(3.0, color="k", ls="--", lw=0.8, label="limit 3")
+    beta_ax.axhline(2.0, color="k", ls=":", lw=0.8, label="Gaussian 2")
+    lines = []
+    for key, cross in tail["exact"]["crossings"].items():
+        if cross is not None:
+            beta_ax.plot([cross["w"]], [float(key)], "kx")
+            lines.append(f"β = {key} at w = {cross['w']:.2f} (P = {cross['survival']:.0e})")
+    deep = tail["engine"]["deepest"]
+    beta_ax.set(xlabel="w", ylabel="β = d ln(−ln P(|w|>w)) / d ln w", ylim=(1.0, 3.2),
+                title=f"velocity tail: deepest resolved P = {deep['survival']:.0e} "
+                      f"at w = {deep['w']:.2f}\n" + "; ".join(lines))
+    beta_ax.title.set_fontsize(8)
+    beta_ax.legend(fontsize=7, loc="lower right")
+    # chi2 against t
+    for key, style in (("velocity", "C0o-"), ("mass", "C3s-")):
+        vals = [row[key]["chi2_dof"] for row in ex["per_time"]]
+        chi_ax.loglog(times, vals, style, ms=4, label=f"{key} law")
+    chi_ax.axhline(1.0, color="k", ls=":", lw=0.8)
+    chi_ax.set(xlabel="t", ylabel="χ²/dof against the exact law",
+               title=f"corrections to scaling shrink with t\n{tag}")
+    chi_ax.legend(fontsize=7)
+    # energy
+    et = d["e_t23"]
+    e_ax.errorbar(d["times"], et.mean(axis=0),
+                  yerr=mean_sem(et, axis=0)[1] if et.shape[0] > 1 else None,
+                  fmt="o-", ms=3, capsize=2, label=f"N={d['n']:.0e}")
+    ev = np.array([row["energy"]["value"][0] for row in ex["per_time"]])
+    ee = np.array([row["energy"]["value"][1] or 0.0 for row in ex["per_time"]])
+    e_ax.errorbar(times, ev, yerr=ee, fmt="s", ms=3, capsize=2, label=f"N={ex['n']:.0e}")
+    e_ax.axhline(var, color="k", ls="--", lw=0.8, label=f"exact limit {var:.4f}")
+    z = s["energy"]["exponent"]
+    e_ax.set(xscale="log", xlabel="t", ylabel="E t^(2/3)",
+             title=f"E ~ t^z, z = {z[0]:.4f} ± {z[1] or 0:.4f}")
+    e_ax.legend(fontsize=7)
+    # structure factor
+    mt = d["times"]
+    kcols = colors(len(mt))
+    for j, t in enumerate(mt):
+        sk_ax.loglog(d["kb"] * t ** (2 / 3), d["sb"][j], "-", lw=0.8, color=kcols[j],
+                     label=f"t = {t:g}" if j in (0, len(mt) - 1) else None)
     st_ = s["structure"]
     fits = st_["porod_fit_of_mean"]
     jl = max((j for j, f in enumerate(fits) if f is not None), default=None)
     if jl is not None:
         slope, icpt, k0, k1 = fits[jl]
         kl = np.array([k0, k1])
-        t = times[jl]
+        t = mt[jl]
         sk_ax.loglog(kl * t ** (2 / 3), np.exp(icpt) * kl**slope, "r-", lw=2.5,
                      label=f"fit t={t:g}: slope {slope:.2f}")
         sk_ax.loglog(kl * t ** (2 / 3), 0.3 * np.exp(icpt) * kl[0] ** (slope + 2) * kl**-2.0,
                      "k:", label="k⁻²")
     sk_ax.axvspan(*st_["porod_window"]["x"], color="0.9", zorder=0)
-    sk_ax.set(xlabel="k t^(2/3)", ylabel="S(k)",
-              title=f"S(k) of v(i): spread {st_['collapse_spread_at_z']:.2f} "
-              f"(unscaled {st_['collapse_spread_unscaled']:.2f})\n{tag}")
+    sk_ax.set(xlabel="k t^(2/3)", ylabel="S(k) of v(i)",
+              title=f"S(k): spread {st_['collapse_spread_at_z']:.2f} "
+                    f"(unscaled {st_['collapse_spread_unscaled']:.2f})")
     sk_ax.legend(fontsize=6, loc="lower left")
-    p = d["profile"]
-    if p:
-        xs = np.arange(p["vi"].size)
-        pr.plot(xs, p["vi"], "-", lw=0.4, color="C2", alpha=0.7, label="v(i) (label)")
-        pr.plot(xs, p["vx"] + 3 * np.std(p["vi"]), "-", lw=0.4, color="C0", alpha=0.7,
-                label="v(x) (grid L/N), shifted")
-        sk = s["skewness"]
-        q = min(2, len(sk["scales"]) - 1)  # coarse-grained over 16 points where possible
-        pr.set(xlabel="label i / grid point", ylabel="v",
-               title=f"Fig. 4-like, t={sk['time']:g}: skewness (m={sk['scales'][q]}) "
-               f"v(i) {sk['vi'][q][0]:+.2f}, v(x) {sk['vx'][q][0]:+.2f}\n{tag}")
-        pr.legend(fontsize=7, loc="lower right")
-    tail = s["tail"]
-    wl = np.asarray(tail["local"]["w"])
-    bl = np.array([np.nan if v is None else v for v, _ in tail["local"]["beta"]])
-    el = np.array([0.0 if e is None else e for _, e in tail["local"]["beta"]])
-    tl.errorbar(wl, bl, yerr=el, fmt="o-", capsize=2, label="local exponent")
-    tl.axhline(3.0, color="k", ls="--", lw=0.8, label="sticky gas limit 3")
-    tl.axhline(2.0, color="k", ls=":", lw=0.8, label="Gaussian 2")
-    bt = tail["beta"]
-    tl.set(xlabel="w = |v|/√E", ylabel="β: P(|v|>w) ~ exp(-c w^β)",
-           title=f"velocity tail at t={tail['time']:g}: β = {bt[0]:.2f} ± {bt[1] or 0:.2f}\n{tag}")
-    tl.legend(fontsize=7)
+    _draw_window(zoom_ax, d["window"], s["skewness"])
+    # displacements
     ze = d["z_edges"]
     zc = 0.5 * (ze[:-1] + ze[1:])
     dz.semilogy(zc, np.where(d["z_hist"] > 0, d["z_hist"], np.nan), "C0.", ms=4,
-                label=f"sticky gas, t = {times[-1]:g}")
+                label=f"sticky gas, t = {mt[-1]:g}")
     fine = np.linspace(ze[0], ze[-1], 301)
     dz.semilogy(fine, chernoff_density(fine), "k-", lw=0.8, label="Chernoff (exact limit)")
     dv = s["displacement"]["variance"]
     dz.set(xlabel="z = D / (2^(2/3) t^(2/3))", ylabel="P(z)", ylim=(1e-4, 1.5),
            title=f"displacements: ⟨z²⟩ = {dv[0]:.4f} ± {dv[1] or 0:.4f}\n"
-                 f"(exact {CHERNOFF_VARIANCE:.5f}), {tag}")
+                 f"(exact {CHERNOFF_VARIANCE:.5f})")
     dz.legend(fontsize=7)
     if own:
+        fig.suptitle("Comparison 9: the late stage, exact sticky gas standing in for late MD",
+                     fontsize=11)
         fig.tight_layout()
     return fig
+
+
+def _draw_window(ax, win, skew) -> None:
+    """A few clusters of seed 0 at the last time: v(x) (top) as the particles' velocities
+    interpolated linearly between the clusters (the convention of the skewness), its segments
+    coloured by the sign of their gradient; v(i) (bottom, shifted down) as steps over the
+    clusters' labels, its jumps marked by their sign.  The horizontal axis is x − x₀ for v(x)
+    and (i − i₀) L/N for v(i)."""
+    if not win:
+        return
+    x = win["positions"] - win["positions"][0]
+    v = win["velocities"]
+    starts = (win["starts"] - win["starts"][0]) * win["spacing"]
+    ends = starts + win["masses"] * win["spacing"]
+    shift = 2.5 * float(np.ptp(v)) if v.size > 1 else 1.0
+    for a in range(x.size - 1):
+        rising = v[a + 1] >= v[a]
+        col = "C0" if rising else "C3"
+        ax.plot(x[a:a + 2], v[a:a + 2], "-", color=col, lw=1.2)
+        ax.annotate("+" if rising else "−", (0.5 * (x[a] + x[a + 1]), 0.5 * (v[a] + v[a + 1])),
+                    textcoords="offset points", xytext=(0, 6), ha="center", color=col,
+                    fontsize=9, fontweight="bold")
+    size = 12.0 * np.sqrt(win["masses"] / win["masses"].max())
+    ax.scatter(x, v, s=size**2, facecolors="none", edgecolors="k", lw=0.6, zorder=3,
+               label="cluster (area ∝ mass)")
+    ax.plot([], [], "-", color="C0", label="gradient > 0 (+)")
+    ax.plot([], [], "-", color="C3", label="gradient < 0 (−)")
+    ax.plot([], [], "-", color="C2", label="v(i): one step per cluster")
+    for a in range(x.size):
+        ax.plot([starts[a], ends[a]], [v[a] - shift] * 2, "-", color="C2", lw=1.5)
+        if a + 1 < x.size:
+            up = v[a + 1] >= v[a]
+            ax.plot([ends[a], ends[a]], [v[a] - shift, v[a + 1] - shift], "-",
+                    color="C0" if up else "C3", lw=1.5)
+            ax.annotate("+" if up else "−", (ends[a], 0.5 * (v[a] + v[a + 1]) - shift),
+                        textcoords="offset points", xytext=(5, 0), va="center",
+                        color="C0" if up else "C3", fontsize=9, fontweight="bold")
+    q = min(1, len(skew["scales"]) - 1)
+    ax.set(xlabel="x − x₀ (v(x), top); (i − i₀) L/N (v(i), bottom)",
+           ylabel=f"v(x) and v(i) − {shift:.2f}",
+           title=f"{x.size} clusters at t = {win['time']:g}: v(x) ramps (+) and drops (−),\n"
+                 f"v(i) steps; skewness (m={skew['scales'][q]}): v(x) {skew['vx'][q][0]:+.2f}, "
+                 f"v(i) {skew['vi'][q][0]:+.2f}")
+    ax.title.set_fontsize(8)
+    ax.legend(fontsize=6, loc="center right")
 
 
 register_plot(NAME, plot)
