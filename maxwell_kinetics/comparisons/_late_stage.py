@@ -35,14 +35,17 @@ from .analysis import (
     binned_porod_fit,
     coarse_increment_skewness,
     log_binned,
+    mass_density,
     porod_fit,
     profile_scales,
+    small_mass_law,
+    tail_grid,
     velocity_on_grid,
 )
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "mass_density", "small_mass_law", "tail_grid"]
+__all__ = ["NAME", "PRESETS", "run", "plot"]
 
 NAME = "late_stage"
 
@@ -83,109 +86,6 @@ PRESETS = {
              "exact_times": (10.0, 31.6, 100.0, 316.0, 1000.0, 1e4, 3e4, 1e5),
              "beta_curve": (0.5, 30.0, 25)},
 }
-
-
-def tail_grid(first: float, last: float, per_octave: int) -> np.ndarray:
-    """The velocities w_k = first · 2^{k/per_octave} ≤ last at which the tail survival
-    P(|w| > w_k) is counted (geometric, so that the chord exponents sit at even steps of ln w)."""
-    count = int(math.floor(per_octave * math.log2(last / first) + 1e-9)) + 1
-    return first * 2.0 ** (np.arange(count) / per_octave)
-
-
-def mass_density(masses_counts, times, length, mu_edges, m_min=1, *, errors=False):
-    """Scaled cluster-mass density Φ(μ) = M² n(m, t) with μ = m/M, M = t^{2/3} (density 1),
-    pooled over ``times``: ``masses_counts`` is a list (one per time) of ``(m, count)`` from
-    :func:`particles.sticky.cluster_mass_distribution`, n(m, t) = count(m)/L the number of
-    clusters of mass m per unit length.  In each bin [a, b) of ``mu_edges``, with C_t the
-    clusters and k_t the integers m ≥ ``m_min`` with a M ≤ m < b M at time t,
-    Φ = Σ_t M² C_t / (L Σ_t k_t) (bins with no integer are NaN).  Σ_m m n(m) = n = 1 makes
-    ∫ μ Φ dμ time-independent in the scaling state; the sticky gas has Φ → F(μ)
-    (:func:`particles.sticky.exact_mass_density`), ~ μ^{−1/2}/√(2π) at small μ.
-
-    With ``errors=True`` it returns ``(Φ, σ, clusters)``: σ is the standard error of Φ with the
-    cluster counts taken as independent Poisson numbers (var Σ_t M² C_t / L = Σ_t M⁴ C_t / L²),
-    and ``clusters`` the number of clusters counted per bin.  Several runs (seeds) are pooled
-    by passing one table per run and time."""
-    mu_edges = np.asarray(mu_edges, dtype=float)
-    num = np.zeros(mu_edges.size - 1)
-    var = np.zeros(mu_edges.size - 1)
-    counted = np.zeros(mu_edges.size - 1)
-    den = np.zeros(mu_edges.size - 1)
-    for (m, c), t in zip(masses_counts, times, strict=True):
-        big_m = float(t) ** (2.0 / 3.0)
-        lo = np.maximum(np.ceil(mu_edges[:-1] * big_m), m_min)
-        hi = np.ceil(mu_edges[1:] * big_m)  # integers in [a M, b M)
-        k = np.maximum(hi - lo, 0.0)
-        idx = np.searchsorted(mu_edges * big_m, m, side="right") - 1
-        ok = (idx >= 0) & (idx < num.size) & (m >= m_min)
-        clusters = np.bincount(idx[ok], weights=c[ok], minlength=num.size)
-        num += big_m**2 * clusters / length
-        var += big_m**4 * clusters / length**2
-        counted += clusters
-        den += k
-    with np.errstate(invalid="ignore", divide="ignore"):
-        phi = np.where(den > 0, num / den, np.nan)
-        if not errors:
-            return phi
-        return phi, np.where(den > 0, np.sqrt(var) / den, np.nan), counted
-
-
-#: The models fitted to the small-μ cluster-mass density (:func:`small_mass_law`): a pure power
-#: law, and the power law with its first corrections (a constant and μ^{1/2}).
-MASS_MODELS = {
-    "power": (lambda mu, a_, amp: amp * mu**a_, (-0.5, 0.4)),
-    "corrected": (lambda mu, a_, amp, b, c: amp * mu**a_ + b + c * np.sqrt(mu),
-                  (-0.5, 0.4, 0.1, 0.1)),
-}
-
-
-def small_mass_law(mu, phi, err, counted, mu_max, mu_min=0.0, min_count=50,
-                   models=tuple(MASS_MODELS)) -> dict:
-    """Weighted least-squares fits of the scaled cluster-mass density Φ(μ) on the bins with
-    ``mu_min`` ≤ μ ≤ ``mu_max`` and at least ``min_count`` clusters (so that the Poisson error
-    is close to Gaussian), weights 1/σ² (:func:`mass_density` with ``errors=True``).  For each
-    model of :data:`MASS_MODELS` it returns the exponent ``a`` ± its standard error (from the
-    covariance with σ taken as absolute), χ²/dof and the parameters.  χ²/dof ≈ 1 says that a
-    model and the Poisson errors describe the data.  Measured with this function (N = 10⁷, 16 seeds
-    1000…1015, t = 10⁴, 3·10⁴, 10⁵ pooled, m ≥ 10, μ ∈ [0.0045, 0.28], 19 bins): "power"
-    a = −0.453 ± 0.004 with χ²/dof = 2.58 (rejected), "corrected" a = −0.465 ± 0.050 with
-    χ²/dof = 1.03.  A fit that does not converge is None.  ``profile``: χ² of the corrected
-    model with a held at −1/3, −1/2, −2/3 (B, C free), to show which exponents the data
-    exclude; on those data 22.5, 15.9, 33.3 for 16 degrees of freedom."""
-    from scipy.optimize import curve_fit
-
-    ok = np.isfinite(phi) & (counted >= min_count) & (mu >= mu_min) & (mu <= mu_max) & (err > 0)
-    out = {"mu_range": [float(mu[ok].min()), float(mu[ok].max())] if ok.any() else None,
-           "bins": int(ok.sum())}
-    for name in models:
-        f, p0 = MASS_MODELS[name]
-        out[name] = None
-        if ok.sum() <= len(p0) + 1:
-            continue
-        x, y, e = mu[ok], phi[ok], err[ok]
-        try:
-            p, cov = curve_fit(f, x, y, p0=p0, sigma=e, absolute_sigma=True, maxfev=20000)
-        except RuntimeError:  # no convergence
-            continue
-        chi2 = float(np.sum(((f(x, *p) - y) / e) ** 2)) / (x.size - len(p))
-        out[name] = {"a": [float(p[0]), float(np.sqrt(cov[0, 0]))], "chi2_dof": chi2,
-                     "parameters": [float(v) for v in p]}
-    if "corrected" in models and ok.sum() > 4:
-        out["profile"] = {"dof": int(ok.sum()) - 3,
-                          "chi2": {label: _corrected_chi2(mu[ok], phi[ok], err[ok], a_)
-                                   for label, a_ in PROFILE_EXPONENTS.items()}}
-    return out
-
-
-#: Exponents at which the corrected model is refitted with a held fixed (:func:`small_mass_law`).
-PROFILE_EXPONENTS = {"-1/3": -1.0 / 3.0, "-1/2": -0.5, "-2/3": -2.0 / 3.0}
-
-
-def _corrected_chi2(mu, phi, err, a_) -> float:
-    """χ² of A μ^a + B + C μ^{1/2} with ``a_`` held fixed (linear least squares in A, B, C)."""
-    design = np.stack([mu**a_, np.ones_like(mu), np.sqrt(mu)], axis=1) / err[:, None]
-    coef = np.linalg.lstsq(design, phi / err, rcond=None)[0]
-    return float(np.sum((design @ coef - phi / err) ** 2))
 
 
 def _mean_se(values):

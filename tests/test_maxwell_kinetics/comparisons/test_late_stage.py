@@ -10,8 +10,8 @@ import pytest
 from scipy.stats import chi2 as chi2_dist
 
 from maxwell_kinetics.comparisons import Comparison, sticky_vs_md
-from maxwell_kinetics.comparisons._late_stage import mass_density
 from maxwell_kinetics.comparisons._sticky_vs_md import paired_numbers
+from maxwell_kinetics.comparisons.analysis import mass_density
 from particles.sticky import StickyGas, StickyParams, cluster_mass_distribution
 
 # Student t with 2 degrees of freedom (3 seeds): |t| > 5 has two-sided probability 0.038, so
