@@ -1,9 +1,9 @@
 """The driven 1D inelastic Maxwell (Ulam) model: white-noise heating balanced by collisions.
 
-Model (SPEC §8).  Every particle collides at rate 1 with a random partner (rule of SPEC §1,
+Model.  Every particle collides at rate 1 with a random partner (the collision rule,
 p = (1 + r)/2, q = 1 − p; τ counts collisions per particle) and between collisions feels white
 noise of strength D: dv = √(2D) dW.  A time Δτ of heating is a Gaussian kick of variance 2DΔτ,
-i.e. the Fokker–Planck term D ∂²_v P.  With P̂(k) = ∫ e^{ikv} P(v) dv (SPEC sign), ∂²_v becomes
+i.e. the Fokker–Planck term D ∂²_v P.  With P̂(k) = ∫ e^{ikv} P(v) dv (our sign), ∂²_v becomes
 (−ik)² = −k², and the master equation is
 
     ∂τ P̂(k) + (1 + D k²) P̂(k) = P̂(pk) P̂(qk).

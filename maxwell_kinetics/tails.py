@@ -1,4 +1,4 @@
-"""Power-law tails and multiscaling of d-dimensional inelastic Maxwell models (SPEC §8).
+"""Power-law tails and multiscaling of d-dimensional inelastic Maxwell models.
 
 Model.  Collision rule v₁' = v₁ − p (g·n) n, v₂' = v₂ + p (g·n) n, g = v₁ − v₂, p = (1 + r)/2,
 q = 1 − p; each particle collides at rate 1 whatever |g| (τ counts collisions per particle).
@@ -7,7 +7,7 @@ Fourier equation only needs the law w of η = (k̂·n)²:
 
 * ``"uniform"``: n uniform on the sphere S^{d−1}, η ~ Beta(1/2, (d − 1)/2);
 * ``"hard"``: n drawn with weight ∝ |ĝ·n| (uniform impact parameter), η ~ Beta(1, (d − 1)/2);
-* d = 1: η ≡ 1 for both (the model of SPEC §2).
+* d = 1: η ≡ 1 for both (the 1D Ulam model).
 
 Growth function.  λ(s) = 1 − ⟨(1 − (1 − q²) η)^s⟩ − p^{2s} ⟨η^s⟩, with the closed forms
 ⟨η^s⟩ = B(a + s, b)/B(a, b) and ⟨(1 − cη)^s⟩ = ₂F₁(−s, a; a + b; c) for η ~ Beta(a, b)

@@ -5,7 +5,7 @@ Modules, one job each:
 
 * :mod:`.validation` — argument checks and exact parsing (``InvalidArgumentError``);
 * :mod:`.initial` — the initial velocity laws with their characteristic functions;
-* :mod:`.collision` — the collision rule of SPEC §1;
+* :mod:`.collision` — the collision rule;
 * :mod:`.observables` — energy, histograms, C(r), S(k);
 * :mod:`.persistence` — the one way every file is saved and loaded (atomic, hashed, bounded);
 * :mod:`.budget` — memory and work estimated before a run starts;

@@ -226,7 +226,7 @@ def velocity_profile(v) -> tuple[np.ndarray, np.ndarray]:
     * lattice: i is the site, and label order is ring order (site i's neighbours are i ± 1 mod
       N, bond i joins i and i + 1), so v(i) is a spatial profile (shocks, smooth patches);
     * MD (hard rods on a ring): rods never pass each other, so label order is the rods' order
-      along the ring: v(i) is the profile against label of SPEC §4 (v(x) needs the positions);
+      along the ring: v(i) is the profile against the particle label (v(x) needs the positions);
     * Ulam: the model is mean-field, any particle collides with any other, so the label order
       carries no spatial meaning: v(i) is a list of velocities in arbitrary order, and
       neighbouring labels are uncorrelated (its C(r) and S(k) are flat, r, k ≠ 0).

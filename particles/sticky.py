@@ -1,4 +1,4 @@
-"""The sticky gas on a ring, solved exactly with no events (SPEC §7, issue 15).
+"""The sticky gas on a ring, solved exactly with no events.
 
 Model
 -----
@@ -251,7 +251,7 @@ def clusters(state: StickyState):
 def cluster_mass_distribution(state: StickyState):
     """``(m, count)``: the cluster masses present, increasing, and how many clusters have each
     (``count.sum()`` is the number of clusters, ``(m * count).sum()`` = N).  Divide by
-    ``state.length`` for clusters per unit length (the m^{-1/2} law of SPEC §7 is in these)."""
+    ``state.length`` for clusters per unit length (the exact m^{-1/2} law is in these)."""
     _check_state(state)
     m, count = np.unique(state.masses, return_counts=True)
     return m, count

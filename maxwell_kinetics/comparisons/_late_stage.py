@@ -1,5 +1,5 @@
 """Comparison 9: the paper's late-stage figures at the paper's sizes, with the exact sticky gas
-(:mod:`particles.sticky`, SPEC §7) standing in for late MD — rescaled P(x), E ~ t^{−2/3}, the
+(:mod:`particles.sticky`) standing in for late MD — rescaled P(x), E ~ t^{−2/3}, the
 cluster-mass law m^{−1/2}, S(k) against k t^{2/3} with its Porod tail, the shocks of v(x) and
 v(i), and the velocity tail.  ``run`` computes, ``plot`` draws."""
 
@@ -76,7 +76,7 @@ def mass_density(masses_counts, times, length, mu_edges, m_min=1, *, errors=Fals
     clusters and k_t the integers m ≥ ``m_min`` with a M ≤ m < b M at time t,
     Φ = Σ_t M² C_t / (L Σ_t k_t) (bins with no integer are NaN).  Σ_m m n(m) = n = 1 makes
     ∫ μ Φ dμ time-independent in the scaling state; the sticky gas has Φ ~ μ^{−1/2} at small μ
-    (SPEC §7).
+   .
 
     With ``errors=True`` it returns ``(Φ, σ, clusters)``: σ is the standard error of Φ with the
     cluster counts taken as independent Poisson numbers (var Σ_t M² C_t / L = Σ_t M⁴ C_t / L²),
@@ -179,7 +179,7 @@ def _mean_se(values):
 
 def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
     """Comparison 9: the late stage at the paper's sizes (N = 10⁵ small, 10⁶ default, 10⁷
-    full), with the exact sticky gas standing in for late MD (SPEC §7: from the same initial
+    full), with the exact sticky gas standing in for late MD (from the same initial
     state MD at r = 0.5, δ = 10⁻⁴ and the sticky gas agree within a few per cent, comparison 8).
     Gaussian initial velocities of unit variance, uniform positions, density 1, one run per
     seed; every number is mean ± standard error over the seeds (each run's own fit):
@@ -207,7 +207,7 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     * ``tail``: the local exponent β of P(|v| > w) ~ exp(−c w^β) at ``tail_time``
       (:func:`particles.sticky.velocity_tail_exponent`) over ``tail_quantiles`` and per decade
       of quantile; the sticky gas tends to β = 3 (Frachebourg 1999) only for N far beyond
-      these sizes (SPEC §7: 1.2–1.7 at ~10⁴ clusters);
+      these sizes (1.2–1.7 at ~10⁴ clusters);
     * ``displacement``: each particle's displacement D since t = 0 at the last time, as
       z = D / (b t^{2/3}) (:func:`particles.sticky.displacement_scale`): ⟨z²⟩ per seed against
       Var Z = 0.26356 of Chernoff's law, the exact large-t limit, and the histogram of z

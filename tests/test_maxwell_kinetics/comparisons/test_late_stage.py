@@ -1,5 +1,5 @@
 """Comparisons 8 (sticky_vs_md) and 9 (late_stage) at the small size, and direct checks of the
-exact sticky gas at N = 10⁶ (SPEC §7, issue 15)."""
+exact sticky gas at N = 10⁶."""
 
 from __future__ import annotations
 
@@ -58,8 +58,8 @@ def test_paired_numbers_against_a_hand_computed_case():
 def test_paired_md_and_sticky_agree_better_than_independent_seeds(paired):
     p = paired.summary["paired"]
     # Independent initial states of N = 1000 differ by the seed-to-seed scatter of E t^{2/3}
-    # (measured here: 16-27 % relative std over 3 seeds; SPEC §7: 3.8 % at N = 2·10⁴, i.e.
-    # ~17 % at N = 1000 by 1/√N), while paired runs share it (SPEC §7: 0.4-2 % at N = 2·10⁴).
+    # (measured here: 16-27 % relative std over 3 seeds; independently 3.8 % at N = 2·10⁴, i.e.
+    # ~17 % at N = 1000 by 1/√N), while paired runs share it (0.4-2 % at N = 2·10⁴).
     # The unpaired rms comes from 6 seed pairs × 8 times; its relative uncertainty is ~40 %
     # (3 independent seeds), so a factor 3 below it is a margin the estimate cannot erase.
     assert p["paired_rms"] < p["unpaired_rms_window"] / 3.0
@@ -90,7 +90,7 @@ def test_energy_decays_as_t_to_minus_two_thirds_over_two_decades(late):
     assert e["fit_range"][1] / e["fit_range"][0] >= 100.0
     z, se = e["exponent"]
     # 5 s.e. over 3 seeds (T_3_SEEDS).  The drift of E t^{2/3} itself (0.445-0.450 over
-    # t ∈ [10, 1000], SPEC §7) shifts the fitted exponent by at most ln(0.450/0.445)/ln 100 =
+    # t ∈ [10, 1000]) shifts the fitted exponent by at most ln(0.450/0.445)/ln 100 =
     # 0.0024, below the tolerance (measured se 0.0044).
     assert abs(z + 2.0 / 3.0) < T_3_SEEDS * se
 
@@ -181,7 +181,7 @@ def test_late_velocity_law_is_gaussian_like_with_a_sub_gaussian_tail_exponent(la
     k = np.array([v for v, _ in late.summary["kurtosis"]["kurtosis"]])
     assert np.all(np.abs(k - 3.0) < 0.5)  # Fig. 1b: Gaussian-like (measured 3.08-3.19)
     beta, se = late.summary["tail"]["beta"]
-    # SPEC §7: at these sizes the local exponent is only 1.2-1.7, far from the limit 3
+    # Independent reference: at these sizes the local exponent is only 1.2-1.7, far from the limit 3
     assert 1.0 < beta < 2.0 and se is not None
 
 
@@ -214,7 +214,7 @@ def test_sticky_gas_at_a_million_particles():
         m, c = cluster_mass_distribution(st)
         assert int((m * c).sum()) == 1_000_000
         assert abs(st.velocities.sum()) < 1e-6
-        # SPEC §7 (independent code): E t^{2/3} = 0.445-0.450 for t ∈ [10, 1000], single-run
+        # An independent code gives E t^{2/3} = 0.445-0.450 for t ∈ [10, 1000], single-run
         # std 0.001 at N = 10⁶, t = 10; the std grows like √(t^{2/3}/N) (independent clusters),
         # 0.0022 at t = 100.  Allowed: half the range of the constant plus 4 such stds.
         et = float(np.mean(st.velocities**2)) * t ** (2.0 / 3.0)
