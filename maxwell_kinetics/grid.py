@@ -11,8 +11,8 @@ points (even), whose error is O(h^order) for smooth G(s).
 
 Outside the grid:
 
-* q < q_min: the small-q expansion G = 1 − q²/2 − i m₃ q³/6 + O(q³), with m₃ = ⟨x³⟩ conserved
- .  Omitted terms are O(q_min³) (the |q|³/3 of f̂ that builds up at late times) and
+* q < q_min: the small-q expansion G = 1 − q²/2 − i m₃ q³/6 + O(q³), with m₃ = ⟨x³⟩ conserved.
+  Omitted terms are O(q_min³) (the |q|³/3 of f̂ that builds up at late times) and
   O(m₄(τ) q_min⁴).
 * q > q_max: G is taken from the free-streaming asymptotics e^{−τ} φ(q e^{λτ}) of the initial
   law (the gain term there is of second order in the small values of G); once this is below

@@ -42,3 +42,30 @@ from .sticky import StickyState as StickyState
 from .ulam import Ulam as Ulam
 from .ulam import UlamState as UlamState
 from .validation import InvalidArgumentError as InvalidArgumentError
+
+__all__ = [
+    "CheckpointError",
+    "RunResult",
+    "initial_velocities",
+    "simulate",
+    "get_law",
+    "law_from_characteristic",
+    "Lattice",
+    "LatticeState",
+    "InelasticCollapseError",
+    "MDEngine",
+    "MDParams",
+    "MDState",
+    "correlation",
+    "energy",
+    "log_bin",
+    "rescaled_histogram",
+    "structure_factor",
+    "FileFormatError",
+    "StickyGas",
+    "StickyParams",
+    "StickyState",
+    "Ulam",
+    "UlamState",
+    "InvalidArgumentError",
+]

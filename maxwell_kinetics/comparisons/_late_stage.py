@@ -75,8 +75,7 @@ def mass_density(masses_counts, times, length, mu_edges, m_min=1, *, errors=Fals
     clusters of mass m per unit length.  In each bin [a, b) of ``mu_edges``, with C_t the
     clusters and k_t the integers m ≥ ``m_min`` with a M ≤ m < b M at time t,
     Φ = Σ_t M² C_t / (L Σ_t k_t) (bins with no integer are NaN).  Σ_m m n(m) = n = 1 makes
-    ∫ μ Φ dμ time-independent in the scaling state; the sticky gas has Φ ~ μ^{−1/2} at small μ
-   .
+    ∫ μ Φ dμ time-independent in the scaling state; the sticky gas has Φ ~ μ^{−1/2} at small μ.
 
     With ``errors=True`` it returns ``(Φ, σ, clusters)``: σ is the standard error of Φ with the
     cluster counts taken as independent Poisson numbers (var Σ_t M² C_t / L = Σ_t M⁴ C_t / L²),
