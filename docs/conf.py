@@ -94,7 +94,12 @@ apigen_faces = [
     "maxwell_kinetics",
     "maxwell_kinetics.comparisons",
 ]
-results_dir = os.environ.get("MAXWELL_KINETICS_DOCS_RESULTS", str(HERE / "figures"))
+# The results shown on "Reproducing the paper": $MAXWELL_KINETICS_DOCS_RESULTS, else the
+# results/ folder of a local `make demo` when it has a summary, else the `make demo` run whose
+# summary and figures are kept in docs/figures.
+results_dir = os.environ.get("MAXWELL_KINETICS_DOCS_RESULTS") or (
+    str(ROOT / "results") if (ROOT / "results" / "summary.json").exists()
+    else str(HERE / "figures"))
 
 # The notebooks are copied from notebooks/ so that the tutorials are the same files.
 _tutorials = HERE / "tutorials"
