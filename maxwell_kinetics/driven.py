@@ -236,7 +236,28 @@ def _density_unit(p: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def steady_state(restitution, driving, count: int = 4) -> DrivenSteadyState:
-    """The steady state for r ∈ [0, 1), D > 0 (``count`` cumulants)."""
+    """The steady state of the driven model for r ∈ [0, 1), D > 0 (``count`` cumulants).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+    driving : float
+        D > 0, the strength of the white noise (Fokker–Planck term D ∂²_v P).
+    count : int
+        Number of cumulants to return.
+
+    Returns
+    -------
+    DrivenSteadyState
+        Variance D/(pq), kurtosis 3 + 6pq/(2 − pq), the first cumulants (all exact) and the
+        density on a grid, whose tail is exp(−|v|/√D) (Santos and Ernst).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For r or D out of range.
+    """
     r, d = _check_driving(driving, restitution)
     x, dens = _density_unit(transfer_fraction(r))
     scale = math.sqrt(d)

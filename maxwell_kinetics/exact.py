@@ -16,13 +16,37 @@ __all__ = ["f_hat", "f_density", "moment_hierarchy", "rescaled_moments"]
 
 
 def f_hat(q) -> np.ndarray:
-    """Scaling solution in Fourier space, f̂(q) = (1 + |q|) e^{−|q|}."""
+    """Scaling solution in Fourier space, f̂(q) = (1 + |q|) e^{−|q|}.
+
+    The same for every r < 1: λ q f̂′ − f̂ + f̂(pq) f̂((1 − p)q) = 0 because λ = p(1 − p).
+
+    Parameters
+    ----------
+    q : array_like
+        Rescaled wave numbers.
+
+    Returns
+    -------
+    numpy.ndarray
+        f̂(q), float.
+    """
     a = np.abs(np.asarray(q, dtype=float))
     return (1.0 + a) * np.exp(-a)
 
 
 def f_density(x) -> np.ndarray:
-    """Scaling solution in velocity space, f(x) = 2 / (π (1 + x²)²) (unit variance, x⁻⁴ tail)."""
+    """Scaling solution in velocity space, f(x) = 2 / (π (1 + x²)²) (unit variance, x⁻⁴ tail).
+
+    Parameters
+    ----------
+    x : array_like
+        Rescaled velocities v/v0.
+
+    Returns
+    -------
+    numpy.ndarray
+        f(x), the inverse Fourier transform of :func:`f_hat`.
+    """
     x = np.asarray(x, dtype=float)
     return 2.0 / (np.pi * (1.0 + x * x) ** 2)
 

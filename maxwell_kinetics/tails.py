@@ -108,14 +108,52 @@ def growth_rate(dimension, restitution, s, angular="uniform"):
 
 
 def decay_rate(dimension, restitution, angular="uniform") -> float:
-    """Λ = 2pq⟨η⟩: ⟨|v|²⟩(τ) = ⟨|v|²⟩(0) e^{−Λτ} (zero mean, infinite N)."""
+    """Λ = 2pq⟨η⟩: ⟨|v|²⟩(τ) = ⟨|v|²⟩(0) e^{−Λτ} (zero mean, infinite N).
+
+    Parameters
+    ----------
+    dimension : int
+        1, 2 or 3.
+    restitution : float
+        r ∈ [0, 1].
+    angular : {"uniform", "hard"}
+        Law of the collision direction.
+
+    Returns
+    -------
+    float
+        Λ; in d = 1 it is 2λ = (1 − r²)/2.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For an argument out of range.
+    """
     law = angular_law(dimension, angular)
     p = transfer_fraction(restitution)
     return float(2.0 * p * (1.0 - p) * eta_moment(law, 1.0))
 
 
 def moment_rates(dimension, restitution, orders, angular="uniform") -> np.ndarray:
-    """Decay rates min(λ(n), n λ(1)) of ⟨|v|^{2n}⟩ for the integers ``orders`` n ≥ 1."""
+    """Decay rates min(λ(n), n λ(1)) of ⟨|v|^{2n}⟩ for the integers ``orders`` n ≥ 1.
+
+    Parameters
+    ----------
+    dimension, restitution, angular
+        As for :func:`decay_rate`.
+    orders : array_like of int
+        The n ≥ 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        One rate per order; a rate below n λ(1) means multiscaling (Ben-Naim and Krapivsky).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For orders that are not integers ≥ 1, or another argument out of range.
+    """
     law = angular_law(dimension, angular)
     p = transfer_fraction(restitution)
     try:
@@ -143,7 +181,30 @@ class TailExponent:
 
 
 def tail_exponent(dimension, restitution, angular="uniform") -> TailExponent:
-    """The tail root s* of λ(s) = s λ(1) for r ∈ [0, 1) (bracket: module docstring)."""
+    """The tail root s* of λ(s) = s λ(1) for r ∈ [0, 1) (bracket: module docstring).
+
+    Parameters
+    ----------
+    dimension : int
+        1, 2 or 3.
+    restitution : float
+        r ∈ [0, 1).
+    angular : {"uniform", "hard"}
+        Law of the collision direction: uniform on the sphere, or weighted by |ĝ·n|.
+
+    Returns
+    -------
+    TailExponent
+        The root s* and the exponents of the density (d + 2s*) and of the speed and one
+        component (1 + 2s*); in d = 1, s* = 3/2 for every r (Ernst and Brito; Krapivsky and
+        Ben-Naim).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For a dimension, restitution (r = 1 included: no power-law tail) or angular law out of
+        range.
+    """
     law = angular_law(dimension, angular)
     r = check_restitution(restitution)
     if r == 1.0:

@@ -168,7 +168,24 @@ def law_names() -> list[str]:
 
 
 def get_law(name) -> InitialLaw:
-    """Return the law registered under ``name``; an ``InitialLaw`` passes through."""
+    """Return the law registered under ``name``; an ``InitialLaw`` passes through.
+
+    Parameters
+    ----------
+    name : str or particles.initial.InitialLaw
+        ``gaussian``, ``uniform``, ``laplace``, ``bimodal`` or ``asymmetric`` (all with zero
+        mean and unit variance).
+
+    Returns
+    -------
+    particles.initial.InitialLaw
+        With its characteristic function E[e^{ikv}], sampler and CDF.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For an unknown name.
+    """
     if isinstance(name, InitialLaw):
         return name
     try:

@@ -62,7 +62,18 @@ def _as_velocities(v, *, min_dims=1, max_dims=2) -> np.ndarray:
 
 
 def energy(v) -> np.ndarray | float:
-    """Energy per particle ⟨v²⟩ = (1/N) Σ_i v_i² along the last axis (no factor ½)."""
+    """Energy per particle ⟨v²⟩ = (1/N) Σ_i v_i² along the last axis (no factor ½).
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities, particles along the last axis.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ⟨v²⟩, a float for one set of velocities.
+    """
     arr = _as_velocities(v)
     out = np.mean(arr * arr, axis=-1)
     return float(out) if out.ndim == 0 else out

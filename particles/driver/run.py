@@ -41,7 +41,22 @@ class Engine(Protocol):  # pragma: no cover - typing only
 
 def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
     """Draw ``n`` velocities from ``law`` (a name or an ``InitialLaw``), then subtract their mean
-    and rescale them so that the mean is 0 and ⟨v²⟩ = 1 up to round-off."""
+    and rescale them so that the mean is 0 and ⟨v²⟩ = 1 up to round-off.
+
+    Parameters
+    ----------
+    law : str or particles.initial.InitialLaw
+        The initial law.
+    n : int
+        Number of particles.
+    rng : numpy.random.Generator
+        The source of randomness (the run's seed).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``n`` velocities, float64.
+    """
     n = check_count(n, "n", 2)
     v = get_law(law).sample(rng, n)
     v = v - v.mean()
