@@ -49,6 +49,26 @@ def _value(entry) -> tuple[str, str] | None:
     return None
 
 
+def _is_number(x) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
+def _rows(key: str, value, depth: int) -> list[str]:
+    """Table rows of one summary entry: a fit (value ± uncertainty, expected), a number, a short
+    list of numbers, or (two levels deep) a dict of those."""
+    got = _value(value)
+    if got is not None:
+        return [f"| `{key}` | {got[0]} | {got[1]} |"]
+    if isinstance(value, list) and 0 < len(value) <= 12 and all(map(_is_number, value)):
+        return [f"| `{key}` | {', '.join(_fmt(v) for v in value)} | |"]
+    if isinstance(value, dict) and depth < 2:
+        rows = []
+        for sub, item in value.items():
+            rows += _rows(f"{key}.{sub}", item, depth + 1)
+        return rows
+    return []
+
+
 def _claim(name: str) -> str:
     try:
         module = importlib.import_module(f"maxwell_kinetics.comparisons._{name}")
@@ -66,7 +86,8 @@ def render(results: Path, figures_out: Path) -> str:
              "`maxwell-kinetics reproduce` (what `make demo` runs); it shows every comparison "
              "with the paper {cite}`baldassarri2001`, its figure, and each fitted number with its "
              "uncertainty (standard error over seeds or fit, as recorded in the summary) and the "
-             "expected value where the summary records one.", ""]
+             "expected value where the summary records one (4 significant digits here; the full "
+             "values are in the summary).", ""]
     if summary_path is None:
         return "\n".join(lines + [f"No results found in `{results}`.", ""])
     summary = json.loads(summary_path.read_text())
@@ -91,11 +112,8 @@ def render(results: Path, figures_out: Path) -> str:
             lines += [f"```{{figure}} _generated/{png.name}", f":alt: {name}", "", "```", ""]
         rows = []
         for key, value in entry.items():
-            if key == "parameters":
-                continue
-            got = _value(value)
-            if got is not None:
-                rows.append(f"| `{key}` | {got[0]} | {got[1]} |")
+            if key != "parameters":
+                rows += _rows(key, value, 0)
         if rows:
             lines += ["| quantity | measured | expected |", "|---|---|---|", *rows, ""]
         params = entry.get("parameters")
