@@ -21,7 +21,13 @@ ROOT = HERE.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(HERE / "_ext"))
 os.environ.setdefault("MAXWELL_KINETICS_SMALL", "1")
-os.environ.setdefault("MPLBACKEND", "Agg")
+# The notebooks' kernels start with _ext/kernel_startup.py (figures shown after each cell);
+# IPython's folder for the build lives in _build.
+_ipython = HERE / "_build" / ".ipython"
+(_ipython / "profile_default" / "startup").mkdir(parents=True, exist_ok=True)
+(_ipython / "profile_default" / "startup" / "00-figures.py").write_bytes(
+    (HERE / "_ext" / "kernel_startup.py").read_bytes())
+os.environ["IPYTHONDIR"] = str(_ipython)
 
 import maxwell_kinetics  # noqa: E402
 
@@ -52,6 +58,8 @@ nb_execution_mode = "cache"
 nb_execution_timeout = 300
 nb_execution_cache_path = str(HERE / "_build" / ".jupyter_cache")
 nb_execution_raise_on_error = True
+# Progress lines go to stderr; the tutorials show the results and figures only.
+nb_output_stderr = "remove"
 
 autodoc_member_order = "bysource"
 autodoc_typehints = "none"
