@@ -142,6 +142,30 @@ def simulate(
     Before anything is drawn, the run's memory and work are estimated
     (:mod:`particles.budget`): a run that cannot fit in the memory available is refused, and so
     is one of more than 10¹³ events unless ``force=True``.
+
+    Parameters
+    ----------
+    engine : particles.driver.Engine
+        A model's engine (:class:`~particles.Ulam`, :class:`~particles.Lattice`,
+        :class:`~particles.MDEngine`, :class:`~particles.StickyGas`).
+    times : sequence of float
+        Increasing times ≥ 0, in the engine's own time (τ, or t for MD and the sticky gas).
+    seed : int
+        The run's seed, an integer ≥ 0.
+    progress, checkpoint, resume, bins, structure_factor, snapshots, checkpoint_interval, force
+        As described above.
+
+    Returns
+    -------
+    particles.RunResult
+        The records at every requested time.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For a bad argument, or a run refused by its estimated memory or work.
+    particles.CheckpointError
+        For a checkpoint of another run, or one locked by a running process.
     """
     times = check_times(times, getattr(engine, "time_name", "tau"))
     seed = check_count(seed, "seed", 0)
