@@ -84,7 +84,7 @@ def render(results: Path, figures_out: Path) -> str:
     lines = ["# Reproducing the paper", "",
              "This page is generated at build time from the `summary.json` and the figures of "
              "`maxwell-kinetics reproduce` (what `make demo` runs); it shows every comparison "
-             "with the paper {cite}`baldassarri2001`, its figure, and each fitted number with its "
+             "with the paper {cite}`baldassarri2002`, its figure, and each fitted number with its "
              "uncertainty (standard error over seeds or fit, as recorded in the summary) and the "
              "expected value where the summary records one (4 significant digits here; the full "
              "values are in the summary).", ""]
