@@ -1,11 +1,12 @@
-# Two commands do everything on a fresh machine: `make demo` and `make test`.
+# Two commands do everything on a fresh machine: `make demo` and `make test`; `make docs`
+# builds the documentation site into docs/_build/html.
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 RESULTS ?= results
 
-.PHONY: demo test install lint bench clean
+.PHONY: demo test install lint bench clean docs
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -16,6 +17,15 @@ $(STAMP): pyproject.toml | $(PY)
 	touch $(STAMP)
 
 install: $(STAMP)
+
+DOCS_STAMP := $(VENV)/.installed-docs
+
+$(DOCS_STAMP): pyproject.toml | $(STAMP)
+	$(PY) -m pip install -q -e '.[docs]'
+	touch $(DOCS_STAMP)
+
+docs: $(DOCS_STAMP)
+	$(PY) -m sphinx -b html docs docs/_build/html
 
 demo: install
 	$(VENV)/bin/maxwell-kinetics reproduce --out $(RESULTS)
@@ -33,4 +43,4 @@ bench: install
 	$(PY) benchmarks/compile_cache.py
 
 clean:
-	rm -rf $(VENV) $(RESULTS) build *.egg-info
+	rm -rf $(VENV) $(RESULTS) build *.egg-info docs/_build docs/api docs/_generated

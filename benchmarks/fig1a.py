@@ -1,4 +1,4 @@
-"""Fig. 1a (issue 15 item 5): does a lattice whose bonds collide at rate ∝ |Δ| recover MD's two
+"""Fig. 1a: does a lattice whose bonds collide at rate ∝ |Δ| recover MD's two
 humps of P(x), x = v/√E, at equal energy in the homogeneous stage?
 
 Measurement only.  r = 0.99, unit Gaussian start, N = 2·10⁴ (the comparison's default size).

@@ -1,4 +1,4 @@
-"""The cost of the content hash when a checkpoint is loaded (issue 18: at most 10 % of the load).
+"""The cost of the content hash when a checkpoint is loaded (at most 10 % of the load).
 
     python benchmarks/persistence.py [--n 1000000] [--repeats 7]
 

@@ -177,7 +177,7 @@ def scale(taus=(100.0, 1000.0, 3000.0)):
 
 def sweep(restitutions=(0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9), resolution="default",
           tau_end=1000.0):
-    """Ten solves over r at one resolution in one process (issue 14: one compile per resolution
+    """Ten solves over r at one resolution in one process (one compile per resolution
     and law family).  Compilations are counted as traces of the jitted functions
     (``maxwell_kinetics._kinetic_scheme.TRACES``, a Python side effect that runs only while JAX
     traces).  The sweep runs twice: the first pass pays the compilation, the second gives each
@@ -234,7 +234,7 @@ def sweep(restitutions=(0.0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9), resol
 def isotropic(restitution=0.5, resolution="default", tau_end=1000.0):
     """solve(..., dimension=d) for d = 1, 2, 3 (uniform angular model, 16 η nodes) with both η
     rules ("fast", the default, and "accurate"): wall and CPU time of τ ∈ [0, 1000] after JIT
-    (the second call), against d = 1 (issue 17 target: within 5x).  CPU time includes XLA's
+    (the second call), against d = 1 (target: within 5x).  CPU time includes XLA's
     helper threads; run under ``taskset -c 0`` for one core (then CPU = wall)."""
     import os
 

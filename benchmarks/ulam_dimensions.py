@@ -1,5 +1,5 @@
-"""Collisions per second of the Ulam model in d = 1, 2, 3 and driven, at N = 10⁶ (issue 17:
-the 2D model within 2× of 1D).
+"""Collisions per second of the Ulam model in d = 1, 2, 3 and driven, at N = 10⁶
+(the 2D model within 2× of 1D).
 
     python benchmarks/ulam_dimensions.py [--n 1000000] [--tau 2] [--repeat 3]
 

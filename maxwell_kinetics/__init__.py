@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import importlib
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 _LAZY = {
     "MaxwellModel": "model",
@@ -24,6 +24,7 @@ _LAZY = {
     "solve": "solver",
     "Solution": "solver",
     "SolverOptions": "solver",
+    "Moments": "moments",
     "fixed_point": "stationary",
     "FixedPoint": "stationary",
     "linear_decay_rates": "linear_rates",
@@ -43,6 +44,9 @@ _LAZY = {
     "Comparison": "comparisons",
     "COMPARISONS": "comparisons",
 }
+
+#: The public names: each is loaded on first access.
+__all__ = list(_LAZY)
 
 
 def __getattr__(name):

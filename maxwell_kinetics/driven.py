@@ -1,9 +1,9 @@
 """The driven 1D inelastic Maxwell (Ulam) model: white-noise heating balanced by collisions.
 
-Model (SPEC §8).  Every particle collides at rate 1 with a random partner (rule of SPEC §1,
+Model.  Every particle collides at rate 1 with a random partner (the collision rule,
 p = (1 + r)/2, q = 1 − p; τ counts collisions per particle) and between collisions feels white
 noise of strength D: dv = √(2D) dW.  A time Δτ of heating is a Gaussian kick of variance 2DΔτ,
-i.e. the Fokker–Planck term D ∂²_v P.  With P̂(k) = ∫ e^{ikv} P(v) dv (SPEC sign), ∂²_v becomes
+i.e. the Fokker–Planck term D ∂²_v P.  With P̂(k) = ∫ e^{ikv} P(v) dv (our sign), ∂²_v becomes
 (−ik)² = −k², and the master equation is
 
     ∂τ P̂(k) + (1 + D k²) P̂(k) = P̂(pk) P̂(qk).
@@ -236,7 +236,28 @@ def _density_unit(p: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def steady_state(restitution, driving, count: int = 4) -> DrivenSteadyState:
-    """The steady state for r ∈ [0, 1), D > 0 (``count`` cumulants)."""
+    """The steady state of the driven model for r ∈ [0, 1), D > 0 (``count`` cumulants).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+    driving : float
+        D > 0, the strength of the white noise (Fokker–Planck term D ∂²_v P).
+    count : int
+        Number of cumulants to return.
+
+    Returns
+    -------
+    DrivenSteadyState
+        Variance D/(pq), kurtosis 3 + 6pq/(2 − pq), the first cumulants (all exact) and the
+        density on a grid, whose tail is exp(−|v|/√D) (Santos and Ernst).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For r or D out of range.
+    """
     r, d = _check_driving(driving, restitution)
     x, dens = _density_unit(transfer_fraction(r))
     scale = math.sqrt(d)

@@ -1,4 +1,4 @@
-"""Exact results of SPEC §2 (NumPy): the scaling solution and the moment hierarchy.
+"""Exact results of the 1D Ulam model (NumPy): the scaling solution and the moment hierarchy.
 
 Conventions: P̂(k) = ∫ e^{ikv} P(v) dv; the rescaled characteristic function is
 G(q, τ) = P̂(q / v0(τ), τ) with v0² = ⟨v²⟩; x = v / v0 is the rescaled velocity.
@@ -16,13 +16,37 @@ __all__ = ["f_hat", "f_density", "moment_hierarchy", "rescaled_moments"]
 
 
 def f_hat(q) -> np.ndarray:
-    """Scaling solution in Fourier space, f̂(q) = (1 + |q|) e^{−|q|}."""
+    """Scaling solution in Fourier space, f̂(q) = (1 + |q|) e^{−|q|}.
+
+    The same for every r < 1: λ q f̂′ − f̂ + f̂(pq) f̂((1 − p)q) = 0 because λ = p(1 − p).
+
+    Parameters
+    ----------
+    q : array_like
+        Rescaled wave numbers.
+
+    Returns
+    -------
+    numpy.ndarray
+        f̂(q), float.
+    """
     a = np.abs(np.asarray(q, dtype=float))
     return (1.0 + a) * np.exp(-a)
 
 
 def f_density(x) -> np.ndarray:
-    """Scaling solution in velocity space, f(x) = 2 / (π (1 + x²)²) (unit variance, x⁻⁴ tail)."""
+    """Scaling solution in velocity space, f(x) = 2 / (π (1 + x²)²) (unit variance, x⁻⁴ tail).
+
+    Parameters
+    ----------
+    x : array_like
+        Rescaled velocities v/v0.
+
+    Returns
+    -------
+    numpy.ndarray
+        f(x), the inverse Fourier transform of :func:`f_hat`.
+    """
     x = np.asarray(x, dtype=float)
     return 2.0 / (np.pi * (1.0 + x * x) ** 2)
 
@@ -30,7 +54,7 @@ def f_density(x) -> np.ndarray:
 def moment_hierarchy(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
     """Raw moments M_n(τ), n = 0..len(initial_moments)−1, of the unscaled master equation.
 
-    dM_n/dτ = −M_n + Σ_{m=0..n} C(n,m) p^m (1−p)^{n−m} M_m M_{n−m}  (SPEC §2).
+    dM_n/dτ = −M_n + Σ_{m=0..n} C(n,m) p^m (1−p)^{n−m} M_m M_{n−m} .
     The hierarchy is triangular: the terms m = 0 and m = n give (pⁿ + (1−p)ⁿ) M_n, the rest only
     involve lower moments, so it is integrated exactly order by order with scipy's ODE solver at
     rtol 1e-12.  Returns an array of shape (len(tau), len(initial_moments)).

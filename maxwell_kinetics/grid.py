@@ -5,14 +5,14 @@ The rescaled characteristic function G(q, τ) is stored for q ≥ 0 on the grid
     s_j = ln q_j = s_min + j h,   j = 0 .. n − 1,   q_min = e^{s_min},  q_max = e^{s_max}.
 
 In s the transport term of the rescaled equation is a shift at constant speed λ and the gain
-term samples G at s + ln p and s + ln(1 − p) (SPEC §2): on a uniform s grid every shift is a
+term samples G at s + ln p and s + ln(1 − p): on a uniform s grid every shift is a
 fixed stencil.  Values between nodes come from centred Lagrange interpolation of ``order``
 points (even), whose error is O(h^order) for smooth G(s).
 
 Outside the grid:
 
-* q < q_min: the small-q expansion G = 1 − q²/2 − i m₃ q³/6 + O(q³), with m₃ = ⟨x³⟩ conserved
-  (SPEC §2).  Omitted terms are O(q_min³) (the |q|³/3 of f̂ that builds up at late times) and
+* q < q_min: the small-q expansion G = 1 − q²/2 − i m₃ q³/6 + O(q³), with m₃ = ⟨x³⟩ conserved.
+  Omitted terms are O(q_min³) (the |q|³/3 of f̂ that builds up at late times) and
   O(m₄(τ) q_min⁴).
 * q > q_max: G is taken from the free-streaming asymptotics e^{−τ} φ(q e^{λτ}) of the initial
   law (the gain term there is of second order in the small values of G); once this is below

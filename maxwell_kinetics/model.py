@@ -1,4 +1,4 @@
-"""The collision rule and the constants of the pseudo-Maxwell (Ulam) model (SPEC §1–2).
+"""The collision rule and the constants of the pseudo-Maxwell (Ulam) model.
 
 A colliding pair (i, j), Δ = v_i − v_j, becomes v_i' = v_i − pΔ, v_j' = v_j + pΔ with
 p = (1 + r)/2.  Constants: β = 1/p (the paper's β = 2/(1+r)) and λ = p(1 − p) = (1 − r²)/4.

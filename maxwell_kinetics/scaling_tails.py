@@ -1,4 +1,4 @@
-"""Tails and multiscaling measured from the solver's d-dimensional G (issue 17, SPEC §8).
+"""Tails and multiscaling measured from the solver's d-dimensional G.
 
 The exponents of :mod:`maxwell_kinetics.tails` come from the equation alone (the root s* of
 λ(s) = s λ(1), the rates min(λ(n), n λ(1))).  This module measures the same quantities from a

@@ -1,6 +1,6 @@
 """Time-dependent solver of the rescaled pseudo-Maxwell equation in Fourier space.
 
-Equation (SPEC §2).  With P̂(k, τ) = ∫ e^{ikv} P(v, τ) dv (τ = collisions per particle) and the
+Equation.  With P̂(k, τ) = ∫ e^{ikv} P(v, τ) dv (τ = collisions per particle) and the
 rescaled characteristic function G(q, τ) = P̂(q / v0(τ), τ), v0² = ⟨v²⟩ = e^{−2λτ} for unit
 initial variance,
 
@@ -15,7 +15,7 @@ Method: semi-Lagrangian in s = ln q, for the deviation w = G − g from the refe
 
 which has the same small-q expansion as G to O(q³).  Storing w instead of G matters near q = 0:
 there G ≈ 1 and a round-off error δ at q₀ is a variance error δ/q₀² that the dynamics keeps
-(the q² mode is neutral, SPEC §2), whereas w = O(q³) is stored to relative precision.  The
+(the q² mode is neutral), whereas w = O(q³) is stored to relative precision.  The
 source g(pq)g((1−p)q) − g + λ q g' is evaluated in closed form (:func:`source`, with the
 series of e^x − 1 − x for small x = λq²), so no O(1) terms cancel.
 
@@ -281,7 +281,7 @@ def solve(
     equation still relaxes, and Λ = 0 leaves the scheme no transport).  The distances to f̂
     (:meth:`Solution.sup_error`, :meth:`Solution.fourier_distance`) are defined for d = 1 only
     and raise for d ≥ 2: f̂ is the one-dimensional scaling solution, and none is known in closed
-    form for d ≥ 2 (SPEC §8).  The stored array ``deviation`` = G − f̂ is then only the
+    form for d ≥ 2.  The stored array ``deviation`` = G − f̂ is then only the
     representation :meth:`Solution.evaluate` interpolates, not a distance to anything.
 
     Parameters
@@ -469,7 +469,7 @@ class Solution:
 
         Restricting the sup to q ≥ q_low gives a lower bound of the full metric, so it obeys the
         contraction bound too; small q_low makes the value sensitive to round-off (|ΔG| ~ 1e-16
-        divided by q_low^s) and to the grid's cut at q_min (SPEC §2).  Only for ``dimension`` 1,
+        divided by q_low^s) and to the grid's cut at q_min.  Only for ``dimension`` 1,
         as :meth:`sup_error`.
         """
         self._require_one_dimension("fourier_distance")
@@ -496,7 +496,7 @@ class Solution:
         variance; the density of v itself is P(v / v0) / v0.  For ``dimension`` d ≥ 2, x is one
         Cartesian component and v0² = e^{−Λτ} its variance (:meth:`MaxwellModel.energy_rate`).
 
-        Sign and normalisation (SPEC §2): the characteristic function is P̂(k) = ∫ e^{ikv} P(v) dv
+        Sign and normalisation: the characteristic function is P̂(k) = ∫ e^{ikv} P(v) dv
         (so G(q) = E[e^{iqx}]), and its inverse carries e^{−iqx} and 1/(2π):
 
             P(x) = (1/2π) ∫_{−∞}^{∞} e^{−iqx} G(q) dq = (1/π) Re ∫_0^{q_max} e^{−iqx} G(q) dq,
@@ -538,7 +538,7 @@ class Solution:
         ∫_0^∞ P ds = 1; the density of |v| itself is P(|v| / v0) / v0.
 
         G(q) is the radial profile Φ(|k|) of the isotropic characteristic function
-        E[e^{ik·v/v0}] (sign and normalisation of SPEC §2), and P(s) = S_d s^{d−1} f(s) with
+        E[e^{ik·v/v0}] (the project's sign and normalisation), and P(s) = S_d s^{d−1} f(s) with
         the radial inverse transform f (:func:`maxwell_kinetics.velocity.speed_density_at`,
         where the formulas and the errors are): d = 3, P(s) = (2/π) s ∫_0^{q_max} k sin(ks)
         G(k) dk; d = 2, P(s) = s ∫_0^{q_max} k J₀(ks) G(k) dk; d = 1, P(s) = (2/π) ∫_0^{q_max}

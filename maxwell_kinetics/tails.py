@@ -1,4 +1,4 @@
-"""Power-law tails and multiscaling of d-dimensional inelastic Maxwell models (SPEC §8).
+"""Power-law tails and multiscaling of d-dimensional inelastic Maxwell models.
 
 Model.  Collision rule v₁' = v₁ − p (g·n) n, v₂' = v₂ + p (g·n) n, g = v₁ − v₂, p = (1 + r)/2,
 q = 1 − p; each particle collides at rate 1 whatever |g| (τ counts collisions per particle).
@@ -7,7 +7,7 @@ Fourier equation only needs the law w of η = (k̂·n)²:
 
 * ``"uniform"``: n uniform on the sphere S^{d−1}, η ~ Beta(1/2, (d − 1)/2);
 * ``"hard"``: n drawn with weight ∝ |ĝ·n| (uniform impact parameter), η ~ Beta(1, (d − 1)/2);
-* d = 1: η ≡ 1 for both (the model of SPEC §2).
+* d = 1: η ≡ 1 for both (the 1D Ulam model).
 
 Growth function.  λ(s) = 1 − ⟨(1 − (1 − q²) η)^s⟩ − p^{2s} ⟨η^s⟩, with the closed forms
 ⟨η^s⟩ = B(a + s, b)/B(a, b) and ⟨(1 − cη)^s⟩ = ₂F₁(−s, a; a + b; c) for η ~ Beta(a, b)
@@ -108,14 +108,52 @@ def growth_rate(dimension, restitution, s, angular="uniform"):
 
 
 def decay_rate(dimension, restitution, angular="uniform") -> float:
-    """Λ = 2pq⟨η⟩: ⟨|v|²⟩(τ) = ⟨|v|²⟩(0) e^{−Λτ} (zero mean, infinite N)."""
+    """Λ = 2pq⟨η⟩: ⟨|v|²⟩(τ) = ⟨|v|²⟩(0) e^{−Λτ} (zero mean, infinite N).
+
+    Parameters
+    ----------
+    dimension : int
+        1, 2 or 3.
+    restitution : float
+        r ∈ [0, 1].
+    angular : {"uniform", "hard"}
+        Law of the collision direction.
+
+    Returns
+    -------
+    float
+        Λ; in d = 1 it is 2λ = (1 − r²)/2.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For an argument out of range.
+    """
     law = angular_law(dimension, angular)
     p = transfer_fraction(restitution)
     return float(2.0 * p * (1.0 - p) * eta_moment(law, 1.0))
 
 
 def moment_rates(dimension, restitution, orders, angular="uniform") -> np.ndarray:
-    """Decay rates min(λ(n), n λ(1)) of ⟨|v|^{2n}⟩ for the integers ``orders`` n ≥ 1."""
+    """Decay rates min(λ(n), n λ(1)) of ⟨|v|^{2n}⟩ for the integers ``orders`` n ≥ 1.
+
+    Parameters
+    ----------
+    dimension, restitution, angular
+        As for :func:`decay_rate`.
+    orders : array_like of int
+        The n ≥ 1.
+
+    Returns
+    -------
+    numpy.ndarray
+        One rate per order; a rate below n λ(1) means multiscaling (Ben-Naim and Krapivsky).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For orders that are not integers ≥ 1, or another argument out of range.
+    """
     law = angular_law(dimension, angular)
     p = transfer_fraction(restitution)
     try:
@@ -143,7 +181,30 @@ class TailExponent:
 
 
 def tail_exponent(dimension, restitution, angular="uniform") -> TailExponent:
-    """The tail root s* of λ(s) = s λ(1) for r ∈ [0, 1) (bracket: module docstring)."""
+    """The tail root s* of λ(s) = s λ(1) for r ∈ [0, 1) (bracket: module docstring).
+
+    Parameters
+    ----------
+    dimension : int
+        1, 2 or 3.
+    restitution : float
+        r ∈ [0, 1).
+    angular : {"uniform", "hard"}
+        Law of the collision direction: uniform on the sphere, or weighted by |ĝ·n|.
+
+    Returns
+    -------
+    TailExponent
+        The root s* and the exponents of the density (d + 2s*) and of the speed and one
+        component (1 + 2s*); in d = 1, s* = 3/2 for every r (Ernst and Brito; Krapivsky and
+        Ben-Naim).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For a dimension, restitution (r = 1 included: no power-law tail) or angular law out of
+        range.
+    """
     law = angular_law(dimension, angular)
     r = check_restitution(restitution)
     if r == 1.0:

@@ -1,6 +1,6 @@
 """Velocity space: the density P(x) from the rescaled characteristic function G(q) (pyfftw).
 
-Conventions (SPEC §2)
+Conventions
 ---------------------
 P̂(k) = ∫ e^{ikv} P(v) dv, so the inverse transform carries e^{−iqx} and a factor 1/(2π):
 

@@ -5,7 +5,7 @@ Modules, one job each:
 
 * :mod:`.validation` — argument checks and exact parsing (``InvalidArgumentError``);
 * :mod:`.initial` — the initial velocity laws with their characteristic functions;
-* :mod:`.collision` — the collision rule of SPEC §1;
+* :mod:`.collision` — the collision rule;
 * :mod:`.observables` — energy, histograms, C(r), S(k);
 * :mod:`.persistence` — the one way every file is saved and loaded (atomic, hashed, bounded);
 * :mod:`.budget` — memory and work estimated before a run starts;
@@ -42,3 +42,30 @@ from .sticky import StickyState as StickyState
 from .ulam import Ulam as Ulam
 from .ulam import UlamState as UlamState
 from .validation import InvalidArgumentError as InvalidArgumentError
+
+__all__ = [
+    "CheckpointError",
+    "RunResult",
+    "initial_velocities",
+    "simulate",
+    "get_law",
+    "law_from_characteristic",
+    "Lattice",
+    "LatticeState",
+    "InelasticCollapseError",
+    "MDEngine",
+    "MDParams",
+    "MDState",
+    "correlation",
+    "energy",
+    "log_bin",
+    "rescaled_histogram",
+    "structure_factor",
+    "FileFormatError",
+    "StickyGas",
+    "StickyParams",
+    "StickyState",
+    "Ulam",
+    "UlamState",
+    "InvalidArgumentError",
+]

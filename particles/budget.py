@@ -7,10 +7,10 @@ Every run of the driver (and every command) first estimates
   records of the driver (S(k) rows, snapshots) and the histogram;
 * its **work**: the expected number of events (pair collisions for Ulam, N/2 per unit τ;
   attempted bond updates for the lattice, N per unit τ; MD pair collisions N τ(t)/2 with
-  τ(t) = (2/(1 − r²)) ln(1 + t/t₀) from Haff's law (SPEC §4), plus, with δ > 0, collisions at
+  τ(t) = (2/(1 − r²)) ln(1 + t/t₀) from Haff's law, plus, with δ > 0, collisions at
   the rate (2/√π) n δ of a gas at temperature δ² once Haff's temperature falls below δ²
   (relative velocities below δ are not dissipated); this ignores the collision-hungry clustered
-  stage (~7·10⁴ collisions per particle by t = 300 at r = 0.5, δ = 10⁻⁴, SPEC §6), so it is a
+  stage (~7·10⁴ collisions per particle by t = 300 at r = 0.5, δ = 10⁻⁴), so it is a
   rough lower bound; (2/√π) n t for r = 1).
 
 A run whose memory exceeds what the machine has available is refused (``InvalidArgumentError``

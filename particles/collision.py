@@ -1,4 +1,4 @@
-"""The collision rule of every particle model (SPEC §1), in one place.
+"""The collision rule of every particle model, in one place.
 
 A colliding pair (a, b) with Δ = v_a − v_b becomes
 

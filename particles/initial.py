@@ -2,7 +2,7 @@
 
 Every law has zero mean and unit variance.  A law carries
 
-* its characteristic function ``phi(k) = E[exp(i k v)]`` (the sign convention of SPEC §2:
+* its characteristic function ``phi(k) = E[exp(i k v)]`` (the sign convention of this project:
   ``P̂(k) = ∫ e^{ikv} P(v) dv``), evaluated by NumPy on any array of real ``k``.  The built-in
   laws write it against an array module ``xp`` (``characteristic(k, xp)``) so that the kinetic
   solver can also evaluate it inside JAX with ``xp = jax.numpy``;
@@ -10,7 +10,7 @@ Every law has zero mean and unit variance.  A law carries
   ``numpy.random.Generator``;
 * its standardised third moment ``skewness = E[v^3]`` (zero for symmetric laws), which fixes the
   imaginary part ``-skewness q^3 / 6`` of the rescaled characteristic function near ``q = 0``
-  for all times (SPEC §2: M3 / M2^{3/2} is conserved).
+  for all times (M3 / M2^{3/2} is conserved).
 
 Laws, by command-line name:
 
@@ -168,7 +168,24 @@ def law_names() -> list[str]:
 
 
 def get_law(name) -> InitialLaw:
-    """Return the law registered under ``name``; an ``InitialLaw`` passes through."""
+    """Return the law registered under ``name``; an ``InitialLaw`` passes through.
+
+    Parameters
+    ----------
+    name : str or particles.initial.InitialLaw
+        ``gaussian``, ``uniform``, ``laplace``, ``bimodal`` or ``asymmetric`` (all with zero
+        mean and unit variance).
+
+    Returns
+    -------
+    particles.initial.InitialLaw
+        With its characteristic function E[e^{ikv}], sampler and CDF.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For an unknown name.
+    """
     if isinstance(name, InitialLaw):
         return name
     try:

@@ -1,11 +1,11 @@
-"""The lattice model (SPEC §3): inelastic collisions between neighbours on a ring, vectorized.
+"""The lattice model: inelastic collisions between neighbours on a ring, vectorized.
 
 Model.  N sites on a ring with velocities v_0..v_{N−1}; bond b joins sites b and b+1 (mod N).
 Each attempt picks a bond uniformly; with the kinematic constraint (default) it collides by the
 rule of :mod:`particles.collision` only if v_b > v_{b+1} (the particles approach), without it
 always.  One unit of τ is N attempts.
 
-Exact vectorized scheme (SPEC §6).  Uniform bond choice at N attempts per unit τ is the same
+Exact vectorized scheme.  Uniform bond choice at N attempts per unit τ is the same
 process as giving every bond its own Poisson clock of rate 1: the state carries each bond's next
 attempt time.  A bond whose next time is below ``until`` and below both neighbouring bonds' next
 times can fire now (no earlier attempt can touch its two sites): all such bonds fire at once,
@@ -26,14 +26,14 @@ the same clock scheme by thinning: every bond's clock ticks at a common rate R �
 and a tick collides only if U·R < Δ_b (with the constraint; < |Δ_b| without it), U uniform on
 [0, 1) drawn at the tick — the accepted ticks are then a Poisson process of rate |Δ_b| (resp.
 Δ_b⁺) given the velocities, which is the variant exactly.  Velocities stay in the range of the
-current ones forever (SPEC §1), so R = (max v − min v)(1 + 1e-9) taken at the start of each
+current ones forever, so R = (max v − min v)(1 + 1e-9) taken at the start of each
 :meth:`Lattice.advance` bounds every |Δ| for all later times (the factor covers round-off at the
 ulp level).  When R changes between calls, the pending clocks are rescaled,
 c ← t + (c − t)·R_old/R_new: by memorylessness the residual waits are independent Exp(R_old),
 independent of the past, so the rescaled ones are independent Exp(R_new) (exact, no draws).
 The state carries R (``attempt_rate``).  Exact initial cooling from uncorrelated Gaussian data
 of variance T (derived in the tests): with the constraint dT/dt = −(2/√π)(1 − r²)T^{3/2} and
-dτ/dt = 2√(T/π), so dT/dτ = −(1 − r²)T, MD's values (SPEC §4); without it dT/dt and dτ/dt
+dτ/dt = 2√(T/π), so dT/dτ = −(1 − r²)T, MD's values; without it dT/dt and dτ/dt
 double and dT/dτ is the same.  (Constant rate, in collisions per particle: −(1 − r²)T/2.)
 
 Stops.  The driver stops every ``stop_step`` = 4 in τ (long windows amortise the last, sparse
@@ -398,7 +398,7 @@ class Lattice:
 
 def thinning_bound(v: np.ndarray) -> float:
     """Thinning bound R = (max v − min v)(1 + ``RATE_BOUND_MARGIN``) ≥ every |v_i − v_j|, now
-    and at all later times (velocities never leave their current range, SPEC §1)."""
+    and at all later times (velocities never leave their current range)."""
     return float(v.max() - v.min()) * (1.0 + RATE_BOUND_MARGIN)
 
 

@@ -63,7 +63,18 @@ def _as_velocities(v, *, min_dims=1, max_dims=2) -> np.ndarray:
 
 
 def energy(v) -> np.ndarray | float:
-    """Energy per particle ⟨v²⟩ = (1/N) Σ_i v_i² along the last axis (no factor ½)."""
+    """Energy per particle ⟨v²⟩ = (1/N) Σ_i v_i² along the last axis (no factor ½).
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities, particles along the last axis.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        ⟨v²⟩, a float for one set of velocities.
+    """
     arr = _as_velocities(v)
     out = np.mean(arr * arr, axis=-1)
     return float(out) if out.ndim == 0 else out
@@ -235,7 +246,7 @@ def velocity_profile(v) -> tuple[np.ndarray, np.ndarray]:
     * lattice: i is the site, and label order is ring order (site i's neighbours are i ± 1 mod
       N, bond i joins i and i + 1), so v(i) is a spatial profile (shocks, smooth patches);
     * MD (hard rods on a ring): rods never pass each other, so label order is the rods' order
-      along the ring: v(i) is the profile against label of SPEC §4 (v(x) needs the positions);
+      along the ring: v(i) is the profile against the particle label (v(x) needs the positions);
     * Ulam: the model is mean-field, any particle collides with any other, so the label order
       carries no spatial meaning: v(i) is a list of velocities in arbitrary order, and
       neighbouring labels are uncorrelated (its C(r) and S(k) are flat, r, k ≠ 0).

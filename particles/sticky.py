@@ -1022,7 +1022,7 @@ def _log_velocity_survival(w, nodes: int = 60) -> np.ndarray:
 
 
 def exact_velocity_survival(w, *, nodes: int = 60) -> np.ndarray:
-    """P_>(w) = ∫_w^∞ P(w') dw': the probability that a particle's scaled velocity exceeds w
+    """``P_>(w) = ∫_w^∞ P(w') dw'``: the probability that a particle's scaled velocity exceeds w
     (:func:`exact_velocity_density`; P(|w'| > w) = 2 P_>(w) for w ≥ 0, P_>(−w) = 1 − P_>(w)).
 
     For |w| ≤ 1: ½ ∓ ∫_0^{|w|} P by Gauss–Legendre with ``nodes`` nodes.  For |w| > 1 the tail

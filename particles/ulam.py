@@ -1,11 +1,11 @@
 """The Ulam (mean-field pseudo-Maxwell) model: exact continuous-time dynamics, vectorized.
 
-Model (SPEC §2).  N particles; pair collisions form a Poisson process of rate N/2 in τ, each
+Model.  N particles; pair collisions form a Poisson process of rate N/2 in τ, each
 collision picks a uniformly random pair i ≠ j and applies the rule of :mod:`particles.collision`.
 Each particle thus collides at rate 1 and τ counts collisions per particle.  This is *not* a
 synchronous sweep over all pairs.
 
-Exact vectorized scheme (SPEC §6).  τ is cut into windows on a fixed grid of step ``window``
+Exact vectorized scheme.  τ is cut into windows on a fixed grid of step ``window``
 (a power of two, so grid points are exact floats) and at the requested times.  For a window of
 length Δτ we draw the number of events K ~ Poisson(N Δτ / 2) and the K pairs; event times inside
 a window are never needed, only their order.  The events are then fired in rounds: in each round
@@ -35,7 +35,7 @@ the same events (:func:`collide_sequential` followed by :func:`recentre`).  The 
 at a grid point is therefore ~0 by construction and says nothing about conservation; the
 collisions' own drift shows at times between grid points, and the tests bound it there.
 
-d dimensions (SPEC §8), ``dimension`` = 2 or 3.  Velocities have shape (N, d).  A collision of
+d dimensions, ``dimension`` = 2 or 3.  Velocities have shape (N, d).  A collision of
 (a, b) with g = v_a − v_b and a unit vector n applies v_a' = v_a − p (g·n) n, v_b' = v_b + p (g·n) n
 (:func:`collide_vectors`; operations in a fixed order, dot products summed column by column, so
 the fast path and :func:`collide_sequential_vectors` agree bit for bit).  The same window scheme
@@ -53,7 +53,7 @@ c = cos φ = √(1 − s²), s = sin φ.  So δ = g t with t = p (c² + i s c) (
   sin φ has the arcsine law, drawn as s = cos(πu), u uniform;
 * ``"hard"``: density ∝ |cos φ| dφ = |ds|, so s is uniform on [−1, 1], drawn as 2u − 1.
 
-Then η = c² = 1 − s² is Beta(1/2, 1/2), resp. Beta(1, 1/2) (SPEC §8 at d = 2).  The product g t is
+Then η = c² = 1 − s² is Beta(1/2, 1/2), resp. Beta(1, 1/2) (at d = 2).  The product g t is
 written out in real operations (:func:`collide_complex`).  In d = 3 each event's variables are
 turned into n when the event fires (:func:`collision_directions`):
 
@@ -530,7 +530,7 @@ class Ulam:
 
     ``dimension`` ∈ {1, 2, 3} (velocities (N,) in 1D, (N, d) otherwise), ``angular`` ∈
     {"uniform", "hard"} (the law of the collision direction n; irrelevant in 1D), ``driving``
-    = D ≥ 0 (white-noise heating, 1D only).  With the defaults this is the 1D engine of SPEC §2,
+    = D ≥ 0 (white-noise heating, 1D only).  With the defaults this is the 1D Ulam engine,
     unchanged.
 
     Finite-N identities (expectations, zero total momentum, which recentring keeps).  With

@@ -1,5 +1,5 @@
 """``maxwell-kinetics steady``: the non-equilibrium steady state of the driven 1D Maxwell model
-(white-noise heating of strength D, issue 17).
+(white-noise heating of strength D).
 
     maxwell-kinetics steady --restitution R --driving D [--json] [--plot FILE]
 

@@ -1,5 +1,5 @@
 """``maxwell-kinetics tail-exponent``: the power-law tail of the scaling solution of the
-d-dimensional inelastic Maxwell model (issue 17).
+d-dimensional inelastic Maxwell model.
 
     maxwell-kinetics tail-exponent --dimension D --restitution R [--angular uniform|hard] [--json]
 

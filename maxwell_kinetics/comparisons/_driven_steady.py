@@ -1,5 +1,5 @@
 """Comparison: the driven (heated) 1D Maxwell model in its non-equilibrium steady state, kinetic
-theory (:mod:`maxwell_kinetics.driven`) against the driven Ulam particles (issue 17).
+theory (:mod:`maxwell_kinetics.driven`) against the driven Ulam particles.
 
     ∂τP̂(k) + (1 + D k²) P̂(k) = P̂(pk) P̂(qk),   q = 1 − p
 

@@ -50,10 +50,10 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
 
     Fits, each run separately, mean ± standard error over the runs (seeds):
 
-    * MD Haff: slope of ln E against ln(1 + t/t₀), t₀ = √π/((1 − r²) n) (SPEC §4), on
+    * MD Haff: slope of ln E against ln(1 + t/t₀), t₀ = √π/((1 − r²) n), on
       ``md_haff_window`` (expected −2 while the gas is homogeneous);
     * MD late: slope of ln E against ln t on ``md_late_window`` (expected −2/3);
-    * lattice early: the initial rate d ln E/dτ at τ = 0⁺ (exact: −(1 − r²)/2, SPEC §3), the
+    * lattice early: the initial rate d ln E/dτ at τ = 0⁺ (exact: −(1 − r²)/2), the
       linear coefficient of a quadratic fit of ln E against τ on ``lattice_early_window``.  A
       straight line there measures the mean slope over the window instead, which the build-up
       of correlations makes steeper: measured at N = 10⁶ (4 seeds, τ ≤ 0.25) −0.37740 ± 0.00060

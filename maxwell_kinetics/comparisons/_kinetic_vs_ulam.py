@@ -52,7 +52,7 @@ _VS_ULAM_RESOLUTION = "fine"
 
 def _kinetic_scaled(v: np.ndarray, restitution: float, tau: float) -> np.ndarray:
     """x = (v − ⟨v⟩) / v0(τ) per run (rows), with the kinetic theory's own scale
-    v0(τ) = e^{−λτ} (SPEC §2: the solver's P(x, τ) is the law of v/v0(τ), v0 deterministic).
+    v0(τ) = e^{−λτ} (the solver's P(x, τ) is the law of v/v0(τ), v0 deterministic).
 
     Not the run's own √E: near f the energy of a run of N particles is carried by its rare
     |x|⁻⁴ tail particles, so it scatters from run to run and its typical value lies below the
@@ -60,7 +60,7 @@ def _kinetic_scaled(v: np.ndarray, restitution: float, tau: float) -> np.ndarray
     kinetic theory does not describe (measured, r = 0.5, bimodal, τ = 128, N = 10⁶, 8 runs:
     E/e^{−2λτ} of the runs 0.934–1.047, median 0.964; χ²/(dof·φ) 4.0 with √E per run, 1.26
     with v0).
-    The finite system's own mean energy is e^{−2λτ N/(N−1)} (SPEC §2), 1 − 2λτ/N of the
+    The finite system's own mean energy is e^{−2λτ N/(N−1)}, 1 − 2λτ/N of the
     kinetic one: ≤ 5e-5 relative here, far below the bins' statistical resolution.  The mean is
     subtracted for the reason given in :func:`.analysis.rescaled`."""
     lam = MaxwellModel(restitution).lam

@@ -1,4 +1,4 @@
-"""Comparison 8: paired validation of the sticky gas as the late stage of MD (SPEC §7) — MD at
+"""Comparison 8: paired validation of the sticky gas as the late stage of MD — MD at
 r = 0.5, δ = 10⁻⁴ and the exact sticky gas from the SAME initial state agree in E t^{2/3}
 closer than independent seeds do, and where the equivalence ends (t δ ≫ 1, Shinde, Das and
 Rajesh 2007).  ``run`` computes, ``plot`` draws."""
@@ -22,12 +22,13 @@ NAME = "sticky_vs_md"
 #: ``n``, ``t_max``, ``seeds`` and ``delta`` of the paired runs are those of comparison 5's MD
 #: (``small``: N = 1000 to t = 40; ``default``: N = 2000 to t = 100; recorded at
 #: :func:`.particle_runs.md_record_times`), so that within one ``reproduce`` they share the runs;
-#: ``full`` is SPEC §7's measurement, N = 2·10⁴ to t = 300.  ``window``: the late stage compared
-#: (t ≥ 10 ≈ 4 Haff times t₀ = √π/(1 − r²) = 2.4).  ``departure``: (δ, N) of the runs to
-#: ``departure_t_max`` (one seed each, 12 geometric times from t = 10) that show where the
-#: equivalence ends; two N at one δ separate the departure from finite-size effects (a run
-#: holds about N / t^{2/3} clusters).  Measured cost (loaded 2-core machine): MD N = 1000,
-#: δ = 10⁻⁴ to t = 40: 4.6 s per seed; N = 5000, δ = 0.1 to t = 5000: 12 s.
+#: ``full`` is the size of the independent reference, N = 2·10⁴ to t = 300.
+#: ``window``: the late stage compared (t ≥ 10 ≈ 4 Haff times t₀ = √π/(1 − r²) = 2.4).
+#: ``departure``: (δ, N) of the runs to ``departure_t_max`` (one seed each, 12 geometric
+#: times from t = 10) that show where the equivalence ends; two N at one δ separate the
+#: departure from finite-size effects (a run holds about N / t^{2/3} clusters).
+#: Measured cost (loaded 2-core machine): MD N = 1000, δ = 10⁻⁴ to t = 40: 4.6 s per seed;
+#: N = 5000, δ = 0.1 to t = 5000: 12 s.
 PRESETS = {
     "small": {"restitution": 0.5, "delta": 1e-4, "n": 1000, "t_max": 40.0, "seeds": 3,
               "window": (10.0, 40.0), "departure": ((0.1, 1000), (0.1, 2000)),

@@ -1,5 +1,5 @@
 """Comparison: power-law tails of the scaling solution of the inelastic Maxwell models in
-d = 2 and 3 (issue 17), from the transcendental equation and from the particles.
+d = 2 and 3, from the transcendental equation and from the particles.
 
 The tail exponent s* > 1 is the nontrivial root of λ(s) = s λ(1),
 λ(s) = 1 − ⟨(1 − (1 − q²)η)^s⟩ − p^{2s}⟨η^s⟩, η = (k̂·n)² ~ Beta(1/2, (d−1)/2) ("uniform") or

@@ -82,7 +82,7 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     homogeneous stage.  At t = 3000 the gas is clustered (E ≈ 2.3 E_Haff at N = 2·10⁴) and
     P(x) is back near a Gaussian.
 
-    Why the constant-rate lattice misses MD's two humps early (issue 15): in MD a pair collides
+    Why the constant-rate lattice misses MD's two humps early: in MD a pair collides
     at a rate ∝ |Δ|, in the plain lattice at a rate independent of Δ.  With the rate ∝ |Δ| the
     lattice reproduces MD's P(x) at equal energy (measured, ``benchmarks/fig1a.py``, N = 2·10⁴,
     6 seeds: ⟨x⁴⟩ MD 1.957 ± 0.004, rate-|Δ| lattice 1.973 ± 0.007, constant rate 2.907 ± 0.016).

@@ -2,7 +2,7 @@
 run of ``reproduce``) and the bin probabilities of P(x, τ) that the particle histograms are
 compared with.
 
-Conventions: x = v/v0(τ) with v0 = e^{−λτ} (SPEC §2); G(q, τ) is the characteristic function of
+Conventions: x = v/v0(τ) with v0 = e^{−λτ}; G(q, τ) is the characteristic function of
 P(x, τ); bin probabilities come from :func:`maxwell_kinetics.statistics.interval_probabilities`
 (G cut at the grid's q_max).  Solutions handed out by :func:`kinetic_solution` are shared
 between callers, so their arrays are read-only.

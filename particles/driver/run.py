@@ -41,7 +41,22 @@ class Engine(Protocol):  # pragma: no cover - typing only
 
 def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
     """Draw ``n`` velocities from ``law`` (a name or an ``InitialLaw``), then subtract their mean
-    and rescale them so that the mean is 0 and ⟨v²⟩ = 1 up to round-off."""
+    and rescale them so that the mean is 0 and ⟨v²⟩ = 1 up to round-off.
+
+    Parameters
+    ----------
+    law : str or particles.initial.InitialLaw
+        The initial law.
+    n : int
+        Number of particles.
+    rng : numpy.random.Generator
+        The source of randomness (the run's seed).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``n`` velocities, float64.
+    """
     n = check_count(n, "n", 2)
     v = get_law(law).sample(rng, n)
     v = v - v.mean()
@@ -127,6 +142,30 @@ def simulate(
     Before anything is drawn, the run's memory and work are estimated
     (:mod:`particles.budget`): a run that cannot fit in the memory available is refused, and so
     is one of more than 10¹³ events unless ``force=True``.
+
+    Parameters
+    ----------
+    engine : particles.driver.Engine
+        A model's engine (:class:`~particles.Ulam`, :class:`~particles.Lattice`,
+        :class:`~particles.MDEngine`, :class:`~particles.StickyGas`).
+    times : sequence of float
+        Increasing times ≥ 0, in the engine's own time (τ, or t for MD and the sticky gas).
+    seed : int
+        The run's seed, an integer ≥ 0.
+    progress, checkpoint, resume, bins, structure_factor, snapshots, checkpoint_interval, force
+        As described above.
+
+    Returns
+    -------
+    particles.RunResult
+        The records at every requested time.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For a bad argument, or a run refused by its estimated memory or work.
+    particles.CheckpointError
+        For a checkpoint of another run, or one locked by a running process.
     """
     times = check_times(times, getattr(engine, "time_name", "tau"))
     seed = check_count(seed, "seed", 0)

@@ -1,10 +1,10 @@
-"""Exact event-driven molecular dynamics of inelastic hard rods on a ring (SPEC §4, §6).
+"""Exact event-driven molecular dynamics of inelastic hard rods on a ring.
 
 Model
 -----
 N rods of length σ on a ring of length L = N / n fly freely between collisions.  A collision of
 the left rod i with its right neighbour j = i + 1 (they collide only when approaching,
-v_i > v_j) uses the rule of SPEC §1 with Δ = v_i − v_j:
+v_i > v_j) uses the collision rule with Δ = v_i − v_j:
 
     v_i' = v_i − p Δ,    v_j' = v_j + p Δ,    p = (1 + r)/2,
 
@@ -14,8 +14,8 @@ swap of the two velocities, so they conserve momentum and energy bit for bit.
 
 Coordinates
 -----------
-Everything is done with point particles on the reduced ring of length L_r = L − N σ
-(SPEC §4): the rod i sits at y_i = x_i + i σ.  Point coordinates are *unwrapped* and particle
+Everything is done with point particles on the reduced ring of length L_r = L − N σ:
+the rod i sits at y_i = x_i + i σ.  Point coordinates are *unwrapped* and particle
 labels never change order, so at any common time
 
     x_0 ≤ x_1 ≤ … ≤ x_{N−1} ≤ x_0 + L_r .
@@ -35,7 +35,7 @@ are clipped to the old interval and swapped if round-off left them approaching):
 * ``method="reference"``: a plain sequential loop, a binary heap (``heapq``) over the N pair
   predictions with lazy invalidation, ties broken by the pair index
   (:mod:`particles.md.reference`).
-* ``method="fast"``: the light-cone scheme of SPEC §6 (:mod:`particles.md.lightcone`):
+* ``method="fast"``: the light-cone scheme (:mod:`particles.md.lightcone`):
   vectorised NumPy passes over all the collisions that no other pending collision can reach,
   and, where a pass would fire only a handful, the scalar heap loop on the same data, with
   zero-gap bursts run as a sort.

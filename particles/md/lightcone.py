@@ -1,4 +1,4 @@
-"""The fast path of the hard-rod MD: the light-cone scheme of SPEC §6 (``method="fast"``).
+"""The fast path of the hard-rod MD: the light-cone scheme (``method="fast"``).
 
 Velocities stay in [v_min, v_max] forever (collisions make convex combinations), so a pending
 collision at (c_a, X_a) cannot influence anything outside the cone X_a + [v_min, v_max] (t − c_a).

@@ -126,7 +126,7 @@ class MDParams:
 
     @property
     def reduced_length(self) -> float:
-        """Length L − Nσ of the ring of point particles (SPEC §4)."""
+        """Length L − Nσ of the ring of point particles."""
         return self.length - self.n * self.rod_length
 
     @property

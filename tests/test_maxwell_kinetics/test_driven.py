@@ -57,7 +57,7 @@ def test_moment_solution_solves_the_moment_equations(r, D):
 
 
 def test_free_cooling_moments_follow_the_undriven_hierarchy():
-    # SPEC §2 with D = 0: M2 = e^{−2pqτ}; M4/M2² grows (multiscaling: a4 < 2 a2).
+    # Exact with D = 0: M2 = e^{−2pqτ}; M4/M2² grows (multiscaling: a4 < 2 a2).
     r = 0.2
     p = 0.6
     tau = np.array([0.0, 1.0, 10.0, 40.0])

@@ -1,4 +1,4 @@
-"""The exact results of SPEC §2 (module ``exact``), checked independently of the solvers."""
+"""The exact results of the 1D model (module ``exact``), checked independently of the solvers."""
 
 import math
 

@@ -1,4 +1,4 @@
-"""Tails and multiscaling measured from the solver's d-dimensional G (issue 17, items 2 and 3).
+"""Tails and multiscaling measured from the solver's d-dimensional G (items 2 and 3).
 
 One solve (d = 2, uniform angular model, r = 0, coarse grid, 8 η nodes, Gaussian start) is
 compared with what does not come from it: the tail root s* of λ(s) = s λ(1)
@@ -44,7 +44,7 @@ def planar():
 
 
 def test_hierarchy_is_the_one_dimensional_one_and_its_rates_are_the_equations():
-    # d = 1: the hierarchy must be SPEC §2's (exact.rescaled_moments, an independent code):
+    # d = 1: the hierarchy must be the exact 1D one (exact.rescaled_moments, an independent code):
     # ⟨x⁴⟩ = 24 C₂, ⟨x⁶⟩ = −720 C₃.
     taus = [0.0, 1.0, 5.0, 20.0]
     C = rescaled_coefficients(1, 0.5, taus, 3)

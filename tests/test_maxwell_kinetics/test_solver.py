@@ -1,4 +1,4 @@
-"""The time-dependent kinetic solver against the exact results of SPEC §2.
+"""The time-dependent kinetic solver against the exact results of the 1D model.
 
 Solves are shared through module-level fixtures: each new (r, law, resolution) costs a JIT
 compilation of several seconds.
@@ -45,8 +45,8 @@ def small_q_deviation(sol: Solution, k: int):
 
 
 def test_spec_measured_distances(gaussian_half):
-    # SPEC §2 (measured by two independent methods, three digits): r = 0.5, unit Gaussian.
-    # The issue asks for agreement to 1 %.
+    # Reference value (measured by two independent methods, three digits): r = 0.5, unit Gaussian.
+    # The target is agreement to 1 %.
     measured = {10.0: 8.7e-2, 50.0: 1.37e-2, 100.0: 3.37e-3}
     for tau, value in measured.items():
         k = TAUS.index(tau)
@@ -69,7 +69,7 @@ def test_normalisation_and_unit_variance_are_kept(gaussian_half):
 def test_fourth_moment_follows_the_hierarchy(request, fixture, m4_initial):
     # Re G = 1 − q²/2 + m4 q⁴/24 − m6 q⁶/720 + …, and g = e^{−q²/2} contributes 3 q⁴/24, so
     # w = G − g = (m4 − 3) q⁴/24 + O(q⁶).  Fit w/q⁴ against q² on 0.01 < q < 0.08.
-    # The hierarchy (SPEC §2) is integrated independently by scipy at rtol 1e-12.
+    # The hierarchy is integrated independently by scipy at rtol 1e-12.
     sol = request.getfixturevalue(fixture)
     model = MaxwellModel(0.5)
     initial = [1.0, 0.0, 1.0, 0.0, m4_initial]
@@ -89,7 +89,7 @@ def test_fourth_moment_follows_the_hierarchy(request, fixture, m4_initial):
 
 @pytest.mark.parametrize("s", [2.25, 2.5, 2.75])
 def test_contraction_bound(gaussian_half, s):
-    # d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂) (Bobylev–Cercignani–Toscani, SPEC §2), r = 0.5,
+    # d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂) (Bobylev–Cercignani–Toscani), r = 0.5,
     # default resolution, τ ≤ 1000 (where the bound has fallen to 4e-7 .. 3e-5).
     # d_s(G(0), f̂) is computed exactly from φ on a dense grid down to q = 1e-12.
     #
@@ -129,7 +129,7 @@ def test_asymmetric_data(asymmetric_zero):
     # G(−q) = conj G(q)
     q = np.array([0.3, 1.0, 4.0])
     assert np.allclose(sol.evaluate(-q, 2), np.conj(sol.evaluate(q, 2)), rtol=0, atol=1e-15)
-    # Im G = −m3 q³/6 + O(m5 q⁵) with m3 = ⟨x³⟩ constant in time (SPEC §2).  Im g carries
+    # Im G = −m3 q³/6 + O(m5 q⁵) with m3 = ⟨x³⟩ constant in time.  Im g carries
     # exactly −m3 q³/6, so Im w / q³ on 1e-8 < q < 1e-6 measures the drift of m3/6.  The q⁵
     # term grows with the rescaled m5 (multiscaling): measured 1.9e-10 at τ = 20 there.  Later
     # the analytic region shrinks like e^{−λτ} below the grid's q_min = e^{−24}, so the check

@@ -1,4 +1,4 @@
-"""The isotropic d-dimensional inelastic Maxwell model (issue 17): solve(..., dimension=d).
+"""The isotropic d-dimensional inelastic Maxwell model: solve(..., dimension=d).
 
 Checks against what does not come from the solver's own quadrature: the angular laws by Monte
 Carlo on the sphere, the stationary equation by adaptive quadrature (scipy.integrate.quad) of

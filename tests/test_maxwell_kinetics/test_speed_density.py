@@ -1,4 +1,4 @@
-"""The density of the speed |v| from the isotropic characteristic function (issue 17, item 1).
+"""The density of the speed |v| from the isotropic characteristic function (item 1).
 
 Checks of the radial inverse transform against closed forms that do not come from it (the
 Maxwell speed law; multivariate Student laws, whose characteristic functions have |k|³ and
@@ -176,7 +176,7 @@ def test_speed_and_component_densities_agree_in_two_dimensions(planar):
 
 
 def test_speed_tail_has_the_component_exponent(planar):
-    # SPEC §8: the speed and one component both decay as s^{−1−2s*} (the d-dimensional density
+    # Exact: the speed and one component both decay as s^{−1−2s*} (the d-dimensional density
     # as s^{−d−2s*}; P = S_d s^{d−1} f makes that relation exact, so it is not tested).
     # d = 2, r = 0, uniform, τ = 400, default grid, slopes of ln P on s ∈ [20, 60]: measured
     # speed 5.2804 (halves differ by 0.012), component 5.2810, 1 + 2s* = 5.2875.  Tolerances:

@@ -1,5 +1,5 @@
 """The fixed-point solver against the exact scaling solution, and the linearised decay rates
-against the contraction rates γ(s) of SPEC §2."""
+against the contraction rates γ(s) of the 1D model."""
 
 import json
 import math
@@ -24,7 +24,7 @@ RESTITUTIONS = [0.0, 0.3, 0.5, 0.9, 0.99]
 @pytest.mark.parametrize("r", RESTITUTIONS)
 def test_fixed_point_recovers_f_hat(r):
     fp = fixed_point(r)
-    # The issue's requirement.  Measured max errors at n = 64: 6.1e-13 (r = 0), 8.8e-13 (0.3),
+    # The accuracy target.  Measured max errors at n = 64: 6.1e-13 (r = 0), 8.8e-13 (0.3),
     # 9.2e-13 (0.5), 3.0e-12 (0.9), 2.0e-11 (0.99); the floor is round-off amplified by the
     # conditioning of the collocation (it grows with n and as r -> 1).
     assert fp.max_error <= 1e-10

@@ -78,7 +78,7 @@ def test_energy_rate_is_lambda_of_one(dimension, angular, r):
 def test_one_dimension_has_s_star_three_halves_for_every_r(angular, r):
     t = tail_exponent(1, r, angular)
     assert t.s == pytest.approx(1.5, abs=1e-10)
-    # the density of SPEC §2, f ∝ x⁻⁴: d + 2s* = 1 + 3 = 4
+    # the exact r = 0 scaling density, f ∝ x⁻⁴: d + 2s* = 1 + 3 = 4
     assert t.exponents == pytest.approx({"density": 4.0, "speed": 4.0, "component": 4.0})
 
 
@@ -131,7 +131,7 @@ def test_moment_rates_multiscale_above_the_tail_root(dimension):
 
 
 def test_moment_rates_in_one_dimension_match_the_moment_hierarchy():
-    # SPEC §2: the leading rate of M_{2n} is a_{2n} = 1 − p^{2n} − q^{2n}, and M_{2n} also
+    # Exact: the leading rate of M_{2n} is a_{2n} = 1 − p^{2n} − q^{2n}, and M_{2n} also
     # inherits n·a_2 from products of lower moments.
     r = 0.4
     p, q = 0.7, 0.3

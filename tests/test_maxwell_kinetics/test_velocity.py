@@ -1,4 +1,4 @@
-"""Velocity-space inversion G(q) -> P(x) against exact densities (SPEC §2 conventions)."""
+"""Velocity-space inversion G(q) -> P(x) against exact densities (the project's conventions)."""
 
 import math
 
@@ -24,7 +24,7 @@ def test_inverting_f_hat_gives_f():
     x, P = inverse_transform(f_hat, q_max=50.0, period=PERIOD)
     near = np.abs(x) <= 10.0
     err = P[near] - f_density(x[near])
-    # The issue's requirement; measured 1.38e-12.
+    # The accuracy target; measured 1.38e-12.
     assert np.max(np.abs(err)) <= 1e-8
     # The whole error is the alias of the x^-4 tail (≈ 1.3e-12 here): after removing it, what is
     # left is round-off (measured ~1e-16; f_hat(51) ~ 4e-21 makes truncation negligible).

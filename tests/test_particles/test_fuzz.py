@@ -1,4 +1,4 @@
-"""Property-based tests (hypothesis) of the argument parsers and the file loaders (issue 18).
+"""Property-based tests (hypothesis) of the argument parsers and the file loaders.
 
 The property in every case: untrusted input either gives the right answer or raises
 ``InvalidArgumentError`` (``FileFormatError`` for files) naming the argument; never another

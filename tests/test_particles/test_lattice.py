@@ -1,5 +1,5 @@
 """The lattice model: exactness of the parallel clock passes, agreement with the discrete
-model, the exact initial cooling rates, E ~ τ^(-1/2), the k⁻² Porod range and the SPEC
+model, the exact initial cooling rates, E ~ τ^(-1/2), the k⁻² Porod range and the
 reference value."""
 
 import numpy as np
@@ -110,7 +110,7 @@ def test_fast_engine_and_discrete_reference_agree_in_distribution():
 
 @pytest.mark.parametrize("constraint, rate", [(True, 0.5), (False, 1.0)])
 def test_initial_energy_slope(constraint, rate):
-    # SPEC §3: from uncorrelated Gaussian data dE/dτ(0) = -(1-r²)/2 with the constraint and
+    # Exact: from uncorrelated Gaussian data dE/dτ(0) = -(1-r²)/2 with the constraint and
     # -(1-r²) without.  N = 2e5, E at τ = 0.01..0.05 fitted by 1 + aτ + bτ² (E(0) = 1 exactly);
     # 24 seeds, tolerance 4 standard errors of the mean slope (measured SE ≈ 1.4% / 1.3%).
     r = 0.5
@@ -129,7 +129,7 @@ def test_initial_energy_slope(constraint, rate):
 
 
 def test_reference_energy_at_tau_20():
-    # SPEC §3 (measured with independent code): r = 0.5, N = 2e5, unit Gaussian start,
+    # Reference (measured with independent code): r = 0.5, N = 2e5, unit Gaussian start,
     # E(20) = 0.0723 ± 0.0003 over 12 seeds.  Same protocol here; tolerance 4 combined
     # standard errors.
     energy = np.array(
@@ -321,7 +321,7 @@ def test_relative_velocity_initial_cooling_is_md_like(constraint, factor):
     #   dT/dt = −(1 − r²)/2 ⟨Δ⁺ Δ²⟩ = −(2/√π)(1 − r²) T^{3/2}  (×2 without the constraint),
     #   dτ/dt = 2 ⟨Δ⁺⟩ = 2 √(T/π)                               (×2 without),
     # τ = 2·collisions/N, hence dT/dτ = −(1 − r²) T in both cases: MD's values at density 1
-    # (SPEC §4), twice the constant-rate lattice's −(1 − r²)T/2 per collision per particle.
+    #, twice the constant-rate lattice's −(1 − r²)T/2 per collision per particle.
     # N = 2e5, r = 0.5, t = 0.01..0.05 fitted by 1 + a t + b t² (E(0) = 1 and τ(0) = 0
     # exactly); 16 seeds, tolerance 4 standard errors of the mean slope over seeds (measured
     # SE with / without the constraint: 1.0% / 0.4% of the slope for E, 0.9% / 0.4% for τ,

@@ -1,6 +1,6 @@
 """Event-driven MD of inelastic hard rods (particles/md.py): the light-cone fast path against the
-sequential heap reference, conservation laws, the exact t = 0⁺ cooling rates and Haff's law
-(SPEC §4), the rod/point mapping, inelastic collapse, the run driver (checkpoint / resume /
+sequential heap reference, conservation laws, the exact t = 0⁺ cooling rates and Haff's law,
+the rod/point mapping, inelastic collapse, the run driver (checkpoint / resume /
 Ctrl-C / save) and bad input."""
 
 import contextlib
@@ -279,7 +279,7 @@ def test_elastic_gas_conserves_energy_exactly():
     assert energy(s0) == pytest.approx(1.0, rel=1e-14)
 
 
-# --- exact rates and Haff's law (SPEC §4) ----------------------------------------------------
+# --- exact rates and Haff's law ----------------------------------------------------
 
 
 def test_initial_cooling_rates():
@@ -388,7 +388,7 @@ def _brute_force_rods(y, v, length, sigma, r, delta, until):
     "n, density, sigma, r", [(40, 1.0, 0.3, 0.8), (25, 0.5, 1.5, 0.9), (60, 1.0, 0.5, 0.6)]
 )
 def test_rods_match_an_independent_rod_simulation(n, density, sigma, r):
-    # The engine maps rods to points on the reduced ring (SPEC §4); the brute-force simulation
+    # The engine maps rods to points on the reduced ring; the brute-force simulation
     # above does not: it moves rods of length sigma in real coordinates and detects contact at
     # distance sigma.  Starting from the same rods, the two must process the same collisions
     # (measured: 144-175, about 6 per rod) and end with the same velocities (the collision rule

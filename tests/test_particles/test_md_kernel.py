@@ -100,7 +100,7 @@ def collision_cases(rng, size):
 
 
 def test_scalar_collide_against_its_definition_and_the_guards_are_exercised():
-    # the kernel itself against the rule of SPEC §1 and the guard written plainly
+    # the kernel itself against the collision rule and the guard written plainly
     rng = np.random.default_rng(0)
     clipped = swapped = elastic = 0
     for vi, vj, p, delta, elastic_only in collision_cases(rng, SAMPLES):

@@ -311,7 +311,7 @@ def test_invalid_arguments():
 
 
 def test_energy_decay_amplitude():
-    # E t^{2/3} for unit Gaussian velocities at density 1.  Expected: SPEC §7, measured with an
+    # E t^{2/3} for unit Gaussian velocities at density 1.  Expected: measured with an
     # independent code, 0.445-0.450 for t in [10, 1000].  The exact large-t constant is not
     # derived here (see the report); the scaling E t^{2/3} -> n^{-2/3} <U^2> is.  Tolerance: the
     # seed-to-seed standard deviation of E t^{2/3} at N = 2e5, t = 30 is 0.0023 (8 seeds, this

@@ -1,4 +1,4 @@
-"""The sticky gas's displacements and their exact large-t law (issue 15, SPEC §7).
+"""The sticky gas's displacements and their exact large-t law.
 
 At t ≫ 1/n a particle's displacement D tends in law to b t^{2/3} Z, b = 2^{2/3} σ^{2/3} n^{−1/3}
 and Z of Chernoff's law (argmax of W(u) − u², :func:`particles.sticky.displacement_scale`):

@@ -126,7 +126,7 @@ def test_long_run_keeps_the_mean_velocity_at_round_off(cls):
 
 
 def test_expected_energy_is_exactly_exp_minus_2_lambda_tau_n_over_n_minus_1():
-    # SPEC §2: E(τ) = exp(-2λτ N/(N-1)) in expectation, N particles at zero momentum.  N = 10
+    # Exact: E(τ) = exp(-2λτ N/(N-1)) in expectation, N particles at zero momentum.  N = 10
     # makes the finite-N factor 10/9 visible: over 2000 seeds the standard error of the mean is
     # ~0.004, and the infinite-N law exp(-2λτ) is 5-11 standard errors away (asserted too, so
     # the test can tell the two apart).  Tolerance: 4 standard errors from the seed spread.
@@ -169,7 +169,7 @@ def test_fast_engine_and_sequential_reference_agree_in_distribution():
     "r, law", [(0.0, "gaussian"), (0.0, "uniform"), (0.5, "gaussian"), (0.5, "uniform")]
 )
 def test_late_histogram_is_the_scaling_solution_with_its_power_law_tail(r, law):
-    """N = 2e5, τ = 100 (SPEC: sup|G - f̂| ≈ 3e-3 there for r = 0.5; r = 0 contracts faster).
+    """N = 2e5, τ = 100 (independent: sup|G - f̂| ≈ 3e-3 there for r = 0.5; r = 0 contracts faster).
 
     Statistic.  f is even and so are these initial laws, so |x| is compared with 2 f(|x|):
     20 bins of width 0.2 on [0, 4], after fitting one scale s (x → s x): in a finite system √E

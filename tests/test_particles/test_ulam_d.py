@@ -1,4 +1,4 @@
-"""The d-dimensional and the driven Ulam models (particles.ulam, SPEC §8): the round-parallel fast
+"""The d-dimensional and the driven Ulam models (particles.ulam): the round-parallel fast
 path against a one-event-at-a-time loop on the same draws (bit for bit), the law of the
 "hard" collision directions, the exact energy decay with its finite-N factor, momentum
 conservation, agreement in distribution with an independent reference (rejection sampling,

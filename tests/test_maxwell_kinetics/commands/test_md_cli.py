@@ -19,7 +19,7 @@ def test_json_output_contract(capsys):
     out = run_json(capsys, argv)
     keys = {"t", "energy", "collisions_per_particle", "momentum", "collisions", "seconds"}
     assert keys | {"histogram", "k", "S", "C", "profile", "params", "seed"} <= set(out)
-    assert "total_momentum" not in out  # one momentum key, under the name the issue gives
+    assert "total_momentum" not in out  # one momentum key, under its documented name
     assert out["t"] == [0.0, 1.0, 2.5]
     for key in ("energy", "collisions_per_particle", "momentum", "collisions"):
         assert len(out[key]) == 3, key
@@ -41,7 +41,7 @@ def test_json_output_contract(capsys):
 
 
 def test_rods_and_text_output(capsys):
-    # sigma = 0.25 at n = 2 is the point gas at density 4 (SPEC §4): same collisions
+    # sigma = 0.25 at n = 2 is the point gas at density 4: same collisions
     rods = run_json(
         capsys,
         BASE[:4]

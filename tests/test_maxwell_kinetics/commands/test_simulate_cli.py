@@ -64,7 +64,7 @@ def test_structure_factor_keeps_one_spectrum(capsys, tmp_path):
 
 
 def test_no_constraint_changes_the_lattice_and_text_output(capsys):
-    # SPEC §3: from uncorrelated data dE/dτ = -(1-r²)/2 with the constraint and -(1-r²) without,
+    # Exact: from uncorrelated data dE/dτ = -(1-r²)/2 with the constraint and -(1-r²) without,
     # so the energy lost by τ is in the ratio 2 + O(τ).  Here r = 0.5, τ = 0.05, N = 2e5.
     # O(τ) term: without the constraint the second moments close, dC0/dτ = -4λ(C0 - C1),
     # dC1/dτ = 2λ(C0 - C1) + 2p(C2 - C1), so d²E/dτ²(0) = 24λ² and the loss is

@@ -21,7 +21,7 @@ SOLVE_KEYS = {"restitution", "initial", "resolution", "tau", "sup_error", "q", "
 
 
 def test_solve_json_contract_and_spec_values(capsys, tmp_path):
-    # r = 0.5, unit Gaussian, default resolution: the SPEC §2 case (one solve, one compile).
+    # r = 0.5, unit Gaussian, default resolution: the reference case (one solve, one compile).
     plot, save = tmp_path / "g.png", tmp_path / "g.npz"
     out = run_json(capsys, ["solve", "--restitution", "0.5", "--initial", "gaussian", "--tau",
                             "10,50,100", "--q", "0.5,1,2,5", "--json", "--plot", str(plot),
@@ -33,7 +33,7 @@ def test_solve_json_contract_and_spec_values(capsys, tmp_path):
     assert out["tau"] == [10.0, 50.0, 100.0]
     assert out["q"] == [0.5, 1.0, 2.0, 5.0]
     assert out["seconds"] > 0
-    # SPEC §2, measured by two independent methods: the issue asks for agreement to 1 %.
+    # Reference value measured by two independent methods; the target is agreement to 1 %.
     for measured, value in zip([8.7e-2, 1.37e-2, 3.37e-3], out["sup_error"], strict=True):
         assert value == pytest.approx(measured, rel=0.01)
     for key in ("G_real", "G_imag"):
@@ -117,7 +117,7 @@ def test_convergence_writes_json_and_figure(capsys, tmp_path):
     assert written["table"] == out["table"]
     run = written["runs"][0]
     assert run["tau"][0] == 1.0 and run["tau"][-1] == 10.0
-    # at τ = 10 the error is still the physical distance to f̂: SPEC §2 measured 8.7e-2 (coarse
+    # at τ = 10 the error is still the physical distance to f̂: independently measured 8.7e-2 (coarse
     # resolution: its floor 7e-8 is far below); the floor is the median of the last 5 outputs
     assert run["sup_error"][-1] == pytest.approx(8.7e-2, rel=0.01)
     assert row["floor"] == pytest.approx(np.median(run["sup_error"][-5:]), rel=1e-12)

@@ -1,4 +1,4 @@
-"""The command line of issue 17: ``tail-exponent``, ``steady`` and ``simulate ulam --dimension
+"""The d-dimensional and driven CLI: ``tail-exponent``, ``steady`` and ``simulate ulam --dimension
 --angular --driving`` (numbers against the library and exact values, bad input)."""
 
 import math

@@ -1,4 +1,4 @@
-"""Hostile input (issue 18): every file read is untrusted, every run is bounded.
+"""Hostile input: every file read is untrusted, every run is bounded.
 
 One test (at least) per class of failure found when the command line and the API were attacked:
 files trusted too much (zip bomb, declared shapes, edited contents, a FIFO, a pickle, another

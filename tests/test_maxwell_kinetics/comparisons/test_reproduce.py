@@ -170,7 +170,7 @@ def test_md_late_exponent(energy):
     (more or longer runs) costs tens of seconds, beyond the budget of this suite (the presets'
     run parameters are fixed).  What it does tell: the decay has left Haff's t⁻² (−2 is 13.6σ
     away) and has not stopped (0 is 6.5σ away), asserted below at 5σ.  The value measured at
-    N = 2·10⁴, t ≤ 287 is in SPEC §6 (−0.665)."""
+    N = 2·10⁴, t ≤ 287 with an independent code gives −0.665."""
     late = energy.summary["md_late_exponent"]
     assert abs(late["deviation_in_sigma"]) < 3
     assert late["uncertainty"] < 0.2
@@ -474,7 +474,7 @@ def test_md_shock_asymmetry_in_the_coarse_grained_profiles():
 
 
 def test_velocity_profiles_preset():
-    """Fig. 4 at the paper's size at ``--full`` (issue: r = 0.99, N = 2·10⁴ for MD and the
+    """Fig. 4 at the paper's size at ``--full`` (the paper's: r = 0.99, N = 2·10⁴ for MD and the
     lattice), with more seeds than the default; at small and default size the run parameters
     equal comparison 4's, so that one process shares the MD and lattice runs of the two."""
     full = _velocity_profiles.PRESETS["full"]

@@ -1,4 +1,4 @@
-"""The comparisons of issue 17 at the small size: tail exponents (equation against particles)
+"""The d-dim. and driven comparisons at the small size: tail exponents (equation against particles)
 and the driven steady state (kinetic theory against driven Ulam particles)."""
 
 import math

@@ -1,0 +1,131 @@
+"""Write ``api/<face>.rst`` for every package face listed in ``apigen_faces``.
+
+Every name in the face's ``__all__`` is documented under the face's own dotted name
+(``particles.Ulam``), so that the API reference lists exactly the public names and cannot
+forget one.  A name that two faces export (``particles.simulate`` is
+``particles.driver.simulate``) is documented in full under the first face and as an alias under
+the next ones.
+"""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import sys
+from pathlib import Path
+
+
+def _directive(obj) -> str:
+    if inspect.isclass(obj):
+        return "autoexception" if issubclass(obj, BaseException) else "autoclass"
+    if callable(obj):
+        return "autofunction"
+    return "autodata"
+
+
+def _data_doc(face: str, name: str, obj) -> tuple[str, str]:
+    """(defining module, ``#:`` comment) of a module-level constant exported by ``face``."""
+    from sphinx.pycode import ModuleAnalyzer
+
+    root = face.split(".")[0]
+    candidates = [face] + sorted(m for m in list(sys.modules)
+                                 if m.startswith(root + ".") and m != face)
+    for modname in candidates:
+        module = sys.modules.get(modname)
+        if module is None or getattr(module, name, None) is not obj:
+            continue
+        try:
+            docs = ModuleAnalyzer.for_module(modname).find_attr_docs()
+        except Exception:  # noqa: BLE001 - a module without source: no comment
+            continue
+        if ("", name) in docs:
+            return modname, " ".join(docs[("", name)]).strip()
+    return "", ""
+
+
+def _data(face: str, name: str, obj) -> list[str]:
+    where, doc = _data_doc(face, name, obj)
+    lines = [f".. py:data:: {name}", ""]
+    if doc:
+        lines += ["   " + doc.replace("|", "\\|"), ""]
+    if where and where != face:
+        lines += [f"   Defined in ``{where}``.", ""]
+    return lines
+
+
+def _submodules(faces) -> list[str]:
+    import pkgutil
+
+    names = []
+    for root in sorted({f.split(".")[0] for f in faces}):
+        package = importlib.import_module(root)
+        for info in pkgutil.walk_packages(package.__path__, root + "."):
+            if info.name.rsplit(".", 1)[-1].startswith("_") or info.name in faces:
+                continue
+            names.append(info.name)
+    return names
+
+
+def face_names(face: str) -> list[str]:
+    """The public names of ``face`` (its ``__all__``)."""
+    return list(importlib.import_module(face).__all__)
+
+
+def write_api(app) -> None:
+    out = Path(app.srcdir) / "api"
+    out.mkdir(exist_ok=True)
+    seen: dict[int, str] = {}
+    index = ["API reference", "=============", "",
+             "Every name in the ``__all__`` of each package face, built from its docstring.", "",
+             ".. toctree::", "   :maxdepth: 1", ""]
+    for face in app.config.apigen_faces:
+        module = importlib.import_module(face)
+        index.append(f"   {face.replace('.', '-')}")
+        title = f"``{face}``"
+        lines = [title, "=" * len(title), "", f".. automodule:: {face}", "   :no-members:", "",
+                 f".. currentmodule:: {face}", ""]
+        for name in module.__all__:
+            obj = getattr(module, name)
+            key = id(obj)
+            simple = inspect.isclass(obj) or inspect.isfunction(obj)
+            if simple and key in seen:
+                lines += [f".. py:data:: {name}", "",
+                          f"   The same object as :py:obj:`{seen[key]}`.", ""]
+                continue
+            if simple:
+                seen[key] = f"{face}.{name}"
+            if _directive(obj) == "autodata":
+                lines += _data(face, name, obj)
+                continue
+            lines += [f".. {_directive(obj)}:: {name}", ""]
+        text = "\n".join(lines) + "\n"
+        path = out / f"{face.replace('.', '-')}.rst"
+        if not path.exists() or path.read_text() != text:
+            path.write_text(text)
+    index.append("   modules")
+    mods = ["Modules", "=======", "",
+            "Every module of the two packages with its documented members; the package faces "
+            "above are the supported entry points.", ""]
+    for modname in _submodules(app.config.apigen_faces):
+        mods += [f"``{modname}``", "-" * (len(modname) + 4), "",
+                 f".. automodule:: {modname}", "   :members:", ""]
+        parent, _, leaf = modname.rpartition(".")
+        importlib.import_module(modname)
+        if not isinstance(getattr(importlib.import_module(parent), leaf, None), type(sys)):
+            mods.insert(-1, "   :no-index:")  # the face exports a function of this name
+        if modname in app.config.apigen_faces:
+            mods[-2] = "   :no-members:"
+    text = "\n".join(mods) + "\n"
+    path = out / "modules.rst"
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)
+    text = "\n".join(index) + "\n"
+    path = out / "index.rst"
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)
+
+
+def setup(app):
+    app.add_config_value("apigen_faces", [], "env")
+    app.connect("builder-inited", write_api)
+    return {"parallel_read_safe": True, "version": "1"}

@@ -1,0 +1,137 @@
+"""Sphinx configuration of the maxwell-kinetics documentation.
+
+Generated at build time (never edited by hand, git-ignored):
+
+* ``api/*.rst`` from the ``__all__`` of every package face (:mod:`_ext.apigen`);
+* ``reproducing.md`` from a ``make demo`` results folder (:mod:`_ext.results`);
+* ``tutorials/*.ipynb``, copies of ``notebooks/``.
+
+Notebooks: ``nb_execution_mode`` is ``cache`` by default (executed once at the small size,
+``MAXWELL_KINETICS_SMALL=1``, then cached in ``_build/.jupyter_cache``); the tests build with
+``-D nb_execution_mode=off``.
+"""
+
+import os
+import re
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(HERE / "_ext"))
+os.environ.setdefault("MAXWELL_KINETICS_SMALL", "1")
+# The notebooks' kernels start with _ext/kernel_startup.py (figures shown after each cell);
+# IPython's folder for the build lives in _build.
+_ipython = HERE / "_build" / ".ipython"
+(_ipython / "profile_default" / "startup").mkdir(parents=True, exist_ok=True)
+(_ipython / "profile_default" / "startup" / "00-figures.py").write_bytes(
+    (HERE / "_ext" / "kernel_startup.py").read_bytes())
+os.environ["IPYTHONDIR"] = str(_ipython)
+
+import maxwell_kinetics  # noqa: E402
+
+project = "maxwell-kinetics"
+author = "the maxwell-kinetics authors"
+copyright = "2026, " + author
+release = version = maxwell_kinetics.__version__
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.intersphinx",
+    "myst_nb",
+    "sphinxarg.ext",
+    "sphinxcontrib.bibtex",
+    "sphinx_copybutton",
+    "apigen",
+    "results",
+]
+
+source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
+exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "figures/full/*.json"]
+myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
+myst_heading_anchors = 3
+
+nb_execution_mode = "cache"
+nb_execution_timeout = 300
+nb_execution_cache_path = str(HERE / "_build" / ".jupyter_cache")
+nb_execution_raise_on_error = True
+# Progress lines go to stderr; the tutorials show the results and figures only.
+nb_output_stderr = "remove"
+
+autodoc_member_order = "bysource"
+autodoc_typehints = "none"
+autodoc_default_options = {"members": True, "show-inheritance": True}
+napoleon_numpy_docstring = True
+napoleon_google_docstring = False
+napoleon_use_rtype = False
+
+bibtex_bibfiles = ["references.bib"]
+bibtex_default_style = "plain"
+
+intersphinx_mapping = {}
+
+nitpicky = True
+# Nitpicky on the project's own names; types of other libraries and prose in type fields
+# (``float``, ``array_like``, ``numpy.ndarray``) are not checked.
+nitpick_ignore_regex = [
+    (r"py:.*", r"(?!particles|maxwell_kinetics).*"),
+    (r"py:.*", r".*\._[a-z].*"),
+]
+# A dataclass field without a doc comment of its own (described in the class docstring).
+nitpick_ignore = [("py:attr", "particles.driver.RunResult.final_state")]
+
+html_theme = "pydata_sphinx_theme"
+html_title = f"maxwell-kinetics {release}"
+html_theme_options = {
+    "navigation_with_keys": False,
+    "show_toc_level": 2,
+}
+html_static_path = []
+copybutton_prompt_text = r"\$ |>>> "
+copybutton_prompt_is_regexp = True
+
+apigen_faces = [
+    "particles",
+    "particles.driver",
+    "particles.ensemble",
+    "particles.md",
+    "particles.models",
+    "particles.sticky",
+    "particles.sticky_chunks",
+    "maxwell_kinetics",
+    "maxwell_kinetics.comparisons",
+]
+# The results shown on "Reproducing the paper": $MAXWELL_KINETICS_DOCS_RESULTS, else the
+# results/ folder of a local `make demo` when it has a summary, else the `make demo` run whose
+# summary and figures are kept in docs/figures.
+results_dir = os.environ.get("MAXWELL_KINETICS_DOCS_RESULTS") or (
+    str(ROOT / "results") if (ROOT / "results" / "summary.json").exists()
+    else str(HERE / "figures"))
+
+# The notebooks are copied from notebooks/ so that the tutorials are the same files.
+_tutorials = HERE / "tutorials"
+for _nb in sorted((ROOT / "notebooks").glob("*.ipynb")):
+    _dest = _tutorials / _nb.name
+    if not _dest.exists() or _dest.read_bytes() != _nb.read_bytes():
+        _dest.write_bytes(_nb.read_bytes())
+
+
+# Docstrings are written in plain mathematical text: |x| is an absolute value, not a
+# reStructuredText substitution.  Escape the bars outside ``literals`` and :math:`roles`.
+_LITERAL = re.compile(r"(``.*?``|:[a-z:]+:`[^`]*`|`[^`]*`)")
+
+
+def _escape_bars(app, what, name, obj, options, lines):
+    for i, line in enumerate(lines):
+        parts = _LITERAL.split(line)
+        for j in range(0, len(parts), 2):
+            parts[j] = re.sub(r"(?<!\\)\|", r"\\|", parts[j])
+            parts[j] = re.sub(r"(?<=\w)_(?=[^\w{`]|$)", r"\\_", parts[j])
+        lines[i] = "".join(parts)
+
+
+def setup(app):
+    app.connect("autodoc-process-docstring", _escape_bars)
