@@ -72,6 +72,13 @@ def add_common_options(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def _print_table(time_key, times, energy, count_name, counts) -> None:
+    """The text output's table: time, energy and a count at each requested time."""
+    print(f"{time_key:>12} {'energy':>14} {count_name:>14}")
+    for t, e, c in zip(times, energy, counts, strict=True):
+        print(f"{t:12.6g} {e:14.6e} {c:14d}")
+
+
 def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
     """Run ``engine`` with the common options in ``args`` and print the result.
 
@@ -113,9 +120,7 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
         emit_json(payload)
     else:
         print(f"{engine.name}: {result.params}  seed {seed}")
-        print(f"{time_key:>12} {'energy':>14} {'collisions':>14}")
-        for t, e, c in zip(result.times, result.energy, result.collisions, strict=True):
-            print(f"{t:12.6g} {e:14.6e} {c:14d}")
+        _print_table(time_key, result.times, result.energy, "collisions", result.collisions)
         if result.histogram_note is not None:
             print(f"histogram: {result.histogram_note}")
         print(f"{result.seconds:.3f} s")
@@ -255,8 +260,6 @@ def _run_sticky_chunks(engine, args) -> int:
         emit_json(payload)
     else:
         print(f"sticky: {result.params}  seed {seed}, {chunks} chunks")
-        print(f"{'t':>12} {'energy':>14} {'clusters':>14}")
-        for t, e, c in zip(result.times, result.energy, result.clusters, strict=True):
-            print(f"{t:12.6g} {e:14.6e} {c:14d}")
+        _print_table("t", result.times, result.energy, "clusters", result.clusters)
         print(f"{result.seconds:.3f} s")
     return 0
