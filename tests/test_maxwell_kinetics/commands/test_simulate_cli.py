@@ -296,6 +296,10 @@ def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
+        # the child starts with SIGINT at its default, as from a shell: a child inherits an
+        # ignored SIGINT (some library in the test process may ignore it), and Python then
+        # keeps ignoring it
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     ) as proc:
         reader = threading.Thread(
             target=lambda: err_chunks.extend(iter(lambda: proc.stderr.read(1), "")), daemon=True
