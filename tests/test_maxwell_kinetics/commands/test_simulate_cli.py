@@ -290,16 +290,16 @@ def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([root, os.environ.get("PYTHONPATH", "")]))
     err_chunks = []
     started = re.compile(r"\| *([0-9.e+]+)/2000")  # the bar's "n/total"
+    # The child must start with SIGINT at its default, as from a shell: a child inherits an
+    # ignored SIGINT (something earlier in a full test session leaves it ignored here), and
+    # Python then keeps ignoring it.  A Python-level handler is not inherited across exec.
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
     with subprocess.Popen(
         argv + ["--checkpoint", str(ckpt), "--checkpoint-interval", "1e9", "--progress"],
         env=env,
         stdout=subprocess.DEVNULL,
         stderr=subprocess.PIPE,
         text=True,
-        # the child starts with SIGINT at its default, as from a shell: a child inherits an
-        # ignored SIGINT (some library in the test process may ignore it), and Python then
-        # keeps ignoring it
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     ) as proc:
         reader = threading.Thread(
             target=lambda: err_chunks.extend(iter(lambda: proc.stderr.read(1), "")), daemon=True
@@ -315,6 +315,7 @@ def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
         proc.send_signal(signal.SIGINT)
         proc.wait(timeout=60)
         reader.join(timeout=10)
+    signal.signal(signal.SIGINT, before)
     err = "".join(err_chunks)
     assert proc.returncode == 130, err
     assert f"checkpoint saved to {ckpt}" in err and ckpt.exists()
