@@ -26,7 +26,8 @@ from unittest import mock
 import numpy as np
 
 from particles import persistence
-from particles.driver import _load_checkpoint, _Records, _run_identity, _structure_mode, simulate
+from particles.driver import simulate
+from particles.driver.checkpoint import Records, load_checkpoint, run_identity
 from particles.md import MDEngine, MDParams
 from particles.observables import rescaled_histogram
 
@@ -59,11 +60,11 @@ def main() -> None:
                                   lambda meta, arrays, entries=None: meta["sha256"]):
             t_plain = best(lambda: persistence.load(path, "checkpoint", (1, 2)), args.repeats)
         edges = rescaled_histogram(np.array([1.0, -1.0]), None).edges
-        identity = _run_identity(engine, times, 1, edges, _structure_mode("last"), False)
+        identity = run_identity(engine, times, 1, edges, "last", False)  # S(k) at the last time
 
         def resume():
-            records = _Records(len(times), args.n, "last", False)
-            _load_checkpoint(path, engine, identity, records)
+            records = Records(len(times), args.n, "last", False)
+            load_checkpoint(path, engine, identity, records)
 
         t_resume = best(resume, args.repeats)
     print(f"N = {args.n}, file {size / 2**20:.1f} MiB, best of {args.repeats}")
