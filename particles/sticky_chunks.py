@@ -20,7 +20,11 @@ velocity, m its mass).  Its first and last interior blocks come along as *sentin
 client joins the edge blocks by one weighted isotonic regression and pools the seam; if a pooled
 block reached a sentinel, the interior was not out of reach after all, and the time is computed
 again with 4× the edge.  The final histogram of x = v/√E needs E: a second pass counts each
-chunk's interior velocities on its bins.
+chunk's interior velocities on its bins.  With ``structure_factor`` the same pass also returns
+the interior clusters (first label, mass, Σ v); this process lays them out with the joined
+clusters as the per-particle velocity field v_j and takes S(k) = |v̂(k)|²/N, v̂(k) = Σ_j v_j
+e^{−ikj}, and C(r) as the single engine does (:func:`particles.observables.structure_factor`):
+the spectrum has N/2 + 1 values, so it costs :data:`SPECTRUM_BYTES` bytes a particle here.
 
 Every sum over chunks is taken on the client in chunk order, so the result for a given
 (seed, K) does not depend on the number of workers or on where the tasks ran.  A task recomputes
@@ -35,12 +39,14 @@ import time as _time
 
 import numpy as np
 
+from .budget import available_memory, format_bytes
 from .driver import initial_velocities
 from .observables import histogram_from_counts
 from .sticky import StickyParams, period_regression, pool_junction
 from .validation import InvalidArgumentError, check_count, check_times
 
-__all__ = ["ChunkedResult", "chunk_bounds", "chunk_initial", "check_chunks", "simulate_chunks"]
+__all__ = ["ChunkedResult", "chunk_bounds", "chunk_initial", "check_chunks", "simulate_chunks",
+           "velocity_field"]
 
 #: Blocks sent from each end of a chunk at first (multiplied by 4 while a pooled block reaches
 #: past them).
@@ -48,8 +54,26 @@ EDGE = 64
 
 
 def check_chunks(chunks, n: int) -> int:
-    """``chunks`` as an integer in [1, N/2] (every chunk holds at least two particles, the least
-    that has a zero-mean, unit-energy draw); InvalidArgumentError naming ``chunks``."""
+    """``chunks`` as an integer in [1, N/2]: every chunk holds at least two particles, the least
+    that has a zero-mean, unit-energy draw.
+
+    Parameters
+    ----------
+    chunks : int
+        The number of chunks K asked for.
+    n : int
+        The number of particles N.
+
+    Returns
+    -------
+    int
+        K.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``chunks`` when it is not an integer in [1, N/2].
+    """
     try:
         k = check_count(chunks, "chunks", 1)
     except InvalidArgumentError:
@@ -60,7 +84,20 @@ def check_chunks(chunks, n: int) -> int:
 
 
 def chunk_bounds(n: int, chunks: int) -> np.ndarray:
-    """First labels of the K chunks, with N appended (the first N mod K chunks one longer)."""
+    """First labels of the K chunks, with N appended (the first N mod K chunks one longer).
+
+    Parameters
+    ----------
+    n : int
+        The number of particles N.
+    chunks : int
+        The number of chunks K.
+
+    Returns
+    -------
+    numpy.ndarray
+        K + 1 int64 labels: chunk k holds the labels ``bounds[k]`` … ``bounds[k + 1]`` − 1.
+    """
     size, extra = divmod(int(n), int(chunks))
     lengths = np.full(int(chunks), size, dtype=np.int64)
     lengths[:extra] += 1
@@ -68,7 +105,27 @@ def chunk_bounds(n: int, chunks: int) -> np.ndarray:
 
 
 def chunk_initial(params: StickyParams, seed: int, k: int, chunks: int):
-    """(x, v) of chunk ``k`` of ``chunks`` (module docstring); K = 1: the engine's draw."""
+    """The initial positions and velocities of chunk ``k`` of ``chunks``.
+
+    Chunk k's n_k positions are uniform order statistics on its own arc [L b_k/N, L b_{k+1}/N)
+    and its velocities are drawn from the gas's law with zero mean and unit ⟨v²⟩ over the chunk,
+    all from the child seed ``SeedSequence(seed).spawn(chunks)[k]``.  K = 1 is the single
+    engine's draw: ``default_rng(seed)``, N sorted uniforms on [0, L), then the velocities.
+
+    Parameters
+    ----------
+    params : particles.sticky.StickyParams
+        The gas.
+    seed : int
+        The run's seed.
+    k, chunks : int
+        The chunk's index and the number of chunks K.
+
+    Returns
+    -------
+    x, v : numpy.ndarray
+        The chunk's positions (increasing) and velocities.
+    """
     n, length = params.n, params.length
     if chunks == 1:
         rng = np.random.default_rng(seed)
@@ -128,21 +185,98 @@ def chunk_summary(params_dict: dict, seed: int, k: int, chunks: int, t: float, e
     return out
 
 
-def chunk_histogram(params_dict: dict, seed: int, k: int, chunks: int, t: float, edge: int,
-                    v0: float, edges) -> np.ndarray:
-    """Counts of the chunk's interior particles on ``edges`` in x = v/``v0`` at time ``t``."""
+def chunk_last(params_dict: dict, seed: int, k: int, chunks: int, t: float, edge: int,
+               v0: float, edges, field: bool = False) -> dict:
+    """The second pass at the last time ``t`` over chunk ``k``'s interior clusters.
+
+    Parameters
+    ----------
+    params_dict : dict
+        The gas's ``StickyParams.to_dict()``.
+    seed : int
+        The run's seed (the chunk draws from its child seed).
+    k, chunks : int
+        This chunk's index and the number of chunks.
+    t : float
+        The last output time (physical time).
+    edge : int
+        The edge the join used at ``t`` (the interior is what lies between the edges).
+    v0 : float
+        √E at ``t``: the histogram counts x = v/v0.
+    edges : array_like
+        The histogram's bin edges in x.
+    field : bool
+        Also return the interior clusters themselves, for the velocity field of S(k).
+
+    Returns
+    -------
+    dict
+        ``counts``: the interior particles' counts on ``edges`` (int64); with ``field``,
+        ``starts`` (global first labels), ``masses`` and ``vsums`` (Σ v) of the interior
+        clusters.
+    """
     params = StickyParams(**params_dict)
-    blocks, _, weights, vsums, _, _ = _chunk_blocks(params, seed, k, chunks, t)
+    blocks, _, weights, vsums, first, _ = _chunk_blocks(params, seed, k, chunks, t)
     _, _, inner = _interior(blocks.size, edge)
+    out = {"counts": np.zeros(len(edges) - 1, dtype=np.int64)}
+    if field:
+        out.update(starts=np.zeros(0, np.int64), masses=np.zeros(0), vsums=np.zeros(0))
     if inner is None:
-        return np.zeros(len(edges) - 1, dtype=np.int64)
+        return out
     w = weights[inner]
     u = vsums[inner] / w
     count, _ = np.histogram(u / v0, bins=edges, weights=w)
-    return np.rint(count).astype(np.int64)
+    out["counts"] = np.rint(count).astype(np.int64)
+    if field:
+        out.update(starts=blocks[inner] + first, masses=w.copy(), vsums=vsums[inner].copy())
+    return out
 
 
-def _single(params, times, seed, edges, start) -> ChunkedResult:
+def velocity_field(n: int, starts, masses, vsums) -> np.ndarray:
+    """The per-particle velocities v_i, i = 0 … N − 1, of clusters given by their first labels,
+    masses and momenta Σ v, in any order; a cluster may wrap through label 0 (the seam's).
+
+    Parameters
+    ----------
+    n : int
+        The number of particles N.
+    starts : array_like of int
+        Each cluster's first label.
+    masses : array_like
+        Each cluster's mass (number of particles); they sum to N.
+    vsums : array_like
+        Each cluster's total momentum.
+
+    Returns
+    -------
+    numpy.ndarray
+        v of shape (N,): label i carries its cluster's velocity Σ v / m.
+
+    Raises
+    ------
+    ValueError
+        If the masses do not sum to N.
+    """
+    order = np.argsort(starts, kind="stable")
+    m = np.asarray(masses)[order].astype(np.int64)
+    u = np.asarray(vsums)[order] / m
+    first = int(np.asarray(starts)[order[0]])
+    run = np.repeat(u, m)  # labels first, first + 1, … (mod N), in order
+    if run.size != n:
+        raise ValueError(f"the clusters hold {run.size} particles, not N = {n}")
+    return np.roll(run, first)
+
+
+def _spectrum_of(v: np.ndarray) -> dict:
+    """S(k) and C(r), r = 0 … ⌊N/2⌋, of the per-particle velocities ``v``, as the single
+    engine's ``simulate sticky --structure-factor`` gives them."""
+    from .observables import correlation, structure_factor
+
+    k, s = structure_factor(v)
+    return {"k": k, "S": s, "C": correlation(v)[: v.size // 2 + 1]}
+
+
+def _single(params, times, seed, edges, start, structure_factor) -> ChunkedResult:
     """K = 1: the single-process engine, run by the driver."""
     from .driver import simulate
     from .sticky import StickyGas, cluster_mass_distribution
@@ -150,12 +284,18 @@ def _single(params, times, seed, edges, start) -> ChunkedResult:
     run = simulate(StickyGas(params), times, seed, progress=False, bins=edges)
     clusters = run.extras["clusters"].astype(np.int64)
     m, mass_counts = cluster_mass_distribution(run.final_state)
+    spectrum = _spectrum_of(run.final_state.velocities) if structure_factor else {}
     return ChunkedResult(
         params=params.to_dict(), seed=int(seed), chunks=1, times=times, energy=run.energy,
         momentum=run.extras["total_momentum"], clusters=clusters, collisions=run.collisions,
         masses=m, mass_counts=mass_counts, histogram=run.histogram, edge=None,
-        seconds=_time.perf_counter() - start,
+        seconds=_time.perf_counter() - start, **spectrum,
     )
+
+
+#: Bytes per particle that S(k) and C(r) take on the client: the velocity field (8), its
+#: half-spectrum (8) and the correlation (8).
+SPECTRUM_BYTES = 24
 
 
 class _Reached(Exception):
@@ -163,13 +303,15 @@ class _Reached(Exception):
 
 
 def _join(parts: list[dict], length: float):
-    """The ring's clusters among the edge blocks: (masses, velocity sums) of the clusters that
-    are not interior sentinels.  Raises :class:`_Reached` when a sentinel was pooled."""
+    """The ring's clusters among the edge blocks: (masses, velocity sums, first labels) of the
+    clusters that are not interior sentinels.  Raises :class:`_Reached` when a sentinel was
+    pooled."""
     from scipy.optimize import isotonic_regression
 
     means = np.concatenate([p["means"] for p in parts])
     weights = np.concatenate([p["weights"] for p in parts])
     vsums = np.concatenate([p["vsums"] for p in parts])
+    starts = np.concatenate([p["starts"] for p in parts])
     flags = np.concatenate([p["flags"] for p in parts]).astype(np.int64)
     fit = isotonic_regression(means, weights=weights)
     b = fit.blocks[:-1]
@@ -179,6 +321,7 @@ def _join(parts: list[dict], length: float):
         raise _Reached
     bm, bw = fit.x[b], np.add.reduceat(weights, b)
     bv = np.add.reduceat(vsums, b)
+    bs = starts[b]
     i, j, _ = pool_junction(bm, bw, length)
     if j > 0:
         if np.any(flagged[i:]) or np.any(flagged[:j]):
@@ -186,23 +329,64 @@ def _join(parts: list[dict], length: float):
         keep = np.flatnonzero(flagged[j:i] == 0) + j
         masses = np.append(bw[keep], bw[i:].sum() + bw[:j].sum())
         sums = np.append(bv[keep], bv[i:].sum() + bv[:j].sum())
+        firsts = np.append(bs[keep], bs[i])  # the seam's cluster starts at block i
     else:
         keep = np.flatnonzero(flagged == 0)
-        masses, sums = bw[keep], bv[keep]
-    return masses, sums
+        masses, sums, firsts = bw[keep], bv[keep], bs[keep]
+    return masses, sums, firsts
 
 
 class ChunkedResult:
-    """The outputs of :func:`simulate_chunks`: ``times``, ``energy`` (⟨v²⟩), ``momentum`` (Σ v),
-    ``clusters`` and ``collisions`` (N − clusters) at each time, ``masses`` and ``mass_counts``
-    (the cluster-mass distribution at the last time), ``histogram`` (x = v/√E at the last time,
-    :class:`particles.observables.Histogram`), ``edge`` (the largest edge used), ``seconds``."""
+    """The outputs of :func:`simulate_chunks`.
+
+    Parameters
+    ----------
+    **fields
+        The attributes below, by name.
+
+    Attributes
+    ----------
+    params : dict
+        The gas's parameters (``StickyParams.to_dict()``).
+    seed, chunks : int
+        The run's seed and number of chunks K.
+    times : numpy.ndarray
+        The output times t (physical time).
+    energy : numpy.ndarray
+        ⟨v²⟩ per particle at each time.
+    momentum : numpy.ndarray
+        Σ v at each time (zero up to round-off).
+    clusters, collisions : numpy.ndarray
+        The number of clusters and N − clusters at each time.
+    masses, mass_counts : numpy.ndarray
+        The cluster-mass distribution at the last time: the masses present and how many
+        clusters have each.
+    histogram : particles.observables.Histogram or None
+        Particles' x = v/√E at the last time (None when E = 0).
+    edge : int or None
+        The largest edge the joins used (None for K = 1).
+    seconds : float
+        Wall time of the run.
+    k, S, C : numpy.ndarray
+        Only with ``structure_factor``: k = 2πm/N, S(k) = |v̂(k)|²/N with v̂(k) = Σ_j v_j e^{−ikj}
+        over the labels j at the last time (:func:`particles.observables.structure_factor`),
+        and C(r) for r = 0 … ⌊N/2⌋ (:func:`particles.observables.correlation`).
+    """
 
     def __init__(self, **fields):
         self.__dict__.update(fields)
 
     def to_dict(self) -> dict:
-        return {
+        """The outputs as JSON-ready values (lists and numbers).
+
+        Returns
+        -------
+        dict
+            ``model``, ``params``, ``seed``, ``chunks``, ``t``, ``energy``, ``momentum``,
+            ``clusters``, ``collisions``, ``mass_distribution`` (``m``, ``count``),
+            ``histogram``, ``edge``, ``seconds``; and ``k``, ``S``, ``C`` when S(k) was asked.
+        """
+        out = {
             "model": "sticky", "params": self.params, "seed": self.seed, "chunks": self.chunks,
             "t": self.times.tolist(), "energy": self.energy.tolist(),
             "momentum": self.momentum.tolist(), "clusters": self.clusters.tolist(),
@@ -211,16 +395,51 @@ class ChunkedResult:
             "histogram": None if self.histogram is None else self.histogram.to_dict(),
             "edge": self.edge, "seconds": self.seconds,
         }
+        for key in ("k", "S", "C"):
+            if key in self.__dict__:
+                out[key] = self.__dict__[key].tolist()
+        return out
 
 
 def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, client=None,
-                    bins=None, progress=None) -> ChunkedResult:
+                    bins=None, progress=None, structure_factor: bool = False) -> ChunkedResult:
     """The sticky gas of ``params`` at ``times`` as ``chunks`` chunks (module docstring).
 
-    ``client``: a ``distributed.Client`` to run the chunk tasks on, or None to run them here in
-    turn.  ``bins``: the histogram's edges in x (default :data:`DEFAULT_EDGES`).
-    ``progress(done, total)`` is called after each time.  Raises ``InvalidArgumentError`` for
-    bad ``times`` or ``chunks``."""
+    Parameters
+    ----------
+    params : particles.sticky.StickyParams
+        The gas (N, the ring's length L, the initial velocity law).
+    times : array_like
+        Output times t (physical time), nondecreasing, finite, ≥ 0.
+    seed : int
+        The seed; chunk k draws from ``SeedSequence(seed).spawn(chunks)[k]`` (K = 1: the
+        single engine's ``default_rng(seed)``).
+    chunks : int
+        K, in [1, N/2].
+    client : distributed.Client, optional
+        Runs the chunk tasks; None runs them here, one after another.  The result does not
+        depend on it.
+    bins : array_like, optional
+        The histogram's edges in x = v/√E (default
+        :data:`particles.observables.DEFAULT_EDGES`).
+    progress : callable, optional
+        ``progress(done, total)`` after each time.
+    structure_factor : bool
+        Also compute S(k) and C(r) at the last time.  The chunks return their clusters (first
+        label, mass, momentum) and this process builds the velocity field and its FFT:
+        :data:`SPECTRUM_BYTES` bytes a particle here, refused when that exceeds half the
+        memory available.
+
+    Returns
+    -------
+    ChunkedResult
+
+    Raises
+    ------
+    InvalidArgumentError
+        For a ``params`` that is not a StickyParams, bad ``times`` or ``chunks``, or a
+        ``structure_factor`` that does not fit in memory.
+    """
     from .observables import DEFAULT_EDGES
 
     if not isinstance(params, StickyParams):
@@ -230,9 +449,16 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
     edges = DEFAULT_EDGES if bins is None else np.asarray(bins, dtype=float)
     pd = params.to_dict()
     n = params.n
+    if structure_factor:
+        need, have = SPECTRUM_BYTES * n, available_memory()
+        if need > have / 2:
+            raise InvalidArgumentError(
+                "structure_factor", True,
+                f"S(k) for N = {n} needs {format_bytes(need)} in this process; "
+                f"{format_bytes(have)} available (at most half may be used)")
     start = _time.perf_counter()
     if chunks == 1:
-        return _single(params, times, seed, edges, start)
+        return _single(params, times, seed, edges, start, structure_factor)
 
     def run(fn, *args):
         if client is None:
@@ -247,7 +473,7 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
         while True:
             parts = run(chunk_summary, float(t), edge)
             try:
-                masses, sums = _join(parts, params.length)
+                masses, sums, firsts = _join(parts, params.length)
                 break
             except _Reached:
                 edge *= 4
@@ -262,18 +488,26 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
     counts = np.concatenate([p["masses"][1] for p in parts] + [np.ones(masses.size, np.int64)])
     m, inverse = np.unique(values, return_inverse=True)
     mass_counts = np.bincount(inverse, weights=counts).astype(np.int64)
-    histogram = None
-    if energy[-1] > 0.0:
-        v0 = math.sqrt(energy[-1])
-        rows = run(chunk_histogram, float(times[-1]), edge, v0, edges)
-        count = np.sum(rows, axis=0)
-        extra, _ = np.histogram(sums / masses / v0, bins=edges, weights=masses)
-        count = count + np.rint(extra).astype(np.int64)
-        histogram = histogram_from_counts(edges, count, n, v0)
+    histogram, spectrum = None, {}
+    if energy[-1] > 0.0 or structure_factor:
+        v0 = math.sqrt(energy[-1]) if energy[-1] > 0.0 else 1.0
+        rows = run(chunk_last, float(times[-1]), edge, v0, edges, bool(structure_factor))
+        if energy[-1] > 0.0:
+            count = np.sum([r["counts"] for r in rows], axis=0)
+            extra, _ = np.histogram(sums / masses / v0, bins=edges, weights=masses)
+            count = count + np.rint(extra).astype(np.int64)
+            histogram = histogram_from_counts(edges, count, n, v0)
+        if structure_factor:
+            v = velocity_field(
+                n, np.concatenate([r["starts"] for r in rows] + [firsts]),
+                np.concatenate([r["masses"] for r in rows] + [masses]),
+                np.concatenate([r["vsums"] for r in rows] + [sums]))
+            del rows
+            spectrum = _spectrum_of(v)
     clusters = np.array(clusters, dtype=np.int64)
     return ChunkedResult(
         params=pd, seed=int(seed), chunks=chunks, times=times, energy=np.array(energy),
         momentum=np.array(momentum), clusters=clusters, collisions=n - clusters, masses=m,
         mass_counts=mass_counts, histogram=histogram, edge=edge,
-        seconds=_time.perf_counter() - start,
+        seconds=_time.perf_counter() - start, **spectrum,
     )

@@ -125,7 +125,55 @@ def write_api(app) -> None:
         path.write_text(text)
 
 
+def _resolve(dotted: str):
+    """The Python object a dotted name stands for, or None."""
+    parts = dotted.split(".")
+    for cut in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:cut]))
+        except ImportError:
+            continue
+        try:
+            for attr in parts[cut:]:
+                obj = getattr(obj, attr)
+        except AttributeError:
+            return None
+        return obj
+    return None
+
+
+def _one_object_many_names():
+    """Make the Python domain resolve a reference to an object documented under several names
+    (a package face's ``particles.InvalidArgumentError`` and its home module's
+    ``particles.validation.InvalidArgumentError``) to the face's name, instead of warning that
+    more than one target was found; and a reference through a name that is not documented
+    (``particles.sticky.StickyParams.to_dict``, documented as ``particles.StickyParams.to_dict``)
+    to the documented name of the same object."""
+    from sphinx.domains.python import PythonDomain
+
+    original = PythonDomain.find_obj
+
+    def find_obj(self, env, modname, classname, name, type, searchmode=0):
+        matches = original(self, env, modname, classname, name, type, searchmode)
+        if len(matches) > 1:
+            objects = {id(_resolve(full)) for full, _ in matches}
+            if len(objects) == 1 and _resolve(matches[0][0]) is not None:
+                return [min(matches, key=lambda m: (m[0].count("."), m[0]))]
+        if not matches and name and name.split(".")[0] in ("particles", "maxwell_kinetics"):
+            target = _resolve(name)
+            if target is not None:
+                tail = "." + ".".join(name.split(".")[-2:])
+                same = [(full, entry) for full, entry in self.objects.items()
+                        if full.endswith(tail) and _resolve(full) is target]
+                if same:
+                    return [min(same, key=lambda m: (m[0].count("."), m[0]))]
+        return matches
+
+    PythonDomain.find_obj = find_obj
+
+
 def setup(app):
+    _one_object_many_names()
     app.add_config_value("apigen_faces", [], "env")
     app.connect("builder-inited", write_api)
     return {"parallel_read_safe": True, "version": "1"}

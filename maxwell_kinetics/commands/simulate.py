@@ -241,17 +241,17 @@ def _run_sticky_chunks(engine, args) -> int:
         if getattr(args, option) is not None:
             raise InvalidArgumentError(option, getattr(args, option), "no --" + option +
                                        " with --chunks (only the outputs reach this process)")
-    for option in ("structure_factor", "profile"):
-        if getattr(args, option):
-            raise InvalidArgumentError(option.replace("_", "-"), True,
-                                       "not with --chunks (the velocities stay in the chunks)")
+    if args.profile:
+        raise InvalidArgumentError("profile", True,
+                                   "not with --chunks (the positions stay in the chunks)")
     workers = None if args.workers is None else parse_count(args.workers, "workers", 1)
     workers = check_workers(workers, "workers", tasks=chunks, force=args.force)
     client, closers = None, []
     if workers is not None or args.scheduler is not None:
         client, closers = connect("dask", workers, args.scheduler, None, None)
     try:
-        result = simulate_chunks(engine.params, times, seed, chunks, client=client)
+        result = simulate_chunks(engine.params, times, seed, chunks, client=client,
+                                 structure_factor=bool(args.structure_factor))
     finally:
         for close in closers:
             close()

@@ -71,13 +71,27 @@ def test_chunks_print_the_library_numbers(capsys):
     assert one["histogram"] == plain["histogram"]
 
 
+def test_chunks_give_the_structure_factor_of_the_engine(capsys):
+    # --chunks 1 --structure-factor: the keys and numbers of plain simulate sticky; K = 3: those
+    # of the library (the chunks' own initial state differs from the single engine's)
+    from particles.sticky_chunks import simulate_chunks
+
+    argv = BASE + ["--t", "1,30", "--json", "--structure-factor"]
+    one = run_json(capsys, argv + ["--chunks", "1"])
+    plain = run_json(capsys, argv)
+    assert all(one[key] == plain[key] for key in ("k", "S", "C"))
+    three = run_json(capsys, argv + ["--chunks", "3"])
+    res = simulate_chunks(StickyParams(500, 1.5), [1.0, 30.0], 4, 3, structure_factor=True)
+    assert three["S"] == res.S.tolist() and three["C"] == res.C.tolist()
+    assert len(three["k"]) == 251
+
+
 @pytest.mark.parametrize("extra, name", [
     (["--chunks", "0"], "chunks"),
     (["--chunks", "251"], "chunks"),  # N/2 = 250
     (["--chunks", "x"], "chunks"),
     (["--chunks", "2", "--save", "OUT"], "save"),
     (["--chunks", "2", "--checkpoint", "OUT"], "checkpoint"),
-    (["--chunks", "2", "--structure-factor"], "structure-factor"),
     (["--chunks", "2", "--profile"], "profile"),
     (["--chunks", "2", "--workers", "0"], "workers"),
     (["--chunks", "2", "--workers", "2", "--scheduler", "tcp://127.0.0.1:9"], "--scheduler"),
