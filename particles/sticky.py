@@ -114,6 +114,7 @@ __all__ = [
     "exact_moments",
     "EXACT_W_EDGES",
     "ExactLawComparison",
+    "exact_law_runs",
 ]
 
 
@@ -1385,3 +1386,84 @@ class ExactLawComparison:
             out[key] = {"value": [float(x.mean()), se], "exact": limit,
                         "relative": float(x.mean() / limit - 1.0)}
         return out
+
+    def merge(self, other: ExactLawComparison) -> None:
+        """Add the runs of ``other`` (another comparison at the same time, on the same bins
+        and grid, of a gas of the same density) to this one, as if they had been added here.
+
+        Parameters
+        ----------
+        other : ExactLawComparison
+            The comparison whose runs are added; it is not changed.
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``other`` when its time, variance, bins, grid, ``min_clusters`` or density
+            differ from this one's.
+        """
+        same = (isinstance(other, ExactLawComparison) and other.t == self.t
+                and other.variance == self.variance and other.min_clusters == self.min_clusters
+                and np.array_equal(other.w_edges, self.w_edges)
+                and np.array_equal(other.tail_w, self.tail_w)
+                and (self._scales is None or other._scales is None
+                     or math.isclose(other._scales[0], self._scales[0], rel_tol=1e-12)))
+        if not same:
+            raise InvalidArgumentError("other", other, "a comparison at the same time, bins, "
+                                       "grid, min_clusters and density")
+        if other.runs == 0:
+            return
+        self._scales = self._scales or other._scales
+        self._v += other._v
+        self._s += other._s
+        size = max(self._m.size, other._m.size)
+        self._m = np.pad(self._m, (0, size - self._m.size))
+        self._m[:other._m.size] += other._m
+        keep = 4 * self.min_clusters
+        top_w = np.concatenate([self._top[0], other._top[0]])
+        top_m = np.concatenate([self._top[1], other._top[1]])
+        if top_w.size > keep:
+            sel = np.argpartition(top_w, top_w.size - keep)[-keep:]
+            top_w, top_m = top_w[sel], top_m[sel]
+        self._top = (top_w, top_m)
+        self.particles += other.particles
+        self.runs += other.runs
+        self.energy += other.energy
+        self.cluster_count += other.cluster_count
+
+
+def exact_law_runs(n: int, seeds, times, *, density: float = 1.0, tail_w=None,
+                   min_clusters: int = 25) -> list[ExactLawComparison]:
+    """Runs of the sticky gas (Gaussian initial velocities of unit variance) added to one
+    :class:`ExactLawComparison` per time: the unit of work of a large ensemble, whose pieces
+    are joined by :meth:`ExactLawComparison.merge`.
+
+    Each seed is one gas of ``n`` particles drawn by :meth:`StickyGas.initial_state` from
+    ``numpy.random.default_rng(seed)`` and advanced exactly to every time of ``times``.
+
+    Parameters
+    ----------
+    n : int
+        Particles per gas.
+    seeds : iterable of int
+        One gas per seed, in this order.
+    times : sequence of float
+        The times t (physical time) at which each gas is compared.
+    density : float
+        Number density N/L.
+    tail_w, min_clusters
+        As for :class:`ExactLawComparison`.
+
+    Returns
+    -------
+    list of ExactLawComparison
+        One per time, in the order of ``times``.
+    """
+    engine = StickyGas(StickyParams(n, density, "gaussian"))
+    out = [ExactLawComparison(float(t), tail_w=tail_w, min_clusters=min_clusters) for t in times]
+    for seed in seeds:
+        s0 = engine.initial_state(np.random.default_rng(int(seed)))
+        for cmp in out:
+            cmp.add(engine.advance(s0, cmp.t))
+        del s0
+    return out

@@ -22,6 +22,7 @@ from particles.sticky import (
     cluster_mass_distribution,
     displacement_scale,
     displacements,
+    exact_law_runs,
     exact_mass_density,
     exact_moments,
     exact_velocity_density,
@@ -70,8 +71,16 @@ def _times(lo, hi, count):
 #:   ``count`` geometric points from ``lo`` to ``hi`` plus w = 1, 2, 3, 5, 10, 20, 30 up to
 #:   ``hi`` (about 0.1 s per point; the crossings of 2 and 2.5 are interpolated between them,
 #:   coarsely at the small size).
+#:
+#: * and, where ``deep_seeds`` > 0, ``deep_seeds`` gases of ``deep_n`` particles (seeds 2000,
+#:   2001, …) at ``deep_times``, only for the deep tail: the survival and its chords β on
+#:   :func:`tail_grid` (``deep_tail_w``) down to the ``min_clusters``-th fastest cluster,
+#:   run on ``deep_workers`` processes (blocks of ``deep_block`` seeds, joined in seed order,
+#:   so the numbers do not depend on the number of processes).
 _SHARED = {"porod_x": (3.0, 15.0), "k_max": 0.6, "fit_times": (1e4, 3e4, 1e5), "fit_m_min": 10,
-           "fit_mu_max": 0.3, "tail_time": 1000.0, "tail_w": (0.5, 8.0, 3), "min_clusters": 25}
+           "fit_mu_max": 0.3, "tail_time": 1000.0, "tail_w": (0.5, 8.0, 3), "min_clusters": 25,
+           "deep_n": 10_000_000, "deep_seeds": 0, "deep_times": (31.6, 100.0, 316.0),
+           "deep_tail_w": (1.0, 8.0, 6), "deep_block": 10, "deep_workers": 2}
 PRESETS = {
     "small": {**_SHARED, "n": 100_000, "seeds": 3, "times": _times(10.0, 1000.0, 9),
               "exact_n": 2_000_000, "exact_seeds": 4,
@@ -84,7 +93,7 @@ PRESETS = {
     "full": {**_SHARED, "n": 10_000_000, "seeds": 4, "times": _times(10.0, 5000.0, 13),
              "exact_n": 10_000_000, "exact_seeds": 32,
              "exact_times": (10.0, 31.6, 100.0, 316.0, 1000.0, 1e4, 3e4, 1e5),
-             "beta_curve": (0.5, 30.0, 25)},
+             "beta_curve": (0.5, 30.0, 25), "deep_seeds": 1000},
 }
 
 
@@ -141,10 +150,12 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     params = preset(PRESETS, size, overrides)
     main = _main_runs(params, progress)
     exact = _exact_runs(params, progress)
+    deep = _deep_tail_runs(params, progress)
     summary = {"parameters": jsonable(params),
                "model": "exact sticky gas standing in for late MD",
-               **main["summary"], **exact["summary"], "seconds": time.perf_counter() - start}
-    return Comparison(NAME, summary, {**main["data"], **exact["data"]})
+               **main["summary"], **exact["summary"], **deep["summary"],
+               "seconds": time.perf_counter() - start}
+    return Comparison(NAME, summary, {**main["data"], **exact["data"], **deep["data"]})
 
 
 def _main_runs(params, progress) -> dict:
@@ -316,6 +327,64 @@ def _exact_runs(params, progress) -> dict:
     return {"summary": summary, "data": data}
 
 
+def _deep_tail_runs(params, progress) -> dict:
+    """The deep tail (:data:`PRESETS`): ``deep_seeds`` gases of ``deep_n`` particles, their
+    survival P(|w| > w) and its chords β per time of ``deep_times``, against the exact law.
+    Nothing when ``deep_seeds`` is 0."""
+    count = int(params["deep_seeds"])
+    if count == 0:
+        return {"summary": {}, "data": {}}
+    n, times = int(params["deep_n"]), [float(t) for t in params["deep_times"]]
+    grid = tail_grid(*params["deep_tail_w"])
+    mc = int(params["min_clusters"])
+    block = int(params["deep_block"])
+    seeds = list(range(2000, 2000 + count))
+    tasks = [seeds[i:i + block] for i in range(0, count, block)]
+    workers = min(int(params["deep_workers"]), len(tasks))
+    total = None
+    with progress_bar(len(tasks), f"sticky deep tail N={n} × {count}", "block",
+                      enabled=progress) as bar:
+        def join(parts):
+            nonlocal total
+            if total is None:
+                total = parts
+            else:
+                for a, b in zip(total, parts, strict=True):
+                    a.merge(b)
+            bar.update(1)
+
+        if workers <= 1:
+            for task in tasks:
+                join(exact_law_runs(n, task, times, tail_w=grid, min_clusters=mc))
+        else:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            # spawn: no fork of a process that holds JAX; the workers import particles only
+            ctx = multiprocessing.get_context("spawn")
+            with ProcessPoolExecutor(workers, mp_context=ctx) as pool:
+                futures = [pool.submit(exact_law_runs, n, task, times, tail_w=grid,
+                                       min_clusters=mc) for task in tasks]
+                for future in futures:  # joined in seed order
+                    join(future.result())
+    per_time, data = [], []
+    for c in total:
+        tail = c.tail()
+        z = (tail["beta"] - tail["beta_exact"]) / tail["beta_error"]
+        per_time.append({
+            "t": c.t, "particles": int(c.particles),
+            "beta_w": tail["beta_w"].tolist(), "beta": tail["beta"].tolist(),
+            "beta_error": tail["beta_error"].tolist(), "beta_exact": tail["beta_exact"].tolist(),
+            "z": z.tolist(), "deepest": tail["deepest"],
+        })
+        data.append({key: tail[key] for key in ("w", "survival", "survival_error",
+                                                  "exact_survival", "resolved")})
+    summary = {"deep_tail": {"n": n, "seeds": count, "particles": int(total[0].particles),
+                             "times": times, "grid": grid.tolist(), "min_clusters": mc,
+                             "per_time": per_time}}
+    return {"summary": summary, "data": {"deep_tail": data}}
+
+
 #: Values of w at which the exact β is always reported (up to ``beta_curve``'s last point).
 _BETA_AT = (1.0, 2.0, 3.0, 5.0, 10.0, 20.0, 30.0)
 
@@ -479,6 +548,18 @@ def plot(c, ax=None):
         beta_ax.errorbar(np.asarray(e["beta_w"])[ok], b[ok],
                          yerr=np.asarray(e["beta_error"])[ok], fmt=style, ms=4, capsize=2,
                          label=f"engine, t = {times[j]:g}")
+    deep = tail["engine"]["deepest"]
+    if "deep_tail" in s:  # the large ensemble: its chords per time, and its deepest survival
+        dt = s["deep_tail"]
+        for row, color in zip(dt["per_time"], ("C2", "C4", "C5", "C6"), strict=False):
+            b = np.asarray(row["beta"], float)
+            ok = np.isfinite(b)
+            beta_ax.errorbar(np.asarray(row["beta_w"])[ok], b[ok],
+                             yerr=np.asarray(row["beta_error"])[ok], fmt="^", color=color,
+                             ms=3, capsize=1.5, lw=0.8,
+                             label=f"{dt['particles']:.1e} particles, t = {row['t']:g}")
+        deep = min([row["deepest"] for row in dt["per_time"]] + [deep],
+                   key=lambda r: r["survival"])
     beta_ax.axhline(3.0, color="k", ls="--", lw=0.8, label="limit 3")
     beta_ax.axhline(2.0, color="k", ls=":", lw=0.8, label="Gaussian 2")
     lines = []
@@ -486,12 +567,11 @@ def plot(c, ax=None):
         if cross is not None:
             beta_ax.plot([cross["w"]], [float(key)], "kx")
             lines.append(f"β = {key} at w = {cross['w']:.2f} (P = {cross['survival']:.0e})")
-    deep = tail["engine"]["deepest"]
     beta_ax.set(xlabel="w", ylabel="β = d ln(−ln P(|w|>w)) / d ln w", ylim=(1.0, 3.2),
                 title=f"velocity tail: deepest resolved P = {deep['survival']:.0e} "
                       f"at w = {deep['w']:.2f}\n" + "; ".join(lines))
     beta_ax.title.set_fontsize(8)
-    beta_ax.legend(fontsize=7, loc="lower right")
+    beta_ax.legend(fontsize=6 if "deep_tail" in s else 7, loc="lower right")
     # chi2 against t
     for key, style in (("velocity", "C0o-"), ("mass", "C3s-")):
         vals = [row[key]["chi2_dof"] for row in ex["per_time"]]
