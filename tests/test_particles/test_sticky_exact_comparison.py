@@ -103,3 +103,39 @@ def test_bad_input_names_the_argument():
         ExactLawComparison(-1.0)
     with pytest.raises(InvalidArgumentError, match="argument states="):
         ExactLawComparison(1.0).velocity()
+
+
+def test_merged_halves_are_the_whole():
+    # two gases added to one comparison, against one gas added to each of two merged ones; the
+    # sums are the same up to the order of additions (1e-12)
+    from particles.sticky import exact_law_runs
+
+    grid = [0.8, 1.2, 1.8, 2.7]
+    whole = exact_law_runs(3000, [1, 2, 3], [50.0, 400.0], tail_w=grid, min_clusters=3)
+    first = exact_law_runs(3000, [1], [50.0, 400.0], tail_w=grid, min_clusters=3)
+    rest = exact_law_runs(3000, [2, 3], [50.0, 400.0], tail_w=grid, min_clusters=3)
+    for a, b, c in zip(first, rest, whole, strict=True):
+        a.merge(b)
+        assert a.runs == c.runs == 3 and a.particles == c.particles
+        for method in ("velocity", "mass"):
+            got, want = getattr(a, method)(), getattr(c, method)()
+            for key in ("observed", "expected"):
+                np.testing.assert_allclose(got[key], want[key], rtol=1e-12)
+            assert got["chi2"] == pytest.approx(want["chi2"], rel=1e-12)
+        got, want = a.tail(exact=False), c.tail(exact=False)
+        np.testing.assert_allclose(got["survival"], want["survival"], rtol=1e-12)
+        assert got["deepest"] == want["deepest"]
+        assert a.corrections() == c.corrections()
+
+
+def test_merging_an_empty_comparison_changes_nothing_and_a_mismatch_is_named():
+    cmp = ExactLawComparison(8.0, tail_w=[1.0, 1.9, 2.5], min_clusters=1)
+    cmp.add(_state([1, 2, 3, 40], [-1.0, 0.3, 0.9, 0.0], t=8.0))
+    before = cmp.velocity()["observed"].copy()
+    cmp.merge(ExactLawComparison(8.0, tail_w=[1.0, 1.9, 2.5], min_clusters=1))
+    assert np.array_equal(cmp.velocity()["observed"], before) and cmp.runs == 1
+    for other in (ExactLawComparison(9.0, tail_w=[1.0, 1.9, 2.5], min_clusters=1),
+                  ExactLawComparison(8.0, tail_w=[1.0, 2.0], min_clusters=1),
+                  ExactLawComparison(8.0, tail_w=[1.0, 1.9, 2.5], min_clusters=2), "x"):
+        with pytest.raises(InvalidArgumentError, match="other"):
+            cmp.merge(other)

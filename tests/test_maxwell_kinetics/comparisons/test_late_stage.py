@@ -155,6 +155,23 @@ def test_tail_exponent_agrees_with_the_exact_one_where_resolved(late):
     assert np.nanmin(ze[(we >= 1.0) & (we <= 2.5)]) < -5.0
 
 
+def test_the_deep_tail_ensemble_does_not_depend_on_the_processes():
+    # the deep-tail part at a tiny size: 6 gases of 10⁵ in blocks of 2, on 1 and on 2 processes
+    # (joined in seed order): the same summary, bit for bit; and it pools all the particles
+    import json
+
+    from maxwell_kinetics.comparisons._late_stage import PRESETS, _deep_tail_runs
+
+    params = {**PRESETS["small"], "deep_seeds": 6, "deep_n": 100_000, "deep_block": 2,
+              "deep_times": (31.6, 316.0)}
+    one = _deep_tail_runs({**params, "deep_workers": 1}, False)["summary"]["deep_tail"]
+    two = _deep_tail_runs({**params, "deep_workers": 2}, False)["summary"]["deep_tail"]
+    assert json.dumps(one) == json.dumps(two)
+    assert one["particles"] == 600_000 and [r["t"] for r in one["per_time"]] == [31.6, 316.0]
+    assert all(r["deepest"]["clusters"] == 25 for r in one["per_time"])
+    assert _deep_tail_runs({**params, "deep_seeds": 0}, False) == {"summary": {}, "data": {}}
+
+
 def test_the_exact_tail_exponent_reaches_two_only_beyond_any_sample(late):
     ex = late.summary["tail"]["exact"]
     beta = np.asarray(ex["beta"])
