@@ -9,6 +9,9 @@ Generated at build time (never edited by hand, git-ignored):
 Notebooks: ``nb_execution_mode`` is ``cache`` by default (executed once at the small size,
 ``MAXWELL_KINETICS_SMALL=1``, then cached in ``_build/.jupyter_cache``); the tests build with
 ``-D nb_execution_mode=off``.
+
+Maths: MathJax 3 from the ``sphinx-mathjax-offline`` extension (a docs dependency) is copied
+into ``_static/mathjax``, so that the site renders its equations without a network.
 """
 
 import os
@@ -40,6 +43,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",
     "sphinx.ext.intersphinx",
     "myst_nb",
     "sphinxarg.ext",
