@@ -219,7 +219,8 @@ def _add_chunk_options(parser) -> None:
         "--chunks", default=None, metavar="K",
         help="compute the gas as K chunks of the ring, each drawn from its own child seed "
         "(K = 1: the single-process engine; K in [1, N/2]); prints energies, clusters, the "
-        "mass distribution and the histogram, and cannot save, checkpoint or profile")
+        "mass distribution, the histogram and, with --structure-factor, S(k) and C(r) "
+        "(computed in this process: 24 bytes a particle); cannot save, checkpoint or profile")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", default=None,
                        help="with --chunks: a local Dask cluster of W single-threaded processes "
