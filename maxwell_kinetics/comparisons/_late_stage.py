@@ -548,7 +548,7 @@ def plot(c, ax=None):
         beta_ax.errorbar(np.asarray(e["beta_w"])[ok], b[ok],
                          yerr=np.asarray(e["beta_error"])[ok], fmt=style, ms=4, capsize=2,
                          label=f"engine, t = {times[j]:g}")
-    deep = tail["engine"]["deepest"]
+    deep = {**tail["engine"]["deepest"], "t": tail["time"]}
     if "deep_tail" in s:  # the large ensemble: its chords per time, and its deepest survival
         dt = s["deep_tail"]
         for row, color in zip(dt["per_time"], ("C2", "C4", "C5", "C6"), strict=False):
@@ -558,7 +558,7 @@ def plot(c, ax=None):
                              yerr=np.asarray(row["beta_error"])[ok], fmt="^", color=color,
                              ms=3, capsize=1.5, lw=0.8,
                              label=f"{dt['particles']:.1e} particles, t = {row['t']:g}")
-        deep = min([row["deepest"] for row in dt["per_time"]] + [deep],
+        deep = min([{**row["deepest"], "t": row["t"]} for row in dt["per_time"]] + [deep],
                    key=lambda r: r["survival"])
     beta_ax.axhline(3.0, color="k", ls="--", lw=0.8, label="limit 3")
     beta_ax.axhline(2.0, color="k", ls=":", lw=0.8, label="Gaussian 2")
@@ -569,7 +569,7 @@ def plot(c, ax=None):
             lines.append(f"β = {key} at w = {cross['w']:.2f} (P = {cross['survival']:.0e})")
     beta_ax.set(xlabel="w", ylabel="β = d ln(−ln P(|w|>w)) / d ln w", ylim=(1.0, 3.2),
                 title=f"velocity tail: deepest resolved P = {deep['survival']:.0e} "
-                      f"at w = {deep['w']:.2f}\n" + "; ".join(lines))
+                      f"at w = {deep['w']:.2f}, t = {deep['t']:g}\n" + "; ".join(lines))
     beta_ax.title.set_fontsize(8)
     beta_ax.legend(fontsize=6 if "deep_tail" in s else 7, loc="lower right")
     # chi2 against t
