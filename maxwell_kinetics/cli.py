@@ -24,6 +24,7 @@ for every subcommand, so that the validation (not argparse) reports them.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 
 from particles.validation import InvalidArgumentError
@@ -129,7 +130,8 @@ def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> li
 
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (0 success, 2 bad input, 3 a failure of
-    the physics such as inelastic collapse, 130 interrupted)."""
+    the physics such as inelastic collapse, 130 interrupted, 141 when the reader of the output
+    went away, as in ``| head``: no traceback)."""
     command = "maxwell-kinetics"
     try:
         parser = build_parser()
@@ -143,6 +145,12 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:  # at any moment, start-up included: one line, no traceback
         print(f"{command}: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # stdout closed by its reader: stop quietly, as a shell tool does
+        try:  # Python flushes stdout at exit; point it at /dev/null so that this cannot fail
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        return 128 + 13  # 128 + SIGPIPE
     finally:
         compile_cache.end_command()  # an in-process run leaves JAX's cache settings as they were
 

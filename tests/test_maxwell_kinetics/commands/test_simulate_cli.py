@@ -346,3 +346,21 @@ def test_interrupt_message_only_when_a_checkpoint_was_saved(capsys, tmp_path, mo
     argv = ["simulate", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1"]
     assert main(argv + ["--checkpoint", str(ckpt)]) == 130
     assert "checkpoint saved" not in capsys.readouterr().err and not ckpt.exists()
+
+
+def test_a_reader_that_goes_away_gives_no_traceback():
+    # `maxwell-kinetics ... --json | head -c 20`: the pipe closes while the JSON is written;
+    # the command stops quietly with 128 + SIGPIPE, as shell tools do
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "maxwell_kinetics.cli", "simulate", "ulam", "--n", "200000",
+         "--restitution", "0.5", "--tau", "1", "--json", "--structure-factor"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    head = proc.stdout.read(20)
+    proc.stdout.close()  # the reader goes away before the ~2 MB of S(k) are written
+    err = proc.stderr.read().decode()
+    proc.stderr.close()
+    assert proc.wait(timeout=120) == 141, err
+    assert head.startswith(b'{"model": "ulam"') and "Traceback" not in err, err
