@@ -86,13 +86,15 @@ def _python_blocks(path: Path) -> list[str]:
     return re.findall(r"```python\n(.*?)```", path.read_text(), re.S)
 
 
-@pytest.mark.parametrize("page", ["README.md", "docs/getting_started.md"])
+@pytest.mark.parametrize("page", ["README.md", "docs/getting_started.md", "docs/guide/sticky.md",
+                                  "docs/guide/ensembles.md", "docs/guide/reproducibility.md",
+                                  "docs/guide/errors.md"])
 def test_code_examples_run(page, tmp_path, monkeypatch, capsys):
     blocks = _python_blocks(ROOT / page)
     assert blocks, f"no ```python block in {page}"
     monkeypatch.chdir(tmp_path)
-    for block in blocks:
-        exec(compile(block, page, "exec"), {"__name__": "__docs__"})
+    for block in blocks:  # as a script (the ensemble example runs under its __main__ guard)
+        exec(compile(block, page, "exec"), {"__name__": "__main__"})
     assert capsys.readouterr().out.strip()  # the examples print their results
 
 
