@@ -82,11 +82,23 @@ __all__ = ["solve", "Solution", "SolverOptions"]
 
 @dataclass(frozen=True)
 class SolverOptions:
-    """Time-integration settings.
+    """Time-integration settings of :func:`solve`.
 
-    ``rtol``/``atol``: diffrax PID controller tolerances (RMS norm over the grid).
-    ``window``: target length in τ of one semi-Lagrangian window (rounded so that the grid moves
-    by a whole number of cells).
+    Attributes
+    ----------
+    rtol, atol : float
+        Relative and absolute tolerances of diffrax's PID step-size controller (RMS norm over
+        the grid), > 0.
+    window : float
+        Target length in τ of one semi-Lagrangian window, > 0 (rounded so that the grid moves
+        by a whole number of cells).
+    max_steps_per_window : int
+        diffrax's step budget within one window.
+
+    Raises
+    ------
+    InvalidArgumentError
+        When ``rtol``, ``atol`` or ``window`` is not a positive number.
     """
 
     rtol: float = 1e-11
@@ -264,14 +276,12 @@ def solve(
     (:func:`maxwell_kinetics._kinetic_scheme.angular_tiers`; each node is one pair of shifted
     stencils on its range of q).  ``angular_rule`` "fast" (the default): 2, 3, 4, 6, 8, 12, 16,
     12 nodes from q = 0, 1e-3, 1e-2, 0.05, 0.15, 0.35, 0.6, 10 (4.76 per grid point; G within
-    1.0e-8 of 32 nodes at every q, measured on the coarse grid for d = 2, 3, both angular
-    models, r = 0, 0.5, 0.9).  "accurate": 2 nodes below q = 1e-6, 16 up to q = 10 and 12 above
-    (10.7 per grid point, about 2.3× the cost): the fewer nodes of "fast" at small q keep G to
-    1e-8 but move the slowly relaxing |q|^{2s*} term that :mod:`maxwell_kinetics.scaling_tails`
-    fits (s* by 5e-4), so those fits require "accurate".  ``angular_nodes`` (16) scales every
-    range of either rule (32 doubles them; at least 2 nodes).  Measured (coarse
-    grid, r = 0.5, G at τ = 30 and 300 against 32 nodes at every q): 16 nodes at every q differ
-    by 3.1e-9 (d = 2) and 2.7e-9 (d = 3).  Λ/2 is taken as p q₁ Σ ω_i η_i with the quadrature's
+    1e-8 of 32 nodes at every q).  "accurate": 2 nodes below q = 1e-6, 16 up to q = 10 and 12
+    above (10.7 per grid point, about 2.3× the cost): the fewer nodes of "fast" at small q keep G
+    to 1e-8 but move the slowly relaxing |q|^{2s*} term that
+    :mod:`maxwell_kinetics.scaling_tails` fits, so those fits require "accurate".
+    ``angular_nodes`` (16) scales every range of either rule (32 doubles them; at least 2
+    nodes).  Λ/2 is taken as p q₁ Σ ω_i η_i with the quadrature's
     own ⟨η⟩ (exact in every range) so that G''(0) = −1 is kept exactly.  G(0) = 1, and G is the
     characteristic function of one Cartesian component of v / v₀ along any axis, so
     :meth:`Solution.density` gives the density of one component and
@@ -284,14 +294,45 @@ def solve(
     form for d ≥ 2.  The stored array ``deviation`` = G − f̂ is then only the
     representation :meth:`Solution.evaluate` interpolates, not a distance to anything.
 
+    Method: the equation is integrated on a geometric grid q_j = e^{s_min + j h} in windows of
+    about ``options.window`` in τ; within a window the transport term is exact (the grid moves
+    with the characteristics q e^{λτ}) and the rest is an ODE integrated by diffrax (Kidger
+    2021) with a PID step-size controller, in JAX float64.
+
     Parameters
     ----------
-    restitution : r ∈ [0, 1].
-    initial : a law name of :mod:`particles.initial` or an ``InitialLaw``.
-    tau : increasing, non-negative times (collisions per particle) at which G is saved.
-    resolution : a name in :data:`maxwell_kinetics.grid.RESOLUTIONS` or a ``Resolution``.
-    options : :class:`SolverOptions` (tolerances, window length).
-    progress : show a tqdm progress bar over τ.
+    restitution : float
+        r ∈ [0, 1] (r < 1 when ``dimension`` ≥ 2).
+    initial : str or particles.initial.InitialLaw
+        The initial velocity law: a name of :mod:`particles.initial` or a law (zero mean, unit
+        variance per component).
+    tau : array_like of float
+        Increasing, non-negative times τ (collisions per particle) at which G is saved.
+    resolution : str or maxwell_kinetics.grid.Resolution
+        A name of :data:`maxwell_kinetics.grid.RESOLUTIONS` or a grid.
+    options : SolverOptions, optional
+        Tolerances and window length (default :class:`SolverOptions`).
+    progress : bool
+        Show a progress bar over τ (on stderr).
+    dimension : int
+        d ∈ {1, 2, 3}.
+    angular : str
+        The law of the collision direction in d ≥ 2: "uniform" or "hard".
+    angular_nodes : int
+        Scales the number of Gauss–Jacobi nodes of the η integral (d ≥ 2; 16 by default).
+    angular_rule : str
+        "fast" or "accurate" (d ≥ 2; above).
+
+    Returns
+    -------
+    Solution
+        G(q, τ) at the saved τ on the grid, with its evaluation and diagnostics.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the argument: r outside [0, 1], bad τ, an unknown law, resolution, dimension,
+        angular law or rule, r = 1 or an asymmetric law when ``dimension`` ≥ 2.
     """
     model = MaxwellModel(restitution)
     law = get_law(initial)
@@ -370,12 +411,39 @@ def solve(
 
 @dataclass(frozen=True)
 class Solution:
-    """G(q, τ) on the grid at the saved τ, with evaluation and diagnostics.
+    """G(q, τ) on the grid at the saved τ, with evaluation and diagnostics (what :func:`solve`
+    returns).
 
-    ``G[k, j]`` is G(q_j, tau[k]) for the grid q_j = e^{s_min + j h} (q ≥ 0; G(−q) = conj G(q)).
-    ``deviation[k, j]`` is G − f̂ at the same points, computed without the cancellation of
-    G − f̂ ≈ (1 − q²/2) − (1 − q²/2) at small q (it is what :meth:`evaluate` interpolates and,
-    for ``dimension`` 1, what the distances to f̂ use; they refuse ``dimension`` ≥ 2).
+    Convention: G(q, τ) = E[e^{iqx}] is the characteristic function of the rescaled velocity
+    x = v/v₀(τ), v₀² the variance of one component (d = 1: e^{−2λτ}); τ counts collisions per
+    particle.
+
+    Attributes
+    ----------
+    restitution : float
+        r.
+    initial : str
+        The initial law's name.
+    resolution : maxwell_kinetics.grid.Resolution
+        The grid q_j = e^{s_min + j h}.
+    tau : numpy.ndarray
+        The saved times τ.
+    G : numpy.ndarray
+        ``G[k, j]`` = G(q_j, tau[k]), complex (q ≥ 0; G(−q) = conj G(q)).
+    deviation : numpy.ndarray
+        G − f̂ at the same points, computed without the cancellation of
+        (1 − q²/2) − (1 − q²/2) at small q: what :meth:`evaluate` interpolates and, for
+        ``dimension`` 1, what the distances to f̂ use (they refuse ``dimension`` ≥ 2).
+    skewness : float
+        The initial law's third moment (it sets the small-q reference).
+    options : SolverOptions
+        The integration settings used.
+    seconds : float
+        Wall time of the solve.
+    dimension : int
+        d.
+    angular, angular_rule : str
+        The angular law and the η rule of :func:`solve` (d = 1: unused).
     """
 
     restitution: float
@@ -400,9 +468,22 @@ class Solution:
         return MaxwellModel(self.restitution)
 
     def time_index(self, tau_index: int) -> int:
-        """The non-negative index of saved time ``tau_index`` (negative counts from the end, as
-        in Python); :class:`~particles.validation.InvalidArgumentError` naming ``tau_index``
-        when there is no such saved time."""
+        """The non-negative index of a saved time.
+
+        Parameters
+        ----------
+        tau_index : int
+            An index into ``tau``; negative counts from the end, as in Python.
+
+        Returns
+        -------
+        int
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``tau_index`` when there is no such saved time.
+        """
         n = len(self.tau)
         if not -n <= tau_index < n:
             raise InvalidArgumentError("tau_index", tau_index, f"an index into {n} saved times")
@@ -413,6 +494,23 @@ class Solution:
 
         Inside the grid G = f̂ + (G − f̂), the deviation interpolated at O(h^order) accuracy;
         below q_min, G = g (the reference, exact to O(q³)).
+
+        Parameters
+        ----------
+        q : array_like of float
+            Wave numbers, |q| ≤ q_max; G(−q) = conj G(q).
+        tau_index : int
+            Which saved time (default the last).
+
+        Returns
+        -------
+        numpy.ndarray
+            Complex G(q), of the shape of ``q``.
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``q`` (a value not finite or beyond the grid's end) or ``tau_index``.
         """
         grid = self.resolution
         q = np.asarray(q, dtype=float)
@@ -458,6 +556,16 @@ class Solution:
         Only for ``dimension`` 1 (InvalidArgumentError naming ``dimension`` otherwise): f̂ is
         the scaling solution of the one-dimensional equation, and in d ≥ 2 the distance to it
         does not tend to zero.
+
+        Parameters
+        ----------
+        tau_index : int, optional
+            One saved time; None for all.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            The distance at that time, or one per saved time.
         """
         self._require_one_dimension("sup_error")
         if tau_index is None:
@@ -471,6 +579,21 @@ class Solution:
         contraction bound too; small q_low makes the value sensitive to round-off (|ΔG| ~ 1e-16
         divided by q_low^s) and to the grid's cut at q_min.  Only for ``dimension`` 1,
         as :meth:`sup_error`.
+
+        Parameters
+        ----------
+        s : float
+            The exponent of the Fourier metric d_s (the metrics of Gabetta, Toscani and Wennberg
+            1995, used for inelastic Maxwell models by Bisi, Carrillo and Toscani 2006).
+        tau_index : int, optional
+            One saved time; None for all.
+        q_low : float, optional
+            The lower end of the sup (default the grid's q_min).
+
+        Returns
+        -------
+        float or numpy.ndarray
+            The distance at that time, or one per saved time.
         """
         self._require_one_dimension("fourier_distance")
         if tau_index is None:
@@ -510,6 +633,18 @@ class Solution:
         with period L = 2π/dq = 1000 and M the smallest power of two with M dq/2 ≥ q_max.
         Given x, P is computed there by Gauss–Legendre quadrature (no aliasing).  Error sources
         (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.
+
+        Parameters
+        ----------
+        x : array_like of float, optional
+            Rescaled velocities; None for the FFT grid above.
+        tau_index : int
+            Which saved time (default the last).
+
+        Returns
+        -------
+        x, P : numpy.ndarray
+            The velocities and the density there.
         """
         from .velocity import invert
 
@@ -543,8 +678,19 @@ class Solution:
         where the formulas and the errors are): d = 3, P(s) = (2/π) s ∫_0^{q_max} k sin(ks)
         G(k) dk; d = 2, P(s) = s ∫_0^{q_max} k J₀(ks) G(k) dk; d = 1, P(s) = (2/π) ∫_0^{q_max}
         cos(ks) Re G(k) dk (the density of |x|), G cut at the grid's end q_max as in
-        :meth:`density`.  Gauss–Legendre panels, no aliasing.  ``s``: finite speeds ≥ 0
-        (InvalidArgumentError naming ``s`` otherwise).
+        :meth:`density`.  Gauss–Legendre panels, no aliasing.
+
+        Parameters
+        ----------
+        s : array_like of float
+            Finite rescaled speeds ≥ 0 (InvalidArgumentError naming ``s`` otherwise).
+        tau_index : int
+            Which saved time (default the last).
+
+        Returns
+        -------
+        s, P : numpy.ndarray
+            The speeds and the density there.
         """
         from .velocity import check_speeds, speed_density_at
 
@@ -561,9 +707,18 @@ class Solution:
         ``errors`` their error estimates.  v₀² is the variance of one component, so the order-2
         values are 1 (d = 1) and d.  The q window is chosen per moment and per τ between the
         non-analytic |q|^{2s*} term and the grid's floor (method, and the cases returned as NaN
-        with a reason: :mod:`maxwell_kinetics.moments`).  ``orders``: even positive integers
-        (InvalidArgumentError naming ``orders`` otherwise); ``tau_index``: one saved time, or
-        None for all.
+        with a reason: :mod:`maxwell_kinetics.moments`).
+
+        Parameters
+        ----------
+        orders : sequence of int
+            Even positive orders n (InvalidArgumentError naming ``orders`` otherwise).
+        tau_index : int, optional
+            One saved time; None for all.
+
+        Returns
+        -------
+        maxwell_kinetics.Moments
         """
         from .moments import moments_of
 
@@ -575,13 +730,27 @@ class Solution:
 
     def kurtosis(self) -> np.ndarray:
         """⟨|v|⁴⟩/⟨|v|²⟩² at each saved τ (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian; d = 2: 2;
-        d = 3: 5/3), from :meth:`moments`; NaN where the fourth moment is not resolved."""
+        d = 3: 5/3), from :meth:`moments`.
+
+        Returns
+        -------
+        numpy.ndarray
+            One value per saved τ; NaN where the fourth moment is not resolved.
+        """
         return self.moments(orders=(2, 4)).kurtosis()
 
     # -- persistence --------------------------------------------------------------------
     def to_record(self) -> tuple[dict, dict[str, np.ndarray]]:
-        """(meta, arrays): the JSON-able parameters and the arrays ``tau``, ``G``, ``deviation``
-        (what :meth:`save` writes, also used when a comparison saves a solution inside it)."""
+        """The solution as a record (what :meth:`save` writes, also used when a comparison saves
+        a solution inside it).
+
+        Returns
+        -------
+        meta : dict
+            The JSON-able parameters.
+        arrays : dict of numpy.ndarray
+            ``tau``, ``G`` and ``deviation``.
+        """
         meta = {
             "restitution": self.restitution,
             "initial": self.initial,
@@ -597,8 +766,24 @@ class Solution:
 
     @classmethod
     def from_record(cls, meta: dict, arrays: dict, path="solution") -> Solution:
-        """Inverse of :meth:`to_record`; a malformed record raises
-        :class:`particles.persistence.FileFormatError` naming ``path``."""
+        """Inverse of :meth:`to_record`.
+
+        Parameters
+        ----------
+        meta, arrays : dict
+            As :meth:`to_record` returns them.
+        path : str
+            The file the record came from, for the message of a malformed record.
+
+        Returns
+        -------
+        Solution
+
+        Raises
+        ------
+        particles.persistence.FileFormatError
+            For a malformed record, naming ``path``.
+        """
         try:
             return cls(
                 float(meta["restitution"]),
@@ -621,16 +806,36 @@ class Solution:
             ) from None
 
     def save(self, path) -> None:
-        """Save to ``path`` through :mod:`particles.persistence` (kind ``"solution"``: arrays
+        """Save to a file through :mod:`particles.persistence` (kind ``"solution"``: arrays
         ``tau``, ``G``, ``deviation`` and the parameters as JSON); reload with
-        :meth:`Solution.load`."""
+        :meth:`Solution.load`.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file (written to a temporary file and renamed into place).
+        """
         meta, arrays = self.to_record()
         persistence.save(path, "solution", _SOLUTION_VERSION, arrays, meta)
 
     @classmethod
     def load(cls, path) -> Solution:
-        """Read a file written by :meth:`save` (also of version 0.1.0); anything else raises
-        :class:`particles.persistence.FileFormatError` naming ``path`` and the reason."""
+        """Read a file written by :meth:`save` (also of version 0.1.0).
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file.
+
+        Returns
+        -------
+        Solution
+
+        Raises
+        ------
+        particles.persistence.FileFormatError
+            For anything else, naming ``path`` and the reason.
+        """
         loaded = persistence.load(path, "solution", (1, _SOLUTION_VERSION),
                                   expected="a saved Solution")
         return cls.from_record(loaded.meta, loaded.arrays, path)

@@ -149,36 +149,44 @@ def problems(qualname: str, obj, *, method_of=None) -> list[str]:
     return out
 
 
+def _assignments() -> dict[str, list[tuple[str, object]]]:
+    """Each public class or function once, under the module that checks it: where it is
+    defined when that module is public, else the first module (in walk order) that exports it."""
+    if "a" in _CACHE:
+        return _CACHE["a"]
+    modules = _modules()
+    public = set(modules)
+    out: dict[str, list] = {m: [] for m in modules}
+    seen: set[int] = set()
+    for module_name in modules:
+        module = importlib.import_module(module_name)
+        for name in getattr(module, "__all__", []):
+            obj = getattr(module, name)
+            if not (inspect.isclass(obj) or inspect.isfunction(obj)) or id(obj) in seen:
+                continue
+            if not getattr(obj, "__module__", "").startswith(tuple(PACKAGES)):
+                continue
+            seen.add(id(obj))
+            home = obj.__module__ if obj.__module__ in public else module_name
+            out[home].append((f"{home}.{obj.__qualname__}", obj))
+    _CACHE["a"] = out
+    return out
+
+
 def _public(module_name: str):
-    """(qualified name, object, owning class or None) of the public callables defined here."""
-    module = importlib.import_module(module_name)
-    for name in getattr(module, "__all__", []):
-        obj = getattr(module, name)
-        if not (inspect.isclass(obj) or inspect.isfunction(obj)):
-            continue
-        if not getattr(obj, "__module__", "").startswith(tuple(PACKAGES)):
-            continue
-        home = obj.__module__
-        if home != module_name and home in _modules_set() and name in getattr(
-                importlib.import_module(home), "__all__", []):
-            continue  # checked where it is defined (a face re-exports it)
-        yield f"{module_name}.{name}", obj, None
+    """(qualified name, object, owning class or None) of the public callables checked here."""
+    for qualname, obj in _assignments()[module_name]:
+        yield qualname, obj, None
         if inspect.isclass(obj):
             for attr, value in vars(obj).items():
                 if attr.startswith("_"):
                     continue
                 func = value.__func__ if isinstance(value, (classmethod, staticmethod)) else value
                 if inspect.isfunction(func):
-                    yield f"{module_name}.{name}.{attr}", func, obj
+                    yield f"{qualname}.{attr}", func, obj
 
 
-_CACHE: dict[str, set[str]] = {}
-
-
-def _modules_set() -> set[str]:
-    if "m" not in _CACHE:
-        _CACHE["m"] = set(_modules())
-    return _CACHE["m"]
+_CACHE: dict[str, object] = {}
 
 
 @pytest.mark.parametrize("module_name", _modules())
