@@ -121,9 +121,12 @@ def problems(qualname: str, obj, *, method_of=None) -> list[str]:
     out = []
     if inspect.isclass(obj):
         code = [getattr(obj, n) for n in ("__init__", "__post_init__")
-                if inspect.isfunction(vars(obj).get(n))]
+                if inspect.isfunction(vars(obj).get(n))
+                and vars(obj)[n].__module__ == obj.__module__]  # not typing.Protocol's
         nodes = [n for f in code for n in _body_nodes(f)]
         wanted = _parameters(obj) if not issubclass(obj, BaseException) or code else []
+        if getattr(obj, "_is_protocol", False):
+            wanted = []  # a protocol is not constructed
         listed = documented_names(found.get("Parameters", ""))
         if dataclasses.is_dataclass(obj):
             listed |= documented_names(found.get("Attributes", ""))

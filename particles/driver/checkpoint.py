@@ -297,17 +297,32 @@ class CheckpointLock:
 
 
 def read_checkpoint(path, argument: str = "path") -> dict:
-    """The content of the checkpoint file at ``path``, read through the persistence helper with
-    its checks (content hash, entry names and sizes); :class:`CheckpointError` naming
-    ``argument`` when it is not a checkpoint.
+    """The content of a checkpoint file, read through the persistence helper with its checks
+    (content hash, entry names and sizes).  Reading it runs nothing and checks nothing against
+    an engine: to continue the run, pass the file to :func:`particles.driver.simulate` as
+    ``resume``.
 
-    Returns ``{"run", "done", "seconds", "state", "records"}``: ``run`` the identity of the run
-    that wrote it (model, parameters, times, seed, options), ``done`` the number of requested
-    times recorded, ``seconds`` the wall-clock time so far, ``state`` the engine's state arrays
-    (``engine.state_from_arrays(state)`` rebuilds the state) and ``records`` the record arrays
-    (``energy``, ``momentum``, ``collisions``, ... per requested time; NaN where not yet
-    recorded).  Reading it runs nothing and checks nothing against an engine: to continue the
-    run, pass the file to :func:`particles.driver.simulate` as ``resume``.
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The checkpoint.
+    argument : str
+        The name given to the file in messages.
+
+    Returns
+    -------
+    dict
+        ``{"run", "done", "seconds", "state", "records"}``: ``run`` the identity of the run
+        that wrote it (model, parameters, times, seed, options), ``done`` the number of
+        requested times recorded, ``seconds`` the wall-clock time so far, ``state`` the
+        engine's state arrays (``engine.state_from_arrays(state)`` rebuilds the state) and
+        ``records`` the record arrays (``energy``, ``momentum``, ``collisions``, ... per
+        requested time; NaN where not yet recorded).
+
+    Raises
+    ------
+    CheckpointError
+        Naming ``argument`` when the file is not a checkpoint.
     """
     meta, arrays = read_file(path, argument, "checkpoint")
     try:

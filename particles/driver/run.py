@@ -26,17 +26,83 @@ from .result import RunResult
 
 
 class Engine(Protocol):  # pragma: no cover - typing only
+    """What :func:`simulate` needs of a particle engine (:class:`particles.Ulam`,
+    :class:`particles.Lattice`, :class:`particles.MDEngine`, :class:`particles.StickyGas`).
+
+    Attributes
+    ----------
+    name : str
+        The model's name in the catalogue :mod:`particles.models`.
+    """
+
     name: str
 
-    def to_dict(self) -> dict: ...
+    def to_dict(self) -> dict:
+        """The engine's parameters, JSON-able (they name the run in its files).
 
-    def initial_state(self, rng: np.random.Generator) -> Any: ...
+        Returns
+        -------
+        dict
+        """
 
-    def advance(self, state: Any, until: float, rng: np.random.Generator) -> Any: ...
+    def initial_state(self, rng: np.random.Generator) -> Any:
+        """The state at time 0.
 
-    def next_stop(self, time: float) -> float: ...
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The run's generator.
 
-    def state_from_arrays(self, arrays: dict[str, np.ndarray]) -> Any: ...
+        Returns
+        -------
+        object
+            The engine's state, with ``velocities`` and ``collisions``.
+        """
+
+    def advance(self, state: Any, until: float, rng: np.random.Generator) -> Any:
+        """The state at time ``until``, exactly.
+
+        Parameters
+        ----------
+        state : object
+            The state to advance (not changed).
+        until : float
+            The time to advance to (≥ the state's time; in the engine's time).
+        rng : numpy.random.Generator
+            The run's generator (unused by the deterministic engines).
+
+        Returns
+        -------
+        object
+            The new state.
+        """
+
+    def next_stop(self, time: float) -> float:
+        """The next time after ``time`` at which the driver may stop (checkpoint, progress).
+
+        Parameters
+        ----------
+        time : float
+            The current time.
+
+        Returns
+        -------
+        float
+        """
+
+    def state_from_arrays(self, arrays: dict[str, np.ndarray]) -> Any:
+        """Rebuild a state from the arrays a checkpoint holds, checking them.
+
+        Parameters
+        ----------
+        arrays : dict of numpy.ndarray
+            The state's arrays.
+
+        Returns
+        -------
+        object
+            The state.
+        """
 
 
 def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
@@ -56,6 +122,12 @@ def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
     -------
     numpy.ndarray
         ``n`` velocities, float64.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``n`` (not an integer ≥ 2) or ``initial`` (an unknown law or one of zero
+        variance).
     """
     n = check_count(n, "n", 2)
     v = get_law(law).sample(rng, n)
@@ -70,7 +142,20 @@ def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
 
 
 def next_grid_point(time: float, step: float) -> float:
-    """Smallest ``m * step`` (m an integer) strictly greater than ``time``."""
+    """The smallest ``m * step`` (m an integer) strictly greater than ``time``: the stop grid
+    of the engines.
+
+    Parameters
+    ----------
+    time : float
+        The current time.
+    step : float
+        The grid's spacing, > 0.
+
+    Returns
+    -------
+    float
+    """
     m = math.floor(time / step) + 1
     while m * step <= time:
         m += 1
