@@ -80,7 +80,21 @@ class LatticeState:
     """Lattice state at ``time`` (τ, or t for the rate-|Δ| variant): site velocities, each
     bond's next attempt time (``clocks[b]`` ≥ time, for bond (b, b+1)), total collisions and
     total attempts; ``attempt_rate`` is the clocks' common rate R of the rate-|Δ| variant
-    (``None`` for the constant-rate model, whose clocks have rate 1)."""
+    (``None`` for the constant-rate model, whose clocks have rate 1).
+
+    Attributes
+    ----------
+    time : float
+        τ, or t for the rate-|Δ| variant.
+    velocities : numpy.ndarray
+        Site velocities (N,).
+    clocks : numpy.ndarray
+        Each bond's next attempt time.
+    collisions, attempts : int
+        Totals so far.
+    attempt_rate : float or None
+        R of the rate-|Δ| variant.
+    """
 
     time: float
     velocities: np.ndarray = field(repr=False)
@@ -90,6 +104,12 @@ class LatticeState:
     attempt_rate: float | None = None
 
     def to_arrays(self) -> dict[str, np.ndarray]:
+        """The state as arrays (what a checkpoint holds).
+
+        Returns
+        -------
+        dict of numpy.ndarray
+        """
         arrays = {
             "time": np.array(self.time, dtype=float),
             "velocities": self.velocities,
@@ -103,6 +123,26 @@ class LatticeState:
 
     @classmethod
     def from_arrays(cls, arrays, n: int) -> LatticeState:
+        """Rebuild a state from :meth:`to_arrays`, checking the arrays.
+
+        Parameters
+        ----------
+        arrays : dict of numpy.ndarray
+            As :meth:`to_arrays` returns them.
+        n : int
+            The number of sites the state must have.
+
+        Returns
+        -------
+        LatticeState
+
+        Raises
+        ------
+        ValueError
+            When the arrays do not have the shapes of a state of ``n`` sites, a clock is not finite
+            or lies before the time, or the attempt rate is not a finite positive number (the
+            driver turns it into a checkpoint error naming the file).
+        """
         v = np.asarray(arrays["velocities"], dtype=float)
         c = np.asarray(arrays["clocks"], dtype=float)
         if v.shape != (n,) or c.shape != (n,):
@@ -153,6 +193,33 @@ def run_clocks(
     sweeps).  Once a pass fires fewer than N/``sparse_ratio`` bonds, the bonds still pending
     (clock < ``until``) are listed and later passes only test those.  The fired set of each pass
     is the same either way, so ``sparse_ratio`` only changes speed, never the result.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities (N,), changed in place.
+    clocks : numpy.ndarray
+        Each bond's next attempt time, changed in place.
+    until : float
+        The end of the interval.
+    p : float
+        (1 + r)/2.
+    constraint : bool
+        Only approaching neighbours collide.
+    increments : callable
+        ``increments(bonds)``: the next waiting times.
+    sparse_ratio : int
+        Switches to sparse passes once a pass fires fewer than N/``sparse_ratio`` bonds;
+        changes speed only, never the result.
+    marks : callable, optional
+        Uniform marks for the rate-|Δ| thinning.
+    rate_bound : float
+        R ≥ every |Δ| (thinning).
+
+    Returns
+    -------
+    tuple of int
+        ``(attempts, collisions, passes)``.
     """
     n = v.size
     ext = np.empty(n + 2)  # ext[1:n+1] is the clock array, with one ghost bond at each end
@@ -239,7 +306,18 @@ def run_clocks_sequential(
     """Reference for :func:`run_clocks`: the same clocks, one attempt at a time in time order
     (always the bond with the smallest next time, ties to the smaller index), in pure Python,
     with the same rate-|Δ| thinning when ``marks`` is given (one mark per attempt, then its
-    increment).  Returns ``(attempts, collisions)``; modifies ``v`` and ``clocks`` in place."""
+    increment).  Returns ``(attempts, collisions)``; modifies ``v`` and ``clocks`` in place.
+
+    Parameters
+    ----------
+    v, clocks, until, p, constraint, increments, marks, rate_bound
+        As for :func:`run_clocks`.
+
+    Returns
+    -------
+    tuple of int
+        ``(attempts, collisions)``.
+    """
     import heapq
 
     n = v.size
@@ -275,7 +353,26 @@ class Lattice:
     ``rate="constant"`` (default, the paper's model): every bond attempts at rate 1, time is τ
     (N attempts per unit τ).  ``rate="relative_velocity"``: bond b collides at rate |Δ_b| (only
     approaching pairs with the constraint), time is t, MD's time at density 1; collisions per
-    particle are 2·collisions/N (module docstring)."""
+    particle are 2·collisions/N (module docstring).
+
+    Parameters
+    ----------
+    n : int
+        Number of sites N ≥ 3.
+    restitution : float
+        r ∈ [0, 1].
+    initial : str
+        The initial law, a name of :mod:`particles.initial`.
+    constraint : bool
+        Only approaching neighbours collide (the paper's kinematic constraint).
+    rate : str
+        "constant" or "relative_velocity".
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the parameter that is out of its domain.
+    """
 
     n: int
     restitution: float
@@ -312,7 +409,12 @@ class Lattice:
 
     def to_dict(self) -> dict:
         """JSON-able parameters; ``"rate"`` appears only for the rate-|Δ| variant, so the
-        checkpoints of constant-rate runs keep their identity."""
+        checkpoints of constant-rate runs keep their identity.
+
+        Returns
+        -------
+        dict
+        """
         out = {
             "n": self.n,
             "restitution": self.restitution,
@@ -325,6 +427,19 @@ class Lattice:
         return out
 
     def initial_state(self, rng: np.random.Generator) -> LatticeState:
+        """The state at time 0 (every bond's clock drawn).
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The run's generator.
+
+        Returns
+        -------
+        LatticeState
+            The state at time 0: velocities from the initial law with zero mean and ⟨v²⟩ = 1 (per
+            component in d > 1).
+        """
         v = initial_velocities(self.initial, self.n, rng)
         if not self.relative_velocity_rate:
             return LatticeState(0.0, v, rng.standard_exponential(self.n), 0, 0)
@@ -332,18 +447,80 @@ class Lattice:
         return LatticeState(0.0, v, rng.standard_exponential(self.n) / bound, 0, 0, bound)
 
     def next_stop(self, time: float) -> float:
+        """The next stop of the driver after ``time``.
+
+        Parameters
+        ----------
+        time : float
+            The current time.
+
+        Returns
+        -------
+        float
+            The next time at which the driver may stop (checkpoint, progress).
+        """
         return next_grid_point(time, self.stop_step)
 
     def state_from_arrays(self, arrays) -> LatticeState:
+        """Rebuild a state from a checkpoint's arrays, checking them.
+
+        Parameters
+        ----------
+        arrays : dict of numpy.ndarray
+            The state's arrays, as a checkpoint holds them.
+
+        Returns
+        -------
+        LatticeState
+
+        Raises
+        ------
+        InvalidArgumentError
+            When an array has the wrong shape or values (naming the state).
+        """
         state = LatticeState.from_arrays(arrays, self.n)
         if (state.attempt_rate is not None) != self.relative_velocity_rate:
             raise ValueError(f"attempt_rate={state.attempt_rate!r} for rate={self.rate!r}")
         return state
 
     def observe(self, state: LatticeState) -> dict[str, float]:
+        """The engine's scalars at this state, recorded per time by the driver.
+
+        Parameters
+        ----------
+        state : LatticeState
+            The state.
+
+        Returns
+        -------
+        dict
+            ``attempts`` (bond attempts so far).
+        """
         return {"attempts": float(state.attempts)}
 
     def advance(self, state: LatticeState, until: float, rng: np.random.Generator) -> LatticeState:
+        """The exact dynamics from ``state.time`` to ``until``: every bond attempt earlier than
+        ``until``, in causal order (:func:`run_clocks`).
+
+        Parameters
+        ----------
+        state : LatticeState
+            The state (not changed).
+        until : float
+            The time to advance to (τ, or t for the rate-|Δ| variant).
+        rng : numpy.random.Generator
+            The run's generator.
+
+        Returns
+        -------
+        LatticeState
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``until`` when it lies before the state's time, or ``state`` when a rate-|Δ|
+            engine is given a constant-rate state.
+        """
         if not until >= state.time:
             raise InvalidArgumentError("until", until, f"a time >= {state.time}")
         v = state.velocities.copy()
@@ -398,7 +575,17 @@ class Lattice:
 
 def thinning_bound(v: np.ndarray) -> float:
     """Thinning bound R = (max v − min v)(1 + ``RATE_BOUND_MARGIN``) ≥ every |v_i − v_j|, now
-    and at all later times (velocities never leave their current range)."""
+    and at all later times (velocities never leave their current range).
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities.
+
+    Returns
+    -------
+    float
+    """
     return float(v.max() - v.min()) * (1.0 + RATE_BOUND_MARGIN)
 
 
@@ -406,7 +593,18 @@ def thinning_bound(v: np.ndarray) -> float:
 class LatticeDiscreteReference(Lattice):
     """The textbook discrete-time lattice model (for distribution-level tests): a Python loop
     that picks a uniformly random bond N times per unit τ.  Its τ advances in steps of 1/N, so
-    ``until`` is rounded to the nearest whole number of attempts.  The clocks are unused."""
+    ``until`` is rounded to the nearest whole number of attempts.  The clocks are unused.
+
+    Parameters
+    ----------
+    n, restitution, initial, constraint, rate
+        As for :class:`Lattice`.
+
+    Raises
+    ------
+    InvalidArgumentError
+        As :class:`Lattice`.
+    """
 
     name: ClassVar[str] = "lattice-discrete-reference"
 
@@ -416,6 +614,21 @@ class LatticeDiscreteReference(Lattice):
             raise InvalidArgumentError("rate", self.rate, "'constant' (the discrete reference)")
 
     def advance(self, state: LatticeState, until: float, rng: np.random.Generator) -> LatticeState:
+        """The discrete-time dynamics to ``until`` (rounded to a whole number of attempts).
+
+        Parameters
+        ----------
+        state : LatticeState
+            The state (not changed).
+        until : float
+            τ to advance to.
+        rng : numpy.random.Generator
+            The generator.
+
+        Returns
+        -------
+        LatticeState
+        """
         n, p = self.n, self.p
         vel = state.velocities.tolist()
         total = int(round(until * n))

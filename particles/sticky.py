@@ -50,16 +50,16 @@ of the 2N numbers of the window (``tests/test_particles/test_sticky.py``).
 
 Energy decay
 ------------
-For independent velocities of variance 1 and density n, at t ≫ 1/n the free-streamed partial sums
-are F(m) ≈ m²/(2n) + t W(m) (W a Brownian motion in the label m; the position fluctuations are
-smaller by a factor t).  With m = (nt)^{2/3} s, a particle's velocity is (nt)^{−1/3} U, U the mean
-increment of a two-sided Brownian motion B over the segment covering s = 0 of the convex
-minorant of B(s) + s²/2, so E t^{2/3} → n^{−2/3} ⟨U²⟩ for any law of variance 1 (the
-white-noise Burgers problem; Frachebourg, Martin, Piasecki).  ⟨U²⟩ = 0.44275 is the second
-moment of the exact late-time velocity law below (:func:`exact_moments`
-``["velocity_variance"]``); comparison 9 of :mod:`maxwell_kinetics.comparisons` shows E t^{2/3}
-approaching it.  Exact as well: the *displacements* of the particles.  A particle's position at t is the slope of the minorant, so D/t^{2/3} tends in law
-to a multiple of Chernoff's argmax of W(u) − u² (:func:`displacements`,
+For independent velocities of variance 1 and density n, at t ≫ 1/n the free-streamed partial
+sums are F(m) ≈ m²/(2n) + t W(m) (W a Brownian motion in the label m; the position fluctuations
+are smaller by a factor t). With m = (nt)^{2/3} s, a particle's velocity is (nt)^{−1/3} U, U the
+mean increment of a two-sided Brownian motion B over the segment covering s = 0 of the convex
+minorant of B(s) + s²/2, so E t^{2/3} → n^{−2/3} ⟨U²⟩ for any law of variance 1 (the white-noise
+Burgers problem; Frachebourg, Martin, Piasecki). ⟨U²⟩ = 0.44275 is the second moment of the
+exact late-time velocity law below (:func:`exact_moments` ``["velocity_variance"]``); comparison
+9 of :mod:`maxwell_kinetics.comparisons` shows E t^{2/3} approaching it. Exact as well: the
+*displacements* of the particles. A particle's position at t is the slope of the minorant, so
+D/t^{2/3} tends in law to a multiple of Chernoff's argmax of W(u) − u² (:func:`displacements`,
 :func:`displacement_scale`, :func:`chernoff_density`), with ⟨D²⟩ t^{−4/3} → 0.664129 at unit
 variance and density; ⟨U²⟩ = ⟨D²⟩ t^{−4/3} − ⟨(c − x₀)²⟩ t^{−4/3}, c the centre of the initial
 positions of the particle's cluster (the cross term sums to zero over each cluster).

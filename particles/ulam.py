@@ -148,13 +148,29 @@ def _window_for(n: int) -> float:
 
 @dataclass(frozen=True)
 class UlamState:
-    """Ulam state at time ``time`` (τ): velocities and the total number of pair collisions."""
+    """Ulam state at time ``time`` (τ): velocities and the total number of pair collisions.
+
+    Attributes
+    ----------
+    time : float
+        τ.
+    velocities : numpy.ndarray
+        (N,) in 1D, (N, d) otherwise.
+    collisions : int
+        Pair collisions so far.
+    """
 
     time: float
     velocities: np.ndarray = field(repr=False)
     collisions: int = 0
 
     def to_arrays(self) -> dict[str, np.ndarray]:
+        """The state as arrays (what a checkpoint holds).
+
+        Returns
+        -------
+        dict of numpy.ndarray
+        """
         return {
             "time": np.array(self.time, dtype=float),
             "velocities": self.velocities,
@@ -163,6 +179,27 @@ class UlamState:
 
     @classmethod
     def from_arrays(cls, arrays, n: int, dimension: int = 1) -> UlamState:
+        """Rebuild a state from :meth:`to_arrays`, checking the arrays.
+
+        Parameters
+        ----------
+        arrays : dict of numpy.ndarray
+            As :meth:`to_arrays` returns them.
+        n : int
+            The number of particles the state must have.
+        dimension : int
+            Its dimension.
+
+        Returns
+        -------
+        UlamState
+
+        Raises
+        ------
+        ValueError
+            When the arrays do not have the shapes of a state of ``n`` particles in ``dimension``
+            (the driver turns it into a checkpoint error naming the file).
+        """
         v = np.asarray(arrays["velocities"], dtype=float)
         shape = (n,) if dimension == 1 else (n, dimension)
         if v.shape != shape:
@@ -172,7 +209,22 @@ class UlamState:
 
 def draw_pairs(rng: np.random.Generator, n: int, k: int) -> np.ndarray:
     """``k`` independent uniformly random ordered pairs (i, j), i ≠ j, of ``n`` particles, as an
-    int32 array of shape (k, 2)."""
+    int32 array of shape (k, 2).
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The generator.
+    n : int
+        Number of particles.
+    k : int
+        Number of pairs.
+
+    Returns
+    -------
+    numpy.ndarray
+        int32, shape (k, 2).
+    """
     pairs = np.empty((k, 2), dtype=np.int32)
     pairs[:, 0] = rng.integers(0, n, k, dtype=np.int32)
     second = rng.integers(0, n - 1, k, dtype=np.int32)
@@ -241,7 +293,13 @@ def _fire_rounds(
 def recentre(v: np.ndarray) -> None:
     """Subtract the mean velocity from ``v`` in place (exact by Galilean invariance of the
     collision rule; removes the non-decaying round-off of the total momentum).  ``v`` of shape
-    (N,) or (N, d)."""
+    (N,) or (N, d).
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities, changed in place.
+    """
     if v.ndim == 1:
         v -= v.mean()
     else:
@@ -255,7 +313,17 @@ def recentre(v: np.ndarray) -> None:
 class AngularDraws:
     """Angular variables of K events drawn in advance.  d = 3: ``z`` standard normal vectors
     (K, 3), for the "hard" model also ``eta`` = (ĝ·n)² ~ Beta(1, 1) (K,), else ``None``.
-    d = 2: ``sine`` = sin φ (K,), φ the angle from ĝ to n (``z`` and ``eta`` are ``None``)."""
+    d = 2: ``sine`` = sin φ (K,), φ the angle from ĝ to n (``z`` and ``eta`` are ``None``).
+
+    Attributes
+    ----------
+    z : numpy.ndarray or None
+        d = 3: standard normal vectors (K, 3).
+    eta : numpy.ndarray or None
+        d = 3, "hard": η (K,).
+    sine : numpy.ndarray or None
+        d = 2: sin φ (K,).
+    """
 
     z: np.ndarray | None
     eta: np.ndarray | None = None
@@ -264,7 +332,23 @@ class AngularDraws:
 
 def draw_angles(rng: np.random.Generator, k: int, dimension: int, angular: str) -> AngularDraws:
     """The angular variables of ``k`` events (module docstring).  d = 2: one uniform u per
-    event, sin φ = cos(πu) ("uniform") or 2u − 1 ("hard").  d = 3: normals first, then η."""
+    event, sin φ = cos(πu) ("uniform") or 2u − 1 ("hard").  d = 3: normals first, then η.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The generator.
+    k : int
+        Number of events.
+    dimension : int
+        d ∈ {2, 3}.
+    angular : str
+        "uniform" or "hard".
+
+    Returns
+    -------
+    AngularDraws
+    """
     if dimension == 2:
         u = rng.random(k)
         if angular == "uniform":
@@ -285,7 +369,20 @@ def plane_transfer(sine: np.ndarray, p: float) -> np.ndarray:
     """d = 2: the complex factor t = p (g·n) n / g = p cos φ e^{iφ} = p (c² + i s c) of events
     with sin φ = ``sine`` = s, c = cos φ = √((1 − s)(1 + s)) ≥ 0 (n and −n are the same
     collision, so φ ∈ [−π/2, π/2]).  Element by element with correctly rounded operations, so
-    the same bits whether computed for one event or for a window."""
+    the same bits whether computed for one event or for a window.
+
+    Parameters
+    ----------
+    sine : numpy.ndarray
+        sin φ of each event.
+    p : float
+        (1 + r)/2.
+
+    Returns
+    -------
+    numpy.ndarray
+        The complex factors t.
+    """
     s = np.asarray(sine, dtype=float)
     c2 = 1.0 - s  # (1 − s)(1 + s), not 1 − s²: c is accurate to round-off even near s = ±1
     c2 *= 1.0 + s
@@ -304,7 +401,15 @@ def collide_complex(va: np.ndarray, vb: np.ndarray, transfer: np.ndarray) -> Non
     The product g · t is written out in real operations, each correctly rounded, so that it
     gives the same bits for one event as for a window: NumPy's own complex multiply fuses
     multiply-adds in its SIMD loop but not in its scalar fallback, which it takes for some
-    one-element in-place calls (measured: NumPy 2.4, x86-64 with FMA)."""
+    one-element in-place calls (measured: NumPy 2.4, x86-64 with FMA).
+
+    Parameters
+    ----------
+    va, vb : numpy.ndarray
+        Complex velocities (m,), changed in place.
+    transfer : numpy.ndarray
+        The complex factors of :func:`plane_transfer`.
+    """
     g = va - vb
     delta = np.empty_like(g)
     re, im = delta.real, delta.imag
@@ -329,7 +434,22 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def collision_directions(g: np.ndarray, draws: AngularDraws, angular: str) -> np.ndarray:
     """Unit vectors n (m, d) for relative velocities ``g`` (m, d) and the events' ``draws``.
     d = 2: n = ĝ e^{iφ} (as a vector), the direction :func:`plane_transfer` collides along
-    (ĝ = x̂ where g = 0: the collision changes nothing)."""
+    (ĝ = x̂ where g = 0: the collision changes nothing).
+
+    Parameters
+    ----------
+    g : numpy.ndarray
+        Relative velocities (m, d).
+    draws : AngularDraws
+        The events' angular variables.
+    angular : str
+        "uniform" or "hard".
+
+    Returns
+    -------
+    numpy.ndarray
+        Unit vectors (m, d).
+    """
     if g.shape[1] == 2:
         gc = np.ascontiguousarray(g, dtype=float).view(np.complex128).reshape(-1)
         g_norm = np.abs(gc)
@@ -351,7 +471,17 @@ def collision_directions(g: np.ndarray, draws: AngularDraws, angular: str) -> np
 def collide_vectors(va: np.ndarray, vb: np.ndarray, n: np.ndarray, p: float) -> None:
     """The d-dimensional rule in place on (m, d) arrays: with g = v_a − v_b and
     δ = p (g·n) n, v_a −= δ and v_b += δ (the same δ: momentum is conserved up to the two final
-    roundings)."""
+    roundings).
+
+    Parameters
+    ----------
+    va, vb : numpy.ndarray
+        The two particles' velocities (m, d), changed in place.
+    n : numpy.ndarray
+        Unit collision directions (m, d).
+    p : float
+        (1 + r)/2.
+    """
     g = va - vb
     delta = (_dot(g, n) * p)[:, None] * n
     va -= delta
@@ -440,7 +570,25 @@ def _check_vector_events(v, pairs, restitution, draws, angular):
 
 def collide_in_order_vectors(v, pairs, restitution, draws: AngularDraws, angular="uniform"):
     """Fast path in d dimensions: apply the events ``pairs[k]`` with angular ``draws`` row k, in
-    time order k = 0, 1, …, to a copy of ``v`` (N, d); returns the new velocities."""
+    time order k = 0, 1, …, to a copy of ``v`` (N, d); returns the new velocities.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities (N, d) (not changed).
+    pairs : numpy.ndarray
+        Ordered pairs (K, 2) in time order.
+    restitution : float
+        r.
+    draws : AngularDraws
+        The events' angular variables.
+    angular : str
+        "uniform" or "hard".
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     v, pairs, p, angular = _check_vector_events(v, pairs, restitution, draws, angular)
     k = len(pairs)
     reversed_pairs = np.ascontiguousarray(pairs[::-1], dtype=np.int32)
@@ -460,7 +608,17 @@ def collide_in_order_vectors(v, pairs, restitution, draws: AngularDraws, angular
 
 
 def collide_sequential_vectors(v, pairs, restitution, draws: AngularDraws, angular="uniform"):
-    """Reference: a Python loop over the events in time order, one event at a time."""
+    """Reference: a Python loop over the events in time order, one event at a time.
+
+    Parameters
+    ----------
+    v, pairs, restitution, draws, angular
+        As for :func:`collide_in_order_vectors`.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     v, pairs, p, angular = _check_vector_events(v, pairs, restitution, draws, angular)
     if v.shape[1] == 2:
         w = _as_complex(v)
@@ -505,7 +663,21 @@ def _check_events(v, pairs, restitution):
 
 def collide_in_order(v, pairs, restitution) -> np.ndarray:
     """Fast path: apply the collisions ``pairs[0], pairs[1], …`` (time order) to a copy of ``v``
-    with the round-parallel scheme; returns the new velocities."""
+    with the round-parallel scheme; returns the new velocities.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities (N,) (not changed).
+    pairs : numpy.ndarray
+        Ordered pairs (K, 2) in time order.
+    restitution : float
+        r.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     v, pairs, p = _check_events(v, pairs, restitution)
     reversed_pairs = np.ascontiguousarray(pairs[::-1], dtype=np.int32)
     first = np.empty(v.size, dtype=np.int32)
@@ -515,7 +687,17 @@ def collide_in_order(v, pairs, restitution) -> np.ndarray:
 
 
 def collide_sequential(v, pairs, restitution) -> np.ndarray:
-    """Reference: a plain Python loop over ``pairs`` in time order, on a copy of ``v``."""
+    """Reference: a plain Python loop over ``pairs`` in time order, on a copy of ``v``.
+
+    Parameters
+    ----------
+    v, pairs, restitution
+        As for :func:`collide_in_order`.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     v, pairs, p = _check_events(v, pairs, restitution)
     out = v.tolist()
     for a, b in pairs.tolist():
@@ -540,7 +722,28 @@ class Ulam:
     ⟨(g·n)²⟩ = ⟨η⟩|g|² for both angular models (η = (ĝ·n)²).  At N/2 collisions per unit τ:
     dE/dτ = −(N/2)(1/N) 2pq⟨η⟩ · 2N/(N − 1) · E = −Λ N/(N − 1) E, Λ = 2pq⟨η⟩.
     Driven 1D: the noise adds 2D(1 − 1/N) per unit τ to the centred energy, so the steady
-    centred energy is D (N − 1)²/(pq N²)."""
+    centred energy is D (N − 1)²/(pq N²).
+
+    Parameters
+    ----------
+    n : int
+        Number of particles N ≥ 2.
+    restitution : float
+        r ∈ [0, 1].
+    initial : str
+        The initial law, a name of :mod:`particles.initial`.
+    dimension : int
+        d ∈ {1, 2, 3}.
+    angular : str
+        "uniform" or "hard" (d ≥ 2).
+    driving : float
+        D ≥ 0, white-noise heating (1D only).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the parameter that is out of its domain.
+    """
 
     n: int
     restitution: float
@@ -587,6 +790,12 @@ class Ulam:
         return max(4.0, self.window)
 
     def to_dict(self) -> dict:
+        """The engine's parameters, JSON-able (they name the run in its files).
+
+        Returns
+        -------
+        dict
+        """
         out = {
             "n": self.n,
             "restitution": self.restitution,
@@ -601,19 +810,71 @@ class Ulam:
         return out
 
     def initial_state(self, rng: np.random.Generator) -> UlamState:
+        """The state at τ = 0.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The run's generator.
+
+        Returns
+        -------
+        UlamState
+            The state at time 0: velocities from the initial law with zero mean and ⟨v²⟩ = 1 (per
+            component in d > 1).
+        """
         if self.dimension == 1:
             return UlamState(0.0, initial_velocities(self.initial, self.n, rng), 0)
         columns = [initial_velocities(self.initial, self.n, rng) for _ in range(self.dimension)]
         return UlamState(0.0, np.stack(columns, axis=1), 0)
 
     def next_stop(self, time: float) -> float:
+        """The next stop of the driver after ``time``: the next window boundary.
+
+        Parameters
+        ----------
+        time : float
+            The current time.
+
+        Returns
+        -------
+        float
+            The next time at which the driver may stop (checkpoint, progress).
+        """
         return next_grid_point(time, self.stop_step)
 
     def state_from_arrays(self, arrays) -> UlamState:
+        """Rebuild a state from a checkpoint's arrays, checking them.
+
+        Parameters
+        ----------
+        arrays : dict of numpy.ndarray
+            The state's arrays, as a checkpoint holds them.
+
+        Returns
+        -------
+        UlamState
+
+        Raises
+        ------
+        InvalidArgumentError
+            When an array has the wrong shape or values (naming the state).
+        """
         return UlamState.from_arrays(arrays, self.n, self.dimension)
 
     def windows(self, start: float, until: float) -> list[tuple[float, float]]:
-        """The event windows covering (start, until]: cut at multiples of ``window``."""
+        """The event windows covering (start, until]: cut at multiples of ``window``.
+
+        Parameters
+        ----------
+        start, until : float
+            The interval in τ.
+
+        Returns
+        -------
+        list of tuple of float
+            The windows (a, b], in order.
+        """
         cuts = [start]
         t = start
         while True:
@@ -625,7 +886,26 @@ class Ulam:
         return list(zip(cuts[:-1], cuts[1:], strict=True))
 
     def advance(self, state: UlamState, until: float, rng: np.random.Generator) -> UlamState:
-        """Exact dynamics from ``state.time`` to ``until`` (window by window)."""
+        """Exact dynamics from ``state.time`` to ``until`` (window by window).
+
+        Parameters
+        ----------
+        state : UlamState
+            The state (not changed).
+        until : float
+            τ to advance to, ≥ ``state.time``.
+        rng : numpy.random.Generator
+            The run's generator (the events and the angles are drawn from it).
+
+        Returns
+        -------
+        UlamState
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``until`` when it lies before the state's time.
+        """
         if not until >= state.time:
             raise InvalidArgumentError("until", until, f"a time >= {state.time}")
         if self.dimension != 1:
@@ -730,11 +1010,32 @@ class Ulam:
 class UlamReference(Ulam):
     """Sequential reference of the same model (for tests): a Python loop drawing exponential
     waiting times of rate N/2 and one random pair per collision.  Memorylessness makes stopping
-    at ``until`` and redrawing the next waiting time exact."""
+    at ``until`` and redrawing the next waiting time exact.
+
+    Parameters
+    ----------
+    n, restitution, initial, dimension, angular, driving
+        As for :class:`Ulam`.
+    """
 
     name: ClassVar[str] = "ulam-reference"
 
     def advance(self, state: UlamState, until: float, rng: np.random.Generator) -> UlamState:
+        """The sequential dynamics from ``state.time`` to ``until``.
+
+        Parameters
+        ----------
+        state : UlamState
+            The state (not changed).
+        until : float
+            τ to advance to.
+        rng : numpy.random.Generator
+            The generator.
+
+        Returns
+        -------
+        UlamState
+        """
         if self.dimension != 1 or self.driving != 0.0:
             return self._advance_general(state, until, rng)
         v = state.velocities.tolist()
