@@ -36,6 +36,25 @@ def causal_depth(params: MDParams, state: MDState, until: float, block=None) -> 
     ``block`` (optional, an int per particle, −1 for none) marks groups of particles, e.g. the
     soft blocks of :func:`cluster_anatomy`; ``in_blocks`` counts the collisions of two particles
     of one group, and ``in_blocks_elastic`` those of them that were elastic.
+
+    Parameters
+    ----------
+    params : MDParams
+        The gas.
+    state : MDState
+        The state at the window's start.
+    until : float
+        The window's end.
+    block : numpy.ndarray, optional
+        An int per particle (−1 for none) marking groups of particles, e.g. the soft blocks of
+        :func:`cluster_anatomy`.
+
+    Returns
+    -------
+    dict
+        ``collisions``, ``depth``, ``per_round`` (collisions per round), ``inelastic``,
+        ``ghost_depth`` and ``ghost_per_round`` (the same without elastic exchanges), and the
+        in-block counts.
     """
     engine = MDEngine(params, "reference", record=True)
     end = engine.advance(state, until)
@@ -83,7 +102,22 @@ def cluster_anatomy(params: MDParams, state: MDState) -> tuple[dict, np.ndarray]
     five largest) and, in label order from particle 0, maximal runs of neighbours whose velocities
     span less than δ (``soft_blocks``, the five largest, and the particles in runs of ≥ 5).  Every
     collision inside such a run is an elastic exchange, whatever the order.  Also returns the
-    run of ≥ 5 each particle belongs to (−1 for none), for :func:`causal_depth`."""
+    run of ≥ 5 each particle belongs to (−1 for none), for :func:`causal_depth`.
+
+    Parameters
+    ----------
+    params : MDParams
+        The gas.
+    state : MDState
+        The state.
+
+    Returns
+    -------
+    summary : dict
+        ``cluster_sizes`` and ``soft_blocks`` (the five largest each).
+    runs : numpy.ndarray
+        The run of ≥ 5 each particle belongs to (−1 for none).
+    """
     x = state.positions_at()
     v = state.velocities
     gaps = np.diff(np.append(x, x[0] + params.reduced_length))

@@ -39,7 +39,7 @@ _STALL_STREAK = 100_000
 class MDEngine:
     """Event-driven MD of inelastic hard rods: an engine of :func:`particles.driver.simulate`.
 
-    Driver protocol: ``name = "md"``; ``params()`` is a JSON-able dict; ``initial_state(rng)``
+    Driver protocol: ``name = "md"``; ``to_dict()`` is a JSON-able dict; ``initial_state(rng)``
     draws the start; ``advance(state, until, rng)`` returns the exact state at time ``until``
     (time unit t; the rng is unused, the dynamics is deterministic); ``next_stop(t)`` is the
     next point of the grid ``stop_step · m`` (m integer); ``state_from_arrays`` rebuilds a
@@ -67,6 +67,30 @@ class MDEngine:
     (``sequential``, ``sequential_seconds``), those of them run in zero-gap bursts (``burst``),
     collisions of the passes (``vectorised``), those with no time advance for one particle
     (``vectorised_zero_dt``) and ``elastic`` collisions (|Δ| < δ).
+
+    Parameters
+    ----------
+    params : MDParams
+        The gas.
+    method : str
+        "fast" (light-cone scheme) or "reference" (sequential heap).
+    collapse_dt : float
+        Collapse detector: a time step below this (units of 1/n) counts as a tiny step.
+    collapse_streak : int
+        Collapse detector: this many tiny steps in a row raise the error.
+    target_candidates : int, optional
+        Fast path: collisions per horizon slab (default N/8).
+    sequential_below : int
+        Fast path: the cost of a vectorised pass in scalar collisions (above).
+    record : bool
+        Keep every collision for :meth:`events`.
+    stop_step : float
+        The driver's stop grid (units of t).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the option that is out of its domain.
     """
 
     name = "md"
@@ -112,6 +136,12 @@ class MDEngine:
     # -- driver interface ---------------------------------------------------------------------
 
     def to_dict(self) -> dict:
+        """The engine's parameters, JSON-able (they name the run in its files).
+
+        Returns
+        -------
+        dict
+        """
         out = self.params.to_dict()
         out["model"] = self.name
         out["method"] = self.method
@@ -119,19 +149,64 @@ class MDEngine:
         return out
 
     def next_stop(self, time: float) -> float:
+        """The next point of the grid ``stop_step · m`` after ``time``.
+
+        Parameters
+        ----------
+        time : float
+            The current time t.
+
+        Returns
+        -------
+        float
+        """
         return next_grid_point(time, self.stop_step)
 
     def state_from_arrays(self, arrays) -> MDState:
+        """Rebuild a checkpointed state, checking it.
+
+        Parameters
+        ----------
+        arrays : dict of numpy.ndarray
+            :meth:`MDState.to_arrays` of a state.
+
+        Returns
+        -------
+        MDState
+        """
         return MDState.from_arrays(arrays, self.params)
 
     #: Recorded with each snapshot of the run driver: the rods' positions in [0, L).
     snapshot_fields = ("positions",)
 
     def snapshot_arrays(self, state: MDState) -> dict[str, np.ndarray]:
-        """The rods' positions y_i in [0, L) at the state's time (label order)."""
+        """The rods' positions y_i in [0, L) at the state's time (label order).
+
+        Parameters
+        ----------
+        state : MDState
+            The state.
+
+        Returns
+        -------
+        dict of numpy.ndarray
+            ``positions``.
+        """
         return {"positions": rod_positions(state, self.params)}
 
     def observe(self, state: MDState) -> dict[str, float]:
+        """The engine's scalars at this state, recorded per time by the driver.
+
+        Parameters
+        ----------
+        state : MDState
+            The state.
+
+        Returns
+        -------
+        dict
+            ``collisions_per_particle`` (τ(t)) and ``total_momentum``.
+        """
         return {
             "collisions_per_particle": collisions_per_particle(state),
             "total_momentum": total_momentum(state),
@@ -142,6 +217,21 @@ class MDEngine:
 
         Points: N sorted uniform draws on [0, L − Nσ) (rod i at x_i + iσ).  Velocities: drawn
         after the positions by :func:`particles.driver.initial_velocities` (zero mean, ⟨v²⟩ = 1).
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The run's generator.
+
+        Returns
+        -------
+        MDState
+            The state at t = 0.
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``rng`` when it is not a ``numpy.random.Generator``.
         """
         if not isinstance(rng, np.random.Generator):
             raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
@@ -151,7 +241,28 @@ class MDEngine:
         return MDState(0.0, x, np.zeros(p.n), v, 0)
 
     def advance(self, state: MDState, until: float, rng: np.random.Generator | None = None):
-        """Exact dynamics from ``state.time`` to ``until`` (all collisions with time ≤ until)."""
+        """Exact dynamics from ``state.time`` to ``until`` (all collisions with time ≤ until).
+
+        Parameters
+        ----------
+        state : MDState
+            The state (not changed).
+        until : float
+            t to advance to, ≥ ``state.time``.
+        rng : numpy.random.Generator, optional
+            Unused (the dynamics is deterministic).
+
+        Returns
+        -------
+        MDState
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``state`` (not an MDState of this N) or ``until`` (before the state's time).
+        InelasticCollapseError
+            When collisions pile up in finite time (δ = 0) or the clock stalls.
+        """
         if not isinstance(state, MDState):
             raise InvalidArgumentError("state", type(state).__name__, "an MDState")
         until = check_nonnegative(until, "until")
@@ -164,7 +275,18 @@ class MDEngine:
         return MDState(float(until), x, tl, v, int(count))
 
     def events(self) -> np.ndarray:
-        """Recorded collisions as an array of rows (time, pair), sorted (order-independent)."""
+        """Recorded collisions as an array of rows (time, pair), sorted (order-independent).
+
+        Returns
+        -------
+        numpy.ndarray
+            Rows (time, pair), pair the index b of the neighbour pair (b, b + 1).
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``record`` when the engine was built without ``record=True``.
+        """
         if self.record is None:
             raise InvalidArgumentError("record", False, "an engine built with record=True")
         rows = np.array(self.record, dtype=float).reshape(-1, 2)
@@ -179,6 +301,11 @@ class MDEngine:
         collision dissipates at least (1 − r²)δ²/4 and elastic collisions alone are finitely many
         in finite time.  Only a stall (a particle colliding again and again with no time
         advance at all) is then reported, after ``_STALL_STREAK`` collisions.
+
+        Returns
+        -------
+        tuple
+            (dt_tiny, streak limit, message).
         """
         if self.params.delta > 0.0 or self.params.restitution == 1.0:
             return 0.0, _STALL_STREAK, f"{_STALL_STREAK} collisions of one particle at one time"
@@ -187,7 +314,24 @@ class MDEngine:
 
     def raise_collapse(self, t, particles, collisions, detail=""):
         """Raise :class:`InelasticCollapseError` at time ``t`` for ``particles`` after
-        ``collisions`` collisions (``detail``: what the watch saw)."""
+        ``collisions`` collisions (``detail``: what the watch saw).
+
+        Parameters
+        ----------
+        t : float
+            The time of the runaway.
+        particles : sequence of int
+            The particles involved.
+        collisions : int
+            Collisions processed so far.
+        detail : str
+            What the watch saw.
+
+        Raises
+        ------
+        InelasticCollapseError
+            Always.
+        """
         raise InelasticCollapseError(
             t, particles, collisions, detail, self.params.delta, self.params.restitution
         )

@@ -41,7 +41,24 @@ def collision_time(x, t_last, i: int, vi: float, j: int, vj: float, lr: float) -
     if i and j had the velocities ``vi`` and ``vj``: ``math.inf`` unless vi > vj.
 
     ``x`` and ``t_last`` are indexable stores (lists, dicts, arrays) of the lazily stored
-    positions and their times; ``lr`` is the reduced ring length L_r.  Times in units of t."""
+    positions and their times; ``lr`` is the reduced ring length L_r.  Times in units of t.
+
+    Parameters
+    ----------
+    x, t_last : indexable
+        Stored positions and their times.
+    i, j : int
+        The pair.
+    vi, vj : float
+        Their velocities.
+    lr : float
+        The reduced ring length.
+
+    Returns
+    -------
+    float
+        The collision time, or ``math.inf``.
+    """
     if not vi > vj:
         return math.inf
     ti = t_last[i]
@@ -60,7 +77,21 @@ def collision_time(x, t_last, i: int, vi: float, j: int, vj: float, lr: float) -
 def collision_times(x, tl, v, pairs, lr):
     """:func:`collision_time` of the pairs ``pairs`` (indices b of pairs (b, b + 1), the seam
     pair N − 1 is (N − 1, 0)) with their current velocities ``v``, as an array (inf where the
-    pair is not approaching); ``pairs`` is not modified."""
+    pair is not approaching); ``pairs`` is not modified.
+
+    Parameters
+    ----------
+    x, tl, v : numpy.ndarray
+        Stored positions, their times and the velocities.
+    pairs : numpy.ndarray
+        Pair indices b.
+    lr : float
+        The reduced ring length.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     n = x.shape[0]
     i = pairs
     j = pairs + 1
@@ -87,7 +118,24 @@ def collision_times(x, tl, v, pairs, lr):
 def collide(vi: float, vj: float, p: float, delta: float, elastic_only: bool):
     """Velocities (v_i', v_j') of the pair after its collision, and whether it was elastic
     (``elastic_only``, i.e. r = 1, or Δ = v_i − v_j < δ): then an exact swap; otherwise the rule
-    of :func:`particles.collision.collide_scalar` with p = (1 + r)/2 and the separation guard."""
+    of :func:`particles.collision.collide_scalar` with p = (1 + r)/2 and the separation guard.
+
+    Parameters
+    ----------
+    vi, vj : float
+        The pair's velocities.
+    p : float
+        (1 + r)/2.
+    delta : float
+        δ.
+    elastic_only : bool
+        r = 1.
+
+    Returns
+    -------
+    tuple
+        (v_i', v_j', elastic).
+    """
     d = vi - vj
     if elastic_only or d < delta:
         return vj, vi, True
@@ -101,7 +149,20 @@ def collide(vi: float, vj: float, p: float, delta: float, elastic_only: bool):
 
 def collide_many(vi: np.ndarray, vj: np.ndarray, p: float, delta: float, elastic_only: bool):
     """:func:`collide` element-wise on arrays: (v_i', v_j', elastic mask).  The inputs are not
-    modified (with ``elastic_only`` the outputs are the inputs, swapped)."""
+    modified (with ``elastic_only`` the outputs are the inputs, swapped).
+
+    Parameters
+    ----------
+    vi, vj : numpy.ndarray
+        The pairs' velocities (not changed).
+    p, delta, elastic_only
+        As for :func:`collide`.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (v_i', v_j', elastic mask).
+    """
     if elastic_only:
         return vj, vi, np.ones(vi.shape, dtype=bool)
     d = vi - vj

@@ -475,7 +475,22 @@ def _burst_flush(X, TL, V, ST, C, heap, t, horizon, lo, hi, w, s, dh, lr, last):
 
 def advance_fast(engine, state: MDState, until: float):
     """Every collision of ``state`` up to ``until`` by the light-cone scheme (module docstring);
-    returns the arrays (positions, t_last, velocities) and the collision count at ``until``."""
+    returns the arrays (positions, t_last, velocities) and the collision count at ``until``.
+
+    Parameters
+    ----------
+    engine : MDEngine
+        The engine (its parameters and tuning).
+    state : MDState
+        The state (not changed).
+    until : float
+        t to advance to.
+
+    Returns
+    -------
+    tuple
+        (positions, t_last, velocities, collisions) at ``until``.
+    """
     params = engine.params
     n = params.n
     lr = params.reduced_length

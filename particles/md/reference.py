@@ -20,7 +20,22 @@ __all__ = ["advance_reference"]
 
 def advance_reference(engine, state: MDState, until: float):
     """Every collision of ``state`` up to ``until`` in (time, pair) order; returns the arrays
-    (positions, t_last, velocities) and the collision count of the state at ``until``."""
+    (positions, t_last, velocities) and the collision count of the state at ``until``.
+
+    Parameters
+    ----------
+    engine : MDEngine
+        The engine.
+    state : MDState
+        The state (not changed).
+    until : float
+        t to advance to.
+
+    Returns
+    -------
+    tuple
+        (positions, t_last, velocities, collisions) at ``until``.
+    """
     params = engine.params
     n = params.n
     lr = params.reduced_length

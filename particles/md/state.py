@@ -35,6 +35,21 @@ class InelasticCollapseError(RuntimeError):
     Attributes: ``time`` (the time of the runaway), ``particles`` (labels of the particles
     involved), ``collisions`` (total number of collisions processed so far), ``delta`` (the
     run's δ).
+
+    Parameters
+    ----------
+    time : float
+        The time of the runaway.
+    particles : sequence of int
+        The particles involved.
+    collisions : int
+        Collisions processed so far.
+    detail : str
+        What the collapse watch saw.
+    delta : float
+        The run's δ.
+    restitution : float, optional
+        The run's r (for the message).
     """
 
     def __init__(
@@ -82,6 +97,26 @@ class MDParams:
     ``n`` particles (N ≥ 2), number ``density`` N/L > 0, ``restitution`` r ∈ [0, 1],
     regularisation ``delta`` δ ≥ 0 (0: none), ``rod_length`` σ ≥ 0 with N σ < L, and the name of
     the ``initial`` velocity law (:mod:`particles.initial`).
+
+    Attributes
+    ----------
+    n : int
+        N ≥ 2.
+    density : float
+        N/L > 0.
+    restitution : float
+        r ∈ [0, 1].
+    delta : float
+        δ ≥ 0: collisions with relative velocity below δ are elastic (0: none).
+    rod_length : float
+        σ ≥ 0, N σ < L.
+    initial : str
+        The initial law, a name of :mod:`particles.initial`.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the parameter that is out of its domain.
     """
 
     n: int
@@ -140,6 +175,12 @@ class MDParams:
         return transfer_fraction(self.restitution)
 
     def to_dict(self) -> dict:
+        """The parameters, JSON-able.
+
+        Returns
+        -------
+        dict
+        """
         return asdict(self)
 
 
@@ -150,6 +191,19 @@ class MDState:
     ``positions[i]`` is the point coordinate (reduced ring, unwrapped) of particle i at its own
     last-update time ``t_last[i]``; ``velocities[i]`` its velocity since then; ``collisions`` the
     total number of pair collisions since t = 0.
+
+    Attributes
+    ----------
+    time : float
+        t.
+    positions : numpy.ndarray
+        Point coordinates at each particle's ``t_last``.
+    t_last : numpy.ndarray
+        Each particle's last update time.
+    velocities : numpy.ndarray
+        Velocities.
+    collisions : int
+        Pair collisions since t = 0.
     """
 
     time: float
@@ -159,12 +213,27 @@ class MDState:
     collisions: int
 
     def positions_at(self, t: float | None = None) -> np.ndarray:
-        """Point coordinates (reduced ring, unwrapped) at time ``t`` (default: ``self.time``)."""
+        """Point coordinates (reduced ring, unwrapped) at time ``t`` (default: ``self.time``).
+
+        Parameters
+        ----------
+        t : float, optional
+            The time (default the state's).
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         t = self.time if t is None else float(t)
         return self.positions + self.velocities * (t - self.t_last)
 
     def to_arrays(self) -> dict[str, np.ndarray]:
-        """The state as a dict of NumPy arrays (what the driver's checkpoints store)."""
+        """The state as a dict of NumPy arrays (what the driver's checkpoints store).
+
+        Returns
+        -------
+        dict of numpy.ndarray
+        """
         return {
             "time": np.array(self.time, dtype=float),
             "positions": np.array(self.positions, dtype=float),
@@ -177,7 +246,24 @@ class MDState:
     def from_arrays(cls, data, params: MDParams | None = None) -> MDState:
         """Inverse of :meth:`to_arrays`, with consistency checks; a corrupt state raises
         ``InvalidArgumentError`` naming ``checkpoint`` (a ``ValueError``, which the driver turns
-        into its ``CheckpointError`` naming the file)."""
+        into its ``CheckpointError`` naming the file).
+
+        Parameters
+        ----------
+        data : mapping
+            :meth:`to_arrays` of a state.
+        params : MDParams, optional
+            The gas it must belong to.
+
+        Returns
+        -------
+        MDState
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``checkpoint`` for a corrupt state.
+        """
         keys = ("time", "positions", "t_last", "velocities", "collisions")
         try:
             missing = [k for k in keys if k not in data]
