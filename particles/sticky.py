@@ -122,7 +122,23 @@ __all__ = [
 class StickyParams:
     """Parameters of the sticky gas, checked at construction: ``n`` particles (N ≥ 2) of unit
     mass, number ``density`` N/L > 0, and the name of the ``initial`` velocity law
-    (:mod:`particles.initial`)."""
+    (:mod:`particles.initial`).
+
+    Attributes
+    ----------
+    n : int
+        N ≥ 2.
+    density : float
+        n = N/L > 0.
+    initial : str
+        The initial law, a name of :mod:`particles.initial` with a sampler.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the parameter that is out of its domain (also a density so small that L = N/n
+        overflows).
+    """
 
     n: int
     density: float
@@ -147,6 +163,12 @@ class StickyParams:
         return self.n / self.density
 
     def to_dict(self) -> dict:
+        """The parameters, JSON-able.
+
+        Returns
+        -------
+        dict
+        """
         return asdict(self)
 
 
@@ -158,6 +180,21 @@ class StickyState:
     (the state at any time is computed from them, exactly); ``starts``, ``positions`` and
     ``cluster_velocities`` describe the clusters at ``time`` (module docstring); ``velocities[j]``
     is the velocity of particle j (its cluster's); ``collisions`` = N − number of clusters.
+
+    Attributes
+    ----------
+    time : float
+        t.
+    length : float
+        L.
+    initial_positions, initial_velocities : numpy.ndarray
+        The data at t = 0.
+    starts, positions, cluster_velocities : numpy.ndarray
+        The clusters at ``time``: first labels, positions (unwrapped), velocities.
+    velocities : numpy.ndarray
+        Each particle's velocity (its cluster's).
+    collisions : int
+        N − number of clusters.
     """
 
     time: float
@@ -178,7 +215,12 @@ class StickyState:
 
     def to_arrays(self) -> dict[str, np.ndarray]:
         """What a checkpoint stores: the time, the initial data and the current velocities (the
-        clusters are recomputed from the initial data on reading, and checked against them)."""
+        clusters are recomputed from the initial data on reading, and checked against them).
+
+        Returns
+        -------
+        dict of numpy.ndarray
+        """
         return {
             "time": np.array(self.time, dtype=float),
             "length": np.array(self.length, dtype=float),
@@ -200,7 +242,23 @@ def sticky_state(x0, v0, length: float, t: float) -> StickyState:
     [0, ``length``)) and velocities ``v0`` (module docstring: the isotonic regression of two
     unrolled periods, computed as one period's and the pooling across the junction).  At
     t = 0 every particle is its own cluster.  Inputs are trusted (checked by the public
-    callers)."""
+    callers).
+
+    Parameters
+    ----------
+    x0 : numpy.ndarray
+        Initial positions, sorted, in [0, ``length``).
+    v0 : numpy.ndarray
+        Initial velocities.
+    length : float
+        L.
+    t : float
+        The time, ≥ 0.
+
+    Returns
+    -------
+    StickyState
+    """
     x0 = np.asarray(x0, dtype=float)
     v0 = np.asarray(v0, dtype=float)
     n = x0.size
@@ -340,7 +398,17 @@ def pool_junction(means, weights, length):
 
 def clusters(state: StickyState):
     """``(starts, masses, positions, velocities)`` of the clusters in label order: first labels,
-    numbers of particles, positions reduced mod L into [0, L), velocities."""
+    numbers of particles, positions reduced mod L into [0, L), velocities.
+
+    Parameters
+    ----------
+    state : StickyState
+        The state.
+
+    Returns
+    -------
+    starts, masses, positions, velocities : numpy.ndarray
+    """
     _check_state(state)
     return (
         state.starts.copy(),
@@ -354,7 +422,17 @@ def cluster_mass_distribution(state: StickyState):
     """``(m, count)``: the cluster masses present, increasing, and how many clusters have each
     (``count.sum()`` is the number of clusters, ``(m * count).sum()`` = N).  Divide by
     ``state.length`` for clusters per unit length (their late-time law is
-    :func:`exact_mass_density`)."""
+    :func:`exact_mass_density`).
+
+    Parameters
+    ----------
+    state : StickyState
+        The state.
+
+    Returns
+    -------
+    m, count : numpy.ndarray
+    """
     _check_state(state)
     m, count = np.unique(state.masses, return_counts=True)
     return m, count
@@ -363,7 +441,18 @@ def cluster_mass_distribution(state: StickyState):
 def profile_x(state: StickyState):
     """The profile v(x, t): particle positions (each at its cluster's) reduced mod L into [0, L),
     sorted increasingly, and the particles' velocities (the MD convention of
-    :func:`particles.md.profile_x`)."""
+    :func:`particles.md.profile_x`).
+
+    Parameters
+    ----------
+    state : StickyState
+        The state.
+
+    Returns
+    -------
+    x, v : numpy.ndarray
+        Sorted positions and the velocities.
+    """
     _check_state(state)
     y = np.mod(np.repeat(state.positions, state.masses), state.length)
     v = np.repeat(state.cluster_velocities, state.masses)
@@ -372,13 +461,34 @@ def profile_x(state: StickyState):
 
 
 def profile_i(state: StickyState):
-    """The profile v(i, t) against particle label i (as :func:`particles.md.profile_i`)."""
+    """The profile v(i, t) against particle label i (as :func:`particles.md.profile_i`).
+
+    Parameters
+    ----------
+    state : StickyState
+        The state.
+
+    Returns
+    -------
+    i, v : numpy.ndarray
+        Labels and velocities.
+    """
     _check_state(state)
     return np.arange(state.velocities.size), state.velocities.copy()
 
 
 def total_momentum(state: StickyState) -> float:
-    """Σ_j v_j (unit masses): conserved, zero at t = 0 up to round-off."""
+    """Σ_j v_j (unit masses): conserved, zero at t = 0 up to round-off.
+
+    Parameters
+    ----------
+    state : StickyState
+        The state.
+
+    Returns
+    -------
+    float
+    """
     _check_state(state)
     return float(np.sum(state.velocities))
 
@@ -388,7 +498,18 @@ def displacements(state: StickyState) -> np.ndarray:
     position minus its initial position, with the labels j < ``starts[0]`` of a cluster across
     the seam counted at x_j + L (module docstring).  Σ_j of it is t Σ_j v_j(0) (the centre of
     mass flies freely).  At t ≫ 1/n it tends in law to :func:`displacement_scale` · t^{2/3} · Z,
-    Z of Chernoff's law (:func:`chernoff_density`)."""
+    Z of Chernoff's law (:func:`chernoff_density`).
+
+    Parameters
+    ----------
+    state : StickyState
+        The state.
+
+    Returns
+    -------
+    numpy.ndarray
+        One displacement per particle, in label order.
+    """
     _check_state(state)
     where = np.roll(np.repeat(state.positions, state.masses), state.starts[0])
     d = where - state.initial_positions
@@ -410,7 +531,22 @@ def chernoff_density(z, *, cutoff: float = 40.0, nodes: int = 800) -> np.ndarray
     g(z) = (1/π) ∫_0^∞ Re[e^{−iλz} ĝ(λ)] dλ, computed by Gauss–Legendre quadrature with
     ``nodes`` nodes on [0, ``cutoff``]: |ĝ(λ)| falls like exp(−(√2/3) (2^{−1/3} λ)^{3/2}), below
     1e-23 at λ = 40, and the integrand's phase λ|z| needs |z| ≲ 10 for 800 nodes.  f is even,
-    ∫ f = 1 and Var Z = :data:`CHERNOFF_VARIANCE` (both checked by the tests)."""
+    ∫ f = 1 and Var Z = :data:`CHERNOFF_VARIANCE` (both checked by the tests).
+
+    Parameters
+    ----------
+    z : array_like of float
+        Where to evaluate f.
+    cutoff : float
+        The upper end of the λ integral.
+    nodes : int
+        Gauss–Legendre nodes.
+
+    Returns
+    -------
+    numpy.ndarray
+        f(z).
+    """
     from scipy.special import airy
 
     z = np.asarray(z, dtype=float)
@@ -437,7 +573,20 @@ def displacement_scale(density: float = 1.0, variance: float = 1.0) -> float:
     that of m²/(2n), so D = σ^{2/3} n^{−1/3} t^{2/3} (X(s) − s), X(s) the slope at s of the
     convex minorant of W(s) + s²/2.  X(s) − s is stationary in s and, by the switching
     relation X(0) ≤ x ⇔ argmin_u (W(u) + u²/2 − x u) ≥ 0, distributed as
-    argmax_u (W(u) − u²/2) = 2^{2/3} Z."""
+    argmax_u (W(u) − u²/2) = 2^{2/3} Z.
+
+    Parameters
+    ----------
+    density : float
+        n.
+    variance : float
+        σ², the variance of the initial velocities.
+
+    Returns
+    -------
+    float
+        b.
+    """
     n = check_positive(density, "density")
     s2 = check_positive(variance, "variance")
     return 2.0 ** (2.0 / 3.0) * s2 ** (1.0 / 3.0) * n ** (-1.0 / 3.0)
@@ -451,7 +600,30 @@ def velocity_tail_exponent(v, energy: float | None = None, *, quantiles=(1e-2, 1
 
     ``v`` are per-particle velocities (mass-weighted, as ``state.velocities``); ``energy``
     defaults to ⟨v²⟩.  The error is the fit's; points of one run are correlated (a cluster's
-    particles share one velocity), so compare seeds for an honest spread."""
+    particles share one velocity), so compare seeds for an honest spread.
+
+    Parameters
+    ----------
+    v : array_like
+        Per-particle velocities.
+    energy : float, optional
+        E (default ⟨v²⟩).
+    quantiles : tuple of float
+        The upper quantiles of |v|/√E between which the slope is fitted.
+
+    Returns
+    -------
+    beta, error : float
+        The slope and its least-squares standard error.
+    w_range : tuple of float
+        The fitted range of |v|/√E.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``v`` (fewer than 10 velocities, or a tail of fewer than 3 distinct points) or
+        ``quantiles``.
+    """
     v = np.abs(np.asarray(v, dtype=float).ravel())
     if v.size < 10:
         raise InvalidArgumentError("v", f"{v.size} values", "at least 10 velocities")
@@ -500,6 +672,18 @@ class StickyGas:
     it; ``observe`` records
     the number of ``clusters``, the ``mean_cluster_mass`` N/clusters and the
     ``total_momentum``.
+
+    Parameters
+    ----------
+    params : StickyParams
+        The gas.
+    stop_step : float, optional
+        The driver's stop grid (units of t); None: no intermediate stops.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``params`` or ``stop_step`` when they are not of their domain.
     """
 
     name = "sticky"
@@ -512,19 +696,52 @@ class StickyGas:
         self.stop_step = math.inf if stop_step is None else check_positive(stop_step, "stop_step")
 
     def to_dict(self) -> dict:
+        """The engine's parameters, JSON-able (they name the run in its files).
+
+        Returns
+        -------
+        dict
+        """
         out = self.params.to_dict()
         out["model"] = self.name
         out["stop_step"] = self.stop_step if math.isfinite(self.stop_step) else None
         return out
 
     def next_stop(self, time: float) -> float:
+        """The next point of the stop grid after ``time`` (infinity without a grid).
+
+        Parameters
+        ----------
+        time : float
+            The current time t.
+
+        Returns
+        -------
+        float
+        """
         if not math.isfinite(self.stop_step):
             return math.inf
         return next_grid_point(time, self.stop_step)
 
     def initial_state(self, rng: np.random.Generator) -> StickyState:
         """Uniform sorted positions on [0, L), then velocities from the law with zero mean and
-        ⟨v²⟩ = 1 (:func:`particles.driver.initial_velocities`): the draws of MD."""
+        ⟨v²⟩ = 1 (:func:`particles.driver.initial_velocities`): the draws of MD.
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The run's generator.
+
+        Returns
+        -------
+        StickyState
+            The state at t = 0.
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``rng`` when it is not a ``numpy.random.Generator``.
+        """
         if not isinstance(rng, np.random.Generator):
             raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
         p = self.params
@@ -533,7 +750,26 @@ class StickyGas:
         return sticky_state(x, v, p.length, 0.0)
 
     def advance(self, state: StickyState, until: float, rng: np.random.Generator | None = None):
-        """The exact state at ``until`` ≥ ``state.time`` (computed from the initial data)."""
+        """The exact state at ``until`` ≥ ``state.time`` (computed from the initial data).
+
+        Parameters
+        ----------
+        state : StickyState
+            The state (only its initial data are used).
+        until : float
+            t ≥ ``state.time``.
+        rng : numpy.random.Generator, optional
+            Unused.
+
+        Returns
+        -------
+        StickyState
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``state`` or ``until`` when they do not fit.
+        """
         _check_state(state)
         until = check_nonnegative(until, "until")
         if until < state.time:
@@ -545,7 +781,22 @@ class StickyGas:
 
     def state_from_arrays(self, arrays) -> StickyState:
         """Rebuild a state from :meth:`StickyState.to_arrays`; an inconsistent one raises
-        ``InvalidArgumentError`` naming ``checkpoint``."""
+        ``InvalidArgumentError`` naming ``checkpoint``.
+
+        Parameters
+        ----------
+        arrays : dict of numpy.ndarray
+            :meth:`StickyState.to_arrays` of a state.
+
+        Returns
+        -------
+        StickyState
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``checkpoint`` for an inconsistent state.
+        """
         keys = ("time", "length", "initial_positions", "initial_velocities", "velocities",
                 "collisions")
         try:
@@ -583,6 +834,18 @@ class StickyGas:
         return state
 
     def observe(self, state: StickyState) -> dict[str, float]:
+        """The engine's scalars at this state, recorded per time by the driver.
+
+        Parameters
+        ----------
+        state : StickyState
+            The state.
+
+        Returns
+        -------
+        dict
+            ``clusters``, ``mean_cluster_mass`` and ``total_momentum``.
+        """
         k = state.starts.size
         return {
             "clusters": float(k),
@@ -891,7 +1154,23 @@ def exact_shock_density(a, b) -> np.ndarray:
 
     ``a`` and ``b`` broadcast; not finite → ``InvalidArgumentError``.  Computed as above: ψ from
     its table (:func:`_log_psi`), k from :func:`_log_k`, in logarithms (no underflow before the
-    final exponential)."""
+    final exponential).
+
+    Parameters
+    ----------
+    a, b : array_like of float
+        Scaled label distances (broadcast together).
+
+    Returns
+    -------
+    numpy.ndarray
+        J(a, b).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``a`` or ``b`` when a value is not finite.
+    """
     a = _check_finite_array(a, "a")
     b = _check_finite_array(b, "b")
     a, b = np.broadcast_arrays(a, b)
@@ -921,7 +1200,23 @@ def exact_mass_density(mu) -> np.ndarray:
     Vectorised; F = 0 for μ < 0, +∞ at μ = 0, and 0 (below 1e-1100) for μ > 40.  Relative
     accuracy better than 1e-10 (tests: two node counts of the contour, the residue sum against
     the Hankel contour for k, ψ∗ψ against the convolution of ψ, ∫ μ F = 1 to 1e-11).
-    Not finite → ``InvalidArgumentError``."""
+    Not finite → ``InvalidArgumentError``.
+
+    Parameters
+    ----------
+    mu : array_like of float
+        Scaled masses μ.
+
+    Returns
+    -------
+    numpy.ndarray
+        F(μ) (0 for μ ≤ 0).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``mu`` when a value is not finite.
+    """
     mu = _check_finite_array(mu, "mu")
     out = np.zeros(mu.shape)
     out[mu == 0.0] = math.inf
@@ -971,7 +1266,25 @@ def exact_velocity_density(w, *, nodes: int = 80) -> np.ndarray:
     the fast particles sit in small clusters (μ ~ 4/w²) far from their labels' centre, so the
     cubic rate 1/6 is that of the Eulerian field (:func:`exact_eulerian_velocity_density`), and
     P(v) ∝ exp(−n t |v|³/(6 T₀)) in the engine's units.  Zero (below 1e-1900) for |w| > 30.
-    Not finite → ``InvalidArgumentError``."""
+    Not finite → ``InvalidArgumentError``.
+
+    Parameters
+    ----------
+    w : array_like of float
+        Scaled velocities.
+    nodes : int
+        Gauss–Legendre nodes.
+
+    Returns
+    -------
+    numpy.ndarray
+        P(w).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``w`` when a value is not finite.
+    """
     w = np.abs(_check_finite_array(w, "w"))
     out = np.zeros(w.shape)
     ok = w <= _W_MAX
@@ -990,7 +1303,23 @@ def exact_eulerian_velocity_density(w) -> np.ndarray:
     displacements (:func:`displacements` / (ℓ/n)): w ≡ 2^{2/3} Z, Z of Chernoff's law
     (:func:`chernoff_density`), variance 2^{4/3} · 0.2635596 = 0.664129.  Tail
     P_E ≈ 2^{1/3}/Ai'(a₁) · |w| exp(−|w|³/6 − λ₁|w|).  ψ from its table; zero for |w| > 30.
-    Not finite → ``InvalidArgumentError``."""
+    Not finite → ``InvalidArgumentError``.
+
+    Parameters
+    ----------
+    w : array_like of float
+        Scaled velocities.
+
+    Returns
+    -------
+    numpy.ndarray
+        P_E(w).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``w`` when a value is not finite.
+    """
     w = np.abs(_check_finite_array(w, "w"))
     out = np.zeros(w.shape)
     ok = w <= _W_MAX
@@ -1031,7 +1360,25 @@ def exact_velocity_survival(w, *, nodes: int = 60) -> np.ndarray:
     cubic part of −ln P(w + x)/P(w), which bounds it: the rest of the decay only adds), so the
     neglected part is below e^{−65} of the kept one.  Relative accuracy ~1e-10 (tests: 60
     against 120 nodes; the two formulas against each other at w = 1; dP_>/dw = −P).  Not finite →
-    ``InvalidArgumentError``."""
+    ``InvalidArgumentError``.
+
+    Parameters
+    ----------
+    w : array_like of float
+        Scaled velocities.
+    nodes : int
+        Gauss–Legendre nodes.
+
+    Returns
+    -------
+    numpy.ndarray
+        P_>(w).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``w`` when a value is not finite.
+    """
     w = _check_finite_array(w, "w")
     flat = np.abs(w.ravel())
     out = np.exp(_log_velocity_survival(flat, int(nodes))).reshape(w.shape)
@@ -1048,7 +1395,23 @@ def exact_velocity_tail_exponent(w) -> np.ndarray:
     β ≈ (w³/2 + λ₁ w + 4)/(w³/6 + λ₁ w + 4 ln w − ln(2^{17/6}/Ai'(a₁))): the linear Airy
     term λ₁ w and the power prefactor w^{−4} hold β well below 3 over every range a simulation
     can sample (values in the tests and ``benchmarks/sticky_exact.py``).  For w > 0;
-    w ≤ 0 or not finite → ``InvalidArgumentError``."""
+    w ≤ 0 or not finite → ``InvalidArgumentError``.
+
+    Parameters
+    ----------
+    w : array_like of float
+        Scaled velocities, > 0 and not beyond the range where the survival is representable.
+
+    Returns
+    -------
+    numpy.ndarray
+        β(w).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``w`` when a value is not finite, not positive or too large.
+    """
     w = _check_finite_array(w, "w")
     if np.any(w <= 0):
         raise InvalidArgumentError("w", float(w[w <= 0].ravel()[0]), "positive velocities")
@@ -1071,7 +1434,12 @@ def exact_asymptotes() -> dict[str, float]:
     * ``mass_large`` √(π/2) and ``mass_cubic`` 1/24: F ≈ √(π/2) μ^{5/2} e^{−μ³/24 − λ₁ μ};
     * ``velocity_tail`` 2^{11/6}/Ai'(a₁) and ``velocity_cubic`` 1/6:
       P(w) ≈ 2^{11/6}/Ai'(a₁) |w|^{−2} e^{−|w|³/6 − λ₁ |w|} (c = 1/6 in P ∝ e^{−c|w|³});
-    * ``eulerian_tail`` 2^{1/3}/Ai'(a₁): P_E(w) ≈ 2^{1/3}/Ai'(a₁) |w| e^{−|w|³/6 − λ₁ |w|}."""
+    * ``eulerian_tail`` 2^{1/3}/Ai'(a₁): P_E(w) ≈ 2^{1/3}/Ai'(a₁) |w| e^{−|w|³/6 − λ₁ |w|}.
+
+    Returns
+    -------
+    dict of float
+    """
     a, aip = _airy_zeros()
     return {
         "airy_rate": float(-_CUBE * a[0]),
@@ -1094,7 +1462,12 @@ def exact_moments() -> dict[str, float]:
     * ``eulerian_variance`` ∫ w² P_E(w) dw = 2^{4/3} Var Z (Chernoff) = 0.664129, the limit of
       ⟨D²⟩ (n/T₀)^{2/3} t^{−4/3} for the displacements D;
     * ``clusters`` ∫ F dμ: the number of clusters is ≈ N (n² T₀ t²)^{−1/3} × this (1.32826…);
-    * ``mean_mass`` ∫ μ² F dμ: the mean scaled mass of the cluster of a random particle."""
+    * ``mean_mass`` ∫ μ² F dμ: the mean scaled mass of the cluster of a random particle.
+
+    Returns
+    -------
+    dict of float
+    """
     cache = exact_moments.__dict__
     if "value" not in cache:
         x, weight = _leggauss(300)
@@ -1193,7 +1566,26 @@ class ExactLawComparison:
       as resolved.  The exact β_k is the same chord on 2 :func:`exact_velocity_survival`.
 
     The finite-t corrections to scaling are the only systematic difference (finite N enters
-    through the ring's length only), so χ²/dof → 1 as t grows at fixed N per bin."""
+    through the ring's length only), so χ²/dof → 1 as t grows at fixed N per bin.
+
+    Parameters
+    ----------
+    t : float
+        The time of the states, > 0.
+    variance : float
+        T₀.
+    w_edges : array_like
+        The velocity histogram's edges in w.
+    tail_w : array_like, optional
+        The tail grid (default 10 geometric points from 0.5 to 4).
+    min_clusters : int
+        Clusters needed per outer bin and beyond a resolved tail point.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the argument that is out of its domain.
+    """
 
     def __init__(self, t: float, *, variance: float = 1.0, w_edges=EXACT_W_EDGES,
                  tail_w=None, min_clusters: int = 25):
@@ -1229,7 +1621,18 @@ class ExactLawComparison:
         return wscale, mscale
 
     def add(self, state: StickyState) -> None:
-        """Add one run's state at time t to the histograms."""
+        """Add one run's state at time t to the histograms.
+
+        Parameters
+        ----------
+        state : StickyState
+            A state at time t.
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``state`` when it is at another time or of another density.
+        """
         _check_state(state)
         if not math.isclose(state.time, self.t, rel_tol=1e-12):
             raise InvalidArgumentError("state", f"time {state.time}", f"time {self.t}")
@@ -1269,7 +1672,12 @@ class ExactLawComparison:
         """χ² of the velocity histogram (class docstring): ``chi2``, ``dof``, the bins
         ``edges`` (±inf at the open ends), ``observed``, ``expected``, ``sigma`` (particles per
         merged bin) and, on the unmerged bins of ``w_edges``, ``density`` (observed particles /
-        (N × width)) and ``density_error``."""
+        (N × width)) and ``density_error``.
+
+        Returns
+        -------
+        dict
+        """
         self._need()
         e = self.w_edges
         inner = _cached(("velocity", tuple(e.tolist())),
@@ -1294,7 +1702,12 @@ class ExactLawComparison:
         """χ² of the cluster-mass histogram (class docstring): ``chi2``, ``dof``, the integer
         bins ``lo``, ``hi`` (inclusive; the last open), ``observed``, ``expected``, and
         ``mu`` (bin centres (lo + hi)/2M), ``density`` (observed F: clusters / (N/M × bin width
-        in μ)), ``density_error`` (Poisson), ``exact`` (the expected F on the same bins)."""
+        in μ)), ``density_error`` (Poisson), ``exact`` (the expected F on the same bins).
+
+        Returns
+        -------
+        dict
+        """
         self._need()
         mscale = self._scales[2]
         upper = max(2, int(8.0 * mscale + 1e-9))
@@ -1337,7 +1750,17 @@ class ExactLawComparison:
         resolved points (at ``beta_w``, the geometric middles), and ``deepest``: the
         ``min_clusters``-th fastest cluster's |w|, the engine's S there (clusters at or beyond
         it) with its error, and the exact S.  ``exact=False`` leaves the exact values NaN (they
-        cost ~0.16 s per point; each point is computed once per process)."""
+        cost ~0.16 s per point; each point is computed once per process).
+
+        Parameters
+        ----------
+        exact : bool
+            Compute the exact values too.
+
+        Returns
+        -------
+        dict
+        """
         self._need()
         grid = self.tail_w
         mass, mass2, ncl = (np.cumsum(row[::-1])[::-1][1:] for row in self._s)
@@ -1375,7 +1798,14 @@ class ExactLawComparison:
     def corrections(self) -> dict:
         """The scale-free corrections to scaling: E (n t)^{2/3} T₀^{−2/3} and the number of
         clusters × M/N, mean ± standard error over the runs, against their exact limits
-        (:func:`exact_moments` ``velocity_variance`` and ``clusters``)."""
+        (:func:`exact_moments` ``velocity_variance`` and ``clusters``).
+
+        Returns
+        -------
+        dict
+            ``energy`` and ``clusters``: ``value`` (mean, standard error), ``exact`` and
+            ``relative``.
+        """
         self._need()
         mom = exact_moments()
         out = {}
