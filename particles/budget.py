@@ -42,7 +42,23 @@ _DEFAULT_BYTES_PER_PARTICLE = 400
 @dataclass(frozen=True)
 class Estimate:
     """``memory`` in bytes, ``events`` (expected number), ``driver`` the argument that sets the
-    size (``"n"``), ``unit`` what an event is."""
+    size (``"n"``), ``unit`` what an event is.
+
+    Attributes
+    ----------
+    memory : float
+        Bytes.
+    events : float
+        Expected events.
+    driver : str
+        The argument that sets the size.
+    unit : str
+        What an event is.
+    size : float
+        The value of ``driver``.
+    t_max : float
+        The last time.
+    """
 
     memory: float
     events: float
@@ -52,16 +68,42 @@ class Estimate:
     t_max: float = 0.0
 
     def describe(self) -> str:
+        """One line for the progress bar.
+
+        Returns
+        -------
+        str
+        """
         return f"~{format_count(self.events)} {self.unit}, ~{format_bytes(self.memory)}"
 
 
 def format_count(x: float) -> str:
+    """A count for people: three significant digits (``1.2e+07``) from 10⁴ on.
+
+    Parameters
+    ----------
+    x : float
+
+    Returns
+    -------
+    str
+    """
     if not math.isfinite(x):
         return str(x)
     return f"{x:.3g}" if x >= 1e4 else f"{x:.0f}"
 
 
 def format_bytes(x: float) -> str:
+    """Bytes for people, in powers of 1024 (``512 B``, ``6.63 GB``).
+
+    Parameters
+    ----------
+    x : float
+
+    Returns
+    -------
+    str
+    """
     for unit in ("B", "KB", "MB", "GB", "TB"):
         if abs(x) < 1024 or unit == "TB":
             return f"{x:.3g} {unit}" if unit != "B" else f"{x:.0f} B"
@@ -70,7 +112,12 @@ def format_bytes(x: float) -> str:
 
 
 def available_memory() -> float:
-    """Bytes of memory available now (MemAvailable from /proc/meminfo; else physical memory)."""
+    """Bytes of memory available now (MemAvailable from /proc/meminfo; else physical memory).
+
+    Returns
+    -------
+    float
+    """
     try:
         with open("/proc/meminfo") as fh:
             for line in fh:
@@ -110,7 +157,27 @@ def _md_tau(t: float, params: dict) -> float:
 def estimate_run(model: str, params: dict, t_max: float, *, n_times: int = 1,
                  structure: str | None = None, snapshots: bool = False) -> Estimate:
     """Memory and events of a run of ``model`` with ``params`` (its ``params()`` dict) to the
-    last time ``t_max`` with ``n_times`` records (see the module docstring)."""
+    last time ``t_max`` with ``n_times`` records (see the module docstring).
+
+    Parameters
+    ----------
+    model : str
+        A model of the catalogue.
+    params : dict
+        Its parameters (``engine.to_dict()``).
+    t_max : float
+        The last time.
+    n_times : int
+        Recorded times.
+    structure : str, optional
+        ``"all"`` or ``"last"``: S(k) recorded.
+    snapshots : bool
+        Velocities recorded at every time.
+
+    Returns
+    -------
+    Estimate
+    """
     n = float(params.get("n", 0))
     d = float(params.get("dimension", 1))
     per = BYTES_PER_PARTICLE.get(model, _DEFAULT_BYTES_PER_PARTICLE) * d
@@ -136,7 +203,30 @@ def estimate_run(model: str, params: dict, t_max: float, *, n_times: int = 1,
 
 def check_budget(estimate: Estimate, *, force: bool = False, time_name: str = "tau",
                  memory_available: float | None = None) -> Estimate:
-    """Refuse a run that cannot fit in memory, or whose work is absurd unless ``force``."""
+    """Refuse a run that cannot fit in memory, or whose work is absurd unless ``force``.
+
+    Parameters
+    ----------
+    estimate : Estimate
+        The run's estimate.
+    force : bool
+        Allow more than 10¹³ events.
+    time_name : str
+        The time's name, for the message.
+    memory_available : float, optional
+        Bytes available (default :func:`available_memory`).
+
+    Returns
+    -------
+    Estimate
+        ``estimate``, when the run is allowed.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``driver`` (the size) when the run cannot fit in memory, or the time when the
+        work is absurd without ``force``.
+    """
     available = available_memory() if memory_available is None else memory_available
     if not estimate.memory <= available:
         raise InvalidArgumentError(

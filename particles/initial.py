@@ -46,7 +46,25 @@ Sampler = Callable[[np.random.Generator, int], np.ndarray]
 
 @dataclass(frozen=True)
 class InitialLaw:
-    """A zero-mean, unit-variance velocity law (see the module docstring)."""
+    """A zero-mean, unit-variance velocity law (see the module docstring).
+
+    Attributes
+    ----------
+    name : str
+        Its name in the registry.
+    characteristic : callable
+        φ(k) = E[e^{ikv}].
+    sampler : callable, optional
+        ``sampler(rng, n)``: n independent draws.
+    skewness : float
+        The third moment ⟨v³⟩.
+    description : str
+        One line for the help.
+    traceable : bool
+        Whether the kinetic solver's initial deviation can be traced back to it exactly.
+    distribution : callable, optional
+        The CDF.
+    """
 
     name: str
     characteristic: CharacteristicFunction = field(repr=False)
@@ -59,18 +77,60 @@ class InitialLaw:
     distribution: Callable[[np.ndarray], np.ndarray] | None = field(repr=False, default=None)
 
     def cdf(self, v) -> np.ndarray:
-        """P(V ≤ v) on an array of real ``v`` (built-in laws)."""
+        """P(V ≤ v) on an array of real ``v`` (built-in laws).
+
+        Parameters
+        ----------
+        v : array_like
+            Velocities.
+
+        Returns
+        -------
+        numpy.ndarray
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``initial`` for a law without a CDF.
+        """
         if self.distribution is None:
             raise InvalidArgumentError("initial", self.name, "a law with a known CDF")
         return np.asarray(self.distribution(np.asarray(v, dtype=float)), dtype=float)
 
     def phi(self, k) -> np.ndarray:
-        """Characteristic function E[e^{ikv}] as a complex array of the shape of ``k``."""
+        """Characteristic function E[e^{ikv}] as a complex array of the shape of ``k``.
+
+        Parameters
+        ----------
+        k : array_like
+            Wave numbers.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         k = np.asarray(k, dtype=float)
         return np.asarray(self.characteristic(k, np), dtype=complex)
 
     def sample(self, rng: np.random.Generator, n: int) -> np.ndarray:
-        """Draw ``n`` independent velocities with ``rng`` (a ``numpy.random.Generator``)."""
+        """Draw ``n`` independent velocities with ``rng`` (a ``numpy.random.Generator``).
+
+        Parameters
+        ----------
+        rng : numpy.random.Generator
+            The generator.
+        n : int
+            Number of draws.
+
+        Returns
+        -------
+        numpy.ndarray
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``initial`` for a law without a sampler.
+        """
         if self.sampler is None:
             raise InvalidArgumentError(
                 "initial", self.name, "a law with a sampler (user laws have none)"
@@ -164,6 +224,12 @@ LAWS: dict[str, InitialLaw] = {
 
 
 def law_names() -> list[str]:
+    """The names of the registered laws.
+
+    Returns
+    -------
+    list of str
+    """
     return sorted(LAWS)
 
 
@@ -213,7 +279,17 @@ def _probe_points() -> np.ndarray:
 
 def first_non_finite(k: np.ndarray, values: np.ndarray) -> tuple[float, complex] | None:
     """(k, value) at the k of smallest |k| (the positive one on a tie) where ``values`` is not
-    finite, or None when all are finite."""
+    finite, or None when all are finite.
+
+    Parameters
+    ----------
+    k, values : numpy.ndarray
+        Wave numbers and values of φ there.
+
+    Returns
+    -------
+    tuple or None
+    """
     values = np.asarray(values)
     bad = np.flatnonzero(~np.isfinite(values))
     if not bad.size:
@@ -272,6 +348,24 @@ def law_from_characteristic(
     reach) and on log-spaced |k| up to ``PROBE_K_MAX`` = 1e6, and the error names the
     smallest offending k in the caller's units (k / sqrt(variance)).  The skewness is read
     from the imaginary part near ``k = 0`` (``Im phi ≈ -E[v^3] k^3/6``).
+
+    Parameters
+    ----------
+    characteristic : callable
+        φ(k) of a zero-mean law.
+    variance : float
+        Its variance.
+    name : str
+        A name for messages and files.
+
+    Returns
+    -------
+    InitialLaw
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``characteristic`` (not callable, or failing a check) or ``variance``.
     """
     if not callable(characteristic):
         raise InvalidArgumentError("characteristic", characteristic, "a callable phi(k)")

@@ -81,7 +81,17 @@ def energy(v) -> np.ndarray | float:
 
 
 def momentum(v) -> np.ndarray | float:
-    """Mean velocity (1/N) Σ_i v_i (momentum per particle, unit masses) along the last axis."""
+    """Mean velocity (1/N) Σ_i v_i (momentum per particle, unit masses) along the last axis.
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities, particles along the last axis ((N,) or (R, N)).
+
+    Returns
+    -------
+    float or numpy.ndarray
+    """
     arr = _as_velocities(v)
     out = np.mean(arr, axis=-1)
     return float(out) if out.ndim == 0 else out
@@ -96,6 +106,19 @@ class Histogram:
     binomial (≈ Poisson for small p) standard error of one bin for n independent samples.  For a
     correlated field (lattice, MD late times) the velocities are not independent and the true
     error is larger; averaging over independent runs is then the honest estimate.
+
+    Attributes
+    ----------
+    edges, centres : numpy.ndarray
+        Bin edges and centres in x.
+    density, error : numpy.ndarray
+        The density and its standard error per bin.
+    count : numpy.ndarray
+        Samples per bin.
+    samples : int
+        All samples n (those outside the edges included).
+    v0 : float
+        The scale of x = v/v0.
     """
 
     edges: np.ndarray
@@ -107,6 +130,13 @@ class Histogram:
     v0: float
 
     def to_dict(self) -> dict:
+        """The histogram as JSON-ready lists.
+
+        Returns
+        -------
+        dict
+            ``centres``, ``density`` and ``error``.
+        """
         return {
             "centres": self.centres.tolist(),
             "density": self.density.tolist(),
@@ -140,6 +170,24 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     x is undefined for a run whose velocities are all 0 (E = 0): that raises
     ``InvalidArgumentError`` (argument ``v``).  A run whose ⟨v²⟩ merely underflows in float64
     (velocities ~1e-160) still has a well-defined x: v0 is then computed without underflow.
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities, particles along the last axis ((N,) or (R, N)).
+    bins : array_like or int, optional
+        Edges in x, or a number of equal bins.
+    v0 : float, optional
+        The scale (default √E of each run).
+
+    Returns
+    -------
+    Histogram
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``bins`` or ``v`` (all velocities 0, so x is undefined).
     """
     arr = _as_velocities(v)
     if bins is None:
@@ -173,7 +221,23 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
 def histogram_from_counts(edges, count, n: int, v0: float) -> Histogram:
     """The :class:`Histogram` of ``count`` samples per bin of ``edges`` out of ``n`` in all
     (those outside the edges included), rescaled by ``v0``: density count/(n·width) and the
-    binomial error (see :class:`Histogram`)."""
+    binomial error (see :class:`Histogram`).
+
+    Parameters
+    ----------
+    edges : array_like
+        Bin edges in x.
+    count : array_like of int
+        Samples per bin.
+    n : int
+        All samples.
+    v0 : float
+        The scale of x.
+
+    Returns
+    -------
+    Histogram
+    """
     edges = np.asarray(edges, dtype=float)
     count = np.asarray(count)
     width = np.diff(edges)
@@ -203,6 +267,15 @@ def structure_factor(v) -> tuple[np.ndarray, np.ndarray]:
       ⟨v²⟩; uncorrelated velocities of energy E have S(k) = E for every k ≠ 0.
 
     ``v`` of shape ``(R, N)`` gives the average of S over the R runs (all of the same N).
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities, particles along the last axis ((N,) or (R, N)).
+
+    Returns
+    -------
+    k, S : numpy.ndarray
     """
     arr = _as_velocities(v)
     n = arr.shape[-1]
@@ -213,7 +286,17 @@ def structure_factor(v) -> tuple[np.ndarray, np.ndarray]:
 
 
 def wavenumbers(n: int) -> np.ndarray:
-    """The k of :func:`structure_factor` for a ring of ``n`` sites: 2πm/n, m = 0..⌊n/2⌋."""
+    """The k of :func:`structure_factor` for a ring of ``n`` sites: 2πm/n, m = 0..⌊n/2⌋.
+
+    Parameters
+    ----------
+    n : int
+        Sites N.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     return 2.0 * np.pi * np.arange(n // 2 + 1) / n
 
 
@@ -224,6 +307,16 @@ def correlation(v) -> np.ndarray:
     Returns C(r) for r = 0..N−1 (C(N − r) = C(r)); C(0) = ⟨v²⟩.  Computed through the FFT as
     C(r) = (1/N²) Σ_m |v̂(k_m)|² e^{+i k_m r} (Wiener–Khinchin), i.e. the inverse transform of S(k)
     divided by N; it is not normalised by C(0).
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities, particles along the last axis ((N,) or (R, N)).
+
+    Returns
+    -------
+    numpy.ndarray
+        C(r), r = 0 … N − 1.
     """
     arr = _as_velocities(v)
     n = arr.shape[-1]
@@ -250,6 +343,15 @@ def velocity_profile(v) -> tuple[np.ndarray, np.ndarray]:
     * Ulam: the model is mean-field, any particle collides with any other, so the label order
       carries no spatial meaning: v(i) is a list of velocities in arbitrary order, and
       neighbouring labels are uncorrelated (its C(r) and S(k) are flat, r, k ≠ 0).
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities, particles along the last axis ((N,) or (R, N)).
+
+    Returns
+    -------
+    i, v : numpy.ndarray
     """
     arr = np.array(_as_velocities(v), dtype=float)  # a copy
     return np.arange(arr.shape[-1]), arr
@@ -260,6 +362,22 @@ def log_bin(k, s, bins_per_decade: int = 10) -> tuple[np.ndarray, np.ndarray, np
 
     Bin edges are 10^(j / bins_per_decade).  Returns ``(k_mean, s_mean, count)`` for the non-empty
     bins: the arithmetic means of k and of s over the modes in each bin and the number of modes.
+
+    Parameters
+    ----------
+    k, s : array_like
+        Wave numbers and values of the same shape.
+    bins_per_decade : int
+        Bins per decade, > 0.
+
+    Returns
+    -------
+    k_mean, s_mean, count : numpy.ndarray
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``s`` (another shape than ``k``) or ``bins_per_decade``.
     """
     k = np.asarray(k, dtype=float)
     s = np.asarray(s, dtype=float)
@@ -286,7 +404,24 @@ def log_bin(k, s, bins_per_decade: int = 10) -> tuple[np.ndarray, np.ndarray, np
 def mean_sem(values, axis: int = 0):
     """Mean and standard error of the mean over ``axis`` (e.g. over seeds): ``s / √m`` with
     ``s`` the sample standard deviation (ddof = 1) of the ``m`` values; NaN where m < 2.
-    Returns ``(mean, sem)``, floats for a 1-D input, arrays otherwise."""
+    Returns ``(mean, sem)``, floats for a 1-D input, arrays otherwise.
+
+    Parameters
+    ----------
+    values : array_like
+        The values.
+    axis : int
+        The axis of the samples.
+
+    Returns
+    -------
+    mean, sem : float or numpy.ndarray
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``values`` when the axis is empty.
+    """
     a = np.asarray(values, dtype=float)
     m = a.shape[axis] if a.ndim else 1
     if m == 0:
@@ -303,7 +438,17 @@ def mean_sem(values, axis: int = 0):
 
 def mean_sem_json(values) -> list:
     """``[mean, sem]`` of 1-D ``values`` (:func:`mean_sem`) as JSON numbers, the error ``None``
-    for a single value; ``[None, None]`` for none."""
+    for a single value; ``[None, None]`` for none.
+
+    Parameters
+    ----------
+    values : array_like
+        1-D values.
+
+    Returns
+    -------
+    list
+    """
     a = np.asarray(values, dtype=float).ravel()
     if a.size == 0:
         return [None, None]

@@ -24,12 +24,30 @@ class NoProgress:
     n = 0.0
 
     def update(self, n=1) -> None:
+        """Nothing.
+
+        Parameters
+        ----------
+        n : float
+            Ignored.
+        """
         self.n += n
 
     def set_postfix_str(self, text: str, refresh: bool = True) -> None:
+        """Nothing.
+
+        Parameters
+        ----------
+        text : str
+            Ignored.
+        refresh : bool
+            Ignored.
+        """
         pass
 
     def close(self) -> None:
+        """Nothing.
+        """
         pass
 
     def __enter__(self):
@@ -40,7 +58,15 @@ class NoProgress:
 
 
 class PlainProgress(NoProgress):
-    """Plain lines on ``stream`` at 0 %, every ``step`` of the total, and at the end."""
+    """Plain lines on ``stream`` at 0 %, every ``step`` of the total, and at the end.
+
+    Parameters
+    ----------
+    total, desc, unit, stream, initial, postfix
+        As for :func:`progress_bar`.
+    step : float
+        The fraction of the total between lines.
+    """
 
     def __init__(self, total, desc="", unit="", stream=None, step=0.25, initial=0.0,
                  postfix=""):
@@ -69,14 +95,32 @@ class PlainProgress(NoProgress):
             self._next += self.step
 
     def update(self, n=1) -> None:
+        """Advance by ``n``; writes a line when a step is crossed.
+
+        Parameters
+        ----------
+        n : float
+            The increment.
+        """
         self.n += n
         if self._fraction() >= self._next and self._fraction() < 1.0:
             self._emit()
 
     def set_postfix_str(self, text: str, refresh: bool = True) -> None:
+        """Set the text after the value.
+
+        Parameters
+        ----------
+        text : str
+            The text.
+        refresh : bool
+            Ignored (tqdm's signature).
+        """
         self.postfix = text
 
     def close(self) -> None:
+        """Write the final line (once).
+        """
         if not self._closed:
             self._closed = True
             self._emit()
@@ -84,7 +128,32 @@ class PlainProgress(NoProgress):
 
 def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool = True, initial=0.0,
                  leave: bool = False, stream=None, postfix: str = ""):
-    """A tqdm bar on a terminal, plain lines otherwise, nothing when ``enabled`` is False."""
+    """A tqdm bar on a terminal, plain lines otherwise, nothing when ``enabled`` is False.
+
+    Parameters
+    ----------
+    total : float
+        The end value.
+    desc : str
+        The label.
+    unit : str
+        The unit of the values.
+    enabled : bool
+        False: report nothing.
+    initial : float
+        The start value (a resumed run).
+    leave : bool
+        Keep the tqdm bar after the end.
+    stream : file, optional
+        Where to write (default stderr).
+    postfix : str
+        Text after the bar.
+
+    Returns
+    -------
+    object
+        A context manager with ``update``, ``set_postfix_str`` and ``close``.
+    """
     if not enabled:
         return NoProgress()
     stream = stream if stream is not None else sys.stderr
