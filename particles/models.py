@@ -73,7 +73,36 @@ class Parameter:
     ``--`` and the name with ``-`` for ``_``); a ``"flag"`` (a boolean) also has ``switch``, an
     option without a value that sets it to ``not default`` (``--no-constraint``).  ``example``
     is a valid value other than the default (shown in the help, and what the generated tests
-    run)."""
+    run).
+
+    Attributes
+    ----------
+    name : str
+        The keyword.
+    kind : str
+        One of "int", "float", "choice", "flag", "any".
+    default : object
+        The default (``REQUIRED`` when there is none).
+    check : callable, optional
+        The validator.
+    unit : str
+        The unit, for the help.
+    help : str
+        The help text.
+    option : str
+        The command-line option.
+    switch : str
+        A flag's option without value.
+    choices : tuple
+        The choices of a "choice".
+    example : object
+        A valid value other than the default.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``kind`` or the field that is inconsistent.
+    """
 
     name: str
     kind: str
@@ -99,14 +128,45 @@ class Parameter:
         return self.default is REQUIRED
 
     def validate(self, value):
-        """``value`` checked (and normalised) by the parameter's validator."""
+        """``value`` checked (and normalised) by the parameter's validator.
+
+        Parameters
+        ----------
+        value : object
+            The value.
+
+        Returns
+        -------
+        object
+            The value, normalised.
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming this parameter.
+        """
         if self.kind == "flag" and not isinstance(value, bool):
             raise InvalidArgumentError(self.name, value, "true or false")
         return value if self.check is None else self.check(value, self.name)
 
     def parse(self, text: str):
         """The value of the command-line text ``text``, checked; a bad one raises
-        :class:`InvalidArgumentError` naming this parameter and ``text`` as given."""
+        :class:`InvalidArgumentError` naming this parameter and ``text`` as given.
+
+        Parameters
+        ----------
+        text : str
+            The command-line text.
+
+        Returns
+        -------
+        object
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming this parameter and ``text``.
+        """
         try:
             if self.kind == "int":
                 value = parse_int(text, self.name)
@@ -125,7 +185,12 @@ class Parameter:
             raise InvalidArgumentError(self.name, text, expected) from None
 
     def describe(self) -> str:
-        """The help text of the option: help, unit, choices and default."""
+        """The help text of the option: help, unit, choices and default.
+
+        Returns
+        -------
+        str
+        """
         parts = [self.help]
         if self.unit:
             parts.append(f"[{self.unit}]")
@@ -161,7 +226,26 @@ def _restitution(value, name):
 @dataclass(frozen=True)
 class Model:
     """A particle model: ``factory(**params)`` builds its engine; ``parameters`` declares the
-    keywords it takes; ``help`` and ``description`` are its command-line texts."""
+    keywords it takes; ``help`` and ``description`` are its command-line texts.
+
+    Attributes
+    ----------
+    name : str
+        The model's name.
+    factory : callable
+        Builds the engine.
+    parameters : tuple of Parameter
+        Its keywords.
+    help, description : str
+        Command-line texts.
+    default_time_name : str
+        The time's name when the engine does not say.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``parameters`` when two have one name.
+    """
 
     name: str
     factory: Callable[..., Any]
@@ -188,6 +272,22 @@ class Model:
         return tuple(p.name for p in self.parameters if p.required)
 
     def parameter(self, name: str) -> Parameter:
+        """The parameter called ``name``.
+
+        Parameters
+        ----------
+        name : str
+            Its name.
+
+        Returns
+        -------
+        Parameter
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming the parameter when the model has no parameter of that name.
+        """
         try:
             return self._by_name[name]
         except KeyError:
@@ -196,7 +296,23 @@ class Model:
             ) from None
 
     def build(self, params: Mapping[str, Any]):
-        """The engine of ``params`` (unknown or missing parameters are refused)."""
+        """The engine of ``params`` (unknown or missing parameters are refused).
+
+        Parameters
+        ----------
+        params : mapping
+            The parameters.
+
+        Returns
+        -------
+        object
+            The engine.
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming an unknown parameter, a missing one, or a bad value.
+        """
         for name in params:
             self.parameter(name)
         missing = [p for p in self.required if p not in params]
@@ -212,7 +328,17 @@ class Model:
             ) from None
 
     def time_name(self, engine) -> str:
-        """The name of ``engine``'s time: its ``time_name``."""
+        """The name of ``engine``'s time: its ``time_name``.
+
+        Parameters
+        ----------
+        engine : object
+            An engine of this model.
+
+        Returns
+        -------
+        str
+        """
         return str(getattr(engine, "time_name", self.default_time_name))
 
     @functools.cached_property
@@ -375,7 +501,22 @@ _declare(Model(
 
 
 def get_model(name) -> Model:
-    """The model named ``name`` (an error naming ``model`` and listing the models otherwise)."""
+    """The model named ``name`` (an error naming ``model`` and listing the models otherwise).
+
+    Parameters
+    ----------
+    name : str
+        The model's name.
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``model``.
+    """
     if isinstance(name, str) and name in MODELS:
         return MODELS[name]
     raise InvalidArgumentError("model", name, f"one of {sorted(MODELS)}")
@@ -388,7 +529,28 @@ def register_model(name: str, factory: Callable[..., Any], *, time_name: str = "
     parameters of ``factory``, of kind ``"any"`` (those without a default are required).
     ``time_name`` is used only for engines that have no ``time_name`` of their own.  The factory
     travels to ensemble workers by reference (by pickle), so it must be importable there.
-    Registering a name again replaces it."""
+    Registering a name again replaces it.
+
+    Parameters
+    ----------
+    name : str
+        The new model's name.
+    factory : callable
+        Builds its engine.
+    time_name : str
+        Its time's name when the engine does not say.
+    parameters : sequence of Parameter, optional
+        Its keywords (default: read from ``factory``).
+
+    Returns
+    -------
+    Model
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` or ``factory`` when they are not valid.
+    """
     if not isinstance(name, str) or not name:
         raise InvalidArgumentError("name", name, "a non-empty string")
     if not callable(factory):
@@ -403,5 +565,10 @@ def register_model(name: str, factory: Callable[..., Any], *, time_name: str = "
 
 
 def registered_models() -> dict[str, tuple[str, ...]]:
-    """{model name: the parameters it accepts}."""
+    """{model name: the parameters it accepts}.
+
+    Returns
+    -------
+    dict
+    """
     return {name: m.names for name, m in MODELS.items()}

@@ -66,7 +66,19 @@ class _Refused(ValueError):
 
 
 class FileFormatError(InvalidArgumentError):
-    """A file that cannot be read as the expected kind: names the file and the reason."""
+    """A file that cannot be read as the expected kind: names the file and the reason.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    reason : str
+        What is wrong.
+    argument : str
+        The argument that named the file.
+    expected : str
+        What was expected.
+    """
 
     def __init__(self, path, reason: str, argument: str = "path", expected: str = "a file"):
         self.path = str(path)
@@ -77,7 +89,19 @@ class FileFormatError(InvalidArgumentError):
 @dataclass(frozen=True)
 class Loaded:
     """What :func:`load` returns: the meta fields, the arrays, the version and whether the
-    file is a legacy one (written before the hash existed)."""
+    file is a legacy one (written before the hash existed).
+
+    Attributes
+    ----------
+    meta : dict
+        The meta fields.
+    arrays : dict of numpy.ndarray
+        The arrays.
+    version : int
+        The format version.
+    legacy : bool
+        Written before the hash existed.
+    """
 
     meta: dict
     arrays: dict[str, np.ndarray] = field(repr=False)
@@ -99,7 +123,21 @@ def entry_digest(name: str, a: np.ndarray) -> bytes:
 def digest(meta: dict, arrays: dict[str, np.ndarray], entries: dict | None = None) -> str:
     """SHA-256 (hex) of ``meta`` (without ``sha256``) and ``arrays``: the JSON of the meta
     fields with sorted keys, then the :func:`entry_digest` of each array in the order of the
-    sorted names (``entries`` may hold those already computed, e.g. while reading)."""
+    sorted names (``entries`` may hold those already computed, e.g. while reading).
+
+    Parameters
+    ----------
+    meta : dict
+        The meta fields.
+    arrays : dict of numpy.ndarray
+        The arrays.
+    entries : dict, optional
+        Digests already computed, by name.
+
+    Returns
+    -------
+    str
+    """
     h = hashlib.sha256()
     fields = {k: v for k, v in meta.items() if k != "sha256"}
     h.update(json.dumps(fields, sort_keys=True, allow_nan=True).encode())
@@ -129,7 +167,21 @@ def write_atomic(path, write, name: str = "path") -> Path:
     symlink names (the link stays a link).  The rename happens only onto a regular file or onto
     nothing: a directory, a device (``/dev/null`` included), a FIFO or a socket is refused with
     :class:`InvalidArgumentError` naming ``name``, before anything is written, and checked
-    again just before the rename (nothing is replaced if one appeared meanwhile)."""
+    again just before the rename (nothing is replaced if one appeared meanwhile).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The target.
+    write : callable
+        ``write(fh)`` fills the temporary file.
+    name : str
+        The argument's name, for messages.
+
+    Returns
+    -------
+    pathlib.Path
+    """
     path = check_path(path, name)
     target = output_target(path, name)
     directory = target.parent if str(target.parent) else Path(".")
@@ -154,7 +206,30 @@ def write_atomic(path, write, name: str = "path") -> Path:
 def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) -> Path:
     """Write ``arrays`` and ``meta`` to ``path`` atomically (:func:`write_atomic`: never onto a
     device, a FIFO, a socket or a directory; a symlink's target is written), with the format
-    tag, ``kind``, ``version`` and the content hash.  Returns the path."""
+    tag, ``kind``, ``version`` and the content hash.  Returns the path.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    kind : str
+        What it holds.
+    version : int
+        The format version.
+    arrays : dict of numpy.ndarray
+        Named numeric arrays.
+    meta : dict, optional
+        JSON-able fields.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``meta`` (a reserved key) or ``arrays`` (not numeric), or the path.
+    """
     path = check_path(path, "path")
     output_target(path, "path")  # refused before the content is hashed
     meta = dict(meta or {})
@@ -172,13 +247,43 @@ def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) 
 
 
 def write_text(path, text: str, name: str = "path") -> Path:
-    """Write ``text`` (UTF-8) to ``path`` through :func:`write_atomic`."""
+    """Write ``text`` (UTF-8) to ``path`` through :func:`write_atomic`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    text : str
+        The text.
+    name : str
+        The argument's name.
+
+    Returns
+    -------
+    pathlib.Path
+    """
     return write_atomic(path, lambda fh: fh.write(text.encode()), name)
 
 
 def save_figure(fig, path, name: str = "path", **kwargs) -> Path:
     """``fig.savefig`` through :func:`write_atomic` (format from the suffix; ``kwargs`` go to
-    ``savefig``)."""
+    ``savefig``).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : str or os.PathLike
+        The file.
+    name : str
+        The argument's name.
+    **kwargs
+        For ``savefig``.
+
+    Returns
+    -------
+    pathlib.Path
+    """
     path = check_path(path, name)
     fmt = path.suffix.lstrip(".").lower() or None
     return write_atomic(path, lambda fh: fig.savefig(fh, format=fmt, **kwargs), name)
@@ -273,6 +378,32 @@ def load(
     header alone (before its data is read).  Every failure raises :class:`FileFormatError`
     naming ``argument``, the file and the reason; ``expected`` words what was expected
     (default: "a <kind> file").
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    kind : str
+        The kind expected.
+    versions : tuple of int
+        The versions accepted.
+    argument : str
+        The argument's name, for messages.
+    expected : str, optional
+        What was expected, for messages.
+    max_bytes : int, optional
+        The largest entry accepted.
+    check_entry : callable, optional
+        A check of each entry's header.
+
+    Returns
+    -------
+    Loaded
+
+    Raises
+    ------
+    FileFormatError
+        For anything that is not such a file.
     """
     expected = expected or f"a {kind} file of maxwell-kinetics"
     versions = tuple(int(v) for v in versions)

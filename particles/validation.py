@@ -39,7 +39,20 @@ __all__ = [
 
 
 class InvalidArgumentError(ValueError):
-    """A public function received an argument outside its domain."""
+    """A public function received an argument outside its domain.
+
+    Its message is ``argument NAME=VALUE is invalid: expected EXPECTED``; the command line
+    prints it and exits with status 2.
+
+    Parameters
+    ----------
+    name : str
+        The argument's name.
+    value : object
+        The value received.
+    expected : str
+        What the argument accepts.
+    """
 
     def __init__(self, name: str, value, expected: str):
         self.name = name
@@ -59,7 +72,24 @@ def _as_float(name: str, value) -> float:
 
 
 def check_restitution(r, name: str = "restitution") -> float:
-    """Restitution coefficient r must be finite and lie in [0, 1]."""
+    """Restitution coefficient r must be finite and lie in [0, 1].
+
+    Parameters
+    ----------
+    r : float
+        The value.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     x = _as_float(name, r)
     if not 0.0 <= x <= 1.0:
         raise InvalidArgumentError(name, r, "a number in [0, 1]")
@@ -67,6 +97,24 @@ def check_restitution(r, name: str = "restitution") -> float:
 
 
 def check_positive(value, name: str) -> float:
+    """A finite number > 0.
+
+    Parameters
+    ----------
+    value : float
+        The value.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     x = _as_float(name, value)
     if x <= 0.0:
         raise InvalidArgumentError(name, value, "a finite number > 0")
@@ -74,6 +122,24 @@ def check_positive(value, name: str) -> float:
 
 
 def check_nonnegative(value, name: str) -> float:
+    """A finite number ≥ 0.
+
+    Parameters
+    ----------
+    value : float
+        The value.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     x = _as_float(name, value)
     if x < 0.0:
         raise InvalidArgumentError(name, value, "a finite number >= 0")
@@ -81,7 +147,26 @@ def check_nonnegative(value, name: str) -> float:
 
 
 def check_count(value, name: str, minimum: int) -> int:
-    """An integer count (number of particles, grid points) of at least ``minimum``."""
+    """An integer count (number of particles, grid points) of at least ``minimum``.
+
+    Parameters
+    ----------
+    value : int
+        The value (an exact integer; ``True`` and floats are refused).
+    name : str
+        The argument's name, for the message.
+    minimum : int
+        The smallest value accepted.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     if isinstance(value, bool):
         raise InvalidArgumentError(name, value, f"an integer >= {minimum}")
     try:
@@ -97,6 +182,24 @@ def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarra
     """A non-empty list of finite, non-negative, increasing times.
 
     ``strictly=True`` demands strictly increasing values (no repeats).
+
+    Parameters
+    ----------
+    times : array_like
+        The times.
+    name : str
+        The argument's name, for the message.
+    strictly : bool
+        Refuse repeated values.
+
+    Returns
+    -------
+    numpy.ndarray
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
     """
     if np.isscalar(times):
         times = [times]
@@ -128,7 +231,24 @@ def _split_list(text: str, name: str, what: str) -> list[str]:
 
 def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
     """Parse a comma-separated list such as ``"1,10,100"`` (for the command line).  Empty
-    elements (``"1,,2"``, ``","``) and an empty list are refused."""
+    elements (``"1,,2"``, ``","``) and an empty list are refused.
+
+    Parameters
+    ----------
+    text : str or sequence of float
+        The list.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    list of float
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     if not isinstance(text, str):
         return [float(x) for x in text]
     out = []
@@ -141,7 +261,24 @@ def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
 
 
 def parse_name_list(text: str, name: str) -> list[str]:
-    """A comma-separated list of names (``--only a,b``): no empty elements, no repeats."""
+    """A comma-separated list of names (``--only a,b``): no empty elements, no repeats.
+
+    Parameters
+    ----------
+    text : str
+        The list.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     parts = _split_list(str(text), name, "names")
     if len(set(parts)) != len(parts):
         raise InvalidArgumentError(name, text, "a list of names without repeats")
@@ -151,7 +288,26 @@ def parse_name_list(text: str, name: str) -> list[str]:
 def parse_int(text, name: str, minimum: int | None = None, maximum: int | None = None) -> int:
     """An exact integer from the command line: ``200000``, ``2e5`` or ``2.0e5`` when exactly
     integral (parsed as a decimal, never through a binary float, so 9007199254740993 stays
-    itself); ``1.5`` or ``1e-3`` are refused.  Optional bounds are inclusive."""
+    itself); ``1.5`` or ``1e-3`` are refused.  Optional bounds are inclusive.
+
+    Parameters
+    ----------
+    text : str or int
+        The text.
+    name : str
+        The argument's name, for the message.
+    minimum, maximum : int, optional
+        Inclusive bounds.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     from decimal import Decimal, InvalidOperation
 
     expected = "an integer"
@@ -179,7 +335,21 @@ def parse_int(text, name: str, minimum: int | None = None, maximum: int | None =
 
 def parse_count(text, name: str, minimum: int) -> int:
     """An integer option given as ``200000`` or ``2e5`` (exactly integral); errors name the
-    option and the value."""
+    option and the value.
+
+    Parameters
+    ----------
+    text : str or int
+        The text.
+    name : str
+        The argument's name, for the message.
+    minimum : int
+        The smallest value accepted.
+
+    Returns
+    -------
+    int
+    """
     return parse_int(text, name, minimum)
 
 
@@ -188,20 +358,68 @@ SEED_MAX = 2**64 - 1
 
 
 def parse_seed(text, name: str = "seed") -> int:
-    """A seed: an exact integer in [0, 2**64 - 1]."""
+    """A seed: an exact integer in [0, 2**64 - 1].
+
+    Parameters
+    ----------
+    text : str or int
+        The text.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    int
+    """
     return parse_int(text, name, 0, SEED_MAX)
 
 
 def check_path(path, name: str) -> Path:
     """A file-system path: a ``str`` (non-empty) or an ``os.PathLike``; anything else (None, a
-    number, a list) is refused here instead of failing deep inside with a TypeError."""
+    number, a list) is refused here instead of failing deep inside with a TypeError.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The path.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     if isinstance(path, (str, os.PathLike)) and str(path) != "":
         return Path(path)
     raise InvalidArgumentError(name, path, "a file path (str or os.PathLike)")
 
 
 def check_choice(value, name: str, choices) -> str:
-    """``value`` must be one of ``choices`` (strings); unhashable values are refused cleanly."""
+    """``value`` must be one of ``choices`` (strings); unhashable values are refused cleanly.
+
+    Parameters
+    ----------
+    value : str
+        The value.
+    name : str
+        The argument's name, for the message.
+    choices : sequence of str
+        The values accepted.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     if isinstance(value, str) and value in choices:
         return value
     raise InvalidArgumentError(name, value, f"one of {sorted(choices)}")
@@ -210,7 +428,17 @@ def check_choice(value, name: str, choices) -> str:
 def file_kind(path) -> str | None:
     """What exists at ``path`` without following a final symlink: ``None`` (nothing),
     ``"regular file"``, ``"directory"``, ``"symlink"``, ``"character device"``,
-    ``"block device"``, ``"FIFO"``, ``"socket"`` or ``"special file"``."""
+    ``"block device"``, ``"FIFO"``, ``"socket"`` or ``"special file"``.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The path.
+
+    Returns
+    -------
+    str or None
+    """
     try:
         mode = os.lstat(path).st_mode
     except FileNotFoundError:
@@ -236,6 +464,22 @@ def output_target(path, name: str) -> Path:
     rename, which would turn such an object into a regular file (as root, ``/dev/null`` itself);
     to discard an output, leave the option out.  A dangling link is resolved to the file it
     names, which is then created.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The path.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
     """
     out = check_path(path, name)
     target = Path(os.path.realpath(out)) if file_kind(out) == "symlink" else out
@@ -258,6 +502,22 @@ def check_output_file(path, name: str) -> Path:
     FIFO, a socket or a directory; a symlink is followed), in an existing, writable directory.
 
     Called before any work so that a bad path fails at once and nothing else is written.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The path.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
     """
     out = check_path(path, name)
     target = output_target(out, name)
@@ -269,7 +529,24 @@ def check_output_file(path, name: str) -> Path:
 def check_output_dir(path, name: str) -> Path:
     """An output folder: an existing writable directory (or a symlink to one), or one that can
     be created (its nearest existing ancestor is a writable directory).  Anything else that
-    exists there (a file, a device, a FIFO, a socket) is refused, naming what it is."""
+    exists there (a file, a device, a FIFO, a socket) is refused, naming what it is.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder.
+    name : str
+        The argument's name, for the message.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     out = check_path(path, name)
     if out.exists() or file_kind(out) is not None:
         if not out.is_dir():
@@ -293,7 +570,12 @@ def max_workers() -> int:
 
     More processes than that only compete for the same cores (each worker is a process with
     its own interpreter and imports, about a second and 100 MB to start); a bigger number is
-    almost always a typo (``--workers 64`` for ``4``)."""
+    almost always a typo (``--workers 64`` for ``4``).
+
+    Returns
+    -------
+    int
+    """
     return 4 * (os.cpu_count() or 1)
 
 
@@ -301,7 +583,28 @@ def check_workers(workers, name: str = "workers", *, tasks: int | None = None,
                   force: bool = False) -> int | None:
     """A worker count: an integer ≥ 1, at most :func:`max_workers` unless ``force``, and
     never more than ``tasks`` (the count is lowered to it: idle workers cost start-up time and
-    memory and do nothing).  ``None`` stays ``None`` (the caller's default)."""
+    memory and do nothing).  ``None`` stays ``None`` (the caller's default).
+
+    Parameters
+    ----------
+    workers : int or None
+        The count asked for.
+    name : str
+        The argument's name, for the message.
+    tasks : int, optional
+        The number of tasks (the count is lowered to it).
+    force : bool
+        Allow more than :func:`max_workers`.
+
+    Returns
+    -------
+    int or None
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` and the value received.
+    """
     if workers is None:
         return None
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:

@@ -28,7 +28,24 @@ def aggregate(spec: EnsembleSpec, out, tasks=None, done=None) -> tuple[dict, dic
     extras, the histogram density at the last time (when every seed has one on the same edges)
     and S(k) (when requested).  Arrays are named ``set<i>.<observable>.mean`` / ``.sem`` (plus
     ``set<i>.hist.edges``, ``set<i>.structure.k``).  The summary is JSON-able (S(k) is in the
-    arrays only: N/2 + 1 numbers per row)."""
+    arrays only: N/2 + 1 numbers per row).
+
+    Parameters
+    ----------
+    spec : EnsembleSpec
+        The ensemble.
+    out : str or os.PathLike
+        Its folder.
+    tasks : list of EnsembleTask, optional
+        ``spec.expand()`` when already computed.
+    done : collection of str, optional
+        The keys to use.
+
+    Returns
+    -------
+    arrays : dict of numpy.ndarray
+    summary : dict
+    """
     out = Path(out)
     tasks = spec.expand() if tasks is None else tasks
     arrays: dict[str, np.ndarray] = {"times": np.asarray(spec.times)}
@@ -90,7 +107,29 @@ class EnsembleReport:
     "seed"}), their tasks run again; ``failed``: tasks that raised ({"params", "seed", "key",
     "error", "traceback"}) — empty when every task finished; ``aggregate``: the JSON summary of
     :func:`aggregate`, saved to ``aggregate_path``; ``seconds``: wall clock of each task run
-    now, by key, and ``wall_seconds`` of the whole call."""
+    now, by key, and ``wall_seconds`` of the whole call.
+
+    Attributes
+    ----------
+    out, executor : str
+        The folder and the executor.
+    tasks : int
+        Tasks in the spec.
+    ran, skipped, resumed : tuple of str
+        Keys.
+    recomputed, failed : tuple of dict
+        Damaged files and failed tasks.
+    aggregate : dict
+        The JSON summary of :func:`aggregate`.
+    aggregate_path : str
+        Where it was saved.
+    seconds : dict
+        Wall time per task run now.
+    wall_seconds : float
+        Wall time of the call.
+    notes : tuple of str
+        Remarks (e.g. workers capped at the tasks).
+    """
 
     out: str
     executor: str
@@ -111,7 +150,12 @@ class EnsembleReport:
         return not self.failed
 
     def to_json(self) -> dict:
-        """A JSON-able dict (strict JSON: no NaN) of the report (failures without tracebacks)."""
+        """A JSON-able dict (strict JSON: no NaN) of the report (failures without tracebacks).
+
+        Returns
+        -------
+        dict
+        """
         return {
             "out": self.out,
             "executor": self.executor,

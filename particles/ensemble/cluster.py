@@ -34,7 +34,26 @@ def load_cluster_config(path, cluster: str) -> dict:
         log_directory = "logs"    # optional job logs
         dashboard_address = ":8787"  # optional; default ":0" (a free port)
 
-    The values go to ``dask_jobqueue.SLURMCluster`` / ``PBSCluster`` under the same names."""
+    The values go to ``dask_jobqueue.SLURMCluster`` / ``PBSCluster`` under the same names.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The TOML file.
+    cluster : str
+        "slurm" or "pbs".
+
+    Returns
+    -------
+    dict
+        The settings.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``cluster`` or ``config`` (unreadable file, invalid TOML, an unknown key or a value
+        of the wrong type, a required key missing).
+    """
     if cluster not in ("slurm", "pbs"):
         raise InvalidArgumentError("cluster", cluster, "'slurm' or 'pbs'")
     try:
@@ -78,7 +97,17 @@ def local_cluster(workers: int | None = None):
     ``MALLOC_TRIM_THRESHOLD_=65536``: with it glibc gives every large temporary array back to the
     OS, and the engines' O(N) temporaries then pay page faults on every allocation (measured,
     8 Ulam runs of N = 1e6 to τ = 10: 1.1–1.7 s per task on the workers against 0.43 s in the
-    parent process; 0.5–1.0 s without it)."""
+    parent process; 0.5–1.0 s without it).
+
+    Parameters
+    ----------
+    workers : int, optional
+        Worker processes (default one per core).
+
+    Returns
+    -------
+    distributed.LocalCluster
+    """
     import dask
     from distributed import LocalCluster
 
@@ -93,7 +122,19 @@ def local_cluster(workers: int | None = None):
 
 def make_cluster(cluster: str, settings: dict):
     """A ``dask_jobqueue.SLURMCluster`` or ``PBSCluster`` (no job submitted yet; scale it with
-    ``cluster.scale(jobs=settings["jobs"])``)."""
+    ``cluster.scale(jobs=settings["jobs"])``).
+
+    Parameters
+    ----------
+    cluster : str
+        "slurm" or "pbs".
+    settings : dict
+        :func:`load_cluster_config`'s settings.
+
+    Returns
+    -------
+    dask_jobqueue.JobQueueCluster
+    """
     import dask_jobqueue
 
     kwargs = {k: v for k, v in settings.items() if k not in ("jobs", "dashboard_address")}
@@ -103,7 +144,19 @@ def make_cluster(cluster: str, settings: dict):
 
 
 def cluster_job_script(cluster: str, config) -> str:
-    """The batch script the cluster would submit per job (needs no batch system)."""
+    """The batch script the cluster would submit per job (needs no batch system).
+
+    Parameters
+    ----------
+    cluster : str
+        "slurm" or "pbs".
+    config : str or os.PathLike
+        The TOML file.
+
+    Returns
+    -------
+    str
+    """
     settings = load_cluster_config(config, cluster)
     c = make_cluster(cluster, settings)
     try:

@@ -66,7 +66,38 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     seconds), or ``cluster="slurm"|"pbs"`` with ``config`` (TOML, :func:`load_cluster_config`).
     ``executor="serial"``: in this process, no dask.  Bad arguments raise
     :class:`InvalidArgumentError` before anything is written.  A failing task
-    does not raise: see ``report.failed``.  See the module docstring for the files."""
+    does not raise: see ``report.failed``.  See the module docstring for the files.
+
+    Parameters
+    ----------
+    spec : EnsembleSpec
+        What to run.
+    out : str or os.PathLike
+        The output folder.
+    workers : int, optional
+        Local cluster size.
+    scheduler : str, optional
+        Address of a running scheduler.
+    cluster : str, optional
+        "slurm" or "pbs".
+    config : str or os.PathLike, optional
+        The batch cluster's TOML file.
+    progress : bool
+        Show progress on stderr.
+    executor : str
+        "dask" or "serial".
+    force : bool
+        Allow more than 4 × the CPUs as ``workers``.
+
+    Returns
+    -------
+    EnsembleReport
+
+    Raises
+    ------
+    InvalidArgumentError
+        For bad arguments, before anything is written.
+    """
     started = _time.perf_counter()
     if not isinstance(spec, EnsembleSpec):
         raise InvalidArgumentError("spec", spec, "an EnsembleSpec")

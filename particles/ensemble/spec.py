@@ -26,7 +26,22 @@ MAX_SEED = 2**64 - 1
 def parse_seeds(text: str) -> tuple[int, ...]:
     """Seeds from a list such as ``"1-16,20,25-27"``: comma-separated integers ≥ 0 and ranges
     ``a-b`` (a ≤ b, both included), in the order given.  Empty elements, descending ranges,
-    duplicates and seeds above 2⁶⁴ − 1 are refused."""
+    duplicates and seeds above 2⁶⁴ − 1 are refused.
+
+    Parameters
+    ----------
+    text : str
+        The list.
+
+    Returns
+    -------
+    tuple of int
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``seeds`` for a malformed list.
+    """
     if not isinstance(text, str):
         raise InvalidArgumentError("seeds", text, "a string such as '1-16,20,25-27'")
     seeds: list[int] = []
@@ -83,7 +98,27 @@ def _json_value(name: str, value):
 class EnsembleTask:
     """One run of an ensemble: ``params`` (this task's values of the spec's parameters),
     ``seed``, the index ``set_index`` of its parameter set in the grid, and ``key``, the hash of
-    ``identity`` (what the run's result depends on) that names its file."""
+    ``identity`` (what the run's result depends on) that names its file.
+
+    Attributes
+    ----------
+    model : str
+        The model.
+    params : dict
+        This task's parameter values.
+    seed : int
+        Its seed.
+    times : tuple of float
+        The requested times.
+    options : dict
+        Options of :func:`particles.driver.simulate`.
+    set_index : int
+        The index of its parameter set in the grid.
+    identity : dict
+        What the result depends on.
+    key : str
+        The hash of ``identity`` (the file's name).
+    """
 
     model: str
     params: dict
@@ -103,7 +138,12 @@ class EnsembleTask:
         return f"task-{self.key}.ckpt.npz"
 
     def describe(self) -> dict:
-        """JSON-able {"params", "seed"} (how failures and damaged files are reported)."""
+        """JSON-able {"params", "seed"} (how failures and damaged files are reported).
+
+        Returns
+        -------
+        dict
+        """
         return {"params": dict(self.params), "seed": self.seed, "key": self.key}
 
 
@@ -117,7 +157,26 @@ class EnsembleSpec:
     ``structure_factor`` (False, True/"all" or "last"), ``bins`` (histogram edges in
     x = v/√E), ``checkpoint_interval`` (seconds between a task's checkpoints,
     default 60).  Everything is checked here and every engine of the grid is built, so a bad
-    spec fails before any work."""
+    spec fails before any work.
+
+    Attributes
+    ----------
+    model : str
+        A model of the catalogue.
+    params : mapping
+        {name: value or list of values}.
+    seeds : tuple of int or str
+        The seeds.
+    times : tuple of float
+        The requested times.
+    options : mapping
+        Options of :func:`particles.driver.simulate`.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the field that is bad (also a parameter that no engine of the grid accepts).
+    """
 
     model: str
     params: Mapping[str, Any]
@@ -189,13 +248,23 @@ class EnsembleSpec:
         return self._time_name
 
     def parameter_sets(self) -> list[dict]:
-        """The grid: one dict per parameter set, first parameter slowest."""
+        """The grid: one dict per parameter set, first parameter slowest.
+
+        Returns
+        -------
+        list of dict
+        """
         names = list(self.params)
         return [dict(zip(names, combo, strict=True))
                 for combo in itertools.product(*(self.params[n] for n in names))]
 
     def expand(self) -> list[EnsembleTask]:
-        """The tasks: every parameter set × every seed (seeds fastest)."""
+        """The tasks: every parameter set × every seed (seeds fastest).
+
+        Returns
+        -------
+        list of EnsembleTask
+        """
         m = get_model(self.model)
         edges = obs.rescaled_histogram(np.array([1.0, -1.0]), self.options["bins"]).edges
         result_options = {
@@ -222,7 +291,12 @@ class EnsembleSpec:
         return tasks
 
     def to_dict(self) -> dict:
-        """JSON-able description (stored in the aggregate)."""
+        """JSON-able description (stored in the aggregate).
+
+        Returns
+        -------
+        dict
+        """
         return {"model": self.model, "params": {k: list(v) for k, v in self.params.items()},
                 "seeds": list(self.seeds), "times": list(self.times),
                 "options": dict(self.options)}

@@ -27,7 +27,24 @@ def _save_task(path: Path, task: EnsembleTask, result: RunResult) -> None:
 def load_task(path, identity: dict | None = None) -> RunResult:
     """The :class:`RunResult` in task file ``path`` (``seconds`` is NaN: task files keep no
     wall-clock time).  With ``identity``, the file must be that task's, else
-    :class:`particles.persistence.FileFormatError`."""
+    :class:`particles.persistence.FileFormatError`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The task file.
+    identity : dict, optional
+        The task the file must belong to.
+
+    Returns
+    -------
+    particles.driver.RunResult
+
+    Raises
+    ------
+    particles.persistence.FileFormatError
+        For a file of another task or a damaged one.
+    """
     loaded = persistence.load(path, _TASK_KIND, (FORMAT_VERSION,), argument="path")
     meta, a = loaded.meta, loaded.arrays
     if identity is not None and meta.get("task") != identity:
@@ -47,7 +64,21 @@ def run_task(task: EnsembleTask, factory: Callable[..., Any], out: str) -> dict:
     """Run ``task`` (on a worker, or in this process for the serial executor) and write its
     file in ``out``; resume from its checkpoint there if one exists.  Never raises for a failure
     of the run: returns ``{"key", "status": "done" | "failed", "seconds", "resumed", "notes",
-    "error", "traceback"}``."""
+    "error", "traceback"}``.
+
+    Parameters
+    ----------
+    task : EnsembleTask
+        The task.
+    factory : callable
+        Builds the engine from the task's parameters.
+    out : str
+        The output folder.
+
+    Returns
+    -------
+    dict
+    """
     out = Path(out)
     path, ckpt = out / task.filename, out / task.checkpoint_name
     record = {"key": task.key, "status": "done", "seconds": 0.0, "resumed": False, "notes": []}
