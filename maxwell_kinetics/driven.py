@@ -105,7 +105,21 @@ def _rates(p: float, orders: np.ndarray) -> np.ndarray:
 
 def cumulants(restitution, driving, count: int = 4) -> np.ndarray:
     """Steady cumulants [κ₂, κ₄, …, κ_{2·count}], κ_{2j} = (2j)! D^j/(j (1 − p^{2j} − q^{2j}))
-    (odd cumulants vanish)."""
+    (odd cumulants vanish).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+    driving : float
+        D > 0.
+    count : int
+        Cumulants returned.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     r, d = _check_driving(driving, restitution)
     j = np.arange(1, int(count) + 1, dtype=float)
     factorial = np.array([math.factorial(2 * int(i)) for i in j], dtype=float)
@@ -113,14 +127,38 @@ def cumulants(restitution, driving, count: int = 4) -> np.ndarray:
 
 
 def steady_variance(restitution, driving) -> float:
-    """⟨v²⟩ = D/(pq)."""
+    """⟨v²⟩ = D/(pq).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+    driving : float
+        D > 0.
+
+    Returns
+    -------
+    float
+    """
     r, d = _check_driving(driving, restitution)
     p = transfer_fraction(r)
     return d / (p * (1.0 - p))
 
 
 def steady_kurtosis(restitution, driving=1.0) -> float:
-    """⟨v⁴⟩/⟨v²⟩² = 3 + κ₄/κ₂² = 3 + 6pq/(2 − pq) (independent of D > 0)."""
+    """⟨v⁴⟩/⟨v²⟩² = 3 + κ₄/κ₂² = 3 + 6pq/(2 − pq) (independent of D > 0).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+    driving : float
+        D > 0.
+
+    Returns
+    -------
+    float
+    """
     r, _ = _check_driving(driving, restitution)
     p = transfer_fraction(r)
     pq = p * (1.0 - p)
@@ -161,14 +199,38 @@ def _log_cf_unit(p: float, k: np.ndarray) -> np.ndarray:
 
 
 def characteristic_function(k, restitution, driving) -> np.ndarray:
-    """Steady P̂(k) = ⟨e^{ikv}⟩ (real and even) at real ``k``."""
+    """Steady P̂(k) = ⟨e^{ikv}⟩ (real and even) at real ``k``.
+
+    Parameters
+    ----------
+    k : array_like
+        Real wave numbers.
+    restitution : float
+        r ∈ [0, 1).
+    driving : float
+        D > 0.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     r, d = _check_driving(driving, restitution)
     k = np.asarray(k, dtype=float)
     return np.exp(_log_cf_unit(transfer_fraction(r), np.sqrt(d) * k))
 
 
 def tail_amplitude(restitution) -> float:
-    """R with P(v) ≈ (R/√D) e^{−|v|/√D} for |v| ≫ √D: R = ½ ⟨e^{pv}⟩⟨e^{qv}⟩ at D = 1."""
+    """R with P(v) ≈ (R/√D) e^{−|v|/√D} for |v| ≫ √D: R = ½ ⟨e^{pv}⟩⟨e^{qv}⟩ at D = 1.
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+
+    Returns
+    -------
+    float
+    """
     r, _ = _check_driving(1.0, restitution)
     p = transfer_fraction(r)
     y2 = -np.array([p * p, (1 - p) ** 2])  # D k² at k = −ip, −iq
@@ -178,7 +240,23 @@ def tail_amplitude(restitution) -> float:
 
 def moments(tau, restitution, driving, m2_initial=1.0, m4_initial=3.0):
     """Exact M₂(τ), M₄(τ) of the driven model from zero-mean data with M₂(0), M₄(0) (the moment
-    equations of the module docstring; D ≥ 0, r < 1)."""
+    equations of the module docstring; D ≥ 0, r < 1).
+
+    Parameters
+    ----------
+    tau : array_like
+        Times τ.
+    restitution : float
+        r < 1.
+    driving : float
+        D ≥ 0.
+    m2_initial, m4_initial : float
+        M₂(0), M₄(0).
+
+    Returns
+    -------
+    m2, m4 : numpy.ndarray
+    """
     r, d = _check_driving(driving, restitution, allow_zero=True)
     p = transfer_fraction(r)
     pq = p * (1.0 - p)
@@ -207,7 +285,19 @@ def moments(tau, restitution, driving, m2_initial=1.0, m4_initial=3.0):
 class DrivenSteadyState:
     """The steady state of the driven model: ``variance`` = D/(pq), ``kurtosis``,
     ``cumulants`` = [κ₂, κ₄, …], and the density ``density`` = P(v) on the grid ``velocity``
-    (uniform, [−60√D, 60√D), from the FFT of the module docstring; |round-off| ~ 1e-16)."""
+    (uniform, [−60√D, 60√D), from the FFT of the module docstring; |round-off| ~ 1e-16).
+
+    Attributes
+    ----------
+    restitution, driving : float
+        r and D.
+    variance, kurtosis : float
+        ⟨v²⟩ and ⟨v⁴⟩/⟨v²⟩².
+    cumulants : numpy.ndarray
+        κ₂, κ₄, ….
+    velocity, density : numpy.ndarray
+        The grid and P(v).
+    """
 
     restitution: float
     driving: float

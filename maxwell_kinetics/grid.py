@@ -38,7 +38,24 @@ INFLOW_CUT = 40.0
 
 @dataclass(frozen=True)
 class Resolution:
-    """A named discretisation of s = ln q: spacing ``h``, interpolation ``order``, range."""
+    """A named discretisation of s = ln q: spacing ``h``, interpolation ``order``, range.
+
+    Attributes
+    ----------
+    name : str
+        Its name.
+    h : float
+        The spacing in s = ln q.
+    order : int
+        Lagrange interpolation points (even).
+    s_min, s_max : float
+        The range of s.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``h``, ``order`` or the range.
+    """
 
     name: str
     h: float
@@ -89,7 +106,22 @@ RESOLUTIONS: dict[str, Resolution] = {
 
 
 def get_resolution(resolution) -> Resolution:
-    """A ``Resolution`` passes through; a name is looked up in :data:`RESOLUTIONS`."""
+    """A ``Resolution`` passes through; a name is looked up in :data:`RESOLUTIONS`.
+
+    Parameters
+    ----------
+    resolution : str or Resolution
+        A name or a grid.
+
+    Returns
+    -------
+    Resolution
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``resolution``.
+    """
     if isinstance(resolution, Resolution):
         return resolution
     try:
@@ -106,6 +138,18 @@ def lagrange_weights(offset: float, order: int) -> tuple[int, np.ndarray]:
     Returns ``(first, w)``: value ≈ Σ_k w[k] · G[j + first + k], k = 0 .. order − 1, with the
     stencil centred on the interval that contains the target.  Exact for polynomials of degree
     ``order − 1``.
+
+    Parameters
+    ----------
+    offset : float
+        The fractional position.
+    order : int
+        The number of points.
+
+    Returns
+    -------
+    tuple
+        (first, w).
     """
     base = math.floor(offset)
     frac = offset - base
@@ -135,7 +179,28 @@ def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension:
     integration over the grid), ``seconds`` (windows × grid nodes ×
     :data:`SECONDS_PER_NODE_WINDOW`, after compilation, which adds a few seconds to the first
     solve of a process) and ``memory`` in bytes (the stored G and deviation at every output
-    time, 24 bytes per node and time, plus the working state)."""
+    time, 24 bytes per node and time, plus the working state).
+
+    Parameters
+    ----------
+    grid : Resolution
+        The grid.
+    tau_max : float
+        The last τ.
+    n_times : int
+        Output times.
+    dimension : int
+        d.
+    angular_rule : str
+        "fast" or "accurate".
+    window : float
+        The window length in τ.
+
+    Returns
+    -------
+    dict
+        ``windows``, ``seconds`` and ``memory``.
+    """
     windows = float(tau_max) / float(window)
     per = SECONDS_PER_NODE_WINDOW.get(int(dimension), SECONDS_PER_NODE_WINDOW[3])
     if int(dimension) > 1 and angular_rule == "accurate":
@@ -145,7 +210,16 @@ def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension:
 
 
 def format_seconds(seconds: float) -> str:
-    """``"40 s"``, ``"12 min"``, ``"3.5 h"``, ``"12 days"``."""
+    """``"40 s"``, ``"12 min"``, ``"3.5 h"``, ``"12 days"``.
+
+    Parameters
+    ----------
+    seconds : float
+
+    Returns
+    -------
+    str
+    """
     if not math.isfinite(seconds):
         return str(seconds)
     if seconds < 120:
@@ -162,7 +236,26 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
                        angular_rule: str = "fast") -> dict:
     """:func:`estimate_solve`, then refuse (:class:`InvalidArgumentError` naming ``name``) a
     solve that cannot fit in the memory available, and one estimated to take more than
-    :data:`MAX_SOLVE_SECONDS` unless ``force``.  Returns the estimate."""
+    :data:`MAX_SOLVE_SECONDS` unless ``force``.  Returns the estimate.
+
+    Parameters
+    ----------
+    grid, tau_max, n_times, window, dimension, angular_rule
+        As for :func:`estimate_solve`.
+    force : bool
+        Allow a solve estimated above :data:`MAX_SOLVE_SECONDS`.
+    name : str
+        The time's name, for messages.
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` when the solve cannot fit in memory or is too long without ``force``.
+    """
     from particles.budget import available_memory, format_bytes
 
     estimate = estimate_solve(grid, tau_max, n_times, dimension=dimension,

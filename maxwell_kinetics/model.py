@@ -26,7 +26,17 @@ ANGULAR_MODELS = {"uniform": 0.5, "hard": 1.0}
 class AngularLaw:
     """The law of η = (k̂·n)², k̂ the wave vector's direction and n the collision direction:
     Beta(a, b) with b = (d − 1)/2 in d = 2, 3, and the point mass η ≡ 1 in d = 1 (stored as
-    a = 1, b = 0).  ``a, b = law`` unpacks the two parameters."""
+    a = 1, b = 0).  ``a, b = law`` unpacks the two parameters.
+
+    Attributes
+    ----------
+    dimension : int
+        d.
+    angular : str
+        "uniform" or "hard".
+    a, b : float
+        The Beta parameters.
+    """
 
     dimension: int
     angular: str
@@ -54,7 +64,17 @@ class AngularLaw:
 
         The gain integrand G(q √(1 − (1 − q₁²)η)) G(p q √η) varies with η on a scale ~1/q²,
         so few nodes suffice at small q; the solver picks the count per range of q
-        (``maxwell_kinetics._kinetic_scheme.angular_tiers``)."""
+        (``maxwell_kinetics._kinetic_scheme.angular_tiers``).
+
+        Parameters
+        ----------
+        nodes : int
+            Points.
+
+        Returns
+        -------
+        eta, weights : numpy.ndarray
+        """
         if self.degenerate:
             return np.ones(1), np.ones(1)
         from scipy.special import roots_jacobi
@@ -69,6 +89,22 @@ def angular_law(dimension: int, angular: str = "uniform") -> AngularLaw:
 
     "uniform": n uniform on the sphere, η ~ Beta(1/2, (d − 1)/2); "hard": the collision rate
     weighted by |k̂·n|, η ~ Beta(1, (d − 1)/2); d = 1: η ≡ 1.
+
+    Parameters
+    ----------
+    dimension : int
+        d ∈ {1, 2, 3}.
+    angular : str
+        "uniform" or "hard".
+
+    Returns
+    -------
+    AngularLaw
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``dimension`` or ``angular``.
     """
     from particles.validation import InvalidArgumentError, check_choice
 
@@ -83,7 +119,13 @@ def angular_law(dimension: int, angular: str = "uniform") -> AngularLaw:
 
 @dataclass(frozen=True)
 class MaxwellModel:
-    """Constants of the model with restitution coefficient ``restitution`` = r ∈ [0, 1]."""
+    """Constants of the model with restitution coefficient ``restitution`` = r ∈ [0, 1].
+
+    Attributes
+    ----------
+    restitution : float
+        r ∈ [0, 1]; p = (1 + r)/2, q = 1 − p and λ = pq follow.
+    """
 
     restitution: float
 
@@ -106,17 +148,46 @@ class MaxwellModel:
         return 0.25 * (1.0 - self.restitution**2)
 
     def moment_rate(self, n: float) -> float:
-        """Leading decay rate a_n = 1 − pⁿ − (1 − p)ⁿ of the moment M_n (Ben-Naim & Krapivsky)."""
+        """Leading decay rate a_n = 1 − pⁿ − (1 − p)ⁿ of the moment M_n (Ben-Naim & Krapivsky).
+
+        Parameters
+        ----------
+        n : float
+            The moment's order.
+
+        Returns
+        -------
+        float
+        """
         return 1.0 - self.p**n - (1.0 - self.p) ** n
 
     def growth_rate(self, s: float) -> float:
-        """g(s) = λs − 1 + p^s + (1 − p)^s: growth rate of a perturbation ∝ q^s of G near q = 0."""
+        """g(s) = λs − 1 + p^s + (1 − p)^s: growth rate of a perturbation ∝ q^s of G near q = 0.
+
+        Parameters
+        ----------
+        s : float
+            The power.
+
+        Returns
+        -------
+        float
+        """
         return self.lam * s - 1.0 + self.p**s + (1.0 - self.p) ** s
 
     def contraction_rate(self, s: float) -> float:
         """γ(s) = −g(s) = 1 − λs − p^s − (1 − p)^s, positive for s ∈ (2, 3) when r < 1.
 
         d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂) (Bobylev–Cercignani–Toscani).
+
+        Parameters
+        ----------
+        s : float
+            The metric's exponent.
+
+        Returns
+        -------
+        float
         """
         return -self.growth_rate(s)
 
@@ -125,9 +196,30 @@ class MaxwellModel:
 
         η = (k̂·n)² has the law of :func:`angular_law` (⟨η⟩ = 1/d "uniform", 2/(d + 1)
         "hard"; η ≡ 1 for d = 1, where Λ = 2λ).
+
+        Parameters
+        ----------
+        dimension : int
+            d.
+        angular : str
+            "uniform" or "hard".
+
+        Returns
+        -------
+        float
         """
         return 2.0 * self.lam * angular_law(dimension, angular).mean
 
     def energy(self, tau: float) -> float:
-        """⟨v²⟩(τ) for unit initial variance and zero mean."""
+        """⟨v²⟩(τ) for unit initial variance and zero mean.
+
+        Parameters
+        ----------
+        tau : float
+            τ.
+
+        Returns
+        -------
+        float
+        """
         return math.exp(-2.0 * self.lam * tau)

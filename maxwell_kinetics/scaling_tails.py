@@ -60,7 +60,23 @@ __all__ = [
 
 
 def gain_coefficient(dimension, restitution, n: int, m: int, angular="uniform") -> float:
-    """K(n, m) = ⟨(1 − aη)^m (p²η)^{n−m}⟩, a = 1 − (1 − p)², from the exact Beta moments."""
+    """K(n, m) = ⟨(1 − aη)^m (p²η)^{n−m}⟩, a = 1 − (1 − p)², from the exact Beta moments.
+
+    Parameters
+    ----------
+    dimension : int
+        d.
+    restitution : float
+        r.
+    n, m : int
+        The indices of K(n, m).
+    angular : str
+        "uniform" or "hard".
+
+    Returns
+    -------
+    float
+    """
     law = angular_law(dimension, angular)
     p = transfer_fraction(restitution)
     a = 1.0 - (1.0 - p) ** 2
@@ -73,7 +89,32 @@ def rescaled_coefficients(dimension, restitution, tau, n_max: int = 3, angular="
                           initial=None) -> np.ndarray:
     """C_n(τ), n = 0 .. n_max, of the rescaled G from the exact moment hierarchy (module
     docstring), integrated by scipy (DOP853, rtol 1e-12).  ``initial``: C_n(0) (default: the
-    unit Gaussian, C_n = (−1/2)^n / n!).  Returns an array of shape (len(tau), n_max + 1)."""
+    unit Gaussian, C_n = (−1/2)^n / n!).  Returns an array of shape (len(tau), n_max + 1).
+
+    Parameters
+    ----------
+    dimension : int
+        d.
+    restitution : float
+        r.
+    tau : array_like
+        Times τ.
+    n_max : int
+        The highest n, ≥ 1.
+    angular : str
+        "uniform" or "hard".
+    initial : array_like, optional
+        C_n(0), n = 0 … n_max, starting 1, −1/2.
+
+    Returns
+    -------
+    numpy.ndarray
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``n_max`` or ``initial``.
+    """
     taus = check_times(tau, "tau")
     if isinstance(n_max, bool) or not isinstance(n_max, int) or n_max < 1:
         raise InvalidArgumentError("n_max", n_max, "an integer >= 1")
@@ -133,6 +174,29 @@ def series_coefficients(solution: Solution, tau_index: int = -1, n_max: int = 3,
     (InvalidArgumentError naming ``window``) when C_2 fitted on its lower and upper halves (in
     ln q) differ by more than ``tolerance`` relative: the non-analytic term, which builds up in
     a boundary layer that shrinks toward q = 0 in τ, is then not negligible on it.
+
+    Parameters
+    ----------
+    solution : maxwell_kinetics.Solution
+        A solve.
+    tau_index : int
+        Which saved time.
+    n_max : int
+        The highest n.
+    window : tuple of float, optional
+        (q_lo, q_hi), or None for the automatic window.
+    tolerance : float
+        The largest disagreement of C₂ between the two halves of an explicit window.
+
+    Returns
+    -------
+    numpy.ndarray
+        C_2 … C_{n_max}.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``window`` when an explicit window is biased (its halves disagree).
     """
     if window is None:
         from .moments import series_estimate
@@ -165,6 +229,21 @@ def moment_decay_rates(solution: Solution, n: int, window=None,
     as there, None: chosen automatically); the
     derivative is the centred finite difference of ln|C_n| in τ between neighbours.  Returns
     (midpoints τ, rates).  Λ = 2pq⟨η⟩ is the exact energy rate of the solution's model.
+
+    Parameters
+    ----------
+    solution : maxwell_kinetics.Solution
+        A solve.
+    n : int
+        The moment ⟨|v|^{2n}⟩.
+    window : tuple of float, optional
+        As for :func:`series_coefficients`.
+    tau_indices : sequence of int, optional
+        The saved times used (default all).
+
+    Returns
+    -------
+    tau_mid, rates : numpy.ndarray
     """
     idx = list(range(len(solution.tau))) if tau_indices is None else list(tau_indices)
     c = np.array([series_coefficients(solution, k, max(n, 2), window)[n - 2] for k in idx])
@@ -184,6 +263,27 @@ def tail_exponent_from_solution(solution: Solution, window=(10.0, 30.0), tau_ind
     The error estimate is the difference between the slopes fitted on the lower and upper
     halves of the window (in ln x): the drift of the local slope, i.e. the size of the
     corrections to pure power law that the window does not remove.
+
+    Parameters
+    ----------
+    solution : maxwell_kinetics.Solution
+        A solve.
+    window : tuple of float
+        The x window.
+    tau_index : int
+        Which saved time.
+    points : int
+        Log-spaced points in the window.
+
+    Returns
+    -------
+    tuple of float
+        (α, error estimate).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``window`` when the density is not positive there.
     """
     lo, hi = _window(window, "window")
     x = np.geomspace(lo, hi, int(points))
@@ -234,6 +334,24 @@ def tail_root_from_solution(solution: Solution, window=(1e-4, 0.1), tau_index: i
     Needs G at its fixed point on the window: at finite τ G is analytic for Gaussian data and
     the |q|^{2s*} term only forms above a crossover q that falls exponentially in τ.  The
     resonant case s* = 2 (d = 2, r = 0, "hard": A q⁴ ln q) is outside this form.
+
+    Parameters
+    ----------
+    solution : maxwell_kinetics.Solution
+        A solve.
+    window : tuple of float
+        The q window.
+    tau_index : int
+        Which saved time.
+    analytic_terms : int
+        Terms b₀, b₁, … fitted with the power.
+    beta_range : tuple of float
+        The range searched for β.
+
+    Returns
+    -------
+    tuple of float
+        (s*, error estimate).
     """
     _require_accurate_rule(solution)
     lo, hi = _window(window, "window")
@@ -257,7 +375,21 @@ def resonant_log_amplitude(dimension, restitution, angular="uniform") -> float:
     """A of the q⁴ ln q term of the scaling solution when s* = 2 exactly (λ(2) = 2λ(1), e.g.
     d = 2, r = 0, "hard"): the stationary balance of the q⁴ terms gives
     A = 2 K(2, 1) C₁² / F'(2), F(s) = λ(s) − s λ(1), C₁ = −1/2 (F' by a centred difference,
-    step 1e-4, relative error ~1e-8)."""
+    step 1e-4, relative error ~1e-8).
+
+    Parameters
+    ----------
+    dimension : int
+        d.
+    restitution : float
+        r.
+    angular : str
+        "uniform" or "hard".
+
+    Returns
+    -------
+    float
+    """
     h = 1e-4
     lam1 = float(growth_rate(dimension, restitution, 1.0, angular))
     slope = (float(growth_rate(dimension, restitution, 2.0 + h, angular))
@@ -271,7 +403,23 @@ def resonant_log_fit(solution: Solution, window=(1e-4, 0.1), tau_index: int = -1
 
     The log model is w/q⁴ = b₀ + A ln q + b₁q² + … (the resonant s* = 2 form, compare A with
     :func:`resonant_log_amplitude`); the power model is that of :func:`tail_root_from_solution`
-    with β ∈ [0.02, 6].  A log-model rms far below the power model's says s* = 2 exactly."""
+    with β ∈ [0.02, 6].  A log-model rms far below the power model's says s* = 2 exactly.
+
+    Parameters
+    ----------
+    solution : maxwell_kinetics.Solution
+        A solve.
+    window : tuple of float
+        The q window.
+    tau_index : int
+        Which saved time.
+    analytic_terms : int
+        Terms fitted with the log or the power.
+
+    Returns
+    -------
+    tuple of float
+    """
     _require_accurate_rule(solution)
     qs, w = _window_points(solution, window, tau_index, analytic_terms + 4,
                            f"at least {analytic_terms + 4} points")

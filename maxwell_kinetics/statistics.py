@@ -66,6 +66,20 @@ def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
     ``G`` is a callable of an array of q ≥ 0 (it is only evaluated on [0, q_max]).  Finite edges
     only; the panels are narrow enough that each sees at most half an oscillation of the
     integrand (width ≤ π / (|m| + h)).
+
+    Parameters
+    ----------
+    G : callable
+        G(q) at an array of q ≥ 0 (the rescaled characteristic function E[e^{iqx}]).
+    edges : array_like
+        Finite, increasing bin edges in x.
+    q_max : float
+        The cut-off of the q integral.
+
+    Returns
+    -------
+    numpy.ndarray
+        One probability per bin.
     """
     edges = np.asarray(edges, dtype=float)
     a, b = edges[:-1], edges[1:]
@@ -87,7 +101,17 @@ def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
 
 
 def f_cdf(x) -> np.ndarray:
-    """CDF of the scaling solution f(x) = 2/(π(1+x²)²): 1/2 + (arctan x + x/(1+x²))/π."""
+    """CDF of the scaling solution f(x) = 2/(π(1+x²)²): 1/2 + (arctan x + x/(1+x²))/π.
+
+    Parameters
+    ----------
+    x : array_like
+        Rescaled velocities.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     x = np.asarray(x, dtype=float)
     with np.errstate(over="ignore", invalid="ignore"):
         ratio = np.where(np.isfinite(x), x / (1.0 + x * x), 0.0)
@@ -95,18 +119,55 @@ def f_cdf(x) -> np.ndarray:
 
 
 def f_interval_probabilities(edges) -> np.ndarray:
-    """Exact bin probabilities of f (edges may include ±inf)."""
+    """Exact bin probabilities of f (edges may include ±inf).
+
+    Parameters
+    ----------
+    edges : array_like
+        Increasing edges (±inf allowed).
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     return np.diff(f_cdf(edges))
 
 
 def bin_counts(samples, edges) -> np.ndarray:
-    """Counts per bin for each run: ``samples`` (R, M) → (R, len(edges) − 1)."""
+    """Counts per bin for each run: ``samples`` (R, M) → (R, len(edges) − 1).
+
+    Parameters
+    ----------
+    samples : array_like
+        (R, M) samples.
+    edges : array_like
+        Bin edges.
+
+    Returns
+    -------
+    numpy.ndarray
+        (R, len(edges) − 1) counts.
+    """
     rows = np.atleast_2d(np.asarray(samples, dtype=float))
     return np.stack([np.histogram(r, bins=edges)[0] for r in rows]).astype(float)
 
 
 def ks_distance(samples, edges, cdf_at_edges) -> float:
-    """sup over the edges of |F_emp − F| for one run of samples (edges increasing, finite)."""
+    """sup over the edges of |F_emp − F| for one run of samples (edges increasing, finite).
+
+    Parameters
+    ----------
+    samples : array_like
+        One run's samples.
+    edges : array_like
+        Increasing finite edges.
+    cdf_at_edges : array_like
+        The predicted CDF there.
+
+    Returns
+    -------
+    float
+    """
     x = np.sort(np.asarray(samples, dtype=float).ravel())
     emp = np.searchsorted(x, edges, side="left") / x.size
     return float(np.max(np.abs(emp - np.asarray(cdf_at_edges))))
@@ -122,6 +183,21 @@ class HistogramComparison:
     (binomial variance), with its standard error ``overdispersion_error`` (φ = 1 for
     independent samples); ``ks``: mean KS distance of the single runs and its standard error,
     ``ks_scaled`` = √M · ks (≈ 0.87 √φ under the null), ``samples`` = M per run, ``runs`` = R.
+
+    Attributes
+    ----------
+    centres, density, error, predicted : numpy.ndarray
+        Bin centres, pooled density, its error and the predicted density.
+    chi2_dof : float
+        Pearson χ²/dof.
+    dof : int
+        Degrees of freedom.
+    overdispersion, overdispersion_error : float
+        φ and its standard error.
+    ks, ks_error : float
+        Mean KS distance and its standard error.
+    samples, runs : int
+        M and R.
     """
 
     centres: np.ndarray
@@ -147,6 +223,12 @@ class HistogramComparison:
         return self.chi2_dof / self.overdispersion
 
     def summary(self) -> dict:
+        """The comparison's numbers as JSON-able values.
+
+        Returns
+        -------
+        dict
+        """
         return {
             "chi2_dof": self.chi2_dof,
             "dof": self.dof,
@@ -165,7 +247,25 @@ def compare_histograms(samples, edges, probabilities, mass_below: float, *,
                        min_expected: float = 5.0) -> HistogramComparison:
     """Compare R runs of M samples (array (R, M)) with the predicted ``probabilities`` of the bins
     ``edges`` (finite edges; the mass outside them, 1 − Σ probabilities, is one extra bin).
-    ``mass_below`` = F(edges[0]), the predicted mass below the first edge (for the KS distance)."""
+    ``mass_below`` = F(edges[0]), the predicted mass below the first edge (for the KS distance).
+
+    Parameters
+    ----------
+    samples : array_like
+        (R, M) samples.
+    edges : array_like
+        Finite bin edges.
+    probabilities : array_like
+        Predicted bin probabilities.
+    mass_below : float
+        Predicted mass below the first edge.
+    min_expected : float
+        Bins with fewer expected counts are merged.
+
+    Returns
+    -------
+    HistogramComparison
+    """
     rows = np.atleast_2d(np.asarray(samples, dtype=float))
     runs, m = rows.shape
     edges = np.asarray(edges, dtype=float)
@@ -211,7 +311,20 @@ def compare_histograms(samples, edges, probabilities, mass_below: float, *,
 
 def weighted_slope(x, y, sigma=None) -> tuple[float, float, float]:
     """Least-squares line y = a + b x with standard errors ``sigma`` (None: unweighted, error
-    from the residuals).  Returns (slope, slope standard error, intercept)."""
+    from the residuals).  Returns (slope, slope standard error, intercept).
+
+    Parameters
+    ----------
+    x, y : array_like
+        The points.
+    sigma : array_like, optional
+        Standard errors of y.
+
+    Returns
+    -------
+    tuple of float
+        (slope, its standard error, intercept).
+    """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     if sigma is None:
@@ -229,7 +342,22 @@ def weighted_slope(x, y, sigma=None) -> tuple[float, float, float]:
 def seed_slope(x, ys, degree: int = 1) -> tuple[float, float, np.ndarray]:
     """Fit a polynomial of ``degree`` to each run's ``ys[i]`` against ``x`` and return (mean
     slope, its standard error from the scatter between runs, the per-run slopes); the slope is
-    the linear coefficient, i.e. dy/dx at x = 0."""
+    the linear coefficient, i.e. dy/dx at x = 0.
+
+    Parameters
+    ----------
+    x : array_like
+        Abscissae.
+    ys : array_like
+        One row per run.
+    degree : int
+        Polynomial degree.
+
+    Returns
+    -------
+    tuple
+        (mean slope, its standard error, per-run slopes).
+    """
     ys = np.atleast_2d(np.asarray(ys, dtype=float))
     slopes = np.array([np.polyfit(x, y, degree)[-2] for y in ys])
     mean, err = mean_sem(slopes)

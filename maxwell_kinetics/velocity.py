@@ -109,6 +109,24 @@ def inverse_transform(
 
     ``q_max`` is the smallest cut-off accepted, ``period`` = L = 2π/dq the period of the x grid.
     Returns ``(x, P)`` with x increasing from −L/2 to L/2 − dx, dx = L/M.
+
+    Parameters
+    ----------
+    G : callable
+        G(q) at an array of q ≥ 0 (the rescaled characteristic function E[e^{iqx}]).
+    q_max : float
+        The smallest cut-off accepted.
+    period : float
+        L.
+
+    Returns
+    -------
+    x, P : numpy.ndarray
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``q_max`` when the grid would exceed 2²⁴ points.
     """
     q_max = check_positive(q_max, "q_max")
     period = check_positive(period, "period")
@@ -135,6 +153,26 @@ def density_at(G: Callable, x, q_max: float = 50.0, nodes_per_panel: int = 16) -
     range, so it costs no accuracy.  Panels have width ≤ min(1/2, π / max|x|) so that every
     panel sees at most half an oscillation of e^{−iqx}; ``nodes_per_panel`` Gauss points each.
     The only errors are the truncation at ``q_max`` (see the module docstring) and round-off.
+
+    Parameters
+    ----------
+    G : callable
+        G(q) at an array of q ≥ 0 (the rescaled characteristic function E[e^{iqx}]).
+    x : array_like
+        Finite rescaled velocities.
+    q_max : float
+        The cut-off.
+    nodes_per_panel : int
+        Gauss points per panel.
+
+    Returns
+    -------
+    numpy.ndarray
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``x`` when a value is not finite.
     """
     q_max = check_positive(q_max, "q_max")
     x = np.asarray(x, dtype=float)
@@ -161,6 +199,22 @@ def tail_exponent(x, P, window: tuple[float, float]) -> float:
 
     For the scaling solution the local slope is −4x²/(1 + x²) (−3.96 at x = 10, −3.9996 at
     x = 100), so a fit over a finite window returns slightly less than 4 in magnitude.
+
+    Parameters
+    ----------
+    x, P : array_like
+        Velocities and density (same shape).
+    window : tuple of float
+        (x_lo, x_hi), 0 < x_lo < x_hi.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``P`` or ``window``.
     """
     x = np.asarray(x, dtype=float)
     P = np.asarray(P, dtype=float)
@@ -189,6 +243,21 @@ def invert(
     ``x=None``: the FFT grid of :func:`inverse_transform` (cut-off ≥ ``q_max``, period
     ``period``).  Otherwise P at the given x by :func:`density_at` (no aliasing, cut-off exactly
     ``q_max``), returned as ``(x, P)`` with x as a float array.
+
+    Parameters
+    ----------
+    G : callable
+        G(q) at an array of q ≥ 0 (the rescaled characteristic function E[e^{iqx}]).
+    q_max : float
+        The cut-off.
+    x : array_like, optional
+        Where to evaluate (None: the FFT grid).
+    period : float
+        L of the FFT grid.
+
+    Returns
+    -------
+    x, P : numpy.ndarray
     """
     if x is None:
         return inverse_transform(G, q_max=q_max, period=period)
@@ -243,6 +312,23 @@ def radial_density_at(G: Callable, v, dimension: int, q_max: float = 50.0,
     ≤ min(1/2, π / max v), no aliasing), with the first panel refined toward k = 0.  Errors: the
     truncation at ``q_max`` and round-off ≈ 1e-16 · c_d ∫ k^{d−1}|Φ| dk, which the oscillating
     integrand turns into a *relative* error growing with v like 1/f(v).
+
+    Parameters
+    ----------
+    G : callable
+        The radial profile Φ(k).
+    v : array_like
+        Speeds.
+    dimension : int
+        d.
+    q_max : float
+        The cut-off.
+    nodes_per_panel : int
+        Gauss points per panel.
+
+    Returns
+    -------
+    numpy.ndarray
     """
     d = _check_dimension(dimension)
     q_max = check_positive(q_max, "q_max")
@@ -278,6 +364,23 @@ def speed_density_at(G: Callable, s, dimension: int, q_max: float = 50.0,
     f is :func:`radial_density_at` (same arguments and errors); S_1 = 2, S_2 = 2π, S_3 = 4π.
     In d = 3 this is P(s) = (2/π) s ∫_0^∞ k sin(ks) Φ(k) dk, in d = 2 P(s) = s ∫_0^∞ k J₀(ks)
     Φ(k) dk, in d = 1 P(s) = (2/π) ∫_0^∞ cos(ks) Re Φ(k) dk.  Speeds must be finite and ≥ 0.
+
+    Parameters
+    ----------
+    G : callable
+        The radial profile Φ(k).
+    s : array_like
+        Speeds, finite and ≥ 0.
+    dimension : int
+        d.
+    q_max : float
+        The cut-off.
+    nodes_per_panel : int
+        Gauss points per panel.
+
+    Returns
+    -------
+    numpy.ndarray
     """
     d = _check_dimension(dimension)
     s = check_speeds(s, "s")
