@@ -11,7 +11,19 @@ __all__ = ["chebyshev_nodes", "barycentric_weights", "barycentric_matrix",
 
 
 def chebyshev_nodes(n: int, length: float) -> np.ndarray:
-    """Chebyshev–Lobatto points q_j = Q (1 − cos(jπ/n)) / 2, j = 0..n, increasing from 0 to Q."""
+    """Chebyshev–Lobatto points q_j = Q (1 − cos(jπ/n)) / 2, j = 0..n, increasing from 0 to Q.
+
+    Parameters
+    ----------
+    n : int
+        The degree (n + 1 points).
+    length : float
+        Q.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     j = np.arange(n + 1)
     q = 0.5 * length * (1.0 - np.cos(np.pi * j / n))
     q[0], q[-1] = 0.0, float(length)
@@ -19,7 +31,17 @@ def chebyshev_nodes(n: int, length: float) -> np.ndarray:
 
 
 def barycentric_weights(n: int) -> np.ndarray:
-    """Barycentric weights of the n + 1 Chebyshev–Lobatto points: (−1)ʲ, halved at both ends."""
+    """Barycentric weights of the n + 1 Chebyshev–Lobatto points: (−1)ʲ, halved at both ends.
+
+    Parameters
+    ----------
+    n : int
+        The degree.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     w = (-1.0) ** np.arange(n + 1)
     w[0] *= 0.5
     w[-1] *= 0.5
@@ -31,6 +53,18 @@ def barycentric_matrix(nodes: np.ndarray, targets) -> np.ndarray:
 
     ``nodes`` are Chebyshev–Lobatto points (any affine image); the barycentric formula of the
     second kind is used, and a target that coincides with a node copies that node's value.
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Chebyshev–Lobatto points.
+    targets : array_like
+        Where to interpolate.
+
+    Returns
+    -------
+    numpy.ndarray
+        (len(targets), len(nodes)).
     """
     nodes = np.asarray(nodes, dtype=float)
     targets = np.atleast_1d(np.asarray(targets, dtype=float))
@@ -46,7 +80,17 @@ def barycentric_matrix(nodes: np.ndarray, targets) -> np.ndarray:
 
 
 def differentiation_matrix(nodes: np.ndarray) -> np.ndarray:
-    """Chebyshev differentiation matrix on the given Lobatto nodes (negative-sum trick)."""
+    """Chebyshev differentiation matrix on the given Lobatto nodes (negative-sum trick).
+
+    Parameters
+    ----------
+    nodes : numpy.ndarray
+        Chebyshev–Lobatto points.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     n = len(nodes) - 1
     w = barycentric_weights(n)
     dx = nodes[:, None] - nodes[None, :]

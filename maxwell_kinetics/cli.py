@@ -49,6 +49,12 @@ COMMANDS = (solve, fixed_point, tails, steady, convergence, reproduce, simulate,
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The parser of every subcommand (the CLI reference of the site is generated from it).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+    """
     parser = argparse.ArgumentParser(
         prog="maxwell-kinetics",
         description="Velocity statistics of cooling granular gases (pseudo-Maxwell kinetics and "
@@ -103,6 +109,17 @@ def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> li
     validation, whose message names the argument and the value.  The walk follows the
     subcommands (``solve``, ``simulate ulam``, ...) so that each option is looked up in the
     parser that defines it; everything after ``--`` is left alone.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The parser.
+    argv : list of str
+        The arguments.
+
+    Returns
+    -------
+    list of str
     """
     out: list[str] = []
     i = 0
@@ -131,7 +148,17 @@ def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> li
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (0 success, 2 bad input, 3 a failure of
     the physics such as inelastic collapse, 130 interrupted, 141 when the reader of the output
-    went away, as in ``| head``: no traceback)."""
+    went away, as in ``| head``: no traceback).
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+    """
     command = "maxwell-kinetics"
     try:
         parser = build_parser()

@@ -72,7 +72,12 @@ _warned: set[str] = set()
 
 def default_path() -> Path:
     """``$XDG_CACHE_HOME/maxwell-kinetics/jax`` (XDG_CACHE_HOME absolute), else
-    ``~/.cache/maxwell-kinetics/jax``."""
+    ``~/.cache/maxwell-kinetics/jax``.
+
+    Returns
+    -------
+    pathlib.Path
+    """
     xdg = os.environ.get("XDG_CACHE_HOME", "")
     base = Path(xdg) if xdg and os.path.isabs(xdg) else Path.home() / ".cache"
     return base / "maxwell-kinetics" / "jax"
@@ -80,7 +85,12 @@ def default_path() -> Path:
 
 def configured_path() -> Path | None:
     """The folder that :func:`enable` uses by default: ``$MAXWELL_KINETICS_CACHE`` (None when
-    it turns the cache off), else :func:`default_path`."""
+    it turns the cache off), else :func:`default_path`.
+
+    Returns
+    -------
+    pathlib.Path or None
+    """
     value = os.environ.get(ENV, "").strip()
     if not value:
         return default_path()
@@ -321,6 +331,24 @@ def call(name: str, function, jitted, static, args: tuple):
     settings (:func:`_jax_settings`) and :func:`_code_fingerprint`.  An entry that does not
     load (checked, but from a JAX that cannot read it) is compiled again and replaced.
     With the cache off, or a static part without a key (a user's law), ``jitted`` runs as it is.
+
+    Parameters
+    ----------
+    name : str
+        The computation's name (part of the key).
+    function : callable
+        The Python function.
+    jitted : callable
+        ``jax.jit(function, static_argnums=0)``.
+    static : hashable
+        The static first argument.
+    args : tuple
+        The array arguments.
+
+    Returns
+    -------
+    object
+        What ``function`` returns.
     """
     store = _state.get("store")
     token = _static_token(static) if store is not None else None
@@ -349,7 +377,12 @@ def call(name: str, function, jitted, static, args: tuple):
 
 
 def active_path() -> Path | None:
-    """The folder of entries in use in this process (None when the cache is off)."""
+    """The folder of entries in use in this process (None when the cache is off).
+
+    Returns
+    -------
+    pathlib.Path or None
+    """
     return _state["path"]
 
 
@@ -361,6 +394,15 @@ def enable(path: str | os.PathLike | None = None) -> Path | None:
     off by ``$MAXWELL_KINETICS_CACHE`` (``path`` None) returns None; an unusable folder prints
     one warning line on stderr and returns None.  Either way JAX runs as before, uncached.
     This changes JAX's global configuration for the process, until :func:`disable`.
+
+    Parameters
+    ----------
+    path : str or os.PathLike, optional
+        The cache folder.
+
+    Returns
+    -------
+    pathlib.Path or None
     """
     root = Path(path).expanduser() if path is not None else configured_path()
     if root is None:
@@ -415,7 +457,15 @@ def disable() -> None:
 
 
 def add_option(parser, compiles: bool = True) -> None:
-    """Add ``--no-cache`` to a subcommand's parser."""
+    """Add ``--no-cache`` to a subcommand's parser.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The subcommand's parser.
+    compiles : bool
+        Whether the subcommand compiles anything (the help says so otherwise).
+    """
     text = ("do not use the persistent compilation cache (default: on, in "
             f"${ENV} or ~/.cache/maxwell-kinetics/jax)")
     if not compiles:
@@ -425,7 +475,18 @@ def add_option(parser, compiles: bool = True) -> None:
 
 def from_args(args) -> Path | None:
     """The command line's rule: the cache on unless ``--no-cache``; call it after the input
-    checks, right before the first JAX computation.  :func:`end_command` undoes it."""
+    checks, right before the first JAX computation.  :func:`end_command` undoes it.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line (``no_cache``).
+
+    Returns
+    -------
+    pathlib.Path or None
+        The folder in use.
+    """
     _state.setdefault("before_command", _state["root"] if _state["path"] else None)
     if getattr(args, "no_cache", False):
         disable()

@@ -26,6 +26,29 @@ __all__ = ["ConvergenceRun", "convergence_study", "order_of_accuracy", "summariz
 
 @dataclass(frozen=True)
 class ConvergenceRun:
+    """One (r, resolution) run of :func:`convergence_study`.
+
+    Attributes
+    ----------
+    restitution : float
+        r.
+    initial : str
+        The initial law.
+    resolution : str
+        The grid's name.
+    h : float
+        Its spacing in ln q.
+    order : int
+        Its interpolation order.
+    tau, sup_error : list of float
+        The error trace sup_q |G − f̂| at each τ.
+    floor : float
+        The error floor at late τ.
+    stable : bool
+        Whether the late error stayed at its floor.
+    seconds : float
+        Wall time.
+    """
     restitution: float
     initial: str
     resolution: str
@@ -56,7 +79,29 @@ def convergence_study(
     floor_points: int = 5,
     progress: bool = False,
 ) -> list[ConvergenceRun]:
-    """Run every (r, resolution) pair to ``tau_max`` and return the error traces and floors."""
+    """Run every (r, resolution) pair to ``tau_max`` and return the error traces and floors.
+
+    Parameters
+    ----------
+    restitutions : sequence of float
+        The r.
+    resolutions : sequence of str
+        Grid names.
+    tau_max : float
+        The last τ.
+    initial : str
+        The initial law.
+    points : int
+        Output times.
+    floor_points : int
+        Late points averaged for the floor.
+    progress : bool
+        Show progress.
+
+    Returns
+    -------
+    list of ConvergenceRun
+    """
     taus = np.unique(np.round(np.geomspace(1.0, tau_max, points), 6))
     runs = []
     for r in restitutions:
@@ -75,7 +120,16 @@ def convergence_study(
 
 
 def order_of_accuracy(runs: list[ConvergenceRun]) -> dict[str, float]:
-    """Least-squares slope of log(floor) against log(h), per restitution."""
+    """Least-squares slope of log(floor) against log(h), per restitution.
+
+    Parameters
+    ----------
+    runs : list of ConvergenceRun
+
+    Returns
+    -------
+    dict
+    """
     out = {}
     for r in sorted({run.restitution for run in runs}):
         sel = [run for run in runs if run.restitution == r]
@@ -87,7 +141,16 @@ def order_of_accuracy(runs: list[ConvergenceRun]) -> dict[str, float]:
 
 
 def summarize(runs: list[ConvergenceRun]) -> dict:
-    """The runs, a table of their floors and the fitted order of accuracy (JSON-able)."""
+    """The runs, a table of their floors and the fitted order of accuracy (JSON-able).
+
+    Parameters
+    ----------
+    runs : list of ConvergenceRun
+
+    Returns
+    -------
+    dict
+    """
     return {
         "runs": [asdict(run) for run in runs],
         "table": [

@@ -18,6 +18,19 @@ def reference(q, m3: float, xp=np):
 
     Its imaginary part is not a phase e^{−i m₃q³/6}: that would oscillate ever faster in
     s = ln q (q³ radians per unit s) and could not be interpolated on the grid.
+
+    Parameters
+    ----------
+    q : array_like
+        Wave numbers.
+    m3 : float
+        The third moment.
+    xp : module
+        ``numpy`` or ``jax.numpy``.
+
+    Returns
+    -------
+    array
     """
     gauss = xp.exp(-0.5 * q * q)
     if m3 == 0.0:
@@ -43,6 +56,22 @@ def source(q, lam: float, m3: float, xp=np):
 
     Both are O(q⁴) as q → 0 and are evaluated without cancellation (series for e^x − 1 − x);
     e^{−q²/2} e^x = e^{−(1−2λ)q²/2} never overflows.
+
+    Parameters
+    ----------
+    q : array_like
+        Wave numbers.
+    lam : float
+        λ.
+    m3 : float
+        The third moment.
+    xp : module
+        ``numpy`` or ``jax.numpy``.
+
+    Returns
+    -------
+    array
+        Complex S (real when m₃ = 0).
     """
     re, im = source_parts(q, lam, m3, xp)
     return re if im is None else re + 1j * im
@@ -53,6 +82,17 @@ def source_parts(q, lam: float, m3: float, xp=np, gauss=None, gain=None):
 
     ``gauss`` = e^{−q²/2} and ``gain`` = e^{−(1−2λ)q²/2} may be passed in when the caller has
     them (the solver's right-hand side does: exponentials dominate its cost).
+
+    Parameters
+    ----------
+    q, lam, m3, xp
+        As for :func:`source`.
+    gauss, gain : array, optional
+        The exponentials, when the caller has them.
+
+    Returns
+    -------
+    re, im : array
     """
     x = lam * q * q
     gauss = xp.exp(-0.5 * q * q) if gauss is None else gauss

@@ -58,6 +58,19 @@ def moment_hierarchy(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
     The hierarchy is triangular: the terms m = 0 and m = n give (pⁿ + (1−p)ⁿ) M_n, the rest only
     involve lower moments, so it is integrated exactly order by order with scipy's ODE solver at
     rtol 1e-12.  Returns an array of shape (len(tau), len(initial_moments)).
+
+    Parameters
+    ----------
+    model : MaxwellModel
+        The model.
+    initial_moments : array_like
+        M_0, M_1, … at τ = 0.
+    tau : array_like
+        Times τ.
+
+    Returns
+    -------
+    numpy.ndarray
     """
     from scipy.integrate import solve_ivp
 
@@ -84,7 +97,21 @@ def moment_hierarchy(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
 
 
 def rescaled_moments(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
-    """M_n / M_2^{n/2} along the hierarchy (zero mean assumed): the moments of x = v / v0."""
+    """M_n / M_2^{n/2} along the hierarchy (zero mean assumed): the moments of x = v / v0.
+
+    Parameters
+    ----------
+    model : MaxwellModel
+        The model.
+    initial_moments : array_like
+        M_0, M_1, … at τ = 0.
+    tau : array_like
+        Times τ.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     M = moment_hierarchy(model, initial_moments, tau)
     n = np.arange(M.shape[1])
     return M / M[:, 2:3] ** (n / 2.0)

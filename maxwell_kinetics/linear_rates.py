@@ -73,6 +73,23 @@ class LinearRates:
     maximum of γ on (2, 3); ``predicted_slowest`` = γ* + g''(s*) π² / (2 ln²(1/q_min)), the
     finite-domain correction of the slowest rate (a Dirichlet problem of log-length ln(1/q_min)
     around the double root s* of g(s) = −γ*).
+
+    Attributes
+    ----------
+    restitution, sigma, q_min, q_max : float
+        The problem (as for :func:`linear_decay_rates`).
+    n : int
+        The Chebyshev degree.
+    eigenvalues : numpy.ndarray
+        Above.
+    rates : tuple of float
+        Above.
+    gamma : dict
+        Above.
+    s_star, gamma_star, predicted_slowest : float
+        Above.
+    seconds : float
+        Wall time.
     """
 
     restitution: float
@@ -109,6 +126,21 @@ def weighted_operator(
     Returns ``(y, A)``; A acts on w at the nodes y_0..y_{n−1} (w(y_n = ln q_max) = 0 is the
     inflow condition and is removed).  Shifted values w(y + ln c) come from barycentric
     interpolation, and are 0 where y + ln c < ln q_min (no perturbation below q_min).
+
+    Parameters
+    ----------
+    restitution : float
+        r.
+    sigma : float
+        σ.
+    q_min, q_max : float
+        The domain.
+    n : int
+        The degree.
+
+    Returns
+    -------
+    y, A : numpy.ndarray
     """
     model = check_inelastic(restitution)
     p, lam = model.p, model.lam
@@ -133,6 +165,19 @@ def linearised_operator(restitution: float, n: int = 64, q_max: float = 40.0):
     polynomials the spectrum of L is not that of admissible perturbations (module docstring);
     measured, with u(0) = u''(0) = u(q_max) = 0 imposed and r = 0.5, its leading eigenvalue
     after the shift mode λ drifts with n (−0.085, −0.053, −0.041 at n = 32, 48, 64).
+
+    Parameters
+    ----------
+    restitution : float
+        r.
+    n : int
+        The degree.
+    q_max : float
+        Q.
+
+    Returns
+    -------
+    q, L : numpy.ndarray
     """
     model = check_inelastic(restitution)
     q, D, Bp, Bm = collocation_operators(model, check_count(n, "n", 8),
@@ -164,6 +209,28 @@ def linear_decay_rates(
     so w is O(1) across the whole log grid.  A weight far from s* makes w vary by e^{|σ−s*| ℓ}
     (ℓ = ln(1/q_min)) and round-off then moves the computed eigenvalues (measured: σ = 2.75,
     ln q_min = −80 gives wrong rates, below γ*, that change with n).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+    sigma : float, optional
+        The weight exponent σ ∈ (2, 3) (default s*).
+    q_min, q_max : float
+        The truncated domain.
+    n : int
+        The Chebyshev degree.
+    count : int
+        Rates returned.
+
+    Returns
+    -------
+    LinearRates
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``sigma`` or ``q_min``.
     """
     t0 = time.perf_counter()
     model = check_inelastic(restitution)

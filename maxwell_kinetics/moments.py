@@ -62,7 +62,21 @@ EXPONENT_SLACK = 0.2
 
 def check_orders(orders) -> tuple[int, ...]:
     """``orders`` as a tuple of even positive integers (InvalidArgumentError naming ``orders``
-    otherwise)."""
+    otherwise).
+
+    Parameters
+    ----------
+    orders : sequence of int
+
+    Returns
+    -------
+    tuple of int
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``orders``.
+    """
     values = (orders,) if np.isscalar(orders) else tuple(orders)
     ok = len(values) > 0 and all(
         not isinstance(n, bool) and isinstance(n, (int, np.integer)) and n > 0 and n % 2 == 0
@@ -74,7 +88,19 @@ def check_orders(orders) -> tuple[int, ...]:
 
 def sphere_cos_moment(dimension: int, n: int) -> float:
     """⟨cos^{2n} θ⟩ over the unit sphere in ``dimension`` d: Γ(d/2) Γ(n + ½)/(√π Γ(n + d/2)),
-    evaluated as the product Π_{k<n} (2k + 1)/(d + 2k) (exactly 1 in d = 1, 1/d for n = 1)."""
+    evaluated as the product Π_{k<n} (2k + 1)/(d + 2k) (exactly 1 in d = 1, 1/d for n = 1).
+
+    Parameters
+    ----------
+    dimension : int
+        d.
+    n : int
+        The power.
+
+    Returns
+    -------
+    float
+    """
     d = int(dimension)
     return math.prod((2 * k + 1) / (d + 2 * k) for k in range(int(n)))
 
@@ -120,7 +146,21 @@ class SeriesEstimate:
 
 def series_estimate(q, w, n_max: int) -> SeriesEstimate:
     """C_2 .. C_{n_max} of G from w = Re G − e^{−q²/2} on the geometric grid ``q`` (module
-    docstring)."""
+    docstring).
+
+    Parameters
+    ----------
+    q : numpy.ndarray
+        The geometric grid.
+    w : numpy.ndarray
+        Re G − e^{−q²/2} there.
+    n_max : int
+        The highest n.
+
+    Returns
+    -------
+    SeriesEstimate
+    """
     q = np.asarray(q, dtype=float)
     w = np.asarray(w, dtype=float)
     lows, highs, fits = _window_fits(q, w, n_max)
@@ -179,6 +219,21 @@ class Moments:
     ``values`` in d = 1); ``errors``: absolute error estimates of ``values`` (the window's, see
     the module docstring); ``windows[k, j]``: the q window read; ``reasons[k][j]``: "" for a
     number, else why the value is NaN.
+
+    Attributes
+    ----------
+    orders : tuple of int
+        The orders n.
+    tau : numpy.ndarray
+        The times.
+    dimension : int
+        d.
+    values, component, errors : numpy.ndarray
+        Above.
+    windows : numpy.ndarray
+        The q window read per value.
+    reasons : tuple of tuple of str
+        Why a value is NaN (empty when it is not).
     """
 
     orders: tuple[int, ...]
@@ -191,14 +246,29 @@ class Moments:
     reasons: tuple[tuple[str, ...], ...]
 
     def kurtosis(self) -> np.ndarray:
-        """⟨|v|⁴⟩/⟨|v|²⟩² at each τ (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian; d = 2: 2)."""
+        """⟨|v|⁴⟩/⟨|v|²⟩² at each τ (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian; d = 2: 2).
+
+        Returns
+        -------
+        numpy.ndarray
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``orders`` when they do not include 4.
+        """
         if 4 not in self.orders:
             raise InvalidArgumentError("orders", self.orders, "orders that include 4")
         four = self.values[:, self.orders.index(4)]
         return four / float(self.dimension) ** 2
 
     def to_dict(self) -> dict:
-        """JSON-able: orders, tau, values, component, errors, windows (NaN as None), reasons."""
+        """JSON-able: orders, tau, values, component, errors, windows (NaN as None), reasons.
+
+        Returns
+        -------
+        dict
+        """
         def clean(a):
             return [None if not np.isfinite(x) else float(x) for x in np.ravel(a)]
 

@@ -19,7 +19,17 @@ __all__ = ["emit_json", "clean_json", "check_outputs", "check_image_path", "chec
 
 
 def clean_json(obj):
-    """Replace non-finite floats by None (and NumPy scalars by Python ones) for strict JSON."""
+    """Replace non-finite floats by None (and NumPy scalars by Python ones) for strict JSON.
+
+    Parameters
+    ----------
+    obj : object
+        Nested dicts, lists and numbers.
+
+    Returns
+    -------
+    object
+    """
     if isinstance(obj, float):
         return obj if math.isfinite(obj) else None
     if isinstance(obj, dict):
@@ -32,7 +42,13 @@ def clean_json(obj):
 
 
 def emit_json(payload: dict) -> None:
-    """Print one JSON object on one line (the ``--json`` contract)."""
+    """Print one JSON object on one line (the ``--json`` contract).
+
+    Parameters
+    ----------
+    payload : dict
+        The object (non-finite floats become null).
+    """
     json.dump(payload, sys.stdout, allow_nan=False)
     sys.stdout.write("\n")
     sys.stdout.flush()
@@ -45,7 +61,24 @@ def _image_formats() -> set[str]:
 
 
 def check_image_path(path, name: str) -> Path:
-    """An output image: a writable file path whose suffix is a format matplotlib can write."""
+    """An output image: a writable file path whose suffix is a format matplotlib can write.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The path.
+    name : str
+        The argument's name.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``name`` for a bad path or an image format matplotlib cannot write.
+    """
     out = check_output_file(path, name)
     suffix = out.suffix.lower().lstrip(".")
     formats = _image_formats()
@@ -60,7 +93,26 @@ def check_outputs(*, inputs: dict | None = None, images: dict | None = None, **f
     """Check every output path before any work: each is a file in an existing, writable folder
     (``images``: also a format matplotlib writes), and no two outputs, nor an output and an
     input (``inputs``, e.g. ``resume``), name the same file; ``None`` entries are skipped.
-    Returns ``{name: Path}`` of the outputs."""
+    Returns ``{name: Path}`` of the outputs.
+
+    Parameters
+    ----------
+    inputs : dict, optional
+        Input paths by name.
+    images : dict, optional
+        Image outputs by name.
+    **files
+        File outputs by name.
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the output that is bad, or two outputs that name one file.
+    """
     outputs = {}
     for name, path in (images or {}).items():
         if path is not None:
@@ -90,7 +142,16 @@ def check_outputs(*, inputs: dict | None = None, images: dict | None = None, **f
 
 
 def progress_enabled(args) -> bool:
-    """Progress on stderr unless ``--no-progress`` or ``--json`` was given."""
+    """Progress on stderr unless ``--no-progress`` or ``--json`` was given.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+
+    Returns
+    -------
+    bool
+    """
     if getattr(args, "no_progress", False):
         return False
     return not getattr(args, "json", False)

@@ -13,7 +13,20 @@ __all__ = ["new_figure", "plot_solution", "plot_convergence", "plot_density"]
 def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
     """A figure of one row of ``ncols`` panels, each ``width`` × ``height`` inches, on the
     non-interactive Agg backend (unless another backend was chosen): ``(fig, axes)`` with
-    ``axes`` of shape (1, ncols)."""
+    ``axes`` of shape (1, ncols).
+
+    Parameters
+    ----------
+    ncols : int
+        Panels.
+    width, height : float
+        Inches per panel.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    axes : numpy.ndarray
+    """
     import matplotlib
 
     matplotlib.use("Agg", force=False)
@@ -25,7 +38,16 @@ def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
 def plot_solution(solution):
     """Left: Re G(q, τ) against q (with f̂ in d = 1).  Right: in d = 1, |G − f̂| against q on
     log axes; in d ≥ 2, where f̂ is not the scaling solution, the density of the rescaled
-    speed P(s) (:meth:`~maxwell_kinetics.solver.Solution.speed_density`) on a log scale."""
+    speed P(s) (:meth:`~maxwell_kinetics.solver.Solution.speed_density`) on a log scale.
+
+    Parameters
+    ----------
+    solution : maxwell_kinetics.Solution
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     from .exact import f_hat
 
     fig, axes = new_figure(2)
@@ -61,7 +83,16 @@ def plot_solution(solution):
 
 
 def plot_convergence(runs):
-    """sup_q |G − f̂| against τ for each (r, resolution), and the floor against h."""
+    """sup_q |G − f̂| against τ for each (r, resolution), and the floor against h.
+
+    Parameters
+    ----------
+    runs : list of maxwell_kinetics.convergence.ConvergenceRun
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, axes = new_figure(2)
     left, right = axes[0]
     rs = sorted({run.restitution for run in runs})
@@ -90,7 +121,23 @@ def plot_convergence(runs):
 
 def plot_density(x, P, variance: float, title: str = "", ax=None):
     """ln P(x) against x with the Gaussian of the same variance (arrays only; returns the
-    Figure)."""
+    Figure).
+
+    Parameters
+    ----------
+    x, P : array_like
+        Velocities and density.
+    variance : float
+        The Gaussian's variance.
+    title : str
+        The title.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw (default a new figure).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     import numpy as np
 
     if ax is None:

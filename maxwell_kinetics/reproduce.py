@@ -22,7 +22,24 @@ __all__ = ["prepare_output", "run_all"]
 
 def prepare_output(out, argument: str = "out") -> Path:
     """Create the output folder and prove that a file can be written in it, before any work;
-    a failure raises ``InvalidArgumentError`` naming ``argument``."""
+    a failure raises ``InvalidArgumentError`` naming ``argument``.
+
+    Parameters
+    ----------
+    out : str or os.PathLike
+        The folder.
+    argument : str
+        The argument's name.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``argument``.
+    """
     out = Path(out)
     created = [p for p in (out, *out.parents) if not p.exists()]
     try:
@@ -51,7 +68,28 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
     through the ensemble engine on dask (``workers`` processes; default one per core), one task
     file per run in ``<out>/runs``: a rerun after an interruption takes the finished runs from
     there, and the results equal the serial ones bit for bit.  More workers than
-    :func:`particles.validation.max_workers` (4 × the CPUs) are refused unless ``force``."""
+    :func:`particles.validation.max_workers` (4 × the CPUs) are refused unless ``force``.
+
+    Parameters
+    ----------
+    out : str or os.PathLike
+        The output folder.
+    size : str
+        "small", "default" or "full".
+    only : list of str, optional
+        Comparison names.
+    progress : bool
+        Show progress.
+    workers : int, optional
+        Processes for the particle runs.
+    force : bool
+        Allow more than 4 × the CPUs.
+
+    Returns
+    -------
+    dict
+        The summary (also written to ``summary.json``).
+    """
     import matplotlib.pyplot as plt
 
     from .comparisons import COMPARISONS, ParticleRuns

@@ -61,6 +61,22 @@ __all__ = [
 
 
 def check_inelastic(restitution) -> MaxwellModel:
+    """The model of ``restitution``, refusing r = 1 (every G with G(0) = 1 is stationary there).
+
+    Parameters
+    ----------
+    restitution : float
+        r.
+
+    Returns
+    -------
+    MaxwellModel
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``restitution``.
+    """
     model = MaxwellModel(restitution)  # checks finite and in [0, 1]
     if model.restitution >= 1.0:
         raise InvalidArgumentError(
@@ -83,6 +99,27 @@ class FixedPoint:
     Gauss–Newton steps.  Call the object (or :meth:`evaluate`) for G at any real q: G is even,
     and G(|q| > Q) = 0 (the truncation error is f̂(Q) in d = 1).  ``dimension``, ``angular``
     and ``angular_nodes`` name the model (:func:`fixed_point`).
+
+    Attributes
+    ----------
+    restitution : float
+        r.
+    q, G : numpy.ndarray
+        Nodes and values.
+    residual, check_residual, max_error : float
+        Above.
+    iterations : int
+        Gauss–Newton steps.
+    converged : bool
+        Whether the step fell below the tolerance.
+    seconds : float
+        Wall time.
+    dimension : int
+        d.
+    angular : str
+        The angular law.
+    angular_nodes : int
+        The η quadrature's scale.
     """
 
     restitution: float
@@ -107,6 +144,17 @@ class FixedPoint:
         return float(self.q[-1])
 
     def evaluate(self, q) -> np.ndarray:
+        """G at any real q (even; zero beyond Q), by barycentric interpolation.
+
+        Parameters
+        ----------
+        q : array_like
+            Wave numbers.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         q = np.asarray(q, dtype=float)
         a = np.abs(q).ravel()
         out = np.zeros_like(a)
@@ -210,6 +258,19 @@ def stationary_residual(G: Callable, restitution: float, q) -> np.ndarray:
     """R[G](q) = λ q G'(q) − G(q) + G(pq) G((1−p)q) for a callable G and its derivative.
 
     ``G`` must accept ``(q, derivative)`` with derivative ∈ {0, 1}; used to check f̂ exactly.
+
+    Parameters
+    ----------
+    G : callable
+        ``G(q, derivative)``.
+    restitution : float
+        r.
+    q : array_like
+        Wave numbers.
+
+    Returns
+    -------
+    numpy.ndarray
     """
     m = MaxwellModel(restitution)
     q = np.asarray(q, dtype=float)
@@ -217,6 +278,22 @@ def stationary_residual(G: Callable, restitution: float, q) -> np.ndarray:
 
 
 def collocation_operators(model: MaxwellModel, n: int, length: float):
+    """The Chebyshev collocation operators on [0, ``length``]: nodes, differentiation and the
+    interpolation to pq and (1 − p)q.
+
+    Parameters
+    ----------
+    model : MaxwellModel
+        The model.
+    n : int
+        The degree.
+    length : float
+        Q.
+
+    Returns
+    -------
+    q, D, Bp, Bm : numpy.ndarray
+    """
     q = chebyshev_nodes(n, length)
     D = differentiation_matrix(q)
     Bp = barycentric_matrix(q, model.p * q)
@@ -275,6 +352,31 @@ def fixed_point(
     at r = 0.5, d = 2 (s* large), and 1.2e-3, 3.2e-4, 3.8e-5 at r = 0, d = 2 (2s* = 4.29);
     against the time-dependent solve on the coarse grid at τ = 800: 3.0e-8 (d = 2, r = 0.5),
     1.9e-8 (d = 3 hard, r = 0.5), 1.4e-5 (d = 2, r = 0).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+    n : int, optional
+        The Chebyshev degree.
+    q_max : float
+        Q.
+    initial : callable, optional
+        The starting G.
+    tol : float
+        The Newton step's stopping size.
+    max_iterations : int
+        The most Gauss–Newton steps.
+    dimension : int
+        d.
+    angular : str
+        The angular law.
+    angular_nodes : int
+        The η quadrature's scale.
+
+    Returns
+    -------
+    FixedPoint
     """
     t0 = time.perf_counter()
     model = check_inelastic(restitution)

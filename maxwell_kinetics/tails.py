@@ -77,7 +77,19 @@ __all__ = [
 ]
 
 def eta_moment(law: AngularLaw, s):
-    """⟨η^s⟩ = B(a + s, b)/B(a, b) (1 in d = 1), for s ≥ 0 (array-like)."""
+    """⟨η^s⟩ = B(a + s, b)/B(a, b) (1 in d = 1), for s ≥ 0 (array-like).
+
+    Parameters
+    ----------
+    law : AngularLaw
+        The law of η.
+    s : array_like
+        Powers ≥ 0.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     s = np.asarray(s, dtype=float)
     if law.degenerate:
         return np.ones_like(s)
@@ -85,7 +97,21 @@ def eta_moment(law: AngularLaw, s):
 
 
 def mixed_moment(law: AngularLaw, c: float, s):
-    """⟨(1 − c η)^s⟩ = ₂F₁(−s, a; a + b; c) for c ∈ [0, 1] ((1 − c)^s in d = 1)."""
+    """⟨(1 − c η)^s⟩ = ₂F₁(−s, a; a + b; c) for c ∈ [0, 1] ((1 − c)^s in d = 1).
+
+    Parameters
+    ----------
+    law : AngularLaw
+        The law of η.
+    c : float
+        c ∈ [0, 1].
+    s : array_like
+        Powers.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     s = np.asarray(s, dtype=float)
     if law.degenerate:
         return (1.0 - c) ** s
@@ -102,7 +128,23 @@ def _growth(law: AngularLaw, p: float, s):
 
 def growth_rate(dimension, restitution, s, angular="uniform"):
     """λ(s) = 1 − ⟨(1 − (1 − q²)η)^s⟩ − p^{2s}⟨η^s⟩: the decay rate of the |k|^{2s} coefficient
-    of Φ(k) (array-like s ≥ 0)."""
+    of Φ(k) (array-like s ≥ 0).
+
+    Parameters
+    ----------
+    dimension : int
+        d.
+    restitution : float
+        r.
+    s : array_like
+        Powers ≥ 0.
+    angular : str
+        The angular law.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     law = angular_law(dimension, angular)
     return _growth(law, transfer_fraction(restitution), s)
 
@@ -170,7 +212,23 @@ def moment_rates(dimension, restitution, orders, angular="uniform") -> np.ndarra
 class TailExponent:
     """The tail root ``s`` = s* > 1 of λ(s) = s λ(1) and the exponents it implies:
     ``exponents["density"]`` = d + 2s* (the d-dimensional density ∝ c^{−d−2s*}),
-    ``exponents["speed"]`` = ``exponents["component"]`` = 1 + 2s*."""
+    ``exponents["speed"]`` = ``exponents["component"]`` = 1 + 2s*.
+
+    Attributes
+    ----------
+    dimension : int
+        d.
+    restitution : float
+        r.
+    angular : str
+        The angular law.
+    s : float
+        s*.
+    decay_rate : float
+        Λ.
+    exponents : dict
+        Above.
+    """
 
     dimension: int
     restitution: float
