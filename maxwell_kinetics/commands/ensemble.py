@@ -46,6 +46,14 @@ __all__ = ["add_parser", "run", "spec_from_args"]
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``ensemble`` subcommand (many seeds and parameter sweeps of a particle model)
+    to the top-level parser.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The top-level parser's subcommands.
+    """
     ensemble = subparsers.add_parser(
         "ensemble", help="many seeds and a parameter sweep of a particle model, on dask",
         description=__doc__.split("\n\n", 1)[1],
@@ -75,7 +83,17 @@ def add_parser(subparsers) -> None:
 
 
 def spec_from_args(args) -> EnsembleSpec:
-    """The :class:`EnsembleSpec` of the command line (checked: nothing runs if it is bad)."""
+    """The :class:`EnsembleSpec` of the command line (checked: nothing runs if it is bad).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    particles.ensemble.EnsembleSpec
+    """
     model = get_model(args.model)
     params = model_params(args, model, sweep=True)
     given = [name for name in model.time_names if getattr(args, f"times_{name}") is not None]
@@ -96,6 +114,23 @@ def _progress(args) -> bool:
 
 
 def run(args) -> int:
+    """The handler of ``ensemble``: check the input, run, print (``--json``: one object).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        The exit status.
+
+    Raises
+    ------
+    InvalidArgumentError
+        For bad input (exit status 2), before anything is written.
+    """
     spec = spec_from_args(args)
     if args.config is not None and args.cluster is None:
         raise InvalidArgumentError("config", args.config, "--cluster slurm|pbs with it")

@@ -29,13 +29,28 @@ __all__ = [
 
 def cli_models() -> list[Model]:
     """The models of the catalogue whose parameters are all declared (a model registered with
-    only a factory has parameters of kind ``"any"``: it is for Python, not the command line)."""
+    only a factory has parameters of kind ``"any"``: it is for Python, not the command line).
+
+    Returns
+    -------
+    list of particles.models.Model
+    """
     return [m for m in MODELS.values() if all(p.kind != "any" for p in m.parameters)]
 
 
 def add_model_options(parser: argparse.ArgumentParser, model: Model, *, sweep: bool) -> None:
     """One option per parameter of ``model`` (values stay strings until
-    :func:`model_params`)."""
+    :func:`model_params`).
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The model's parser.
+    model : particles.models.Model
+        The model.
+    sweep : bool
+        Accept comma lists (``ensemble``).
+    """
     for p in model.parameters:
         text = p.describe()
         if p.example is not None:
@@ -58,7 +73,15 @@ def _shown(value) -> str:
 
 def add_time_option(parser: argparse.ArgumentParser, model: Model) -> None:
     """``--tau`` or ``--t`` (or both, one of them required) as the model's engines name their
-    time."""
+    time.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The model's parser.
+    model : particles.models.Model
+        The model.
+    """
     group = parser.add_mutually_exclusive_group(required=True)
     for name in model.time_names:
         group.add_argument(f"--{name}", dest=f"times_{name}", metavar="T1,T2,...",
@@ -66,7 +89,13 @@ def add_time_option(parser: argparse.ArgumentParser, model: Model) -> None:
 
 
 def add_run_options(parser: argparse.ArgumentParser) -> None:
-    """The run options shared by ``simulate MODEL`` and ``ensemble MODEL``."""
+    """The run options shared by ``simulate MODEL`` and ``ensemble MODEL``.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The parser.
+    """
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument(
         "--structure-factor", action="store_true", help="also record S(k) at the last time"
@@ -81,7 +110,21 @@ def add_run_options(parser: argparse.ArgumentParser) -> None:
 def model_params(args, model: Model, *, sweep: bool) -> dict:
     """{name: value} of the parameters given on the command line (``sweep``: a list of values
     where a comma list was given), each checked by ``Parameter.parse``; the others are left to
-    the factory's defaults."""
+    the factory's defaults.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+    model : particles.models.Model
+        The model.
+    sweep : bool
+        Comma lists become lists of values.
+
+    Returns
+    -------
+    dict
+    """
     params = {}
     for p in model.parameters:
         text = getattr(args, p.name, None)
@@ -98,7 +141,26 @@ def model_params(args, model: Model, *, sweep: bool) -> dict:
 
 
 def time_option(args, model: Model, time_name: str) -> tuple[str, str]:
-    """(name, text) of the time option given; it must be ``time_name``, the engine's."""
+    """(name, text) of the time option given; it must be ``time_name``, the engine's.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+    model : particles.models.Model
+        The model.
+    time_name : str
+        The engine's time, "tau" or "t".
+
+    Returns
+    -------
+    tuple of str
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming the time option given when it is not the engine's.
+    """
     for name in model.time_names:
         text = getattr(args, f"times_{name}", None)
         if text is not None:

@@ -23,6 +23,13 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``reproduce`` subcommand (every comparison with the paper) to the top-level parser.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The top-level parser's subcommands.
+    """
     p = subparsers.add_parser(
         "reproduce", help="reproduce the paper's figures and the kinetic-vs-particle comparisons",
         description="Run every comparison and write <out>/<name>.png, <out>/<name>.npz (data for "
@@ -46,6 +53,23 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    """The handler of ``reproduce``: check the input, run, print (``--json``: one object).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        The exit status.
+
+    Raises
+    ------
+    InvalidArgumentError
+        For bad input (exit status 2), before anything is written.
+    """
     from ..comparisons import COMPARISONS
     from ..reproduce import prepare_output, run_all
 

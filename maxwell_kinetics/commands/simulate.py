@@ -60,7 +60,13 @@ __all__ = ["add_parser", "add_common_options", "run_engine", "run_model"]
 def add_common_options(parser: argparse.ArgumentParser) -> None:
     """The run options of ``simulate MODEL`` (the model's parameters and time are added from
     the catalogue).  Values stay strings here; they are checked by :func:`run_engine` and the
-    run driver, so errors name the option and the value received."""
+    run driver, so errors name the option and the value received.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The model's parser.
+    """
     parser.add_argument("--seed", default="0", help="integer seed >= 0 (default 0)")
     add_run_options(parser)
     parser.add_argument("--checkpoint", metavar="FILE", help="write checkpoints to FILE")
@@ -82,7 +88,24 @@ def _print_table(time_key, times, energy, count_name, counts) -> None:
 def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
     """Run ``engine`` with the common options in ``args`` and print the result.
 
-    ``extend(result, payload)``, if given, adds model-specific entries to the JSON payload."""
+    ``extend(result, payload)``, if given, adds model-specific entries to the JSON payload.
+
+    Parameters
+    ----------
+    engine : object
+        An engine of :mod:`particles.models`.
+    args : argparse.Namespace
+        The parsed command line.
+    time_key : str
+        The time's name in the output.
+    extend : callable, optional
+        ``extend(result, payload)``.
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
     times = check_times(parse_float_list(args.times, time_key), time_key)
     seed = parse_seed(args.seed)
     progress = sys.stderr.isatty() if args.progress is None else args.progress
@@ -180,7 +203,18 @@ _EXTEND = {"md": _md_extend, "sticky": _sticky_extend}
 
 
 def run_model(args) -> int:
-    """The handler of ``simulate MODEL``: parameters checked, engine built, run."""
+    """The handler of ``simulate MODEL``: parameters checked, engine built, run.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
     model = get_model(args.model)
     engine = model.build(model_params(args, model, sweep=False))
     time_name, args.times = time_option(args, model, model.time_name(engine))
@@ -196,7 +230,13 @@ def run_model(args) -> int:
 
 def add_parser(subparsers) -> None:
     """Add the ``simulate`` subcommand to the top-level parser's ``subparsers``: one
-    sub-subcommand per model of the catalogue."""
+    sub-subcommand per model of the catalogue.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The top-level parser's subcommands.
+    """
     simulate = subparsers.add_parser("simulate", help="run a particle model")
     models = simulate.add_subparsers(dest="model", required=True)
     for model in cli_models():

@@ -24,6 +24,13 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``steady`` subcommand (the steady state of the driven model) to the top-level parser.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The top-level parser's subcommands.
+    """
     p = subparsers.add_parser(
         "steady", help="the steady state of the driven (heated) 1D Maxwell model",
         description=__doc__.split("\n\n", 1)[1],
@@ -37,6 +44,18 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    """The handler of ``steady``: check the input, run, print (``--json``: one object).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
     check_outputs(images={"plot": args.plot})
     state = steady_state(args.restitution, args.driving)
     payload = {"restitution": state.restitution, "driving": state.driving,

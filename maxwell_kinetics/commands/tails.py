@@ -19,6 +19,14 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
+    """Add the ``tail-exponent`` subcommand (tail exponents of the d-dimensional models) to
+    the top-level parser.
+
+    Parameters
+    ----------
+    subparsers : argparse._SubParsersAction
+        The top-level parser's subcommands.
+    """
     p = subparsers.add_parser(
         "tail-exponent", help="tail exponents of the d-dimensional inelastic Maxwell model",
         description=__doc__.split("\n\n", 1)[1],
@@ -32,6 +40,18 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    """The handler of ``tail-exponent``: check the input, run, print (``--json``: one object).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        The parsed command line.
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
     from ..tails import tail_exponent  # scipy.optimize: imported only when it runs
 
     dimension = parse_int(args.dimension, "dimension")
