@@ -16,13 +16,14 @@ def chebyshev_nodes(n: int, length: float) -> np.ndarray:
     Parameters
     ----------
     n : int
-        The degree (n + 1 points).
+        Polynomial degree (n + 1 points, n ≥ 1).
     length : float
-        Q.
+        Length Q of the interval [0, Q].
 
     Returns
     -------
     numpy.ndarray
+        The n + 1 nodes, shape (n + 1,), with the end points set exactly to 0 and Q.
     """
     j = np.arange(n + 1)
     q = 0.5 * length * (1.0 - np.cos(np.pi * j / n))
@@ -36,11 +37,12 @@ def barycentric_weights(n: int) -> np.ndarray:
     Parameters
     ----------
     n : int
-        The degree.
+        Polynomial degree.
 
     Returns
     -------
     numpy.ndarray
+        Shape (n + 1,).  Any common factor cancels in the barycentric formula.
     """
     w = (-1.0) ** np.arange(n + 1)
     w[0] *= 0.5
@@ -57,14 +59,14 @@ def barycentric_matrix(nodes: np.ndarray, targets) -> np.ndarray:
     Parameters
     ----------
     nodes : numpy.ndarray
-        Chebyshev–Lobatto points.
+        The n + 1 Chebyshev–Lobatto nodes (as from :func:`chebyshev_nodes`).
     targets : array_like
-        Where to interpolate.
+        Points at which to interpolate (a scalar is taken as one point).
 
     Returns
     -------
     numpy.ndarray
-        (len(targets), len(nodes)).
+        B, shape (len(targets), len(nodes)).
     """
     nodes = np.asarray(nodes, dtype=float)
     targets = np.atleast_1d(np.asarray(targets, dtype=float))
@@ -82,14 +84,18 @@ def barycentric_matrix(nodes: np.ndarray, targets) -> np.ndarray:
 def differentiation_matrix(nodes: np.ndarray) -> np.ndarray:
     """Chebyshev differentiation matrix on the given Lobatto nodes (negative-sum trick).
 
+    Off-diagonal entries D_ij = (w_j / w_i) / (x_i − x_j) from the barycentric weights; each
+    diagonal entry is minus the sum of its row, so that D annihilates constants exactly.
+
     Parameters
     ----------
     nodes : numpy.ndarray
-        Chebyshev–Lobatto points.
+        The n + 1 Chebyshev–Lobatto nodes (any affine image of them).
 
     Returns
     -------
     numpy.ndarray
+        D, shape (n + 1, n + 1): (D @ values) is the derivative of the interpolant at the nodes.
     """
     n = len(nodes) - 1
     w = barycentric_weights(n)

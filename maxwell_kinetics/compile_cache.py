@@ -77,6 +77,7 @@ def default_path() -> Path:
     Returns
     -------
     pathlib.Path
+        The default cache folder (not created).
     """
     xdg = os.environ.get("XDG_CACHE_HOME", "")
     base = Path(xdg) if xdg and os.path.isabs(xdg) else Path.home() / ".cache"
@@ -90,6 +91,7 @@ def configured_path() -> Path | None:
     Returns
     -------
     pathlib.Path or None
+        The folder, or None when the environment variable turns the cache off.
     """
     value = os.environ.get(ENV, "").strip()
     if not value:
@@ -328,27 +330,28 @@ def call(name: str, function, jitted, static, args: tuple):
 
     A warm process loads the executable and neither traces nor compiles.  The key hashes
     ``name``, the static part, the shapes and dtypes of ``args``, the backend and JAX's trace
-    settings (:func:`_jax_settings`) and :func:`_code_fingerprint`.  An entry that does not
-    load (checked, but from a JAX that cannot read it) is compiled again and replaced.
-    With the cache off, or a static part without a key (a user's law), ``jitted`` runs as it is.
+    settings (``_jax_settings``) and a hash of the project's sources (``_code_fingerprint``).
+    An entry that does not load (checked, but from a JAX that cannot read it) is compiled again
+    and replaced.  With the cache off, or a static part without a key (a user's law),
+    ``jitted`` runs as it is.
 
     Parameters
     ----------
     name : str
-        The computation's name (part of the key).
+        Name of the function in the cache key (e.g. ``"advance"``).
     function : callable
-        The Python function.
+        The Python function ``function(static, *args)`` that ``jitted`` wraps.
     jitted : callable
         ``jax.jit(function, static_argnums=0)``.
-    static : hashable
-        The static first argument.
+    static : object
+        The static (hashable) first argument.
     args : tuple
         The array arguments.
 
     Returns
     -------
     object
-        What ``function`` returns.
+        What ``function(static, *args)`` returns (JAX arrays).
     """
     store = _state.get("store")
     token = _static_token(static) if store is not None else None
@@ -382,6 +385,7 @@ def active_path() -> Path | None:
     Returns
     -------
     pathlib.Path or None
+        The sub-folder that :func:`enable` set up, or None.
     """
     return _state["path"]
 
@@ -398,11 +402,12 @@ def enable(path: str | os.PathLike | None = None) -> Path | None:
     Parameters
     ----------
     path : str or os.PathLike, optional
-        The cache folder.
+        The cache folder; None means :func:`configured_path`.
 
     Returns
     -------
     pathlib.Path or None
+        The folder of entries in use, or None when the cache stays off.
     """
     root = Path(path).expanduser() if path is not None else configured_path()
     if root is None:
@@ -463,8 +468,9 @@ def add_option(parser, compiles: bool = True) -> None:
     ----------
     parser : argparse.ArgumentParser
         The subcommand's parser.
-    compiles : bool
-        Whether the subcommand compiles anything (the help says so otherwise).
+    compiles : bool, default True
+        False for a subcommand that compiles nothing (its help text says the option is
+        accepted for uniformity).
     """
     text = ("do not use the persistent compilation cache (default: on, in "
             f"${ENV} or ~/.cache/maxwell-kinetics/jax)")
@@ -480,12 +486,12 @@ def from_args(args) -> Path | None:
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line (``no_cache``).
+        The parsed command line (its ``no_cache`` attribute, False when absent).
 
     Returns
     -------
     pathlib.Path or None
-        The folder in use.
+        What :func:`enable` returns, or None with ``--no-cache``.
     """
     _state.setdefault("before_command", _state["root"] if _state["path"] else None)
     if getattr(args, "no_cache", False):

@@ -26,29 +26,33 @@ __all__ = ["ConvergenceRun", "convergence_study", "order_of_accuracy", "summariz
 
 @dataclass(frozen=True)
 class ConvergenceRun:
-    """One (r, resolution) run of :func:`convergence_study`.
+    """One long solve of :func:`convergence_study`: its error trace against f̂ and its floor.
 
     Attributes
     ----------
     restitution : float
-        r.
+        r ∈ [0, 1].
     initial : str
-        The initial law.
+        Name of the initial law (a key of :func:`particles.initial.get_law`).
     resolution : str
-        The grid's name.
+        Name of the grid (a key of ``maxwell_kinetics.grid.RESOLUTIONS``).
     h : float
-        Its spacing in ln q.
+        Step of the grid in s = ln q.
     order : int
-        Its interpolation order.
-    tau, sup_error : list of float
-        The error trace sup_q |G − f̂| at each τ.
+        Order of the grid's interpolation.
+    tau : list of float
+        Saved collisions per particle τ.
+    sup_error : list of float
+        sup_q |G(q, τ) − f̂(q)| at each saved τ.
     floor : float
-        The error floor at late τ.
+        Median error over the last ``floor_points`` saved times (NaN by default).
     stable : bool
-        Whether the late error stayed at its floor.
+        False if the error is not finite or rises more than 10 times above the floor after
+        first reaching it.
     seconds : float
-        Wall time.
+        Wall-clock time of the solve.
     """
+
     restitution: float
     initial: str
     resolution: str
@@ -81,26 +85,37 @@ def convergence_study(
 ) -> list[ConvergenceRun]:
     """Run every (r, resolution) pair to ``tau_max`` and return the error traces and floors.
 
+    Each run calls :func:`maxwell_kinetics.solver.solve` and
+    :meth:`maxwell_kinetics.solver.Solution.sup_error` (the distance to the exact scaling
+    solution f̂(q) = (1 + |q|) e^{−|q|}) at log-spaced τ; see the module docstring for the floor
+    and the stability test.
+
     Parameters
     ----------
-    restitutions : sequence of float
-        The r.
-    resolutions : sequence of str
-        Grid names.
-    tau_max : float
-        The last τ.
-    initial : str
-        The initial law.
-    points : int
-        Output times.
-    floor_points : int
-        Late points averaged for the floor.
-    progress : bool
-        Show progress.
+    restitutions : sequence of float, default (0.0, 0.5)
+        The restitutions r.
+    resolutions : sequence of str, optional
+        Grid names; by default every name of ``maxwell_kinetics.grid.RESOLUTIONS``.
+    tau_max : float, default 1e4
+        Last saved τ (collisions per particle).
+    initial : str, default "gaussian"
+        Name of the initial law.
+    points : int, default 41
+        Number of log-spaced saved times in [1, tau_max] (duplicates after rounding dropped).
+    floor_points : int, default 5
+        Number of last saved times whose median error is the floor.
+    progress : bool, default False
+        Show the solver's progress bar.
 
     Returns
     -------
     list of ConvergenceRun
+        One per (r, resolution), r-major.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        For a restitution out of [0, 1] or an unknown resolution (from the validators called).
     """
     taus = np.unique(np.round(np.geomspace(1.0, tau_max, points), 6))
     runs = []
@@ -125,10 +140,13 @@ def order_of_accuracy(runs: list[ConvergenceRun]) -> dict[str, float]:
     Parameters
     ----------
     runs : list of ConvergenceRun
+        Runs of :func:`convergence_study`.
 
     Returns
     -------
-    dict
+    dict of str to float
+        The fitted order, keyed by ``f"{r:g}"``; restitutions with fewer than two runs are left
+        out.
     """
     out = {}
     for r in sorted({run.restitution for run in runs}):
@@ -146,10 +164,13 @@ def summarize(runs: list[ConvergenceRun]) -> dict:
     Parameters
     ----------
     runs : list of ConvergenceRun
+        Runs of :func:`convergence_study`.
 
     Returns
     -------
     dict
+        ``runs`` (each run as a dict), ``table`` (restitution, resolution, h, floor, stable,
+        seconds per run) and ``order_fit`` (from :func:`order_of_accuracy`).
     """
     return {
         "runs": [asdict(run) for run in runs],

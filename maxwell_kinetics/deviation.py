@@ -22,15 +22,16 @@ def reference(q, m3: float, xp=np):
     Parameters
     ----------
     q : array_like
-        Wave numbers.
+        Rescaled wave numbers q = k·v0(τ) (array of the module ``xp``).
     m3 : float
-        The third moment.
-    xp : module
-        ``numpy`` or ``jax.numpy``.
+        Third moment ⟨x³⟩ of the rescaled velocity (constant in time for zero mean data).
+    xp : module, default numpy
+        Array module, ``numpy`` or ``jax.numpy``.
 
     Returns
     -------
     array
+        g(q), real if ``m3 == 0`` and complex otherwise.
     """
     gauss = xp.exp(-0.5 * q * q)
     if m3 == 0.0:
@@ -60,18 +61,18 @@ def source(q, lam: float, m3: float, xp=np):
     Parameters
     ----------
     q : array_like
-        Wave numbers.
+        Rescaled wave numbers (array of the module ``xp``).
     lam : float
-        λ.
+        λ = p(1 − p) = (1 − r²)/4 of the model.
     m3 : float
-        The third moment.
-    xp : module
-        ``numpy`` or ``jax.numpy``.
+        Third rescaled moment; the reference is real when it is 0.
+    xp : module, default numpy
+        Array module, ``numpy`` or ``jax.numpy``.
 
     Returns
     -------
     array
-        Complex S (real when m₃ = 0).
+        S(q), real if ``m3 == 0`` and complex otherwise.
     """
     re, im = source_parts(q, lam, m3, xp)
     return re if im is None else re + 1j * im
@@ -85,14 +86,23 @@ def source_parts(q, lam: float, m3: float, xp=np, gauss=None, gain=None):
 
     Parameters
     ----------
-    q, lam, m3, xp
-        As for :func:`source`.
+    q : array_like
+        Rescaled wave numbers (array of the module ``xp``).
+    lam : float
+        λ = p(1 − p) of the model.
+    m3 : float
+        Third rescaled moment.
+    xp : module, default numpy
+        Array module, ``numpy`` or ``jax.numpy``.
     gauss, gain : array, optional
-        The exponentials, when the caller has them.
+        Precomputed e^{−q²/2} and e^{−(1−2λ)q²/2} on ``q``; computed when None.
 
     Returns
     -------
-    re, im : array
+    re : array
+        Re S(q).
+    im : array or None
+        Im S(q), or None when ``m3 == 0``.
     """
     x = lam * q * q
     gauss = xp.exp(-0.5 * q * q) if gauss is None else gauss

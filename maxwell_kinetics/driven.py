@@ -104,21 +104,30 @@ def _rates(p: float, orders: np.ndarray) -> np.ndarray:
 
 
 def cumulants(restitution, driving, count: int = 4) -> np.ndarray:
-    """Steady cumulants [κ₂, κ₄, …, κ_{2·count}], κ_{2j} = (2j)! D^j/(j (1 − p^{2j} − q^{2j}))
-    (odd cumulants vanish).
+    """Steady cumulants [κ₂, κ₄, …, κ_{2·count}] of the driven model (exact).
+
+    κ_{2j} = (2j)! D^j/(j (1 − p^{2j} − q^{2j})), the coefficient of (ik)^{2j}/(2j)! in
+    ln P̂(k) with P̂(k) = ∫ e^{ikv} P(v) dv; odd cumulants vanish (Santos & Ernst, Phys. Rev. E
+    2003, derived here from the steady Fourier equation).
 
     Parameters
     ----------
     restitution : float
-        r ∈ [0, 1).
+        r ∈ [0, 1); p = (1 + r)/2, q = 1 − p.
     driving : float
-        D > 0.
-    count : int
-        Cumulants returned.
+        Noise strength D > 0 (Fokker–Planck term D ∂²_v P, per unit τ).
+    count : int, default 4
+        Number of even cumulants.
 
     Returns
     -------
     numpy.ndarray
+        Shape (count,): κ₂, κ₄, …, κ_{2·count}.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If r is outside [0, 1) or D is not a finite number in (0, MAX_DRIVING].
     """
     r, d = _check_driving(driving, restitution)
     j = np.arange(1, int(count) + 1, dtype=float)
@@ -127,18 +136,24 @@ def cumulants(restitution, driving, count: int = 4) -> np.ndarray:
 
 
 def steady_variance(restitution, driving) -> float:
-    """⟨v²⟩ = D/(pq).
+    """Steady variance ⟨v²⟩ = D/(pq) of the driven model.
 
     Parameters
     ----------
     restitution : float
         r ∈ [0, 1).
     driving : float
-        D > 0.
+        Noise strength D > 0.
 
     Returns
     -------
     float
+        ⟨v²⟩ in the steady state (zero mean).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If r is outside [0, 1) or D is not a finite number in (0, MAX_DRIVING].
     """
     r, d = _check_driving(driving, restitution)
     p = transfer_fraction(r)
@@ -146,18 +161,24 @@ def steady_variance(restitution, driving) -> float:
 
 
 def steady_kurtosis(restitution, driving=1.0) -> float:
-    """⟨v⁴⟩/⟨v²⟩² = 3 + κ₄/κ₂² = 3 + 6pq/(2 − pq) (independent of D > 0).
+    """Steady kurtosis ⟨v⁴⟩/⟨v²⟩² = 3 + κ₄/κ₂² = 3 + 6pq/(2 − pq) (independent of D > 0).
 
     Parameters
     ----------
     restitution : float
         r ∈ [0, 1).
-    driving : float
-        D > 0.
+    driving : float, default 1.0
+        Noise strength D > 0 (only checked: the kurtosis does not depend on it).
 
     Returns
     -------
     float
+        The kurtosis, > 3 for r < 1.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If r is outside [0, 1) or D is not a finite number in (0, MAX_DRIVING].
     """
     r, _ = _check_driving(driving, restitution)
     p = transfer_fraction(r)
@@ -199,20 +220,29 @@ def _log_cf_unit(p: float, k: np.ndarray) -> np.ndarray:
 
 
 def characteristic_function(k, restitution, driving) -> np.ndarray:
-    """Steady P̂(k) = ⟨e^{ikv}⟩ (real and even) at real ``k``.
+    """Steady P̂(k) = ⟨e^{ikv}⟩ = ∫ e^{ikv} P(v) dv (real and even) at real ``k``.
+
+    Evaluated by the tree expansion of the module docstring (ln(1 + Dk²) at the nodes, the
+    cumulant series at the leaves), exact up to round-off.
 
     Parameters
     ----------
     k : array_like
-        Real wave numbers.
+        Real wave numbers (unscaled: conjugate to v).
     restitution : float
         r ∈ [0, 1).
     driving : float
-        D > 0.
+        Noise strength D > 0.
 
     Returns
     -------
     numpy.ndarray
+        P̂(k), float, of the shape of ``k``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If r is outside [0, 1) or D is not a finite number in (0, MAX_DRIVING].
     """
     r, d = _check_driving(driving, restitution)
     k = np.asarray(k, dtype=float)
@@ -222,6 +252,9 @@ def characteristic_function(k, restitution, driving) -> np.ndarray:
 def tail_amplitude(restitution) -> float:
     """R with P(v) ≈ (R/√D) e^{−|v|/√D} for |v| ≫ √D: R = ½ ⟨e^{pv}⟩⟨e^{qv}⟩ at D = 1.
 
+    From the residue of P̂ at its nearest poles k = ±i/√D (Santos & Ernst, Phys. Rev. E 2003);
+    ⟨e^{yv}⟩ = P̂(−iy) is summed from the cumulant series.
+
     Parameters
     ----------
     restitution : float
@@ -230,6 +263,12 @@ def tail_amplitude(restitution) -> float:
     Returns
     -------
     float
+        The amplitude R (independent of D).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If r is outside [0, 1).
     """
     r, _ = _check_driving(1.0, restitution)
     p = transfer_fraction(r)
@@ -239,23 +278,31 @@ def tail_amplitude(restitution) -> float:
 
 
 def moments(tau, restitution, driving, m2_initial=1.0, m4_initial=3.0):
-    """Exact M₂(τ), M₄(τ) of the driven model from zero-mean data with M₂(0), M₄(0) (the moment
-    equations of the module docstring; D ≥ 0, r < 1).
+    """Exact M₂(τ), M₄(τ) of the driven model from zero-mean data with M₂(0), M₄(0).
+
+    The closed moment equations of the module docstring, solved as sums of exponentials in τ
+    (collisions per particle).  D = 0 is accepted here (free cooling).
 
     Parameters
     ----------
-    tau : array_like
-        Times τ.
+    tau : float or array_like
+        Collisions per particle τ.
     restitution : float
-        r < 1.
+        r ∈ [0, 1).
     driving : float
-        D ≥ 0.
-    m2_initial, m4_initial : float
-        M₂(0), M₄(0).
+        Noise strength D ≥ 0.
+    m2_initial, m4_initial : float, default 1.0 and 3.0
+        M₂(0) and M₄(0) (the defaults are a unit Gaussian).
 
     Returns
     -------
     m2, m4 : numpy.ndarray
+        M₂(τ) and M₄(τ), of the shape of ``tau``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If r is outside [0, 1) or D is negative, not finite or above MAX_DRIVING.
     """
     r, d = _check_driving(driving, restitution, allow_zero=True)
     p = transfer_fraction(r)
@@ -283,20 +330,25 @@ def moments(tau, restitution, driving, m2_initial=1.0, m4_initial=3.0):
 
 @dataclass(frozen=True)
 class DrivenSteadyState:
-    """The steady state of the driven model: ``variance`` = D/(pq), ``kurtosis``,
-    ``cumulants`` = [κ₂, κ₄, …], and the density ``density`` = P(v) on the grid ``velocity``
-    (uniform, [−60√D, 60√D), from the FFT of the module docstring; |round-off| ~ 1e-16).
+    """The steady state of the driven 1D model, as returned by :func:`steady_state`.
 
     Attributes
     ----------
-    restitution, driving : float
-        r and D.
-    variance, kurtosis : float
-        ⟨v²⟩ and ⟨v⁴⟩/⟨v²⟩².
+    restitution : float
+        r ∈ [0, 1).
+    driving : float
+        Noise strength D > 0.
+    variance : float
+        ⟨v²⟩ = D/(pq).
+    kurtosis : float
+        ⟨v⁴⟩/⟨v²⟩² = 3 + 6pq/(2 − pq).
     cumulants : numpy.ndarray
-        κ₂, κ₄, ….
-    velocity, density : numpy.ndarray
-        The grid and P(v).
+        [κ₂, κ₄, …] (see :func:`cumulants`).
+    velocity : numpy.ndarray
+        Uniform velocity grid on [−60√D, 60√D).
+    density : numpy.ndarray
+        P(v) on ``velocity``, from an FFT of P̂ (P(v) = (1/2π) ∫ e^{−ikv} P̂(k) dk, numpy's
+        forward sign; round-off ~ 1e-16).
     """
 
     restitution: float

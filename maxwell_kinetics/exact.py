@@ -55,22 +55,23 @@ def moment_hierarchy(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
     """Raw moments M_n(τ), n = 0..len(initial_moments)−1, of the unscaled master equation.
 
     dM_n/dτ = −M_n + Σ_{m=0..n} C(n,m) p^m (1−p)^{n−m} M_m M_{n−m} .
-    The hierarchy is triangular: the terms m = 0 and m = n give (pⁿ + (1−p)ⁿ) M_n, the rest only
-    involve lower moments, so it is integrated exactly order by order with scipy's ODE solver at
-    rtol 1e-12.  Returns an array of shape (len(tau), len(initial_moments)).
+    The hierarchy is closed and triangular: the terms m = 0 and m = n give (pⁿ + (1−p)ⁿ) M_n
+    (with M_0 = 1), the rest only involve lower moments (Ben-Naim & Krapivsky, Phys. Rev. E
+    2000).  The truncated system is integrated with scipy's ``solve_ivp`` (DOP853, rtol 1e-12).
 
     Parameters
     ----------
-    model : MaxwellModel
-        The model.
+    model : maxwell_kinetics.model.MaxwellModel
+        The model (its p = (1 + r)/2 enters the coefficients).
     initial_moments : array_like
-        M_0, M_1, … at τ = 0.
-    tau : array_like
-        Times τ.
+        M_0, M_1, ..., M_nmax at τ = 0 (M_0 = 1 for a normalised distribution).
+    tau : float or array_like
+        Collisions per particle τ ≥ 0 at which to report the moments (increasing).
 
     Returns
     -------
     numpy.ndarray
+        Shape (len(tau), len(initial_moments)): row i holds M_0..M_nmax at tau[i].
     """
     from scipy.integrate import solve_ivp
 
@@ -101,16 +102,18 @@ def rescaled_moments(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
 
     Parameters
     ----------
-    model : MaxwellModel
+    model : maxwell_kinetics.model.MaxwellModel
         The model.
     initial_moments : array_like
-        M_0, M_1, … at τ = 0.
-    tau : array_like
-        Times τ.
+        M_0, M_1, ..., M_nmax at τ = 0; needs nmax ≥ 2.
+    tau : float or array_like
+        Collisions per particle τ ≥ 0 (increasing).
 
     Returns
     -------
     numpy.ndarray
+        Shape (len(tau), len(initial_moments)): the rescaled moments ⟨xⁿ⟩, computed from
+        :func:`moment_hierarchy`.
     """
     M = moment_hierarchy(model, initial_moments, tau)
     n = np.arange(M.shape[1])

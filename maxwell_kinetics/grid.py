@@ -40,21 +40,27 @@ INFLOW_CUT = 40.0
 class Resolution:
     """A named discretisation of s = ln q: spacing ``h``, interpolation ``order``, range.
 
+    The grid is s_j = s_min + j h, j = 0 .. n − 1, with q = k·v0(τ) the rescaled wave number
+    (module docstring); its last point is the largest s_j ≤ s_max.
+
     Attributes
     ----------
     name : str
-        Its name.
+        Name of the resolution (a key of ``RESOLUTIONS`` for the offered ones).
     h : float
-        The spacing in s = ln q.
-    order : int
-        Lagrange interpolation points (even).
-    s_min, s_max : float
-        The range of s.
+        Spacing in s = ln q, finite and > 0.
+    order : int, default 8
+        Number of points of the centred Lagrange interpolation (even, ≥ 2); error O(h^order).
+    s_min : float, default −24.0
+        ln q_min.
+    s_max : float, default ln 36
+        Upper bound of ln q_max.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``h``, ``order`` or the range.
+    particles.validation.InvalidArgumentError
+        Naming ``h``, ``order`` or ``s_min`` when the spacing is not finite and positive, the
+        order is not an even number ≥ 2, or s_min ≥ s_max.
     """
 
     name: str
@@ -78,18 +84,22 @@ class Resolution:
 
     @property
     def s(self) -> np.ndarray:
+        """The nodes s_j = s_min + j h, j = 0 .. n − 1."""
         return self.s_min + self.h * np.arange(self.n)
 
     @property
     def q(self) -> np.ndarray:
+        """The rescaled wave numbers q_j = e^{s_j}."""
         return np.exp(self.s)
 
     @property
     def q_min(self) -> float:
+        """The first node, e^{s_min}."""
         return math.exp(self.s_min)
 
     @property
     def q_max(self) -> float:
+        """The last node, e^{s_min + (n − 1) h} (≤ e^{s_max})."""
         return math.exp(self.s_min + self.h * (self.n - 1))
 
 
@@ -111,16 +121,17 @@ def get_resolution(resolution) -> Resolution:
     Parameters
     ----------
     resolution : str or Resolution
-        A name or a grid.
+        A name ("coarse", "default", "fine", "finest") or a grid.
 
     Returns
     -------
     Resolution
+        The grid.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``resolution``.
+    particles.validation.InvalidArgumentError
+        Naming ``resolution``, for an unknown name or another type.
     """
     if isinstance(resolution, Resolution):
         return resolution
@@ -142,14 +153,16 @@ def lagrange_weights(offset: float, order: int) -> tuple[int, np.ndarray]:
     Parameters
     ----------
     offset : float
-        The fractional position.
+        Target position in units of the grid step, relative to a node j (may be negative).
     order : int
-        The number of points.
+        Number of stencil points (even).
 
     Returns
     -------
-    tuple
-        (first, w).
+    first : int
+        Offset of the first stencil point relative to j.
+    w : numpy.ndarray
+        The ``order`` Lagrange weights.
     """
     base = math.floor(offset)
     frac = offset - base
@@ -184,22 +197,22 @@ def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension:
     Parameters
     ----------
     grid : Resolution
-        The grid.
+        The q grid.
     tau_max : float
-        The last τ.
+        Last τ of the solve (collisions per particle).
     n_times : int
-        Output times.
-    dimension : int
-        d.
-    angular_rule : str
-        "fast" or "accurate".
-    window : float
-        The window length in τ.
+        Number of output times.
+    dimension : int, default 1
+        Space dimension (d ≥ 2 costs more per node).
+    angular_rule : str, default "fast"
+        The η quadrature rule in d ≥ 2 ("accurate" costs ``ACCURATE_RULE_FACTOR`` times more).
+    window : float, default 2.0
+        Length in τ of one integration window.
 
     Returns
     -------
     dict
-        ``windows``, ``seconds`` and ``memory``.
+        ``{"windows": float, "seconds": float, "memory": float}`` (memory in bytes).
     """
     windows = float(tau_max) / float(window)
     per = SECONDS_PER_NODE_WINDOW.get(int(dimension), SECONDS_PER_NODE_WINDOW[3])
@@ -210,15 +223,17 @@ def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension:
 
 
 def format_seconds(seconds: float) -> str:
-    """``"40 s"``, ``"12 min"``, ``"3.5 h"``, ``"12 days"``.
+    """A duration in words: ``"40 s"``, ``"12 min"``, ``"3.5 h"``, ``"12 days"``.
 
     Parameters
     ----------
     seconds : float
+        The duration; a non-finite value is written as ``str(seconds)``.
 
     Returns
     -------
     str
+        Seconds below 2 min, minutes below 2 h, hours below 2 days, else days.
     """
     if not math.isfinite(seconds):
         return str(seconds)
@@ -240,21 +255,33 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
 
     Parameters
     ----------
-    grid, tau_max, n_times, window, dimension, angular_rule
-        As for :func:`estimate_solve`.
-    force : bool
-        Allow a solve estimated above :data:`MAX_SOLVE_SECONDS`.
-    name : str
-        The time's name, for messages.
+    grid : Resolution
+        The q grid.
+    tau_max : float
+        Last τ of the solve.
+    n_times : int
+        Number of output times.
+    window : float, default 2.0
+        Length in τ of one integration window.
+    force : bool, default False
+        Run a long solve anyway (the memory check still applies).
+    name : str, default "tau"
+        Argument name that the error reports (the caller's option).
+    dimension : int, default 1
+        Space dimension.
+    angular_rule : str, default "fast"
+        The η quadrature rule in d ≥ 2.
 
     Returns
     -------
     dict
+        The estimate of :func:`estimate_solve`.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` when the solve cannot fit in memory or is too long without ``force``.
+    particles.validation.InvalidArgumentError
+        Naming ``name``, if the estimated memory exceeds the memory available, or the estimated
+        time exceeds ``MAX_SOLVE_SECONDS`` and ``force`` is False.
     """
     from particles.budget import available_memory, format_bytes
 

@@ -72,24 +72,32 @@ class LinearRates:
     ``gamma``: γ(s) for s in :data:`GAMMA_EXPONENTS`; ``s_star``, ``gamma_star``: the maximiser and
     maximum of γ on (2, 3); ``predicted_slowest`` = γ* + g''(s*) π² / (2 ln²(1/q_min)), the
     finite-domain correction of the slowest rate (a Dirichlet problem of log-length ln(1/q_min)
-    around the double root s* of g(s) = −γ*).
+    around the double root s* of g(s) = −γ*).  Rates are per unit τ (collisions per particle).
 
     Attributes
     ----------
-    restitution, sigma, q_min, q_max : float
-        The problem (as for :func:`linear_decay_rates`).
+    restitution : float
+        r ∈ [0, 1).
+    sigma : float
+        Weight exponent σ ∈ (2, 3) of u = q^σ w(ln q).
+    q_min, q_max : float
+        The domain [q_min, q_max] of rescaled wave numbers.
     n : int
-        The Chebyshev degree.
+        Chebyshev degree in y = ln q.
     eigenvalues : numpy.ndarray
-        Above.
+        The 2·count + 4 rightmost eigenvalues μ (complex), by decreasing Re μ.
     rates : tuple of float
-        Above.
-    gamma : dict
-        Above.
-    s_star, gamma_star, predicted_slowest : float
-        Above.
+        The ``count`` smallest distinct decay rates −Re μ.
+    gamma : dict of float to float
+        γ(s) for s in ``GAMMA_EXPONENTS``.
+    s_star : float
+        The maximiser s* of γ on (2, 3).
+    gamma_star : float
+        γ* = γ(s*).
+    predicted_slowest : float
+        γ* + g''(s*) π² / (2 ln²(1/q_min)).
     seconds : float
-        Wall time.
+        Wall-clock time of the computation.
     """
 
     restitution: float
@@ -130,17 +138,26 @@ def weighted_operator(
     Parameters
     ----------
     restitution : float
-        r.
+        r ∈ [0, 1).
     sigma : float
-        σ.
+        Weight exponent σ of u = q^σ w(ln q).
     q_min, q_max : float
-        The domain.
+        The domain of q (0 < q_min < q_max; not checked here).
     n : int
-        The degree.
+        Chebyshev degree in y (n + 1 nodes before the inflow node is removed).
 
     Returns
     -------
-    y, A : numpy.ndarray
+    y : numpy.ndarray
+        Shape (n,): the nodes y_0..y_{n−1}.
+    A : numpy.ndarray
+        Shape (n, n): the matrix of L_σ on them.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``restitution`` is not in [0, 1) (from
+        :func:`maxwell_kinetics.stationary.check_inelastic`).
     """
     model = check_inelastic(restitution)
     p, lam = model.p, model.lam
@@ -169,15 +186,24 @@ def linearised_operator(restitution: float, n: int = 64, q_max: float = 40.0):
     Parameters
     ----------
     restitution : float
-        r.
-    n : int
-        The degree.
-    q_max : float
-        Q.
+        r ∈ [0, 1).
+    n : int, default 64
+        Chebyshev degree (≥ 8).
+    q_max : float, default 40.0
+        End Q of the interval [0, Q] (> 0).
 
     Returns
     -------
-    q, L : numpy.ndarray
+    q : numpy.ndarray
+        Shape (n + 1,): Chebyshev–Lobatto nodes on [0, Q].
+    L : numpy.ndarray
+        Shape (n + 1, n + 1): the collocation matrix of L (no boundary conditions imposed).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``restitution`` is not in [0, 1), ``n`` is not a count ≥ 8, or ``q_max`` is not
+        positive.
     """
     model = check_inelastic(restitution)
     q, D, Bp, Bm = collocation_operators(model, check_count(n, "n", 8),
@@ -210,27 +236,36 @@ def linear_decay_rates(
     (ℓ = ln(1/q_min)) and round-off then moves the computed eigenvalues (measured: σ = 2.75,
     ln q_min = −80 gives wrong rates, below γ*, that change with n).
 
+    γ(s) is the Bobylev–Cercignani–Toscani contraction rate of the d_s metric (Bobylev,
+    Cercignani & Toscani, J. Stat. Phys. 2003); eigenvalues by :func:`scipy.linalg.eigvals`.
+
     Parameters
     ----------
     restitution : float
         r ∈ [0, 1).
     sigma : float, optional
-        The weight exponent σ ∈ (2, 3) (default s*).
-    q_min, q_max : float
-        The truncated domain.
-    n : int
-        The Chebyshev degree.
-    count : int
-        Rates returned.
+        Weight exponent in (2, 3); None for s*.
+    q_min : float, default e^{−80}
+        Lower end of the domain, 0 < q_min < min(1, q_max).
+    q_max : float, default 40.0
+        Upper (inflow) end of the domain (> 0).
+    n : int, default 160
+        Chebyshev degree in y = ln q (≥ 16).
+    count : int, default 3
+        Number of distinct slowest rates to report (≥ 1).
 
     Returns
     -------
     LinearRates
+        The rightmost eigenvalues, the slowest rates and the reference values γ(s), s*, γ* and
+        the predicted slowest rate.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``sigma`` or ``q_min``.
+    particles.validation.InvalidArgumentError
+        Naming ``sigma`` if it is not in (2, 3), ``q_min`` if it is not in (0, min(1, q_max)),
+        and for a restitution not in [0, 1) or a non-positive ``q_max``, ``n`` or ``count``
+        out of range.
     """
     t0 = time.perf_counter()
     model = check_inelastic(restitution)

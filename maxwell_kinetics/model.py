@@ -24,18 +24,22 @@ ANGULAR_MODELS = {"uniform": 0.5, "hard": 1.0}
 
 @dataclass(frozen=True)
 class AngularLaw:
-    """The law of η = (k̂·n)², k̂ the wave vector's direction and n the collision direction:
-    Beta(a, b) with b = (d − 1)/2 in d = 2, 3, and the point mass η ≡ 1 in d = 1 (stored as
-    a = 1, b = 0).  ``a, b = law`` unpacks the two parameters.
+    """The law of η = (k̂·n)² of the d-dimensional isotropic Maxwell model.
+
+    k̂ is the wave vector's direction and n the collision direction.  η has the law
+    Beta(a, b) with b = (d − 1)/2 in d = 2, 3, and is the point mass η ≡ 1 in d = 1 (stored as
+    a = 1, b = 0).  ``a, b = law`` unpacks the two parameters.  Build it with
+    :func:`angular_law`, which checks the arguments (Ernst & Brito, J. Stat. Phys. 2002;
+    Krapivsky & Ben-Naim, J. Phys. A 2002).
 
     Attributes
     ----------
     dimension : int
-        d.
+        Space dimension d ∈ {1, 2, 3}.
     angular : str
-        "uniform" or "hard".
+        Name of the angular model, a key of ``ANGULAR_MODELS`` ("uniform" or "hard").
     a, b : float
-        The Beta parameters.
+        The Beta parameters of η (a = 1, b = 0 in d = 1).
     """
 
     dimension: int
@@ -58,9 +62,11 @@ class AngularLaw:
         yield self.b
 
     def quadrature(self, nodes: int) -> tuple[np.ndarray, np.ndarray]:
-        """Gauss–Jacobi nodes η_i and weights ω_i (Σ ω_i = 1) of ``nodes`` points for this
-        Beta law: exact for polynomials in η of degree 2 nodes − 1, in particular ⟨η⟩.
-        d = 1: the single node η = 1 whatever ``nodes``.
+        """Gauss–Jacobi quadrature of this Beta law.
+
+        Returns nodes η_i and weights ω_i (Σ ω_i = 1) of ``nodes`` points: exact for
+        polynomials in η of degree 2 nodes − 1, in particular ⟨η⟩.  d = 1: the single node
+        η = 1 whatever ``nodes``.
 
         The gain integrand G(q √(1 − (1 − q₁²)η)) G(p q √η) varies with η on a scale ~1/q²,
         so few nodes suffice at small q; the solver picks the count per range of q
@@ -69,11 +75,13 @@ class AngularLaw:
         Parameters
         ----------
         nodes : int
-            Points.
+            Number of quadrature points (ignored in d = 1).
 
         Returns
         -------
         eta, weights : numpy.ndarray
+            Nodes in (0, 1) and normalised weights, both of shape (nodes,) (shape (1,) in
+            d = 1).  Computed with :func:`scipy.special.roots_jacobi`.
         """
         if self.degenerate:
             return np.ones(1), np.ones(1)
@@ -85,26 +93,28 @@ class AngularLaw:
 
 
 def angular_law(dimension: int, angular: str = "uniform") -> AngularLaw:
-    """The checked :class:`AngularLaw` of η for ``dimension`` d ∈ {1, 2, 3} and ``angular``:
+    """The checked :class:`AngularLaw` of η = (k̂·n)² for a dimension and an angular model.
 
     "uniform": n uniform on the sphere, η ~ Beta(1/2, (d − 1)/2); "hard": the collision rate
-    weighted by |k̂·n|, η ~ Beta(1, (d − 1)/2); d = 1: η ≡ 1.
+    weighted by |k̂·n| (uniform impact parameter), η ~ Beta(1, (d − 1)/2); d = 1: η ≡ 1
+    (Ernst & Brito, J. Stat. Phys. 2002).
 
     Parameters
     ----------
     dimension : int
-        d ∈ {1, 2, 3}.
-    angular : str
-        "uniform" or "hard".
+        Space dimension d ∈ {1, 2, 3} (a bool is refused).
+    angular : str, default "uniform"
+        Angular model, a key of ``ANGULAR_MODELS``.
 
     Returns
     -------
     AngularLaw
+        The law of η (a = 1, b = 0 in d = 1).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``dimension`` or ``angular``.
+    particles.validation.InvalidArgumentError
+        If ``dimension`` is not 1, 2 or 3, or ``angular`` is not a known model.
     """
     from particles.validation import InvalidArgumentError, check_choice
 
@@ -119,12 +129,25 @@ def angular_law(dimension: int, angular: str = "uniform") -> AngularLaw:
 
 @dataclass(frozen=True)
 class MaxwellModel:
-    """Constants of the model with restitution coefficient ``restitution`` = r ∈ [0, 1].
+    """Constants of the 1D pseudo-Maxwell (Ulam) model with restitution coefficient r.
+
+    A colliding pair exchanges the fraction p = (1 + r)/2 of its velocity difference; every
+    particle collides at rate 1 with a random partner, so τ counts collisions per particle
+    (not physical time t).  The derived constants are p, β = 1/p and λ = p(1 − p) =
+    (1 − r²)/4, and the rates of the moment hierarchy and of the Fourier-space linearisation
+    near q = 0 (Ben-Naim & Krapivsky, Phys. Rev. E 2000; Bobylev, Cercignani & Toscani,
+    J. Stat. Phys. 2003).
 
     Attributes
     ----------
     restitution : float
-        r ∈ [0, 1]; p = (1 + r)/2, q = 1 − p and λ = pq follow.
+        Restitution coefficient r ∈ [0, 1], checked at construction (r = 1 elastic).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``restitution`` is not a number in [0, 1] (from
+        :func:`particles.validation.check_restitution`).
     """
 
     restitution: float
@@ -153,41 +176,48 @@ class MaxwellModel:
         Parameters
         ----------
         n : float
-            The moment's order.
+            Moment order (need not be an integer).
 
         Returns
         -------
         float
+            a_n, per unit τ: M_n ∝ e^{−a_n τ} at late times.
         """
         return 1.0 - self.p**n - (1.0 - self.p) ** n
 
     def growth_rate(self, s: float) -> float:
         """g(s) = λs − 1 + p^s + (1 − p)^s: growth rate of a perturbation ∝ q^s of G near q = 0.
 
+        G is the rescaled characteristic function G(q, τ) = P̂(q / v0(τ), τ); g(2) = g(3) = 0
+        and g < 0 on (2, 3) for r < 1.
+
         Parameters
         ----------
         s : float
-            The power.
+            Power of the perturbation.
 
         Returns
         -------
         float
+            g(s), per unit τ.
         """
         return self.lam * s - 1.0 + self.p**s + (1.0 - self.p) ** s
 
     def contraction_rate(self, s: float) -> float:
         """γ(s) = −g(s) = 1 − λs − p^s − (1 − p)^s, positive for s ∈ (2, 3) when r < 1.
 
-        d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂) (Bobylev–Cercignani–Toscani).
+        d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂) (Bobylev–Cercignani–Toscani), with
+        d_s(F, H) = sup_q |F(q) − H(q)| / |q|^s.
 
         Parameters
         ----------
         s : float
-            The metric's exponent.
+            Exponent of the Fourier metric d_s.
 
         Returns
         -------
         float
+            γ(s), per unit τ.
         """
         return -self.growth_rate(s)
 
@@ -199,27 +229,34 @@ class MaxwellModel:
 
         Parameters
         ----------
-        dimension : int
-            d.
-        angular : str
-            "uniform" or "hard".
+        dimension : int, default 1
+            Space dimension d ∈ {1, 2, 3}.
+        angular : str, default "uniform"
+            Angular model, "uniform" or "hard".
 
         Returns
         -------
         float
+            Λ, per unit τ.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``dimension`` or ``angular`` is invalid (from :func:`angular_law`).
         """
         return 2.0 * self.lam * angular_law(dimension, angular).mean
 
     def energy(self, tau: float) -> float:
-        """⟨v²⟩(τ) for unit initial variance and zero mean.
+        """⟨v²⟩(τ) = e^{−2λτ} for unit initial variance and zero mean (1D).
 
         Parameters
         ----------
         tau : float
-            τ.
+            Collisions per particle τ.
 
         Returns
         -------
         float
+            The mean energy ⟨v²⟩ at τ.
         """
         return math.exp(-2.0 * self.lam * tau)

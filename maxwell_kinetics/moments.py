@@ -61,21 +61,22 @@ EXPONENT_SLACK = 0.2
 
 
 def check_orders(orders) -> tuple[int, ...]:
-    """``orders`` as a tuple of even positive integers (InvalidArgumentError naming ``orders``
-    otherwise).
+    """Check moment orders: even positive integers.
 
     Parameters
     ----------
-    orders : sequence of int
+    orders : int or iterable of int
+        One order or several (bools are refused).
 
     Returns
     -------
     tuple of int
+        The orders, in the given sequence.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``orders``.
+    particles.validation.InvalidArgumentError
+        Naming ``orders``, if it is empty or holds anything but even positive integers.
     """
     values = (orders,) if np.isscalar(orders) else tuple(orders)
     ok = len(values) > 0 and all(
@@ -93,13 +94,14 @@ def sphere_cos_moment(dimension: int, n: int) -> float:
     Parameters
     ----------
     dimension : int
-        d.
+        Space dimension d ≥ 1.
     n : int
-        The power.
+        Half the order: the moment of cos^{2n} θ.
 
     Returns
     -------
     float
+        ⟨cos^{2n} θ⟩, which links ⟨v_x^{2n}⟩ = ⟨|v|^{2n}⟩ ⟨cos^{2n} θ⟩ for an isotropic law.
     """
     d = int(dimension)
     return math.prod((2 * k + 1) / (d + 2 * k) for k in range(int(n)))
@@ -145,21 +147,30 @@ class SeriesEstimate:
 
 
 def series_estimate(q, w, n_max: int) -> SeriesEstimate:
-    """C_2 .. C_{n_max} of G from w = Re G − e^{−q²/2} on the geometric grid ``q`` (module
-    docstring).
+    """Taylor coefficients C_2 .. C_{n_max} of G from w = Re G − e^{−q²/2}.
+
+    G(q) = Σ_n C_n q^{2n} near q = 0, with q the rescaled wave number; the windowed least-squares
+    method, the choice of window and the rules for NaN are those of the module docstring.
 
     Parameters
     ----------
-    q : numpy.ndarray
-        The geometric grid.
-    w : numpy.ndarray
-        Re G − e^{−q²/2} there.
+    q : array_like
+        The solver's geometric grid of rescaled wave numbers (increasing, q > 0).
+    w : array_like
+        Re G − e^{−q²/2} on ``q`` (stored without cancellation by the solver).
     n_max : int
-        The highest n.
+        Highest index n of C_n to estimate (n_max ≥ 2).
 
     Returns
     -------
     SeriesEstimate
+        ``values`` and absolute ``errors`` of C_n (n = 2 .. n_max; NaN where not resolved),
+        ``windows`` (q_lo, q_hi per n) and ``reasons`` ("" for a number, else why it is NaN).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``q`` is not a geometric grid (raised while fitting the windows).
     """
     q = np.asarray(q, dtype=float)
     w = np.asarray(w, dtype=float)
@@ -211,29 +222,32 @@ def _residual_exponent(q, w, lo, hi, lower) -> float:
 
 @dataclass(frozen=True)
 class Moments:
-    """Even moments of a solution at its saved τ.
+    """Even moments of a solution at its saved τ, read from G near q = 0.
 
-    ``values[k, j]``: ⟨|v|^n⟩ / v₀^n for n = ``orders[j]`` at ``tau[k]`` (d = 1: ⟨x^n⟩ of the
-    rescaled x = v/v₀; v₀² = the per-component variance, so ⟨x²⟩ = 1 and in d dimensions
-    ⟨|v|²⟩/v₀² = d); ``component[k, j]``: ⟨v_x^n⟩/v₀^n of one Cartesian component (equal to
-    ``values`` in d = 1); ``errors``: absolute error estimates of ``values`` (the window's, see
-    the module docstring); ``windows[k, j]``: the q window read; ``reasons[k][j]``: "" for a
-    number, else why the value is NaN.
+    Rescaled: v₀² is the per-component variance, so ⟨x²⟩ = 1 for x = v/v₀ and in d dimensions
+    ⟨|v|²⟩/v₀² = d.  Produced by :meth:`maxwell_kinetics.solver.Solution.moments`.
 
     Attributes
     ----------
     orders : tuple of int
-        The orders n.
+        The even orders n.
     tau : numpy.ndarray
-        The times.
+        Collisions per particle τ of the rows, shape (T,).
     dimension : int
-        d.
-    values, component, errors : numpy.ndarray
-        Above.
+        Space dimension d.
+    values : numpy.ndarray
+        Shape (T, len(orders)): ``values[k, j]`` = ⟨|v|^n⟩ / v₀^n for n = ``orders[j]`` at
+        ``tau[k]`` (d = 1: ⟨x^n⟩); NaN where not resolved.
+    component : numpy.ndarray
+        Same shape: ⟨v_x^n⟩/v₀^n of one Cartesian component (equal to ``values`` in d = 1).
+    errors : numpy.ndarray
+        Same shape: absolute error estimates of ``values`` (from the choice of window only; see
+        the module docstring).
     windows : numpy.ndarray
-        The q window read per value.
+        Shape (T, len(orders), 2): the q window read for each value (NaN for order 2, which
+        is exact).
     reasons : tuple of tuple of str
-        Why a value is NaN (empty when it is not).
+        ``reasons[k][j]``: "" for a number, else why the value is NaN.
     """
 
     orders: tuple[int, ...]
@@ -251,11 +265,12 @@ class Moments:
         Returns
         -------
         numpy.ndarray
+            Shape (T,): ``values`` of order 4 divided by d² (NaN where that moment is).
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``orders`` when they do not include 4.
+        particles.validation.InvalidArgumentError
+            Naming ``orders``, if 4 is not among them.
         """
         if 4 not in self.orders:
             raise InvalidArgumentError("orders", self.orders, "orders that include 4")
@@ -263,11 +278,13 @@ class Moments:
         return four / float(self.dimension) ** 2
 
     def to_dict(self) -> dict:
-        """JSON-able: orders, tau, values, component, errors, windows (NaN as None), reasons.
+        """A JSON-able dict of the fields (NaN written as None).
 
         Returns
         -------
         dict
+            Keys ``orders``, ``tau``, ``dimension``, ``values``, ``component``, ``errors``,
+            ``windows`` and ``reasons``, as nested lists.
         """
         def clean(a):
             return [None if not np.isfinite(x) else float(x) for x in np.ravel(a)]

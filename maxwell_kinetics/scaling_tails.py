@@ -62,20 +62,29 @@ __all__ = [
 def gain_coefficient(dimension, restitution, n: int, m: int, angular="uniform") -> float:
     """K(n, m) = ⟨(1 − aη)^m (p²η)^{n−m}⟩, a = 1 − (1 − p)², from the exact Beta moments.
 
+    The coefficient of C_m C_{n−m} in the moment hierarchy of the module docstring (Ernst &
+    Brito, J. Stat. Phys. 2002; Krapivsky & Ben-Naim, J. Phys. A 2002).
+
     Parameters
     ----------
     dimension : int
-        d.
+        Space dimension d ∈ {1, 2, 3}.
     restitution : float
-        r.
+        r ∈ [0, 1]; p = (1 + r)/2.
     n, m : int
-        The indices of K(n, m).
-    angular : str
-        "uniform" or "hard".
+        Indices, 0 ≤ m ≤ n.
+    angular : {"uniform", "hard"}
+        Law of the collision direction.
 
     Returns
     -------
     float
+        K(n, m).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        For a dimension, restitution or angular law out of range.
     """
     law = angular_law(dimension, angular)
     p = transfer_fraction(restitution)
@@ -94,26 +103,29 @@ def rescaled_coefficients(dimension, restitution, tau, n_max: int = 3, angular="
     Parameters
     ----------
     dimension : int
-        d.
+        Space dimension d ∈ {1, 2, 3}.
     restitution : float
-        r.
-    tau : array_like
-        Times τ.
-    n_max : int
-        The highest n, ≥ 1.
-    angular : str
-        "uniform" or "hard".
+        r ∈ [0, 1]; p = (1 + r)/2.
+    tau : float or array_like
+        Collisions per particle τ at which to report (checked times, increasing).
+    n_max : int, default 3
+        Highest index n (≥ 1).
+    angular : {"uniform", "hard"}
+        Law of the collision direction.
     initial : array_like, optional
-        C_n(0), n = 0 … n_max, starting 1, −1/2.
+        C_0 .. C_{n_max} at τ = 0, starting 1, −1/2 (unit variance per component).
 
     Returns
     -------
     numpy.ndarray
+        Shape (len(tau), n_max + 1): C_n(τ) of G(q, τ) = Σ_n C_n q^{2n}.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``n_max`` or ``initial``.
+    particles.validation.InvalidArgumentError
+        Naming ``tau`` for invalid times, ``n_max`` if it is not an integer ≥ 1, ``initial``
+        if it has the wrong length or does not start 1, −1/2, and for a dimension,
+        restitution or angular law out of range.
     """
     taus = check_times(tau, "tau")
     if isinstance(n_max, bool) or not isinstance(n_max, int) or n_max < 1:
@@ -177,26 +189,27 @@ def series_coefficients(solution: Solution, tau_index: int = -1, n_max: int = 3,
 
     Parameters
     ----------
-    solution : maxwell_kinetics.Solution
-        A solve.
-    tau_index : int
-        Which saved time.
-    n_max : int
-        The highest n.
+    solution : maxwell_kinetics.solver.Solution
+        A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
+    tau_index : int, default -1
+        Index of the saved τ (as for :meth:`maxwell_kinetics.solver.Solution.time_index`).
+    n_max : int, default 3
+        Highest index n.
     window : tuple of float, optional
-        (q_lo, q_hi), or None for the automatic window.
-    tolerance : float
-        The largest disagreement of C₂ between the two halves of an explicit window.
+        (q_lo, q_hi) for an explicit fit; None chooses a window per coefficient.
+    tolerance : float, default 1e-6
+        Largest relative drift of C_2 between the window's halves (explicit window only).
 
     Returns
     -------
     numpy.ndarray
-        C_2 … C_{n_max}.
+        Shape (n_max − 1,): C_2 .. C_{n_max} (NaN where not resolved, automatic window).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``window`` when an explicit window is biased (its halves disagree).
+    particles.validation.InvalidArgumentError
+        Naming ``window`` if it is not a pair 0 < q_lo < q_hi < inf, holds fewer than
+        2 (n_max + 2) grid points, or G is not analytic enough on it.
     """
     if window is None:
         from .moments import series_estimate
@@ -232,18 +245,21 @@ def moment_decay_rates(solution: Solution, n: int, window=None,
 
     Parameters
     ----------
-    solution : maxwell_kinetics.Solution
-        A solve.
+    solution : maxwell_kinetics.solver.Solution
+        A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
     n : int
-        The moment ⟨|v|^{2n}⟩.
+        Order: the moment ⟨|v|^{2n}⟩ (n ≥ 2).
     window : tuple of float, optional
         As for :func:`series_coefficients`.
     tau_indices : sequence of int, optional
-        The saved times used (default all).
+        Saved times to use (default all).
 
     Returns
     -------
-    tau_mid, rates : numpy.ndarray
+    tau : numpy.ndarray
+        Midpoints between neighbouring saved τ.
+    rates : numpy.ndarray
+        The local decay rates there (per unit τ).
     """
     idx = list(range(len(solution.tau))) if tau_indices is None else list(tau_indices)
     c = np.array([series_coefficients(solution, k, max(n, 2), window)[n - 2] for k in idx])
@@ -266,24 +282,27 @@ def tail_exponent_from_solution(solution: Solution, window=(10.0, 30.0), tau_ind
 
     Parameters
     ----------
-    solution : maxwell_kinetics.Solution
-        A solve.
-    window : tuple of float
-        The x window.
-    tau_index : int
-        Which saved time.
-    points : int
-        Log-spaced points in the window.
+    solution : maxwell_kinetics.solver.Solution
+        A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
+    window : tuple of float, default (10.0, 30.0)
+        (x_lo, x_hi) in the rescaled velocity x = v_x / v₀.
+    tau_index : int, default -1
+        Index of the saved τ.
+    points : int, default 41
+        Number of log-spaced x.
 
     Returns
     -------
-    tuple of float
-        (α, error estimate).
+    alpha : float
+        The fitted exponent α.
+    error : float
+        The half-window drift of the slope.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``window`` when the density is not positive there.
+    particles.validation.InvalidArgumentError
+        Naming ``window`` if it is not a pair 0 < lo < hi < inf or the density is not positive
+        on it.
     """
     lo, hi = _window(window, "window")
     x = np.geomspace(lo, hi, int(points))
@@ -337,21 +356,30 @@ def tail_root_from_solution(solution: Solution, window=(1e-4, 0.1), tau_index: i
 
     Parameters
     ----------
-    solution : maxwell_kinetics.Solution
-        A solve.
-    window : tuple of float
-        The q window.
-    tau_index : int
-        Which saved time.
-    analytic_terms : int
-        Terms b₀, b₁, … fitted with the power.
-    beta_range : tuple of float
-        The range searched for β.
+    solution : maxwell_kinetics.solver.Solution
+        A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
+        In d ≥ 2 it must be solved with ``angular_rule="accurate"``.
+    window : tuple of float, default (1e-4, 0.1)
+        (q_lo, q_hi) of the fit.
+    tau_index : int, default -1
+        Index of the saved τ.
+    analytic_terms : int, default 3
+        Number m of analytic powers q^{2j} fitted along with q^β.
+    beta_range : tuple of float, default (0.02, 6.0)
+        Range of β searched.
 
     Returns
     -------
-    tuple of float
-        (s*, error estimate).
+    s : float
+        The measured tail root.
+    error : float
+        The half-window change of s.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``solution`` for a d ≥ 2 solve without the accurate η rule, or ``window`` if it
+        is not a valid pair or holds too few grid points.
     """
     _require_accurate_rule(solution)
     lo, hi = _window(window, "window")
@@ -380,15 +408,21 @@ def resonant_log_amplitude(dimension, restitution, angular="uniform") -> float:
     Parameters
     ----------
     dimension : int
-        d.
+        Space dimension d ∈ {1, 2, 3}.
     restitution : float
-        r.
-    angular : str
-        "uniform" or "hard".
+        r ∈ [0, 1]; p = (1 + r)/2.
+    angular : {"uniform", "hard"}
+        Law of the collision direction.
 
     Returns
     -------
     float
+        A (meaningful only where s* = 2 exactly).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        For a dimension, restitution or angular law out of range.
     """
     h = 1e-4
     lam1 = float(growth_rate(dimension, restitution, 1.0, angular))
@@ -407,18 +441,26 @@ def resonant_log_fit(solution: Solution, window=(1e-4, 0.1), tau_index: int = -1
 
     Parameters
     ----------
-    solution : maxwell_kinetics.Solution
-        A solve.
-    window : tuple of float
-        The q window.
-    tau_index : int
-        Which saved time.
-    analytic_terms : int
-        Terms fitted with the log or the power.
+    solution : maxwell_kinetics.solver.Solution
+        A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
+        In d ≥ 2 it must be solved with ``angular_rule="accurate"``.
+    window : tuple of float, default (1e-4, 0.1)
+        (q_lo, q_hi) of the fit.
+    tau_index : int, default -1
+        Index of the saved τ.
+    analytic_terms : int, default 3
+        Number of analytic powers q^{2j} in both models.
 
     Returns
     -------
     tuple of float
+        (A, rms of the log model, rms of the best power model).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``solution`` for a d ≥ 2 solve without the accurate η rule, or ``window`` if it
+        is not a valid pair or holds too few grid points.
     """
     _require_accurate_rule(solution)
     qs, w = _window_points(solution, window, tau_index, analytic_terms + 4,

@@ -37,13 +37,18 @@ w(q_0) (q/q_0)³ from the first node q_0, its leading small-q behaviour (the |q|
 up there; for laws with a finite fourth moment w starts as O(q⁴), and the continuation errs by
 O(q_min⁴), far below round-off).
 Setting w = 0 there instead, a variance error of order q_min/3 at the cut, looks negligible
-but is not: the gain terms sample ever smaller q, and over ~100–300 τ the cut pinned the late
-state at f̂((1 + ε) q) with ε ≈ 0.21 q_min (8e-12; the whole ~4e-12 "floor" of the finest
-grids; benchmarks/README.md).  Above q_max the free-streaming value e^{−τ} φ(q e^{λτ}) of the
+but is not: the gain terms sample ever smaller q, and over ~100–300 τ such a cut pins the late
+state at f̂((1 + ε) q) with ε ≈ 0.21 q_min, which would be the whole error floor of the finest
+grids (benchmarks/README.md).  Above q_max the free-streaming value e^{−τ} φ(q e^{λτ}) of the
 initial law φ enters (zero for user laws that JAX cannot trace, and for τ > 40 where it is
 below 4e-18).
 
 For r = 1 (elastic, λ = 0) collisions only exchange velocities: G(q, τ) = φ(q) for all τ.
+
+References: the model and its moment hierarchy, Ben-Naim & Krapivsky (Phys. Rev. E 2000); the
+d-dimensional isotropic models, Ernst & Brito (J. Stat. Phys. 2002) and Krapivsky & Ben-Naim
+(J. Phys. A 2002); the contraction toward f̂ in the metrics d_s, Bobylev, Cercignani & Toscani
+(J. Stat. Phys. 2003).  The ODE solver is diffrax's ``Dopri8`` with a ``PIDController``.
 
 Compilation and precision: the scheme's jitted functions (:mod:`maxwell_kinetics._kinetic_scheme`)
 are module-level and take r (with p, λ, the window and the gain stencils) and the output times as
@@ -86,19 +91,19 @@ class SolverOptions:
 
     Attributes
     ----------
-    rtol, atol : float
+    rtol, atol : float, default 1e-11 and 1e-13
         Relative and absolute tolerances of diffrax's PID step-size controller (RMS norm over
         the grid), > 0.
-    window : float
-        Target length in τ of one semi-Lagrangian window, > 0 (rounded so that the grid moves
-        by a whole number of cells).
-    max_steps_per_window : int
-        diffrax's step budget within one window.
+    window : float, default 2.0
+        Target length in τ of one semi-Lagrangian window (rounded so that the grid moves by a
+        whole number of cells), > 0.
+    max_steps_per_window : int, default 100000
+        Most ODE steps diffrax may take in one window.
 
     Raises
     ------
-    InvalidArgumentError
-        When ``rtol``, ``atol`` or ``window`` is not a positive number.
+    particles.validation.InvalidArgumentError
+        If ``rtol``, ``atol`` or ``window`` is not a positive number.
     """
 
     rtol: float = 1e-11
@@ -265,8 +270,9 @@ def solve(
 
         ∂τ Φ(k) + Φ(k) = ∫₀¹ w(η) Φ(k √(1 − (1 − q₁²) η)) Φ(p k √η) dη,
 
-    and ⟨|v|²⟩ ∝ e^{−Λτ}, Λ = 2 p q₁ ⟨η⟩ (:meth:`MaxwellModel.energy_rate`; d = 1: η ≡ 1,
-    Λ = 2λ).  Rescaled by the decaying per-component variance, G(q, τ) = Φ(q / v₀(τ), τ)
+    and ⟨|v|²⟩ ∝ e^{−Λτ}, Λ = 2 p q₁ ⟨η⟩
+    (:meth:`~maxwell_kinetics.model.MaxwellModel.energy_rate`; d = 1: η ≡ 1, Λ = 2λ).
+    Rescaled by the decaying per-component variance, G(q, τ) = Φ(q / v₀(τ), τ)
     with v₀² = e^{−Λτ} (unit initial variance per component) solves
 
         ∂τ G = (Λ/2) q ∂q G − G + ∫₀¹ w(η) G(q √(1 − (1 − q₁²)η)) G(p q √η) dη,
@@ -276,12 +282,14 @@ def solve(
     (:func:`maxwell_kinetics._kinetic_scheme.angular_tiers`; each node is one pair of shifted
     stencils on its range of q).  ``angular_rule`` "fast" (the default): 2, 3, 4, 6, 8, 12, 16,
     12 nodes from q = 0, 1e-3, 1e-2, 0.05, 0.15, 0.35, 0.6, 10 (4.76 per grid point; G within
-    1e-8 of 32 nodes at every q).  "accurate": 2 nodes below q = 1e-6, 16 up to q = 10 and 12
-    above (10.7 per grid point, about 2.3× the cost): the fewer nodes of "fast" at small q keep G
-    to 1e-8 but move the slowly relaxing |q|^{2s*} term that
-    :mod:`maxwell_kinetics.scaling_tails` fits, so those fits require "accurate".
-    ``angular_nodes`` (16) scales every range of either rule (32 doubles them; at least 2
-    nodes).  Λ/2 is taken as p q₁ Σ ω_i η_i with the quadrature's
+    1.0e-8 of 32 nodes at every q, measured on the coarse grid for d = 2, 3, both angular
+    models, r = 0, 0.5, 0.9).  "accurate": 2 nodes below q = 1e-6, 16 up to q = 10 and 12 above
+    (10.7 per grid point, about 2.3× the cost): the fewer nodes of "fast" at small q keep G to
+    1e-8 but move the slowly relaxing |q|^{2s*} term that :mod:`maxwell_kinetics.scaling_tails`
+    fits (s* by 5e-4), so those fits require "accurate".  ``angular_nodes`` (16) scales every
+    range of either rule (32 doubles them; at least 2 nodes).  Measured (coarse
+    grid, r = 0.5, G at τ = 30 and 300 against 32 nodes at every q): 16 nodes at every q differ
+    by 3.1e-9 (d = 2) and 2.7e-9 (d = 3).  Λ/2 is taken as p q₁ Σ ω_i η_i with the quadrature's
     own ⟨η⟩ (exact in every range) so that G''(0) = −1 is kept exactly.  G(0) = 1, and G is the
     characteristic function of one Cartesian component of v / v₀ along any axis, so
     :meth:`Solution.density` gives the density of one component and
@@ -294,45 +302,45 @@ def solve(
     form for d ≥ 2.  The stored array ``deviation`` = G − f̂ is then only the
     representation :meth:`Solution.evaluate` interpolates, not a distance to anything.
 
-    Method: the equation is integrated on a geometric grid q_j = e^{s_min + j h} in windows of
-    about ``options.window`` in τ; within a window the transport term is exact (the grid moves
-    with the characteristics q e^{λτ}) and the rest is an ODE integrated by diffrax (Kidger
-    2021) with a PID step-size controller, in JAX float64.
-
     Parameters
     ----------
     restitution : float
-        r ∈ [0, 1] (r < 1 when ``dimension`` ≥ 2).
-    initial : str or particles.initial.InitialLaw
-        The initial velocity law: a name of :mod:`particles.initial` or a law (zero mean, unit
-        variance per component).
-    tau : array_like of float
-        Increasing, non-negative times τ (collisions per particle) at which G is saved.
-    resolution : str or maxwell_kinetics.grid.Resolution
-        A name of :data:`maxwell_kinetics.grid.RESOLUTIONS` or a grid.
+        Restitution coefficient r ∈ [0, 1] (p = (1 + r)/2, λ = (1 − r²)/4); r < 1 in d ≥ 2.
+    initial : str or particles.initial.InitialLaw, default "gaussian"
+        A law name of :mod:`particles.initial` or a law; its characteristic function φ(k) =
+        ∫ e^{ikv} P(v) dv, with unit variance, is G(q, 0).
+    tau : array_like, default (1.0, 10.0, 100.0)
+        Increasing, non-negative times τ (collisions per particle, not physical time) at which
+        G is saved.
+    resolution : str or maxwell_kinetics.grid.Resolution, default "default"
+        A name in :data:`maxwell_kinetics.grid.RESOLUTIONS` or a grid.
     options : SolverOptions, optional
-        Tolerances and window length (default :class:`SolverOptions`).
-    progress : bool
-        Show a progress bar over τ (on stderr).
-    dimension : int
-        d ∈ {1, 2, 3}.
-    angular : str
-        The law of the collision direction in d ≥ 2: "uniform" or "hard".
-    angular_nodes : int
-        Scales the number of Gauss–Jacobi nodes of the η integral (d ≥ 2; 16 by default).
-    angular_rule : str
-        "fast" or "accurate" (d ≥ 2; above).
+        Tolerances and window length; None for the defaults.
+    progress : bool, default False
+        Show a tqdm progress bar over τ.
+    dimension : int, default 1
+        Space dimension d ∈ {1, 2, 3}.
+    angular : str, default "uniform"
+        Angular model ("uniform" or "hard"), used in d ≥ 2.
+    angular_nodes : int, default 16
+        Scale of the η quadrature's node counts in d ≥ 2 (≥ 1).
+    angular_rule : str, default "fast"
+        The η rule in d ≥ 2, "fast" or "accurate" (d = 1 has η ≡ 1).
 
     Returns
     -------
     Solution
-        G(q, τ) at the saved τ on the grid, with its evaluation and diagnostics.
+        G and G − f̂ on the grid at the saved τ, with the settings and the wall-clock time.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming the argument: r outside [0, 1], bad τ, an unknown law, resolution, dimension,
-        angular law or rule, r = 1 or an asymmetric law when ``dimension`` ≥ 2.
+    particles.validation.InvalidArgumentError
+        For an invalid restitution, law, time list, resolution, dimension, angular model,
+        ``angular_nodes`` or ``angular_rule``; in d ≥ 2 for r = 1 (naming ``restitution``) or
+        a law that is not symmetric (naming ``initial``); naming ``initial`` for a law without
+        a finite third moment, ``characteristic`` when φ is not finite where it is sampled.
+    FloatingPointError
+        If the integration produces a non-finite G.
     """
     model = MaxwellModel(restitution)
     law = get_law(initial)
@@ -411,39 +419,42 @@ def solve(
 
 @dataclass(frozen=True)
 class Solution:
-    """G(q, τ) on the grid at the saved τ, with evaluation and diagnostics (what :func:`solve`
-    returns).
+    """G(q, τ) on the grid at the saved τ, with evaluation and diagnostics.
 
-    Convention: G(q, τ) = E[e^{iqx}] is the characteristic function of the rescaled velocity
-    x = v/v₀(τ), v₀² the variance of one component (d = 1: e^{−2λτ}); τ counts collisions per
-    particle.
+    ``G[k, j]`` is G(q_j, tau[k]) for the grid q_j = e^{s_min + j h} (q ≥ 0; G(−q) = conj G(q)).
+    ``deviation[k, j]`` is G − f̂ at the same points, computed without the cancellation of
+    G − f̂ ≈ (1 − q²/2) − (1 − q²/2) at small q (it is what :meth:`evaluate` interpolates and,
+    for ``dimension`` 1, what the distances to f̂ use; they refuse ``dimension`` ≥ 2).
+    G(q, τ) = P̂(q / v0(τ), τ) with P̂(k) = ∫ e^{ikv} P(v) dv, q = k·v0(τ); the properties
+    ``q`` (the grid) and ``model`` (the :class:`~maxwell_kinetics.model.MaxwellModel`) are
+    derived.  Returned by :func:`solve`; saved and loaded with :meth:`save` and :meth:`load`.
 
     Attributes
     ----------
     restitution : float
-        r.
+        r ∈ [0, 1].
     initial : str
-        The initial law's name.
+        Name of the initial law.
     resolution : maxwell_kinetics.grid.Resolution
-        The grid q_j = e^{s_min + j h}.
+        The q grid.
     tau : numpy.ndarray
-        The saved times τ.
+        Saved collisions per particle τ, shape (T,).
     G : numpy.ndarray
-        ``G[k, j]`` = G(q_j, tau[k]), complex (q ≥ 0; G(−q) = conj G(q)).
+        Complex, shape (T, n): G on the grid.
     deviation : numpy.ndarray
-        G − f̂ at the same points, computed without the cancellation of
-        (1 − q²/2) − (1 − q²/2) at small q: what :meth:`evaluate` interpolates and, for
-        ``dimension`` 1, what the distances to f̂ use (they refuse ``dimension`` ≥ 2).
-    skewness : float
-        The initial law's third moment (it sets the small-q reference).
+        Complex, shape (T, n): G − f̂ on the grid.
+    skewness : float, default 0.0
+        m₃ = ⟨x³⟩ of the initial law (conserved).
     options : SolverOptions
-        The integration settings used.
-    seconds : float
-        Wall time of the solve.
-    dimension : int
-        d.
-    angular, angular_rule : str
-        The angular law and the η rule of :func:`solve` (d = 1: unused).
+        The time-integration settings used.
+    seconds : float, default 0.0
+        Wall-clock time of the solve.
+    dimension : int, default 1
+        Space dimension d.
+    angular : str, default "uniform"
+        Angular model (d ≥ 2).
+    angular_rule : str, default "accurate"
+        The η rule of the solve (d = 1: exact, η ≡ 1).
     """
 
     restitution: float
@@ -461,28 +472,33 @@ class Solution:
 
     @property
     def q(self) -> np.ndarray:
+        """The grid's rescaled wave numbers q_j (``resolution.q``)."""
         return self.resolution.q
 
     @property
     def model(self) -> MaxwellModel:
+        """The :class:`~maxwell_kinetics.model.MaxwellModel` of ``restitution``."""
         return MaxwellModel(self.restitution)
 
     def time_index(self, tau_index: int) -> int:
-        """The non-negative index of a saved time.
+        """The non-negative index of saved time ``tau_index`` (negative counts from the end, as
+        in Python); :class:`~particles.validation.InvalidArgumentError` naming ``tau_index``
+        when there is no such saved time.
 
         Parameters
         ----------
         tau_index : int
-            An index into ``tau``; negative counts from the end, as in Python.
+            Index into the saved times, −T ≤ tau_index < T.
 
         Returns
         -------
         int
+            The index in [0, T).
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``tau_index`` when there is no such saved time.
+        particles.validation.InvalidArgumentError
+            Naming ``tau_index``, when it is out of range.
         """
         n = len(self.tau)
         if not -n <= tau_index < n:
@@ -497,10 +513,11 @@ class Solution:
 
         Parameters
         ----------
-        q : array_like of float
-            Wave numbers, |q| ≤ q_max; G(−q) = conj G(q).
-        tau_index : int
-            Which saved time (default the last).
+        q : array_like
+            Real rescaled wave numbers q = k·v0(τ) with |q| ≤ q_max (any shape; negative q
+            gives conj G(|q|)).
+        tau_index : int, default -1
+            Index of the saved τ (negative counts from the end).
 
         Returns
         -------
@@ -509,8 +526,9 @@ class Solution:
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``q`` (a value not finite or beyond the grid's end) or ``tau_index``.
+        particles.validation.InvalidArgumentError
+            Naming ``q`` if a value is not finite or beyond the grid's end, or ``tau_index`` if
+            it is out of range.
         """
         grid = self.resolution
         q = np.asarray(q, dtype=float)
@@ -565,7 +583,12 @@ class Solution:
         Returns
         -------
         float or numpy.ndarray
-            The distance at that time, or one per saved time.
+            The sup at that time, or shape (T,) for all times.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``dimension`` when d ≥ 2, or ``tau_index`` when out of range.
         """
         self._require_one_dimension("sup_error")
         if tau_index is None:
@@ -578,22 +601,27 @@ class Solution:
         Restricting the sup to q ≥ q_low gives a lower bound of the full metric, so it obeys the
         contraction bound too; small q_low makes the value sensitive to round-off (|ΔG| ~ 1e-16
         divided by q_low^s) and to the grid's cut at q_min.  Only for ``dimension`` 1,
-        as :meth:`sup_error`.
+        as :meth:`sup_error`.  The contraction bound d_s(G(τ), f̂) ≤ e^{−γ(s)τ} d_s(G(0), f̂)
+        for s ∈ (2, 3) is that of Bobylev, Cercignani & Toscani (J. Stat. Phys. 2003).
 
         Parameters
         ----------
         s : float
-            The exponent of the Fourier metric d_s (the metrics of Gabetta, Toscani and Wennberg
-            1995, used for inelastic Maxwell models by Bisi, Carrillo and Toscani 2006).
+            Exponent of the metric.
         tau_index : int, optional
             One saved time; None for all.
         q_low : float, optional
-            The lower end of the sup (default the grid's q_min).
+            Lower end of the sup; None for the grid's q_min.
 
         Returns
         -------
         float or numpy.ndarray
-            The distance at that time, or one per saved time.
+            d_s at that time, or shape (T,) for all times.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``dimension`` when d ≥ 2, or ``tau_index`` when out of range.
         """
         self._require_one_dimension("fourier_distance")
         if tau_index is None:
@@ -617,7 +645,8 @@ class Solution:
 
         Units: x = v / v0(τ) with v0² = ⟨v²⟩ = e^{−2λτ} (unit initial variance), so P has unit
         variance; the density of v itself is P(v / v0) / v0.  For ``dimension`` d ≥ 2, x is one
-        Cartesian component and v0² = e^{−Λτ} its variance (:meth:`MaxwellModel.energy_rate`).
+        Cartesian component and v0² = e^{−Λτ} its variance
+        (:meth:`~maxwell_kinetics.model.MaxwellModel.energy_rate`).
 
         Sign and normalisation: the characteristic function is P̂(k) = ∫ e^{ikv} P(v) dv
         (so G(q) = E[e^{iqx}]), and its inverse carries e^{−iqx} and 1/(2π):
@@ -636,15 +665,20 @@ class Solution:
 
         Parameters
         ----------
-        x : array_like of float, optional
-            Rescaled velocities; None for the FFT grid above.
-        tau_index : int
-            Which saved time (default the last).
+        x : array_like, optional
+            Rescaled velocities at which to evaluate P; None for the FFT grid.
+        tau_index : int, default -1
+            Index of the saved τ (negative counts from the end).
 
         Returns
         -------
         x, P : numpy.ndarray
             The velocities and the density there.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``x`` is not finite or ``tau_index`` is out of range.
         """
         from .velocity import invert
 
@@ -669,8 +703,8 @@ class Solution:
         """Density of the rescaled speed |v| / v0 in d = ``dimension``: returns ``(s, P)``.
 
         Units: v0² = e^{−Λτ} is the variance of one component (unit initial variance per
-        component, Λ = :meth:`MaxwellModel.energy_rate`; d = 1: Λ = 2λ), so ⟨s²⟩ = d and
-        ∫_0^∞ P ds = 1; the density of |v| itself is P(|v| / v0) / v0.
+        component, Λ = :meth:`~maxwell_kinetics.model.MaxwellModel.energy_rate`; d = 1:
+        Λ = 2λ), so ⟨s²⟩ = d and ∫_0^∞ P ds = 1; the density of |v| itself is P(|v| / v0) / v0.
 
         G(q) is the radial profile Φ(|k|) of the isotropic characteristic function
         E[e^{ik·v/v0}] (the project's sign and normalisation), and P(s) = S_d s^{d−1} f(s) with
@@ -678,19 +712,26 @@ class Solution:
         where the formulas and the errors are): d = 3, P(s) = (2/π) s ∫_0^{q_max} k sin(ks)
         G(k) dk; d = 2, P(s) = s ∫_0^{q_max} k J₀(ks) G(k) dk; d = 1, P(s) = (2/π) ∫_0^{q_max}
         cos(ks) Re G(k) dk (the density of |x|), G cut at the grid's end q_max as in
-        :meth:`density`.  Gauss–Legendre panels, no aliasing.
+        :meth:`density`.  Gauss–Legendre panels, no aliasing.  ``s``: finite speeds ≥ 0
+        (InvalidArgumentError naming ``s`` otherwise).
 
         Parameters
         ----------
-        s : array_like of float
-            Finite rescaled speeds ≥ 0 (InvalidArgumentError naming ``s`` otherwise).
-        tau_index : int
-            Which saved time (default the last).
+        s : array_like
+            Rescaled speeds |v| / v0 ≥ 0, finite.
+        tau_index : int, default -1
+            Index of the saved τ (negative counts from the end).
 
         Returns
         -------
         s, P : numpy.ndarray
-            The speeds and the density there.
+            The speeds (as a float array) and the speed density there.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``s`` for a negative or non-finite speed, or ``tau_index`` when out of
+            range.
         """
         from .velocity import check_speeds, speed_density_at
 
@@ -707,18 +748,26 @@ class Solution:
         ``errors`` their error estimates.  v₀² is the variance of one component, so the order-2
         values are 1 (d = 1) and d.  The q window is chosen per moment and per τ between the
         non-analytic |q|^{2s*} term and the grid's floor (method, and the cases returned as NaN
-        with a reason: :mod:`maxwell_kinetics.moments`).
+        with a reason: :mod:`maxwell_kinetics.moments`).  ``orders``: even positive integers
+        (InvalidArgumentError naming ``orders`` otherwise); ``tau_index``: one saved time, or
+        None for all.
 
         Parameters
         ----------
-        orders : sequence of int
-            Even positive orders n (InvalidArgumentError naming ``orders`` otherwise).
+        orders : sequence of int, default (2, 4, 6)
+            Even positive orders n.
         tau_index : int, optional
             One saved time; None for all.
 
         Returns
         -------
-        maxwell_kinetics.Moments
+        maxwell_kinetics.moments.Moments
+            One row per selected time.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``orders`` or ``tau_index`` when invalid.
         """
         from .moments import moments_of
 
@@ -730,25 +779,26 @@ class Solution:
 
     def kurtosis(self) -> np.ndarray:
         """⟨|v|⁴⟩/⟨|v|²⟩² at each saved τ (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian; d = 2: 2;
-        d = 3: 5/3), from :meth:`moments`.
+        d = 3: 5/3), from :meth:`moments`; NaN where the fourth moment is not resolved.
 
         Returns
         -------
         numpy.ndarray
-            One value per saved τ; NaN where the fourth moment is not resolved.
+            Shape (T,).
         """
         return self.moments(orders=(2, 4)).kurtosis()
 
     # -- persistence --------------------------------------------------------------------
     def to_record(self) -> tuple[dict, dict[str, np.ndarray]]:
-        """The solution as a record (what :meth:`save` writes, also used when a comparison saves
-        a solution inside it).
+        """(meta, arrays): the JSON-able parameters and the arrays ``tau``, ``G``, ``deviation``
+        (what :meth:`save` writes, also used when a comparison saves a solution inside it).
 
         Returns
         -------
         meta : dict
-            The JSON-able parameters.
-        arrays : dict of numpy.ndarray
+            restitution, initial, resolution and options (as dicts), skewness, seconds,
+            dimension, angular, angular_rule.
+        arrays : dict of str to numpy.ndarray
             ``tau``, ``G`` and ``deviation``.
         """
         meta = {
@@ -766,23 +816,28 @@ class Solution:
 
     @classmethod
     def from_record(cls, meta: dict, arrays: dict, path="solution") -> Solution:
-        """Inverse of :meth:`to_record`.
+        """Inverse of :meth:`to_record`; a malformed record raises
+        :class:`particles.persistence.FileFormatError` naming ``path``.
 
         Parameters
         ----------
-        meta, arrays : dict
-            As :meth:`to_record` returns them.
-        path : str
-            The file the record came from, for the message of a malformed record.
+        meta : dict
+            The parameters, as :meth:`to_record` writes them (``dimension``, ``angular`` and
+            ``angular_rule`` may be missing: older records).
+        arrays : dict
+            ``tau``, ``G`` and ``deviation``.
+        path : str or os.PathLike, default "solution"
+            Name of the source, for the error message.
 
         Returns
         -------
         Solution
+            The rebuilt solution.
 
         Raises
         ------
         particles.persistence.FileFormatError
-            For a malformed record, naming ``path``.
+            If a key is missing or a value has the wrong type.
         """
         try:
             return cls(
@@ -806,35 +861,37 @@ class Solution:
             ) from None
 
     def save(self, path) -> None:
-        """Save to a file through :mod:`particles.persistence` (kind ``"solution"``: arrays
+        """Save to ``path`` through :mod:`particles.persistence` (kind ``"solution"``: arrays
         ``tau``, ``G``, ``deviation`` and the parameters as JSON); reload with
         :meth:`Solution.load`.
 
         Parameters
         ----------
         path : str or os.PathLike
-            The file (written to a temporary file and renamed into place).
+            The file to write.
         """
         meta, arrays = self.to_record()
         persistence.save(path, "solution", _SOLUTION_VERSION, arrays, meta)
 
     @classmethod
     def load(cls, path) -> Solution:
-        """Read a file written by :meth:`save` (also of version 0.1.0).
+        """Read a file written by :meth:`save` (also of version 0.1.0); anything else raises
+        :class:`particles.persistence.FileFormatError` naming ``path`` and the reason.
 
         Parameters
         ----------
         path : str or os.PathLike
-            The file.
+            The file to read.
 
         Returns
         -------
         Solution
+            The saved solution.
 
         Raises
         ------
         particles.persistence.FileFormatError
-            For anything else, naming ``path`` and the reason.
+            If the file is not a saved Solution of a known version.
         """
         loaded = persistence.load(path, "solution", (1, _SOLUTION_VERSION),
                                   expected="a saved Solution")

@@ -61,21 +61,24 @@ __all__ = [
 
 
 def check_inelastic(restitution) -> MaxwellModel:
-    """The model of ``restitution``, refusing r = 1 (every G with G(0) = 1 is stationary there).
+    """The :class:`~maxwell_kinetics.model.MaxwellModel` of an inelastic restitution r < 1.
+
+    At r = 1 the stationary problem is degenerate (module docstring), so it is refused.
 
     Parameters
     ----------
     restitution : float
-        r.
+        r ∈ [0, 1).
 
     Returns
     -------
-    MaxwellModel
+    maxwell_kinetics.model.MaxwellModel
+        The model of r.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``restitution``.
+    particles.validation.InvalidArgumentError
+        Naming ``restitution``, if it is not a finite number in [0, 1) (r = 1 included).
     """
     model = MaxwellModel(restitution)  # checks finite and in [0, 1]
     if model.restitution >= 1.0:
@@ -103,23 +106,29 @@ class FixedPoint:
     Attributes
     ----------
     restitution : float
-        r.
-    q, G : numpy.ndarray
-        Nodes and values.
-    residual, check_residual, max_error : float
-        Above.
+        r ∈ [0, 1).
+    q : numpy.ndarray
+        The N + 1 Chebyshev–Lobatto nodes on [0, Q] (rescaled wave numbers q = k·v0).
+    G : numpy.ndarray
+        G at the nodes.
+    residual : float
+        max_j |R[G](q_j)| over the nodes.
+    check_residual : float
+        max |R[G]| on 4001 equispaced points of [0, Q], through the interpolant.
     iterations : int
-        Gauss–Newton steps.
+        Number of Gauss–Newton steps taken.
+    max_error : float
+        max |G − f̂| over the nodes and the fine grid (NaN in d ≥ 2).
     converged : bool
-        Whether the step fell below the tolerance.
+        Whether the stopping rule was met within ``max_iterations``.
     seconds : float
-        Wall time.
-    dimension : int
-        d.
-    angular : str
-        The angular law.
-    angular_nodes : int
-        The η quadrature's scale.
+        Wall-clock time of the solve.
+    dimension : int, default 1
+        Space dimension d.
+    angular : str, default "uniform"
+        Angular model (d ≥ 2).
+    angular_nodes : int, default 1
+        Number of η quadrature nodes (d ≥ 2).
     """
 
     restitution: float
@@ -137,23 +146,28 @@ class FixedPoint:
 
     @property
     def n(self) -> int:
+        """The polynomial degree N (N + 1 nodes)."""
         return len(self.q) - 1
 
     @property
     def q_max(self) -> float:
+        """Q, the last node."""
         return float(self.q[-1])
 
     def evaluate(self, q) -> np.ndarray:
-        """G at any real q (even; zero beyond Q), by barycentric interpolation.
+        """G at real q, by barycentric interpolation of the node values.
+
+        G is taken even (G(−q) = G(q)) and zero for |q| > Q.
 
         Parameters
         ----------
         q : array_like
-            Wave numbers.
+            Real rescaled wave numbers (any shape).
 
         Returns
         -------
         numpy.ndarray
+            G(q), float, of the shape of ``q``.
         """
         q = np.asarray(q, dtype=float)
         a = np.abs(q).ravel()
@@ -262,15 +276,21 @@ def stationary_residual(G: Callable, restitution: float, q) -> np.ndarray:
     Parameters
     ----------
     G : callable
-        ``G(q, derivative)``.
+        ``G(q, 0)`` the function and ``G(q, 1)`` its derivative, on arrays of q.
     restitution : float
-        r.
+        r ∈ [0, 1]; λ = (1 − r²)/4 and p = (1 + r)/2.
     q : array_like
-        Wave numbers.
+        Rescaled wave numbers.
 
     Returns
     -------
     numpy.ndarray
+        R[G](q), of the shape of ``q``; zero for f̂ at every r (up to round-off).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``restitution`` is not in [0, 1] (from :class:`~maxwell_kinetics.model.MaxwellModel`).
     """
     m = MaxwellModel(restitution)
     q = np.asarray(q, dtype=float)
@@ -278,21 +298,25 @@ def stationary_residual(G: Callable, restitution: float, q) -> np.ndarray:
 
 
 def collocation_operators(model: MaxwellModel, n: int, length: float):
-    """The Chebyshev collocation operators on [0, ``length``]: nodes, differentiation and the
-    interpolation to pq and (1 − p)q.
+    """The 1D collocation's nodes and matrices on [0, Q] (see the module docstring).
 
     Parameters
     ----------
-    model : MaxwellModel
-        The model.
+    model : maxwell_kinetics.model.MaxwellModel
+        The model (its p sets the gain arguments pq and (1 − p)q).
     n : int
-        The degree.
+        Polynomial degree N (N + 1 nodes).
     length : float
-        Q.
+        Q, the end of the interval.
 
     Returns
     -------
-    q, D, Bp, Bm : numpy.ndarray
+    q : numpy.ndarray
+        Shape (N + 1,): Chebyshev–Lobatto nodes.
+    D : numpy.ndarray
+        Shape (N + 1, N + 1): differentiation matrix.
+    Bp, Bm : numpy.ndarray
+        Shape (N + 1, N + 1): barycentric interpolation to p q_j and (1 − p) q_j.
     """
     q = chebyshev_nodes(n, length)
     D = differentiation_matrix(q)
@@ -333,7 +357,8 @@ def fixed_point(
     ``initial`` (a NumPy callable of q; default e^{−q²/2}), stopped when the Newton step is
     below ``tol`` in max norm.  See the module docstring for the discretisation and for why
     three conditions are imposed.  r = 1 is rejected (degenerate).  ``n`` defaults to 64 in
-    d = 1 and 128 in d ≥ 2.
+    d = 1 and 128 in d ≥ 2.  The 1D residual and its Jacobian (``jax.jacfwd``) are compiled
+    with JAX and evaluated in float64 inside ``jax.enable_x64(True)``.
 
     ``dimension`` 2 or 3 solves the stationary form of the isotropic equation of
     :func:`maxwell_kinetics.solver.solve` (``angular`` model; the η integral is the solver's own
@@ -358,25 +383,34 @@ def fixed_point(
     restitution : float
         r ∈ [0, 1).
     n : int, optional
-        The Chebyshev degree.
-    q_max : float
-        Q.
+        Polynomial degree N ≥ 8 (default 64 in d = 1, 128 in d ≥ 2).
+    q_max : float, default 40.0
+        Q, the end of the collocation interval (> 0), where G(Q) = 0 is imposed.
     initial : callable, optional
-        The starting G.
-    tol : float
-        The Newton step's stopping size.
-    max_iterations : int
-        The most Gauss–Newton steps.
-    dimension : int
-        d.
-    angular : str
-        The angular law.
-    angular_nodes : int
-        The η quadrature's scale.
+        Start G₀(q), a NumPy callable of an array of q; None for e^{−q²/2}.
+    tol : float, default 1e-13
+        Stopping threshold on the max norm of the Newton step (> 0).
+    max_iterations : int, default 50
+        Most Gauss–Newton steps (≥ 1).
+    dimension : int, default 1
+        Space dimension d ∈ {1, 2, 3}.
+    angular : str, default "uniform"
+        Angular model ("uniform" or "hard"), used in d ≥ 2.
+    angular_nodes : int, default 16
+        Gauss–Jacobi nodes of the η quadrature in d ≥ 2 (≥ 1).
 
     Returns
     -------
     FixedPoint
+        The solution with its residuals, error against f̂ (d = 1), iteration count and a
+        ``converged`` flag (not reaching ``tol`` is reported there, not raised).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``restitution`` is not in [0, 1), ``dimension`` or ``angular`` is invalid, ``n``,
+        ``max_iterations`` or ``angular_nodes`` is not a count in range, ``q_max`` or ``tol``
+        is not positive, or ``initial`` does not give finite values on the grid.
     """
     t0 = time.perf_counter()
     model = check_inelastic(restitution)

@@ -65,21 +65,22 @@ def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
 
     ``G`` is a callable of an array of q ≥ 0 (it is only evaluated on [0, q_max]).  Finite edges
     only; the panels are narrow enough that each sees at most half an oscillation of the
-    integrand (width ≤ π / (|m| + h)).
+    integrand (width ≤ π / (|m| + h)).  The formula (module docstring) follows from
+    P̂(k) = ∫ e^{ikv} P(v) dv, so the inverse transform carries e^{−iqx}.
 
     Parameters
     ----------
     G : callable
-        G(q) at an array of q ≥ 0 (the rescaled characteristic function E[e^{iqx}]).
+        The rescaled characteristic function, G(q) for an array of q ≥ 0 (real or complex).
     edges : array_like
-        Finite, increasing bin edges in x.
+        Increasing finite bin edges in the rescaled velocity x = v / v0.
     q_max : float
-        The cut-off of the q integral.
+        Cut of the q integral (composite 16-point Gauss–Legendre panels on [0, q_max]).
 
     Returns
     -------
     numpy.ndarray
-        One probability per bin.
+        Shape (len(edges) − 1,): the bin probabilities.
     """
     edges = np.asarray(edges, dtype=float)
     a, b = edges[:-1], edges[1:]
@@ -106,11 +107,12 @@ def f_cdf(x) -> np.ndarray:
     Parameters
     ----------
     x : array_like
-        Rescaled velocities.
+        Rescaled velocities x = v / v0 (±inf allowed).
 
     Returns
     -------
     numpy.ndarray
+        F(x), of the shape of ``x``.
     """
     x = np.asarray(x, dtype=float)
     with np.errstate(over="ignore", invalid="ignore"):
@@ -119,16 +121,17 @@ def f_cdf(x) -> np.ndarray:
 
 
 def f_interval_probabilities(edges) -> np.ndarray:
-    """Exact bin probabilities of f (edges may include ±inf).
+    """Exact bin probabilities of the scaling solution f (edges may include ±inf).
 
     Parameters
     ----------
     edges : array_like
-        Increasing edges (±inf allowed).
+        Increasing bin edges in x = v / v0.
 
     Returns
     -------
     numpy.ndarray
+        Shape (len(edges) − 1,): differences of :func:`f_cdf`.
     """
     return np.diff(f_cdf(edges))
 
@@ -139,14 +142,14 @@ def bin_counts(samples, edges) -> np.ndarray:
     Parameters
     ----------
     samples : array_like
-        (R, M) samples.
+        Shape (R, M), or (M,) for one run.
     edges : array_like
-        Bin edges.
+        Increasing bin edges (as for :func:`numpy.histogram`).
 
     Returns
     -------
     numpy.ndarray
-        (R, len(edges) − 1) counts.
+        Float counts of shape (R, len(edges) − 1); samples outside the edges are not counted.
     """
     rows = np.atleast_2d(np.asarray(samples, dtype=float))
     return np.stack([np.histogram(r, bins=edges)[0] for r in rows]).astype(float)
@@ -158,15 +161,16 @@ def ks_distance(samples, edges, cdf_at_edges) -> float:
     Parameters
     ----------
     samples : array_like
-        One run's samples.
+        The samples of one run (flattened).
     edges : array_like
-        Increasing finite edges.
+        Increasing finite points at which the two CDFs are compared.
     cdf_at_edges : array_like
-        The predicted CDF there.
+        The predicted CDF F at ``edges``.
 
     Returns
     -------
     float
+        The Kolmogorov–Smirnov distance restricted to the edges (F_emp counts samples < edge).
     """
     x = np.sort(np.asarray(samples, dtype=float).ravel())
     emp = np.searchsorted(x, edges, side="left") / x.size
@@ -177,27 +181,36 @@ def ks_distance(samples, edges, cdf_at_edges) -> float:
 class HistogramComparison:
     """Pooled histogram of R runs against predicted bin probabilities.
 
-    ``density``/``error``: pooled density and its standard error from the scatter between runs;
-    ``chi2_dof``: Pearson χ²/dof of the pooled counts (binomial variances); ``dof``;
-    ``overdispersion``: φ, the mean over bins of (between-run variance of the counts) /
-    (binomial variance), with its standard error ``overdispersion_error`` (φ = 1 for
-    independent samples); ``ks``: mean KS distance of the single runs and its standard error,
-    ``ks_scaled`` = √M · ks (≈ 0.87 √φ under the null), ``samples`` = M per run, ``runs`` = R.
+    Returned by :func:`compare_histograms`.  The property ``ks_scaled`` = √M · ks (≈ 0.87 √φ
+    under the null hypothesis) and ``chi2_over_phi`` = χ²/dof / φ (≈ 1 ± √(2/dof)).
 
     Attributes
     ----------
-    centres, density, error, predicted : numpy.ndarray
-        Bin centres, pooled density, its error and the predicted density.
+    centres : numpy.ndarray
+        Bin centres.
+    density : numpy.ndarray
+        Pooled density (counts / (R M width)).
+    error : numpy.ndarray
+        Its standard error, from the scatter between runs (Poisson when R = 1).
+    predicted : numpy.ndarray
+        Predicted density (probability / width).
     chi2_dof : float
-        Pearson χ²/dof.
+        Pearson χ²/dof of the pooled counts (binomial variances).
     dof : int
-        Degrees of freedom.
-    overdispersion, overdispersion_error : float
-        φ and its standard error.
-    ks, ks_error : float
-        Mean KS distance and its standard error.
-    samples, runs : int
-        M and R.
+        Degrees of freedom of χ² (pooled bins − 1).
+    overdispersion : float
+        φ, the mean over bins of (between-run variance of the counts) / (binomial variance);
+        φ = 1 for independent samples, NaN when R < 2.
+    overdispersion_error : float
+        Standard error of φ.
+    ks : float
+        Mean Kolmogorov–Smirnov distance of the single runs.
+    ks_error : float
+        Its standard error.
+    samples : int
+        M, the samples per run.
+    runs : int
+        R, the number of runs.
     """
 
     centres: np.ndarray
@@ -215,6 +228,7 @@ class HistogramComparison:
 
     @property
     def ks_scaled(self) -> float:
+        """√M · ks: ≈ 0.87 √φ under the null hypothesis (``KS_MEAN`` for independent samples)."""
         return self.ks * math.sqrt(self.samples)
 
     @property
@@ -223,11 +237,15 @@ class HistogramComparison:
         return self.chi2_dof / self.overdispersion
 
     def summary(self) -> dict:
-        """The comparison's numbers as JSON-able values.
+        """The comparison's numbers with their expectations under the null hypothesis.
 
         Returns
         -------
         dict
+            JSON-able: ``chi2_dof``, ``dof``, ``chi2_dof_expected`` ([1, √(2/dof)]),
+            ``overdispersion`` ([φ, error]), ``chi2_over_overdispersion``, ``ks`` ([mean,
+            error]), ``ks_sqrt_M``, ``ks_sqrt_M_expected_iid`` (``KS_MEAN``),
+            ``samples_per_run`` and ``runs``.
         """
         return {
             "chi2_dof": self.chi2_dof,
@@ -249,22 +267,27 @@ def compare_histograms(samples, edges, probabilities, mass_below: float, *,
     ``edges`` (finite edges; the mass outside them, 1 − Σ probabilities, is one extra bin).
     ``mass_below`` = F(edges[0]), the predicted mass below the first edge (for the KS distance).
 
+    χ² pools the bins with fewer than ``min_expected`` expected counts into one; φ is measured
+    from the scatter between runs over the bins with at least ``min_expected`` expected counts
+    per run (module docstring).
+
     Parameters
     ----------
     samples : array_like
-        (R, M) samples.
+        Shape (R, M): R independent runs of M samples each (x = v / v0).
     edges : array_like
-        Finite bin edges.
+        Increasing finite bin edges.
     probabilities : array_like
-        Predicted bin probabilities.
+        Predicted probabilities of the len(edges) − 1 bins.
     mass_below : float
-        Predicted mass below the first edge.
-    min_expected : float
-        Bins with fewer expected counts are merged.
+        Predicted F(edges[0]).
+    min_expected : float, default 5.0
+        Smallest expected count of a bin kept on its own.
 
     Returns
     -------
     HistogramComparison
+        The pooled histogram, χ²/dof, φ and the KS distances.
     """
     rows = np.atleast_2d(np.asarray(samples, dtype=float))
     runs, m = rows.shape
@@ -311,19 +334,20 @@ def compare_histograms(samples, edges, probabilities, mass_below: float, *,
 
 def weighted_slope(x, y, sigma=None) -> tuple[float, float, float]:
     """Least-squares line y = a + b x with standard errors ``sigma`` (None: unweighted, error
-    from the residuals).  Returns (slope, slope standard error, intercept).
+    from the residuals).
 
     Parameters
     ----------
     x, y : array_like
         The points.
     sigma : array_like, optional
-        Standard errors of y.
+        Standard errors of ``y`` (weights 1/σ²); None for an unweighted fit.
 
     Returns
     -------
     tuple of float
-        (slope, its standard error, intercept).
+        (slope, slope standard error, intercept).  Unweighted with at most 3 points the
+        standard error is NaN.
     """
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
@@ -347,16 +371,20 @@ def seed_slope(x, ys, degree: int = 1) -> tuple[float, float, np.ndarray]:
     Parameters
     ----------
     x : array_like
-        Abscissae.
+        Abscissae, shared by the runs.
     ys : array_like
-        One row per run.
-    degree : int
-        Polynomial degree.
+        Shape (R, len(x)): one row per run (seed).
+    degree : int, default 1
+        Degree of the polynomial.
 
     Returns
     -------
-    tuple
-        (mean slope, its standard error, per-run slopes).
+    mean : float
+        Mean slope over the runs.
+    error : float
+        Its standard error from the scatter between runs.
+    slopes : numpy.ndarray
+        Shape (R,): the per-run slopes.
     """
     ys = np.atleast_2d(np.asarray(ys, dtype=float))
     slopes = np.array([np.polyfit(x, y, degree)[-2] for y in ys])

@@ -81,14 +81,15 @@ def eta_moment(law: AngularLaw, s):
 
     Parameters
     ----------
-    law : AngularLaw
-        The law of η.
+    law : maxwell_kinetics.model.AngularLaw
+        The law Beta(a, b) of η = (k̂·n)².
     s : array_like
-        Powers ≥ 0.
+        Exponents s ≥ 0.
 
     Returns
     -------
     numpy.ndarray
+        ⟨η^s⟩, of the shape of ``s``.
     """
     s = np.asarray(s, dtype=float)
     if law.degenerate:
@@ -101,16 +102,17 @@ def mixed_moment(law: AngularLaw, c: float, s):
 
     Parameters
     ----------
-    law : AngularLaw
-        The law of η.
+    law : maxwell_kinetics.model.AngularLaw
+        The law Beta(a, b) of η.
     c : float
-        c ∈ [0, 1].
+        Coefficient in [0, 1].
     s : array_like
-        Powers.
+        Exponents s ≥ 0.
 
     Returns
     -------
     numpy.ndarray
+        ⟨(1 − cη)^s⟩, of the shape of ``s`` (scipy's ``hyp2f1``).
     """
     s = np.asarray(s, dtype=float)
     if law.degenerate:
@@ -127,23 +129,34 @@ def _growth(law: AngularLaw, p: float, s):
 
 
 def growth_rate(dimension, restitution, s, angular="uniform"):
-    """λ(s) = 1 − ⟨(1 − (1 − q²)η)^s⟩ − p^{2s}⟨η^s⟩: the decay rate of the |k|^{2s} coefficient
-    of Φ(k) (array-like s ≥ 0).
+    """λ(s) = 1 − ⟨(1 − (1 − q²)η)^s⟩ − p^{2s}⟨η^s⟩: the decay rate of the |k|^{2s}
+    coefficient of the isotropic characteristic function Φ(k).
+
+    p = (1 + r)/2, q = 1 − p; rates are per unit τ (collisions per particle).  λ(1) = Λ is the
+    energy decay rate and λ(n) that of ⟨|v|^{2n}⟩ (Ernst & Brito, J. Stat. Phys. 2002;
+    Krapivsky & Ben-Naim, J. Phys. A 2002).
 
     Parameters
     ----------
     dimension : int
-        d.
+        1, 2 or 3.
     restitution : float
-        r.
+        r ∈ [0, 1].
     s : array_like
-        Powers ≥ 0.
-    angular : str
-        The angular law.
+        Exponents s ≥ 0.
+    angular : {"uniform", "hard"}
+        Law of the collision direction.
 
     Returns
     -------
     numpy.ndarray
+        λ(s), of the shape of ``s``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        For a dimension, restitution or angular law out of range (from
+        :func:`maxwell_kinetics.model.angular_law` and ``check_restitution``).
     """
     law = angular_law(dimension, angular)
     return _growth(law, transfer_fraction(restitution), s)
@@ -210,24 +223,25 @@ def moment_rates(dimension, restitution, orders, angular="uniform") -> np.ndarra
 
 @dataclass(frozen=True)
 class TailExponent:
-    """The tail root ``s`` = s* > 1 of λ(s) = s λ(1) and the exponents it implies:
-    ``exponents["density"]`` = d + 2s* (the d-dimensional density ∝ c^{−d−2s*}),
-    ``exponents["speed"]`` = ``exponents["component"]`` = 1 + 2s*.
+    """The tail root s* > 1 of λ(s) = s λ(1) and the exponents it implies.
+
+    Returned by :func:`tail_exponent`.
 
     Attributes
     ----------
     dimension : int
-        d.
+        Space dimension d.
     restitution : float
-        r.
+        r ∈ [0, 1).
     angular : str
-        The angular law.
+        Angular model, "uniform" or "hard".
     s : float
-        s*.
+        The tail root s*.
     decay_rate : float
-        Λ.
-    exponents : dict
-        Above.
+        λ(1) = Λ, the energy decay rate per unit τ.
+    exponents : dict of str to float
+        ``"density"``: d + 2s* (the d-dimensional density ∝ c^{−d−2s*}); ``"speed"`` and
+        ``"component"``: 1 + 2s*.
     """
 
     dimension: int
@@ -262,6 +276,9 @@ def tail_exponent(dimension, restitution, angular="uniform") -> TailExponent:
     particles.InvalidArgumentError
         For a dimension, restitution (r = 1 included: no power-law tail) or angular law out of
         range.
+    RuntimeError
+        If the root is not bracketed (cannot happen by the concavity argument of the module
+        docstring).
     """
     law = angular_law(dimension, angular)
     r = check_restitution(restitution)

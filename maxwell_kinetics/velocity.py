@@ -108,25 +108,31 @@ def inverse_transform(
     """P(x) = (1/2π) ∫ e^{−iqx} G(q) dq on the periodic FFT grid described in the module docstring.
 
     ``q_max`` is the smallest cut-off accepted, ``period`` = L = 2π/dq the period of the x grid.
-    Returns ``(x, P)`` with x increasing from −L/2 to L/2 − dx, dx = L/M.
+    Returns ``(x, P)`` with x increasing from −L/2 to L/2 − dx, dx = L/M.  The sum is a real
+    inverse FFT (FFTW c2r through pyfftw) of conj G on q_j = j dq, scaled by M dq / 2π.
 
     Parameters
     ----------
     G : callable
-        G(q) at an array of q ≥ 0 (the rescaled characteristic function E[e^{iqx}]).
-    q_max : float
-        The smallest cut-off accepted.
-    period : float
-        L.
+        The rescaled characteristic function G(q) (q = k·v0, P̂(k) = ∫ e^{ikv} P(v) dv),
+        called on an array of q ≥ 0; real or complex values.
+    q_max : float, default 50.0
+        Smallest cut-off accepted (> 0); the actual one is M dq / 2 ≥ q_max.
+    period : float, default 1000.0
+        Period L of the x grid (> 0); sets dq = 2π / L and the aliasing error.
 
     Returns
     -------
-    x, P : numpy.ndarray
+    x : numpy.ndarray
+        Shape (M,): rescaled velocities x = v / v0, increasing.
+    P : numpy.ndarray
+        Shape (M,): the density at ``x`` (periodised: Σ_n P(x + nL)).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``q_max`` when the grid would exceed 2²⁴ points.
+    particles.validation.InvalidArgumentError
+        If ``q_max`` or ``period`` is not positive, if M would exceed 2**24 (naming ``q_max``),
+        or if ``G`` is not callable or returns non-finite values.
     """
     q_max = check_positive(q_max, "q_max")
     period = check_positive(period, "period")
@@ -157,22 +163,25 @@ def density_at(G: Callable, x, q_max: float = 50.0, nodes_per_panel: int = 16) -
     Parameters
     ----------
     G : callable
-        G(q) at an array of q ≥ 0 (the rescaled characteristic function E[e^{iqx}]).
+        The rescaled characteristic function G(q) (q = k·v0, P̂(k) = ∫ e^{ikv} P(v) dv),
+        called on an array of q ≥ 0; real or complex values.
     x : array_like
-        Finite rescaled velocities.
-    q_max : float
-        The cut-off.
-    nodes_per_panel : int
-        Gauss points per panel.
+        Finite rescaled velocities x = v / v0 (any shape).
+    q_max : float, default 50.0
+        Cut-off of the q integral (> 0).
+    nodes_per_panel : int, default 16
+        Gauss–Legendre points per panel.
 
     Returns
     -------
     numpy.ndarray
+        P(x), float, of the shape of ``x``.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``x`` when a value is not finite.
+    particles.validation.InvalidArgumentError
+        If ``q_max`` is not positive, ``x`` is not finite, or ``G`` is not callable or returns
+        non-finite values.
     """
     q_max = check_positive(q_max, "q_max")
     x = np.asarray(x, dtype=float)
@@ -202,19 +211,24 @@ def tail_exponent(x, P, window: tuple[float, float]) -> float:
 
     Parameters
     ----------
-    x, P : array_like
-        Velocities and density (same shape).
+    x : array_like
+        Rescaled velocities.
+    P : array_like
+        Density at ``x`` (same shape), positive in the window.
     window : tuple of float
-        (x_lo, x_hi), 0 < x_lo < x_hi.
+        (x_lo, x_hi) with 0 < x_lo < x_hi < inf.
 
     Returns
     -------
     float
+        The fitted slope d ln P / d ln x (≈ −4 for the x⁻⁴ tail of the scaling solution).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``P`` or ``window``.
+    particles.validation.InvalidArgumentError
+        Naming ``P`` if its shape differs from that of ``x`` or it is not positive in the
+        window; naming ``window`` if it is not a pair 0 < x_lo < x_hi < inf or holds fewer
+        than 2 points.
     """
     x = np.asarray(x, dtype=float)
     P = np.asarray(P, dtype=float)
@@ -247,17 +261,24 @@ def invert(
     Parameters
     ----------
     G : callable
-        G(q) at an array of q ≥ 0 (the rescaled characteristic function E[e^{iqx}]).
-    q_max : float
-        The cut-off.
+        The rescaled characteristic function G(q) (q = k·v0, P̂(k) = ∫ e^{ikv} P(v) dv),
+        called on an array of q ≥ 0; real or complex values.
+    q_max : float, default 50.0
+        Cut-off of the q integral.
     x : array_like, optional
-        Where to evaluate (None: the FFT grid).
-    period : float
-        L of the FFT grid.
+        Rescaled velocities at which to evaluate; None for the FFT grid.
+    period : float, default 1000.0
+        Period of the FFT grid (used only when ``x`` is None).
 
     Returns
     -------
     x, P : numpy.ndarray
+        The velocities and the density there.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        For invalid arguments (from :func:`inverse_transform` or :func:`density_at`).
     """
     if x is None:
         return inverse_transform(G, q_max=q_max, period=period)
@@ -316,19 +337,28 @@ def radial_density_at(G: Callable, v, dimension: int, q_max: float = 50.0,
     Parameters
     ----------
     G : callable
-        The radial profile Φ(k).
+        The radial profile Φ(k) of the characteristic function E[e^{ik·v}] = Φ(|k|), called
+        on an array of k ≥ 0 (for the solver's G(q), v is the rescaled velocity).
     v : array_like
-        Speeds.
+        Finite speeds |v| ≥ 0 (any shape).
     dimension : int
-        d.
-    q_max : float
-        The cut-off.
-    nodes_per_panel : int
-        Gauss points per panel.
+        Space dimension d ∈ {1, 2, 3}.
+    q_max : float, default 50.0
+        Cut-off of the k integral (> 0).
+    nodes_per_panel : int, default 16
+        Gauss–Legendre points per panel (≥ 1).
 
     Returns
     -------
     numpy.ndarray
+        f(v), the density of the vector v at |v| = ``v``, of the shape of ``v``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``dimension`` is not 1, 2 or 3, ``q_max`` is not positive, ``nodes_per_panel`` is
+        not a count ≥ 1, ``v`` holds a negative or non-finite speed, or ``G`` is not callable
+        or returns non-finite values.
     """
     d = _check_dimension(dimension)
     q_max = check_positive(q_max, "q_max")
@@ -368,19 +398,26 @@ def speed_density_at(G: Callable, s, dimension: int, q_max: float = 50.0,
     Parameters
     ----------
     G : callable
-        The radial profile Φ(k).
+        The radial profile Φ(k), called on an array of k ≥ 0.
     s : array_like
-        Speeds, finite and ≥ 0.
+        Finite speeds ≥ 0 (any shape).
     dimension : int
-        d.
-    q_max : float
-        The cut-off.
-    nodes_per_panel : int
-        Gauss points per panel.
+        Space dimension d ∈ {1, 2, 3}.
+    q_max : float, default 50.0
+        Cut-off of the k integral (> 0).
+    nodes_per_panel : int, default 16
+        Gauss–Legendre points per panel.
 
     Returns
     -------
     numpy.ndarray
+        P(s), normalised so that ∫_0^∞ P ds = 1, of the shape of ``s``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        For invalid arguments, as for :func:`radial_density_at` (a bad speed is reported as
+        ``s``).
     """
     d = _check_dimension(dimension)
     s = check_speeds(s, "s")

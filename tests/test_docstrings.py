@@ -171,7 +171,7 @@ def _assignments() -> dict[str, list[tuple[str, object]]]:
                 continue
             seen.add(id(obj))
             home = obj.__module__ if obj.__module__ in public else module_name
-            out[home].append((f"{home}.{obj.__qualname__}", obj))
+            out[home].append((f"{obj.__module__}.{obj.__qualname__}", obj))
     _CACHE["a"] = out
     return out
 
