@@ -17,15 +17,14 @@ one compilation serves every restitution coefficient at a given resolution and l
 Shapes must not depend on r: the state always holds ``n_state = n + cells_max`` nodes
 (cells_max: the cells of λ = 1/4, the largest λ), of which the first ``n + cells`` are active;
 the others are held at zero, their time derivative is zero, and the error norm of the step-size
-controller is the RMS over the active nodes only (what diffrax's RMS norm gave over the
-unpadded state; measured: G within 3e-14 of the per-r closure).  Gain stencils read one
+controller is the RMS over the active nodes only (what diffrax's RMS norm gives over the
+unpadded state, so G is the same as without padding, to 3e-14).  Gain stencils read one
 array [continuation w(q₀) e^{3h·j} for j < 0 (solver docstring, Boundaries) | state | inflow]
 moved by the traced stencil offset (:func:`_stencil`).
 
-Cost: ~1.3–1.5x the CPU time per window of the former per-r closure (measured at r = 0.5,
-default resolution: 81–90 ms against 62 ms of CPU time for 50 windows), from the larger arrays
-and the dynamic offsets; a ``lax.dynamic_slice`` in place of :func:`_stencil`'s moved copy
-was 4–6x slower.
+Cost: the padded arrays and the dynamic offsets make a window ~1.3–1.5x the CPU time of a
+scheme compiled for one r, in exchange for one compilation for every r; a
+``lax.dynamic_slice`` in place of :func:`_stencil`'s moved copy is 4–6x slower.
 
 The isotropic d-dimensional model (d = 2, 3; :func:`maxwell_kinetics.solver.solve` with
 ``dimension``) uses the same windows with transport speed Λ/2 = p(1 − p)⟨η⟩ and one pair of

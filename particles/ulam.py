@@ -24,8 +24,8 @@ recomputed with ``np.maximum.at`` if the check ever fails.
 
 Momentum round-off.  Collisions conserve the total momentum only up to round-off, and that
 residue does not decay while the velocities decay like e^{−λτ}: for λτ ≳ 30 every velocity would
-approach the round-off mean (measured before this correction: r = 0.9, N = 2·10⁴, τ = 1200, all
-velocities of a run equal).  The collision rule is Galilean invariant (it depends only on the
+approach the round-off mean (without the correction below, at r = 0.9, N = 2·10⁴, τ = 1200, all
+velocities of a run become equal).  The collision rule is Galilean invariant (it depends only on the
 difference of the two velocities), so subtracting the mean velocity from every particle commutes
 with the dynamics and is exact up to round-off.  Both engines do it (:func:`recentre`) at the
 same deterministic points: the multiples of ``stop_step`` in τ, after every event before that

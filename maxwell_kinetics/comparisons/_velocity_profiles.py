@@ -57,7 +57,8 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     The raw MD increments (m = 1) are dominated by the scatter of neighbouring velocities, as
     large as the variation of the mean flow at t = 3000 (see the figure), and their skewness is
     near zero; the shocks are a property of the coarse-grained (hydrodynamic) field, where the
-    paper's sign asymmetry shows up (README, comparison 7, for the measured numbers).
+    paper's sign asymmetry shows up (the results page of the documentation, comparison 7, has
+    the measured numbers).
 
     ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
     resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
