@@ -71,9 +71,6 @@ autodoc_default_options = {"members": True, "show-inheritance": True}
 napoleon_numpy_docstring = True
 napoleon_google_docstring = False
 napoleon_use_rtype = False
-# Attributes sections as :ivar: fields: a dataclass field documented by autodoc as well as in
-# the class docstring would otherwise be described twice
-napoleon_use_ivar = True
 
 bibtex_bibfiles = ["references.bib"]
 bibtex_default_style = "plain"

@@ -48,7 +48,7 @@ Sampler = Callable[[np.random.Generator, int], np.ndarray]
 class InitialLaw:
     """A zero-mean, unit-variance velocity law (see the module docstring).
 
-    Attributes
+    Parameters
     ----------
     name : str
         Its name in the registry.

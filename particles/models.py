@@ -228,7 +228,7 @@ class Model:
     """A particle model: ``factory(**params)`` builds its engine; ``parameters`` declares the
     keywords it takes; ``help`` and ``description`` are its command-line texts.
 
-    Attributes
+    Parameters
     ----------
     name : str
         The model's name.
