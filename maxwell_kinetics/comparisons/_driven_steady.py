@@ -45,7 +45,31 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     counts); the tail slope of ln P on |v|/√D ∈ [3, 6], particles against the exact density on
     the same window (the asymptotic −1/√D is reported too).  The runs start from a unit
     Gaussian and are taken at τ = ``tau``: the slowest relaxation, of ⟨v²⟩, is e^{−2pqτ}
-    (r = 0.9: 2pq = 0.095, e^{−9.5} at τ = 100; the small size takes r ≤ 0.5 only)."""
+    (r = 0.9: 2pq = 0.095, e^{−9.5} at τ = 100; the small size takes r ≤ 0.5 only).
+
+    Parameters
+    ----------
+    size : str, optional
+        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
+        the parameters of each size are the module's ``PRESETS``.
+    progress : bool
+        Show progress on stderr.
+    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
+        Shares particle runs between comparisons (default: a new serial runner).
+    **overrides
+        Parameters of the preset to replace.
+
+    Returns
+    -------
+    maxwell_kinetics.comparisons.Comparison
+        The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``size`` or ``overrides`` (a parameter the preset does not have), or a parameter
+        whose value is out of its domain.
+    """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     params = preset(PRESETS, size, overrides)

@@ -47,7 +47,31 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     above the solver's floor; ``max_distance_over_bound`` is the largest d_s/bound there, τ = 0
     excluded since the ratio is 1 there by construction), the moment hierarchy (multiscaling
     of M_n/M_2^{n/2}) and P(x, τ) developing the x⁻⁴ tail (fitted log-log slope on
-    ``tail_window``)."""
+    ``tail_window``).
+
+    Parameters
+    ----------
+    size : str, optional
+        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
+        the parameters of each size are the module's ``PRESETS``.
+    progress : bool
+        Show progress on stderr.
+    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
+        Shares particle runs between comparisons (default: a new serial runner).
+    **overrides
+        Parameters of the preset to replace.
+
+    Returns
+    -------
+    maxwell_kinetics.comparisons.Comparison
+        The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``size`` or ``overrides`` (a parameter the preset does not have), or a parameter
+        whose value is out of its domain.
+    """
     start = time.perf_counter()
     params = preset(PRESETS, size, overrides)
     model = MaxwellModel(params["restitution"])

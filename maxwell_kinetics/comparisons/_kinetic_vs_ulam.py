@@ -127,6 +127,29 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
       numerical error of the two integrations (measured at the small size 9.6e-7, 2.8e-7,
       3.4e-10 for the asymmetric law at τ = 0.5, 2, 8, largest next to the jump), checked in
       the tests against 5e-6.
+
+    Parameters
+    ----------
+    size : str, optional
+        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
+        the parameters of each size are the module's ``PRESETS``.
+    progress : bool
+        Show progress on stderr.
+    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
+        Shares particle runs between comparisons (default: a new serial runner).
+    **overrides
+        Parameters of the preset to replace.
+
+    Returns
+    -------
+    maxwell_kinetics.comparisons.Comparison
+        The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``size`` or ``overrides`` (a parameter the preset does not have), or a parameter
+        whose value is out of its domain.
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()

@@ -145,6 +145,29 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
       z = D / (b t^{2/3}) (:func:`particles.sticky.displacement_scale`): ⟨z²⟩ per seed against
       Var Z = 0.26356 of Chernoff's law, the exact large-t limit, and the histogram of z
       against Chernoff's density in the figure.
+
+    Parameters
+    ----------
+    size : str, optional
+        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
+        the parameters of each size are the module's ``PRESETS``.
+    progress : bool
+        Show progress on stderr.
+    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
+        Shares particle runs between comparisons (default: a new serial runner).
+    **overrides
+        Parameters of the preset to replace.
+
+    Returns
+    -------
+    maxwell_kinetics.comparisons.Comparison
+        The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``size`` or ``overrides`` (a parameter the preset does not have), or a parameter
+        whose value is out of its domain.
     """
     start = time.perf_counter()
     params = preset(PRESETS, size, overrides)

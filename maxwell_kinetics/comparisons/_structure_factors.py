@@ -78,6 +78,31 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
 
     ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
     resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.
+
+    Parameters
+    ----------
+    size : str, optional
+        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
+        the parameters of each size are the module's ``PRESETS``.
+    progress : bool
+        Show progress on stderr.
+    checkpoint_dir : str or os.PathLike, optional
+        A folder where the long particle runs checkpoint and resume.
+    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
+        Shares particle runs between comparisons (default: a new serial runner).
+    **overrides
+        Parameters of the preset to replace.
+
+    Returns
+    -------
+    maxwell_kinetics.comparisons.Comparison
+        The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``size`` or ``overrides`` (a parameter the preset does not have), or a parameter
+        whose value is out of its domain.
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()

@@ -50,7 +50,31 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     "α = 5 at r = 0 in 2D" against each, and the particles' tail: d-dimensional Ulam runs (from
     a unit Gaussian per component, at τ = ``tau``, N particles, ``seeds`` runs), Hill's
     estimator of α = 2s* from the ``top`` largest speeds of each run, mean ± standard error over
-    runs (which includes the correlation of one run's particles), against 2s*."""
+    runs (which includes the correlation of one run's particles), against 2s*.
+
+    Parameters
+    ----------
+    size : str, optional
+        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
+        the parameters of each size are the module's ``PRESETS``.
+    progress : bool
+        Show progress on stderr.
+    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
+        Shares particle runs between comparisons (default: a new serial runner).
+    **overrides
+        Parameters of the preset to replace.
+
+    Returns
+    -------
+    maxwell_kinetics.comparisons.Comparison
+        The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``size`` or ``overrides`` (a parameter the preset does not have), or a parameter
+        whose value is out of its domain.
+    """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
     params = preset(PRESETS, size, overrides)

@@ -50,6 +50,29 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     distance from f at that τ: the solver's bin probabilities against f's, in units of the
     statistical error (√(Σ (Δp)² M/p) / √dof), so that one sees whether the finite-τ deviation
     from f could be resolved at this sample size.
+
+    Parameters
+    ----------
+    size : str, optional
+        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
+        the parameters of each size are the module's ``PRESETS``.
+    progress : bool
+        Show progress on stderr.
+    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
+        Shares particle runs between comparisons (default: a new serial runner).
+    **overrides
+        Parameters of the preset to replace.
+
+    Returns
+    -------
+    maxwell_kinetics.comparisons.Comparison
+        The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``size`` or ``overrides`` (a parameter the preset does not have), or a parameter
+        whose value is out of its domain.
     """
     runner = ParticleRuns() if runner is None else runner
     from scipy.optimize import brentq

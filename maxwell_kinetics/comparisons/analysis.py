@@ -34,7 +34,17 @@ __all__ = [
 
 
 def bin_edges(spec) -> np.ndarray:
-    """Edges ``lo, lo + step, …, hi`` of a preset's ``(lo, hi, step)`` (rounded to 12 digits)."""
+    """Edges ``lo, lo + step, …, hi`` of a preset's ``(lo, hi, step)`` (rounded to 12 digits).
+
+    Parameters
+    ----------
+    spec : tuple of float
+        (lo, hi, step).
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     lo, hi, step = spec
     return np.round(np.arange(lo, hi + 0.5 * step, step), 12)
 
@@ -47,6 +57,15 @@ def rescaled(v: np.ndarray) -> np.ndarray:
     like e^{−λτ}, so the mean is subtracted.  Even so the fluctuations keep only ~16 − λτ/ln 10
     digits: the Ulam runs here stay at λτ ≤ 30 (measured: at r = 0.9, τ = 1200, λτ = 57, the
     raw velocities of N = 2·10⁴ particles were all equal to their round-off mean).
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities, one run per row.
+
+    Returns
+    -------
+    numpy.ndarray
     """
     v = v - v.mean(axis=-1, keepdims=True)
     return v / np.sqrt(np.mean(v * v, axis=-1, keepdims=True))
@@ -69,6 +88,22 @@ def coarse_increment_skewness(profile, scale: int) -> float:
     skewness γ₁ = ⟨(Δ − ⟨Δ⟩)³⟩ / ⟨(Δ − ⟨Δ⟩)²⟩^{3/2} of the increments between neighbouring
     blocks, the last to the first included, is returned.  ``scale = 1`` is the raw increment
     skewness.  Rare large negative increments (sharp drops after slow rises) give γ₁ < 0.
+
+    Parameters
+    ----------
+    profile : array_like
+        Equally spaced samples of a periodic field (1-d).
+    scale : int
+        The block length, ≥ 1.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``profile`` (not 1-d) or ``scale``.
     """
     v = np.asarray(profile, dtype=float)
     if v.ndim != 1:
@@ -83,7 +118,19 @@ def coarse_increment_skewness(profile, scale: int) -> float:
 
 
 def block_means(values, m: int) -> np.ndarray:
-    """Means of consecutive blocks of ``m`` values (a tail of ``len(values) mod m`` dropped)."""
+    """Means of consecutive blocks of ``m`` values (a tail of ``len(values) mod m`` dropped).
+
+    Parameters
+    ----------
+    values : array_like
+        The values.
+    m : int
+        The block length.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     values = np.asarray(values, dtype=float)
     blocks = values.size // m
     return values[: blocks * m].reshape(blocks, m).mean(axis=1)
@@ -91,7 +138,22 @@ def block_means(values, m: int) -> np.ndarray:
 
 def velocity_on_grid(positions, velocities, length: float) -> np.ndarray:
     """MD v(x): the rods' velocities interpolated linearly in x (periodic, rods sorted by
-    position) at the N grid points x_m = m L / N, m = 0 … N − 1."""
+    position) at the N grid points x_m = m L / N, m = 0 … N − 1.
+
+    Parameters
+    ----------
+    positions : array_like
+        The rods' positions in [0, L).
+    velocities : array_like
+        Their velocities.
+    length : float
+        L.
+
+    Returns
+    -------
+    numpy.ndarray
+        v at the N grid points.
+    """
     n = len(velocities)
     order = np.argsort(positions, kind="stable")
     grid = np.arange(n) * (length / n)
@@ -99,7 +161,17 @@ def velocity_on_grid(positions, velocities, length: float) -> np.ndarray:
 
 
 def profile_scales(n: int) -> tuple[int, ...]:
-    """Coarse-graining scales of comparison 7: 1, 4, 16, … up to N/64 (at least 64 blocks)."""
+    """Coarse-graining scales of comparison 7: 1, 4, 16, … up to N/64 (at least 64 blocks).
+
+    Parameters
+    ----------
+    n : int
+        N.
+
+    Returns
+    -------
+    tuple of int
+    """
     scales = [1]
     while scales[-1] * 4 * 64 <= n:
         scales.append(scales[-1] * 4)
@@ -111,19 +183,65 @@ def profile_scales(n: int) -> tuple[int, ...]:
 
 def log_binned(k, s):
     """Log-binned S(k), 10 bins per decade: (bin centres, mean S)
-    (:func:`particles.observables.log_bin`)."""
+    (:func:`particles.observables.log_bin`).
+
+    Parameters
+    ----------
+    k, s : array_like
+        The spectrum.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+    """
     kb, sb, _ = log_bin(k, s, 10)
     return kb, sb
 
 
 def porod_fit(k, s, t, z, x_window, k_max):
     """Least-squares line ln S = a + b ln k over the log bins with k·t^z in ``x_window`` and
-    k ≤ ``k_max``: (b, a, k of the bins used), or None with fewer than 3 bins."""
+    k ≤ ``k_max``: (b, a, k of the bins used), or None with fewer than 3 bins.
+
+    Parameters
+    ----------
+    k, s : array_like
+        The spectrum (log-binned here).
+    t : float
+        The time of the spectrum.
+    z : float
+        The scaling exponent: the window is in x = k t^z.
+    x_window : tuple of float
+        The window in x.
+    k_max : float
+        The largest k used.
+
+    Returns
+    -------
+    tuple or None
+    """
     return binned_porod_fit(*log_binned(k, s), t, z, x_window, k_max)
 
 
 def binned_porod_fit(kb, sb, t, z, x_window, k_max):
-    """:func:`porod_fit` on a spectrum already log-binned (``kb``, ``sb``)."""
+    """:func:`porod_fit` on a spectrum already log-binned (``kb``, ``sb``).
+
+    Parameters
+    ----------
+    kb, sb : array_like
+        The log-binned spectrum.
+    t : float
+        The time of the spectrum.
+    z : float
+        The scaling exponent: the window is in x = k t^z.
+    x_window : tuple of float
+        The window in x.
+    k_max : float
+        The largest k used.
+
+    Returns
+    -------
+    tuple or None
+    """
     x = kb * t**z
     sel = (x >= x_window[0]) & (x <= x_window[1]) & (kb <= k_max)
     if sel.sum() < 3:
@@ -134,14 +252,42 @@ def binned_porod_fit(kb, sb, t, z, x_window, k_max):
 
 def porod_slope(k, s, t, z, x_window, k_max):
     """Slope of ln S against ln k over k·t^z in ``x_window`` and k ≤ ``k_max`` (None with
-    fewer than 3 log bins there)."""
+    fewer than 3 log bins there).
+
+    Parameters
+    ----------
+    k, s : array_like
+        The spectrum.
+    t : float
+        The time of the spectrum.
+    z : float
+        The scaling exponent: the window is in x = k t^z.
+    x_window : tuple of float
+        The window in x.
+    k_max : float
+        The largest k used.
+
+    Returns
+    -------
+    float or None
+    """
     fit = porod_fit(k, s, t, z, x_window, k_max)
     return None if fit is None else fit[0]
 
 
 def jackknife(values) -> float | None:
     """Jackknife standard error from the leave-one-out estimates ``values`` (None below 3 of
-    them: two replicas give one difference, not a spread)."""
+    them: two replicas give one difference, not a spread).
+
+    Parameters
+    ----------
+    values : array_like
+        The leave-one-out estimates.
+
+    Returns
+    -------
+    float or None
+    """
     v = np.asarray([x for x in values if x is not None], dtype=float)
     if v.size < 3 or v.size < len(values):
         return None
@@ -153,7 +299,19 @@ def jackknife(values) -> float | None:
 
 def tail_grid(first: float, last: float, per_octave: int) -> np.ndarray:
     """The velocities w_k = first · 2^{k/per_octave} ≤ last at which the tail survival
-    P(|w| > w_k) is counted (geometric, so that the chord exponents sit at even steps of ln w)."""
+    P(|w| > w_k) is counted (geometric, so that the chord exponents sit at even steps of ln w).
+
+    Parameters
+    ----------
+    first, last : float
+        The first point and the bound on the last.
+    per_octave : int
+        Points per factor 2 in w.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     count = int(math.floor(per_octave * math.log2(last / first) + 1e-9)) + 1
     return first * 2.0 ** (np.arange(count) / per_octave)
 
@@ -171,7 +329,28 @@ def mass_density(masses_counts, times, length, mu_edges, m_min=1, *, errors=Fals
     With ``errors=True`` it returns ``(Φ, σ, clusters)``: σ is the standard error of Φ with the
     cluster counts taken as independent Poisson numbers (var Σ_t M² C_t / L = Σ_t M⁴ C_t / L²),
     and ``clusters`` the number of clusters counted per bin.  Several runs (seeds) are pooled
-    by passing one table per run and time."""
+    by passing one table per run and time.
+
+    Parameters
+    ----------
+    masses_counts : list of tuple
+        ``(m, count)`` per run and time.
+    times : list of float
+        The time of each table.
+    length : float
+        L.
+    mu_edges : array_like
+        Bin edges in μ.
+    m_min : int
+        The smallest mass counted.
+    errors : bool
+        Also return σ and the clusters counted.
+
+    Returns
+    -------
+    numpy.ndarray or tuple of numpy.ndarray
+        Φ, or (Φ, σ, clusters).
+    """
     mu_edges = np.asarray(mu_edges, dtype=float)
     num = np.zeros(mu_edges.size - 1)
     var = np.zeros(mu_edges.size - 1)
@@ -217,7 +396,27 @@ def small_mass_law(mu, phi, err, counted, mu_max, mu_min=0.0, min_count=50,
     a = −0.453 ± 0.004 with χ²/dof = 2.58 (rejected), "corrected" a = −0.465 ± 0.050 with
     χ²/dof = 1.03.  A fit that does not converge is None.  ``profile``: χ² of the corrected
     model with a held at −1/3, −1/2, −2/3 (B, C free), to show which exponents the data
-    exclude; on those data 22.5, 15.9, 33.3 for 16 degrees of freedom."""
+    exclude; on those data 22.5, 15.9, 33.3 for 16 degrees of freedom.
+
+    Parameters
+    ----------
+    mu, phi, err : array_like
+        Bin centres, Φ and its standard error.
+    counted : array_like
+        Clusters per bin.
+    mu_max, mu_min : float
+        The fitted range of μ.
+    min_count : int
+        The fewest clusters a bin needs.
+    models : tuple of str
+        Names in :data:`MASS_MODELS`.
+
+    Returns
+    -------
+    dict
+        Per model: the exponent with its error, χ²/dof and the parameters (None when a fit does
+        not converge); ``profile``.
+    """
     from scipy.optimize import curve_fit
 
     ok = np.isfinite(phi) & (counted >= min_count) & (mu >= mu_min) & (mu <= mu_max) & (err > 0)

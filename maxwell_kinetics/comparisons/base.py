@@ -44,7 +44,12 @@ SIZES = ("small", "default", "full")
 
 def default_size() -> str:
     """``small`` when the environment variable ``MAXWELL_KINETICS_SMALL`` is set to a non-empty
-    value other than ``0`` (tests, notebooks in CI), else ``default``."""
+    value other than ``0`` (tests, notebooks in CI), else ``default``.
+
+    Returns
+    -------
+    str
+    """
     flag = os.environ.get("MAXWELL_KINETICS_SMALL", "")
     return "small" if flag not in ("", "0") else "default"
 
@@ -62,7 +67,15 @@ def register_plot(name: str, plot: Callable) -> None:
 
     Each comparison module registers its own ``plot`` when it is imported (the package imports
     all of them), so that a :class:`Comparison` read from a file can draw itself without this
-    module importing the comparisons."""
+    module importing the comparisons.
+
+    Parameters
+    ----------
+    name : str
+        The comparison's name.
+    plot : callable
+        ``plot(comparison, ax=None)``.
+    """
     _PLOTS[name] = plot
 
 
@@ -73,6 +86,15 @@ class Comparison:
     :meth:`save` writes both to one ``.npz`` file (no pickle) and :meth:`load` reads it back, so
     a figure can be redrawn without running the comparison again:
     ``Comparison.load("results/ulam_collapse.npz").figure()``.
+
+    Attributes
+    ----------
+    name : str
+        The comparison's name.
+    summary : dict
+        JSON-able numbers.
+    data : dict
+        What the figure draws.
     """
 
     name: str
@@ -81,7 +103,22 @@ class Comparison:
 
     def figure(self, ax=None):
         """The comparison's figure (a matplotlib ``Figure``), drawn by the comparison's ``plot``
-        on new axes or on ``ax`` (a sequence with one axis per panel)."""
+        on new axes or on ``ax`` (a sequence with one axis per panel).
+
+        Parameters
+        ----------
+        ax : sequence of matplotlib.axes.Axes, optional
+            One axis per panel.
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+
+        Raises
+        ------
+        InvalidArgumentError
+            Naming ``name`` when no plot is registered for it.
+        """
         if self.name not in _PLOTS:
             raise InvalidArgumentError("name", self.name, "one of " + ", ".join(_PLOTS))
         return _PLOTS[self.name](self, ax)
@@ -90,7 +127,13 @@ class Comparison:
         """Save to ``path`` through :mod:`particles.persistence` (kind ``"comparison"``): the
         arrays of ``data`` as entries, everything else as a JSON skeleton that records dict
         keys, tuples, non-finite floats and the records of this package (histogram
-        comparisons, solver solutions) exactly."""
+        comparisons, solver solutions) exactly.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file.
+        """
         arrays: dict[str, np.ndarray] = {}
         meta = {"name": self.name, "summary": _encode(self.summary, arrays),
                 "data": _encode(self.data, arrays)}
@@ -99,7 +142,22 @@ class Comparison:
     @classmethod
     def load(cls, path) -> Comparison:
         """Read a file written by :meth:`save` (also of version 0.1.0); a file that is not one
-        raises :class:`~particles.persistence.FileFormatError` naming ``path``."""
+        raises :class:`~particles.persistence.FileFormatError` naming ``path``.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file.
+
+        Returns
+        -------
+        Comparison
+
+        Raises
+        ------
+        particles.persistence.FileFormatError
+            For a file that is not one.
+        """
         expected = "a file written by Comparison.save"
         loaded = persistence.load(path, "comparison", (2, _COMPARISON_VERSION), expected=expected)
         skeleton, arrays = loaded.meta, loaded.arrays
@@ -170,7 +228,26 @@ def _decode(node, arrays: dict):
 def preset(presets: dict, size: str | None, overrides: dict) -> dict:
     """The parameters of ``presets[size]`` (``size`` None: :func:`default_size`) with the keyword
     ``overrides`` applied and ``"size"`` added; an unknown size or parameter raises
-    :class:`~particles.validation.InvalidArgumentError`."""
+    :class:`~particles.validation.InvalidArgumentError`.
+
+    Parameters
+    ----------
+    presets : dict
+        {size: parameters}.
+    size : str or None
+        The size.
+    overrides : dict
+        Parameters to replace.
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``size`` or ``overrides``.
+    """
     size = default_size() if size is None else size
     if size not in presets:
         raise InvalidArgumentError("size", size, "one of " + ", ".join(SIZES))
@@ -186,7 +263,16 @@ def preset(presets: dict, size: str | None, overrides: dict) -> dict:
 
 
 def jsonable(params: dict) -> dict:
-    """``params`` with arrays as lists and tuples (of tuples) as lists (of lists), for a summary."""
+    """``params`` with arrays as lists and tuples (of tuples) as lists (of lists), for a summary.
+
+    Parameters
+    ----------
+    params : dict
+
+    Returns
+    -------
+    dict
+    """
     out = {}
     for k, v in params.items():
         if isinstance(v, np.ndarray):

@@ -15,7 +15,27 @@ __all__ = ["panels", "colors"]
 def panels(n: int, ax=None, width: float = 5.0, height: float = 4.0):
     """``(figure, axes)``: ``n`` side-by-side panels of ``width`` × ``height`` inches on a new
     figure, or the ``n`` axes of ``ax`` (a sequence of matplotlib axes, or one axis when
-    ``n == 1``) and their figure."""
+    ``n == 1``) and their figure.
+
+    Parameters
+    ----------
+    n : int
+        Panels.
+    ax : sequence of matplotlib.axes.Axes, optional
+        Existing axes.
+    width, height : float
+        Inches per panel.
+
+    Returns
+    -------
+    tuple
+        (figure, axes).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``ax`` when it does not hold ``n`` axes.
+    """
     if ax is None:
         fig, grid = new_figure(n, width=width, height=height)
         return fig, list(grid[0])
@@ -26,7 +46,17 @@ def panels(n: int, ax=None, width: float = 5.0, height: float = 4.0):
 
 
 def colors(n: int):
-    """``n`` colours of the viridis map, dark to light (0 to 0.9)."""
+    """``n`` colours of the viridis map, dark to light (0 to 0.9).
+
+    Parameters
+    ----------
+    n : int
+
+    Returns
+    -------
+    numpy.ndarray
+        RGBA rows, one per colour.
+    """
     import matplotlib
 
     return matplotlib.colormaps["viridis"](np.linspace(0, 0.9, max(n, 1)))

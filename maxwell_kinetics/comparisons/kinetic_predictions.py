@@ -35,7 +35,25 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
                      progress: bool = False):
     """The solver's :class:`~maxwell_kinetics.solver.Solution`, cached per (r, law, τ list,
     resolution) so that the comparisons of one ``reproduce`` run share solves (each new
-    (r, law, resolution) costs seconds of JIT compilation)."""
+    (r, law, resolution) costs seconds of JIT compilation).
+
+    Parameters
+    ----------
+    restitution : float
+        r.
+    law : str
+        The initial law.
+    taus : sequence of float
+        The saved times.
+    resolution : str
+        The grid.
+    progress : bool
+        Show progress.
+
+    Returns
+    -------
+    maxwell_kinetics.Solution
+    """
     from ..solver import solve  # JAX: imported when a solution is first needed
 
     key = (float(restitution), str(law), tuple(float(t) for t in taus), resolution)
@@ -50,7 +68,19 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
 
 def law_cdf(law: str, v) -> np.ndarray:
     """CDF of the built-in initial law ``law`` (zero mean, unit variance) at ``v``: the law's own
-    (:meth:`particles.initial.InitialLaw.cdf`), so no parameter of a law is written twice."""
+    (:meth:`particles.initial.InitialLaw.cdf`), so no parameter of a law is written twice.
+
+    Parameters
+    ----------
+    law : str
+        A built-in law.
+    v : array_like
+        Velocities.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     return get_law(law).cdf(v)
 
 
@@ -64,6 +94,22 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
       Fourier tail a cut at q_max would misrepresent;
     * the rest, G − G_free, transformed by :func:`statistics.interval_probabilities` on
       [0, q_max] (mass below −``far`` neglected: < 1e-7 for the laws here).
+
+    Parameters
+    ----------
+    sol : maxwell_kinetics.Solution
+        A solve.
+    tau_index : int
+        Which saved time.
+    edges : array_like
+        Bin edges in x.
+    far : float
+        Where the integrals to ±∞ are cut.
+
+    Returns
+    -------
+    probabilities : numpy.ndarray
+    mass_below : float
     """
     q_max = sol.resolution.q_max
     tau = float(sol.tau[tau_index])
@@ -91,7 +137,24 @@ def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):
     (no frequency above q_max), so it is first interpolated exactly onto a grid ``refine`` times
     finer (zero padding of its spectrum) and then integrated with a cubic spline: a spline
     through the native samples alone misses up to 1e-4 per bin near a jump, where P rings at
-    frequency q_max ≈ 2.2/dx (measured against the refined grid)."""
+    frequency q_max ≈ 2.2/dx (measured against the refined grid).
+
+    Parameters
+    ----------
+    sol : maxwell_kinetics.Solution
+        A solve.
+    tau_index : int
+        Which saved time.
+    edges : array_like
+        Bin edges in x.
+    refine : int
+        Sub-intervals per bin.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        (prob, x, P).
+    """
     from scipy.interpolate import CubicSpline
 
     x, P = sol.density(None, tau_index)
@@ -114,7 +177,21 @@ def never_collided_cut(sol, tau_index: int, edges) -> np.ndarray:
     bin probabilities: its bins from ∫_0^{q_max} minus its exact bins.  This is the only term
     that :func:`fft_bin_probabilities` (all of G cut at q_max) and
     :func:`solution_bin_probabilities` (G − G_free cut at q_max, G_free exact) treat
-    differently; it is ≈ 0 (< 1e-16) for smooth laws and carries the Gibbs ringing of a jump."""
+    differently; it is ≈ 0 (< 1e-16) for smooth laws and carries the Gibbs ringing of a jump.
+
+    Parameters
+    ----------
+    sol : maxwell_kinetics.Solution
+        A solve.
+    tau_index : int
+        Which saved time.
+    edges : array_like
+        Bin edges in x.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     q_max = sol.resolution.q_max
     tau = float(sol.tau[tau_index])
     law = get_law(sol.initial)

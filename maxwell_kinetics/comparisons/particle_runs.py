@@ -76,7 +76,17 @@ def _engine(model: str, params: dict):
 
 def md_record_times(t_max) -> tuple[float, ...]:
     """The times at which comparisons 5 and 6 record their MD runs (36 geometric points on
-    [0.05, ``t_max``], rounded to 6 digits): one list, so that the two share the runs."""
+    [0.05, ``t_max``], rounded to 6 digits): one list, so that the two share the runs.
+
+    Parameters
+    ----------
+    t_max : float
+        The last time.
+
+    Returns
+    -------
+    tuple of float
+    """
     return tuple(float(t) for t in np.round(np.geomspace(0.05, t_max, 36), 6))
 
 
@@ -99,6 +109,15 @@ class ParticleRuns:
     are kept for the life of the object (read-only), so comparisons given the same object share
     them; :meth:`clear` forgets them.  Every comparison takes one as ``runner`` (default: a new
     serial one), and ``reproduce`` passes one to all of its comparisons.
+
+    Parameters
+    ----------
+    out : str or os.PathLike, optional
+        A folder for the ensemble engine's task files (None: serial, in this process).
+    workers : int, optional
+        Dask processes.
+    force : bool
+        Allow more than 4 × the CPUs.
     """
 
     def __init__(self, out=None, workers: int | None = None, force: bool = False):
@@ -144,7 +163,27 @@ class ParticleRuns:
 
     def ulam_snapshots(self, restitution, law, n, taus, seeds, progress=False) -> np.ndarray:
         """Velocities of Ulam runs: array (len(taus), len(seeds), n), one run per seed (not
-        cached: a new array each call)."""
+        cached: a new array each call).
+
+        Parameters
+        ----------
+        restitution : float
+            r.
+        law : str
+            The initial law.
+        n : int
+            N.
+        taus : sequence of float
+            Times τ.
+        seeds : sequence of int
+            One run per seed.
+        progress : bool
+            Show progress.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         out = np.empty((len(taus), len(seeds), int(n)))
         runs = self._runs("ulam", {"n": int(n), "restitution": restitution, "initial": law},
                           taus, seeds, progress, snapshots=True)
@@ -155,7 +194,23 @@ class ParticleRuns:
     def ulam_final(self, params: dict, tau: float, seeds, progress=False) -> np.ndarray:
         """Final velocities of Ulam runs of any kind (``params``: the keyword arguments of
         :class:`particles.ulam.Ulam`, e.g. ``dimension``, ``angular``, ``driving``) at τ = ``tau``:
-        array (len(seeds), N) in 1D, (len(seeds), N, d) in d > 1 (not cached)."""
+        array (len(seeds), N) in 1D, (len(seeds), N, d) in d > 1 (not cached).
+
+        Parameters
+        ----------
+        params : dict
+            Keyword arguments of :class:`particles.Ulam`.
+        tau : float
+            τ.
+        seeds : sequence of int
+            One run per seed.
+        progress : bool
+            Show progress.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         runs = self._runs("ulam", dict(params), [float(tau)], seeds, progress)
         return np.array([r.velocities for r in runs])
 
@@ -164,7 +219,33 @@ class ParticleRuns:
         """Lattice runs (one per seed) recorded at ``times`` (τ): ``times`` (T,), ``energy`` (R, T),
         ``seconds``; with ``structure=True`` also ``k`` and ``structure`` (R, T, ⌊N/2⌋+1), S(k) of
         :func:`particles.observables.structure_factor`; with ``snapshots=True`` ``snapshots``
-        (R, T, N).  Cached per arguments (read-only)."""
+        (R, T, N).  Cached per arguments (read-only).
+
+        Parameters
+        ----------
+        restitution : float
+            r.
+        n : int
+            N.
+        times : sequence of float
+            Times τ.
+        seeds : sequence of int
+            One run per seed.
+        progress : bool
+            Show progress.
+        constraint : bool
+            The kinematic constraint.
+        law : str
+            The initial law.
+        structure : bool
+            Record S(k).
+        snapshots : bool
+            Record the velocities.
+
+        Returns
+        -------
+        dict
+        """
         key = ("lattice", restitution, n, tuple(times), tuple(seeds), constraint, law,
                bool(structure), bool(snapshots))
 
@@ -196,7 +277,31 @@ class ParticleRuns:
         nothing, bit for bit).  With ``checkpoint_dir`` (an existing folder) each run checkpoints
         to a file of its own there and resumes from it when it exists (a finished run is read back,
         not run again).  The rods' positions are recorded by the driver with each snapshot
-        (``MDEngine.snapshot_arrays``), checkpoints included."""
+        (``MDEngine.snapshot_arrays``), checkpoints included.
+
+        Parameters
+        ----------
+        restitution : float
+            r.
+        n : int
+            N.
+        delta : float
+            δ.
+        times : sequence of float
+            Times t.
+        seeds : sequence of int
+            One run per seed.
+        progress : bool
+            Show progress.
+        law : str
+            The initial law.
+        checkpoint_dir : str or os.PathLike, optional
+            Where each run checkpoints.
+
+        Returns
+        -------
+        dict
+        """
         key = ("md", restitution, n, delta, tuple(times), tuple(seeds), law)
 
         def compute():
@@ -237,7 +342,27 @@ class ParticleRuns:
         recorded at ``times`` (t): ``energy`` and ``clusters`` (number of clusters) (R, T),
         ``seconds``; with ``snapshots=True`` also ``snapshots`` (R, T, N) of v(i).  Seed s draws
         the initial state of :func:`md_runs` with seed s (same positions and velocities), so the
-        two are paired.  Cached per arguments (read-only)."""
+        two are paired.  Cached per arguments (read-only).
+
+        Parameters
+        ----------
+        n : int
+            N.
+        times : sequence of float
+            Times t.
+        seeds : sequence of int
+            One run per seed.
+        progress : bool
+            Show progress.
+        law : str
+            The initial law.
+        snapshots : bool
+            Record the velocities and positions.
+
+        Returns
+        -------
+        dict
+        """
         key = ("sticky", n, tuple(times), tuple(seeds), law, bool(snapshots))
 
         def compute():
@@ -265,7 +390,31 @@ class ParticleRuns:
         only dissipate), and the run continues from the earlier point to τ* with the same random
         stream (exact: the state is Markov and the later draws are independent of the earlier ones).
         Returns ``tau`` (R,), ``energy`` (R,) reached, ``snapshots`` (R, N), the ``traces`` (a tuple
-        of (τ, E) arrays) and ``seconds``.  Cached per arguments (read-only)."""
+        of (τ, E) arrays) and ``seconds``.  Cached per arguments (read-only).
+
+        Parameters
+        ----------
+        restitution : float
+            r.
+        n : int
+            N.
+        target : float
+            The energy at which each run stops.
+        seeds : sequence of int
+            One run per seed.
+        progress : bool
+            Show progress.
+        constraint : bool
+            The kinematic constraint.
+        law : str
+            The initial law.
+        rate : str
+            "constant" or "relative_velocity".
+
+        Returns
+        -------
+        dict
+        """
         key = ("lattice_at_energy", restitution, n, float(target), tuple(seeds), constraint, law,
                rate)
 
@@ -313,30 +462,96 @@ class ParticleRuns:
 
 
 def ulam_snapshots(*args, **kwargs) -> np.ndarray:
-    """:meth:`ParticleRuns.ulam_snapshots` of a new serial :class:`ParticleRuns`."""
+    """:meth:`ParticleRuns.ulam_snapshots` of a new serial :class:`ParticleRuns`.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As for :meth:`ParticleRuns.ulam_snapshots`.
+
+    Returns
+    -------
+    object
+        What it returns.
+    """
     return ParticleRuns().ulam_snapshots(*args, **kwargs)
 
 
 def ulam_final(*args, **kwargs) -> np.ndarray:
-    """:meth:`ParticleRuns.ulam_final` of a new serial :class:`ParticleRuns`."""
+    """:meth:`ParticleRuns.ulam_final` of a new serial :class:`ParticleRuns`.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As for :meth:`ParticleRuns.ulam_final`.
+
+    Returns
+    -------
+    object
+        What it returns.
+    """
     return ParticleRuns().ulam_final(*args, **kwargs)
 
 
 def lattice_runs(*args, **kwargs) -> dict:
-    """:meth:`ParticleRuns.lattice_runs` of a new serial :class:`ParticleRuns`."""
+    """:meth:`ParticleRuns.lattice_runs` of a new serial :class:`ParticleRuns`.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As for :meth:`ParticleRuns.lattice_runs`.
+
+    Returns
+    -------
+    object
+        What it returns.
+    """
     return ParticleRuns().lattice_runs(*args, **kwargs)
 
 
 def lattice_at_energy(*args, **kwargs) -> dict:
-    """:meth:`ParticleRuns.lattice_at_energy` of a new serial :class:`ParticleRuns`."""
+    """:meth:`ParticleRuns.lattice_at_energy` of a new serial :class:`ParticleRuns`.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As for :meth:`ParticleRuns.lattice_at_energy`.
+
+    Returns
+    -------
+    object
+        What it returns.
+    """
     return ParticleRuns().lattice_at_energy(*args, **kwargs)
 
 
 def md_runs(*args, **kwargs) -> dict:
-    """:meth:`ParticleRuns.md_runs` of a new serial :class:`ParticleRuns`."""
+    """:meth:`ParticleRuns.md_runs` of a new serial :class:`ParticleRuns`.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As for :meth:`ParticleRuns.md_runs`.
+
+    Returns
+    -------
+    object
+        What it returns.
+    """
     return ParticleRuns().md_runs(*args, **kwargs)
 
 
 def sticky_runs(*args, **kwargs) -> dict:
-    """:meth:`ParticleRuns.sticky_runs` of a new serial :class:`ParticleRuns`."""
+    """:meth:`ParticleRuns.sticky_runs` of a new serial :class:`ParticleRuns`.
+
+    Parameters
+    ----------
+    *args, **kwargs
+        As for :meth:`ParticleRuns.sticky_runs`.
+
+    Returns
+    -------
+    object
+        What it returns.
+    """
     return ParticleRuns().sticky_runs(*args, **kwargs)
