@@ -126,7 +126,8 @@ def write_api(app) -> None:
 
 
 def _resolve(dotted: str):
-    """The Python object a dotted name stands for, or None."""
+    """The class, function or module a dotted name stands for, or None (also for data: two
+    attributes may hold one value, e.g. ``None``, without being one object)."""
     parts = dotted.split(".")
     for cut in range(len(parts), 0, -1):
         try:
@@ -138,7 +139,8 @@ def _resolve(dotted: str):
                 obj = getattr(obj, attr)
         except AttributeError:
             return None
-        return obj
+        keep = inspect.isclass(obj) or inspect.isroutine(obj) or inspect.ismodule(obj)
+        return obj if keep else None
     return None
 
 
@@ -156,8 +158,8 @@ def _one_object_many_names():
     def find_obj(self, env, modname, classname, name, type, searchmode=0):
         matches = original(self, env, modname, classname, name, type, searchmode)
         if len(matches) > 1:
-            objects = {id(_resolve(full)) for full, _ in matches}
-            if len(objects) == 1 and _resolve(matches[0][0]) is not None:
+            resolved = [_resolve(full) for full, _ in matches]
+            if resolved[0] is not None and all(r is resolved[0] for r in resolved):
                 return [min(matches, key=lambda m: (m[0].count("."), m[0]))]
         if not matches and name and name.split(".")[0] in ("particles", "maxwell_kinetics"):
             target = _resolve(name)

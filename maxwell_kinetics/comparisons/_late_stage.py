@@ -125,6 +125,10 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
       with their delta-method errors and the same chords of the exact S (z = difference /
       error), down to the deepest point with ``min_clusters`` clusters beyond, and the
       ``deepest`` resolved survival with the exact one there;
+    * ``deep_tail`` (only where ``deep_seeds`` > 0, the full size): the same tail chords from
+      ``deep_seeds`` independent gases of ``deep_n`` particles pooled at each of
+      ``deep_times``, with the deepest resolved survival per time, to follow β(w) as far down
+      as the ensemble reaches (the depth is set by the number of clusters beyond w);
     * ``mass``: the secondary small-μ fit of the mass law (:func:`small_mass_law` on the tables
       at ``fit_times``: A μ^a + B + C μ^{1/2}, expected a = −1/2);
     * ``energy``: E t^{2/3} per time, and the exponent of E ~ t^{z}: slope of ln E on ln t over
