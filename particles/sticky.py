@@ -1817,6 +1817,27 @@ class ExactLawComparison:
                         "relative": float(x.mean() / limit - 1.0)}
         return out
 
+    def sums(self) -> dict:
+        """The pooled histograms this comparison has accumulated (copies): what
+        :meth:`merge` adds.
+
+        Returns
+        -------
+        dict
+            ``density`` (n of the gas, None before the first state), ``scales`` (n and the
+            scales of w and μ, or None), ``velocity_bins``
+            (Σ m, Σ m², clusters per velocity bin, 3 rows), ``tail_bins`` (the same per tail
+            interval), ``masses`` (clusters per integer mass), ``fastest`` (|w| and masses
+            of the fastest clusters kept for the deepest point), ``particles``, ``runs``,
+            ``energy`` and ``cluster_count`` (per run).
+        """
+        return {"density": None if self._scales is None else self._scales[0],
+                "scales": self._scales, "velocity_bins": self._v.copy(),
+                "tail_bins": self._s.copy(), "masses": self._m.copy(),
+                "fastest": (self._top[0].copy(), self._top[1].copy()),
+                "particles": self.particles, "runs": self.runs,
+                "energy": list(self.energy), "cluster_count": list(self.cluster_count)}
+
     def merge(self, other: ExactLawComparison) -> None:
         """Add the runs of ``other`` (another comparison at the same time, on the same bins
         and grid, of a gas of the same density) to this one, as if they had been added here.
@@ -1832,34 +1853,36 @@ class ExactLawComparison:
             Naming ``other`` when its time, variance, bins, grid, ``min_clusters`` or density
             differ from this one's.
         """
-        same = (isinstance(other, ExactLawComparison) and other.t == self.t
+        theirs = other.sums() if isinstance(other, ExactLawComparison) else None
+        same = (theirs is not None and other.t == self.t
                 and other.variance == self.variance and other.min_clusters == self.min_clusters
                 and np.array_equal(other.w_edges, self.w_edges)
                 and np.array_equal(other.tail_w, self.tail_w)
-                and (self._scales is None or other._scales is None
-                     or math.isclose(other._scales[0], self._scales[0], rel_tol=1e-12)))
+                and (self._scales is None or theirs["density"] is None
+                     or math.isclose(theirs["density"], self._scales[0], rel_tol=1e-12)))
         if not same:
             raise InvalidArgumentError("other", other, "a comparison at the same time, bins, "
                                        "grid, min_clusters and density")
-        if other.runs == 0:
+        if theirs["runs"] == 0:
             return
-        self._scales = self._scales or other._scales
-        self._v += other._v
-        self._s += other._s
-        size = max(self._m.size, other._m.size)
+        self._scales = self._scales or theirs["scales"]
+        self._v += theirs["velocity_bins"]
+        self._s += theirs["tail_bins"]
+        masses = theirs["masses"]
+        size = max(self._m.size, masses.size)
         self._m = np.pad(self._m, (0, size - self._m.size))
-        self._m[:other._m.size] += other._m
+        self._m[:masses.size] += masses
         keep = 4 * self.min_clusters
-        top_w = np.concatenate([self._top[0], other._top[0]])
-        top_m = np.concatenate([self._top[1], other._top[1]])
+        top_w = np.concatenate([self._top[0], theirs["fastest"][0]])
+        top_m = np.concatenate([self._top[1], theirs["fastest"][1]])
         if top_w.size > keep:
             sel = np.argpartition(top_w, top_w.size - keep)[-keep:]
             top_w, top_m = top_w[sel], top_m[sel]
         self._top = (top_w, top_m)
-        self.particles += other.particles
-        self.runs += other.runs
-        self.energy += other.energy
-        self.cluster_count += other.cluster_count
+        self.particles += theirs["particles"]
+        self.runs += theirs["runs"]
+        self.energy += theirs["energy"]
+        self.cluster_count += theirs["cluster_count"]
 
 
 def exact_law_runs(n: int, seeds, times, *, density: float = 1.0, tail_w=None,
