@@ -41,23 +41,23 @@ _DEFAULT_BYTES_PER_PARTICLE = 400
 
 @dataclass(frozen=True)
 class Estimate:
-    """``memory`` in bytes, ``events`` (expected number), ``driver`` the argument that sets the
-    size (``"n"``), ``unit`` what an event is.
+    """The estimated memory and work of a run, computed before it starts.
 
     Attributes
     ----------
     memory : float
-        Bytes.
+        Bytes the run is expected to need (working arrays, records and histogram).
     events : float
-        Expected events.
+        The expected number of events (see ``unit``).
     driver : str
-        The argument that sets the size.
+        The name of the argument that sets the size, named in the error when the memory does
+        not fit (default ``"n"``).
     unit : str
-        What an event is.
+        What an event is: ``"collisions"``, ``"attempts"``, ``"hull steps"``...
     size : float
-        The value of ``driver``.
+        The value of that argument (the number of particles).
     t_max : float
-        The last time.
+        The last output time of the run (in the run's time variable).
     """
 
     memory: float
@@ -68,25 +68,28 @@ class Estimate:
     t_max: float = 0.0
 
     def describe(self) -> str:
-        """One line for the progress bar.
+        """The estimate in words, for messages.
 
         Returns
         -------
         str
+            E.g. ``"~5e+06 collisions, ~6.1 MB"``.
         """
         return f"~{format_count(self.events)} {self.unit}, ~{format_bytes(self.memory)}"
 
 
 def format_count(x: float) -> str:
-    """A count for people: three significant digits (``1.2e+07``) from 10⁴ on.
+    """Format a count: 3 significant digits from 10⁴ on, an integer below.
 
     Parameters
     ----------
     x : float
+        The count (non-finite values are shown as they are).
 
     Returns
     -------
     str
+        The formatted count.
     """
     if not math.isfinite(x):
         return str(x)
@@ -94,15 +97,17 @@ def format_count(x: float) -> str:
 
 
 def format_bytes(x: float) -> str:
-    """Bytes for people, in powers of 1024 (``512 B``, ``6.63 GB``).
+    """Format a number of bytes with binary prefixes (``"512 B"``, ``"1.5 KB"``, ``"3.2 GB"``).
 
     Parameters
     ----------
     x : float
+        The number of bytes.
 
     Returns
     -------
     str
+        Three significant digits and the unit (B, KB, MB, GB or TB; 1 KB = 1024 B).
     """
     for unit in ("B", "KB", "MB", "GB", "TB"):
         if abs(x) < 1024 or unit == "TB":
@@ -112,11 +117,13 @@ def format_bytes(x: float) -> str:
 
 
 def available_memory() -> float:
-    """Bytes of memory available now (MemAvailable from /proc/meminfo; else physical memory).
+    """Bytes of memory available now.
 
     Returns
     -------
     float
+        ``MemAvailable`` from ``/proc/meminfo``; where that cannot be read, the physical memory;
+        ``inf`` when neither is known.
     """
     try:
         with open("/proc/meminfo") as fh:
@@ -156,27 +163,36 @@ def _md_tau(t: float, params: dict) -> float:
 
 def estimate_run(model: str, params: dict, t_max: float, *, n_times: int = 1,
                  structure: str | None = None, snapshots: bool = False) -> Estimate:
-    """Memory and events of a run of ``model`` with ``params`` (its ``params()`` dict) to the
-    last time ``t_max`` with ``n_times`` records (see the module docstring).
+    """Estimate the memory and the number of events of a run, in a few arithmetic operations.
+
+    The memory is the engine's working bytes per particle (``BYTES_PER_PARTICLE``, times the
+    dimension) plus the records: the energy rows, the S(k) rows (``structure``) and the velocity
+    snapshots.  The events are counted as the module docstring says: pair collisions N τ/2 for
+    Ulam, N τ attempted updates for the lattice (more for clocks at the relative-velocity rate),
+    collisions from Haff's law for MD (a rough lower bound), N log₂N hull steps per output time
+    for the sticky gas.
 
     Parameters
     ----------
     model : str
-        A model of the catalogue.
+        The model's name (``"ulam"``, ``"lattice"``, ``"md"``, ``"sticky"``; any other name is
+        counted like Ulam, with the MD bytes per particle).
     params : dict
-        Its parameters (``engine.to_dict()``).
+        The model's parameter dict (the engine's ``to_dict()``); ``n`` is read, and for MD
+        ``density``, ``restitution``, ``rod_length`` and ``delta``.
     t_max : float
-        The last time.
-    n_times : int
-        Recorded times.
-    structure : str, optional
-        ``"all"`` or ``"last"``: S(k) recorded.
-    snapshots : bool
-        Velocities recorded at every time.
+        The last output time (τ for Ulam and the lattice, t for MD).
+    n_times : int, optional
+        The number of output times (default 1).
+    structure : str or None, optional
+        ``"all"`` (S(k) at every output time), ``"last"`` (at the last) or None.
+    snapshots : bool, optional
+        Whether the velocities are kept at every output time (default False).
 
     Returns
     -------
     Estimate
+        The estimate, with ``driver = "n"``.
     """
     n = float(params.get("n", 0))
     d = float(params.get("dimension", 1))
@@ -208,24 +224,25 @@ def check_budget(estimate: Estimate, *, force: bool = False, time_name: str = "t
     Parameters
     ----------
     estimate : Estimate
-        The run's estimate.
-    force : bool
-        Allow more than 10¹³ events.
-    time_name : str
-        The time's name, for the message.
-    memory_available : float, optional
-        Bytes available (default :func:`available_memory`).
+        The run's estimate (:func:`estimate_run`).
+    force : bool, optional
+        Accept more than ``MAX_EVENTS`` = 10¹³ events (``--force``; default False).  Memory is
+        checked even then.
+    time_name : str, optional
+        The name of the time argument, named in the error for too much work (default ``"tau"``).
+    memory_available : float or None, optional
+        Bytes available; None (default) asks :func:`available_memory`.
 
     Returns
     -------
     Estimate
-        ``estimate``, when the run is allowed.
+        ``estimate``, unchanged.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``driver`` (the size) when the run cannot fit in memory, or the time when the
-        work is absurd without ``force``.
+    particles.InvalidArgumentError
+        Naming ``estimate.driver`` when the memory exceeds what is available, or ``time_name``
+        when the events exceed ``MAX_EVENTS`` without ``force``; the message shows the estimate.
     """
     available = available_memory() if memory_available is None else memory_available
     if not estimate.memory <= available:

@@ -20,17 +20,26 @@ __all__ = ["transfer_fraction", "collide_scalar", "collide_arrays"]
 
 
 def transfer_fraction(restitution) -> float:
-    """p = (1 + r)/2 ∈ [1/2, 1] for r ∈ [0, 1] (the inverse of the paper's β).
+    """The fraction p = (1 + r)/2 of the relative velocity that a collision transfers.
+
+    p ∈ [1/2, 1] for r ∈ [0, 1]: p = 1 exchanges the velocities (elastic), p = 1/2 leaves both
+    particles at their mean velocity (sticky).  p is the inverse of the paper's β.
 
     Parameters
     ----------
     restitution : float
-        r ∈ [0, 1].
+        The restitution coefficient r ∈ [0, 1].
 
     Returns
     -------
     float
-        p.
+        p = (1 + r)/2.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        From :func:`particles.validation.check_restitution`, if ``restitution`` is not a finite
+        number in [0, 1].
     """
     return 0.5 * (1.0 + check_restitution(restitution))
 
@@ -38,34 +47,39 @@ def transfer_fraction(restitution) -> float:
 def collide_scalar(va: float, vb: float, p: float) -> tuple[float, float]:
     """One collision on Python floats (the sequential references use this).
 
-    v_a' = v_a − pΔ, v_b' = v_b + pΔ with Δ = v_a − v_b.
+    Computes ``d = (va - vb) * p`` and returns ``(va - d, vb + d)``, the operations and their order
+    shared by every engine (see the module docstring).
 
     Parameters
     ----------
     va, vb : float
-        The two velocities.
+        Velocities of the two colliding particles before the collision.
     p : float
-        (1 + r)/2.
+        The transfer fraction (1 + r)/2 (:func:`transfer_fraction`).
 
     Returns
     -------
     tuple of float
-        The new velocities.
+        ``(va', vb')``, the velocities after the collision.
     """
     d = (va - vb) * p
     return va - d, vb + d
 
 
 def collide_arrays(va: np.ndarray, vb: np.ndarray, p: float) -> None:
-    """Collide ``va[k]`` with ``vb[k]`` for every k, in place (element-wise the same operations
-    as :func:`collide_scalar`).
+    """Collide ``va[k]`` with ``vb[k]`` for every k, in place.
+
+    Element-wise the same floating-point operations as :func:`collide_scalar`, so that a vectorized
+    engine and its sequential reference agree bit for bit.  The pairs must be disjoint: the arrays
+    are the gathered velocities of distinct particles.
 
     Parameters
     ----------
     va, vb : numpy.ndarray
-        The velocities, changed in place.
+        Float arrays of the same shape, the velocities of the first and second particle of each
+        pair; both are overwritten with the velocities after the collision.
     p : float
-        (1 + r)/2.
+        The transfer fraction (1 + r)/2 (:func:`transfer_fraction`).
     """
     d = va - vb
     d *= p

@@ -46,24 +46,34 @@ Sampler = Callable[[np.random.Generator, int], np.ndarray]
 
 @dataclass(frozen=True)
 class InitialLaw:
-    """A zero-mean, unit-variance velocity law (see the module docstring).
+    """A zero-mean, unit-variance initial velocity law.
+
+    A law is known by its characteristic function φ(k) = E[e^{ikv}] (the sign convention of this
+    project), and, for the built-in laws, by a sampler and a cumulative distribution function.
+    The built-in laws are in ``LAWS`` (:func:`get_law` by name); a user law comes from
+    :func:`law_from_characteristic`.  The fields below are also its attributes.
 
     Parameters
     ----------
     name : str
-        Its name in the registry.
+        The law's name (``"gaussian"``, ... or the user's name).
     characteristic : callable
-        φ(k) = E[e^{ikv}].
-    sampler : callable, optional
-        ``sampler(rng, n)``: n independent draws.
+        ``characteristic(k, xp)``, φ at an array ``k`` of real wave numbers computed with the
+        array module ``xp`` (``numpy``, or ``jax.numpy`` when ``traceable``).
+    sampler : callable or None
+        ``sampler(rng, n)`` draws ``n`` independent velocities with a ``numpy.random.Generator``;
+        None for a user law.
     skewness : float
-        The third moment ⟨v³⟩.
+        The standardised third moment E[v³] (zero for a symmetric law), conserved by the
+        dynamics; it fixes the imaginary part −skewness q³/6 of the rescaled characteristic
+        function near q = 0.
     description : str
-        One line for the help.
+        The law in words, for listings.
     traceable : bool
-        Whether the kinetic solver's initial deviation can be traced back to it exactly.
-    distribution : callable, optional
-        The CDF.
+        True when ``characteristic`` works with ``xp = jax.numpy`` (the built-in laws).
+    distribution : callable or None
+        The cumulative distribution function F(v) = P(V ≤ v) on a float array; None for a user
+        law.
     """
 
     name: str
@@ -77,7 +87,7 @@ class InitialLaw:
     distribution: Callable[[np.ndarray], np.ndarray] | None = field(repr=False, default=None)
 
     def cdf(self, v) -> np.ndarray:
-        """P(V ≤ v) on an array of real ``v`` (built-in laws).
+        """The cumulative distribution function P(V ≤ v) (built-in laws).
 
         Parameters
         ----------
@@ -87,49 +97,52 @@ class InitialLaw:
         Returns
         -------
         numpy.ndarray
+            F(v), a float array of the shape of ``v``.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``initial`` for a law without a CDF.
+        particles.InvalidArgumentError
+            Naming ``initial``, for a law without a known CDF (a user law).
         """
         if self.distribution is None:
             raise InvalidArgumentError("initial", self.name, "a law with a known CDF")
         return np.asarray(self.distribution(np.asarray(v, dtype=float)), dtype=float)
 
     def phi(self, k) -> np.ndarray:
-        """Characteristic function E[e^{ikv}] as a complex array of the shape of ``k``.
+        """The characteristic function φ(k) = E[e^{ikv}] evaluated with NumPy.
 
         Parameters
         ----------
         k : array_like
-            Wave numbers.
+            Real wave numbers.
 
         Returns
         -------
         numpy.ndarray
+            φ(k), a complex array of the shape of ``k``.
         """
         k = np.asarray(k, dtype=float)
         return np.asarray(self.characteristic(k, np), dtype=complex)
 
     def sample(self, rng: np.random.Generator, n: int) -> np.ndarray:
-        """Draw ``n`` independent velocities with ``rng`` (a ``numpy.random.Generator``).
+        """Draw ``n`` independent velocities from the law.
 
         Parameters
         ----------
         rng : numpy.random.Generator
-            The generator.
+            The random generator.
         n : int
-            Number of draws.
+            The number of velocities.
 
         Returns
         -------
         numpy.ndarray
+            Float array of shape ``(n,)``; its empirical mean and variance fluctuate around 0 and 1.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``initial`` for a law without a sampler.
+        particles.InvalidArgumentError
+            Naming ``initial``, for a law without a sampler (a user law).
         """
         if self.sampler is None:
             raise InvalidArgumentError(
@@ -224,11 +237,12 @@ LAWS: dict[str, InitialLaw] = {
 
 
 def law_names() -> list[str]:
-    """The names of the registered laws.
+    """The names of the built-in laws, as the command line accepts them.
 
     Returns
     -------
     list of str
+        The names in ``LAWS``, sorted.
     """
     return sorted(LAWS)
 
@@ -278,17 +292,20 @@ def _probe_points() -> np.ndarray:
 
 
 def first_non_finite(k: np.ndarray, values: np.ndarray) -> tuple[float, complex] | None:
-    """(k, value) at the k of smallest |k| (the positive one on a tie) where ``values`` is not
-    finite, or None when all are finite.
+    """Find the non-finite value at the smallest |k|.
 
     Parameters
     ----------
-    k, values : numpy.ndarray
-        Wave numbers and values of φ there.
+    k : numpy.ndarray
+        Real wave numbers.
+    values : numpy.ndarray
+        The values φ(k), of the shape of ``k``.
 
     Returns
     -------
-    tuple or None
+    tuple of (float, complex) or None
+        ``(k, value)`` at the k of smallest |k| (the positive one on a tie) where ``values`` is
+        not finite, or None when all are finite.
     """
     values = np.asarray(values)
     bad = np.flatnonzero(~np.isfinite(values))
@@ -339,33 +356,38 @@ def _check_characteristic(phi, probe, k, variance, sigma) -> None:
 def law_from_characteristic(
     characteristic: CharacteristicFunction, variance: float, name: str = "user"
 ) -> InitialLaw:
-    """Wrap a user characteristic function ``phi`` of a zero-mean law with the given variance.
+    """Wrap a user characteristic function of a zero-mean law with the given variance.
 
-    The law is rescaled to unit variance: the returned characteristic function is
-    ``phi(k / sqrt(variance))``.  ``phi(0)`` must be 1, ``|phi| <= 1``, the mean zero and the
-    variance the declared one (:func:`_check_characteristic`), and ``phi`` must be finite: the
-    rescaled function is checked on |k| ≤ 64 (step 1/32, covering every q the solver's grids
-    reach) and on log-spaced |k| up to ``PROBE_K_MAX`` = 1e6, and the error names the
-    smallest offending k in the caller's units (k / sqrt(variance)).  The skewness is read
-    from the imaginary part near ``k = 0`` (``Im phi ≈ -E[v^3] k^3/6``).
+    The law is rescaled to unit variance: the returned law's characteristic function is
+    ``characteristic(k / sqrt(variance))``.  Before it is accepted, the function is checked: it
+    must be callable and finite, with φ(0) = 1, |φ| ≤ 1, zero mean (Im φ(h)/h at h = 10⁻⁴) and the
+    declared variance (from 2(1 − Re φ(h))/h²), both moments to a relative 10⁻³.  The rescaled
+    function is probed on |k| ≤ 64 (step 1/32, covering every q the solver's grids reach) and on
+    log-spaced |k| up to ``PROBE_K_MAX`` = 10⁶; an error names the smallest offending k in the
+    caller's units (k / sqrt(variance)).  The skewness is read from the imaginary part at
+    k = 10⁻² (Im φ ≈ −E[v³] k³/6).
 
     Parameters
     ----------
     characteristic : callable
-        φ(k) of a zero-mean law.
+        ``characteristic(k)``: φ(k) = E[e^{ikv}] on a float array of real ``k``, returning an
+        array of the same shape (or one that broadcasts to it).
     variance : float
-        Its variance.
-    name : str
-        A name for messages and files.
+        The variance of the law, > 0.
+    name : str, optional
+        The name of the law (default ``"user"``).
 
     Returns
     -------
     InitialLaw
+        A unit-variance law with no sampler and no CDF, ``traceable`` False.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``characteristic`` (not callable, or failing a check) or ``variance``.
+    particles.InvalidArgumentError
+        Naming ``characteristic`` if it is not callable, raises, returns a non-finite value,
+        has φ(0) ≠ 1, |φ| > 1 or a non-zero mean; naming ``variance`` if it is not a finite
+        number > 0 or differs from the variance of φ.
     """
     if not callable(characteristic):
         raise InvalidArgumentError("characteristic", characteristic, "a callable phi(k)")

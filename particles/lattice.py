@@ -37,7 +37,7 @@ dτ/dt = 2√(T/π), so dT/dτ = −(1 − r²)T, MD's values; without it dT/dt 
 double and dT/dτ is the same.  (Constant rate, in collisions per particle: −(1 − r²)T/2.)
 
 Stops.  The driver stops every ``stop_step`` = 4 in τ (long windows amortise the last, sparse
-passes: measured 2.5e7 attempts/s for windows of 1, 3.5e7 for 4, N = 1e6); the passes depend on
+passes); the passes depend on
 the stop points, which are a fixed grid, so runs are reproducible and resumable bit for bit.
 """
 
@@ -77,23 +77,24 @@ RATE_BOUND_MARGIN = 1e-9
 
 @dataclass(frozen=True)
 class LatticeState:
-    """Lattice state at ``time`` (τ, or t for the rate-|Δ| variant): site velocities, each
-    bond's next attempt time (``clocks[b]`` ≥ time, for bond (b, b+1)), total collisions and
-    total attempts; ``attempt_rate`` is the clocks' common rate R of the rate-|Δ| variant
-    (``None`` for the constant-rate model, whose clocks have rate 1).
+    """Lattice state at ``time``: site velocities, each bond's next attempt time, counters.
 
     Attributes
     ----------
     time : float
-        τ, or t for the rate-|Δ| variant.
+        The time of the state: τ for the constant-rate model, t for the rate-|Δ| variant.
     velocities : numpy.ndarray
-        Site velocities (N,).
+        Float array of shape ``(N,)``, the site velocities.
     clocks : numpy.ndarray
-        Each bond's next attempt time.
-    collisions, attempts : int
-        Totals so far.
+        Float array of shape ``(N,)``: ``clocks[b]`` ≥ time is the next attempt time of bond
+        (b, b+1).
+    collisions : int
+        Total number of collisions so far.
+    attempts : int
+        Total number of attempts (clock ticks) so far.
     attempt_rate : float or None
-        R of the rate-|Δ| variant.
+        The clocks' common rate R of the rate-|Δ| variant; None for the constant-rate model,
+        whose clocks have rate 1.
     """
 
     time: float
@@ -104,11 +105,13 @@ class LatticeState:
     attempt_rate: float | None = None
 
     def to_arrays(self) -> dict[str, np.ndarray]:
-        """The state as arrays (what a checkpoint holds).
+        """The state as a dict of NumPy arrays (what the driver's checkpoints store).
 
         Returns
         -------
-        dict of numpy.ndarray
+        dict of str to numpy.ndarray
+            ``time``, ``velocities``, ``clocks``, ``collisions``, ``attempts`` and, for the
+            rate-|Δ| variant, ``attempt_rate``.
         """
         arrays = {
             "time": np.array(self.time, dtype=float),
@@ -123,25 +126,25 @@ class LatticeState:
 
     @classmethod
     def from_arrays(cls, arrays, n: int) -> LatticeState:
-        """Rebuild a state from :meth:`to_arrays`, checking the arrays.
+        """Rebuild a state from :meth:`to_arrays`'s dict, with consistency checks.
 
         Parameters
         ----------
-        arrays : dict of numpy.ndarray
-            As :meth:`to_arrays` returns them.
+        arrays : mapping
+            The arrays, as :meth:`to_arrays` writes them.
         n : int
-            The number of sites the state must have.
+            The number of sites N the arrays must have.
 
         Returns
         -------
-        LatticeState
+        particles.LatticeState
+            The state (with copies of the arrays).
 
         Raises
         ------
         ValueError
-            When the arrays do not have the shapes of a state of ``n`` sites, a clock is not finite
-            or lies before the time, or the attempt rate is not a finite positive number (the
-            driver turns it into a checkpoint error naming the file).
+            If the velocities or clocks do not have shape ``(n,)``, a clock is not finite or is
+            before ``time``, or ``attempt_rate`` is not a finite number > 0.
         """
         v = np.asarray(arrays["velocities"], dtype=float)
         c = np.asarray(arrays["clocks"], dtype=float)
@@ -197,24 +200,25 @@ def run_clocks(
     Parameters
     ----------
     v : numpy.ndarray
-        Velocities (N,), changed in place.
+        Site velocities, float64 of shape ``(N,)``, N ≥ 3; modified in place.
     clocks : numpy.ndarray
-        Each bond's next attempt time, changed in place.
+        Next attempt time of each bond, float64 of shape ``(N,)``; modified in place.
     until : float
-        The end of the interval.
+        Fire every attempt with time < ``until``.
     p : float
-        (1 + r)/2.
+        The transfer fraction (1 + r)/2.
     constraint : bool
-        Only approaching neighbours collide.
+        Collide only approaching pairs (v_b > v_{b+1}).
     increments : callable
-        ``increments(bonds)``: the next waiting times.
-    sparse_ratio : int
-        Switches to sparse passes once a pass fires fewer than N/``sparse_ratio`` bonds;
-        changes speed only, never the result.
-    marks : callable, optional
-        Uniform marks for the rate-|Δ| thinning.
-    rate_bound : float
-        R ≥ every |Δ| (thinning).
+        ``increments(bonds)``: the next waiting time of each bond of the int array ``bonds``.
+    sparse_ratio : int, optional
+        Switch to testing the pending bonds only once a pass fires fewer than
+        N/``sparse_ratio`` bonds (default 16); speed only.
+    marks : callable or None, optional
+        ``marks(bonds)``: uniform [0, 1) marks for rate-|Δ| thinning; None (default): every
+        attempt is a collision attempt.
+    rate_bound : float, optional
+        The thinning bound R (default 1), used with ``marks``.
 
     Returns
     -------
@@ -310,8 +314,22 @@ def run_clocks_sequential(
 
     Parameters
     ----------
-    v, clocks, until, p, constraint, increments, marks, rate_bound
-        As for :func:`run_clocks`.
+    v : numpy.ndarray
+        Site velocities, shape ``(N,)``; modified in place.
+    clocks : numpy.ndarray
+        Next attempt time of each bond, shape ``(N,)``; modified in place.
+    until : float
+        Process every attempt with time < ``until``.
+    p : float
+        The transfer fraction (1 + r)/2.
+    constraint : bool
+        Collide only approaching pairs.
+    increments : callable
+        ``increments(bonds)``: the next waiting time of each bond of ``bonds``.
+    marks : callable or None, optional
+        Uniform marks for rate-|Δ| thinning (default None: no thinning).
+    rate_bound : float, optional
+        The thinning bound R (default 1), used with ``marks``.
 
     Returns
     -------
@@ -360,18 +378,19 @@ class Lattice:
     n : int
         Number of sites N ≥ 3.
     restitution : float
-        r ∈ [0, 1].
-    initial : str
-        The initial law, a name of :mod:`particles.initial`.
-    constraint : bool
-        Only approaching neighbours collide (the paper's kinematic constraint).
-    rate : str
-        "constant" or "relative_velocity".
+        Restitution coefficient r ∈ [0, 1].
+    initial : str, optional
+        Name of the initial velocity law (default ``"gaussian"``; one with a sampler).
+    constraint : bool, optional
+        Kinematic constraint: collide only approaching pairs (default True).
+    rate : str, optional
+        ``"constant"`` (default) or ``"relative_velocity"`` (``RATES``).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming the parameter that is out of its domain.
+    particles.InvalidArgumentError
+        Naming ``n``, ``restitution``, ``initial`` (unknown, or without a sampler),
+        ``constraint`` (not a bool) or ``rate`` (not one of ``RATES``).
     """
 
     n: int
@@ -414,6 +433,8 @@ class Lattice:
         Returns
         -------
         dict
+            ``n``, ``restitution``, ``initial``, ``constraint``, ``stop_step`` and, for the rate-|Δ|
+            variant, ``rate``.
         """
         out = {
             "n": self.n,
@@ -427,18 +448,21 @@ class Lattice:
         return out
 
     def initial_state(self, rng: np.random.Generator) -> LatticeState:
-        """The state at time 0 (every bond's clock drawn).
+        """The state at time 0: velocities from the law, fresh clocks, no attempts yet.
+
+        Velocities come from :func:`particles.driver.initial_velocities` (zero mean, unit mean
+        square); the clocks are Exp(1) draws, or Exp(R) with R = :func:`thinning_bound` for the
+        rate-|Δ| variant.
 
         Parameters
         ----------
         rng : numpy.random.Generator
-            The run's generator.
+            The random generator.
 
         Returns
         -------
-        LatticeState
-            The state at time 0: velocities from the initial law with zero mean and ⟨v²⟩ = 1 (per
-            component in d > 1).
+        particles.LatticeState
+            The initial state.
         """
         v = initial_velocities(self.initial, self.n, rng)
         if not self.relative_velocity_rate:
@@ -447,7 +471,7 @@ class Lattice:
         return LatticeState(0.0, v, rng.standard_exponential(self.n) / bound, 0, 0, bound)
 
     def next_stop(self, time: float) -> float:
-        """The next stop of the driver after ``time``.
+        """The next point of the stop grid ``stop_step · m`` (m integer) after ``time``.
 
         Parameters
         ----------
@@ -457,26 +481,28 @@ class Lattice:
         Returns
         -------
         float
-            The next time at which the driver may stop (checkpoint, progress).
+            The next stop.
         """
         return next_grid_point(time, self.stop_step)
 
     def state_from_arrays(self, arrays) -> LatticeState:
-        """Rebuild a state from a checkpoint's arrays, checking them.
+        """Rebuild a checkpointed state for this engine.
 
         Parameters
         ----------
-        arrays : dict of numpy.ndarray
-            The state's arrays, as a checkpoint holds them.
+        arrays : mapping
+            The arrays of :meth:`LatticeState.to_arrays`.
 
         Returns
         -------
-        LatticeState
+        particles.LatticeState
+            The state.
 
         Raises
         ------
-        InvalidArgumentError
-            When an array has the wrong shape or values (naming the state).
+        ValueError
+            From :meth:`LatticeState.from_arrays`, or if the state has an ``attempt_rate`` and the
+            engine has constant rate (or the reverse).
         """
         state = LatticeState.from_arrays(arrays, self.n)
         if (state.attempt_rate is not None) != self.relative_velocity_rate:
@@ -484,42 +510,45 @@ class Lattice:
         return state
 
     def observe(self, state: LatticeState) -> dict[str, float]:
-        """The engine's scalars at this state, recorded per time by the driver.
+        """The scalar observables the driver records at each output time.
 
         Parameters
         ----------
-        state : LatticeState
+        state : particles.LatticeState
             The state.
 
         Returns
         -------
-        dict
-            ``attempts`` (bond attempts so far).
+        dict of str to float
+            ``{"attempts": total attempts}``.
         """
         return {"attempts": float(state.attempts)}
 
     def advance(self, state: LatticeState, until: float, rng: np.random.Generator) -> LatticeState:
-        """The exact dynamics from ``state.time`` to ``until``: every bond attempt earlier than
-        ``until``, in causal order (:func:`run_clocks`).
+        """Fire every attempt before ``until`` with the exact vectorized clock scheme.
+
+        For the rate-|Δ| variant the thinning bound R is recomputed from the current velocities and
+        the pending clocks are rescaled to it (module docstring).
 
         Parameters
         ----------
-        state : LatticeState
-            The state (not changed).
+        state : particles.LatticeState
+            The state to advance (not modified).
         until : float
-            The time to advance to (τ, or t for the rate-|Δ| variant).
+            The time to reach (τ, or t for the rate-|Δ| variant), ≥ ``state.time``.
         rng : numpy.random.Generator
-            The run's generator.
+            Source of the clock increments (and thinning marks).
 
         Returns
         -------
-        LatticeState
+        particles.LatticeState
+            The state at ``until``.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``until`` when it lies before the state's time, or ``state`` when a rate-|Δ|
-            engine is given a constant-rate state.
+        particles.InvalidArgumentError
+            Naming ``until`` if it is before the state's time, or ``state`` for a rate-|Δ| run
+            given a state without ``attempt_rate``.
         """
         if not until >= state.time:
             raise InvalidArgumentError("until", until, f"a time >= {state.time}")
@@ -580,11 +609,12 @@ def thinning_bound(v: np.ndarray) -> float:
     Parameters
     ----------
     v : numpy.ndarray
-        Velocities.
+        Site velocities.
 
     Returns
     -------
     float
+        R (0 when all velocities are equal).
     """
     return float(v.max() - v.min()) * (1.0 + RATE_BOUND_MARGIN)
 
@@ -597,13 +627,21 @@ class LatticeDiscreteReference(Lattice):
 
     Parameters
     ----------
-    n, restitution, initial, constraint, rate
-        As for :class:`Lattice`.
+    n : int
+        Number of sites N ≥ 3.
+    restitution : float
+        Restitution coefficient r ∈ [0, 1].
+    initial : str, optional
+        Name of the initial velocity law (default ``"gaussian"``).
+    constraint : bool, optional
+        Kinematic constraint (default True).
+    rate : str, optional
+        Must be ``"constant"`` (the default).
 
     Raises
     ------
-    InvalidArgumentError
-        As :class:`Lattice`.
+    particles.InvalidArgumentError
+        As :class:`Lattice`, and naming ``rate`` for ``"relative_velocity"``.
     """
 
     name: ClassVar[str] = "lattice-discrete-reference"
@@ -614,20 +652,21 @@ class LatticeDiscreteReference(Lattice):
             raise InvalidArgumentError("rate", self.rate, "'constant' (the discrete reference)")
 
     def advance(self, state: LatticeState, until: float, rng: np.random.Generator) -> LatticeState:
-        """The discrete-time dynamics to ``until`` (rounded to a whole number of attempts).
+        """Pick round(until · N) − ``state.attempts`` uniform bonds one by one and collide them.
 
         Parameters
         ----------
-        state : LatticeState
-            The state (not changed).
+        state : particles.LatticeState
+            The state to advance (not modified).
         until : float
-            τ to advance to.
+            The τ to reach (rounded to a whole number of attempts).
         rng : numpy.random.Generator
-            The generator.
+            Source of the bond choices.
 
         Returns
         -------
-        LatticeState
+        particles.LatticeState
+            The state at ``until``, with the clocks unchanged.
         """
         n, p = self.n, self.p
         vel = state.velocities.tolist()

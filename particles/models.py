@@ -78,30 +78,31 @@ class Parameter:
     Attributes
     ----------
     name : str
-        The keyword.
+        The keyword of the factory.
     kind : str
-        One of "int", "float", "choice", "flag", "any".
+        One of :data:`KINDS`: ``"int"``, ``"float"``, ``"choice"``, ``"flag"`` or ``"any"``.
     default : object
-        The default (``REQUIRED`` when there is none).
-    check : callable, optional
-        The validator.
+        The default value, or :data:`REQUIRED`.
+    check : callable or None
+        ``check(value, name)`` validates and normalises a value; a ``"choice"`` without one
+        checks membership of ``choices``.
     unit : str
-        The unit, for the help.
+        Unit shown in the help (e.g. ``"1/length"``).
     help : str
-        The help text.
+        Help text of the option.
     option : str
-        The command-line option.
+        The command-line option; default ``--`` and the name with ``-`` for ``_``.
     switch : str
-        A flag's option without value.
+        For a ``"flag"``: an option without value that sets ``not default``.
     choices : tuple
-        The choices of a "choice".
+        The allowed values of a ``"choice"``.
     example : object
-        A valid value other than the default.
+        A valid non-default value (help and generated tests).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``kind`` or the field that is inconsistent.
+    particles.InvalidArgumentError
+        (argument ``kind``) if ``kind`` is not one of :data:`KINDS`.
     """
 
     name: str
@@ -133,17 +134,18 @@ class Parameter:
         Parameters
         ----------
         value : object
-            The value.
+            A value of the parameter's type (a ``bool`` for a flag).
 
         Returns
         -------
         object
-            The value, normalised.
+            The value, normalised by ``check`` (unchanged when there is none).
 
         Raises
         ------
-        InvalidArgumentError
-            Naming this parameter.
+        particles.InvalidArgumentError
+            (argument: the parameter's name) for a flag that is not a bool, or whatever the
+            validator refuses.
         """
         if self.kind == "flag" and not isinstance(value, bool):
             raise InvalidArgumentError(self.name, value, "true or false")
@@ -156,16 +158,18 @@ class Parameter:
         Parameters
         ----------
         text : str
-            The command-line text.
+            The text given on the command line (``true/yes/1`` or ``false/no/0`` for a flag).
 
         Returns
         -------
         object
+            The parsed, validated value.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming this parameter and ``text``.
+        particles.InvalidArgumentError
+            (argument: the parameter's name, value: ``text``) if the text does not parse or
+            the value is refused.
         """
         try:
             if self.kind == "int":
@@ -190,6 +194,7 @@ class Parameter:
         Returns
         -------
         str
+            E.g. ``"number density N/L > 0 [1/length] (required)"``.
         """
         parts = [self.help]
         if self.unit:
@@ -231,20 +236,22 @@ class Model:
     Parameters
     ----------
     name : str
-        The model's name.
+        The model's name (the command ``simulate NAME``).
     factory : callable
-        Builds the engine.
+        ``factory(**params)`` returns the engine.
     parameters : tuple of Parameter
-        Its keywords.
-    help, description : str
-        Command-line texts.
+        The declared keywords (distinct names).
+    help : str
+        One-line command-line help.
+    description : str
+        Longer command-line description.
     default_time_name : str
-        The time's name when the engine does not say.
+        Time name (``"tau"`` or ``"t"``) of engines without a ``time_name`` of their own.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``parameters`` when two have one name.
+    particles.InvalidArgumentError
+        (argument ``parameters``) if two parameters share a name.
     """
 
     name: str
@@ -272,21 +279,22 @@ class Model:
         return tuple(p.name for p in self.parameters if p.required)
 
     def parameter(self, name: str) -> Parameter:
-        """The parameter called ``name``.
+        """The declared parameter called ``name``.
 
         Parameters
         ----------
         name : str
-            Its name.
+            A parameter name.
 
         Returns
         -------
         Parameter
+            Its declaration.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming the parameter when the model has no parameter of that name.
+        particles.InvalidArgumentError
+            (argument ``params``) if the model has no such parameter.
         """
         try:
             return self._by_name[name]
@@ -300,18 +308,20 @@ class Model:
 
         Parameters
         ----------
-        params : mapping
-            The parameters.
+        params : Mapping[str, Any]
+            Keyword parameters of the factory (validated values).
 
         Returns
         -------
         object
-            The engine.
+            The engine ``factory(**params)``.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming an unknown parameter, a missing one, or a bad value.
+        particles.InvalidArgumentError
+            (argument ``params``) for an unknown or missing parameter, or a ``TypeError`` /
+            ``ValueError`` of the factory; the factory's own ``InvalidArgumentError`` passes
+            through.
         """
         for name in params:
             self.parameter(name)
@@ -333,11 +343,13 @@ class Model:
         Parameters
         ----------
         engine : object
-            An engine of this model.
+            An engine built by this model.
 
         Returns
         -------
         str
+            ``"tau"`` (collisions per particle) or ``"t"`` (physical time); the model's
+            ``default_time_name`` if the engine has none.
         """
         return str(getattr(engine, "time_name", self.default_time_name))
 
@@ -506,16 +518,17 @@ def get_model(name) -> Model:
     Parameters
     ----------
     name : str
-        The model's name.
+        A key of :data:`MODELS`.
 
     Returns
     -------
     Model
+        The model.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``model``.
+    particles.InvalidArgumentError
+        (argument ``model``) if no model has that name.
     """
     if isinstance(name, str) and name in MODELS:
         return MODELS[name]
@@ -534,22 +547,24 @@ def register_model(name: str, factory: Callable[..., Any], *, time_name: str = "
     Parameters
     ----------
     name : str
-        The new model's name.
-    factory : callable
-        Builds its engine.
-    time_name : str
-        Its time's name when the engine does not say.
+        The model's name (non-empty).
+    factory : Callable[..., Any]
+        Builds the engine from keyword parameters; must be importable by workers.
+    time_name : str, optional
+        Time name for engines without their own (default ``"tau"``).
     parameters : sequence of Parameter, optional
-        Its keywords (default: read from ``factory``).
+        The declared parameters; default: the factory's keywords, of kind ``"any"``.
 
     Returns
     -------
     Model
+        The registered model.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` or ``factory`` when they are not valid.
+    particles.InvalidArgumentError
+        (argument ``name``) for an empty or non-string name; (argument ``factory``) if it is
+        not callable.
     """
     if not isinstance(name, str) or not name:
         raise InvalidArgumentError("name", name, "a non-empty string")
@@ -569,6 +584,7 @@ def registered_models() -> dict[str, tuple[str, ...]]:
 
     Returns
     -------
-    dict
+    dict of str to tuple of str
+        Each registered model's parameter names.
     """
     return {name: m.names for name, m in MODELS.items()}

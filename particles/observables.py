@@ -86,11 +86,17 @@ def momentum(v) -> np.ndarray | float:
     Parameters
     ----------
     v : array_like
-        Velocities, particles along the last axis ((N,) or (R, N)).
+        Velocities, particles along the last axis (one run ``(N,)`` or runs ``(R, N)``).
 
     Returns
     -------
     float or numpy.ndarray
+        ⟨v⟩, a float for one set of velocities, one value per run otherwise.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``v``) if ``v`` is not a 1- or 2-dimensional non-empty array.
     """
     arr = _as_velocities(v)
     out = np.mean(arr, axis=-1)
@@ -109,16 +115,20 @@ class Histogram:
 
     Attributes
     ----------
-    edges, centres : numpy.ndarray
-        Bin edges and centres in x.
-    density, error : numpy.ndarray
-        The density and its standard error per bin.
+    edges : numpy.ndarray
+        Bin edges in x, shape ``(B + 1,)``, increasing.
+    centres : numpy.ndarray
+        Bin centres, shape ``(B,)``.
+    density : numpy.ndarray
+        Estimated probability density of x in each bin, shape ``(B,)``.
+    error : numpy.ndarray
+        Binomial standard error of ``density``, shape ``(B,)``.
     count : numpy.ndarray
-        Samples per bin.
+        Number of samples in each bin, shape ``(B,)``.
     samples : int
-        All samples n (those outside the edges included).
+        Total number of samples n, those outside the edges included.
     v0 : float
-        The scale of x = v/v0.
+        The velocity scale x is measured in (mean of the per-run √E when pooled).
     """
 
     edges: np.ndarray
@@ -135,7 +145,7 @@ class Histogram:
         Returns
         -------
         dict
-            ``centres``, ``density`` and ``error``.
+            ``{"centres", "density", "error"}``, each a list of floats.
         """
         return {
             "centres": self.centres.tolist(),
@@ -174,20 +184,22 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     Parameters
     ----------
     v : array_like
-        Velocities, particles along the last axis ((N,) or (R, N)).
-    bins : array_like or int, optional
-        Edges in x, or a number of equal bins.
+        Velocities, shape ``(N,)`` or ``(R, N)``.
+    bins : int or array_like, optional
+        Number of equal bins on [-6, 6], or increasing edges in x; default :data:`DEFAULT_EDGES`.
     v0 : float, optional
-        The scale (default √E of each run).
+        A fixed positive velocity scale used for every run instead of each run's own √E.
 
     Returns
     -------
     Histogram
+        The density of x with its binomial error.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``bins`` or ``v`` (all velocities 0, so x is undefined).
+    particles.InvalidArgumentError
+        ``v`` of a wrong shape or with zero or non-finite energy; ``bins`` not an integer in
+        [1, 10⁶] nor at least two strictly increasing edges; ``v0`` not finite and positive.
     """
     arr = _as_velocities(v)
     if bins is None:
@@ -226,17 +238,18 @@ def histogram_from_counts(edges, count, n: int, v0: float) -> Histogram:
     Parameters
     ----------
     edges : array_like
-        Bin edges in x.
-    count : array_like of int
-        Samples per bin.
+        Bin edges in x, shape ``(B + 1,)``.
+    count : array_like
+        Samples per bin, shape ``(B,)``.
     n : int
-        All samples.
+        Total number of samples, those outside the edges included.
     v0 : float
-        The scale of x.
+        The velocity scale x = v / v0 was measured in.
 
     Returns
     -------
     Histogram
+        The normalised density and its error.
     """
     edges = np.asarray(edges, dtype=float)
     count = np.asarray(count)
@@ -271,11 +284,19 @@ def structure_factor(v) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     v : array_like
-        Velocities, particles along the last axis ((N,) or (R, N)).
+        Velocities on the ring, shape ``(N,)`` or ``(R, N)``.
 
     Returns
     -------
-    k, S : numpy.ndarray
+    k : numpy.ndarray
+        Wavenumbers 2πm/N, shape ``(⌊N/2⌋ + 1,)``.
+    S : numpy.ndarray
+        S(k), same shape (run-averaged for 2-D input).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``v``) if ``v`` is not a 1- or 2-dimensional non-empty array.
     """
     arr = _as_velocities(v)
     n = arr.shape[-1]
@@ -291,11 +312,12 @@ def wavenumbers(n: int) -> np.ndarray:
     Parameters
     ----------
     n : int
-        Sites N.
+        Number of sites on the ring (lattice spacing 1).
 
     Returns
     -------
     numpy.ndarray
+        The ⌊n/2⌋ + 1 wavenumbers, increasing from 0.
     """
     return 2.0 * np.pi * np.arange(n // 2 + 1) / n
 
@@ -311,12 +333,17 @@ def correlation(v) -> np.ndarray:
     Parameters
     ----------
     v : array_like
-        Velocities, particles along the last axis ((N,) or (R, N)).
+        Velocities on the ring, shape ``(N,)`` or ``(R, N)``.
 
     Returns
     -------
     numpy.ndarray
-        C(r), r = 0 … N − 1.
+        C(r) for r = 0..N−1, shape ``(N,)`` (run-averaged for 2-D input).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``v``) if ``v`` is not a 1- or 2-dimensional non-empty array.
     """
     arr = _as_velocities(v)
     n = arr.shape[-1]
@@ -347,11 +374,19 @@ def velocity_profile(v) -> tuple[np.ndarray, np.ndarray]:
     Parameters
     ----------
     v : array_like
-        Velocities, particles along the last axis ((N,) or (R, N)).
+        Velocities, shape ``(N,)`` or ``(R, N)``.
 
     Returns
     -------
-    i, v : numpy.ndarray
+    i : numpy.ndarray
+        The labels 0..N−1.
+    v : numpy.ndarray
+        A float copy of the velocities, same shape as the input.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``v``) if ``v`` is not a 1- or 2-dimensional non-empty array.
     """
     arr = np.array(_as_velocities(v), dtype=float)  # a copy
     return np.arange(arr.shape[-1]), arr
@@ -365,19 +400,25 @@ def log_bin(k, s, bins_per_decade: int = 10) -> tuple[np.ndarray, np.ndarray, np
 
     Parameters
     ----------
-    k, s : array_like
-        Wave numbers and values of the same shape.
-    bins_per_decade : int
-        Bins per decade, > 0.
+    k : array_like
+        Wavenumbers, 1-D.
+    s : array_like
+        Values at ``k`` (e.g. S(k)), same shape as ``k``.
+    bins_per_decade : int, optional
+        Number of logarithmic bins per factor 10 in k (default 10).
 
     Returns
     -------
-    k_mean, s_mean, count : numpy.ndarray
+    k_mean, s_mean : numpy.ndarray
+        Mean k and mean s of each non-empty bin.
+    count : numpy.ndarray
+        Number of modes in each non-empty bin (int).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``s`` (another shape than ``k``) or ``bins_per_decade``.
+    particles.InvalidArgumentError
+        (argument ``s``) if ``k`` and ``s`` are not 1-D arrays of one shape; (argument
+        ``bins_per_decade``) if it is not a positive integer.
     """
     k = np.asarray(k, dtype=float)
     s = np.asarray(s, dtype=float)
@@ -409,18 +450,19 @@ def mean_sem(values, axis: int = 0):
     Parameters
     ----------
     values : array_like
-        The values.
-    axis : int
-        The axis of the samples.
+        The values, e.g. one per seed along ``axis``.
+    axis : int, optional
+        Axis to average over (default 0).
 
     Returns
     -------
     mean, sem : float or numpy.ndarray
+        The mean and its standard error (NaN where fewer than two values).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``values`` when the axis is empty.
+    particles.InvalidArgumentError
+        (argument ``values``) if there is no value along ``axis``.
     """
     a = np.asarray(values, dtype=float)
     m = a.shape[axis] if a.ndim else 1
@@ -443,11 +485,12 @@ def mean_sem_json(values) -> list:
     Parameters
     ----------
     values : array_like
-        1-D values.
+        The values (flattened).
 
     Returns
     -------
     list
+        ``[mean, sem]`` as floats or ``None``.
     """
     a = np.asarray(values, dtype=float).ravel()
     if a.size == 0:

@@ -68,16 +68,19 @@ class _Refused(ValueError):
 class FileFormatError(InvalidArgumentError):
     """A file that cannot be read as the expected kind: names the file and the reason.
 
+    A subclass of :class:`particles.validation.InvalidArgumentError`, so the CLI reports it as
+    a bad argument (exit 2).
+
     Parameters
     ----------
     path : str or os.PathLike
-        The file.
+        The file (kept as ``str`` in the attribute ``path``).
     reason : str
-        What is wrong.
-    argument : str
-        The argument that named the file.
-    expected : str
-        What was expected.
+        Why it was refused (kept in the attribute ``reason``).
+    argument : str, optional
+        The name of the argument that gave the file (default ``"path"``).
+    expected : str, optional
+        What was expected, e.g. ``"a result file"`` (default ``"a file"``).
     """
 
     def __init__(self, path, reason: str, argument: str = "path", expected: str = "a file"):
@@ -94,13 +97,13 @@ class Loaded:
     Attributes
     ----------
     meta : dict
-        The meta fields.
-    arrays : dict of numpy.ndarray
-        The arrays.
+        The JSON meta fields (the reserved ``format``, ``kind``, ``version``, ``sha256`` too).
+    arrays : dict of str to numpy.ndarray
+        The arrays by name (read-only views of the file's bytes).
     version : int
-        The format version.
+        The kind's format version of the file.
     legacy : bool
-        Written before the hash existed.
+        True for a file of the formats of version 0.1.0 (no hash checked).
     """
 
     meta: dict
@@ -128,15 +131,16 @@ def digest(meta: dict, arrays: dict[str, np.ndarray], entries: dict | None = Non
     Parameters
     ----------
     meta : dict
-        The meta fields.
-    arrays : dict of numpy.ndarray
-        The arrays.
-    entries : dict, optional
-        Digests already computed, by name.
+        The meta fields (a ``sha256`` key is ignored).
+    arrays : dict of str to numpy.ndarray
+        The arrays by name.
+    entries : dict of str to bytes, optional
+        Per-array digests already computed, by name.
 
     Returns
     -------
     str
+        The hexadecimal SHA-256.
     """
     h = hashlib.sha256()
     fields = {k: v for k, v in meta.items() if k != "sha256"}
@@ -172,15 +176,21 @@ def write_atomic(path, write, name: str = "path") -> Path:
     Parameters
     ----------
     path : str or os.PathLike
-        The target.
+        The output file.
     write : callable
-        ``write(fh)`` fills the temporary file.
-    name : str
-        The argument's name, for messages.
+        ``write(fh)`` writes the content to the open binary file ``fh``.
+    name : str, optional
+        The argument name errors report (default ``"path"``).
 
     Returns
     -------
     pathlib.Path
+        ``path`` (as validated by :func:`particles.validation.check_path`).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``name``) for an invalid path or a target that is not a regular file.
     """
     path = check_path(path, name)
     target = output_target(path, name)
@@ -211,24 +221,27 @@ def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) 
     Parameters
     ----------
     path : str or os.PathLike
-        The file.
+        The output file (conventionally ``.npz``).
     kind : str
-        What it holds.
+        What the file holds, e.g. ``"result"`` or ``"checkpoint"``.
     version : int
-        The format version.
-    arrays : dict of numpy.ndarray
-        Named numeric arrays.
+        The kind's format version.
+    arrays : dict
+        Named arrays of bool, integer, float, complex or string dtype (no object arrays).
     meta : dict, optional
-        JSON-able fields.
+        JSON-serialisable fields of the caller; must not use the reserved keys ``format``,
+        ``kind``, ``version``, ``sha256``.
 
     Returns
     -------
     pathlib.Path
+        The path written.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``meta`` (a reserved key) or ``arrays`` (not numeric), or the path.
+    particles.InvalidArgumentError
+        ``meta`` uses a reserved key; ``arrays`` holds an entry named ``meta`` or of an object
+        dtype; ``path`` is invalid or not a writable regular-file target.
     """
     path = check_path(path, "path")
     output_target(path, "path")  # refused before the content is hashed
@@ -252,15 +265,16 @@ def write_text(path, text: str, name: str = "path") -> Path:
     Parameters
     ----------
     path : str or os.PathLike
-        The file.
+        The output file.
     text : str
-        The text.
-    name : str
-        The argument's name.
+        The content.
+    name : str, optional
+        The argument name errors report (default ``"path"``).
 
     Returns
     -------
     pathlib.Path
+        The path written.
     """
     return write_atomic(path, lambda fh: fh.write(text.encode()), name)
 
@@ -274,15 +288,16 @@ def save_figure(fig, path, name: str = "path", **kwargs) -> Path:
     fig : matplotlib.figure.Figure
         The figure.
     path : str or os.PathLike
-        The file.
-    name : str
-        The argument's name.
+        The output file; its suffix chooses the format.
+    name : str, optional
+        The argument name errors report (default ``"path"``).
     **kwargs
-        For ``savefig``.
+        Passed on to ``fig.savefig``.
 
     Returns
     -------
     pathlib.Path
+        The path written.
     """
     path = check_path(path, name)
     fmt = path.suffix.lstrip(".").lower() or None
@@ -377,33 +392,38 @@ def load(
     ``check_entry(name, dtype, shape, meta)`` may return a reason to refuse an entry from its
     header alone (before its data is read).  Every failure raises :class:`FileFormatError`
     naming ``argument``, the file and the reason; ``expected`` words what was expected
-    (default: "a <kind> file").
+    (default: "a <kind> file of maxwell-kinetics").
 
     Parameters
     ----------
-    path : str or os.PathLike
-        The file.
+    path : str, os.PathLike or binary file
+        The file, or an open binary file object.
     kind : str
-        The kind expected.
-    versions : tuple of int
-        The versions accepted.
-    argument : str
-        The argument's name, for messages.
+        The kind the file must hold.
+    versions : iterable of int
+        The accepted format versions.
+    argument : str, optional
+        The argument name errors report (default ``"path"``).
     expected : str, optional
-        What was expected, for messages.
+        Wording of what was expected, for error messages.
     max_bytes : int, optional
-        The largest entry accepted.
+        Cap on the bytes of all arrays; default the smaller of 8 GiB and half the available
+        memory.
     check_entry : callable, optional
-        A check of each entry's header.
+        ``check_entry(name, dtype, shape, meta)`` returns a reason (str) to refuse an entry,
+        or a false value to accept it.
 
     Returns
     -------
     Loaded
+        The meta fields, arrays, version and legacy flag.
 
     Raises
     ------
     FileFormatError
-        For anything that is not such a file.
+        (argument ``argument``) for a missing or non-regular file, a wrong format, kind or
+        version, an object or oversized or truncated entry, an entry refused by
+        ``check_entry``, an unreadable archive, or a hash mismatch.
     """
     expected = expected or f"a {kind} file of maxwell-kinetics"
     versions = tuple(int(v) for v in versions)

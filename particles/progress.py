@@ -19,35 +19,38 @@ __all__ = ["progress_bar", "PlainProgress", "NoProgress"]
 
 
 class NoProgress:
-    """A progress object that reports nothing."""
+    """A progress object that reports nothing (``enabled=False``, ``--no-progress``).
+
+    It counts the progress in ``n`` and accepts the calls of a tqdm bar, so that callers need not
+    test whether progress is shown.  Also a context manager (closed on exit).
+    """
 
     n = 0.0
 
     def update(self, n=1) -> None:
-        """Nothing.
+        """Add ``n`` to the progress count (nothing is printed).
 
         Parameters
         ----------
-        n : float
-            Ignored.
+        n : float, optional
+            The progress made since the last call (default 1).
         """
         self.n += n
 
     def set_postfix_str(self, text: str, refresh: bool = True) -> None:
-        """Nothing.
+        """Accept a status text after the bar, and ignore it.
 
         Parameters
         ----------
         text : str
-            Ignored.
-        refresh : bool
-            Ignored.
+            The text (unused).
+        refresh : bool, optional
+            Accepted for compatibility with tqdm (unused).
         """
         pass
 
     def close(self) -> None:
-        """Nothing.
-        """
+        """Finish the progress report (nothing to do)."""
         pass
 
     def __enter__(self):
@@ -58,14 +61,29 @@ class NoProgress:
 
 
 class PlainProgress(NoProgress):
-    """Plain lines on ``stream`` at 0 %, every ``step`` of the total, and at the end.
+    """Progress as a few plain lines, for a stream that is not a terminal (a log file, CI).
+
+    A line is printed at the start, whenever the progress passes a further ``step`` of
+    ``total``, and at ``close()``; each shows the percentage, ``n/total unit``, the seconds
+    elapsed and the postfix text.  A log thus holds a handful of lines and not thousands of
+    carriage-return updates.
 
     Parameters
     ----------
-    total, desc, unit, stream, initial, postfix
-        As for :func:`progress_bar`.
-    step : float
-        The fraction of the total between lines.
+    total : float
+        The amount of work at completion (a falsy total shows 0 %).
+    desc : str, optional
+        The label at the start of each line.
+    unit : str, optional
+        The unit of the progress count, shown after the numbers.
+    stream : file-like or None, optional
+        Where the lines go (default ``sys.stderr``).
+    step : float, optional
+        The fraction of ``total`` between two lines (default 0.25).
+    initial : float, optional
+        The progress already made (a resumed run; default 0).
+    postfix : str, optional
+        A status text appended to each line.
     """
 
     def __init__(self, total, desc="", unit="", stream=None, step=0.25, initial=0.0,
@@ -95,32 +113,33 @@ class PlainProgress(NoProgress):
             self._next += self.step
 
     def update(self, n=1) -> None:
-        """Advance by ``n``; writes a line when a step is crossed.
+        """Add ``n`` to the progress, printing a line when it passes the next ``step`` of the total.
+
+        The final line (100 %) is left to ``close()``.
 
         Parameters
         ----------
-        n : float
-            The increment.
+        n : float, optional
+            The progress made since the last call (default 1).
         """
         self.n += n
         if self._fraction() >= self._next and self._fraction() < 1.0:
             self._emit()
 
     def set_postfix_str(self, text: str, refresh: bool = True) -> None:
-        """Set the text after the value.
+        """Set the status text appended to the following lines.
 
         Parameters
         ----------
         text : str
             The text.
-        refresh : bool
-            Ignored (tqdm's signature).
+        refresh : bool, optional
+            Accepted for compatibility with tqdm (a line is printed only on progress).
         """
         self.postfix = text
 
     def close(self) -> None:
-        """Write the final line (once).
-        """
+        """Print the final line (once; later calls do nothing)."""
         if not self._closed:
             self._closed = True
             self._emit()
@@ -128,31 +147,34 @@ class PlainProgress(NoProgress):
 
 def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool = True, initial=0.0,
                  leave: bool = False, stream=None, postfix: str = ""):
-    """A tqdm bar on a terminal, plain lines otherwise, nothing when ``enabled`` is False.
+    """A progress reporter: a tqdm bar on a terminal, plain lines otherwise, nothing when disabled.
+
+    The returned object has ``update(n)``, ``set_postfix_str(text)`` and ``close()`` and is a
+    context manager.
 
     Parameters
     ----------
     total : float
-        The end value.
-    desc : str
-        The label.
-    unit : str
-        The unit of the values.
-    enabled : bool
-        False: report nothing.
-    initial : float
-        The start value (a resumed run).
-    leave : bool
-        Keep the tqdm bar after the end.
-    stream : file, optional
-        Where to write (default stderr).
-    postfix : str
-        Text after the bar.
+        The amount of work at completion (in ``unit``: τ, time, tasks).
+    desc : str, optional
+        The label of the bar.
+    unit : str, optional
+        The unit of the progress count.
+    enabled : bool, optional
+        False (``--no-progress``) reports nothing (default True).
+    initial : float, optional
+        The progress already made, e.g. by a resumed run (default 0).
+    leave : bool, optional
+        Keep a tqdm bar on the terminal after it is closed (default False).
+    stream : file-like or None, optional
+        Where to report (default ``sys.stderr``); a bar is drawn only when ``stream.isatty()``.
+    postfix : str, optional
+        A status text shown after the bar.
 
     Returns
     -------
-    object
-        A context manager with ``update``, ``set_postfix_str`` and ``close``.
+    tqdm.tqdm or PlainProgress or NoProgress
+        The progress object.
     """
     if not enabled:
         return NoProgress()

@@ -24,8 +24,8 @@ recomputed with ``np.maximum.at`` if the check ever fails.
 
 Momentum round-off.  Collisions conserve the total momentum only up to round-off, and that
 residue does not decay while the velocities decay like e^{−λτ}: for λτ ≳ 30 every velocity would
-approach the round-off mean (without the correction below, at r = 0.9, N = 2·10⁴, τ = 1200, all
-velocities of a run become equal).  The collision rule is Galilean invariant (it depends only on the
+approach the round-off mean (measured before this correction: r = 0.9, N = 2·10⁴, τ = 1200, all
+velocities of a run equal).  The collision rule is Galilean invariant (it depends only on the
 difference of the two velocities), so subtracting the mean velocity from every particle commutes
 with the dynamics and is exact up to round-off.  Both engines do it (:func:`recentre`) at the
 same deterministic points: the multiples of ``stop_step`` in τ, after every event before that
@@ -153,11 +153,11 @@ class UlamState:
     Attributes
     ----------
     time : float
-        τ.
+        τ, collisions per particle (N/2 pair collisions per unit on average).
     velocities : numpy.ndarray
-        (N,) in 1D, (N, d) otherwise.
+        Shape ``(N,)`` in 1D, ``(N, d)`` otherwise.
     collisions : int
-        Pair collisions so far.
+        Total number of pair collisions so far.
     """
 
     time: float
@@ -165,11 +165,12 @@ class UlamState:
     collisions: int = 0
 
     def to_arrays(self) -> dict[str, np.ndarray]:
-        """The state as arrays (what a checkpoint holds).
+        """The state as a dict of NumPy arrays (what the driver's checkpoints store).
 
         Returns
         -------
-        dict of numpy.ndarray
+        dict of str to numpy.ndarray
+            ``time``, ``velocities`` and ``collisions``.
         """
         return {
             "time": np.array(self.time, dtype=float),
@@ -179,26 +180,26 @@ class UlamState:
 
     @classmethod
     def from_arrays(cls, arrays, n: int, dimension: int = 1) -> UlamState:
-        """Rebuild a state from :meth:`to_arrays`, checking the arrays.
+        """Rebuild a state from :meth:`to_arrays`'s dict.
 
         Parameters
         ----------
-        arrays : dict of numpy.ndarray
-            As :meth:`to_arrays` returns them.
+        arrays : mapping
+            The arrays, as :meth:`to_arrays` writes them.
         n : int
-            The number of particles the state must have.
-        dimension : int
-            Its dimension.
+            The number of particles N.
+        dimension : int, optional
+            The dimension d (default 1).
 
         Returns
         -------
-        UlamState
+        particles.UlamState
+            The state (with a copy of the velocities).
 
         Raises
         ------
         ValueError
-            When the arrays do not have the shapes of a state of ``n`` particles in ``dimension``
-            (the driver turns it into a checkpoint error naming the file).
+            If the velocities do not have shape ``(n,)`` (1D) or ``(n, dimension)``.
         """
         v = np.asarray(arrays["velocities"], dtype=float)
         shape = (n,) if dimension == 1 else (n, dimension)
@@ -214,16 +215,16 @@ def draw_pairs(rng: np.random.Generator, n: int, k: int) -> np.ndarray:
     Parameters
     ----------
     rng : numpy.random.Generator
-        The generator.
+        The random generator.
     n : int
-        Number of particles.
+        The number of particles N ≥ 2.
     k : int
-        Number of pairs.
+        The number of pairs.
 
     Returns
     -------
     numpy.ndarray
-        int32, shape (k, 2).
+        int32 array of shape ``(k, 2)``.
     """
     pairs = np.empty((k, 2), dtype=np.int32)
     pairs[:, 0] = rng.integers(0, n, k, dtype=np.int32)
@@ -298,7 +299,7 @@ def recentre(v: np.ndarray) -> None:
     Parameters
     ----------
     v : numpy.ndarray
-        Velocities, changed in place.
+        Velocities, modified in place.
     """
     if v.ndim == 1:
         v -= v.mean()
@@ -318,11 +319,11 @@ class AngularDraws:
     Attributes
     ----------
     z : numpy.ndarray or None
-        d = 3: standard normal vectors (K, 3).
+        d = 3: standard normal vectors, shape ``(K, 3)``; None in d = 2.
     eta : numpy.ndarray or None
-        d = 3, "hard": η (K,).
+        d = 3, "hard" model: η = (ĝ·n)², shape ``(K,)``; else None.
     sine : numpy.ndarray or None
-        d = 2: sin φ (K,).
+        d = 2: sin φ, shape ``(K,)``; else None.
     """
 
     z: np.ndarray | None
@@ -337,17 +338,18 @@ def draw_angles(rng: np.random.Generator, k: int, dimension: int, angular: str) 
     Parameters
     ----------
     rng : numpy.random.Generator
-        The generator.
+        The random generator.
     k : int
-        Number of events.
+        The number of events.
     dimension : int
-        d ∈ {2, 3}.
+        The dimension d (2 or 3).
     angular : str
-        "uniform" or "hard".
+        ``"uniform"`` or ``"hard"``.
 
     Returns
     -------
     AngularDraws
+        The draws of the ``k`` events.
     """
     if dimension == 2:
         u = rng.random(k)
@@ -373,15 +375,15 @@ def plane_transfer(sine: np.ndarray, p: float) -> np.ndarray:
 
     Parameters
     ----------
-    sine : numpy.ndarray
-        sin φ of each event.
+    sine : array_like
+        sin φ of the events.
     p : float
-        (1 + r)/2.
+        The transfer fraction (1 + r)/2.
 
     Returns
     -------
     numpy.ndarray
-        The complex factors t.
+        Complex array of the shape of ``sine``.
     """
     s = np.asarray(sine, dtype=float)
     c2 = 1.0 - s  # (1 − s)(1 + s), not 1 − s²: c is accurate to round-off even near s = ±1
@@ -395,20 +397,20 @@ def plane_transfer(sine: np.ndarray, p: float) -> np.ndarray:
 
 
 def collide_complex(va: np.ndarray, vb: np.ndarray, transfer: np.ndarray) -> None:
-    """The 2D rule in place on complex velocities v = v_x + i v_y: with g = v_a − v_b and
-    δ = g · ``transfer`` (= p (g·n) n, :func:`plane_transfer`), v_a −= δ and v_b += δ.
+    """The 2D rule in place on complex velocities v = v_x + i v_y.
 
-    The product g · t is written out in real operations, each correctly rounded, so that it
-    gives the same bits for one event as for a window: NumPy's own complex multiply fuses
-    multiply-adds in its SIMD loop but not in its scalar fallback, which it takes for some
-    one-element in-place calls (measured: NumPy 2.4, x86-64 with FMA).
+    With g = v_a − v_b and δ = g · ``transfer`` (= p (g·n) n, :func:`plane_transfer`),
+    v_a −= δ and v_b += δ.  The product g · t is written out in real operations, each correctly
+    rounded, so that it gives the same bits for one event as for a window: NumPy's own complex
+    multiply may fuse multiply-adds in its SIMD loop but not in its scalar fallback.
 
     Parameters
     ----------
     va, vb : numpy.ndarray
-        Complex velocities (m,), changed in place.
+        Complex velocities of the first and second particle of each event, same shape;
+        modified in place.
     transfer : numpy.ndarray
-        The complex factors of :func:`plane_transfer`.
+        The complex factors of :func:`plane_transfer`, one per event.
     """
     g = va - vb
     delta = np.empty_like(g)
@@ -439,16 +441,16 @@ def collision_directions(g: np.ndarray, draws: AngularDraws, angular: str) -> np
     Parameters
     ----------
     g : numpy.ndarray
-        Relative velocities (m, d).
+        Relative velocities v_a − v_b, shape ``(m, d)``.
     draws : AngularDraws
-        The events' angular variables.
+        The angular variables of the m events.
     angular : str
-        "uniform" or "hard".
+        ``"uniform"`` or ``"hard"``.
 
     Returns
     -------
     numpy.ndarray
-        Unit vectors (m, d).
+        Unit vectors n, shape ``(m, d)``.
     """
     if g.shape[1] == 2:
         gc = np.ascontiguousarray(g, dtype=float).view(np.complex128).reshape(-1)
@@ -476,11 +478,12 @@ def collide_vectors(va: np.ndarray, vb: np.ndarray, n: np.ndarray, p: float) -> 
     Parameters
     ----------
     va, vb : numpy.ndarray
-        The two particles' velocities (m, d), changed in place.
+        Velocities of the first and second particle of each event, shape ``(m, d)``;
+        modified in place.
     n : numpy.ndarray
-        Unit collision directions (m, d).
+        Unit collision directions, shape ``(m, d)``.
     p : float
-        (1 + r)/2.
+        The transfer fraction (1 + r)/2.
     """
     g = va - vb
     delta = (_dot(g, n) * p)[:, None] * n
@@ -574,20 +577,27 @@ def collide_in_order_vectors(v, pairs, restitution, draws: AngularDraws, angular
 
     Parameters
     ----------
-    v : numpy.ndarray
-        Velocities (N, d) (not changed).
-    pairs : numpy.ndarray
-        Ordered pairs (K, 2) in time order.
+    v : array_like
+        Velocities, shape ``(N, d)``, d ≥ 2; not modified (a copy is used).
+    pairs : array_like of int
+        The events in time order, shape ``(K, 2)``: particle indices (i, j), i ≠ j.
     restitution : float
-        r.
+        The restitution coefficient r ∈ [0, 1].
     draws : AngularDraws
-        The events' angular variables.
-    angular : str
-        "uniform" or "hard".
+        The angular variables of the K events (:func:`draw_angles`), row k for event k.
+    angular : str, optional
+        ``"uniform"`` (default) or ``"hard"``, the law of the collision direction.
 
     Returns
     -------
     numpy.ndarray
+        The velocities after the K events, shape ``(N, d)``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        Naming ``v``, ``pairs``, ``restitution``, ``angular`` or ``draws`` when out of domain
+        or of the wrong shape.
     """
     v, pairs, p, angular = _check_vector_events(v, pairs, restitution, draws, angular)
     k = len(pairs)
@@ -612,12 +622,26 @@ def collide_sequential_vectors(v, pairs, restitution, draws: AngularDraws, angul
 
     Parameters
     ----------
-    v, pairs, restitution, draws, angular
-        As for :func:`collide_in_order_vectors`.
+    v : array_like
+        Velocities, shape ``(N, d)``, d ≥ 2; not modified (a copy is used).
+    pairs : array_like of int
+        The events in time order, shape ``(K, 2)``: particle indices (i, j), i ≠ j.
+    restitution : float
+        The restitution coefficient r ∈ [0, 1].
+    draws : AngularDraws
+        The angular variables of the K events (:func:`draw_angles`), row k for event k.
+    angular : str, optional
+        ``"uniform"`` (default) or ``"hard"``, the law of the collision direction.
 
     Returns
     -------
     numpy.ndarray
+        The velocities after the K events, shape ``(N, d)``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        As :func:`collide_in_order_vectors`.
     """
     v, pairs, p, angular = _check_vector_events(v, pairs, restitution, draws, angular)
     if v.shape[1] == 2:
@@ -667,16 +691,22 @@ def collide_in_order(v, pairs, restitution) -> np.ndarray:
 
     Parameters
     ----------
-    v : numpy.ndarray
-        Velocities (N,) (not changed).
-    pairs : numpy.ndarray
-        Ordered pairs (K, 2) in time order.
+    v : array_like
+        Velocities, shape ``(N,)``; not modified (a copy is used).
+    pairs : array_like of int
+        The collisions in time order, shape ``(K, 2)``: particle indices (i, j), i ≠ j.
     restitution : float
-        r.
+        The restitution coefficient r ∈ [0, 1].
 
     Returns
     -------
     numpy.ndarray
+        The velocities after the K collisions, shape ``(N,)``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        Naming ``pairs`` (wrong shape, out-of-range or i = j entries) or ``restitution``.
     """
     v, pairs, p = _check_events(v, pairs, restitution)
     reversed_pairs = np.ascontiguousarray(pairs[::-1], dtype=np.int32)
@@ -691,12 +721,22 @@ def collide_sequential(v, pairs, restitution) -> np.ndarray:
 
     Parameters
     ----------
-    v, pairs, restitution
-        As for :func:`collide_in_order`.
+    v : array_like
+        Velocities, shape ``(N,)``; not modified (a copy is used).
+    pairs : array_like of int
+        The collisions in time order, shape ``(K, 2)``: particle indices (i, j), i ≠ j.
+    restitution : float
+        The restitution coefficient r ∈ [0, 1].
 
     Returns
     -------
     numpy.ndarray
+        The velocities after the K collisions, shape ``(N,)``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        As :func:`collide_in_order`.
     """
     v, pairs, p = _check_events(v, pairs, restitution)
     out = v.tolist()
@@ -727,22 +767,23 @@ class Ulam:
     Parameters
     ----------
     n : int
-        Number of particles N ≥ 2.
+        Number of particles N, 2 ≤ N ≤ 2³¹ − 1.
     restitution : float
-        r ∈ [0, 1].
-    initial : str
-        The initial law, a name of :mod:`particles.initial`.
-    dimension : int
-        d ∈ {1, 2, 3}.
-    angular : str
-        "uniform" or "hard" (d ≥ 2).
-    driving : float
-        D ≥ 0, white-noise heating (1D only).
+        Restitution coefficient r ∈ [0, 1].
+    initial : str, optional
+        Name of the initial velocity law (default ``"gaussian"``; one with a sampler).
+    dimension : int, optional
+        1 (default), 2 or 3.
+    angular : str, optional
+        ``"uniform"`` (default) or ``"hard"``.
+    driving : float, optional
+        White-noise heating D ≥ 0 (default 0; 1D only).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming the parameter that is out of its domain.
+    particles.InvalidArgumentError
+        Naming ``n``, ``restitution``, ``initial`` (unknown, or without a sampler),
+        ``dimension``, ``angular`` or ``driving`` (negative, or non-zero with dimension > 1).
     """
 
     n: int
@@ -790,11 +831,16 @@ class Ulam:
         return max(4.0, self.window)
 
     def to_dict(self) -> dict:
-        """The engine's parameters, JSON-able (they name the run in its files).
+        """JSON-able parameters, recorded with every result.
+
+        ``dimension``/``angular`` and ``driving`` appear only where they differ from the 1D
+        defaults,
+        so that the checkpoints of 1D runs keep their identity.
 
         Returns
         -------
         dict
+            ``n``, ``restitution``, ``initial``, ``window`` and those optional keys.
         """
         out = {
             "n": self.n,
@@ -810,18 +856,18 @@ class Ulam:
         return out
 
     def initial_state(self, rng: np.random.Generator) -> UlamState:
-        """The state at τ = 0.
+        """The state at τ = 0: velocities from the law, each component drawn by
+        :func:`particles.driver.initial_velocities`.
 
         Parameters
         ----------
         rng : numpy.random.Generator
-            The run's generator.
+            The random generator.
 
         Returns
         -------
-        UlamState
-            The state at time 0: velocities from the initial law with zero mean and ⟨v²⟩ = 1 (per
-            component in d > 1).
+        particles.UlamState
+            The initial state, with no collisions.
         """
         if self.dimension == 1:
             return UlamState(0.0, initial_velocities(self.initial, self.n, rng), 0)
@@ -829,36 +875,32 @@ class Ulam:
         return UlamState(0.0, np.stack(columns, axis=1), 0)
 
     def next_stop(self, time: float) -> float:
-        """The next stop of the driver after ``time``: the next window boundary.
+        """The next point of the stop grid ``stop_step · m`` (m integer) after ``time``.
 
         Parameters
         ----------
         time : float
-            The current time.
+            The current τ.
 
         Returns
         -------
         float
-            The next time at which the driver may stop (checkpoint, progress).
+            The next stop.
         """
         return next_grid_point(time, self.stop_step)
 
     def state_from_arrays(self, arrays) -> UlamState:
-        """Rebuild a state from a checkpoint's arrays, checking them.
+        """Rebuild a checkpointed state (:meth:`UlamState.from_arrays` with this engine's N and d).
 
         Parameters
         ----------
-        arrays : dict of numpy.ndarray
-            The state's arrays, as a checkpoint holds them.
+        arrays : mapping
+            The arrays of :meth:`UlamState.to_arrays`.
 
         Returns
         -------
-        UlamState
-
-        Raises
-        ------
-        InvalidArgumentError
-            When an array has the wrong shape or values (naming the state).
+        particles.UlamState
+            The state.
         """
         return UlamState.from_arrays(arrays, self.n, self.dimension)
 
@@ -868,12 +910,12 @@ class Ulam:
         Parameters
         ----------
         start, until : float
-            The interval in τ.
+            The τ interval.
 
         Returns
         -------
         list of tuple of float
-            The windows (a, b], in order.
+            The consecutive windows ``(a, b)``, from ``start`` to ``until``.
         """
         cuts = [start]
         t = start
@@ -890,21 +932,22 @@ class Ulam:
 
         Parameters
         ----------
-        state : UlamState
-            The state (not changed).
+        state : particles.UlamState
+            The state to advance (not modified).
         until : float
-            τ to advance to, ≥ ``state.time``.
+            The τ to reach, ≥ ``state.time``.
         rng : numpy.random.Generator
-            The run's generator (the events and the angles are drawn from it).
+            Source of the event counts, pairs and angles.
 
         Returns
         -------
-        UlamState
+        particles.UlamState
+            The state at ``until``.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``until`` when it lies before the state's time.
+        particles.InvalidArgumentError
+            Naming ``until`` if it is before the state's time.
         """
         if not until >= state.time:
             raise InvalidArgumentError("until", until, f"a time >= {state.time}")
@@ -1021,20 +1064,21 @@ class UlamReference(Ulam):
     name: ClassVar[str] = "ulam-reference"
 
     def advance(self, state: UlamState, until: float, rng: np.random.Generator) -> UlamState:
-        """The sequential dynamics from ``state.time`` to ``until``.
+        """One collision at a time, at exponential waiting times of rate N/2 (τ units).
 
         Parameters
         ----------
-        state : UlamState
-            The state (not changed).
+        state : particles.UlamState
+            The state to advance (not modified).
         until : float
-            τ to advance to.
+            The τ to reach.
         rng : numpy.random.Generator
-            The generator.
+            Source of the waiting times and pairs.
 
         Returns
         -------
-        UlamState
+        particles.UlamState
+            The state at ``until``.
         """
         if self.dimension != 1 or self.driving != 0.0:
             return self._advance_general(state, until, rng)

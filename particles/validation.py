@@ -41,17 +41,19 @@ __all__ = [
 class InvalidArgumentError(ValueError):
     """A public function received an argument outside its domain.
 
-    Its message is ``argument NAME=VALUE is invalid: expected EXPECTED``; the command line
-    prints it and exits with status 2.
+    Subclasses ``ValueError``, so callers may catch either.  The message names the argument, shows
+    the value received and says what was expected; the command line maps this error to exit
+    status 2.  The three arguments are kept as the attributes ``name``, ``value`` and
+    ``expected``.
 
     Parameters
     ----------
     name : str
-        The argument's name.
+        The name of the argument (or command-line option) that was refused.
     value : object
-        The value received.
+        The value received, shown with ``repr`` in the message.
     expected : str
-        What the argument accepts.
+        What the argument should have been, in words (e.g. ``"a number in [0, 1]"``).
     """
 
     def __init__(self, name: str, value, expected: str):
@@ -72,23 +74,26 @@ def _as_float(name: str, value) -> float:
 
 
 def check_restitution(r, name: str = "restitution") -> float:
-    """Restitution coefficient r must be finite and lie in [0, 1].
+    """Check a restitution coefficient r: a finite real number in [0, 1].
+
+    r = 1 is an elastic collision, r = 0 the perfectly inelastic (sticky) limit.
 
     Parameters
     ----------
-    r : float
-        The value.
-    name : str
-        The argument's name, for the message.
+    r : float or str
+        The restitution coefficient; anything ``float()`` accepts.
+    name : str, optional
+        The argument name shown in the error (default ``"restitution"``).
 
     Returns
     -------
     float
+        ``r`` as a float.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``r`` is not a real number, not finite, or outside [0, 1] (naming ``name``).
     """
     x = _as_float(name, r)
     if not 0.0 <= x <= 1.0:
@@ -97,23 +102,24 @@ def check_restitution(r, name: str = "restitution") -> float:
 
 
 def check_positive(value, name: str) -> float:
-    """A finite number > 0.
+    """Check a finite real number strictly greater than zero (a density, a length, a time).
 
     Parameters
     ----------
-    value : float
-        The value.
+    value : float or str
+        The value; anything ``float()`` accepts.
     name : str
-        The argument's name, for the message.
+        The argument name shown in the error.
 
     Returns
     -------
     float
+        ``value`` as a float.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``value`` is not a real number, not finite, or ``<= 0`` (naming ``name``).
     """
     x = _as_float(name, value)
     if x <= 0.0:
@@ -122,23 +128,24 @@ def check_positive(value, name: str) -> float:
 
 
 def check_nonnegative(value, name: str) -> float:
-    """A finite number ≥ 0.
+    """Check a finite real number greater than or equal to zero.
 
     Parameters
     ----------
-    value : float
-        The value.
+    value : float or str
+        The value; anything ``float()`` accepts.
     name : str
-        The argument's name, for the message.
+        The argument name shown in the error.
 
     Returns
     -------
     float
+        ``value`` as a float.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``value`` is not a real number, not finite, or negative (naming ``name``).
     """
     x = _as_float(name, value)
     if x < 0.0:
@@ -147,25 +154,28 @@ def check_nonnegative(value, name: str) -> float:
 
 
 def check_count(value, name: str, minimum: int) -> int:
-    """An integer count (number of particles, grid points) of at least ``minimum``.
+    """Check an integer count (number of particles, grid points) of at least ``minimum``.
+
+    A float is accepted only when it equals an integer (``8.0``); booleans are refused.
 
     Parameters
     ----------
     value : int
-        The value (an exact integer; ``True`` and floats are refused).
+        The count.
     name : str
-        The argument's name, for the message.
+        The argument name shown in the error.
     minimum : int
-        The smallest value accepted.
+        The smallest accepted value (inclusive).
 
     Returns
     -------
     int
+        ``value`` as an ``int``.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``value`` is a bool, not integral, or below ``minimum`` (naming ``name``).
     """
     if isinstance(value, bool):
         raise InvalidArgumentError(name, value, f"an integer >= {minimum}")
@@ -179,27 +189,31 @@ def check_count(value, name: str, minimum: int) -> int:
 
 
 def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarray:
-    """A non-empty list of finite, non-negative, increasing times.
+    """Check a non-empty list of finite, non-negative, increasing times.
 
-    ``strictly=True`` demands strictly increasing values (no repeats).
+    Used for output times in either time variable (τ, collisions per particle, or physical
+    time t); a scalar is taken as a one-element list.
 
     Parameters
     ----------
-    times : array_like
+    times : float or array_like
         The times.
-    name : str
-        The argument's name, for the message.
-    strictly : bool
-        Refuse repeated values.
+    name : str, optional
+        The argument name shown in the error (default ``"tau"``).
+    strictly : bool, optional
+        If True (default), the times must be strictly increasing (no repeats); if False, equal
+        neighbours are allowed.
 
     Returns
     -------
     numpy.ndarray
+        The times as a one-dimensional float array.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``times`` is not numeric, empty or not one-dimensional, contains a non-finite or
+        negative value, or is not increasing (naming ``name``).
     """
     if np.isscalar(times):
         times = [times]
@@ -230,24 +244,28 @@ def _split_list(text: str, name: str, what: str) -> list[str]:
 
 
 def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
-    """Parse a comma-separated list such as ``"1,10,100"`` (for the command line).  Empty
-    elements (``"1,,2"``, ``","``) and an empty list are refused.
+    """Parse a comma-separated list of numbers such as ``"1,10,100"`` (for the command line).
+
+    Empty elements (``"1,,2"``, ``","``) and an empty list are refused.  A sequence that is not a
+    string is converted element by element with ``float`` and not otherwise checked.
 
     Parameters
     ----------
     text : str or sequence of float
-        The list.
+        The list as text, or already as numbers.
     name : str
-        The argument's name, for the message.
+        The option name shown in the error.
 
     Returns
     -------
     list of float
+        The numbers, in order.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If the text is empty, has an empty element, or an element is not a number (naming
+        ``name``).
     """
     if not isinstance(text, str):
         return [float(x) for x in text]
@@ -261,23 +279,24 @@ def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
 
 
 def parse_name_list(text: str, name: str) -> list[str]:
-    """A comma-separated list of names (``--only a,b``): no empty elements, no repeats.
+    """Parse a comma-separated list of names (``--only a,b``).
 
     Parameters
     ----------
     text : str
-        The list.
+        The list as text; surrounding spaces of each element are stripped.
     name : str
-        The argument's name, for the message.
+        The option name shown in the error.
 
     Returns
     -------
     list of str
+        The names, in the order given.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If the list is empty, has an empty element, or repeats a name (naming ``name``).
     """
     parts = _split_list(str(text), name, "names")
     if len(set(parts)) != len(parts):
@@ -286,27 +305,31 @@ def parse_name_list(text: str, name: str) -> list[str]:
 
 
 def parse_int(text, name: str, minimum: int | None = None, maximum: int | None = None) -> int:
-    """An exact integer from the command line: ``200000``, ``2e5`` or ``2.0e5`` when exactly
-    integral (parsed as a decimal, never through a binary float, so 9007199254740993 stays
-    itself); ``1.5`` or ``1e-3`` are refused.  Optional bounds are inclusive.
+    """Parse an exact integer from the command line.
+
+    ``200000``, ``2e5`` and ``2.0e5`` are accepted when exactly integral; the text is parsed as a
+    decimal, never through a binary float, so 9007199254740993 stays itself.  ``1.5`` or ``1e-3``
+    are refused, and so are exponents beyond 4000 in magnitude.  An ``int`` is taken as it is.
 
     Parameters
     ----------
     text : str or int
-        The text.
+        The value.
     name : str
-        The argument's name, for the message.
-    minimum, maximum : int, optional
-        Inclusive bounds.
+        The option name shown in the error.
+    minimum, maximum : int or None, optional
+        Inclusive bounds; None (default) leaves that side open.
 
     Returns
     -------
     int
+        The integer.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``text`` is a bool, not a decimal number, not integral, or out of bounds (naming
+        ``name``).
     """
     from decimal import Decimal, InvalidOperation
 
@@ -334,21 +357,28 @@ def parse_int(text, name: str, minimum: int | None = None, maximum: int | None =
 
 
 def parse_count(text, name: str, minimum: int) -> int:
-    """An integer option given as ``200000`` or ``2e5`` (exactly integral); errors name the
-    option and the value.
+    """Parse an integer option given as ``200000`` or ``2e5`` (exactly integral), ``>= minimum``.
+
+    The same as :func:`parse_int` with only a lower bound.
 
     Parameters
     ----------
     text : str or int
-        The text.
+        The value.
     name : str
-        The argument's name, for the message.
+        The option name shown in the error.
     minimum : int
-        The smallest value accepted.
+        The smallest accepted value (inclusive).
 
     Returns
     -------
     int
+        The count.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        From :func:`parse_int`, if the value is not an integer ``>= minimum``.
     """
     return parse_int(text, name, minimum)
 
@@ -358,41 +388,50 @@ SEED_MAX = 2**64 - 1
 
 
 def parse_seed(text, name: str = "seed") -> int:
-    """A seed: an exact integer in [0, 2**64 - 1].
+    """Parse a random seed: an exact integer in [0, 2**64 - 1].
 
     Parameters
     ----------
     text : str or int
-        The text.
-    name : str
-        The argument's name, for the message.
+        The seed.
+    name : str, optional
+        The option name shown in the error (default ``"seed"``).
 
     Returns
     -------
     int
+        The seed, stored exactly.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        From :func:`parse_int`, if the value is not an integer in that range.
     """
     return parse_int(text, name, 0, SEED_MAX)
 
 
 def check_path(path, name: str) -> Path:
-    """A file-system path: a ``str`` (non-empty) or an ``os.PathLike``; anything else (None, a
-    number, a list) is refused here instead of failing deep inside with a TypeError.
+    """Check a file-system path: a non-empty ``str`` or an ``os.PathLike``.
+
+    Anything else (None, a number, a list) is refused here instead of failing deep inside with a
+    ``TypeError``.  Nothing is looked up on disk.
 
     Parameters
     ----------
     path : str or os.PathLike
         The path.
     name : str
-        The argument's name, for the message.
+        The argument name shown in the error.
 
     Returns
     -------
     pathlib.Path
+        ``path`` as a ``Path``.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``path`` is not a non-empty string or path-like object (naming ``name``).
     """
     if isinstance(path, (str, os.PathLike)) and str(path) != "":
         return Path(path)
@@ -400,25 +439,28 @@ def check_path(path, name: str) -> Path:
 
 
 def check_choice(value, name: str, choices) -> str:
-    """``value`` must be one of ``choices`` (strings); unhashable values are refused cleanly.
+    """Check that ``value`` is one of ``choices`` (strings).
+
+    A value that is not a string (unhashable ones included) is refused cleanly.
 
     Parameters
     ----------
     value : str
         The value.
     name : str
-        The argument's name, for the message.
-    choices : sequence of str
-        The values accepted.
+        The argument name shown in the error.
+    choices : collection of str
+        The accepted values; the error lists them sorted.
 
     Returns
     -------
     str
+        ``value``, unchanged.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``value`` is not a string in ``choices`` (naming ``name``).
     """
     if isinstance(value, str) and value in choices:
         return value
@@ -426,18 +468,19 @@ def check_choice(value, name: str, choices) -> str:
 
 
 def file_kind(path) -> str | None:
-    """What exists at ``path`` without following a final symlink: ``None`` (nothing),
-    ``"regular file"``, ``"directory"``, ``"symlink"``, ``"character device"``,
-    ``"block device"``, ``"FIFO"``, ``"socket"`` or ``"special file"``.
+    """Say what exists at ``path``, without following a final symlink.
 
     Parameters
     ----------
     path : str or os.PathLike
-        The path.
+        The path to inspect (with ``os.lstat``).
 
     Returns
     -------
     str or None
+        ``None`` when nothing exists there (or a parent component is not a directory), otherwise
+        one of ``"regular file"``, ``"directory"``, ``"symlink"``, ``"character device"``,
+        ``"block device"``, ``"FIFO"``, ``"socket"`` or ``"special file"``.
     """
     try:
         mode = os.lstat(path).st_mode
@@ -455,31 +498,32 @@ def file_kind(path) -> str | None:
 
 
 def output_target(path, name: str) -> Path:
-    """The file an output written to ``path`` replaces: ``path`` itself, or the file a symlink
-    (or a chain of them) points to, so that a link stays a link and its target is written.
+    """Find the file that an output written to ``path`` replaces.
 
-    Refused (:class:`InvalidArgumentError` naming ``name``, the path and what it is): an
-    existing directory (or a link to one), and anything that is not a regular file: a character
-    or block device (``/dev/null`` included), a FIFO, a socket.  Writing replaces the file by a
-    rename, which would turn such an object into a regular file (as root, ``/dev/null`` itself);
-    to discard an output, leave the option out.  A dangling link is resolved to the file it
-    names, which is then created.
+    That is ``path`` itself, or the file a symlink (or a chain of them) points to, so that a link
+    stays a link and its target is written.  A dangling link is resolved to the file it names,
+    which is then created.  Writing replaces the file by a rename, which would turn a device, FIFO
+    or socket into a regular file (as root, ``/dev/null`` itself), so those are refused; to
+    discard an output, leave the option out.
 
     Parameters
     ----------
     path : str or os.PathLike
-        The path.
+        The output path.
     name : str
-        The argument's name, for the message.
+        The argument name shown in the error.
 
     Returns
     -------
     pathlib.Path
+        The path to write (the symlink's target when ``path`` is a symlink).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``path`` is not a path (:func:`check_path`), is an existing directory or a link to one,
+        or is anything but a regular file or a new path: a character or block device
+        (``/dev/null`` included), a FIFO, a socket (naming ``name``, the path and what it is).
     """
     out = check_path(path, name)
     target = Path(os.path.realpath(out)) if file_kind(out) == "symlink" else out
@@ -498,26 +542,28 @@ def output_target(path, name: str) -> Path:
 
 
 def check_output_file(path, name: str) -> Path:
-    """An output file: a regular file or a new path (:func:`output_target`: never a device, a
-    FIFO, a socket or a directory; a symlink is followed), in an existing, writable directory.
+    """Check an output file before any work is done, so that a bad path fails at once.
 
-    Called before any work so that a bad path fails at once and nothing else is written.
+    The file must be a regular file or a new path (:func:`output_target`: never a device, a FIFO,
+    a socket or a directory; a symlink is followed), in an existing, writable directory.
 
     Parameters
     ----------
     path : str or os.PathLike
-        The path.
+        The output path.
     name : str
-        The argument's name, for the message.
+        The argument name shown in the error.
 
     Returns
     -------
     pathlib.Path
+        ``path`` as given (not the symlink's target).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If :func:`output_target` refuses the path, or its directory does not exist or is not
+        writable (naming ``name``).
     """
     out = check_path(path, name)
     target = output_target(out, name)
@@ -527,25 +573,30 @@ def check_output_file(path, name: str) -> Path:
 
 
 def check_output_dir(path, name: str) -> Path:
-    """An output folder: an existing writable directory (or a symlink to one), or one that can
-    be created (its nearest existing ancestor is a writable directory).  Anything else that
-    exists there (a file, a device, a FIFO, a socket) is refused, naming what it is.
+    """Check an output folder: an existing writable directory (or a symlink to one), or one that can
+    be created.
+
+    A folder that does not exist yet is accepted when its nearest existing ancestor is a writable
+    directory.  Nothing is created here.
 
     Parameters
     ----------
     path : str or os.PathLike
         The folder.
     name : str
-        The argument's name, for the message.
+        The argument name shown in the error.
 
     Returns
     -------
     pathlib.Path
+        ``path`` as a ``Path``.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``path`` is not a path, something other than a directory exists there (a file, a
+        device, a FIFO, a socket, a dangling symlink: the error names what), the directory is not
+        writable, or it cannot be created (naming ``name``).
     """
     out = check_path(path, name)
     if out.exists() or file_kind(out) is not None:
@@ -568,42 +619,47 @@ def check_output_dir(path, name: str) -> Path:
 def max_workers() -> int:
     """The largest worker count accepted without ``force``: 4 × the CPUs of this machine.
 
-    More processes than that only compete for the same cores (each worker is a process with
-    its own interpreter and imports, about a second and 100 MB to start); a bigger number is
-    almost always a typo (``--workers 64`` for ``4``).
+    More processes than that only compete for the same cores (each worker is a process with its
+    own interpreter and imports, about a second and 100 MB to start); a bigger number is almost
+    always a typo (``--workers 64`` for ``4``).
 
     Returns
     -------
     int
+        ``4 * os.cpu_count()`` (``4`` when the count is unknown).
     """
     return 4 * (os.cpu_count() or 1)
 
 
 def check_workers(workers, name: str = "workers", *, tasks: int | None = None,
                   force: bool = False) -> int | None:
-    """A worker count: an integer ≥ 1, at most :func:`max_workers` unless ``force``, and
-    never more than ``tasks`` (the count is lowered to it: idle workers cost start-up time and
-    memory and do nothing).  ``None`` stays ``None`` (the caller's default).
+    """Check a worker count for a parallel run.
+
+    An integer ≥ 1, at most :func:`max_workers` unless ``force``, and never more than ``tasks``:
+    a larger count is lowered to it, since idle workers cost start-up time and memory and do
+    nothing.
 
     Parameters
     ----------
     workers : int or None
-        The count asked for.
-    name : str
-        The argument's name, for the message.
-    tasks : int, optional
-        The number of tasks (the count is lowered to it).
-    force : bool
-        Allow more than :func:`max_workers`.
+        The requested number of worker processes; ``None`` stays ``None`` (the caller's default).
+    name : str, optional
+        The argument name shown in the error (default ``"workers"``).
+    tasks : int or None, optional
+        The number of tasks to run; when given, the result is at most ``max(1, tasks)``.
+    force : bool, optional
+        Accept counts above :func:`max_workers` (default False).
 
     Returns
     -------
     int or None
+        The worker count to use, or ``None`` when ``workers`` is ``None``.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` and the value received.
+    particles.InvalidArgumentError
+        If ``workers`` is not an integer ≥ 1 (bools refused), or exceeds :func:`max_workers`
+        without ``force`` (naming ``name``).
     """
     if workers is None:
         return None

@@ -297,32 +297,34 @@ class CheckpointLock:
 
 
 def read_checkpoint(path, argument: str = "path") -> dict:
-    """The content of a checkpoint file, read through the persistence helper with its checks
-    (content hash, entry names and sizes).  Reading it runs nothing and checks nothing against
-    an engine: to continue the run, pass the file to :func:`particles.driver.simulate` as
-    ``resume``.
+    """The content of the checkpoint file at ``path``, read through the persistence helper with
+    its checks (content hash, entry names and sizes); :class:`CheckpointError` naming
+    ``argument`` when it is not a checkpoint.
+
+    Returns ``{"run", "done", "seconds", "state", "records"}``: ``run`` the identity of the run
+    that wrote it (model, parameters, times, seed, options), ``done`` the number of requested
+    times recorded, ``seconds`` the wall-clock time so far, ``state`` the engine's state arrays
+    (``engine.state_from_arrays(state)`` rebuilds the state) and ``records`` the record arrays
+    (``energy``, ``momentum``, ``collisions``, ... per requested time; NaN where not yet
+    recorded).  Reading it runs nothing and checks nothing against an engine: to continue the
+    run, pass the file to :func:`particles.driver.simulate` as ``resume``.
 
     Parameters
     ----------
     path : str or os.PathLike
-        The checkpoint.
-    argument : str
-        The name given to the file in messages.
+        The checkpoint file.
+    argument : str, optional
+        The argument name errors report (default ``"path"``).
 
     Returns
     -------
     dict
-        ``{"run", "done", "seconds", "state", "records"}``: ``run`` the identity of the run
-        that wrote it (model, parameters, times, seed, options), ``done`` the number of
-        requested times recorded, ``seconds`` the wall-clock time so far, ``state`` the
-        engine's state arrays (``engine.state_from_arrays(state)`` rebuilds the state) and
-        ``records`` the record arrays (``energy``, ``momentum``, ``collisions``, ... per
-        requested time; NaN where not yet recorded).
+        ``{"run", "done", "seconds", "state", "records"}`` as described above.
 
     Raises
     ------
-    CheckpointError
-        Naming ``argument`` when the file is not a checkpoint.
+    particles.CheckpointError
+        (argument ``argument``) if the file is not a readable, complete checkpoint.
     """
     meta, arrays = read_file(path, argument, "checkpoint")
     try:

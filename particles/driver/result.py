@@ -20,14 +20,17 @@ READABLE_VERSIONS = (1, 2)
 class CheckpointError(persistence.FileFormatError):
     """A checkpoint or result file that cannot be read or belongs to another run.
 
+    A :class:`particles.persistence.FileFormatError` whose expectation reads "a readable
+    checkpoint of this run".
+
     Parameters
     ----------
     path : str or os.PathLike
         The file.
     reason : str
-        What is wrong with it.
-    argument : str
-        The argument that named the file (``resume`` by default), for the message.
+        Why it was refused.
+    argument : str, optional
+        The argument name reported (default ``"resume"``).
     """
 
     def __init__(self, path, reason: str, argument: str = "resume"):
@@ -84,47 +87,56 @@ def read_file(path, argument: str, kind: str, n: int | None = None,
 
 @dataclass(frozen=True)
 class RunResult:
-    """What a run recorded at its requested times (what :func:`particles.driver.simulate`
-    returns).
+    """What a run recorded at its requested times ``times`` (τ, or t for MD).
+
+    ``energy[i]`` = ⟨v²⟩, ``momentum[i]`` = ⟨v⟩, ``collisions[i]`` = total collisions so far;
+    ``histogram`` is the rescaled histogram at the last time, or ``None`` where x = v/√E is
+    undefined (every velocity 0: a valid end state, e.g. r = 0 and N = 2 after one collision),
+    with the reason in ``histogram_note``; ``structure`` is ``(k, S)`` with
+    ``S[i]`` the structure factor at ``times[i]`` (``structure_factor=True``), or ``S`` of one
+    row, at the last time (``structure_factor="last"``); ``S[-1]`` is the last time either way;
+    ``snapshots[i]`` the
+    velocities at ``times[i]`` (when requested); ``velocities`` the final velocities;
+    ``extras`` engine-specific scalars per time; ``snapshot_extras[name][i]`` the engine's
+    per-particle arrays at ``times[i]`` (with ``snapshots``, e.g. MD ``positions``);
+    ``seconds`` the wall-clock time of the run (of all its resumed pieces);
+    ``final_state`` the engine's state at the last time (None for a result read from a file:
+    files keep the records, not the state).
 
     Attributes
     ----------
     model : str
-        The engine's name.
+        The engine's name (``"ulam"``, ``"lattice"``, ``"md"``, ``"sticky"``, ...).
     params : dict
-        The engine's parameters (``engine.to_dict()``).
+        The engine's JSON-able parameters.
     seed : int
         The run's seed.
     times : numpy.ndarray
-        The requested times, in the engine's time (τ = collisions per particle for Ulam and the
-        constant-rate lattice; t for MD, the sticky gas and the lattice of rate |Δ|).
-    energy, momentum : numpy.ndarray
-        ⟨v²⟩ (⟨|v|²⟩ in d > 1) and ⟨v⟩ (|⟨v⟩|) at each time.
+        The requested times, shape ``(nt,)`` (τ, or t for MD and the sticky gas).
+    energy : numpy.ndarray
+        ⟨v²⟩ at each time (no factor ½), shape ``(nt,)``.
+    momentum : numpy.ndarray
+        ⟨v⟩ at each time, shape ``(nt,)``.
     collisions : numpy.ndarray
-        Collisions so far at each time.
+        Total collisions so far at each time, shape ``(nt,)``.
     velocities : numpy.ndarray
-        The final velocities.
+        The final velocities, shape ``(N,)`` (``(N, d)`` in d > 1).
     histogram : particles.observables.Histogram or None
-        The histogram of x = v/√E at the last time; None where it is undefined (every velocity
-        0, a valid end state, e.g. r = 0 and N = 2 after one collision).
+        The rescaled histogram at the last time, or None where undefined.
     seconds : float
-        Wall time of the run (of all its resumed pieces).
-    structure : tuple of numpy.ndarray, optional
-        ``(k, S)``: ``S[i]`` the structure factor at ``times[i]``
-        (``structure_factor=True``), or one row at the last time (``"last"``); ``S[-1]`` is the
-        last time either way.
-    snapshots : numpy.ndarray, optional
-        ``snapshots[i]`` the velocities at ``times[i]`` (when requested).
-    extras : dict
-        Engine-specific scalars per time (MD's τ(t), the sticky gas's clusters, ...).
-    histogram_note : str, optional
-        Why ``histogram`` is None.
-    snapshot_extras : dict
-        ``snapshot_extras[name][i]``: the engine's per-particle arrays at ``times[i]`` (with
-        snapshots, e.g. MD ``positions``).
+        Wall-clock seconds of the run (NaN when a record has none).
+    structure : tuple of numpy.ndarray or None
+        ``(k, S)``; S of shape ``(nt, N//2 + 1)`` or ``(N//2 + 1,)``.
+    snapshots : numpy.ndarray or None
+        Velocities at each time, shape ``(nt, N)``.
+    extras : dict of str to numpy.ndarray
+        Engine-specific scalars per time (e.g. τ(t) for MD).
+    histogram_note : str or None
+        Why there is no histogram.
+    snapshot_extras : dict of str to numpy.ndarray
+        Engine per-particle arrays at each time (e.g. MD ``positions``).
     final_state : object
-        The engine's state at the last time; None for a result read from a file (files keep
-        the records, not the state).
+        The engine's last state (not compared; None for a result read from a file).
     """
 
     model: str
@@ -145,18 +157,19 @@ class RunResult:
     final_state: Any = field(default=None, compare=False, repr=False)
 
     def to_record(self) -> tuple[dict[str, np.ndarray], dict]:
-        """The layout of a result file (:meth:`save`, and the ensemble's task files).  The final
-        state is not part of it.
+        """``(arrays, meta)``: the layout of a result file (:meth:`save`, and the ensemble's
+        task files).  ``arrays``: ``times``, ``energy``, ``momentum``, ``collisions``,
+        ``velocities``, ``hist.*``, ``structure.k``/``structure.S``, ``snapshots``,
+        ``snapshot.<field>`` and ``extra.<name>`` where present; ``meta`` (JSON-able):
+        ``model``, ``params``, ``seed``, ``seconds`` (None when NaN), and ``hist`` (samples,
+        v0) and ``histogram_note`` where present.  The final state is not part of it.
 
         Returns
         -------
-        arrays : dict of numpy.ndarray
-            ``times``, ``energy``, ``momentum``, ``collisions``, ``velocities``, ``hist.*``,
-            ``structure.k``/``structure.S``, ``snapshots``, ``snapshot.<field>`` and
-            ``extra.<name>`` where present.
+        arrays : dict of str to numpy.ndarray
+            The named arrays.
         meta : dict
-            JSON-able: ``model``, ``params``, ``seed``, ``seconds`` (None when NaN), and
-            ``hist`` (samples, v0) and ``histogram_note`` where present.
+            The JSON-able fields.
         """
         arrays = {
             "times": self.times,
@@ -187,22 +200,20 @@ class RunResult:
     @classmethod
     def from_record(cls, arrays: dict[str, np.ndarray], meta: dict) -> RunResult:
         """The inverse of :meth:`to_record` (``final_state`` None; ``seconds`` NaN when the
-        record has none).
+        record has none).  ``KeyError`` or ``TypeError`` when an entry is missing or malformed;
+        the readers turn them into a file-format error naming the file.
 
         Parameters
         ----------
-        arrays, meta : dict
-            As :meth:`to_record` returns them.
+        arrays : dict of str to numpy.ndarray
+            The arrays of :meth:`to_record`.
+        meta : dict
+            The meta fields of :meth:`to_record`.
 
         Returns
         -------
         RunResult
-
-        Raises
-        ------
-        KeyError, TypeError
-            When an entry is missing or malformed; the readers turn them into a file-format
-            error naming the file.
+            The rebuilt result.
         """
         a = arrays
         hist = None
@@ -232,13 +243,13 @@ class RunResult:
         )
 
     def save(self, path) -> None:
-        """Save to a file: an ``.npz`` archive with a JSON ``meta`` entry, the layout of
-        :meth:`to_record`, through :mod:`particles.persistence` (atomic, hashed).
+        """Save to ``path`` (an ``.npz`` archive with a JSON ``meta`` entry; the layout of
+        :meth:`to_record`).
 
         Parameters
         ----------
         path : str or os.PathLike
-            The file.
+            The output file, written atomically with a content hash.
         """
         arrays, meta = self.to_record()
         write_file(path, arrays, {"kind": "result", **meta})
@@ -250,17 +261,17 @@ class RunResult:
         Parameters
         ----------
         path : str or os.PathLike
-            The file.
+            A result file (format version 1 or 2).
 
         Returns
         -------
         RunResult
-            With ``final_state`` None.
+            The result (``final_state`` None).
 
         Raises
         ------
-        CheckpointError
-            When the file is not a readable result (naming ``path`` and the reason).
+        particles.CheckpointError
+            (argument ``path``) if the file is not a readable result or lacks an entry.
         """
         meta, arrays = read_file(path, "path", "result")
         try:
@@ -269,13 +280,13 @@ class RunResult:
             raise CheckpointError(path, f"missing entry {exc}", "path") from None
 
     def summary(self) -> dict:
-        """The ``--json`` output of ``simulate`` without the extras.
+        """JSON-able summary (the ``--json`` output of ``simulate`` without the extras).
 
         Returns
         -------
         dict
-            JSON-able: ``model``, ``tau`` (the times), ``energy``, ``collisions`` (the total),
-            ``seconds``, and the histogram or its note.
+            ``model``, ``tau`` (the times, whatever the model's time), ``energy``, the last
+            ``collisions``, ``seconds``, and ``histogram`` (with ``histogram_note`` when None).
         """
         out = {
             "model": self.model,

@@ -32,19 +32,27 @@ def aggregate(spec: EnsembleSpec, out, tasks=None, done=None) -> tuple[dict, dic
 
     Parameters
     ----------
-    spec : EnsembleSpec
+    spec : particles.ensemble.EnsembleSpec
         The ensemble.
     out : str or os.PathLike
-        Its folder.
-    tasks : list of EnsembleTask, optional
-        ``spec.expand()`` when already computed.
-    done : collection of str, optional
-        The keys to use.
+        The folder of the task files.
+    tasks : list of particles.ensemble.EnsembleTask, optional
+        The tasks (default ``spec.expand()``).
+    done : set of str, optional
+        The task keys to aggregate (default: every task whose file exists).
 
     Returns
     -------
-    arrays : dict of numpy.ndarray
+    arrays : dict of str to numpy.ndarray
+        ``times`` and the per-set means and standard errors.
     summary : dict
+        JSON-able: ``model``, the times under the spec's time name, ``sets`` (params, seeds,
+        ``n_seeds``, observables), and how ``sem`` is defined.
+
+    Raises
+    ------
+    particles.persistence.FileFormatError
+        (through :func:`load_task`) if a task file used is not that task's readable file.
     """
     out = Path(out)
     tasks = spec.expand() if tasks is None else tasks
@@ -111,24 +119,26 @@ class EnsembleReport:
 
     Attributes
     ----------
-    out, executor : str
-        The folder and the executor.
+    out : str
+        The output folder.
+    executor : str
+        ``"dask"`` or ``"serial"``.
     tasks : int
-        Tasks in the spec.
+        Number of tasks in the spec.
     ran, skipped, resumed : tuple of str
-        Keys.
+        Task keys as described above.
     recomputed, failed : tuple of dict
-        Damaged files and failed tasks.
+        Damaged files found, and tasks that raised.
     aggregate : dict
         The JSON summary of :func:`aggregate`.
     aggregate_path : str
-        Where it was saved.
+        Where the aggregate file is.
     seconds : dict
-        Wall time per task run now.
+        Wall-clock seconds of each task run now, by key.
     wall_seconds : float
-        Wall time of the call.
+        Wall-clock seconds of the whole call.
     notes : tuple of str
-        Remarks (e.g. workers capped at the tasks).
+        Remarks per task, e.g. a refused checkpoint.
     """
 
     out: str
@@ -155,6 +165,8 @@ class EnsembleReport:
         Returns
         -------
         dict
+            Counts of ``ran``, ``skipped``, ``resumed``; the lists of ``recomputed`` and
+            ``failed``; ``ok``, ``aggregate_path``, ``aggregate``, ``wall_seconds``, ``notes``.
         """
         return {
             "out": self.out,

@@ -41,18 +41,19 @@ def load_cluster_config(path, cluster: str) -> dict:
     path : str or os.PathLike
         The TOML file.
     cluster : str
-        "slurm" or "pbs".
+        ``"slurm"`` or ``"pbs"``.
 
     Returns
     -------
     dict
-        The settings.
+        The checked settings, with ``processes`` (default ``cores``) and ``jobs`` (default 1).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``cluster`` or ``config`` (unreadable file, invalid TOML, an unknown key or a value
-        of the wrong type, a required key missing).
+    particles.InvalidArgumentError
+        (argument ``cluster``) if it is not ``"slurm"`` or ``"pbs"``; (argument ``config``)
+        for an unreadable or invalid TOML file, an unknown key, a value of the wrong type, or
+        a missing ``cores`` or ``memory``.
     """
     if cluster not in ("slurm", "pbs"):
         raise InvalidArgumentError("cluster", cluster, "'slurm' or 'pbs'")
@@ -95,18 +96,18 @@ def local_cluster(workers: int | None = None):
     """A ``dask.distributed.LocalCluster`` of ``workers`` single-threaded worker processes
     (default: one per core) with one BLAS/OpenMP thread each, and WITHOUT distributed's default
     ``MALLOC_TRIM_THRESHOLD_=65536``: with it glibc gives every large temporary array back to the
-    OS, and the engines' O(N) temporaries then pay page faults on every allocation (measured,
-    8 Ulam runs of N = 1e6 to τ = 10: 1.1–1.7 s per task on the workers against 0.43 s in the
-    parent process; 0.5–1.0 s without it).
+    OS, and the engines' O(N) temporaries then pay page faults on every allocation, which makes
+    tasks on the workers markedly slower than the same runs in the parent process.
 
     Parameters
     ----------
     workers : int, optional
-        Worker processes (default one per core).
+        Number of worker processes (default: dask's choice, one per core).
 
     Returns
     -------
     distributed.LocalCluster
+        The started cluster (the caller closes it).
     """
     import dask
     from distributed import LocalCluster
@@ -127,13 +128,15 @@ def make_cluster(cluster: str, settings: dict):
     Parameters
     ----------
     cluster : str
-        "slurm" or "pbs".
+        ``"slurm"`` or ``"pbs"``.
     settings : dict
-        :func:`load_cluster_config`'s settings.
+        Settings of :func:`load_cluster_config`; ``jobs`` is not passed on and
+        ``dashboard_address`` goes to the scheduler (default ``":0"``).
 
     Returns
     -------
-    dask_jobqueue.JobQueueCluster
+    dask_jobqueue.SLURMCluster or dask_jobqueue.PBSCluster
+        The cluster object.
     """
     import dask_jobqueue
 
@@ -149,13 +152,14 @@ def cluster_job_script(cluster: str, config) -> str:
     Parameters
     ----------
     cluster : str
-        "slurm" or "pbs".
+        ``"slurm"`` or ``"pbs"``.
     config : str or os.PathLike
-        The TOML file.
+        The TOML file of :func:`load_cluster_config`.
 
     Returns
     -------
     str
+        The job script.
     """
     settings = load_cluster_config(config, cluster)
     c = make_cluster(cluster, settings)

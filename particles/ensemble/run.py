@@ -70,33 +70,37 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
 
     Parameters
     ----------
-    spec : EnsembleSpec
+    spec : particles.ensemble.EnsembleSpec
         What to run.
     out : str or os.PathLike
-        The output folder.
+        The output folder (task files, manifest, aggregate).
     workers : int, optional
-        Local cluster size.
+        Local worker processes (dask executor).
     scheduler : str, optional
-        Address of a running scheduler.
+        Address of an existing dask scheduler.
     cluster : str, optional
-        "slurm" or "pbs".
+        ``"slurm"`` or ``"pbs"``.
     config : str or os.PathLike, optional
-        The batch cluster's TOML file.
-    progress : bool
-        Show progress on stderr.
-    executor : str
-        "dask" or "serial".
-    force : bool
-        Allow more than 4 × the CPUs as ``workers``.
+        The cluster's TOML file (only with ``cluster``).
+    progress : bool, optional
+        Show a progress bar (default True).
+    executor : str, optional
+        ``"dask"`` (default) or ``"serial"``.
+    force : bool, optional
+        Allow more workers than :func:`particles.validation.max_workers`.
 
     Returns
     -------
     EnsembleReport
+        What was run, skipped, recomputed and failed, and the aggregate summary.
 
     Raises
     ------
-    InvalidArgumentError
-        For bad arguments, before anything is written.
+    particles.InvalidArgumentError
+        For a ``spec`` that is not an :class:`EnsembleSpec`, a bad ``out`` or ``executor``,
+        more than one of ``workers``, ``scheduler``, ``cluster`` (or any with the serial
+        executor), a bad worker count, a bad cluster ``config`` or one without ``cluster``,
+        or an ``out`` folder that is not an ensemble's.
     """
     started = _time.perf_counter()
     if not isinstance(spec, EnsembleSpec):

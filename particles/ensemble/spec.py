@@ -31,16 +31,18 @@ def parse_seeds(text: str) -> tuple[int, ...]:
     Parameters
     ----------
     text : str
-        The list.
+        The seed list, e.g. ``"1-16,20,25-27"``; ranges span at most 10⁷ seeds.
 
     Returns
     -------
     tuple of int
+        The seeds, in the order given.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``seeds`` for a malformed list.
+    particles.InvalidArgumentError
+        (argument ``seeds``) for a non-string, a malformed element, a descending range, a seed
+        above 2⁶⁴ − 1, a range of more than 10⁷ seeds, an empty list or a repeated seed.
     """
     if not isinstance(text, str):
         raise InvalidArgumentError("seeds", text, "a string such as '1-16,20,25-27'")
@@ -103,21 +105,22 @@ class EnsembleTask:
     Attributes
     ----------
     model : str
-        The model.
+        The model's name.
     params : dict
         This task's parameter values.
     seed : int
-        Its seed.
+        The run's seed.
     times : tuple of float
-        The requested times.
+        The requested times, in the engine's time.
     options : dict
-        Options of :func:`particles.driver.simulate`.
+        The spec's checked options.
     set_index : int
-        The index of its parameter set in the grid.
+        Index of the parameter set in :meth:`EnsembleSpec.parameter_sets`.
     identity : dict
-        What the result depends on.
+        What the result depends on: model, the engine's parameters, seed, times, result
+        options, format version.
     key : str
-        The hash of ``identity`` (the file's name).
+        The first 24 hex digits of the SHA-256 of ``identity``; names the task's files.
     """
 
     model: str
@@ -138,11 +141,12 @@ class EnsembleTask:
         return f"task-{self.key}.ckpt.npz"
 
     def describe(self) -> dict:
-        """JSON-able {"params", "seed"} (how failures and damaged files are reported).
+        """JSON-able {"params", "seed", "key"} (how failures and damaged files are reported).
 
         Returns
         -------
         dict
+            ``{"params", "seed", "key"}``.
         """
         return {"params": dict(self.params), "seed": self.seed, "key": self.key}
 
@@ -162,20 +166,22 @@ class EnsembleSpec:
     Attributes
     ----------
     model : str
-        A model of the catalogue.
-    params : mapping
-        {name: value or list of values}.
-    seeds : tuple of int or str
-        The seeds.
+        A model name of :data:`particles.models.MODELS`.
+    params : Mapping[str, Any]
+        {name: value or list of values}; stored as {name: tuple of values}.
+    seeds : tuple of int
+        Distinct seeds, or a string for :func:`parse_seeds`.
     times : tuple of float
-        The requested times.
-    options : mapping
-        Options of :func:`particles.driver.simulate`.
+        Increasing times ≥ 0 in the engines' time.
+    options : Mapping[str, Any]
+        ``structure_factor``, ``bins``, ``checkpoint_interval``, ``snapshots``.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming the field that is bad (also a parameter that no engine of the grid accepts).
+    particles.InvalidArgumentError
+        For an unknown model or parameter, an empty or repeated list of values, missing
+        required parameters, bad seeds, engines of different times, bad times, unknown or bad
+        options, or any value an engine refuses when built (the argument is named).
     """
 
     model: str
@@ -253,6 +259,7 @@ class EnsembleSpec:
         Returns
         -------
         list of dict
+            The Cartesian product of the parameters' values.
         """
         names = list(self.params)
         return [dict(zip(names, combo, strict=True))
@@ -263,7 +270,8 @@ class EnsembleSpec:
 
         Returns
         -------
-        list of EnsembleTask
+        list of particles.ensemble.EnsembleTask
+            One task per (parameter set, seed), each with its identity and key.
         """
         m = get_model(self.model)
         edges = obs.rescaled_histogram(np.array([1.0, -1.0]), self.options["bins"]).edges
@@ -296,6 +304,7 @@ class EnsembleSpec:
         Returns
         -------
         dict
+            ``model``, ``params`` (lists), ``seeds``, ``times``, ``options``.
         """
         return {"model": self.model, "params": {k: list(v) for k, v in self.params.items()},
                 "seeds": list(self.seeds), "times": list(self.times),

@@ -32,18 +32,20 @@ def load_task(path, identity: dict | None = None) -> RunResult:
     Parameters
     ----------
     path : str or os.PathLike
-        The task file.
+        A task file written by :func:`run_task`.
     identity : dict, optional
-        The task the file must belong to.
+        The task's :attr:`particles.ensemble.EnsembleTask.identity` the file must carry.
 
     Returns
     -------
     particles.driver.RunResult
+        The task's result.
 
     Raises
     ------
     particles.persistence.FileFormatError
-        For a file of another task or a damaged one.
+        (argument ``path``) if the file is not a readable task file, belongs to another task,
+        or lacks an entry.
     """
     loaded = persistence.load(path, _TASK_KIND, (FORMAT_VERSION,), argument="path")
     meta, a = loaded.meta, loaded.arrays
@@ -68,16 +70,17 @@ def run_task(task: EnsembleTask, factory: Callable[..., Any], out: str) -> dict:
 
     Parameters
     ----------
-    task : EnsembleTask
+    task : particles.ensemble.EnsembleTask
         The task.
-    factory : callable
-        Builds the engine from the task's parameters.
+    factory : Callable[..., Any]
+        The model's factory; ``factory(**task.params)`` builds the engine.
     out : str
-        The output folder.
+        The ensemble's output folder.
 
     Returns
     -------
     dict
+        The record above; ``error`` and ``traceback`` only for a failed task.
     """
     out = Path(out)
     path, ckpt = out / task.filename, out / task.checkpoint_name

@@ -39,22 +39,22 @@ def causal_depth(params: MDParams, state: MDState, until: float, block=None) -> 
 
     Parameters
     ----------
-    params : MDParams
-        The gas.
-    state : MDState
-        The state at the window's start.
+    params : particles.MDParams
+        The run's parameters.
+    state : particles.MDState
+        The state at the start of the window.
     until : float
-        The window's end.
-    block : numpy.ndarray, optional
-        An int per particle (−1 for none) marking groups of particles, e.g. the soft blocks of
-        :func:`cluster_anatomy`.
+        The physical time at the end of the window.
+    block : numpy.ndarray or None, optional
+        An int group label per particle (−1 for none), e.g. the second value returned by
+        :func:`cluster_anatomy`; None (default) puts no particle in a group.
 
     Returns
     -------
     dict
-        ``collisions``, ``depth``, ``per_round`` (collisions per round), ``inelastic``,
-        ``ghost_depth`` and ``ghost_per_round`` (the same without elastic exchanges), and the
-        in-block counts.
+        ``collisions``, ``depth``, ``per_round`` (collisions / depth), ``inelastic``,
+        ``ghost_depth``, ``ghost_per_round`` (inelastic / ghost_depth), ``in_blocks``,
+        ``in_blocks_elastic`` and ``replay_matches_reference`` (bool).
     """
     engine = MDEngine(params, "reference", record=True)
     end = engine.advance(state, until)
@@ -106,17 +106,17 @@ def cluster_anatomy(params: MDParams, state: MDState) -> tuple[dict, np.ndarray]
 
     Parameters
     ----------
-    params : MDParams
-        The gas.
-    state : MDState
-        The state.
+    params : particles.MDParams
+        The run's parameters (N, δ, reduced ring length).
+    state : particles.MDState
+        The state to analyse.
 
     Returns
     -------
-    summary : dict
-        ``cluster_sizes`` and ``soft_blocks`` (the five largest each).
-    runs : numpy.ndarray
-        The run of ≥ 5 each particle belongs to (−1 for none).
+    tuple of (dict, numpy.ndarray)
+        The dict has ``cluster_sizes`` and ``soft_blocks`` (lists of the five largest sizes)
+        and ``particles_in_soft_blocks_of_5_or_more`` (int); the array of shape ``(N,)`` gives
+        each particle's run of ≥ 5 (−1 for none).
     """
     x = state.positions_at()
     v = state.velocities

@@ -70,27 +70,29 @@ class MDEngine:
 
     Parameters
     ----------
-    params : MDParams
-        The gas.
-    method : str
-        "fast" (light-cone scheme) or "reference" (sequential heap).
-    collapse_dt : float
-        Collapse detector: a time step below this (units of 1/n) counts as a tiny step.
-    collapse_streak : int
-        Collapse detector: this many tiny steps in a row raise the error.
-    target_candidates : int, optional
-        Fast path: collisions per horizon slab (default N/8).
-    sequential_below : int
-        Fast path: the cost of a vectorised pass in scalar collisions (above).
-    record : bool
-        Keep every collision for :meth:`events`.
-    stop_step : float
-        The driver's stop grid (units of t).
+    params : particles.MDParams
+        The gas: N, density, restitution, δ, rod length, initial law.
+    method : str, optional
+        ``"fast"`` (default) or ``"reference"``.
+    collapse_dt : float, optional
+        Time step, in units of the initial mean free time 1/n, below which successive
+        collisions of one particle count towards a collapse (default 1e-9; > 0).
+    collapse_streak : int, optional
+        Number of such collisions in a row that is reported as a collapse (default 200; ≥ 2).
+    target_candidates : int or None, optional
+        Collisions per horizon slab of the fast path (default max(256, N/8); ≥ 1).
+    sequential_below : int, optional
+        Fixed cost of a vectorised pass, in scalar collisions (default 64; ≥ 0).
+    record : bool, optional
+        Keep every processed collision in ``self.record`` (default False).
+    stop_step : float, optional
+        Spacing of the grid of stops in units of t (default 1; > 0).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming the option that is out of its domain.
+    particles.InvalidArgumentError
+        Naming ``params`` if it is not an :class:`MDParams`, ``method`` if it is not one of the
+        two, or the tuning argument that is out of its domain.
     """
 
     name = "md"
@@ -136,11 +138,13 @@ class MDEngine:
     # -- driver interface ---------------------------------------------------------------------
 
     def to_dict(self) -> dict:
-        """The engine's parameters, JSON-able (they name the run in its files).
+        """The engine's parameter dict (JSON-able), recorded with every result.
 
         Returns
         -------
         dict
+            The fields of :class:`MDParams` plus ``model`` (``"md"``), ``method`` and
+            ``stop_step``.
         """
         out = self.params.to_dict()
         out["model"] = self.name
@@ -149,30 +153,32 @@ class MDEngine:
         return out
 
     def next_stop(self, time: float) -> float:
-        """The next point of the grid ``stop_step · m`` after ``time``.
+        """The next point of the stop grid ``stop_step · m`` (m integer) after ``time``.
 
         Parameters
         ----------
         time : float
-            The current time t.
+            The current physical time.
 
         Returns
         -------
         float
+            The next stop.
         """
         return next_grid_point(time, self.stop_step)
 
     def state_from_arrays(self, arrays) -> MDState:
-        """Rebuild a checkpointed state, checking it.
+        """Rebuild a checkpointed state (:meth:`MDState.from_arrays` with this engine's parameters).
 
         Parameters
         ----------
-        arrays : dict of numpy.ndarray
-            :meth:`MDState.to_arrays` of a state.
+        arrays : mapping
+            The arrays of :meth:`MDState.to_arrays`.
 
         Returns
         -------
-        MDState
+        particles.MDState
+            The state.
         """
         return MDState.from_arrays(arrays, self.params)
 
@@ -184,28 +190,28 @@ class MDEngine:
 
         Parameters
         ----------
-        state : MDState
+        state : particles.MDState
             The state.
 
         Returns
         -------
-        dict of numpy.ndarray
-            ``positions``.
+        dict of str to numpy.ndarray
+            ``{"positions": y}``, y of shape ``(N,)``.
         """
         return {"positions": rod_positions(state, self.params)}
 
     def observe(self, state: MDState) -> dict[str, float]:
-        """The engine's scalars at this state, recorded per time by the driver.
+        """The scalar observables the driver records at each output time.
 
         Parameters
         ----------
-        state : MDState
+        state : particles.MDState
             The state.
 
         Returns
         -------
-        dict
-            ``collisions_per_particle`` (τ(t)) and ``total_momentum``.
+        dict of str to float
+            ``collisions_per_particle`` (τ(t) = 2 · collisions / N) and ``total_momentum`` (Σ v_i).
         """
         return {
             "collisions_per_particle": collisions_per_particle(state),
@@ -215,23 +221,23 @@ class MDEngine:
     def initial_state(self, rng: np.random.Generator) -> MDState:
         """Equilibrium hard-rod positions, velocities from the law with zero momentum, ⟨v²⟩ = 1.
 
-        Points: N sorted uniform draws on [0, L − Nσ) (rod i at x_i + iσ).  Velocities: drawn
-        after the positions by :func:`particles.driver.initial_velocities` (zero mean, ⟨v²⟩ = 1).
+        Points: N sorted uniform draws on [0, L − Nσ) (rod i at x_i + iσ).  Velocities: drawn after
+        the positions by :func:`particles.driver.initial_velocities` (zero mean, ⟨v²⟩ = 1).
 
         Parameters
         ----------
         rng : numpy.random.Generator
-            The run's generator.
+            The random generator.
 
         Returns
         -------
-        MDState
-            The state at t = 0.
+        particles.MDState
+            The state at t = 0 with no collisions.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``rng`` when it is not a ``numpy.random.Generator``.
+        particles.InvalidArgumentError
+            Naming ``rng`` if it is not a ``numpy.random.Generator``.
         """
         if not isinstance(rng, np.random.Generator):
             raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
@@ -245,23 +251,25 @@ class MDEngine:
 
         Parameters
         ----------
-        state : MDState
-            The state (not changed).
+        state : particles.MDState
+            The state to advance (not modified).
         until : float
-            t to advance to, ≥ ``state.time``.
-        rng : numpy.random.Generator, optional
-            Unused (the dynamics is deterministic).
+            The physical time to reach, ≥ ``state.time``.
+        rng : numpy.random.Generator or None, optional
+            Unused (the dynamics is deterministic); accepted for the driver protocol.
 
         Returns
         -------
-        MDState
+        particles.MDState
+            The state at time ``until``.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``state`` (not an MDState of this N) or ``until`` (before the state's time).
-        InelasticCollapseError
-            When collisions pile up in finite time (δ = 0) or the clock stalls.
+        particles.InvalidArgumentError
+            Naming ``state`` if it is not an :class:`MDState` or has another N, ``until`` if it is
+            negative, not finite or before the state's time.
+        particles.InelasticCollapseError
+            If collisions pile up in finite time (or the clock stalls).
         """
         if not isinstance(state, MDState):
             raise InvalidArgumentError("state", type(state).__name__, "an MDState")
@@ -275,17 +283,17 @@ class MDEngine:
         return MDState(float(until), x, tl, v, int(count))
 
     def events(self) -> np.ndarray:
-        """Recorded collisions as an array of rows (time, pair), sorted (order-independent).
+        """The recorded collisions as an array of rows (time, pair), sorted (order-independent).
 
         Returns
         -------
         numpy.ndarray
-            Rows (time, pair), pair the index b of the neighbour pair (b, b + 1).
+            Float array of shape ``(collisions, 2)``, sorted by time, then pair index.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``record`` when the engine was built without ``record=True``.
+        particles.InvalidArgumentError
+            Naming ``record``, if the engine was built without ``record=True``.
         """
         if self.record is None:
             raise InvalidArgumentError("record", False, "an engine built with record=True")
@@ -304,8 +312,9 @@ class MDEngine:
 
         Returns
         -------
-        tuple
-            (dt_tiny, streak limit, message).
+        tuple of (float, int, str)
+            The time step below which a collision counts, the streak length that is reported, and
+            the description used in the error message.
         """
         if self.params.delta > 0.0 or self.params.restitution == 1.0:
             return 0.0, _STALL_STREAK, f"{_STALL_STREAK} collisions of one particle at one time"
@@ -313,24 +322,23 @@ class MDEngine:
         return dt, k, f"{k} collisions of one particle, each within {dt:g} of the previous"
 
     def raise_collapse(self, t, particles, collisions, detail=""):
-        """Raise :class:`InelasticCollapseError` at time ``t`` for ``particles`` after
-        ``collisions`` collisions (``detail``: what the watch saw).
+        """Raise :class:`InelasticCollapseError` for a collapse seen by the watch.
 
         Parameters
         ----------
         t : float
-            The time of the runaway.
-        particles : sequence of int
-            The particles involved.
+            The physical time of the runaway.
+        particles : array_like of int
+            Labels of the particles involved.
         collisions : int
-            Collisions processed so far.
-        detail : str
+            Total number of collisions processed so far.
+        detail : str, optional
             What the watch saw.
 
         Raises
         ------
-        InelasticCollapseError
-            Always.
+        particles.InelasticCollapseError
+            Always, with the run's δ and r.
         """
         raise InelasticCollapseError(
             t, particles, collisions, detail, self.params.delta, self.params.restitution

@@ -37,27 +37,32 @@ __all__ = ["collision_time", "collision_times", "collide", "collide_many"]
 
 
 def collision_time(x, t_last, i: int, vi: float, j: int, vj: float, lr: float) -> float:
-    """Predicted collision time of the neighbour pair (i, j) (j = i + 1, or j = 0 at the seam)
-    if i and j had the velocities ``vi`` and ``vj``: ``math.inf`` unless vi > vj.
+    """Predicted collision time of the neighbour pair (i, j) with velocities ``vi`` and ``vj``.
 
-    ``x`` and ``t_last`` are indexable stores (lists, dicts, arrays) of the lazily stored
-    positions and their times; ``lr`` is the reduced ring length L_r.  Times in units of t.
+    Both rods are moved to the later of their two last-update times, tt, and the pair collides at
+    tt + g / (vi − vj) if it approaches (vi > vj); a gap g made negative by round-off counts as
+    zero.  At the seam (j = 0) the partner is seen at x_0 + L_r.
 
     Parameters
     ----------
-    x, t_last : indexable
-        Stored positions and their times.
-    i, j : int
-        The pair.
-    vi, vj : float
-        Their velocities.
+    x, t_last : sequence of float
+        Indexable stores (lists, dicts, arrays) of the lazily stored positions and the times
+        at which they were stored.
+    i : int
+        Index of the left rod.
+    vi : float
+        Velocity of rod i.
+    j : int
+        Index of the right rod: i + 1, or 0 at the seam.
+    vj : float
+        Velocity of rod j.
     lr : float
-        The reduced ring length.
+        The reduced ring length L_r (ring length minus N times the rod length).
 
     Returns
     -------
     float
-        The collision time, or ``math.inf``.
+        The collision time, in units of physical time t; ``math.inf`` unless vi > vj.
     """
     if not vi > vj:
         return math.inf
@@ -75,22 +80,27 @@ def collision_time(x, t_last, i: int, vi: float, j: int, vj: float, lr: float) -
 
 
 def collision_times(x, tl, v, pairs, lr):
-    """:func:`collision_time` of the pairs ``pairs`` (indices b of pairs (b, b + 1), the seam
-    pair N − 1 is (N − 1, 0)) with their current velocities ``v``, as an array (inf where the
-    pair is not approaching); ``pairs`` is not modified.
+    """:func:`collision_time` of many pairs at once, with the rods' current velocities.
+
+    Element-wise the same bits as the scalar form.
 
     Parameters
     ----------
-    x, tl, v : numpy.ndarray
-        Stored positions, their times and the velocities.
+    x, tl : numpy.ndarray
+        Lazily stored positions of the N rods and the times at which they were stored.
+    v : numpy.ndarray
+        Current velocities of the N rods.
     pairs : numpy.ndarray
-        Pair indices b.
+        Integer indices b of the pairs (b, b + 1); the seam pair N − 1 is (N − 1, 0).  Not
+        modified.
     lr : float
-        The reduced ring length.
+        The reduced ring length L_r.
 
     Returns
     -------
     numpy.ndarray
+        Float array of the shape of ``pairs``: the collision times (inf where the pair is not
+        approaching).
     """
     n = x.shape[0]
     i = pairs
@@ -116,25 +126,28 @@ def collision_times(x, tl, v, pairs, lr):
 
 
 def collide(vi: float, vj: float, p: float, delta: float, elastic_only: bool):
-    """Velocities (v_i', v_j') of the pair after its collision, and whether it was elastic
-    (``elastic_only``, i.e. r = 1, or Δ = v_i − v_j < δ): then an exact swap; otherwise the rule
-    of :func:`particles.collision.collide_scalar` with p = (1 + r)/2 and the separation guard.
+    """Velocities of a pair after its collision, with the separation guard.
+
+    An elastic collision (``elastic_only``, i.e. r = 1, or Δ = vi − vj < δ) swaps the two
+    velocities exactly; otherwise the rule of :func:`particles.collision.collide_scalar` is
+    applied, the new velocities are clipped to [vj, vi] and swapped if round-off left them
+    approaching.
 
     Parameters
     ----------
     vi, vj : float
-        The pair's velocities.
+        Velocities of the left and right rod before the collision.
     p : float
-        (1 + r)/2.
+        The transfer fraction (1 + r)/2.
     delta : float
-        δ.
+        The threshold δ ≥ 0: a collision with relative velocity below δ is elastic.
     elastic_only : bool
-        r = 1.
+        True when r = 1 (every collision is a swap).
 
     Returns
     -------
-    tuple
-        (v_i', v_j', elastic).
+    tuple of (float, float, bool)
+        ``(vi', vj', elastic)``.
     """
     d = vi - vj
     if elastic_only or d < delta:
@@ -148,20 +161,26 @@ def collide(vi: float, vj: float, p: float, delta: float, elastic_only: bool):
 
 
 def collide_many(vi: np.ndarray, vj: np.ndarray, p: float, delta: float, elastic_only: bool):
-    """:func:`collide` element-wise on arrays: (v_i', v_j', elastic mask).  The inputs are not
-    modified (with ``elastic_only`` the outputs are the inputs, swapped).
+    """:func:`collide` element-wise on arrays, with the same bits.
+
+    The inputs are not modified (with ``elastic_only`` the outputs are the inputs, swapped).
 
     Parameters
     ----------
     vi, vj : numpy.ndarray
-        The pairs' velocities (not changed).
-    p, delta, elastic_only
-        As for :func:`collide`.
+        Velocities of the left and right rods of the pairs, same shape.
+    p : float
+        The transfer fraction (1 + r)/2.
+    delta : float
+        The threshold δ ≥ 0 below which a collision is elastic.
+    elastic_only : bool
+        True when r = 1.
 
     Returns
     -------
     tuple of numpy.ndarray
-        (v_i', v_j', elastic mask).
+        ``(vi', vj', elastic)``: the new velocities and a boolean mask of the elastic
+        collisions, each of the shape of ``vi``.
     """
     if elastic_only:
         return vj, vi, np.ones(vi.shape, dtype=bool)

@@ -479,17 +479,18 @@ def advance_fast(engine, state: MDState, until: float):
 
     Parameters
     ----------
-    engine : MDEngine
-        The engine (its parameters and tuning).
-    state : MDState
-        The state (not changed).
+    engine : particles.MDEngine
+        The engine: its ``params`` and its inelastic-collapse watch.
+    state : particles.MDState
+        The state to advance (not modified).
     until : float
-        t to advance to.
+        The physical time to advance to.
 
     Returns
     -------
     tuple
-        (positions, t_last, velocities, collisions) at ``until``.
+        ``(positions, t_last, velocities, collisions)``: three float arrays of shape ``(N,)``
+        and the total collision count (int).
     """
     params = engine.params
     n = params.n

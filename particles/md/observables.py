@@ -31,12 +31,13 @@ def collisions_per_particle(state: MDState) -> float:
 
     Parameters
     ----------
-    state : MDState
-        The state.
+    state : particles.MDState
+        The MD state.
 
     Returns
     -------
     float
+        τ = 2 · (pair collisions so far) / N.
     """
     return 2.0 * state.collisions / state.velocities.size
 
@@ -46,12 +47,13 @@ def total_momentum(state: MDState) -> float:
 
     Parameters
     ----------
-    state : MDState
-        The state.
+    state : particles.MDState
+        The MD state.
 
     Returns
     -------
     float
+        Σ_i v_i.
     """
     return float(np.sum(state.velocities))
 
@@ -61,16 +63,17 @@ def rod_positions(state: MDState, params: MDParams, t: float | None = None) -> n
 
     Parameters
     ----------
-    state : MDState
-        The state.
-    params : MDParams
-        The gas (σ, L).
-    t : float, optional
-        The time (default the state's).
+    state : particles.MDState
+        The MD state (positions stored lazily, in reduced coordinates).
+    params : particles.MDParams
+        The run's parameters (N, rod length σ, ring length L).
+    t : float or None, optional
+        The time; None (default) means the state's own time.
 
     Returns
     -------
     numpy.ndarray
+        Float array of shape ``(N,)``, in particle-label order.
     """
     x = state.positions_at(t) + np.arange(params.n) * params.rod_length
     return np.mod(x, params.length)
@@ -81,17 +84,18 @@ def profile_x(state: MDState, params: MDParams, t: float | None = None):
 
     Parameters
     ----------
-    state : MDState
-        The state.
-    params : MDParams
-        The gas.
-    t : float, optional
-        The time (default the state's).
+    state : particles.MDState
+        The MD state.
+    params : particles.MDParams
+        The run's parameters.
+    t : float or None, optional
+        The time; None (default) means the state's own time.
 
     Returns
     -------
-    x, v : numpy.ndarray
-        Sorted positions and their velocities.
+    tuple of numpy.ndarray
+        ``(y, v)``: the sorted positions and the velocities in that order, each of shape
+        ``(N,)``.
     """
     y = rod_positions(state, params, t)
     order = np.argsort(y, kind="stable")
@@ -103,13 +107,13 @@ def profile_i(state: MDState):
 
     Parameters
     ----------
-    state : MDState
-        The state.
+    state : particles.MDState
+        The MD state.
 
     Returns
     -------
-    i, v : numpy.ndarray
-        Labels and velocities.
+    tuple of numpy.ndarray
+        ``(i, v)``: the labels 0..N−1 and a copy of the velocities, each of shape ``(N,)``.
     """
     return np.arange(state.velocities.size), state.velocities.copy()
 
@@ -124,16 +128,16 @@ def haff_time(restitution: float, density: float, t0_energy: float = 1.0) -> flo
     Parameters
     ----------
     restitution : float
-        r.
+        The restitution coefficient r.
     density : float
-        n (reduced for rods of length σ).
-    t0_energy : float
-        T₀.
+        The (reduced) number density n.
+    t0_energy : float, optional
+        The initial temperature T₀ (default 1).
 
     Returns
     -------
     float
-        t₀.
+        t₀, in units of physical time t.
     """
     if restitution >= 1.0:
         return math.inf
@@ -146,13 +150,18 @@ def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
     Parameters
     ----------
     t : float or array_like
-        Times.
-    restitution, density, t0_energy
-        As for :func:`haff_time`.
+        Physical times.
+    restitution : float
+        The restitution coefficient r.
+    density : float
+        The (reduced) number density n.
+    t0_energy : float, optional
+        The initial temperature T₀ (default 1).
 
     Returns
     -------
-    float or numpy.ndarray
+    numpy.ndarray
+        T(t), a float array of the shape of ``t``.
     """
     t = np.asarray(t, dtype=float)
     return t0_energy / (1.0 + t / haff_time(restitution, density, t0_energy)) ** 2
@@ -164,11 +173,16 @@ def initial_cooling_rate(restitution: float, density: float, t0_energy: float = 
 
     Parameters
     ----------
-    restitution, density, t0_energy
-        As for :func:`haff_time`.
+    restitution : float
+        The restitution coefficient r.
+    density : float
+        The (reduced) number density n.
+    t0_energy : float, optional
+        The initial temperature T₀ (default 1).
 
     Returns
     -------
     float
+        dT/dt at t = 0⁺ (≤ 0).
     """
     return -2.0 / math.sqrt(math.pi) * (1.0 - restitution**2) * density * t0_energy**1.5

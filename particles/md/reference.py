@@ -22,19 +22,24 @@ def advance_reference(engine, state: MDState, until: float):
     """Every collision of ``state`` up to ``until`` in (time, pair) order; returns the arrays
     (positions, t_last, velocities) and the collision count of the state at ``until``.
 
+    This is the sequential reference engine: one heap of predicted collision times, one collision
+    at a time, with the kernel's formulas (:mod:`particles.md.kernel`).  It is normally called
+    through ``MDEngine.advance`` with ``method="reference"``.
+
     Parameters
     ----------
-    engine : MDEngine
-        The engine.
-    state : MDState
-        The state (not changed).
+    engine : particles.MDEngine
+        The engine: its ``params``, its inelastic-collapse watch and its ``record`` list.
+    state : particles.MDState
+        The state to advance (not modified).
     until : float
-        t to advance to.
+        The physical time to advance to.
 
     Returns
     -------
     tuple
-        (positions, t_last, velocities, collisions) at ``until``.
+        ``(positions, t_last, velocities, collisions)``: three float arrays of shape ``(N,)``
+        and the total collision count (int).
     """
     params = engine.params
     n = params.n

@@ -27,29 +27,25 @@ class InelasticCollapseError(RuntimeError):
     """Collisions piled up in finite time (δ = 0): the run cannot go on.
 
     With δ > 0 collapse is impossible in exact arithmetic, but a very small δ can still let the
-    time between one particle's collisions fall below the resolution of double precision, so
-    that the clock stands still (measured, N = 300-1000, r = 0.5: δ ≤ 10⁻⁷ stalls within t ≈ 20,
-    δ = 10⁻⁶ runs); that stall is reported with this error too, and its message says to increase
-    δ instead of to set it.
-
-    Attributes: ``time`` (the time of the runaway), ``particles`` (labels of the particles
-    involved), ``collisions`` (total number of collisions processed so far), ``delta`` (the
-    run's δ).
+    time between one particle's collisions fall below the resolution of double precision, so that
+    the clock stands still; that stall is reported with this error too, and its message then says
+    to increase δ instead of to set it (and, for r = 1, that δ changes nothing).  The arguments are
+    kept as attributes of the same names (``particles`` as the sorted unique labels).
 
     Parameters
     ----------
     time : float
-        The time of the runaway.
-    particles : sequence of int
-        The particles involved.
+        The physical time of the runaway.
+    particles : array_like of int
+        Labels of the particles involved (at most ten are shown in the message).
     collisions : int
-        Collisions processed so far.
-    detail : str
-        What the collapse watch saw.
-    delta : float
-        The run's δ.
-    restitution : float, optional
-        The run's r (for the message).
+        Total number of pair collisions processed so far.
+    detail : str, optional
+        A further explanation appended to the message.
+    delta : float, optional
+        The run's regularisation δ (default 0).
+    restitution : float or None, optional
+        The run's restitution coefficient r, when known.
     """
 
     def __init__(
@@ -92,31 +88,30 @@ class InelasticCollapseError(RuntimeError):
 
 @dataclass(frozen=True)
 class MDParams:
-    """Parameters of the hard-rod gas, checked at construction.
-
-    ``n`` particles (N ≥ 2), number ``density`` N/L > 0, ``restitution`` r ∈ [0, 1],
-    regularisation ``delta`` δ ≥ 0 (0: none), ``rod_length`` σ ≥ 0 with N σ < L, and the name of
-    the ``initial`` velocity law (:mod:`particles.initial`).
+    """Parameters of the hard-rod gas on a ring, checked at construction.
 
     Attributes
     ----------
     n : int
-        N ≥ 2.
+        Number of rods N ≥ 2.
     density : float
-        N/L > 0.
+        Number density n = N/L > 0 (L the ring length).
     restitution : float
-        r ∈ [0, 1].
+        Restitution coefficient r ∈ [0, 1].
     delta : float
-        δ ≥ 0: collisions with relative velocity below δ are elastic (0: none).
+        Regularisation δ ≥ 0: a collision with relative velocity below δ is elastic (0: none).
     rod_length : float
-        σ ≥ 0, N σ < L.
+        Rod length σ ≥ 0, with N σ < L.
     initial : str
-        The initial law, a name of :mod:`particles.initial`.
+        Name of the initial velocity law (:func:`particles.initial.get_law`; one with a
+        sampler), stored as the law's name.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming the parameter that is out of its domain.
+    particles.InvalidArgumentError
+        Naming the field that is out of its domain: ``n``, ``density``, ``restitution``,
+        ``delta``, ``rod_length`` (also when the rods do not fit on the ring), or ``initial``
+        (an unknown law, or one without a sampler).
     """
 
     n: int
@@ -175,35 +170,36 @@ class MDParams:
         return transfer_fraction(self.restitution)
 
     def to_dict(self) -> dict:
-        """The parameters, JSON-able.
+        """The parameters as a plain dict (the engine protocol's parameter dict).
 
         Returns
         -------
         dict
+            Field name → value.
         """
         return asdict(self)
 
 
 @dataclass(frozen=True, eq=False)
 class MDState:
-    """A snapshot of the gas at ``time`` (everything needed to continue bit for bit).
+    """A snapshot of the gas at ``time``: everything needed to continue bit for bit.
 
-    ``positions[i]`` is the point coordinate (reduced ring, unwrapped) of particle i at its own
-    last-update time ``t_last[i]``; ``velocities[i]`` its velocity since then; ``collisions`` the
-    total number of pair collisions since t = 0.
+    Positions are stored lazily: each rod's point coordinate on the reduced ring (length L − Nσ,
+    unwrapped) at its own last-update time.
 
     Attributes
     ----------
     time : float
-        t.
+        The physical time t of the snapshot.
     positions : numpy.ndarray
-        Point coordinates at each particle's ``t_last``.
+        Float array of shape ``(N,)``: ``positions[i]`` is the point coordinate of rod i at
+        time ``t_last[i]``.
     t_last : numpy.ndarray
-        Each particle's last update time.
+        Float array of shape ``(N,)``: the last-update time of each rod (≤ ``time``).
     velocities : numpy.ndarray
-        Velocities.
+        Float array of shape ``(N,)``: each rod's velocity since ``t_last[i]``.
     collisions : int
-        Pair collisions since t = 0.
+        Total number of pair collisions since t = 0.
     """
 
     time: float
@@ -213,16 +209,17 @@ class MDState:
     collisions: int
 
     def positions_at(self, t: float | None = None) -> np.ndarray:
-        """Point coordinates (reduced ring, unwrapped) at time ``t`` (default: ``self.time``).
+        """Point coordinates (reduced ring, unwrapped) at time ``t``.
 
         Parameters
         ----------
-        t : float, optional
-            The time (default the state's).
+        t : float or None, optional
+            The physical time; None (default) means ``self.time``.
 
         Returns
         -------
         numpy.ndarray
+            ``positions + velocities * (t - t_last)``, shape ``(N,)``.
         """
         t = self.time if t is None else float(t)
         return self.positions + self.velocities * (t - self.t_last)
@@ -232,7 +229,9 @@ class MDState:
 
         Returns
         -------
-        dict of numpy.ndarray
+        dict of str to numpy.ndarray
+            ``time``, ``positions``, ``t_last``, ``velocities`` (floats) and ``collisions``
+            (int64).
         """
         return {
             "time": np.array(self.time, dtype=float),
@@ -244,25 +243,27 @@ class MDState:
 
     @classmethod
     def from_arrays(cls, data, params: MDParams | None = None) -> MDState:
-        """Inverse of :meth:`to_arrays`, with consistency checks; a corrupt state raises
-        ``InvalidArgumentError`` naming ``checkpoint`` (a ``ValueError``, which the driver turns
-        into its ``CheckpointError`` naming the file).
+        """Rebuild a state from :meth:`to_arrays`'s dict, with consistency checks.
 
         Parameters
         ----------
         data : mapping
-            :meth:`to_arrays` of a state.
-        params : MDParams, optional
-            The gas it must belong to.
+            The arrays, as :meth:`to_arrays` writes them.
+        params : particles.MDParams or None, optional
+            When given, N must match and the rods must be in order on the ring at ``time``.
 
         Returns
         -------
-        MDState
+        particles.MDState
+            The state.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``checkpoint`` for a corrupt state.
+        particles.InvalidArgumentError
+            Naming ``checkpoint``, for a corrupt state: not a mapping, missing or non-numeric
+            entries, inconsistent shapes or N < 2, an N other than ``params.n``, non-finite values,
+            a negative count, a ``t_last`` after ``time``, or rods out of order.  It is a
+            ``ValueError``, which the driver turns into its ``CheckpointError`` naming the file.
         """
         keys = ("time", "positions", "t_last", "velocities", "collisions")
         try:
