@@ -24,11 +24,14 @@ def clean_json(obj):
     Parameters
     ----------
     obj : object
-        Nested dicts, lists and numbers.
+        A float, a NumPy scalar, or a dict, list or tuple of such (nested); anything else is
+        returned as it is.
 
     Returns
     -------
     object
+        The same structure with NaN and ±inf replaced by ``None``, tuples as lists and dict keys
+        as strings.
     """
     if isinstance(obj, float):
         return obj if math.isfinite(obj) else None
@@ -47,7 +50,8 @@ def emit_json(payload: dict) -> None:
     Parameters
     ----------
     payload : dict
-        The object (non-finite floats become null).
+        The object to print; it must be strict JSON (no NaN or infinity: see
+        :func:`clean_json`), else ``json.dump`` raises ``ValueError``.
     """
     json.dump(payload, sys.stdout, allow_nan=False)
     sys.stdout.write("\n")
@@ -66,18 +70,20 @@ def check_image_path(path, name: str) -> Path:
     Parameters
     ----------
     path : str or os.PathLike
-        The path.
+        The image file to be written.
     name : str
-        The argument's name.
+        The argument's name, for the error message.
 
     Returns
     -------
     pathlib.Path
+        The checked path.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``name`` for a bad path or an image format matplotlib cannot write.
+    particles.validation.InvalidArgumentError
+        If the suffix is not an image format matplotlib writes, or (from
+        ``check_output_file``) the file cannot be written in its folder.
     """
     out = check_output_file(path, name)
     suffix = out.suffix.lower().lstrip(".")
@@ -93,25 +99,27 @@ def check_outputs(*, inputs: dict | None = None, images: dict | None = None, **f
     """Check every output path before any work: each is a file in an existing, writable folder
     (``images``: also a format matplotlib writes), and no two outputs, nor an output and an
     input (``inputs``, e.g. ``resume``), name the same file; ``None`` entries are skipped.
-    Returns ``{name: Path}`` of the outputs.
+    A checkpoint file may be the same file as the one resumed from.
 
     Parameters
     ----------
     inputs : dict, optional
-        Input paths by name.
+        ``{argument name: path or None}`` of files to be read, which no output may overwrite.
     images : dict, optional
-        Image outputs by name.
+        ``{argument name: path or None}`` of images to be written.
     **files
-        File outputs by name.
+        ``argument name=path or None`` of other files to be written.
 
     Returns
     -------
     dict
+        ``{argument name: pathlib.Path}`` of the outputs given.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming the output that is bad, or two outputs that name one file.
+    particles.validation.InvalidArgumentError
+        Naming the argument, if an output path cannot be written (or an image's format is not
+        supported), two outputs name the same file, or an output would overwrite an input.
     """
     outputs = {}
     for name, path in (images or {}).items():
@@ -147,10 +155,12 @@ def progress_enabled(args) -> bool:
     Parameters
     ----------
     args : argparse.Namespace
+        Parsed options; missing ``no_progress`` or ``json`` attributes count as not given.
 
     Returns
     -------
     bool
+        Whether to show progress.
     """
     if getattr(args, "no_progress", False):
         return False

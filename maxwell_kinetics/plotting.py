@@ -17,15 +17,15 @@ def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
 
     Parameters
     ----------
-    ncols : int
-        Panels.
-    width, height : float
-        Inches per panel.
+    ncols : int, optional
+        Number of panels side by side (default 1).
+    width, height : float, optional
+        Size of one panel in inches (default 5 × 4).
 
     Returns
     -------
-    fig : matplotlib.figure.Figure
-    axes : numpy.ndarray
+    tuple of (matplotlib.figure.Figure, numpy.ndarray)
+        The figure and its axes, an object array of shape (1, ncols).
     """
     import matplotlib
 
@@ -40,13 +40,19 @@ def plot_solution(solution):
     log axes; in d ≥ 2, where f̂ is not the scaling solution, the density of the rescaled
     speed P(s) (:meth:`~maxwell_kinetics.solver.Solution.speed_density`) on a log scale.
 
+    G(q, τ) is the characteristic function of the rescaled velocity at the recorded times τ
+    (collisions per particle); f̂(q) = (1 + q) e^(−q) is the 1D scaling solution.
+
     Parameters
     ----------
-    solution : maxwell_kinetics.Solution
+    solution : maxwell_kinetics.solver.Solution
+        A solution of the kinetic solver (its ``q``, ``tau``, ``G`` and, in d = 1,
+        ``deviation``; in d ≥ 2, ``dimension``, ``angular`` and ``speed_density``).
 
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, laid out (``tight_layout``); the caller saves or closes it.
     """
     from .exact import f_hat
 
@@ -85,13 +91,19 @@ def plot_solution(solution):
 def plot_convergence(runs):
     """sup_q |G − f̂| against τ for each (r, resolution), and the floor against h.
 
+    Left: the distance to the scaling solution against τ, one line per restitution r and
+    resolution.  Right: the error floor against the grid spacing h in ln q, with the line
+    h^order of the scheme's order through the finest point.
+
     Parameters
     ----------
     runs : list of maxwell_kinetics.convergence.ConvergenceRun
+        The runs of :func:`maxwell_kinetics.convergence.convergence_study`; may be empty.
 
     Returns
     -------
     matplotlib.figure.Figure
+        The figure, laid out (``tight_layout``); the caller saves or closes it.
     """
     fig, axes = new_figure(2)
     left, right = axes[0]
@@ -123,20 +135,25 @@ def plot_density(x, P, variance: float, title: str = "", ax=None):
     """ln P(x) against x with the Gaussian of the same variance (arrays only; returns the
     Figure).
 
+    Values of P and of the Gaussian below 1e-14 are not drawn (round-off far out).
+
     Parameters
     ----------
-    x, P : array_like
-        Velocities and density.
+    x : array_like
+        Velocities, shape (m,).
+    P : array_like
+        The density at ``x``, shape (m,).
     variance : float
-        The Gaussian's variance.
-    title : str
-        The title.
+        Variance of the Gaussian drawn for comparison.
+    title : str, optional
+        Title of the panel (default none).
     ax : matplotlib.axes.Axes, optional
-        Where to draw (default a new figure).
+        Panel to draw in; default a new figure of one panel.
 
     Returns
     -------
     matplotlib.figure.Figure
+        The figure of ``ax`` (or the new one), laid out.
     """
     import numpy as np
 

@@ -27,18 +27,19 @@ def prepare_output(out, argument: str = "out") -> Path:
     Parameters
     ----------
     out : str or os.PathLike
-        The folder.
-    argument : str
-        The argument's name.
+        The output folder; missing parents are created (and removed again on failure).
+    argument : str, optional
+        The argument's name for the error message (default ``"out"``).
 
     Returns
     -------
     pathlib.Path
+        The folder, which exists and is writable.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``argument``.
+    particles.validation.InvalidArgumentError
+        If the folder cannot be created or a file cannot be written in it.
     """
     out = Path(out)
     created = [p for p in (out, *out.parents) if not p.exists()]
@@ -72,23 +73,32 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
 
     Parameters
     ----------
-    out : str or os.PathLike
-        The output folder.
-    size : str
-        "small", "default" or "full".
+    out : str or os.PathLike, optional
+        The output folder (default ``"results"``), created if needed.
+    size : str, optional
+        ``"small"`` (the tests' size), ``"default"`` (minutes) or ``"full"`` (the paper's sizes).
     only : list of str, optional
-        Comparison names.
-    progress : bool
-        Show progress.
+        Names of the comparisons to run (keys of ``COMPARISONS``); default all, in order.
+    progress : bool, optional
+        Print a line before and after each comparison, and let the comparisons show progress
+        (default true).
     workers : int, optional
-        Processes for the particle runs.
-    force : bool
-        Allow more than 4 × the CPUs.
+        Number of dask processes for the particle runs through the ensemble engine; default
+        serial (except at ``size="full"``).
+    force : bool, optional
+        Allow more workers than :func:`particles.validation.max_workers`.
 
     Returns
     -------
     dict
-        The summary (also written to ``summary.json``).
+        The contents of ``summary.json``: ``size``, ``comparisons`` (``{name: summary}``) and
+        the total wall-clock ``seconds``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        From the validators it calls: too many ``workers`` without ``force``, or an unusable
+        ``out`` folder.
     """
     import matplotlib.pyplot as plt
 

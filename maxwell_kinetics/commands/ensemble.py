@@ -46,13 +46,17 @@ __all__ = ["add_parser", "run", "spec_from_args"]
 
 
 def add_parser(subparsers) -> None:
-    """Add the ``ensemble`` subcommand (many seeds and parameter sweeps of a particle model)
-    to the top-level parser.
+    """Register ``ensemble MODEL`` with one sub-subcommand per model of the catalogue.
+
+    Each model's parser has that model's parameter options (comma lists sweep them), the time
+    option its engines use, ``--seeds``, the shared run options, where to run (``--workers``,
+    ``--scheduler``, ``--cluster`` with ``--config``, or ``--serial``) and ``--out``.
 
     Parameters
     ----------
     subparsers : argparse._SubParsersAction
-        The top-level parser's subcommands.
+        The ``add_subparsers()`` object of the top-level parser; each model parser's
+        ``handler`` default is :func:`run`.
     """
     ensemble = subparsers.add_parser(
         "ensemble", help="many seeds and a parameter sweep of a particle model, on dask",
@@ -83,16 +87,24 @@ def add_parser(subparsers) -> None:
 
 
 def spec_from_args(args) -> EnsembleSpec:
-    """The :class:`EnsembleSpec` of the command line (checked: nothing runs if it is bad).
+    """The ensemble specification of the command line, checked before anything runs.
 
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line.
+        The parsed options of ``ensemble MODEL``.
 
     Returns
     -------
     particles.ensemble.EnsembleSpec
+        The model, its parameters (lists for the swept ones), the seeds, the record times and
+        the run options (checkpoint interval, structure factor).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        From the validators it calls: a bad parameter value, seed list or time list, or a time
+        option that is not the one the model's engines use.
     """
     model = get_model(args.model)
     params = model_params(args, model, sweep=True)
@@ -114,22 +126,27 @@ def _progress(args) -> bool:
 
 
 def run(args) -> int:
-    """The handler of ``ensemble``: check the input, run, print (``--json``: one object).
+    """Run ``maxwell-kinetics ensemble MODEL``: every (parameter point, seed) task of the
+    specification, on dask or serially, with task files and the aggregate in ``--out``.
+
+    Finished tasks are skipped on a rerun.  Prints a summary line and each failure (or one JSON
+    object with ``--json``).
 
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line.
+        The parsed options of ``ensemble MODEL``.
 
     Returns
     -------
     int
-        The exit status.
+        The exit status: 0 if every task succeeded, 3 if any failed.
 
     Raises
     ------
-    InvalidArgumentError
-        For bad input (exit status 2), before anything is written.
+    particles.validation.InvalidArgumentError
+        If ``--config`` is given without ``--cluster``; also, from the validators it calls, a
+        bad specification (see :func:`spec_from_args`) or ``--workers``.
     """
     spec = spec_from_args(args)
     if args.config is not None and args.cluster is None:

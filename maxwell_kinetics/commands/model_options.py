@@ -34,6 +34,7 @@ def cli_models() -> list[Model]:
     Returns
     -------
     list of particles.models.Model
+        Those models, in the catalogue's order.
     """
     return [m for m in MODELS.values() if all(p.kind != "any" for p in m.parameters)]
 
@@ -45,11 +46,11 @@ def add_model_options(parser: argparse.ArgumentParser, model: Model, *, sweep: b
     Parameters
     ----------
     parser : argparse.ArgumentParser
-        The model's parser.
+        The parser of ``simulate MODEL`` or ``ensemble MODEL``.
     model : particles.models.Model
-        The model.
+        The catalogue entry of the model.
     sweep : bool
-        Accept comma lists (``ensemble``).
+        If true, each option accepts a comma list of values (a sweep, for ``ensemble``).
     """
     for p in model.parameters:
         text = p.describe()
@@ -78,9 +79,9 @@ def add_time_option(parser: argparse.ArgumentParser, model: Model) -> None:
     Parameters
     ----------
     parser : argparse.ArgumentParser
-        The model's parser.
+        The parser of ``simulate MODEL`` or ``ensemble MODEL``.
     model : particles.models.Model
-        The model.
+        The catalogue entry of the model.
     """
     group = parser.add_mutually_exclusive_group(required=True)
     for name in model.time_names:
@@ -91,10 +92,12 @@ def add_time_option(parser: argparse.ArgumentParser, model: Model) -> None:
 def add_run_options(parser: argparse.ArgumentParser) -> None:
     """The run options shared by ``simulate MODEL`` and ``ensemble MODEL``.
 
+    ``--json``, ``--structure-factor``, ``--checkpoint-interval`` and ``--progress``.
+
     Parameters
     ----------
     parser : argparse.ArgumentParser
-        The parser.
+        The parser of ``simulate MODEL`` or ``ensemble MODEL``.
     """
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument(
@@ -115,15 +118,21 @@ def model_params(args, model: Model, *, sweep: bool) -> dict:
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line.
+        The parsed options.
     model : particles.models.Model
-        The model.
+        The catalogue entry of the model.
     sweep : bool
-        Comma lists become lists of values.
+        If true, a comma list gives a list of values (one value stays a scalar).
 
     Returns
     -------
     dict
+        {parameter name: parsed value or list of values} of the options given.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        From the parsers it calls, for a value that is not valid for its parameter.
     """
     params = {}
     for p in model.parameters:
@@ -146,20 +155,22 @@ def time_option(args, model: Model, time_name: str) -> tuple[str, str]:
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line.
+        The parsed options.
     model : particles.models.Model
-        The model.
+        The catalogue entry of the model.
     time_name : str
-        The engine's time, "tau" or "t".
+        The time the engine records at: ``"tau"`` (collisions per particle) or ``"t"``
+        (physical time).
 
     Returns
     -------
-    tuple of str
+    tuple of (str, str)
+        The option's name and its text (the unparsed list of times).
 
     Raises
     ------
-    InvalidArgumentError
-        Naming the time option given when it is not the engine's.
+    particles.validation.InvalidArgumentError
+        If the time was given under the other name than ``time_name``, or not at all.
     """
     for name in model.time_names:
         text = getattr(args, f"times_{name}", None)

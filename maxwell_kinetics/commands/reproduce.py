@@ -23,12 +23,13 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
-    """Add the ``reproduce`` subcommand (every comparison with the paper) to the top-level parser.
+    """Register the ``reproduce`` subcommand and its options.
 
     Parameters
     ----------
     subparsers : argparse._SubParsersAction
-        The top-level parser's subcommands.
+        The ``add_subparsers()`` object of the top-level parser; the new parser's ``handler``
+        default is :func:`run`.
     """
     p = subparsers.add_parser(
         "reproduce", help="reproduce the paper's figures and the kinetic-vs-particle comparisons",
@@ -53,22 +54,28 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    """The handler of ``reproduce``: check the input, run, print (``--json``: one object).
+    """Run ``maxwell-kinetics reproduce`` on parsed arguments.
+
+    Runs the selected comparisons at the chosen size through
+    :func:`maxwell_kinetics.reproduce.run_all`, which writes a PNG and an ``.npz`` per comparison
+    and ``summary.json`` into ``--out``; prints a one-line summary (or one JSON object).
 
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line.
+        The options registered by :func:`add_parser`.
 
     Returns
     -------
     int
-        The exit status.
+        The exit status, 0 on success.
 
     Raises
     ------
-    InvalidArgumentError
-        For bad input (exit status 2), before anything is written.
+    particles.validation.InvalidArgumentError
+        If ``--only`` names a comparison that does not exist, or (from the validators it calls)
+        for a bad ``--workers`` (not a count, or above 4 x the CPUs without ``--force``) or an
+        unusable ``--out`` folder; the output folder is checked before anything runs.
     """
     from ..comparisons import COMPARISONS
     from ..reproduce import prepare_output, run_all

@@ -24,12 +24,13 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
-    """Add the ``steady`` subcommand (the steady state of the driven model) to the top-level parser.
+    """Register the ``steady`` subcommand and its options.
 
     Parameters
     ----------
     subparsers : argparse._SubParsersAction
-        The top-level parser's subcommands.
+        The ``add_subparsers()`` object of the top-level parser; the new parser's ``handler``
+        default is :func:`run`.
     """
     p = subparsers.add_parser(
         "steady", help="the steady state of the driven (heated) 1D Maxwell model",
@@ -44,17 +45,27 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    """The handler of ``steady``: check the input, run, print (``--json``: one object).
+    """Run ``maxwell-kinetics steady`` on parsed arguments.
+
+    Computes the steady state of the driven model
+    (:func:`maxwell_kinetics.driven.steady_state`) and prints it, as one JSON object with
+    ``--json``; ``--plot`` writes a PNG of the density beside the Gaussian of the same variance.
 
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line.
+        The options registered by :func:`add_parser`.
 
     Returns
     -------
     int
-        The exit status.
+        The exit status, 0 on success.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        From the validators it calls: a bad ``--restitution`` or ``--driving``
+        (no steady state for D = 0 or r = 1), or an unwritable ``--plot`` path (exit 2).
     """
     check_outputs(images={"plot": args.plot})
     state = steady_state(args.restitution, args.driving)

@@ -19,13 +19,13 @@ __all__ = ["add_parser", "run"]
 
 
 def add_parser(subparsers) -> None:
-    """Add the ``tail-exponent`` subcommand (tail exponents of the d-dimensional models) to
-    the top-level parser.
+    """Register the ``tail-exponent`` subcommand and its options.
 
     Parameters
     ----------
     subparsers : argparse._SubParsersAction
-        The top-level parser's subcommands.
+        The ``add_subparsers()`` object of the top-level parser; the new parser's ``handler``
+        default is :func:`run`.
     """
     p = subparsers.add_parser(
         "tail-exponent", help="tail exponents of the d-dimensional inelastic Maxwell model",
@@ -40,17 +40,26 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    """The handler of ``tail-exponent``: check the input, run, print (``--json``: one object).
+    """Run ``maxwell-kinetics tail-exponent`` on parsed arguments.
+
+    Computes the tail exponent s* and the energy decay rate with
+    :func:`maxwell_kinetics.tails.tail_exponent` and prints them (one JSON object with ``--json``).
 
     Parameters
     ----------
     args : argparse.Namespace
-        The parsed command line.
+        The options registered by :func:`add_parser`.
 
     Returns
     -------
     int
-        The exit status.
+        The exit status, 0 on success.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        From the validators it calls: a bad ``--dimension``, ``--restitution`` or
+        ``--angular`` (exit 2).
     """
     from ..tails import tail_exponent  # scipy.optimize: imported only when it runs
 

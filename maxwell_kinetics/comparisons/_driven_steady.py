@@ -47,28 +47,33 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     Gaussian and are taken at τ = ``tau``: the slowest relaxation, of ⟨v²⟩, is e^{−2pqτ}
     (r = 0.9: 2pq = 0.095, e^{−9.5} at τ = 100; the small size takes r ≤ 0.5 only).
 
+    Claim tested: the heated 1D Maxwell model has a steady state with variance D/(pq), kurtosis
+    3 + 6pq/(2 − pq) and an exponential tail P ∝ e^{−|v|/√D}.  Compared: the exact steady state
+    (:func:`maxwell_kinetics.driven.steady_state`) against driven Ulam particles.
+
     Parameters
     ----------
     size : str, optional
-        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
-        the parameters of each size are the module's ``PRESETS``.
-    progress : bool
-        Show progress on stderr.
-    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
-        Shares particle runs between comparisons (default: a new serial runner).
+        ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
+        :func:`maxwell_kinetics.comparisons.base.default_size`.
+    progress : bool, optional
+        Show progress of the runs and solves (default true).
+    runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
+        Where the particle runs execute and are kept; default a new serial one.
     **overrides
-        Parameters of the preset to replace.
+        Replace single parameters of the size's preset (e.g. ``n=20000``).
 
     Returns
     -------
-    maxwell_kinetics.comparisons.Comparison
-        The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
+    maxwell_kinetics.comparisons.base.Comparison
+        ``summary``: the numbers above with their uncertainties, the parameters used and the
+        wall-clock ``seconds``; ``data``: the arrays its figure is drawn from.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``size`` or ``overrides`` (a parameter the preset does not have), or a parameter
-        whose value is out of its domain.
+    particles.validation.InvalidArgumentError
+        From :func:`maxwell_kinetics.comparisons.base.preset`: an unknown ``size`` or an
+        override that is not a parameter of the preset.
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()

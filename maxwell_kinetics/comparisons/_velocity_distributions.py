@@ -96,27 +96,28 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     Parameters
     ----------
     size : str, optional
-        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
-        the parameters of each size are the module's ``PRESETS``.
-    progress : bool
-        Show progress on stderr.
+        ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
+        :func:`maxwell_kinetics.comparisons.base.default_size`.
+    progress : bool, optional
+        Show progress of the runs and solves (default true).
     checkpoint_dir : str or os.PathLike, optional
-        A folder where the long particle runs checkpoint and resume.
-    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
-        Shares particle runs between comparisons (default: a new serial runner).
+        Existing folder for the MD runs' checkpoints (see above); default none.
+    runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
+        Where the particle runs execute and are kept; default a new serial one.
     **overrides
-        Parameters of the preset to replace.
+        Replace single parameters of the size's preset (e.g. ``n=20000``).
 
     Returns
     -------
-    maxwell_kinetics.comparisons.Comparison
-        The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
+    maxwell_kinetics.comparisons.base.Comparison
+        ``summary``: the numbers above with their uncertainties, the parameters used and the
+        wall-clock ``seconds``; ``data``: the arrays its figure is drawn from.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``size`` or ``overrides`` (a parameter the preset does not have), or a parameter
-        whose value is out of its domain.
+    particles.validation.InvalidArgumentError
+        From :func:`maxwell_kinetics.comparisons.base.preset`: an unknown ``size`` or an
+        override that is not a parameter of the preset.
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()

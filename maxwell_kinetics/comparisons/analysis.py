@@ -39,11 +39,12 @@ def bin_edges(spec) -> np.ndarray:
     Parameters
     ----------
     spec : tuple of float
-        (lo, hi, step).
+        ``(lo, hi, step)``.
 
     Returns
     -------
     numpy.ndarray
+        The edges, ``hi`` included when it lies on the step grid.
     """
     lo, hi, step = spec
     return np.round(np.arange(lo, hi + 0.5 * step, step), 12)
@@ -61,11 +62,12 @@ def rescaled(v: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     v : numpy.ndarray
-        Velocities, one run per row.
+        Velocities, one run per row (last axis: the particles).
 
     Returns
     -------
     numpy.ndarray
+        The rescaled velocities, shape of ``v``.
     """
     v = v - v.mean(axis=-1, keepdims=True)
     return v / np.sqrt(np.mean(v * v, axis=-1, keepdims=True))
@@ -92,18 +94,20 @@ def coarse_increment_skewness(profile, scale: int) -> float:
     Parameters
     ----------
     profile : array_like
-        Equally spaced samples of a periodic field (1-d).
+        The 1-d periodic profile.
     scale : int
-        The block length, ≥ 1.
+        Block length, ≥ 1, with at least 3 blocks in the profile.
 
     Returns
     -------
     float
+        The skewness γ₁ of the block-mean increments.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``profile`` (not 1-d) or ``scale``.
+    particles.validation.InvalidArgumentError
+        Naming ``profile`` if it is not 1-d, or ``scale`` if it is not an integer ≥ 1 or
+        leaves fewer than 3 blocks.
     """
     v = np.asarray(profile, dtype=float)
     if v.ndim != 1:
@@ -123,13 +127,14 @@ def block_means(values, m: int) -> np.ndarray:
     Parameters
     ----------
     values : array_like
-        The values.
+        The values (flattened order).
     m : int
-        The block length.
+        Block length, ≥ 1.
 
     Returns
     -------
     numpy.ndarray
+        The ``len(values) // m`` block means.
     """
     values = np.asarray(values, dtype=float)
     blocks = values.size // m
@@ -142,17 +147,17 @@ def velocity_on_grid(positions, velocities, length: float) -> np.ndarray:
 
     Parameters
     ----------
-    positions : array_like
-        The rods' positions in [0, L).
-    velocities : array_like
-        Their velocities.
+    positions : numpy.ndarray
+        Positions of the N rods in [0, ``length``).
+    velocities : numpy.ndarray
+        Their velocities, shape (N,).
     length : float
-        L.
+        The ring's length L.
 
     Returns
     -------
     numpy.ndarray
-        v at the N grid points.
+        v at the N grid points, shape (N,).
     """
     n = len(velocities)
     order = np.argsort(positions, kind="stable")
@@ -166,11 +171,12 @@ def profile_scales(n: int) -> tuple[int, ...]:
     Parameters
     ----------
     n : int
-        N.
+        Number of points N of the profile.
 
     Returns
     -------
     tuple of int
+        The scales, increasing.
     """
     scales = [1]
     while scales[-1] * 4 * 64 <= n:
@@ -187,12 +193,13 @@ def log_binned(k, s):
 
     Parameters
     ----------
-    k, s : array_like
-        The spectrum.
+    k, s : numpy.ndarray
+        Wavenumbers and S(k), same shape.
 
     Returns
     -------
     tuple of numpy.ndarray
+        ``(kb, sb)``: bin centres and mean S per bin.
     """
     kb, sb, _ = log_bin(k, s, 10)
     return kb, sb
@@ -204,20 +211,22 @@ def porod_fit(k, s, t, z, x_window, k_max):
 
     Parameters
     ----------
-    k, s : array_like
-        The spectrum (log-binned here).
+    k, s : numpy.ndarray
+        Wavenumbers and S(k), same shape (log-binned here by :func:`log_binned`).
     t : float
-        The time of the spectrum.
+        The time (τ or t) of the spectrum.
     z : float
-        The scaling exponent: the window is in x = k t^z.
+        Dynamic exponent of the rescaling x = k t^z.
     x_window : tuple of float
-        The window in x.
+        (lowest, highest) x = k t^z of the bins fitted.
     k_max : float
-        The largest k used.
+        Largest k fitted.
 
     Returns
     -------
     tuple or None
+        ``(b, a, kb)``: slope, intercept and the bin centres used; None with fewer than 3
+        bins in the window.
     """
     return binned_porod_fit(*log_binned(k, s), t, z, x_window, k_max)
 
@@ -227,20 +236,21 @@ def binned_porod_fit(kb, sb, t, z, x_window, k_max):
 
     Parameters
     ----------
-    kb, sb : array_like
-        The log-binned spectrum.
+    kb, sb : numpy.ndarray
+        Bin centres and mean S of a log-binned spectrum.
     t : float
-        The time of the spectrum.
+        The time (τ or t) of the spectrum.
     z : float
-        The scaling exponent: the window is in x = k t^z.
+        Dynamic exponent of the rescaling x = k t^z.
     x_window : tuple of float
-        The window in x.
+        (lowest, highest) x = k t^z of the bins fitted.
     k_max : float
-        The largest k used.
+        Largest k fitted.
 
     Returns
     -------
     tuple or None
+        As :func:`porod_fit`.
     """
     x = kb * t**z
     sel = (x >= x_window[0]) & (x <= x_window[1]) & (kb <= k_max)
@@ -256,20 +266,21 @@ def porod_slope(k, s, t, z, x_window, k_max):
 
     Parameters
     ----------
-    k, s : array_like
-        The spectrum.
+    k, s : numpy.ndarray
+        Wavenumbers and S(k), same shape.
     t : float
-        The time of the spectrum.
+        The time (τ or t) of the spectrum.
     z : float
-        The scaling exponent: the window is in x = k t^z.
+        Dynamic exponent of the rescaling x = k t^z.
     x_window : tuple of float
-        The window in x.
+        (lowest, highest) x = k t^z of the bins fitted.
     k_max : float
-        The largest k used.
+        Largest k fitted.
 
     Returns
     -------
     float or None
+        The slope b of :func:`porod_fit` (expected −2 in a Porod range).
     """
     fit = porod_fit(k, s, t, z, x_window, k_max)
     return None if fit is None else fit[0]
@@ -281,12 +292,13 @@ def jackknife(values) -> float | None:
 
     Parameters
     ----------
-    values : array_like
-        The leave-one-out estimates.
+    values : sequence of float or None
+        The leave-one-out estimates; a None among them gives None.
 
     Returns
     -------
     float or None
+        √((n − 1)/n · Σ (vᵢ − v̄)²).
     """
     v = np.asarray([x for x in values if x is not None], dtype=float)
     if v.size < 3 or v.size < len(values):
@@ -304,13 +316,14 @@ def tail_grid(first: float, last: float, per_octave: int) -> np.ndarray:
     Parameters
     ----------
     first, last : float
-        The first point and the bound on the last.
+        The first velocity and the bound of the last.
     per_octave : int
-        Points per factor 2 in w.
+        Points per doubling of w.
 
     Returns
     -------
     numpy.ndarray
+        The increasing velocities w_k.
     """
     count = int(math.floor(per_octave * math.log2(last / first) + 1e-9)) + 1
     return first * 2.0 ** (np.arange(count) / per_octave)
@@ -333,23 +346,23 @@ def mass_density(masses_counts, times, length, mu_edges, m_min=1, *, errors=Fals
 
     Parameters
     ----------
-    masses_counts : list of tuple
-        ``(m, count)`` per run and time.
-    times : list of float
-        The time of each table.
+    masses_counts : list of tuple of numpy.ndarray
+        One ``(m, count)`` table per (run and) time.
+    times : sequence of float
+        The time t of each table.
     length : float
-        L.
+        The ring's length L (= N at density 1).
     mu_edges : array_like
-        Bin edges in μ.
-    m_min : int
-        The smallest mass counted.
-    errors : bool
-        Also return σ and the clusters counted.
+        Increasing bin edges in μ.
+    m_min : int, optional
+        Smallest mass counted (default 1).
+    errors : bool, optional
+        Also return the Poisson standard errors and the counts (default false).
 
     Returns
     -------
     numpy.ndarray or tuple of numpy.ndarray
-        Φ, or (Φ, σ, clusters).
+        Φ per bin, or ``(Φ, σ, clusters)`` with ``errors=True``.
     """
     mu_edges = np.asarray(mu_edges, dtype=float)
     num = np.zeros(mu_edges.size - 1)
@@ -400,22 +413,23 @@ def small_mass_law(mu, phi, err, counted, mu_max, mu_min=0.0, min_count=50,
 
     Parameters
     ----------
-    mu, phi, err : array_like
-        Bin centres, Φ and its standard error.
-    counted : array_like
-        Clusters per bin.
-    mu_max, mu_min : float
-        The fitted range of μ.
-    min_count : int
-        The fewest clusters a bin needs.
-    models : tuple of str
-        Names in :data:`MASS_MODELS`.
+    mu, phi, err, counted : numpy.ndarray
+        Bin centres μ, Φ, its standard error and the clusters counted per bin (from
+        :func:`mass_density` with ``errors=True``).
+    mu_max : float
+        Largest μ fitted.
+    mu_min : float, optional
+        Smallest μ fitted (default 0).
+    min_count : int, optional
+        Fewest clusters of a bin fitted (default 50).
+    models : sequence of str, optional
+        Names among :data:`MASS_MODELS` to fit (default all).
 
     Returns
     -------
     dict
-        Per model: the exponent with its error, χ²/dof and the parameters (None when a fit does
-        not converge); ``profile``.
+        ``mu_range`` and ``bins`` used, one entry per model (``a``, ``chi2_dof``,
+        ``parameters``, or None) and, with ``"corrected"``, ``profile``.
     """
     from scipy.optimize import curve_fit
 

@@ -49,6 +49,7 @@ def default_size() -> str:
     Returns
     -------
     str
+        ``"small"`` or ``"default"``.
     """
     flag = os.environ.get("MAXWELL_KINETICS_SMALL", "")
     return "small" if flag not in ("", "0") else "default"
@@ -72,9 +73,10 @@ def register_plot(name: str, plot: Callable) -> None:
     Parameters
     ----------
     name : str
-        The comparison's name.
+        The comparison's name (its key in ``COMPARISONS``).
     plot : callable
-        ``plot(comparison, ax=None)``.
+        ``plot(comparison, ax=None) -> matplotlib.figure.Figure``; a later registration under
+        the same name replaces an earlier one.
     """
     _PLOTS[name] = plot
 
@@ -90,11 +92,14 @@ class Comparison:
     Attributes
     ----------
     name : str
-        The comparison's name.
+        The comparison's name; it selects the registered ``plot``.
     summary : dict
-        JSON-able numbers.
+        The numbers the comparison reports (JSON-able after
+        :func:`maxwell_kinetics.output.clean_json`): the tested quantities, the sizes used and
+        the wall-clock ``seconds``.
     data : dict
-        What the figure draws.
+        What the figure is drawn from: arrays, nested dicts, lists, tuples, histogram
+        comparisons and solver solutions (default empty).
     """
 
     name: str
@@ -108,16 +113,17 @@ class Comparison:
         Parameters
         ----------
         ax : sequence of matplotlib.axes.Axes, optional
-            One axis per panel.
+            One axis per panel to draw in; default a new figure.
 
         Returns
         -------
         matplotlib.figure.Figure
+            The figure drawn.
 
         Raises
         ------
-        InvalidArgumentError
-            Naming ``name`` when no plot is registered for it.
+        particles.validation.InvalidArgumentError
+            If no ``plot`` is registered under ``name``.
         """
         if self.name not in _PLOTS:
             raise InvalidArgumentError("name", self.name, "one of " + ", ".join(_PLOTS))
@@ -132,7 +138,12 @@ class Comparison:
         Parameters
         ----------
         path : str or os.PathLike
-            The file.
+            The ``.npz`` file to write.
+
+        Raises
+        ------
+        TypeError
+            If ``summary`` or ``data`` holds an object of a type that cannot be saved.
         """
         arrays: dict[str, np.ndarray] = {}
         meta = {"name": self.name, "summary": _encode(self.summary, arrays),
@@ -147,16 +158,18 @@ class Comparison:
         Parameters
         ----------
         path : str or os.PathLike
-            The file.
+            The ``.npz`` file to read.
 
         Returns
         -------
         Comparison
+            The comparison as it was saved.
 
         Raises
         ------
         particles.persistence.FileFormatError
-            For a file that is not one.
+            If the file is not one written by :meth:`save` (wrong kind or version, or a
+            skeleton that does not decode).
         """
         expected = "a file written by Comparison.save"
         loaded = persistence.load(path, "comparison", (2, _COMPARISON_VERSION), expected=expected)
@@ -233,20 +246,21 @@ def preset(presets: dict, size: str | None, overrides: dict) -> dict:
     Parameters
     ----------
     presets : dict
-        {size: parameters}.
+        ``{size: {parameter: value}}`` of one comparison.
     size : str or None
-        The size.
+        One of ``"small"``, ``"default"``, ``"full"``; None for :func:`default_size`.
     overrides : dict
-        Parameters to replace.
+        ``{parameter: value}`` replacing preset values; every key must be a preset parameter.
 
     Returns
     -------
     dict
+        The parameters, a new dict with ``"size"`` added.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``size`` or ``overrides``.
+    particles.validation.InvalidArgumentError
+        Naming ``size`` for an unknown size, or ``overrides`` for unknown parameter names.
     """
     size = default_size() if size is None else size
     if size not in presets:
@@ -268,10 +282,12 @@ def jsonable(params: dict) -> dict:
     Parameters
     ----------
     params : dict
+        Parameters of a comparison (as from :func:`preset`).
 
     Returns
     -------
     dict
+        A new dict with the converted values; other values are kept as they are.
     """
     out = {}
     for k, v in params.items():

@@ -20,21 +20,21 @@ def panels(n: int, ax=None, width: float = 5.0, height: float = 4.0):
     Parameters
     ----------
     n : int
-        Panels.
-    ax : sequence of matplotlib.axes.Axes, optional
-        Existing axes.
-    width, height : float
-        Inches per panel.
+        Number of panels.
+    ax : matplotlib.axes.Axes or sequence of them, optional
+        Axes to draw in, one per panel; default a new figure.
+    width, height : float, optional
+        Size of one panel in inches for a new figure (default 5 × 4).
 
     Returns
     -------
-    tuple
-        (figure, axes).
+    tuple of (matplotlib.figure.Figure, list of matplotlib.axes.Axes)
+        The figure and its ``n`` axes, left to right.
 
     Raises
     ------
-    InvalidArgumentError
-        Naming ``ax`` when it does not hold ``n`` axes.
+    particles.validation.InvalidArgumentError
+        Naming ``ax`` if it does not hold exactly ``n`` axes.
     """
     if ax is None:
         fig, grid = new_figure(n, width=width, height=height)
@@ -51,11 +51,12 @@ def colors(n: int):
     Parameters
     ----------
     n : int
+        Number of colours (at least one is returned).
 
     Returns
     -------
     numpy.ndarray
-        RGBA rows, one per colour.
+        RGBA colours, shape (max(n, 1), 4).
     """
     import matplotlib
 

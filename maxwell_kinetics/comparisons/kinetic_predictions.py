@@ -37,22 +37,26 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
     resolution) so that the comparisons of one ``reproduce`` run share solves (each new
     (r, law, resolution) costs seconds of JIT compilation).
 
+    The cached solution's ``tau``, ``G`` and ``deviation`` arrays are made read-only: every
+    caller shares them.
+
     Parameters
     ----------
     restitution : float
-        r.
+        Coefficient of restitution r in [0, 1].
     law : str
-        The initial law.
+        Name of a built-in initial law (zero mean, unit variance), e.g. ``"gaussian"``.
     taus : sequence of float
-        The saved times.
-    resolution : str
-        The grid.
-    progress : bool
-        Show progress.
+        Times τ (collisions per particle) at which the solution is recorded.
+    resolution : str, optional
+        Name of the solver's grid resolution (default ``"coarse"``).
+    progress : bool, optional
+        Show the solver's progress (first solve only; default false).
 
     Returns
     -------
-    maxwell_kinetics.Solution
+    maxwell_kinetics.solver.Solution
+        The (shared) solution of :func:`maxwell_kinetics.solver.solve`.
     """
     from ..solver import solve  # JAX: imported when a solution is first needed
 
@@ -73,13 +77,14 @@ def law_cdf(law: str, v) -> np.ndarray:
     Parameters
     ----------
     law : str
-        A built-in law.
+        Name of a built-in initial law.
     v : array_like
         Velocities.
 
     Returns
     -------
     numpy.ndarray
+        P(V ≤ v), the shape of ``v``.
     """
     return get_law(law).cdf(v)
 
@@ -92,24 +97,27 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
       rescaled by e^{λτ}: G_free(q) = e^{−τ} φ(q e^{λτ}), whose bin probabilities are exact
       (:func:`law_cdf`).  This part carries the jumps of discontinuous laws, whose 1/q
       Fourier tail a cut at q_max would misrepresent;
-    * the rest, G − G_free, transformed by :func:`statistics.interval_probabilities` on
-      [0, q_max] (mass below −``far`` neglected: < 1e-7 for the laws here).
+    * the rest, G − G_free, transformed by
+      :func:`maxwell_kinetics.statistics.interval_probabilities` on [0, q_max]
+      (mass below −``far`` neglected: < 1e-7 for the laws here).
 
     Parameters
     ----------
-    sol : maxwell_kinetics.Solution
-        A solve.
+    sol : maxwell_kinetics.solver.Solution
+        A solution of the kinetic solver (1D), e.g. from :func:`kinetic_solution`.
     tau_index : int
-        Which saved time.
+        Index into ``sol.tau`` of the time τ (collisions per particle).
     edges : array_like
-        Bin edges in x.
-    far : float
-        Where the integrals to ±∞ are cut.
+        Increasing bin edges in the rescaled velocity x = v/v0(τ), shape (m + 1,).
+    far : float, optional
+        The mass below −``far`` is neglected in ``below`` (default 200).
 
     Returns
     -------
-    probabilities : numpy.ndarray
-    mass_below : float
+    prob : numpy.ndarray
+        Predicted probability of each bin, shape (m,).
+    below : float
+        Predicted probability of x < ``edges[0]``.
     """
     q_max = sol.resolution.q_max
     tau = float(sol.tau[tau_index])
@@ -141,19 +149,21 @@ def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):
 
     Parameters
     ----------
-    sol : maxwell_kinetics.Solution
-        A solve.
+    sol : maxwell_kinetics.solver.Solution
+        A solution of the kinetic solver (1D), e.g. from :func:`kinetic_solution`.
     tau_index : int
-        Which saved time.
+        Index into ``sol.tau`` of the time τ (collisions per particle).
     edges : array_like
-        Bin edges in x.
-    refine : int
-        Sub-intervals per bin.
+        Increasing bin edges in the rescaled velocity x = v/v0(τ), shape (m + 1,).
+    refine : int, optional
+        Factor of the exact (spectral) refinement before the spline integration (default 8).
 
     Returns
     -------
-    tuple of numpy.ndarray
-        (prob, x, P).
+    prob : numpy.ndarray
+        Integral of P over each bin, shape (m,).
+    x, P : numpy.ndarray
+        The FFT grid points in [edges[0], edges[-1]] and the density there.
     """
     from scipy.interpolate import CubicSpline
 
@@ -181,16 +191,17 @@ def never_collided_cut(sol, tau_index: int, edges) -> np.ndarray:
 
     Parameters
     ----------
-    sol : maxwell_kinetics.Solution
-        A solve.
+    sol : maxwell_kinetics.solver.Solution
+        A solution of the kinetic solver (1D), e.g. from :func:`kinetic_solution`.
     tau_index : int
-        Which saved time.
+        Index into ``sol.tau`` of the time τ (collisions per particle).
     edges : array_like
-        Bin edges in x.
+        Increasing bin edges in the rescaled velocity x = v/v0(τ), shape (m + 1,).
 
     Returns
     -------
     numpy.ndarray
+        Cut minus exact probability of each bin, shape (m,).
     """
     q_max = sol.resolution.q_max
     tau = float(sol.tau[tau_index])

@@ -81,11 +81,12 @@ def md_record_times(t_max) -> tuple[float, ...]:
     Parameters
     ----------
     t_max : float
-        The last time.
+        The last time t (physical time).
 
     Returns
     -------
     tuple of float
+        The 36 increasing times.
     """
     return tuple(float(t) for t in np.round(np.geomspace(0.05, t_max, 36), 6))
 
@@ -113,11 +114,16 @@ class ParticleRuns:
     Parameters
     ----------
     out : str or os.PathLike, optional
-        A folder for the ensemble engine's task files (None: serial, in this process).
+        Folder of the ensemble engine's task files; default None (serial, in this process).
     workers : int, optional
-        Dask processes.
-    force : bool
-        Allow more than 4 × the CPUs.
+        Number of dask processes with ``out`` (None: one per core).
+    force : bool, optional
+        Allow more workers than :func:`particles.validation.max_workers` (default false).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        From ``check_workers``: too many ``workers`` without ``force``.
     """
 
     def __init__(self, out=None, workers: int | None = None, force: bool = False):
@@ -168,21 +174,22 @@ class ParticleRuns:
         Parameters
         ----------
         restitution : float
-            r.
+            Coefficient of restitution r.
         law : str
-            The initial law.
+            Name of the initial velocity law (zero mean, unit variance).
         n : int
-            N.
+            Number of particles N.
         taus : sequence of float
-            Times τ.
+            Record times τ (collisions per particle).
         seeds : sequence of int
-            One run per seed.
-        progress : bool
-            Show progress.
+            One run per seed, in order (R runs).
+        progress : bool, optional
+            Show progress bars (default false).
 
         Returns
         -------
         numpy.ndarray
+            Velocities, shape (len(taus), len(seeds), n).
         """
         out = np.empty((len(taus), len(seeds), int(n)))
         runs = self._runs("ulam", {"n": int(n), "restitution": restitution, "initial": law},
@@ -199,17 +206,18 @@ class ParticleRuns:
         Parameters
         ----------
         params : dict
-            Keyword arguments of :class:`particles.Ulam`.
+            Keyword arguments of the Ulam model.
         tau : float
-            τ.
+            The final time τ (collisions per particle).
         seeds : sequence of int
-            One run per seed.
-        progress : bool
-            Show progress.
+            One run per seed, in order (R runs).
+        progress : bool, optional
+            Show progress bars (default false).
 
         Returns
         -------
         numpy.ndarray
+            Final velocities, shape (len(seeds), N) or (len(seeds), N, d).
         """
         runs = self._runs("ulam", dict(params), [float(tau)], seeds, progress)
         return np.array([r.velocities for r in runs])
@@ -224,27 +232,28 @@ class ParticleRuns:
         Parameters
         ----------
         restitution : float
-            r.
+            Coefficient of restitution r.
         n : int
-            N.
+            Number of particles N.
         times : sequence of float
-            Times τ.
+            Record times τ (collisions per particle), T of them.
         seeds : sequence of int
-            One run per seed.
-        progress : bool
-            Show progress.
-        constraint : bool
-            The kinematic constraint.
-        law : str
-            The initial law.
-        structure : bool
-            Record S(k).
-        snapshots : bool
-            Record the velocities.
+            One run per seed, in order (R runs).
+        constraint : bool, optional
+            The lattice's momentum constraint (default true).
+        law : str, optional
+            Name of the initial velocity law (zero mean, unit variance; default ``"gaussian"``).
+        progress : bool, optional
+            Show progress bars (default false).
+        structure : bool, optional
+            Also record the structure factor S(k) (default false).
+        snapshots : bool, optional
+            Also record the velocities (default false).
 
         Returns
         -------
         dict
+            A new dict of the (read-only) arrays named above.
         """
         key = ("lattice", restitution, n, tuple(times), tuple(seeds), constraint, law,
                bool(structure), bool(snapshots))
@@ -282,25 +291,28 @@ class ParticleRuns:
         Parameters
         ----------
         restitution : float
-            r.
+            Coefficient of restitution r.
         n : int
-            N.
+            Number of particles N.
         delta : float
-            δ.
+            The relative-velocity threshold δ below which MD collisions are elastic (passed as the
+            engine's ``delta`` parameter).
         times : sequence of float
-            Times t.
+            Record times t (physical time), T of them.
         seeds : sequence of int
-            One run per seed.
-        progress : bool
-            Show progress.
-        law : str
-            The initial law.
+            One run per seed, in order (R runs).
+        law : str, optional
+            Name of the initial velocity law (zero mean, unit variance; default ``"gaussian"``).
+        progress : bool, optional
+            Show progress bars (default false).
         checkpoint_dir : str or os.PathLike, optional
-            Where each run checkpoints.
+            Existing folder for per-run checkpoints (serial runner only); default none.
 
         Returns
         -------
         dict
+            A new dict of ``times``, ``energy``, ``tau``, ``snapshots``, ``positions`` (read-only)
+            and ``seconds``.
         """
         key = ("md", restitution, n, delta, tuple(times), tuple(seeds), law)
 
@@ -347,21 +359,23 @@ class ParticleRuns:
         Parameters
         ----------
         n : int
-            N.
+            Number of particles N.
         times : sequence of float
-            Times t.
+            Record times t (physical time), T of them.
         seeds : sequence of int
-            One run per seed.
-        progress : bool
-            Show progress.
-        law : str
-            The initial law.
-        snapshots : bool
-            Record the velocities and positions.
+            One run per seed, in order (R runs).
+        law : str, optional
+            Name of the initial velocity law (zero mean, unit variance; default ``"gaussian"``).
+        progress : bool, optional
+            Show progress bars (default false).
+        snapshots : bool, optional
+            Also record the velocities (default false).
 
         Returns
         -------
         dict
+            A new dict of ``times``, ``energy``, ``clusters`` (read-only), ``seconds`` and, if
+            asked, ``snapshots``.
         """
         key = ("sticky", n, tuple(times), tuple(seeds), law, bool(snapshots))
 
@@ -395,25 +409,26 @@ class ParticleRuns:
         Parameters
         ----------
         restitution : float
-            r.
+            Coefficient of restitution r.
         n : int
-            N.
+            Number of particles N.
         target : float
-            The energy at which each run stops.
+            The energy (mean v², in units of the initial temperature) to stop at.
         seeds : sequence of int
-            One run per seed.
-        progress : bool
-            Show progress.
-        constraint : bool
-            The kinematic constraint.
-        law : str
-            The initial law.
-        rate : str
-            "constant" or "relative_velocity".
+            One run per seed, in order (R runs).
+        constraint : bool, optional
+            The lattice's momentum constraint (default true).
+        law : str, optional
+            Name of the initial velocity law (zero mean, unit variance; default ``"gaussian"``).
+        progress : bool, optional
+            Show progress bars (default false).
+        rate : str, optional
+            The lattice's collision rate: ``"constant"`` (default) or ``"relative_velocity"``.
 
         Returns
         -------
         dict
+            A new dict of ``tau``, ``energy``, ``snapshots``, ``traces`` and ``seconds``.
         """
         key = ("lattice_at_energy", restitution, n, float(target), tuple(seeds), constraint, law,
                rate)
@@ -467,12 +482,12 @@ def ulam_snapshots(*args, **kwargs) -> np.ndarray:
     Parameters
     ----------
     *args, **kwargs
-        As for :meth:`ParticleRuns.ulam_snapshots`.
+        The arguments of :meth:`ParticleRuns.ulam_snapshots`.
 
     Returns
     -------
-    object
-        What it returns.
+    numpy.ndarray
+        Its result (nothing is kept between calls).
     """
     return ParticleRuns().ulam_snapshots(*args, **kwargs)
 
@@ -483,12 +498,12 @@ def ulam_final(*args, **kwargs) -> np.ndarray:
     Parameters
     ----------
     *args, **kwargs
-        As for :meth:`ParticleRuns.ulam_final`.
+        The arguments of :meth:`ParticleRuns.ulam_final`.
 
     Returns
     -------
-    object
-        What it returns.
+    numpy.ndarray
+        Its result (nothing is kept between calls).
     """
     return ParticleRuns().ulam_final(*args, **kwargs)
 
@@ -499,12 +514,12 @@ def lattice_runs(*args, **kwargs) -> dict:
     Parameters
     ----------
     *args, **kwargs
-        As for :meth:`ParticleRuns.lattice_runs`.
+        The arguments of :meth:`ParticleRuns.lattice_runs`.
 
     Returns
     -------
-    object
-        What it returns.
+    dict
+        Its result (nothing is kept between calls).
     """
     return ParticleRuns().lattice_runs(*args, **kwargs)
 
@@ -515,12 +530,12 @@ def lattice_at_energy(*args, **kwargs) -> dict:
     Parameters
     ----------
     *args, **kwargs
-        As for :meth:`ParticleRuns.lattice_at_energy`.
+        The arguments of :meth:`ParticleRuns.lattice_at_energy`.
 
     Returns
     -------
-    object
-        What it returns.
+    dict
+        Its result (nothing is kept between calls).
     """
     return ParticleRuns().lattice_at_energy(*args, **kwargs)
 
@@ -531,12 +546,12 @@ def md_runs(*args, **kwargs) -> dict:
     Parameters
     ----------
     *args, **kwargs
-        As for :meth:`ParticleRuns.md_runs`.
+        The arguments of :meth:`ParticleRuns.md_runs`.
 
     Returns
     -------
-    object
-        What it returns.
+    dict
+        Its result (nothing is kept between calls).
     """
     return ParticleRuns().md_runs(*args, **kwargs)
 
@@ -547,11 +562,11 @@ def sticky_runs(*args, **kwargs) -> dict:
     Parameters
     ----------
     *args, **kwargs
-        As for :meth:`ParticleRuns.sticky_runs`.
+        The arguments of :meth:`ParticleRuns.sticky_runs`.
 
     Returns
     -------
-    object
-        What it returns.
+    dict
+        Its result (nothing is kept between calls).
     """
     return ParticleRuns().sticky_runs(*args, **kwargs)
