@@ -46,7 +46,7 @@ from .analysis import (
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors
 
-__all__ = ["NAME", "PRESETS", "run", "plot"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "deep_tail_runs"]
 
 NAME = "late_stage"
 
@@ -177,7 +177,7 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     params = preset(PRESETS, size, overrides)
     main = _main_runs(params, progress)
     exact = _exact_runs(params, progress)
-    deep = _deep_tail_runs(params, progress)
+    deep = deep_tail_runs(params, progress)
     summary = {"parameters": jsonable(params),
                "model": "exact sticky gas standing in for late MD",
                **main["summary"], **exact["summary"], **deep["summary"],
@@ -354,10 +354,23 @@ def _exact_runs(params, progress) -> dict:
     return {"summary": summary, "data": data}
 
 
-def _deep_tail_runs(params, progress) -> dict:
+def deep_tail_runs(params, progress) -> dict:
     """The deep tail (:data:`PRESETS`): ``deep_seeds`` gases of ``deep_n`` particles, their
     survival P(|w| > w) and its chords β per time of ``deep_times``, against the exact law.
-    Nothing when ``deep_seeds`` is 0."""
+
+    Parameters
+    ----------
+    params : dict
+        A preset of :data:`PRESETS` (with overrides): ``deep_n``, ``deep_seeds``,
+        ``deep_times``, ``deep_tail_w``, ``deep_block``, ``deep_workers``, ``min_clusters``.
+    progress : bool
+        Show progress on stderr.
+
+    Returns
+    -------
+    dict
+        ``summary`` (``{"deep_tail": …}``, empty when ``deep_seeds`` is 0) and ``data``.
+    """
     count = int(params["deep_seeds"])
     if count == 0:
         return {"summary": {}, "data": {}}

@@ -160,16 +160,16 @@ def test_the_deep_tail_ensemble_does_not_depend_on_the_processes():
     # (joined in seed order): the same summary, bit for bit; and it pools all the particles
     import json
 
-    from maxwell_kinetics.comparisons._late_stage import PRESETS, _deep_tail_runs
+    from maxwell_kinetics.comparisons._late_stage import PRESETS, deep_tail_runs
 
     params = {**PRESETS["small"], "deep_seeds": 6, "deep_n": 100_000, "deep_block": 2,
               "deep_times": (31.6, 316.0)}
-    one = _deep_tail_runs({**params, "deep_workers": 1}, False)["summary"]["deep_tail"]
-    two = _deep_tail_runs({**params, "deep_workers": 2}, False)["summary"]["deep_tail"]
+    one = deep_tail_runs({**params, "deep_workers": 1}, False)["summary"]["deep_tail"]
+    two = deep_tail_runs({**params, "deep_workers": 2}, False)["summary"]["deep_tail"]
     assert json.dumps(one) == json.dumps(two)
     assert one["particles"] == 600_000 and [r["t"] for r in one["per_time"]] == [31.6, 316.0]
     assert all(r["deepest"]["clusters"] == 25 for r in one["per_time"])
-    assert _deep_tail_runs({**params, "deep_seeds": 0}, False) == {"summary": {}, "data": {}}
+    assert deep_tail_runs({**params, "deep_seeds": 0}, False) == {"summary": {}, "data": {}}
 
 
 def test_the_exact_tail_exponent_reaches_two_only_beyond_any_sample(late):
