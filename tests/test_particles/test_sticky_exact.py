@@ -11,7 +11,7 @@ import pytest
 from scipy.integrate import quad
 from scipy.stats import chi2 as chi2_dist
 
-from particles import sticky as S
+from particles import sticky_exact as S  # the exact laws and their private helpers
 from particles.sticky import (
     StickyGas,
     StickyParams,
