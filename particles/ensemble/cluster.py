@@ -92,6 +92,29 @@ def load_cluster_config(path, cluster: str) -> dict:
     return settings
 
 
+def require_jobqueue(cluster: str) -> None:
+    """Check that the optional ``dask-jobqueue`` (the extra ``cluster``) can be imported.
+
+    Parameters
+    ----------
+    cluster : str
+        The batch system asked for (``"slurm"`` or ``"pbs"``), named in the error.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``cluster``) if ``dask_jobqueue`` cannot be imported; the message says what
+        to install.
+    """
+    try:
+        import dask_jobqueue  # noqa: F401
+    except ImportError:
+        raise InvalidArgumentError(
+            "cluster", cluster,
+            "the optional package dask-jobqueue, which is not installed "
+            "(pip install 'maxwell-kinetics[cluster]')") from None
+
+
 def local_cluster(workers: int | None = None):
     """A ``dask.distributed.LocalCluster`` of ``workers`` single-threaded worker processes
     (default: one per core) with one BLAS/OpenMP thread each, and WITHOUT distributed's default
@@ -137,7 +160,13 @@ def make_cluster(cluster: str, settings: dict):
     -------
     dask_jobqueue.SLURMCluster or dask_jobqueue.PBSCluster
         The cluster object.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``cluster``) if dask-jobqueue is not installed (:func:`require_jobqueue`).
     """
+    require_jobqueue(cluster)
     import dask_jobqueue
 
     kwargs = {k: v for k, v in settings.items() if k not in ("jobs", "dashboard_address")}
