@@ -454,9 +454,9 @@ def test_killed_worker_task_is_rerun_and_aggregate_equals_serial(tmp_path):
     report = run_ensemble(spec, tmp_path / "dask", workers=2, progress=False)
     assert marker.exists()  # a worker did die
     assert report.ok and sorted(report.ran) == sorted(t.key for t in spec.expand())
-    # the killed worker's task(s) continued from their checkpoints: at least one (two when the
-    # dying worker held two tasks), each a task of the spec, run to its file once
-    assert 1 <= len(report.resumed) <= 2 and set(report.resumed) <= set(report.ran)
+    # the killed worker's task(s) continued from their checkpoints: at least one (more when the
+    # dying worker held more), each a task of the spec, in the aggregate once
+    assert len(report.resumed) >= 1 and set(report.resumed) <= set(report.ran)
     assert [s["n_seeds"] for s in report.aggregate["sets"]] == [2, 2]
     assert [s["seeds"] for s in report.aggregate["sets"]] == [[1, 2], [1, 2]]
     reference = _spec(params={"n": N, "restitution": [0.5, 0.9]}, seeds="1-2")
