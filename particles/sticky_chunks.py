@@ -537,16 +537,31 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
     Raises
     ------
     InvalidArgumentError
-        For a ``params`` that is not a StickyParams, bad ``times`` or ``chunks``, or a
-        ``structure_factor`` that does not fit in memory.
+        For a ``params`` that is not a StickyParams, bad ``times`` (booleans included),
+        ``seed`` (an integer >= 0), ``chunks`` or ``bins``, a ``structure_factor`` that is
+        not a bool or does not fit in memory, a ``client`` without ``submit`` and ``gather``,
+        or a ``progress`` that is not callable.
     """
-    from .observables import DEFAULT_EDGES
+    from .observables import DEFAULT_EDGES, rescaled_histogram
 
     if not isinstance(params, StickyParams):
         raise InvalidArgumentError("params", params, "a StickyParams")
+    if (np.asarray(times).dtype == bool if isinstance(times, np.ndarray) else any(
+            isinstance(t, (bool, np.bool_))
+            for t in (times if isinstance(times, (list, tuple)) else [times]))):
+        raise InvalidArgumentError("t", times, "times, not booleans")
     times = check_times(times, "t")
+    seed = check_count(seed, "seed", 0)  # as the single engine's driver checks it
     chunks = check_chunks(chunks, params.n)
-    edges = DEFAULT_EDGES if bins is None else np.asarray(bins, dtype=float)
+    if not isinstance(structure_factor, bool):
+        raise InvalidArgumentError("structure_factor", structure_factor, "True or False")
+    if client is not None and not (hasattr(client, "submit") and hasattr(client, "gather")):
+        raise InvalidArgumentError("client", client, "a distributed.Client or None")
+    if progress is not None and not callable(progress):
+        raise InvalidArgumentError("progress", progress, "a callable progress(done, total)")
+    # the histogram's edges, checked as the single engine checks them
+    edges = rescaled_histogram(np.array([1.0, -1.0]), DEFAULT_EDGES if bins is None
+                               else bins).edges
     pd = params.to_dict()
     n = params.n
     if structure_factor:

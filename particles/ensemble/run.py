@@ -15,7 +15,7 @@ from ..models import get_model
 from ..progress import progress_bar
 from ..validation import InvalidArgumentError, check_output_dir, check_workers
 from .aggregate import EnsembleReport, aggregate
-from .cluster import connect, load_cluster_config, require_jobqueue
+from .cluster import check_scheduler, connect, load_cluster_config, require_jobqueue
 from .spec import FORMAT_VERSION, EnsembleSpec
 from .tasks import load_task, run_task
 
@@ -155,7 +155,8 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     executor : str, optional
         ``"dask"`` (default) or ``"serial"``.
     force : bool, optional
-        Allow more workers than :func:`particles.validation.max_workers`.
+        Allow more workers than :func:`particles.validation.max_workers` (only with
+        ``workers``).
 
     Returns
     -------
@@ -166,6 +167,8 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     ------
     particles.InvalidArgumentError
         For a ``spec`` that is not an :class:`EnsembleSpec`, a bad ``out`` or ``executor``,
+        a ``progress`` or ``force`` that is not a bool, ``force`` without ``workers``, a
+        ``scheduler`` that is not an address,
         more than one of ``workers``, ``scheduler``, ``cluster`` (or any with the serial
         executor), a bad worker count, a bad cluster ``config`` or one without ``cluster``,
         a ``cluster`` without the optional dask-jobqueue installed,
@@ -186,7 +189,15 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
         name = chosen[-1]
         raise InvalidArgumentError(name, given[name],
                                    "one of workers, scheduler, cluster (dask executor only)")
+    for name, value in (("progress", progress), ("force", force)):
+        if not isinstance(value, bool):
+            raise InvalidArgumentError(name, value, "True or False")
+    if force and workers is None:
+        raise InvalidArgumentError("force", force, "force only with workers (it allows more "
+                                   "local workers than 4 x the CPUs)")
     workers = check_workers(workers, "workers", force=force)
+    if scheduler is not None:
+        check_scheduler(scheduler)
     if cluster is not None:  # checked before any work
         if cluster not in ("slurm", "pbs"):
             raise InvalidArgumentError("cluster", cluster, "'slurm' or 'pbs'")

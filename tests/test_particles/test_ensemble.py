@@ -123,6 +123,19 @@ def test_expand_is_the_product_of_swept_parameters_and_seeds():
         ({"seeds": [2**64]}, "seeds"),
         ({"times": (4.0, 2.0)}, "tau"),
         ({"options": {"frobnicate": True}}, "options"),  # snapshots is an option now
+        # booleans taken for numbers, values that build one engine twice, bytes as seeds,
+        # non-finite histogram edges
+        ({"options": {"structure_factor": 1}}, "structure_factor"),
+        ({"options": {"structure_factor": 0}}, "structure_factor"),
+        ({"options": {"structure_factor": np.True_}}, "structure_factor"),
+        ({"options": {"checkpoint_interval": True}}, "checkpoint_interval"),
+        ({"options": {"bins": [0.0, 1.0, np.nan]}}, "bins"),
+        ({"params": {"n": N, "restitution": True}}, "restitution"),
+        ({"params": {"n": N, "restitution": [0.5, True]}}, "restitution"),
+        ({"params": {"n": N, "restitution": [1, 1.0]}}, "params"),
+        ({"params": {"n": [N, 1e3], "restitution": 0.5}}, "params"),
+        ({"seeds": b"1"}, "seeds"),
+        ({"times": [True, 2.0]}, "tau"),
     ],
 )
 def test_bad_spec_fails_before_any_work(tmp_path, kwargs, name):
@@ -372,6 +385,15 @@ def test_bad_executor_arguments_write_nothing(tmp_path):
                          ({"executor": "threads"}, "executor")):
         with pytest.raises(InvalidArgumentError) as err:
             run_ensemble(_spec(), out, progress=False, **kwargs)
+        assert err.value.name == name
+    for kwargs, name in (({"force": True}, "force"),  # force only lifts the bound on workers
+                         ({"force": True, "executor": "serial"}, "force"),
+                         ({"force": "no", "workers": 2}, "force"),
+                         ({"progress": "no"}, "progress"),
+                         ({"scheduler": ""}, "scheduler"), ({"scheduler": 5}, "scheduler"),
+                         ({"cluster": "slurm", "config": 5}, "config")):
+        with pytest.raises(InvalidArgumentError) as err:
+            run_ensemble(_spec(), out, **{"progress": False, **kwargs})
         assert err.value.name == name
     assert not out.exists()
 

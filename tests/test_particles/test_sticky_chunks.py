@@ -202,3 +202,24 @@ def test_a_dask_cluster_gives_the_same_numbers_bit_for_bit():
 def test_bad_chunks_are_named(chunks):
     with pytest.raises(InvalidArgumentError, match="chunks"):
         sc.simulate_chunks(StickyParams(6000, 1.0), [1.0], 0, chunks)
+
+
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        ({"seed": -1}, "seed"), ({"seed": True}, "seed"), ({"seed": 1.5}, "seed"),
+        ({"seed": "1"}, "seed"), ({"seed": None}, "seed"),
+        ({"times": [True]}, "t"), ({"times": [1.0, float("nan")]}, "t"),
+        ({"structure_factor": "yes"}, "structure_factor"), ({"structure_factor": 1},
+                                                            "structure_factor"),
+        ({"bins": [1.0, 0.0]}, "bins"), ({"bins": [0.0, float("nan")]}, "bins"),
+        ({"bins": [-np.inf, 0.0, 1.0]}, "bins"), ({"bins": "x"}, "bins"),
+        ({"client": "x"}, "client"), ({"progress": 5}, "progress"),
+    ],
+)
+def test_bad_arguments_are_named_before_any_work(kwargs, name):
+    args = {"times": [1.0], "seed": 0, **kwargs}
+    with pytest.raises(InvalidArgumentError) as err:
+        sc.simulate_chunks(StickyParams(100, 1.0), args.pop("times"), args.pop("seed"), 2,
+                           **args)
+    assert err.value.name == name

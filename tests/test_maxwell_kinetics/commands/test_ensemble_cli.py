@@ -97,3 +97,13 @@ def test_out_folder_of_user_files_or_another_ensemble_exits_2_and_is_kept(capsys
     err = run_error(capsys, [*base, str(ens), "--tau", "1,2"])  # other times
     assert f"out='{ens}'" in err and "another" in err
     assert {p.name: p.read_bytes() for p in ens.iterdir()} == before
+
+
+def test_force_without_workers_exits_2(capsys, tmp_path):
+    # --force only lifts the bound on --workers: alone (or with --serial) it would mean nothing
+    for where in ([], ["--serial"]):
+        out = tmp_path / f"e{len(where)}"
+        err = run_error(capsys, ["ensemble", "ulam", "--n", "300", "--restitution", "0.5",
+                                 "--tau", "1", "--seeds", "1", "--force", *where,
+                                 "--out", str(out)])
+        assert "force=" in err and "workers" in err and not out.exists()
