@@ -59,15 +59,19 @@ def _check_folder(out: Path, spec: EnsembleSpec, tasks, identity: dict) -> bool:
     if not out.exists():
         return True
     manifest = out / MANIFEST
-    if not manifest.exists():
-        entries = sorted(p.name for p in out.iterdir())
+    if not (manifest.exists() or manifest.is_symlink()):
+        try:
+            entries = sorted(p.name for p in out.iterdir())
+        except OSError as exc:
+            raise InvalidArgumentError("out", str(out), f"a readable folder ({exc})") from None
         if entries:
             shown = ", ".join(repr(e) for e in entries[:3]) + (", ..." if len(entries) > 3 else "")
             raise InvalidArgumentError(
                 "out", str(out),
                 f"a new or empty folder, or an ensemble's own folder (this one holds "
                 f"{len(entries)} entr{'y' if len(entries) == 1 else 'ies'} ({shown}) and no "
-                f"{MANIFEST}: it is not an ensemble's, and its files could be replaced)")
+                f"{MANIFEST}: it is not an ensemble's, and its files could be replaced); "
+                f"give --out a new folder")
         return True
     try:
         loaded = persistence.load(manifest, "ensemble-manifest", (FORMAT_VERSION,),

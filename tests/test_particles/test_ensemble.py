@@ -570,3 +570,11 @@ def test_a_batch_cluster_without_config_is_named(tmp_path):
         run_ensemble(_spec(), tmp_path / "out", cluster="slurm", progress=False)
     assert err.value.name == "config" and "TOML" in str(err.value)
     assert not (tmp_path / "out").exists()
+
+
+def test_a_dangling_manifest_is_named_as_such(tmp_path):
+    (tmp_path / ensemble.MANIFEST).symlink_to(tmp_path / "nowhere")
+    with pytest.raises(InvalidArgumentError) as err:
+        run_ensemble(_spec(), tmp_path, executor="serial", progress=False)
+    assert err.value.name == "out" and "manifest.npz: no such file" in str(err.value)
+    assert [p.name for p in tmp_path.iterdir()] == [ensemble.MANIFEST]
