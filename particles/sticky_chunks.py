@@ -5,6 +5,9 @@ one label longer).  Chunk k draws its own raw data from the child seed
 ``SeedSequence(seed, spawn_key=(k,))`` (the k-th child of ``SeedSequence(seed).spawn(K)``; the
 single engine's stream ``default_rng(seed)`` is the root's, independent of every child): n_k
 exponential spacings (one more for the last chunk) and then n_k velocities of the law.  The
+child depends on k only, not on K: runs of one seed with different K share the beginnings of
+their chunks' streams, so they are correlated, not independent, samples; use other seeds to
+compare K.  The
 initial state is the single engine's law, normalised over the whole ring, never chunk by chunk:
 
 * positions: with T the sum of all N + 1 spacings and S_j the sum of the first j + 1, particle j

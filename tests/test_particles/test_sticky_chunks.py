@@ -123,6 +123,13 @@ def test_the_chunks_initial_state_is_normalised_over_the_whole_ring_not_per_chun
     params = StickyParams(1001, 0.5)
     x, v, per_chunk = _ring(params, 3, 4)
     raw = [sc._chunk_draw(params, 3, k, 4) for k in range(4)]
+    # the documented seeding: chunk k draws its spacings, then its velocities, from the k-th
+    # child of SeedSequence(seed).spawn(K) (the last chunk one spacing more)
+    for k, (gaps_k, v_k) in enumerate(raw):
+        rng = np.random.default_rng(np.random.SeedSequence(3).spawn(4)[k])
+        n_k = [251, 250, 250, 250][k]
+        assert np.array_equal(gaps_k, rng.standard_exponential(n_k + (k == 3)))
+        assert np.array_equal(v_k, rng.standard_normal(n_k))
     gaps = np.concatenate([r[0] for r in raw])
     assert gaps.size == 1002
     s = np.cumsum(gaps)
