@@ -49,13 +49,14 @@ def _seed_text(seeds) -> str:
     return text + (f",... ({len(seeds)} seeds)" if len(seeds) > 8 else "")
 
 
-def _check_folder(out: Path, spec: EnsembleSpec, tasks, identity: dict) -> bool:
+def _check_folder(out: Path, spec: EnsembleSpec, tasks, identity: dict, shared: bool) -> bool:
     """Refuse an ``out`` that is not this ensemble's folder: a folder that is not empty and has
     no manifest (the user's own files), a manifest of another format version (or unreadable),
     or one of another ensemble (another model, parameter grid, times or result options), or of
-    this ensemble with seeds that the new spec drops.  A manifest written before manifests
-    recorded their ensemble is accepted when every task file in the folder is one of this
-    spec's.  Returns whether the manifest must be (re)written."""
+    this ensemble with seeds that the new spec drops, or a shared folder.  A manifest written
+    before manifests recorded their ensemble is accepted when every task file in the folder is
+    one of this spec's.  With ``shared``, any manifest of this version that records no single
+    ensemble is accepted.  Returns whether the manifest must be (re)written."""
     if not out.exists():
         return True
     manifest = out / MANIFEST
@@ -83,6 +84,18 @@ def _check_folder(out: Path, spec: EnsembleSpec, tasks, identity: dict) -> bool:
             f"({MANIFEST}: {exc.reason})",
         ) from None
     meta = loaded.meta if isinstance(loaded.meta, dict) else {}
+    if shared:
+        if "ensemble" in meta:
+            raise InvalidArgumentError(
+                "out", str(out),
+                f"a folder of task files shared by many ensembles, not one ensemble's own "
+                f"({MANIFEST} records {_describe(meta.get('spec'))})")
+        return meta.get("shared") is not True
+    if meta.get("shared") is True:
+        raise InvalidArgumentError(
+            "out", str(out),
+            "one ensemble's own folder, not one whose task files many ensembles share (such as "
+            "the runs folder of reproduce): give --out a new folder")
     if "ensemble" not in meta:  # a manifest of an earlier release: judge by the task files
         keys = {t.key for t in tasks}
         foreign = sorted(p.name for p in out.glob("task-*.npz")
@@ -128,7 +141,8 @@ def _check_existing(out: Path, tasks) -> tuple[set, list]:
 
 def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, scheduler=None,
                  cluster: str | None = None, config=None, progress: bool = True,
-                 executor: str = "dask", force: bool = False) -> EnsembleReport:
+                 executor: str = "dask", force: bool = False,
+                 shared: bool = False) -> EnsembleReport:
     """Run the tasks of ``spec`` that have no valid file in ``out`` and aggregate them all.
 
     ``executor="dask"``: a local cluster of ``workers`` processes (default: the number of
@@ -159,8 +173,12 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     executor : str, optional
         ``"dask"`` (default) or ``"serial"``.
     force : bool, optional
-        Allow more workers than :func:`particles.validation.max_workers` (only with
-        ``workers``).
+        Allow more workers than :func:`particles.validation.max_workers`.
+    shared : bool, optional
+        ``out`` holds the task files of many ensembles (the comparisons' runs of
+        ``reproduce``): its manifest records no single ensemble, and any manifest of this
+        format version that records none is accepted (default False: ``out`` is this
+        ensemble's own folder, see the module docstring).
 
     Returns
     -------
@@ -171,8 +189,8 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     ------
     particles.InvalidArgumentError
         For a ``spec`` that is not an :class:`EnsembleSpec`, a bad ``out`` or ``executor``,
-        a ``progress`` or ``force`` that is not a bool, ``force`` without ``workers``, a
-        ``scheduler`` that is not an address,
+        a ``progress``, ``force`` or ``shared`` that is not a bool, a ``scheduler`` that is
+        not an address,
         more than one of ``workers``, ``scheduler``, ``cluster`` (or any with the serial
         executor), a bad worker count, a bad cluster ``config`` or one without ``cluster``,
         a ``cluster`` without the optional dask-jobqueue installed,
@@ -193,12 +211,9 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
         name = chosen[-1]
         raise InvalidArgumentError(name, given[name],
                                    "one of workers, scheduler, cluster (dask executor only)")
-    for name, value in (("progress", progress), ("force", force)):
+    for name, value in (("progress", progress), ("force", force), ("shared", shared)):
         if not isinstance(value, bool):
             raise InvalidArgumentError(name, value, "True or False")
-    if force and workers is None:
-        raise InvalidArgumentError("force", force, "force only with workers (it allows more "
-                                   "local workers than 4 x the CPUs)")
     workers = check_workers(workers, "workers", force=force)
     if scheduler is not None:
         check_scheduler(scheduler)
@@ -214,7 +229,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
         raise InvalidArgumentError("config", config, "only with cluster='slurm' or 'pbs'")
     tasks = spec.expand()
     identity = _folder_identity(spec, tasks)
-    write_manifest = _check_folder(out, spec, tasks, identity)
+    write_manifest = _check_folder(out, spec, tasks, identity, shared)
     model = get_model(spec.model)
 
     valid, damaged = _check_existing(out, tasks)
@@ -228,9 +243,10 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     try:
         out.mkdir(parents=True, exist_ok=True)
         if write_manifest:
+            recorded = {"shared": True} if shared else {
+                **identity, "spec": json.loads(json.dumps(spec.to_dict()))}
             persistence.save(out / MANIFEST, "ensemble-manifest", FORMAT_VERSION, {},
-                             {"writer": "particles.ensemble", **identity,
-                              "spec": json.loads(json.dumps(spec.to_dict()))})
+                             {"writer": "particles.ensemble", **recorded})
         records = _execute(client, todo, model.factory, out.absolute(), progress)
     finally:
         for close in closers:

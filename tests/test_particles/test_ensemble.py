@@ -386,9 +386,8 @@ def test_bad_executor_arguments_write_nothing(tmp_path):
         with pytest.raises(InvalidArgumentError) as err:
             run_ensemble(_spec(), out, progress=False, **kwargs)
         assert err.value.name == name
-    for kwargs, name in (({"force": True}, "force"),  # force only lifts the bound on workers
-                         ({"force": True, "executor": "serial"}, "force"),
-                         ({"force": "no", "workers": 2}, "force"),
+    for kwargs, name in (({"force": "no", "workers": 2}, "force"),
+                         ({"shared": 1}, "shared"),
                          ({"progress": "no"}, "progress"),
                          ({"scheduler": ""}, "scheduler"), ({"scheduler": 5}, "scheduler"),
                          ({"cluster": "slurm", "config": 5}, "config")):
@@ -578,3 +577,20 @@ def test_a_dangling_manifest_is_named_as_such(tmp_path):
         run_ensemble(_spec(), tmp_path, executor="serial", progress=False)
     assert err.value.name == "out" and "manifest.npz: no such file" in str(err.value)
     assert [p.name for p in tmp_path.iterdir()] == [ensemble.MANIFEST]
+
+
+def test_a_shared_folder_holds_many_ensembles_and_is_no_ensembles_own(tmp_path):
+    # the comparisons' runs (reproduce --workers) put the tasks of many ensembles in one folder
+    one, other = _spec(seeds="1"), _spec(seeds="1", model="lattice", times=(4.0,))
+    for spec in (one, other, one):
+        run_ensemble(spec, tmp_path / "runs", executor="serial", progress=False, shared=True)
+    names = {p.name for p in (tmp_path / "runs").glob("task-*.npz")}
+    assert names == {t.filename for t in one.expand() + other.expand()}
+    # ... but neither may adopt it as its own, nor a shared run an ensemble's own folder
+    with pytest.raises(InvalidArgumentError) as err:
+        run_ensemble(one, tmp_path / "runs", executor="serial", progress=False)
+    assert err.value.name == "out" and "share" in str(err.value)
+    run_ensemble(one, tmp_path / "own", executor="serial", progress=False)
+    with pytest.raises(InvalidArgumentError) as err:
+        run_ensemble(one, tmp_path / "own", executor="serial", progress=False, shared=True)
+    assert err.value.name == "out"
