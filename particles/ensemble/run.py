@@ -25,12 +25,13 @@ AGGREGATE = "ensemble.npz"
 
 def _folder_identity(spec: EnsembleSpec, tasks) -> dict:
     """What a folder's manifest records of its ensemble: ``ensemble``, a hash of everything
-    but the seeds (model, each parameter set's engine, times, result options, format version,
-    as in the tasks' identities), and the ``seeds``."""
+    but the seeds (model, the set of the parameter sets' engines, times, result options,
+    format version, as in the tasks' identities), and the ``seeds``."""
     sets = {}
     for task in tasks:
         sets.setdefault(task.set_index, {k: v for k, v in task.identity.items() if k != "seed"})
-    text = json.dumps([sets[i] for i in sorted(sets)], sort_keys=True)
+    # the grid as a set: the same values given in another order are the same ensemble
+    text = json.dumps(sorted(json.dumps(v, sort_keys=True) for v in sets.values()))
     return {"ensemble": hashlib.sha256(text.encode()).hexdigest()[:24],
             "seeds": [int(s) for s in spec.seeds]}
 

@@ -352,6 +352,10 @@ def test_another_ensemble_in_the_folder_is_refused_and_the_same_one_resumes(tmp_
     after = _listing(tmp_path)  # the aggregate is written again (its spec has the interval)
     assert {k: v for k, v in after.items() if k != ensemble.AGGREGATE} == {
         k: v for k, v in before.items() if k != ensemble.AGGREGATE}
+    # ... also with the swept values in another order (the same grid) ...
+    again = run_ensemble(_spec(seeds="2,1", params={"n": N, "restitution": [0.9, 0.5]}),
+                         tmp_path, executor="serial", progress=False)
+    assert len(again.ran) == 0 and len(again.skipped) == 4
     # ... and more seeds run only the new ones
     more = run_ensemble(_spec(seeds="1-3"), tmp_path, executor="serial", progress=False)
     assert len(more.ran) == 2 and len(more.skipped) == 4
