@@ -244,8 +244,9 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     try:
         out.mkdir(parents=True, exist_ok=True)
         if write_manifest:
+            described = {k: v for k, v in spec.to_dict().items() if k != "seeds"}  # once
             recorded = {"shared": True} if shared else {
-                **identity, "spec": json.loads(json.dumps(spec.to_dict()))}
+                **identity, "spec": json.loads(json.dumps(described))}
             persistence.save(out / MANIFEST, "ensemble-manifest", FORMAT_VERSION, {},
                              {"writer": "particles.ensemble", **recorded})
         records = _execute(client, todo, model.factory, out.absolute(), progress)
