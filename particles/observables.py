@@ -199,7 +199,8 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     ------
     particles.InvalidArgumentError
         ``v`` of a wrong shape or with zero or non-finite energy; ``bins`` not an integer in
-        [1, 10⁶] nor at least two strictly increasing edges; ``v0`` not finite and positive.
+        [1, 10⁶] nor at least two finite, strictly increasing edges; ``v0`` not finite and
+        positive.
     """
     arr = _as_velocities(v)
     if bins is None:
@@ -214,8 +215,10 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
             edges = np.asarray(bins, dtype=float)
         except (TypeError, ValueError):
             raise InvalidArgumentError("bins", bins, "an array of increasing edges") from None
-        if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
-            raise InvalidArgumentError("bins", bins, "at least two strictly increasing edges")
+        if (edges.ndim != 1 or edges.size < 2 or not np.all(np.isfinite(edges))
+                or np.any(np.diff(edges) <= 0)):
+            raise InvalidArgumentError("bins", bins,
+                                       "at least two finite, strictly increasing edges")
     rows = arr.reshape(-1, arr.shape[-1])
     if v0 is None:
         v0 = _rms(rows)

@@ -1,14 +1,30 @@
 """One large sticky gas computed as K chunks of the ring, in one process or on Dask.
 
 The N labels of the ring are cut into K chunks of consecutive labels (the first N mod K chunks
-one label longer).  Chunk k draws its own initial data from the child seed
-``SeedSequence(seed).spawn(K)[k]``: n_k positions uniform and sorted on its own arc of length
-L n_k / N (so every arc holds exactly its n_k particles: for K > 1 the initial state is this
-stratified draw, not the single engine's; the order statistics are drawn as normalised sums of
-exponential spacings, without a sort) and n_k velocities of the law, with zero mean and unit
-⟨v²⟩ per chunk (hence also over the ring).  K = 1 is the single-process engine itself
-(:class:`particles.sticky.StickyGas` run by :func:`particles.driver.simulate`), same draw, same
-numbers.
+one label longer).  Chunk k draws its own raw data from the child seed
+``SeedSequence(seed, spawn_key=(k,))`` (the k-th child of ``SeedSequence(seed).spawn(K)``; the
+single engine's stream ``default_rng(seed)`` is the root's, independent of every child): n_k
+exponential spacings (one more for the last chunk) and then n_k velocities of the law.  The
+child depends on k only, not on K: runs of one seed with different K share the beginnings of
+their chunks' streams, so they are correlated, not independent, samples; use other seeds to
+compare K.  The
+initial state is the single engine's law, normalised over the whole ring, never chunk by chunk:
+
+* positions: with T the sum of all N + 1 spacings and S_j the sum of the first j + 1, particle j
+  sits at x_j = L S_j / T, so the N positions are the order statistics of N independent uniforms
+  on [0, L), as the engine's ``sort(uniform(0, L, N))`` (their numbers on the chunks' arcs
+  fluctuate as the engine's do);
+* velocities: each chunk returns Σ v and its Σ (v − v̄_k)² about its own mean (n_k, Σ v and
+  Σ v² in a numerically stable form); the client forms the ring's mean μ and ⟨(v − μ)²⟩ and
+  sends back one shift and scale, v ← (v − μ)/√⟨(v − μ)²⟩: the engine's own normalisation of its
+  N velocities (:func:`particles.driver.initial_velocities`).  The ring's Σ v is 0 and its ⟨v²⟩
+  is 1 up to round-off; a chunk's own momentum and energy fluctuate, as they do in the engine,
+  and so do the momentum fluctuations on scales above a chunk that drive E ∝ t^{−2/3}.
+
+This costs one pass over the chunks (:func:`chunk_moments`) before the first time.  K = 1 is the
+single-process engine itself (:class:`particles.sticky.StickyGas` run by
+:func:`particles.driver.simulate`), same draw, same numbers; K > 1 has the same law, not the
+same numbers.
 
 At each output time t every chunk computes the isotonic regression of its free-streamed
 positions x_j + v_j t (:mod:`particles.sticky`): a block of the ring's regression is a union of
@@ -41,12 +57,13 @@ import numpy as np
 
 from .budget import available_memory, format_bytes
 from .driver import initial_velocities
+from .initial import get_law
 from .observables import histogram_from_counts
 from .sticky import StickyParams, period_regression, pool_junction
 from .validation import InvalidArgumentError, check_count, check_times
 
-__all__ = ["ChunkedResult", "chunk_bounds", "chunk_initial", "check_chunks", "simulate_chunks",
-           "velocity_field"]
+__all__ = ["ChunkedResult", "chunk_bounds", "chunk_initial", "chunk_moments", "check_chunks",
+           "ring_normalisation", "simulate_chunks", "velocity_field"]
 
 #: Blocks sent from each end of a chunk at first (multiplied by 4 while a pooled block reaches
 #: past them).
@@ -54,8 +71,7 @@ EDGE = 64
 
 
 def check_chunks(chunks, n: int) -> int:
-    """``chunks`` as an integer in [1, N/2]: every chunk holds at least two particles, the least
-    that has a zero-mean, unit-energy draw.
+    """``chunks`` as an integer in [1, N/2]: every chunk holds at least two particles.
 
     Parameters
     ----------
@@ -104,13 +120,90 @@ def chunk_bounds(n: int, chunks: int) -> np.ndarray:
     return np.concatenate([[0], np.cumsum(lengths)])
 
 
-def chunk_initial(params: StickyParams, seed: int, k: int, chunks: int):
-    """The initial positions and velocities of chunk ``k`` of ``chunks``.
+def _chunk_draw(params: StickyParams, seed: int, k: int, chunks: int):
+    """Chunk k's raw draw from its child seed: its exponential spacings (n_k, or n_k + 1 for the
+    last chunk) and n_k velocities of the law, neither shifted nor scaled."""
+    bounds = chunk_bounds(params.n, chunks)
+    nk = int(bounds[k + 1] - bounds[k])
+    rng = np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(int(k),)))
+    gaps = rng.standard_exponential(nk + (k == chunks - 1))
+    return gaps, get_law(params.initial).sample(rng, nk)
 
-    Chunk k's n_k positions are uniform order statistics on its own arc [L b_k/N, L b_{k+1}/N)
-    and its velocities are drawn from the gas's law with zero mean and unit ⟨v²⟩ over the chunk,
-    all from the child seed ``SeedSequence(seed).spawn(chunks)[k]``.  K = 1 is the single
-    engine's draw: ``default_rng(seed)``, N sorted uniforms on [0, L), then the velocities.
+
+def chunk_moments(params_dict: dict, seed: int, k: int, chunks: int) -> dict:
+    """Chunk k's sums for the ring's normalisation (:func:`ring_normalisation`).
+
+    Parameters
+    ----------
+    params_dict : dict
+        The gas's ``StickyParams.to_dict()``.
+    seed : int
+        The run's seed.
+    k, chunks : int
+        The chunk's index and the number of chunks K.
+
+    Returns
+    -------
+    dict
+        ``n`` (n_k), ``gaps`` (the sum of its spacings, as the running sum that places its
+        particles computes it), ``sum`` (Σ v of its raw velocities) and ``m2`` (Σ (v − v̄_k)²,
+        v̄_k = Σ v / n_k).
+    """
+    params = StickyParams(**params_dict)
+    gaps, v = _chunk_draw(params, seed, k, chunks)
+    s1 = float(np.add.reduce(v))
+    v -= s1 / v.size
+    v *= v
+    np.cumsum(gaps, out=gaps)  # the running sum chunk_initial places the particles with
+    return {"n": int(v.size), "gaps": float(gaps[-1]), "sum": s1, "m2": float(np.add.reduce(v))}
+
+
+def ring_normalisation(moments, n: int, initial="gaussian") -> list[tuple]:
+    """The one shift and scale of the whole ring from its chunks' :func:`chunk_moments`.
+
+    Parameters
+    ----------
+    moments : list of dict
+        :func:`chunk_moments` of chunks 0 … K − 1, in chunk order.
+    n : int
+        N.
+    initial : str
+        The law's name (named in the error).
+
+    Returns
+    -------
+    list of tuple
+        Per chunk ``(offset, total, mu, scale)``: the sum of the spacings of the chunks before
+        it, the sum T of all N + 1 spacings, the ring's mean velocity μ and
+        1/√⟨(v − μ)²⟩ over the N raw velocities.
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``initial`` when the N raw velocities have zero variance.
+    """
+    offsets, total = [], 0.0
+    for m in moments:  # a running sum: the last position of a chunk is the next one's offset
+        offsets.append(total)
+        total += m["gaps"]
+    mu = math.fsum(m["sum"] for m in moments) / n
+    m2 = math.fsum(m["m2"] for m in moments) + math.fsum(
+        m["n"] * (m["sum"] / m["n"] - mu) ** 2 for m in moments)
+    e = m2 / n
+    if not e > 0.0:
+        raise InvalidArgumentError("initial", initial, "a law with non-zero variance")
+    scale = 1.0 / math.sqrt(e)
+    return [(off, total, mu, scale) for off in offsets]
+
+
+def chunk_initial(params: StickyParams, seed: int, k: int, chunks: int, norm=None):
+    """The initial positions and velocities of chunk ``k`` of ``chunks``, normalised over the
+    whole ring (module docstring).
+
+    Particle j of the chunk (global label b_k + j) sits at x = L (offset + S_j)/T, S_j the
+    running sum of the chunk's spacings, and its velocity is (v − μ)·scale, with ``norm`` =
+    (offset, T, μ, scale) of :func:`ring_normalisation`.  K = 1 is the single engine's draw:
+    ``default_rng(seed)``, N sorted uniforms on [0, L), then the velocities.
 
     Parameters
     ----------
@@ -120,33 +213,38 @@ def chunk_initial(params: StickyParams, seed: int, k: int, chunks: int):
         The run's seed.
     k, chunks : int
         The chunk's index and the number of chunks K.
+    norm : tuple, optional
+        This chunk's ``(offset, total, mu, scale)`` of :func:`ring_normalisation`; by default
+        computed here from every chunk's draw (a pass over the whole ring).
 
     Returns
     -------
     x, v : numpy.ndarray
-        The chunk's positions (increasing) and velocities.
+        The chunk's positions (nondecreasing, in [0, L)) and velocities.
     """
     n, length = params.n, params.length
     if chunks == 1:
         rng = np.random.default_rng(seed)
         x = np.sort(rng.uniform(0.0, length, n))
         return x, initial_velocities(params.initial, n, rng)
-    bounds = chunk_bounds(n, chunks)
-    nk = int(bounds[k + 1] - bounds[k])
-    rng = np.random.default_rng(np.random.SeedSequence(seed).spawn(chunks)[k])
-    a, b = length * bounds[k] / n, length * bounds[k + 1] / n
-    # nk sorted uniforms on [a, b) without a sort: the normalised partial sums of nk + 1
-    # exponential spacings have the law of the order statistics (O(n) instead of O(n log n))
-    x = rng.standard_exponential(nk + 1)
+    if norm is None:
+        pd = params.to_dict()
+        norm = ring_normalisation([chunk_moments(pd, seed, j, chunks) for j in range(chunks)],
+                                  n, params.initial)[k]
+    offset, total, mu, scale = norm
+    x, v = _chunk_draw(params, seed, k, chunks)
     np.cumsum(x, out=x)
-    x *= (b - a) / x[-1]
-    x = x[:-1]
-    x += a
-    return x, initial_velocities(params.initial, nk, rng)
+    x = x[: v.size]
+    x += offset
+    x *= length / total
+    np.minimum(x, np.nextafter(length, 0.0), out=x)  # x < L despite the rounding of L/T
+    v -= mu
+    v *= scale
+    return x, v
 
 
-def _chunk_blocks(params: StickyParams, seed, k, chunks, t):
-    x, v = chunk_initial(params, seed, k, chunks)
+def _chunk_blocks(params: StickyParams, seed, k, chunks, norm, t):
+    x, v = chunk_initial(params, seed, k, chunks, norm)
     first = int(chunk_bounds(params.n, chunks)[k])
     if t == 0.0:
         nk = x.size
@@ -168,11 +266,14 @@ def _interior(nb: int, edge: int):
     return idx, flags, slice(edge, nb - edge)
 
 
-def chunk_summary(params_dict: dict, seed: int, k: int, chunks: int, t: float, edge: int) -> dict:
+def chunk_summary(params_dict: dict, seed: int, k: int, chunks: int, norm, t: float,
+                  edge: int) -> dict:
     """One chunk at time ``t``: its edge blocks and sentinels (label starts, means of
-    x + vt − L, masses, velocity sums, sentinel flags), its interior sums and Σ v."""
+    x + vt − L, masses, velocity sums, sentinel flags), its interior sums and Σ v (``norm``:
+    the chunk's entry of :func:`ring_normalisation`)."""
     params = StickyParams(**params_dict)
-    blocks, means, weights, vsums, first, momentum = _chunk_blocks(params, seed, k, chunks, t)
+    blocks, means, weights, vsums, first, momentum = _chunk_blocks(params, seed, k, chunks, norm,
+                                                                   t)
     idx, flags, inner = _interior(blocks.size, edge)
     out = {"starts": blocks[idx] + first, "means": means[idx], "weights": weights[idx],
            "vsums": vsums[idx], "flags": flags, "momentum": momentum,
@@ -185,7 +286,7 @@ def chunk_summary(params_dict: dict, seed: int, k: int, chunks: int, t: float, e
     return out
 
 
-def chunk_last(params_dict: dict, seed: int, k: int, chunks: int, t: float, edge: int,
+def chunk_last(params_dict: dict, seed: int, k: int, chunks: int, norm, t: float, edge: int,
                v0: float, edges, field: bool = False) -> dict:
     """The second pass at the last time ``t`` over chunk ``k``'s interior clusters.
 
@@ -197,6 +298,8 @@ def chunk_last(params_dict: dict, seed: int, k: int, chunks: int, t: float, edge
         The run's seed (the chunk draws from its child seed).
     k, chunks : int
         This chunk's index and the number of chunks.
+    norm : tuple
+        The chunk's ``(offset, total, mu, scale)`` of :func:`ring_normalisation`.
     t : float
         The last output time (physical time).
     edge : int
@@ -216,7 +319,7 @@ def chunk_last(params_dict: dict, seed: int, k: int, chunks: int, t: float, edge
         clusters.
     """
     params = StickyParams(**params_dict)
-    blocks, _, weights, vsums, first, _ = _chunk_blocks(params, seed, k, chunks, t)
+    blocks, _, weights, vsums, first, _ = _chunk_blocks(params, seed, k, chunks, norm, t)
     _, _, inner = _interior(blocks.size, edge)
     out = {"counts": np.zeros(len(edges) - 1, dtype=np.int64)}
     if field:
@@ -413,7 +516,8 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
         Output times t (physical time), nondecreasing, finite, ≥ 0.
     seed : int
         The seed; chunk k draws from ``SeedSequence(seed).spawn(chunks)[k]`` (K = 1: the
-        single engine's ``default_rng(seed)``).
+        single engine's ``default_rng(seed)``); the initial state is normalised over the whole
+        ring (module docstring).
     chunks : int
         K, in [1, N/2].
     client : distributed.Client, optional
@@ -437,16 +541,31 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
     Raises
     ------
     InvalidArgumentError
-        For a ``params`` that is not a StickyParams, bad ``times`` or ``chunks``, or a
-        ``structure_factor`` that does not fit in memory.
+        For a ``params`` that is not a StickyParams, bad ``times`` (booleans included),
+        ``seed`` (an integer >= 0), ``chunks`` or ``bins``, a ``structure_factor`` that is
+        not a bool or does not fit in memory, a ``client`` without ``submit`` and ``gather``,
+        or a ``progress`` that is not callable.
     """
-    from .observables import DEFAULT_EDGES
+    from .observables import DEFAULT_EDGES, rescaled_histogram
 
     if not isinstance(params, StickyParams):
         raise InvalidArgumentError("params", params, "a StickyParams")
+    if (np.asarray(times).dtype == bool if isinstance(times, np.ndarray) else any(
+            isinstance(t, (bool, np.bool_))
+            for t in (times if isinstance(times, (list, tuple)) else [times]))):
+        raise InvalidArgumentError("t", times, "times, not booleans")
     times = check_times(times, "t")
+    seed = check_count(seed, "seed", 0)  # as the single engine's driver checks it
     chunks = check_chunks(chunks, params.n)
-    edges = DEFAULT_EDGES if bins is None else np.asarray(bins, dtype=float)
+    if not isinstance(structure_factor, bool):
+        raise InvalidArgumentError("structure_factor", structure_factor, "True or False")
+    if client is not None and not (hasattr(client, "submit") and hasattr(client, "gather")):
+        raise InvalidArgumentError("client", client, "a distributed.Client or None")
+    if progress is not None and not callable(progress):
+        raise InvalidArgumentError("progress", progress, "a callable progress(done, total)")
+    # the histogram's edges, checked as the single engine checks them
+    edges = rescaled_histogram(np.array([1.0, -1.0]), DEFAULT_EDGES if bins is None
+                               else bins).edges
     pd = params.to_dict()
     n = params.n
     if structure_factor:
@@ -460,18 +579,21 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
     if chunks == 1:
         return _single(params, times, seed, edges, start, structure_factor)
 
-    def run(fn, *args):
+    def run(fn, *args, norms=None):
+        extra = [() if norms is None else (norms[k],) for k in range(chunks)]
         if client is None:
-            return [fn(pd, seed, k, chunks, *args) for k in range(chunks)]
-        futures = [client.submit(fn, pd, seed, k, chunks, *args, pure=False)
+            return [fn(pd, seed, k, chunks, *extra[k], *args) for k in range(chunks)]
+        futures = [client.submit(fn, pd, seed, k, chunks, *extra[k], *args, pure=False)
                    for k in range(chunks)]
         return client.gather(futures)  # in chunk order
+
+    norms = ring_normalisation(run(chunk_moments), n, params.initial)
 
     energy, momentum, clusters = [], [], []
     edge = EDGE
     for step, t in enumerate(times):
         while True:
-            parts = run(chunk_summary, float(t), edge)
+            parts = run(chunk_summary, float(t), edge, norms=norms)
             try:
                 masses, sums, firsts = _join(parts, params.length)
                 break
@@ -491,7 +613,8 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
     histogram, spectrum = None, {}
     if energy[-1] > 0.0 or structure_factor:
         v0 = math.sqrt(energy[-1]) if energy[-1] > 0.0 else 1.0
-        rows = run(chunk_last, float(times[-1]), edge, v0, edges, bool(structure_factor))
+        rows = run(chunk_last, float(times[-1]), edge, v0, edges, bool(structure_factor),
+                   norms=norms)
         if energy[-1] > 0.0:
             count = np.sum([r["counts"] for r in rows], axis=0)
             extra, _ = np.histogram(sums / masses / v0, bins=edges, weights=masses)

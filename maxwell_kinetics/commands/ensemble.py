@@ -145,12 +145,16 @@ def run(args) -> int:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``--config`` is given without ``--cluster``; also, from the validators it calls, a
+        If ``--config`` is given without ``--cluster`` or ``--force`` without ``--workers``;
+        also, from the validators it calls, a
         bad specification (see :func:`spec_from_args`) or ``--workers``.
     """
     spec = spec_from_args(args)
     if args.config is not None and args.cluster is None:
         raise InvalidArgumentError("config", args.config, "--cluster slurm|pbs with it")
+    if args.force and args.workers is None:  # it only lifts the bound on --workers
+        raise InvalidArgumentError("force", True, "--workers N with it (--force allows more "
+                                   "than 4 x the CPUs as --workers)")
     workers = None if args.workers is None else parse_count(args.workers, "workers", 1)
     check_workers(workers, "workers", force=args.force)
     report = run_ensemble(

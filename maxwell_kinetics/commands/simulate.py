@@ -39,6 +39,7 @@ from particles.md import InelasticCollapseError, profile_x
 from particles.models import get_model
 from particles.sticky import profile_x as sticky_profile_x
 from particles.validation import (
+    InvalidArgumentError,
     check_times,
     parse_float_list,
     parse_seed,
@@ -220,6 +221,10 @@ def run_model(args) -> int:
     time_name, args.times = time_option(args, model, model.time_name(engine))
     if getattr(args, "chunks", None) is not None:
         return _run_sticky_chunks(engine, args)
+    for option in ("workers", "scheduler"):  # they run chunks: alone they would do nothing
+        if getattr(args, option, None) is not None:
+            raise InvalidArgumentError(option, getattr(args, option),
+                                       f"--{option} only with --chunks K (K >= 2)")
     extend = _EXTEND[model.name](engine, args) if model.name in _EXTEND else None
     try:
         return run_engine(engine, args, time_key=time_name, extend=extend)
@@ -263,17 +268,18 @@ def _add_chunk_options(parser) -> None:
         "(computed in this process: 24 bytes a particle); cannot save, checkpoint or profile")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--workers", default=None,
-                       help="with --chunks: a local Dask cluster of W single-threaded processes "
-                       "(default: the chunks run here, one after another)")
+                       help="only with --chunks K >= 2: a local Dask cluster of W single-threaded "
+                       "processes (default: the chunks run here, one after another)")
     where.add_argument("--scheduler", default=None,
-                       help="with --chunks: the address of a running Dask scheduler")
+                       help="only with --chunks K >= 2: the address of a running Dask scheduler")
 
 
 def _run_sticky_chunks(engine, args) -> int:
     """``simulate sticky --chunks K``: :func:`particles.sticky_chunks.simulate_chunks`."""
-    from particles.ensemble.cluster import connect
+    from particles.ensemble.cluster import check_scheduler, connect
+    from particles.progress import progress_bar
     from particles.sticky_chunks import check_chunks, simulate_chunks
-    from particles.validation import InvalidArgumentError, check_workers, parse_count
+    from particles.validation import check_workers, parse_count
 
     times = check_times(parse_float_list(args.times, "t"), "t")
     seed = parse_seed(args.seed)
@@ -285,15 +291,27 @@ def _run_sticky_chunks(engine, args) -> int:
     if args.profile:
         raise InvalidArgumentError("profile", True,
                                    "not with --chunks (the positions stay in the chunks)")
+    if chunks == 1:  # the single engine, run here: workers would have nothing to do
+        for option in ("workers", "scheduler"):
+            if getattr(args, option) is not None:
+                raise InvalidArgumentError(option, getattr(args, option),
+                                           f"--{option} only with --chunks K >= 2 (K = 1 is "
+                                           "the single engine, run in this process)")
     workers = None if args.workers is None else parse_count(args.workers, "workers", 1)
     workers = check_workers(workers, "workers", tasks=chunks, force=args.force)
+    if args.scheduler is not None:
+        check_scheduler(args.scheduler)
     client, closers = None, []
     if workers is not None or args.scheduler is not None:
         client, closers = connect("dask", workers, args.scheduler, None, None)
+    show = sys.stderr.isatty() if args.progress is None else args.progress
+    bar = progress_bar(len(times), "sticky chunks", "times", enabled=show)
     try:
         result = simulate_chunks(engine.params, times, seed, chunks, client=client,
-                                 structure_factor=bool(args.structure_factor))
+                                 structure_factor=bool(args.structure_factor),
+                                 progress=lambda done, total: bar.update(1))
     finally:
+        bar.close()
         for close in closers:
             close()
     payload = result.to_dict()

@@ -152,7 +152,7 @@ class ParticleRuns:
                             {"structure_factor": options.get("structure_factor", False),
                              "snapshots": bool(options.get("snapshots", False))})
         report = run_ensemble(spec, self.out, workers=self.workers, progress=progress,
-                              force=self.force)
+                              force=self.force, shared=True)  # one folder, many ensembles
         if report.failed:
             first = report.failed[0]
             raise RuntimeError(f"{len(report.failed)} {model} run(s) failed, e.g. seed "

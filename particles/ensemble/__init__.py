@@ -11,8 +11,12 @@ the order the parameters are given, the first one slowest) times the seeds (fast
 
 :func:`run_ensemble` runs the tasks and writes, in the output folder ``out``:
 
-* ``manifest.npz`` (kind ``"ensemble-manifest"``): marks the folder as holding ensemble files
-  of format version :data:`FORMAT_VERSION`; a folder of another version is refused;
+* ``manifest.npz`` (kind ``"ensemble-manifest"``): marks the folder as holding the files of
+  one ensemble, of format version :data:`FORMAT_VERSION`, and records that ensemble (a hash of
+  its model, parameter grid, times and result options) and its seeds.  ``out`` must be a new or
+  empty folder or this ensemble's: a folder that holds files and no manifest, a manifest of
+  another version or of another ensemble, or one whose seeds the spec drops is refused before
+  anything is written (a rerun may add seeds: it runs only the new tasks);
 * one file per task, ``task-<key>.npz`` (kind ``"ensemble-task"``), where ``<key>`` is a
   SHA-256 of the task's identity: model, the engine's parameters (``engine.to_dict()``, so
   ``n=1e6`` and ``n=1000000`` are one task), seed, times, the options that change the result

@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import os
+
 from ..validation import InvalidArgumentError
 
 #: Seconds allowed to connect to an existing scheduler (``scheduler=ADDRESS``).
@@ -57,6 +59,8 @@ def load_cluster_config(path, cluster: str) -> dict:
     """
     if cluster not in ("slurm", "pbs"):
         raise InvalidArgumentError("cluster", cluster, "'slurm' or 'pbs'")
+    if not isinstance(path, (str, os.PathLike)) or not str(path):
+        raise InvalidArgumentError("config", path, "the path of a TOML file")
     try:
         import tomllib
     except ModuleNotFoundError:  # pragma: no cover - Python 3.10
@@ -90,6 +94,29 @@ def load_cluster_config(path, cluster: str) -> dict:
     settings.setdefault("processes", settings["cores"])
     settings.setdefault("jobs", 1)
     return settings
+
+
+def require_jobqueue(cluster: str) -> None:
+    """Check that the optional ``dask-jobqueue`` (the extra ``cluster``) can be imported.
+
+    Parameters
+    ----------
+    cluster : str
+        The batch system asked for (``"slurm"`` or ``"pbs"``), named in the error.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``cluster``) if ``dask_jobqueue`` cannot be imported; the message says what
+        to install.
+    """
+    try:
+        import dask_jobqueue  # noqa: F401
+    except ImportError:
+        raise InvalidArgumentError(
+            "cluster", cluster,
+            "the optional package dask-jobqueue, which is not installed "
+            "(pip install 'maxwell-kinetics[cluster]')") from None
 
 
 def local_cluster(workers: int | None = None):
@@ -137,7 +164,14 @@ def make_cluster(cluster: str, settings: dict):
     -------
     dask_jobqueue.SLURMCluster or dask_jobqueue.PBSCluster
         The cluster object.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``cluster``) if dask-jobqueue is not installed
+        (:func:`particles.ensemble.cluster.require_jobqueue`).
     """
+    require_jobqueue(cluster)
     import dask_jobqueue
 
     kwargs = {k: v for k, v in settings.items() if k not in ("jobs", "dashboard_address")}
@@ -169,14 +203,46 @@ def cluster_job_script(cluster: str, config) -> str:
         c.close()
 
 
+def check_scheduler(scheduler) -> str:
+    """Check the form of a scheduler address (a non-empty string, such as
+    ``tcp://host:8786``); whether it answers is seen on connecting.
+
+    Parameters
+    ----------
+    scheduler : str
+        The address.
+
+    Returns
+    -------
+    str
+        The address.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``scheduler``) for anything but a non-empty string without blanks.
+    """
+    if not isinstance(scheduler, str) or not scheduler.strip() or any(
+            c.isspace() for c in scheduler):
+        raise InvalidArgumentError("scheduler", scheduler,
+                                   "the address of a dask scheduler, such as tcp://host:8786")
+    return scheduler
+
+
 def connect(executor, workers, scheduler, cluster, config):
     """(client, closer) for the dask executors; errors name the argument."""
     from distributed import Client
 
     if scheduler is not None:
+        check_scheduler(scheduler)
         try:
             client = Client(scheduler, timeout=SCHEDULER_TIMEOUT)
-        except (OSError, TimeoutError, ValueError) as exc:
+        except ValueError as exc:  # not an address (raised at once, not after the timeout)
+            raise InvalidArgumentError(
+                "scheduler", scheduler,
+                f"the address of a dask scheduler, such as tcp://host:8786 ({exc})"[:300],
+            ) from None
+        except (OSError, TimeoutError) as exc:
             raise InvalidArgumentError(
                 "scheduler", scheduler,
                 f"the address of a reachable dask scheduler (no connection within "

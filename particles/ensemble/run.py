@@ -3,6 +3,7 @@ run, their execution (serial or on dask) and the report."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import time as _time
@@ -14,7 +15,7 @@ from ..models import get_model
 from ..progress import progress_bar
 from ..validation import InvalidArgumentError, check_output_dir, check_workers
 from .aggregate import EnsembleReport, aggregate
-from .cluster import connect, load_cluster_config
+from .cluster import check_scheduler, connect, load_cluster_config, require_jobqueue
 from .spec import FORMAT_VERSION, EnsembleSpec
 from .tasks import load_task, run_task
 
@@ -22,19 +23,104 @@ MANIFEST = "manifest.npz"
 AGGREGATE = "ensemble.npz"
 
 
-def _check_folder(out: Path) -> None:
-    """Refuse a folder whose manifest is of another format version (or unreadable)."""
+def _folder_identity(spec: EnsembleSpec, tasks) -> dict:
+    """What a folder's manifest records of its ensemble: ``ensemble``, a hash of everything
+    but the seeds (model, the set of the parameter sets' engines, times, result options,
+    format version, as in the tasks' identities), and the ``seeds``."""
+    sets = {}
+    for task in tasks:
+        sets.setdefault(task.set_index, {k: v for k, v in task.identity.items() if k != "seed"})
+    # the grid as a set: the same values given in another order are the same ensemble
+    text = json.dumps(sorted(json.dumps(v, sort_keys=True) for v in sets.values()))
+    return {"ensemble": hashlib.sha256(text.encode()).hexdigest()[:24],
+            "seeds": [int(s) for s in spec.seeds]}
+
+
+def _describe(spec_dict) -> str:
+    """A short description of a recorded spec for an error message."""
+    if not isinstance(spec_dict, dict):
+        return "another ensemble"
+    return (f"model {spec_dict.get('model')!r}, parameters {spec_dict.get('params')}, "
+            f"times {spec_dict.get('times')}")[:300]
+
+
+def _seed_text(seeds) -> str:
+    seeds = sorted(seeds)
+    text = ",".join(str(s) for s in seeds[:8])
+    return text + (f",... ({len(seeds)} seeds)" if len(seeds) > 8 else "")
+
+
+def _check_folder(out: Path, spec: EnsembleSpec, tasks, identity: dict, shared: bool) -> bool:
+    """Refuse an ``out`` that is not this ensemble's folder: a folder that is not empty and has
+    no manifest (the user's own files), a manifest of another format version (or unreadable),
+    or one of another ensemble (another model, parameter grid, times or result options), or of
+    this ensemble with seeds that the new spec drops, or a shared folder.  A manifest written
+    before manifests recorded their ensemble is accepted when every task file in the folder is
+    one of this spec's.  With ``shared``, any manifest of this version that records no single
+    ensemble is accepted.  Returns whether the manifest must be (re)written."""
+    if not out.exists():
+        return True
     manifest = out / MANIFEST
-    if not manifest.exists():
-        return
+    if not (manifest.exists() or manifest.is_symlink()):
+        try:
+            entries = sorted(p.name for p in out.iterdir())
+        except OSError as exc:
+            raise InvalidArgumentError("out", str(out), f"a readable folder ({exc})") from None
+        if entries:
+            shown = ", ".join(repr(e) for e in entries[:3]) + (", ..." if len(entries) > 3 else "")
+            raise InvalidArgumentError(
+                "out", str(out),
+                f"a new or empty folder, or an ensemble's own folder (this one holds "
+                f"{len(entries)} entr{'y' if len(entries) == 1 else 'ies'} ({shown}) and no "
+                f"{MANIFEST}: it is not an ensemble's, and its files could be replaced); "
+                f"give --out a new folder")
+        return True
     try:
-        persistence.load(manifest, "ensemble-manifest", (FORMAT_VERSION,), argument="out")
+        loaded = persistence.load(manifest, "ensemble-manifest", (FORMAT_VERSION,),
+                                  argument="out")
     except persistence.FileFormatError as exc:
         raise InvalidArgumentError(
             "out", str(out),
             f"a folder of ensemble files of format version {FORMAT_VERSION} "
             f"({MANIFEST}: {exc.reason})",
         ) from None
+    meta = loaded.meta if isinstance(loaded.meta, dict) else {}
+    if shared:
+        if "ensemble" in meta:
+            raise InvalidArgumentError(
+                "out", str(out),
+                f"a folder of task files shared by many ensembles, not one ensemble's own "
+                f"({MANIFEST} records {_describe(meta.get('spec'))})")
+        return meta.get("shared") is not True
+    if meta.get("shared") is True:
+        raise InvalidArgumentError(
+            "out", str(out),
+            "one ensemble's own folder, not one whose task files many ensembles share (such as "
+            "the runs folder of reproduce): give --out a new folder")
+    if "ensemble" not in meta:  # a manifest of an earlier release: judge by the task files
+        keys = {t.key for t in tasks}
+        foreign = sorted(p.name for p in out.glob("task-*.npz")
+                         if p.name.split(".")[0][len("task-"):] not in keys)
+        if foreign:
+            raise InvalidArgumentError(
+                "out", str(out),
+                f"a folder of this ensemble's tasks ({len(foreign)} task files of another "
+                f"ensemble, e.g. {foreign[0]!r}): give --out a new folder")
+        return True
+    if meta["ensemble"] != identity["ensemble"]:
+        raise InvalidArgumentError(
+            "out", str(out),
+            f"a folder of this ensemble, not of another one ({MANIFEST} records "
+            f"{_describe(meta.get('spec'))}; this one is {_describe(spec.to_dict())}): give "
+            f"--out a new folder")
+    dropped = set(meta.get("seeds", [])) - set(identity["seeds"])
+    if dropped:
+        raise InvalidArgumentError(
+            "out", str(out),
+            f"seeds including every seed of this folder's ensemble (--seeds drops "
+            f"{_seed_text(dropped)}, whose results the aggregate would lose; a rerun may add "
+            f"seeds, not remove them)")
+    return meta.get("seeds") != identity["seeds"]
 
 
 def _check_existing(out: Path, tasks) -> tuple[set, list]:
@@ -56,7 +142,8 @@ def _check_existing(out: Path, tasks) -> tuple[set, list]:
 
 def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, scheduler=None,
                  cluster: str | None = None, config=None, progress: bool = True,
-                 executor: str = "dask", force: bool = False) -> EnsembleReport:
+                 executor: str = "dask", force: bool = False,
+                 shared: bool = False) -> EnsembleReport:
     """Run the tasks of ``spec`` that have no valid file in ``out`` and aggregate them all.
 
     ``executor="dask"``: a local cluster of ``workers`` processes (default: the number of
@@ -88,6 +175,11 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
         ``"dask"`` (default) or ``"serial"``.
     force : bool, optional
         Allow more workers than :func:`particles.validation.max_workers`.
+    shared : bool, optional
+        ``out`` holds the task files of many ensembles (the comparisons' runs of
+        ``reproduce``): its manifest records no single ensemble, and any manifest of this
+        format version that records none is accepted (default False: ``out`` is this
+        ensemble's own folder, see the module docstring).
 
     Returns
     -------
@@ -98,9 +190,15 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     ------
     particles.InvalidArgumentError
         For a ``spec`` that is not an :class:`EnsembleSpec`, a bad ``out`` or ``executor``,
+        a ``progress``, ``force`` or ``shared`` that is not a bool, a ``scheduler`` that is
+        not an address,
         more than one of ``workers``, ``scheduler``, ``cluster`` (or any with the serial
         executor), a bad worker count, a bad cluster ``config`` or one without ``cluster``,
-        or an ``out`` folder that is not an ensemble's.
+        a ``cluster`` without the optional dask-jobqueue installed,
+        or an ``out`` that is not this ensemble's folder: a folder that holds files and no
+        manifest, a manifest of another format version, of another ensemble (model,
+        parameter grid, times, result options) or of seeds that ``spec`` drops (a rerun may
+        add seeds).
     """
     started = _time.perf_counter()
     if not isinstance(spec, EnsembleSpec):
@@ -114,14 +212,25 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
         name = chosen[-1]
         raise InvalidArgumentError(name, given[name],
                                    "one of workers, scheduler, cluster (dask executor only)")
+    for name, value in (("progress", progress), ("force", force), ("shared", shared)):
+        if not isinstance(value, bool):
+            raise InvalidArgumentError(name, value, "True or False")
     workers = check_workers(workers, "workers", force=force)
-    if cluster is not None:
-        load_cluster_config(config, cluster)  # checked before any work
+    if scheduler is not None:
+        check_scheduler(scheduler)
+    if cluster is not None:  # checked before any work
+        if cluster not in ("slurm", "pbs"):
+            raise InvalidArgumentError("cluster", cluster, "'slurm' or 'pbs'")
+        require_jobqueue(cluster)
+        if config is None:
+            raise InvalidArgumentError("config", None,
+                                       "the batch cluster's TOML file (required with cluster)")
+        load_cluster_config(config, cluster)
     elif config is not None:
         raise InvalidArgumentError("config", config, "only with cluster='slurm' or 'pbs'")
-    if out.exists():
-        _check_folder(out)
     tasks = spec.expand()
+    identity = _folder_identity(spec, tasks)
+    write_manifest = _check_folder(out, spec, tasks, identity, shared)
     model = get_model(spec.model)
 
     valid, damaged = _check_existing(out, tasks)
@@ -134,9 +243,12 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
         client, closers = connect(executor, local, scheduler, cluster, config)
     try:
         out.mkdir(parents=True, exist_ok=True)
-        if not (out / MANIFEST).exists():
+        if write_manifest:
+            described = {k: v for k, v in spec.to_dict().items() if k != "seeds"}  # once
+            recorded = {"shared": True} if shared else {
+                **identity, "spec": json.loads(json.dumps(described))}
             persistence.save(out / MANIFEST, "ensemble-manifest", FORMAT_VERSION, {},
-                             {"writer": "particles.ensemble"})
+                             {"writer": "particles.ensemble", **recorded})
         records = _execute(client, todo, model.factory, out.absolute(), progress)
     finally:
         for close in closers:

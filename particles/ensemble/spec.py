@@ -84,6 +84,15 @@ def _check_seeds(seeds, shown) -> tuple[int, ...]:
 _OPTIONS = ("structure_factor", "bins", "checkpoint_interval", "snapshots")
 
 
+def _has_bool(values) -> bool:
+    """Whether ``values`` (a scalar or a sequence of numbers) holds a boolean, which NumPy
+    would take for 0 or 1."""
+    if isinstance(values, np.ndarray):
+        return values.dtype == bool
+    items = values if isinstance(values, (list, tuple)) else [values]
+    return any(isinstance(v, (bool, np.bool_)) for v in items)
+
+
 def _json_value(name: str, value):
     if isinstance(value, (bool, str)) or value is None:
         return value
@@ -179,9 +188,12 @@ class EnsembleSpec:
     Raises
     ------
     particles.InvalidArgumentError
-        For an unknown model or parameter, an empty or repeated list of values, missing
-        required parameters, bad seeds, engines of different times, bad times, unknown or bad
-        options, or any value an engine refuses when built (the argument is named).
+        For an unknown model or parameter, an empty or repeated list of values (also values
+        that build the same engine, such as 1 and 1.0), a boolean for a numeric parameter,
+        missing required parameters, bad seeds, engines of different times, bad times,
+        unknown or bad options (``structure_factor`` a bool, ``"all"`` or ``"last"``;
+        ``checkpoint_interval`` a number), or any value an engine refuses when built (the
+        argument is named).
     """
 
     model: str
@@ -196,11 +208,13 @@ class EnsembleSpec:
             raise InvalidArgumentError("params", self.params, "a mapping {name: value or list}")
         params = {}
         for name, value in self.params.items():
-            m.parameter(name)  # an unknown name is refused
+            kind = m.parameter(name).kind  # an unknown name is refused
             values = list(value) if isinstance(value, (list, tuple)) else [value]
             if not values:
                 raise InvalidArgumentError(name, value, "a non-empty list (the grid is empty)")
             values = [_json_value(name, v) for v in values]
+            if kind in ("int", "float") and any(isinstance(v, bool) for v in values):
+                raise InvalidArgumentError(name, value, "numbers, not booleans")
             if len({json.dumps(v) for v in values}) != len(values):
                 raise InvalidArgumentError(name, value, "distinct values")
             params[name] = tuple(values)
@@ -209,12 +223,22 @@ class EnsembleSpec:
             raise InvalidArgumentError("params", sorted(params), f"values for {missing}")
         object.__setattr__(self, "params", params)
         seeds = parse_seeds(self.seeds) if isinstance(self.seeds, str) else self.seeds
+        if isinstance(seeds, (bytes, bytearray, Mapping)):
+            raise InvalidArgumentError("seeds", self.seeds, "a list of integers or a string")
         try:
             seeds = list(seeds)
         except TypeError:
             raise InvalidArgumentError("seeds", self.seeds, "a list of integers") from None
         object.__setattr__(self, "seeds", _check_seeds(seeds, self.seeds))
         engines = [m.build(values) for values in self.parameter_sets()]  # bad values fail here
+        seen = {}
+        for values, engine in zip(self.parameter_sets(), engines, strict=True):
+            ident = json.dumps(engine.to_dict(), sort_keys=True)
+            if ident in seen:  # e.g. 1 and 1.0, or 100 and 1e2: one engine, one set of tasks
+                raise InvalidArgumentError(
+                    "params", {k: list(v) for k, v in params.items()},
+                    f"values giving distinct engines ({seen[ident]} and {values} are the same)")
+            seen[ident] = values
         time_names = sorted({m.time_name(e) for e in engines})
         if len(time_names) != 1:
             raise InvalidArgumentError(
@@ -222,6 +246,8 @@ class EnsembleSpec:
                 f"parameter sets whose engines share one time (got {time_names})",
             )
         object.__setattr__(self, "_time_name", time_names[0])
+        if _has_bool(self.times):
+            raise InvalidArgumentError(time_names[0], self.times, "times, not booleans")
         times = check_times(self.times, time_names[0])
         object.__setattr__(self, "times", tuple(float(t) for t in times))
         if not isinstance(self.options, Mapping):
@@ -231,7 +257,7 @@ class EnsembleSpec:
         if unknown:
             raise InvalidArgumentError("options", unknown, f"options among {list(_OPTIONS)}")
         sf = options.get("structure_factor", False)
-        if sf not in (False, True, "all", "last"):
+        if not (isinstance(sf, bool) or (isinstance(sf, str) and sf in ("all", "last"))):
             raise InvalidArgumentError("structure_factor", sf, "False, True, 'all' or 'last'")
         options["structure_factor"] = {True: True, "all": True}.get(sf, sf)
         bins = options.get("bins")
@@ -241,9 +267,10 @@ class EnsembleSpec:
         if not isinstance(snaps, bool):
             raise InvalidArgumentError("snapshots", snaps, "True or False")
         options["snapshots"] = snaps
-        options["checkpoint_interval"] = check_nonnegative(
-            options.get("checkpoint_interval", 60.0), "checkpoint_interval"
-        )
+        interval = options.get("checkpoint_interval", 60.0)
+        if isinstance(interval, (bool, np.bool_)):
+            raise InvalidArgumentError("checkpoint_interval", interval, "a number of seconds")
+        options["checkpoint_interval"] = check_nonnegative(interval, "checkpoint_interval")
         object.__setattr__(self, "options", options)
         self.expand()  # builds every engine: bad values fail here
 

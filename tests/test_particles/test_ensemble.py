@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -122,6 +123,19 @@ def test_expand_is_the_product_of_swept_parameters_and_seeds():
         ({"seeds": [2**64]}, "seeds"),
         ({"times": (4.0, 2.0)}, "tau"),
         ({"options": {"frobnicate": True}}, "options"),  # snapshots is an option now
+        # booleans taken for numbers, values that build one engine twice, bytes as seeds,
+        # non-finite histogram edges
+        ({"options": {"structure_factor": 1}}, "structure_factor"),
+        ({"options": {"structure_factor": 0}}, "structure_factor"),
+        ({"options": {"structure_factor": np.True_}}, "structure_factor"),
+        ({"options": {"checkpoint_interval": True}}, "checkpoint_interval"),
+        ({"options": {"bins": [0.0, 1.0, np.nan]}}, "bins"),
+        ({"params": {"n": N, "restitution": True}}, "restitution"),
+        ({"params": {"n": N, "restitution": [0.5, True]}}, "restitution"),
+        ({"params": {"n": N, "restitution": [1, 1.0]}}, "params"),
+        ({"params": {"n": [N, 1e3], "restitution": 0.5}}, "params"),
+        ({"seeds": b"1"}, "seeds"),
+        ({"times": [True, 2.0]}, "tau"),
     ],
 )
 def test_bad_spec_fails_before_any_work(tmp_path, kwargs, name):
@@ -299,6 +313,73 @@ def test_folder_of_another_format_version_is_refused(tmp_path):
     assert sorted(out.iterdir()) == listing
 
 
+def _listing(folder):
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir())}
+
+
+def test_a_folder_of_other_files_is_refused_and_kept(tmp_path):
+    # the user's own ensemble.npz (and nothing else) in a folder without a manifest
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / ensemble.AGGREGATE).write_bytes(b"my own results")
+    with pytest.raises(InvalidArgumentError) as err:
+        run_ensemble(_spec(), out, executor="serial", progress=False)
+    assert err.value.name == "out" and str(out) in str(err.value)
+    assert "no manifest.npz" in str(err.value) and "'ensemble.npz'" in str(err.value)
+    assert _listing(out) == {ensemble.AGGREGATE: b"my own results"}
+
+
+def test_another_ensemble_in_the_folder_is_refused_and_the_same_one_resumes(tmp_path):
+    spec = _spec(seeds="1-2")
+    first = run_ensemble(spec, tmp_path, executor="serial", progress=False)
+    before = _listing(tmp_path)
+    assert len(first.ran) == 4
+    others = {"times": _spec(seeds="1-2", times=(4.0, 8.0)),
+              "model": _spec(seeds="1-2", model="lattice"),
+              "grid": _spec(seeds="1-2", params={"n": N, "restitution": [0.5, 0.7]}),
+              "options": _spec(seeds="1-2", options={"structure_factor": "last"}),
+              "fewer seeds": _spec(seeds="1")}
+    for what, other in others.items():
+        with pytest.raises(InvalidArgumentError) as err:
+            run_ensemble(other, tmp_path, executor="serial", progress=False)
+        assert err.value.name == "out" and str(tmp_path) in str(err.value), what
+        assert _listing(tmp_path) == before, what  # nothing written, nothing replaced
+    assert "seeds" in str(err.value)  # the last: why the fewer seeds are refused
+    # the same spec resumes (a checkpoint interval changes no result: the same ensemble) ...
+    again = run_ensemble(_spec(seeds="1-2", options={"checkpoint_interval": 5}), tmp_path,
+                         executor="serial", progress=False)
+    assert len(again.ran) == 0 and len(again.skipped) == 4
+    after = _listing(tmp_path)  # the aggregate is written again (its spec has the interval)
+    assert {k: v for k, v in after.items() if k != ensemble.AGGREGATE} == {
+        k: v for k, v in before.items() if k != ensemble.AGGREGATE}
+    # ... also with the swept values in another order (the same grid) ...
+    again = run_ensemble(_spec(seeds="2,1", params={"n": N, "restitution": [0.9, 0.5]}),
+                         tmp_path, executor="serial", progress=False)
+    assert len(again.ran) == 0 and len(again.skipped) == 4
+    # ... and more seeds run only the new ones
+    more = run_ensemble(_spec(seeds="1-3"), tmp_path, executor="serial", progress=False)
+    assert len(more.ran) == 2 and len(more.skipped) == 4
+
+
+def test_a_manifest_of_an_earlier_release_is_judged_by_its_task_files(tmp_path):
+    # a manifest without the ensemble it belongs to: adopted when every task file is this
+    # spec's, refused otherwise
+    spec = _spec(seeds="1")
+    run_ensemble(spec, tmp_path, executor="serial", progress=False)
+    persistence.save(tmp_path / ensemble.MANIFEST, "ensemble-manifest",
+                     ensemble.FORMAT_VERSION, {}, {"writer": "particles.ensemble"})
+    before = _listing(tmp_path)
+    with pytest.raises(InvalidArgumentError) as err:
+        run_ensemble(_spec(seeds="2"), tmp_path, executor="serial", progress=False)
+    assert err.value.name == "out" and "task files of another ensemble" in str(err.value)
+    assert _listing(tmp_path) == before
+    again = run_ensemble(_spec(seeds="1-2"), tmp_path, executor="serial", progress=False)
+    assert len(again.ran) == 2 and len(again.skipped) == 2
+    with pytest.raises(InvalidArgumentError):  # the manifest now names its ensemble
+        run_ensemble(_spec(seeds="1-2", times=(4.0,)), tmp_path, executor="serial",
+                     progress=False)
+
+
 def test_bad_executor_arguments_write_nothing(tmp_path):
     out = tmp_path / "out"
     for kwargs, name in (({"workers": 0}, "workers"),
@@ -308,6 +389,14 @@ def test_bad_executor_arguments_write_nothing(tmp_path):
                          ({"executor": "threads"}, "executor")):
         with pytest.raises(InvalidArgumentError) as err:
             run_ensemble(_spec(), out, progress=False, **kwargs)
+        assert err.value.name == name
+    for kwargs, name in (({"force": "no", "workers": 2}, "force"),
+                         ({"shared": 1}, "shared"),
+                         ({"progress": "no"}, "progress"),
+                         ({"scheduler": ""}, "scheduler"), ({"scheduler": 5}, "scheduler"),
+                         ({"cluster": "slurm", "config": 5}, "config")):
+        with pytest.raises(InvalidArgumentError) as err:
+            run_ensemble(_spec(), out, **{"progress": False, **kwargs})
         assert err.value.name == name
     assert not out.exists()
 
@@ -389,8 +478,12 @@ def test_killed_worker_task_is_rerun_and_aggregate_equals_serial(tmp_path):
                  seeds="1-2", options={"checkpoint_interval": 0})
     report = run_ensemble(spec, tmp_path / "dask", workers=2, progress=False)
     assert marker.exists()  # a worker did die
-    assert report.ok and len(report.ran) == 4
-    assert len(report.resumed) == 1  # the killed task continued from its checkpoint
+    assert report.ok and sorted(report.ran) == sorted(t.key for t in spec.expand())
+    # the killed worker's task(s) continued from their checkpoints: at least one (more when the
+    # dying worker held more), each a task of the spec, in the aggregate once
+    assert len(report.resumed) >= 1 and set(report.resumed) <= set(report.ran)
+    assert [s["n_seeds"] for s in report.aggregate["sets"]] == [2, 2]
+    assert [s["seeds"] for s in report.aggregate["sets"]] == [[1, 2], [1, 2]]
     reference = _spec(params={"n": N, "restitution": [0.5, 0.9]}, seeds="1-2")
     serial = run_ensemble(reference, tmp_path / "serial", executor="serial", progress=False)
     _assert_same_arrays(_arrays(serial.aggregate_path), _arrays(report.aggregate_path))
@@ -449,3 +542,59 @@ def test_import_particles_does_not_import_distributed(fresh_interpreter_code):
         "{'distributed', 'dask_jobqueue', 'maxwell_kinetics'}))"
     )
     assert out.strip() == "[]"
+
+
+def test_a_batch_cluster_without_dask_jobqueue_is_one_clear_line(capsys, tmp_path, monkeypatch):
+    # dask-jobqueue is an optional extra: without it, --cluster is refused before any work,
+    # naming what to install (the import made to fail in this process)
+    from maxwell_kinetics.cli import main
+
+    monkeypatch.setitem(sys.modules, "dask_jobqueue", None)
+    config = tmp_path / "c.toml"
+    config.write_text('cores = 2\nmemory = "2GB"\n')
+    for kind in ("slurm", "pbs"):
+        out = tmp_path / f"out-{kind}"
+        code = main(["ensemble", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1",
+                     "--seeds", "1", "--cluster", kind, "--config", str(config),
+                     "--out", str(out), "--no-progress"])
+        captured = capsys.readouterr()
+        assert code == 2 and captured.out == "" and not out.exists()
+        lines = captured.err.strip().splitlines()
+        assert len(lines) == 1 and "Traceback" not in captured.err
+        assert "pip install 'maxwell-kinetics[cluster]'" in lines[0]
+        assert f"cluster='{kind}'" in lines[0]
+    with pytest.raises(InvalidArgumentError) as err:
+        ensemble.cluster_job_script("slurm", config)
+    assert err.value.name == "cluster"
+
+
+def test_a_batch_cluster_without_config_is_named(tmp_path):
+    with pytest.raises(InvalidArgumentError) as err:
+        run_ensemble(_spec(), tmp_path / "out", cluster="slurm", progress=False)
+    assert err.value.name == "config" and "TOML" in str(err.value)
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_dangling_manifest_is_named_as_such(tmp_path):
+    (tmp_path / ensemble.MANIFEST).symlink_to(tmp_path / "nowhere")
+    with pytest.raises(InvalidArgumentError) as err:
+        run_ensemble(_spec(), tmp_path, executor="serial", progress=False)
+    assert err.value.name == "out" and "manifest.npz: no such file" in str(err.value)
+    assert [p.name for p in tmp_path.iterdir()] == [ensemble.MANIFEST]
+
+
+def test_a_shared_folder_holds_many_ensembles_and_is_no_ensembles_own(tmp_path):
+    # the comparisons' runs (reproduce --workers) put the tasks of many ensembles in one folder
+    one, other = _spec(seeds="1"), _spec(seeds="1", model="lattice", times=(4.0,))
+    for spec in (one, other, one):
+        run_ensemble(spec, tmp_path / "runs", executor="serial", progress=False, shared=True)
+    names = {p.name for p in (tmp_path / "runs").glob("task-*.npz")}
+    assert names == {t.filename for t in one.expand() + other.expand()}
+    # ... but neither may adopt it as its own, nor a shared run an ensemble's own folder
+    with pytest.raises(InvalidArgumentError) as err:
+        run_ensemble(one, tmp_path / "runs", executor="serial", progress=False)
+    assert err.value.name == "out" and "share" in str(err.value)
+    run_ensemble(one, tmp_path / "own", executor="serial", progress=False)
+    with pytest.raises(InvalidArgumentError) as err:
+        run_ensemble(one, tmp_path / "own", executor="serial", progress=False, shared=True)
+    assert err.value.name == "out"

@@ -78,3 +78,32 @@ def test_an_unreachable_scheduler_fails_within_the_timeout(capsys, tmp_path, mon
                              "--out", str(tmp_path / "e")])
     assert "scheduler=" in err and time.monotonic() - start < 20
     assert not (tmp_path / "e").exists()
+
+
+def test_out_folder_of_user_files_or_another_ensemble_exits_2_and_is_kept(capsys, tmp_path):
+    base = ["ensemble", "ulam", "--n", "300", "--restitution", "0.5", "--seeds", "1",
+            "--serial", "--no-progress", "--out"]
+    mine = tmp_path / "mine"
+    mine.mkdir()
+    (mine / "ensemble.npz").write_bytes(b"my own aggregate")
+    err = run_error(capsys, [*base, str(mine), "--tau", "1"])
+    assert f"out='{mine}'" in err and "no manifest.npz" in err and len(err.splitlines()) == 1
+    assert [p.name for p in mine.iterdir()] == ["ensemble.npz"]
+    assert (mine / "ensemble.npz").read_bytes() == b"my own aggregate"
+    ens = tmp_path / "ens"
+    assert main([*base, str(ens), "--tau", "1"]) == 0
+    capsys.readouterr()
+    before = {p.name: p.read_bytes() for p in ens.iterdir()}
+    err = run_error(capsys, [*base, str(ens), "--tau", "1,2"])  # other times
+    assert f"out='{ens}'" in err and "another" in err
+    assert {p.name: p.read_bytes() for p in ens.iterdir()} == before
+
+
+def test_force_without_workers_exits_2(capsys, tmp_path):
+    # --force only lifts the bound on --workers: alone (or with --serial) it would mean nothing
+    for where in ([], ["--serial"]):
+        out = tmp_path / f"e{len(where)}"
+        err = run_error(capsys, ["ensemble", "ulam", "--n", "300", "--restitution", "0.5",
+                                 "--tau", "1", "--seeds", "1", "--force", *where,
+                                 "--out", str(out)])
+        assert "force=" in err and "workers" in err and not out.exists()

@@ -101,3 +101,29 @@ def test_bad_chunk_options_exit_2_and_write_nothing(capsys, tmp_path, extra, nam
     err = run_error(capsys, argv)
     assert name in err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "extra, named",
+    [
+        (["--workers", "2"], "workers="),  # without --chunks the workers would run nothing
+        (["--scheduler", "tcp://127.0.0.1:9"], "scheduler="),
+        (["--chunks", "1", "--workers", "2"], "workers="),  # K = 1 runs here, not on workers
+        (["--chunks", "1", "--scheduler", "tcp://127.0.0.1:9"], "scheduler="),
+        (["--chunks", "2", "--scheduler", ""], "scheduler="),
+        (["--chunks", "2", "--scheduler", "tcp://a b"], "scheduler="),
+    ],
+)
+def test_dask_options_that_would_do_nothing_exit_2(capsys, extra, named):
+    err = run_error(capsys, BASE + ["--t", "1"] + extra)
+    assert named in err and ("--chunks" in err or "address" in err)
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_chunks_report_progress_when_asked(capsys):
+    from maxwell_kinetics.cli import main
+
+    assert main(BASE + ["--t", "1,2,3", "--chunks", "2", "--progress"]) == 0
+    assert "sticky chunks" in capsys.readouterr().err
+    assert main(BASE + ["--t", "1,2,3", "--chunks", "2", "--no-progress"]) == 0
+    assert capsys.readouterr().err == ""
