@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 
 from .. import observables as obs
-from .result import CheckpointError, read_file, write_file
+from .. import persistence
+from .result import FORMAT_VERSION, CheckpointError, read_file
 
 
 class Records:
@@ -127,13 +128,13 @@ def save_checkpoint(path, identity, state, rng_state, records: Records) -> None:
     arrays = {"state." + k: np.asarray(v) for k, v in state.to_arrays().items()}
     arrays.update(records.arrays())
     meta = {
-        "kind": "checkpoint",
         "run": identity,
         "rng": rng_state,
         "done": records.done,
         "seconds": records.seconds,
     }
-    write_file(path, arrays, meta)
+    # errors name the argument ``checkpoint`` (a full disk: persistence.WriteError)
+    persistence.save(path, "checkpoint", FORMAT_VERSION, arrays, meta, argument="checkpoint")
 
 
 def load_checkpoint(path, engine, identity, records: Records):
@@ -263,10 +264,22 @@ def _inconsistency(engine, times: list[float], state, records: Records) -> str |
 
 class CheckpointLock:
     """An exclusive ``flock`` on ``<checkpoint>.lock`` while a run writes ``checkpoint`` (the
-    kernel drops it when the process dies, so a killed run leaves no stale lock)."""
+    kernel drops it when the process dies, so a killed run leaves no stale lock).
+
+    The lock file lies beside the file the checkpoint is written to (a symlink is followed, so
+    two runs given two links to one file share one lock).  Where ``<name>.lock`` would pass the
+    file system's limit on names (a legal name of 251 to 255 bytes), the lock is the short
+    ``.<hash of name>.lock`` instead (:func:`particles.persistence.sibling_name`).  A lock that
+    cannot be created (no permission, a disk full of inodes) raises
+    :class:`particles.persistence.WriteError` naming ``checkpoint`` before the run starts.
+    """
 
     def __init__(self, checkpoint):
-        self.path = None if checkpoint is None else Path(str(checkpoint) + ".lock")
+        self.path = None
+        if checkpoint is not None:
+            target = Path(os.path.realpath(checkpoint))
+            self.path = target.parent / persistence.sibling_name(target, ".lock")
+        self.checkpoint = checkpoint
         self.fd = None
 
     def __enter__(self):
@@ -274,15 +287,17 @@ class CheckpointLock:
             return self
         import fcntl
 
-        self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+        try:
+            self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o666)
+        except OSError as exc:
+            raise persistence.WriteError(self.path, exc, "checkpoint") from None
         try:
             fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             os.close(self.fd)
             self.fd = None
             raise CheckpointError(
-                self.path.with_suffix(""), "another run is writing this checkpoint now",
-                "checkpoint",
+                self.checkpoint, "another run is writing this checkpoint now", "checkpoint",
             ) from None
         return self
 
