@@ -124,9 +124,8 @@ def check_output_dir(path, name: str) -> Path:
     particles.validation.InvalidArgumentError
         Naming the argument, for a folder that cannot be used or created.
     """
-    out = _check_output_dir(path, name)
-    persistence.check_name_length(out, name)
-    return out
+    persistence.check_name_length(path, name)  # first: a name too long fails os.stat
+    return _check_output_dir(path, name)
 
 
 def _same_file(a: Path, b: Path) -> bool:
