@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
@@ -128,6 +129,15 @@ def check_output_dir(path, name: str) -> Path:
     return _check_output_dir(path, name)
 
 
+def _file_path(path, name: str) -> Path:
+    """A path for a file: names the file system takes, and no trailing ``/`` (which names a
+    folder; ``Path`` would drop it and write a file of the folder's name)."""
+    out = persistence.check_name_length(path, name)
+    if os.fspath(path).endswith(os.sep):
+        raise InvalidArgumentError(name, str(path), "a file path, not a folder (it ends in '/')")
+    return out
+
+
 def _same_file(a: Path, b: Path) -> bool:
     """True when ``a`` and ``b`` name one file once symlinks are resolved.  (Two hard links of
     one file are two names: a write renames a new file onto one of them and leaves the other.)"""
@@ -137,8 +147,8 @@ def _same_file(a: Path, b: Path) -> bool:
 def check_outputs(*, inputs: dict | None = None, images: dict | None = None, **files) -> dict:
     """Check every output path before any work: each is a file in an existing, writable folder
     (``images``: also a format matplotlib can write), with names the file system takes (at
-    most ``NAME_MAX`` bytes a name), and no two outputs, nor an output and an input
-    (``inputs``, e.g. ``resume``), name the same file (through a symlink too);
+    most ``NAME_MAX`` bytes a name) and no trailing ``/``, and no two outputs, nor an output
+    and an input (``inputs``, e.g. ``resume``), name the same file (through a symlink too);
     ``None`` entries are skipped.  A checkpoint file may be the same file as the one resumed
     from.  The outputs' names are then given to :func:`particles.persistence.name_outputs`, so
     that a write that fails later (a full disk) names the user's option.
@@ -164,6 +174,10 @@ def check_outputs(*, inputs: dict | None = None, images: dict | None = None, **f
         supported, or a name is too long), two outputs name the same file, or an output would
         overwrite an input.
     """
+    given = {**(images or {}), **files}
+    for name, path in given.items():  # first: a name too long makes os.stat raise
+        if path is not None:
+            _file_path(path, name)
     outputs = {}
     for name, path in (images or {}).items():
         if path is not None:
@@ -171,8 +185,6 @@ def check_outputs(*, inputs: dict | None = None, images: dict | None = None, **f
     for name, path in files.items():
         if path is not None:
             outputs[name] = check_output_file(path, name)
-    for name, path in outputs.items():
-        persistence.check_name_length(path, name)
     seen: list[tuple[str, Path]] = []
     for name, path in outputs.items():
         for other, known in seen:

@@ -290,7 +290,7 @@ def check_name_length(path, name: str) -> Path:
         path_max = int(os.pathconf("/", "PC_PATH_MAX"))
     except (OSError, ValueError):
         path_max = 4096
-    size = len(os.fsencode(os.path.abspath(path)))
+    size = len(os.fsencode(path))
     if size >= path_max:
         raise InvalidArgumentError(name, _shown(str(path)),
                                    f"a path of fewer than {path_max} bytes (it has {size})")
@@ -389,14 +389,18 @@ def write_atomic(path, write, name: str = "path") -> Path:
     Raises
     ------
     particles.InvalidArgumentError
-        (argument ``name``) for an invalid path or a target that is not a regular file.
+        (argument ``name``) for an invalid path (one ending in ``/`` too) or a target that is
+        not a regular file.
     WriteError
         (argument ``name``) when the file system refuses the write (disk full, name too long,
         no permission, ...): the temporary file is removed and an existing file at ``path`` is
         left as it was.
     """
+    given = path
     path = check_path(path, name)
     name = _argument(path, name)
+    if os.fspath(given).endswith(os.sep):  # a folder's path: Path would drop the "/"
+        raise InvalidArgumentError(name, str(given), "a file path, not a folder (it ends in '/')")
     target = output_target(path, name)
     directory = target.parent if str(target.parent) else Path(".")
     _clean_stale(target)

@@ -303,3 +303,51 @@ def test_write_error_of_the_library_names_the_file_and_keeps_the_old_one(tmp_pat
         persistence.write_atomic(target, fails, "save")
     assert info.value.exit_status == 3 and info.value.name == "save"
     assert target.read_text() == "old" and os.listdir(tmp_path) == ["x.txt"]
+
+
+# --------------------------------------------------------------------------- hostile paths
+
+
+@pytest.mark.parametrize(("argv", "option"), [
+    (SOLVE + ["--save"], "save"), (ULAM + ["--checkpoint"], "checkpoint"),
+    (ULAM + ["--save"], "save"),
+])
+def test_a_file_path_ending_in_a_slash_is_refused(capsys, tmp_path, argv, option):
+    """``--save new/`` names a folder: it used to write a file called ``new``."""
+    err = run_error(capsys, argv + [str(tmp_path / "new") + "/"])
+    assert f"argument {option}=" in err and "ends in '/'" in err, err
+    assert os.listdir(tmp_path) == []
+
+
+def test_a_path_longer_than_path_max_is_one_line(capsys, tmp_path):
+    """Short names, 4 KiB in all: exit 2 naming the option, not an OSError from os.stat."""
+    deep = tmp_path.joinpath(*["d" * 200] * 21) / "x.npz"
+    err = run_error(capsys, ULAM + ["--save", str(deep)])
+    assert "argument save=" in err and "bytes" in err, err
+
+
+def test_a_binary_cluster_config_is_one_line(tmp_path):
+    from particles.ensemble.cluster import load_cluster_config
+    from particles.validation import InvalidArgumentError
+
+    config = tmp_path / "c.toml"
+    config.write_bytes(b"\xff\xfe\x00binary")
+    with pytest.raises(InvalidArgumentError, match="config.*valid TOML") as err:
+        load_cluster_config(config, "slurm")
+    assert err.value.name == "config"
+
+
+def test_two_links_to_one_checkpoint_share_one_lock(tmp_path):
+    """A run given a symlink to the checkpoint another run writes is refused (the lock lies
+    beside the file written, not beside the link)."""
+    from particles.driver import CheckpointError, simulate
+    from particles.driver.checkpoint import CheckpointLock
+    from particles.ulam import Ulam
+
+    real = tmp_path / "real.ckpt"
+    link = tmp_path / "link.ckpt"
+    link.symlink_to(real)
+    with CheckpointLock(link):
+        with pytest.raises(CheckpointError, match="another run"):
+            simulate(Ulam(200, 0.5), [1.0], 3, progress=False, checkpoint=real)
+    assert sorted(os.listdir(tmp_path)) == ["link.ckpt"]
