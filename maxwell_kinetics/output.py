@@ -23,7 +23,7 @@ from particles.validation import (
 from particles.validation import check_output_dir as _check_output_dir
 
 __all__ = ["emit_json", "clean_json", "check_outputs", "check_image_path", "check_output_dir",
-           "check_files_in", "is_png", "progress_enabled"]
+           "check_files_in", "is_png", "read_json_file", "MAX_JSON_BYTES", "progress_enabled"]
 
 
 def clean_json(obj):
@@ -225,6 +225,43 @@ def is_png(path) -> str | None:
     except OSError as exc:
         return f"it cannot be read: {exc.strerror or exc}"
     return None if head == b"\x89PNG\r\n\x1a\n" else "it is not a PNG image"
+
+
+#: The largest JSON file of ours that is read back (a summary is a few hundred kB).
+MAX_JSON_BYTES = 64 * 2**20
+
+
+def read_json_file(path):
+    """The JSON value in the file ``path`` (at most :data:`MAX_JSON_BYTES`), read to tell
+    whether a file is one of ours.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An existing file.
+
+    Returns
+    -------
+    object
+        The decoded JSON value.
+
+    Raises
+    ------
+    ValueError
+        With the reason, if the file cannot be read, is larger than the cap or is not JSON
+        (UTF-8).
+    """
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_JSON_BYTES + 1)
+    except OSError as exc:
+        raise ValueError(f"it cannot be read: {exc.strerror or exc}") from None
+    if len(data) > MAX_JSON_BYTES:
+        raise ValueError(f"it is larger than {MAX_JSON_BYTES} bytes")
+    try:
+        return json.loads(data)
+    except ValueError as exc:  # JSONDecodeError, UnicodeDecodeError
+        raise ValueError(f"it is not valid JSON: {exc}") from None
 
 
 def check_files_in(folder, files: dict, name: str) -> dict:

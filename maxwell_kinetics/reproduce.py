@@ -24,7 +24,7 @@ from pathlib import Path
 from particles import persistence
 from particles.validation import InvalidArgumentError, check_workers
 
-from .output import check_files_in, check_output_dir, clean_json, is_png
+from .output import check_files_in, check_output_dir, clean_json, is_png, read_json_file
 
 __all__ = ["prepare_output", "plan_outputs", "read_summary", "run_all", "SUMMARY"]
 
@@ -111,11 +111,9 @@ def read_summary(path, argument: str = "out") -> dict | None:
         )
 
     try:
-        summary = json.loads(path.read_bytes())
-    except OSError as exc:
-        raise refuse(f"it cannot be read: {exc.strerror or exc}") from None
-    except ValueError as exc:  # JSONDecodeError, UnicodeDecodeError
-        raise refuse(f"it is not valid JSON: {exc}") from None
+        summary = read_json_file(path)
+    except ValueError as exc:
+        raise refuse(str(exc)) from None
     if not isinstance(summary, dict):
         raise refuse(f"it holds a JSON {type(summary).__name__}, not an object")
     if summary.get("size") not in _SIZES:

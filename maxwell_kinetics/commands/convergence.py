@@ -22,7 +22,14 @@ from particles.validation import (
 
 from .. import compile_cache
 from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
-from ..output import check_files_in, check_output_dir, emit_json, is_png, progress_enabled
+from ..output import (
+    check_files_in,
+    check_output_dir,
+    emit_json,
+    is_png,
+    progress_enabled,
+    read_json_file,
+)
 
 #: The files the command writes into ``--out``.
 JSON_NAME, FIGURE_NAME = "convergence.json", "convergence.png"
@@ -81,11 +88,9 @@ def run(args) -> int:
 def _is_convergence_json(path) -> str | None:
     """Why ``path`` is not a ``convergence.json`` of this command (``None`` if it is one)."""
     try:
-        summary = json.loads(Path(path).read_bytes())
-    except OSError as exc:
-        return f"it cannot be read: {exc.strerror or exc}"
+        summary = read_json_file(path)
     except ValueError as exc:
-        return f"it is not valid JSON: {exc}"
+        return str(exc)
     if not (isinstance(summary, dict) and {"runs", "table", "order_fit"} <= set(summary)):
         return "it is not a JSON object with 'runs', 'table' and 'order_fit'"
     return None

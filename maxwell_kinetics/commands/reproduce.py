@@ -108,7 +108,8 @@ def run(args) -> int:
         emit_json({"out": str(out), "size": size, "seconds": summary["seconds"],
                    "comparisons": sorted(names), "in_summary": sorted(summary["comparisons"])})
     else:
-        print(f"wrote {len(names)} figures and {out}/summary.json (holding "
-              f"{len(summary['comparisons'])} comparisons at size {size}) "
-              f"in {summary['seconds']:.0f} s")
+        held = len(summary["comparisons"])
+        print(f"wrote {len(names)} comparison{'s' * (len(names) != 1)} (figure and .npz) and "
+              f"{out}/summary.json, which holds {held} comparison{'s' * (held != 1)} at size "
+              f"{size}, in {summary['seconds']:.0f} s")
     return 0

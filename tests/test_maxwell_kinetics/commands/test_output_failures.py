@@ -351,3 +351,17 @@ def test_two_links_to_one_checkpoint_share_one_lock(tmp_path):
         with pytest.raises(CheckpointError, match="another run"):
             simulate(Ulam(200, 0.5), [1.0], 3, progress=False, checkpoint=real)
     assert sorted(os.listdir(tmp_path)) == ["link.ckpt"]
+
+
+def test_a_huge_summary_is_refused_without_being_read_whole(capsys, tmp_path, monkeypatch):
+    """A summary.json past the cap (made small here) is refused, not loaded into memory."""
+    from maxwell_kinetics import output
+
+    _no_work(monkeypatch)
+    monkeypatch.setattr(output, "MAX_JSON_BYTES", 40)
+    content = _summary()
+    assert len(content) > 40
+    (tmp_path / "summary.json").write_bytes(content)
+    err = run_error(capsys, REPRODUCE + ["--out", str(tmp_path)])
+    assert "summary.json" in err and "larger than 40 bytes" in err, err
+    assert (tmp_path / "summary.json").read_bytes() == content
