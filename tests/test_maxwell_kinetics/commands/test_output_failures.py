@@ -365,3 +365,21 @@ def test_a_huge_summary_is_refused_without_being_read_whole(capsys, tmp_path, mo
     err = run_error(capsys, REPRODUCE + ["--out", str(tmp_path)])
     assert "summary.json" in err and "larger than 40 bytes" in err, err
     assert (tmp_path / "summary.json").read_bytes() == content
+
+
+ENSEMBLE = ["ensemble", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1", "--seeds",
+            "1", "--serial", "--json", "--no-progress"]
+
+
+def test_ensemble_on_a_full_disk_names_out(capsys, full_disk):
+    folder, fill = full_disk
+    fill()
+    err = run_error(capsys, ENSEMBLE + ["--out", str(folder / "ens")], status=3)
+    assert err.count("\n") == 1 and "argument out=" in err and "No space left" in err, err
+    assert not [p for p in folder.rglob("*") if p.name.endswith(".tmp")]
+
+
+def test_ensemble_folder_name_too_long_is_one_line(capsys, tmp_path):
+    err = run_error(capsys, ENSEMBLE + ["--out", str(tmp_path / ("e" * 256))])
+    assert "argument out=" in err and "at most 255 bytes" in err, err
+    assert os.listdir(tmp_path) == []
