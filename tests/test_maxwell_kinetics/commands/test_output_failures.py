@@ -383,3 +383,42 @@ def test_ensemble_folder_name_too_long_is_one_line(capsys, tmp_path):
     err = run_error(capsys, ENSEMBLE + ["--out", str(tmp_path / ("e" * 256))])
     assert "argument out=" in err and "at most 255 bytes" in err, err
     assert os.listdir(tmp_path) == []
+
+
+def test_a_summary_of_another_size_is_replaced_when_every_entry_is_run_again(capsys, tmp_path):
+    """No mixing of sizes can happen when the run replaces every entry the summary holds."""
+    (tmp_path / "summary.json").write_bytes(_summary(size="full", names=("tail_exponents",)))
+    run_json(capsys, REPRODUCE + ["--out", str(tmp_path)])
+    new = json.loads((tmp_path / "summary.json").read_text())
+    assert new["size"] == "small" and list(new["comparisons"]) == ["tail_exponents"]
+    assert new["comparisons"]["tail_exponents"] != {"x": 1.5}
+
+
+def test_an_interrupted_reproduce_keeps_the_finished_comparisons(capsys, tmp_path, monkeypatch):
+    """summary.json is rewritten after each comparison: a Ctrl-C in the second keeps the
+    numbers of the first."""
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setitem(comparisons.COMPARISONS, "driven_steady", interrupted)
+    run_error(capsys, ["reproduce", "--small", "--only", "tail_exponents,driven_steady",
+                       "--no-progress", "--out", str(tmp_path)], status=130)
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert list(summary["comparisons"]) == ["tail_exponents"]
+    assert sorted(os.listdir(tmp_path)) == ["summary.json", "tail_exponents.npz",
+                                            "tail_exponents.png"]
+
+
+def test_a_library_write_reports_the_users_option(tmp_path):
+    """A save deep in the library (argument ``path``) names the option the path came from."""
+    target = tmp_path / "x.npz"
+    persistence.name_outputs({target: "save"})
+    try:
+        def fails(fh):
+            raise OSError(errno.EIO, os.strerror(errno.EIO))
+
+        with pytest.raises(persistence.WriteError, match="argument save=") as info:
+            persistence.write_atomic(target, fails)
+        assert info.value.exit_status == 3
+    finally:
+        persistence.name_outputs({})
