@@ -100,7 +100,7 @@ class FileFormatError(InvalidArgumentError):
 
 class WriteError(InvalidArgumentError):
     """An output file that could not be written: names the file, the argument that gave it
-    and the reason (``No space left on device``, ...); nothing was replaced.
+    and the reason (``No space left on device``, ...); the file was left as it was (or absent).
 
     A subclass of :class:`particles.validation.InvalidArgumentError`, so a caller that catches
     bad arguments catches it too; ``exit_status`` is the command line's exit status: 3 when the
@@ -128,8 +128,8 @@ class WriteError(InvalidArgumentError):
         self.exit_status = 3 if error.errno in self.FAILED_WRITE else 2
         super().__init__(argument, self.path, "a file that can be written")
         self.args = (
-            f"argument {argument}={_shown(self.path)!r}: cannot write the file: {reason}; "
-            "nothing was replaced",
+            f"argument {argument}={_shown(self.path)!r}: cannot write the file: {reason} "
+            "(it is left as it was)",
         )
 
     def __str__(self) -> str:

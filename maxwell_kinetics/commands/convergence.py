@@ -128,6 +128,18 @@ def write_results(runs, out_dir) -> dict:
     after :func:`plan_outputs` checked both files); return the summary
     (:func:`maxwell_kinetics.convergence.summarize`).
 
+    Parameters
+    ----------
+    runs : list of maxwell_kinetics.convergence.ConvergenceRun
+        The runs of the study.
+    out_dir : str or os.PathLike
+        The output folder.
+
+    Returns
+    -------
+    dict
+        The summary written to ``convergence.json``.
+
     Raises
     ------
     particles.validation.InvalidArgumentError
