@@ -200,6 +200,26 @@ def _merged(existing: dict | None, size: str, done: dict, order) -> dict:
     return {**base, "size": size, "comparisons": ordered}
 
 
+def _write_summary(out: Path, size: str, done: dict, order, seconds: float) -> dict:
+    """Merge ``done`` into the ``summary.json`` of ``out`` as it is now and write it, under an
+    ``flock`` on the folder: two runs of other comparisons into one folder at once (``--only a``
+    and ``--only b`` in two terminals) both keep their entries.  Returns what was written."""
+    import fcntl
+    import os
+
+    fd = os.open(out, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)  # released when fd is closed
+        summary = _merged(read_summary(out / SUMMARY), size, done, order)
+        summary["seconds"] = seconds
+        summary = clean_json(summary)
+        persistence.write_text(out / SUMMARY, json.dumps(summary, indent=1, allow_nan=False),
+                               "out")
+    finally:
+        os.close(fd)
+    return summary
+
+
 def run_all(out="results", size="default", only=None, progress=True, workers=None,
             force: bool = False) -> dict:
     """Run the comparisons (``only``: a list of names); write ``<name>.png``, ``<name>.npz``
@@ -208,8 +228,9 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
 
     Every output is checked before the first comparison runs (:func:`plan_outputs`: nothing is
     written, not even the folder, when one is refused).  ``summary.json`` is merged: the
-    entries of the comparisons run replace theirs and the others stay; it is rewritten after
-    each comparison (a run stopped half-way keeps the finished ones).
+    entries of the comparisons run replace theirs and the others stay; it is read again and
+    rewritten after each comparison, under a lock on the folder (a run stopped half-way keeps
+    the finished ones, and two runs of other comparisons into one folder at once keep both).
 
     With ``workers`` (an integer), or at ``size="full"``, the particle runs of fixed times go
     through the ensemble engine on dask (``workers`` processes; default one per core), one task
@@ -279,10 +300,7 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
             plt.close(fig)
         result.save(out / f"{name}.npz")
         done[name] = clean_json(result.summary)
-        summary = _merged(existing, size, done, COMPARISONS)
-        summary["seconds"] = time.perf_counter() - start
-        persistence.write_text(out / SUMMARY,
-                               json.dumps(clean_json(summary), indent=1, allow_nan=False), "out")
+        summary = _write_summary(out, size, done, COMPARISONS, time.perf_counter() - start)
         if progress:
             seconds = result.summary.get("seconds", 0)
             seconds = seconds if isinstance(seconds, (int, float)) and math.isfinite(seconds) \

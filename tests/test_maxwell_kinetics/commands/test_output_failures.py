@@ -422,3 +422,20 @@ def test_a_library_write_reports_the_users_option(tmp_path):
         assert info.value.exit_status == 3
     finally:
         persistence.name_outputs({})
+
+
+def test_two_runs_into_one_folder_at_once_keep_both_entries(capsys, tmp_path, monkeypatch):
+    """Another run (``--only driven_steady``) writes summary.json while this one computes:
+    the entry it wrote survives this run's write (the summary is read again under a lock)."""
+    real = comparisons.COMPARISONS["tail_exponents"]
+
+    def meanwhile(*args, **kwargs):
+        result = real(*args, **kwargs)
+        (tmp_path / "summary.json").write_bytes(_summary(size="small"))  # the other run
+        return result
+
+    monkeypatch.setitem(comparisons.COMPARISONS, "tail_exponents", meanwhile)
+    run_json(capsys, REPRODUCE + ["--out", str(tmp_path)])
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["comparisons"]["driven_steady"] == {"x": 1.5}
+    assert "tail_exponents" in summary["comparisons"]
