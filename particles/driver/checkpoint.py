@@ -3,6 +3,7 @@ checkpoint with its consistency checks, and the lock that keeps two runs off one
 
 from __future__ import annotations
 
+import errno
 import json
 import math
 import os
@@ -12,6 +13,7 @@ import numpy as np
 
 from .. import observables as obs
 from .. import persistence
+from ..validation import InvalidArgumentError
 from .result import FORMAT_VERSION, CheckpointError, read_file
 
 
@@ -270,8 +272,9 @@ class CheckpointLock:
     two runs given two links to one file share one lock).  Where ``<name>.lock`` would pass the
     file system's limit on names (a legal name of 251 to 255 bytes), the lock is the short
     ``.<hash of name>.lock`` instead (:func:`particles.persistence.sibling_name`).  A lock that
-    cannot be created (no permission, a disk full of inodes) raises
-    :class:`particles.persistence.WriteError` naming ``checkpoint`` before the run starts.
+    cannot be created (a directory or a symlink in its place, no permission, a disk full of
+    inodes) raises :class:`particles.InvalidArgumentError` naming ``checkpoint`` and the lock
+    file, before the run starts.
     """
 
     def __init__(self, checkpoint):
@@ -287,10 +290,16 @@ class CheckpointLock:
             return self
         import fcntl
 
-        try:
+        try:  # never through a symlink: that would create a file wherever it points
             self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o666)
         except OSError as exc:
-            raise persistence.WriteError(self.path, exc, "checkpoint") from None
+            reason = exc.strerror or str(exc)
+            if exc.errno == errno.ELOOP:
+                reason = "it is a symlink"
+            raise InvalidArgumentError(
+                "checkpoint", str(self.checkpoint),
+                f"a checkpoint whose lock file {self.path} can be created ({reason})",
+            ) from None
         try:
             fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:

@@ -439,3 +439,13 @@ def test_two_runs_into_one_folder_at_once_keep_both_entries(capsys, tmp_path, mo
     summary = json.loads((tmp_path / "summary.json").read_text())
     assert summary["comparisons"]["driven_steady"] == {"x": 1.5}
     assert "tail_exponents" in summary["comparisons"]
+
+
+def test_a_lock_file_that_is_a_symlink_creates_nothing_elsewhere(capsys, tmp_path):
+    """``<checkpoint>.lock`` planted as a symlink: refused before the run, naming checkpoint and
+    the lock; the file it points to is not created (it used to be, and stayed behind)."""
+    victim = tmp_path / "victim"
+    (tmp_path / "run.ckpt.lock").symlink_to(victim)
+    err = run_error(capsys, ULAM + ["--checkpoint", str(tmp_path / "run.ckpt")])
+    assert "argument checkpoint=" in err and "run.ckpt.lock" in err and "symlink" in err, err
+    assert not victim.exists() and not (tmp_path / "run.ckpt").exists()
