@@ -147,8 +147,8 @@ def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> li
 
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (0 success, 2 bad input, 3 a failure of
-    the physics such as inelastic collapse, 130 interrupted, 141 when the reader of the output
-    went away, as in ``| head``: no traceback).
+    the physics such as inelastic collapse or of a write such as a full disk, 130 interrupted,
+    141 when the reader of the output went away, as in ``| head``: no traceback).
 
     Parameters
     ----------
@@ -166,9 +166,9 @@ def main(argv=None) -> int:
         args = parser.parse_args(join_negative_values(parser, argv))
         command = f"maxwell-kinetics {args.command}"
         return int(args.handler(args) or 0)
-    except InvalidArgumentError as exc:
+    except InvalidArgumentError as exc:  # a failed write (a full disk) carries exit status 3
         print(f"{command}: error: {exc}", file=sys.stderr)
-        return 2
+        return getattr(exc, "exit_status", 2)
     except KeyboardInterrupt:  # at any moment, start-up included: one line, no traceback
         print(f"{command}: interrupted", file=sys.stderr)
         return 130

@@ -9,13 +9,21 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 from pathlib import Path
 
-from particles.validation import InvalidArgumentError, check_output_dir, check_output_file
+from particles import persistence
+from particles.validation import (
+    InvalidArgumentError,
+    check_output_file,
+    file_kind,
+    output_target,
+)
+from particles.validation import check_output_dir as _check_output_dir
 
 __all__ = ["emit_json", "clean_json", "check_outputs", "check_image_path", "check_output_dir",
-           "progress_enabled"]
+           "check_files_in", "is_png", "read_json_file", "MAX_JSON_BYTES", "progress_enabled"]
 
 
 def clean_json(obj):
@@ -95,11 +103,55 @@ def check_image_path(path, name: str) -> Path:
     return out
 
 
+def check_output_dir(path, name: str) -> Path:
+    """An output folder: :func:`particles.validation.check_output_dir` (an existing writable
+    directory or one that can be created; nothing is created here), and names short enough for
+    the file system (:func:`particles.persistence.check_name_length`).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The folder.
+    name : str
+        The argument's name, for the error message.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path`` as a ``Path``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming the argument, for a folder that cannot be used or created.
+    """
+    persistence.check_name_length(path, name)  # first: a name too long fails os.stat
+    return _check_output_dir(path, name)
+
+
+def _file_path(path, name: str) -> Path:
+    """A path for a file: names the file system takes, and no trailing ``/`` (which names a
+    folder; ``Path`` would drop it and write a file of the folder's name)."""
+    out = persistence.check_name_length(path, name)
+    if os.fspath(path).endswith(os.sep):
+        raise InvalidArgumentError(name, str(path), "a file path, not a folder (it ends in '/')")
+    return out
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    """True when ``a`` and ``b`` name one file once symlinks are resolved.  (Two hard links of
+    one file are two names: a write renames a new file onto one of them and leaves the other.)"""
+    return a.resolve() == b.resolve()
+
+
 def check_outputs(*, inputs: dict | None = None, images: dict | None = None, **files) -> dict:
     """Check every output path before any work: each is a file in an existing, writable folder
-    (``images``: also a format matplotlib writes), and no two outputs, nor an output and an
-    input (``inputs``, e.g. ``resume``), name the same file; ``None`` entries are skipped.
-    A checkpoint file may be the same file as the one resumed from.
+    (``images``: also a format matplotlib can write), with names the file system takes (at
+    most ``NAME_MAX`` bytes a name) and no trailing ``/``, and no two outputs, nor an output
+    and an input (``inputs``, e.g. ``resume``), name the same file (through a symlink too);
+    ``None`` entries are skipped.  A checkpoint file may be the same file as the one resumed
+    from.  The outputs' names are then given to :func:`particles.persistence.name_outputs`, so
+    that a write that fails later (a full disk) names the user's option.
 
     Parameters
     ----------
@@ -119,8 +171,13 @@ def check_outputs(*, inputs: dict | None = None, images: dict | None = None, **f
     ------
     particles.validation.InvalidArgumentError
         Naming the argument, if an output path cannot be written (or an image's format is not
-        supported), two outputs name the same file, or an output would overwrite an input.
+        supported, or a name is too long), two outputs name the same file, or an output would
+        overwrite an input.
     """
+    given = {**(images or {}), **files}
+    for name, path in given.items():  # first: a name too long makes os.stat raise
+        if path is not None:
+            _file_path(path, name)
     outputs = {}
     for name, path in (images or {}).items():
         if path is not None:
@@ -128,25 +185,130 @@ def check_outputs(*, inputs: dict | None = None, images: dict | None = None, **f
     for name, path in files.items():
         if path is not None:
             outputs[name] = check_output_file(path, name)
-    seen: dict[Path, str] = {}
+    seen: list[tuple[str, Path]] = []
     for name, path in outputs.items():
-        key = path.resolve()
-        if key in seen:
-            raise InvalidArgumentError(
-                name, str(path), f"a different file from --{seen[key].replace('_', '-')}"
-            )
-        seen[key] = name
+        for other, known in seen:
+            if _same_file(path, known):
+                raise InvalidArgumentError(
+                    name, str(path), f"a different file from --{other.replace('_', '-')}"
+                )
+        seen.append((name, path))
     for name, path in (inputs or {}).items():
         if path is None:
             continue
-        key = Path(path).resolve()
-        clash = [o for o, p in seen.items() if p != "checkpoint" and o == key]
-        if clash:
-            raise InvalidArgumentError(
-                seen[clash[0]], str(outputs[seen[clash[0]]]),
-                f"a different file from --{name} (it would be overwritten)",
-            )
+        for other, known in seen:
+            if other != "checkpoint" and _same_file(Path(path), known):
+                raise InvalidArgumentError(
+                    other, str(known),
+                    f"a different file from --{name} (it would be overwritten)",
+                )
+    persistence.name_outputs({path: name for name, path in outputs.items()})
     return outputs
+
+
+def is_png(path) -> str | None:
+    """Why ``path`` is not a PNG image (``None`` when it starts with the PNG signature).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An existing file.
+
+    Returns
+    -------
+    str or None
+        The reason, or ``None``.
+    """
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(8)
+    except OSError as exc:
+        return f"it cannot be read: {exc.strerror or exc}"
+    return None if head == b"\x89PNG\r\n\x1a\n" else "it is not a PNG image"
+
+
+#: The largest JSON file of ours that is read back (a summary is a few hundred kB).
+MAX_JSON_BYTES = 64 * 2**20
+
+
+def read_json_file(path):
+    """The JSON value in the file ``path`` (at most :data:`MAX_JSON_BYTES`), read to tell
+    whether a file is one of ours.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An existing file.
+
+    Returns
+    -------
+    object
+        The decoded JSON value.
+
+    Raises
+    ------
+    ValueError
+        With the reason, if the file cannot be read, is larger than the cap or is not JSON
+        (UTF-8).
+    """
+    try:
+        with open(path, "rb") as fh:
+            data = fh.read(MAX_JSON_BYTES + 1)
+    except OSError as exc:
+        raise ValueError(f"it cannot be read: {exc.strerror or exc}") from None
+    if len(data) > MAX_JSON_BYTES:
+        raise ValueError(f"it is larger than {MAX_JSON_BYTES} bytes")
+    try:
+        return json.loads(data)
+    except ValueError as exc:  # JSONDecodeError, UnicodeDecodeError
+        raise ValueError(f"it is not valid JSON: {exc}") from None
+
+
+def check_files_in(folder, files: dict, name: str) -> dict:
+    """Check, before any work, the files a command writes into the output folder ``folder``
+    under names of its own choosing: each name fits the file system, nothing but a regular
+    file (or nothing) is at its place (:func:`particles.validation.output_target`), and a file
+    already there is one this program wrote, by the check given for it: a file the program did
+    not write is never replaced.
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        The output folder (it need not exist yet).
+    files : dict
+        ``{file name: check or None}``; ``check(path)`` returns the reason why an existing file
+        is not one of ours, or ``None``.
+    name : str
+        The folder's argument name, for the error message.
+
+    Returns
+    -------
+    dict
+        ``{file name: pathlib.Path}`` of the files in ``folder``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming the argument and the file, if one cannot be written or a file that is not ours
+        is in the way.
+    """
+    folder = Path(folder)
+    out = {}
+    for filename, check in files.items():
+        path = folder / filename
+        persistence.check_name_length(path, name)
+        target = output_target(path, name)
+        if check is not None and file_kind(target) == "regular file":
+            reason = check(target)
+            if reason:
+                raise InvalidArgumentError(
+                    name, str(path),
+                    f"a folder whose {filename} was written by maxwell-kinetics, which this "
+                    f"run replaces ({reason}; it is left as it is: move it or choose another "
+                    f"--{name})",
+                )
+        out[filename] = path
+    return out
 
 
 def progress_enabled(args) -> bool:

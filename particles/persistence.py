@@ -15,10 +15,15 @@ entry holding a JSON object with
 
 Writing goes to a temporary file in the same folder, then :func:`os.replace` renames it into
 place: a reader never sees half a file, and a writer killed half-way leaves only a
-``<name>.<random>.tmp`` that :func:`save` removes on a later write to the same path.  The rename
-happens only onto a regular file or onto nothing (:func:`write_atomic`): an output path that is
-a device (``/dev/null`` too), a FIFO, a socket or a directory is refused, and a symlink is
-followed, so its target is replaced and the link stays.
+``<name>.<random>.tmp`` (or, where that name would pass the file system's limit on the length
+of a name, ``.<hash of name>.<random>.tmp``: :func:`sibling_name`) that :func:`save` removes on
+a later write to the same path (a temporary file that another writer still holds is left
+alone).  A write that fails (disk full, a folder that became read-only, ...) removes its
+temporary file, leaves an existing file of that name as it was and raises :class:`WriteError`,
+one line naming the file and the reason.  The rename happens only onto a regular file or onto
+nothing (:func:`write_atomic`): an output path that is a device (``/dev/null`` too), a FIFO, a
+socket or a directory is refused, and a symlink is followed, so its target is replaced and the
+link stays.
 
 Reading treats the file as untrusted: only regular files are opened (a FIFO would block); every
 entry's ``.npy`` header (dtype and shape) is read and checked *before* its data is, so a zip
@@ -33,10 +38,13 @@ load as ``legacy``: they carry no hash.
 from __future__ import annotations
 
 import contextlib
+import errno
+import fcntl
 import glob
 import hashlib
 import json
 import os
+import re
 import stat
 import tempfile
 import zipfile
@@ -48,8 +56,9 @@ import numpy as np
 
 from .validation import InvalidArgumentError, check_path, file_kind, output_target
 
-__all__ = ["FileFormatError", "Loaded", "FORMAT_TAG", "save", "load", "digest", "write_atomic",
-           "write_text", "save_figure"]
+__all__ = ["FileFormatError", "WriteError", "Loaded", "FORMAT_TAG", "save", "load", "digest",
+           "write_atomic", "write_text", "save_figure", "read_meta", "sibling_name", "name_max",
+           "check_name_length", "name_outputs"]
 
 FORMAT_TAG = "maxwell-kinetics"
 META = "meta"
@@ -87,6 +96,49 @@ class FileFormatError(InvalidArgumentError):
         self.path = str(path)
         self.reason = reason
         super().__init__(argument, self.path, f"{expected} ({reason})")
+
+
+class WriteError(InvalidArgumentError):
+    """An output file that could not be written: names the file, the argument that gave it
+    and the reason (``No space left on device``, ...); the file was left as it was (or absent).
+
+    A subclass of :class:`particles.validation.InvalidArgumentError`, so a caller that catches
+    bad arguments catches it too; ``exit_status`` is the command line's exit status: 3 when the
+    file system failed the write (disk full, quota, I/O error: the work was done, the task
+    failed), 2 when the path itself is unusable (a name too long, no permission, a read-only
+    file system).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file (kept as ``str`` in the attribute ``path``).
+    error : OSError
+        The failure (its ``errno`` is kept in the attribute ``errno``).
+    argument : str, optional
+        The argument that gave the file (default ``"path"``).
+    """
+
+    #: errno values of a file system that fails a write of a valid path.
+    FAILED_WRITE = frozenset({errno.ENOSPC, errno.EDQUOT, errno.EIO, errno.EFBIG})
+
+    def __init__(self, path, error: OSError, argument: str = "path"):
+        self.path = str(path)
+        self.errno = error.errno
+        reason = error.strerror or str(error) or type(error).__name__
+        self.exit_status = 3 if error.errno in self.FAILED_WRITE else 2
+        super().__init__(argument, self.path, "a file that can be written")
+        self.args = (
+            f"argument {argument}={_shown(self.path)!r}: cannot write the file: {reason} "
+            "(it is left as it was)",
+        )
+
+    def __str__(self) -> str:
+        return self.args[0]
+
+
+def _shown(text: str, limit: int = 200) -> str:
+    """``text``, cut to ``limit`` characters with an ellipsis (for error messages)."""
+    return text if len(text) <= limit else text[:limit] + "..."
 
 
 @dataclass(frozen=True)
@@ -154,13 +206,157 @@ def digest(meta: dict, arrays: dict[str, np.ndarray], entries: dict | None = Non
 # --------------------------------------------------------------------------- writing
 
 
-def _clean_stale(path: Path) -> None:
-    """Remove temporary files a killed writer of ``path`` left behind (``<name>.*.tmp``)."""
-    for stale in glob.glob(glob.escape(str(path)) + ".*.tmp"):
+#: The user's names of the outputs of this command: {real path: argument}, set by
+#: :func:`name_outputs`; a write whose caller names no argument (``"path"``) reports this one.
+_ARGUMENT_OF: dict[str, str] = {}
+
+
+def name_outputs(names: dict) -> None:
+    """Say which argument gave each output path, so that an error of a write deep in the
+    library (:meth:`Solution.save`, :meth:`RunResult.save`, whose argument is ``path``) names
+    the user's option instead.  Replaces the names set before.
+
+    Parameters
+    ----------
+    names : dict
+        ``{path: argument name}``; paths are compared after resolving symlinks.
+    """
+    _ARGUMENT_OF.clear()
+    for path, argument in names.items():
+        _ARGUMENT_OF[os.path.realpath(path)] = str(argument)
+
+
+def _argument(target, name: str) -> str:
+    if name != "path":
+        return name
+    return _ARGUMENT_OF.get(os.path.realpath(target), name)
+
+
+def name_max(folder) -> int:
+    """The longest file name (bytes) the file system of ``folder`` takes (255 if unknown; the
+    nearest existing ancestor is asked when ``folder`` does not exist yet).
+
+    Parameters
+    ----------
+    folder : str or os.PathLike
+        A folder.
+
+    Returns
+    -------
+    int
+        ``NAME_MAX`` of that file system.
+    """
+    folder = Path(os.path.abspath(folder))
+    for candidate in (folder, *folder.parents):
         try:
-            os.unlink(stale)
-        except OSError:
-            pass
+            return int(os.pathconf(candidate, "PC_NAME_MAX"))
+        except (OSError, ValueError):
+            continue
+    return 255
+
+
+def check_name_length(path, name: str) -> Path:
+    """Refuse a path with a component longer than its file system takes (``NAME_MAX`` bytes,
+    255 on most) or longer than ``PATH_MAX`` in all, before any work (the write would fail
+    with "File name too long" after it).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The output path.
+    name : str
+        The argument name shown in the error.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path`` as a ``Path``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        Naming ``name`` and the path, saying how long the offending name is.
+    """
+    path = check_path(path, name)
+    limit = name_max(path.parent if str(path.parent) else ".")
+    for part in path.parts:
+        size = len(os.fsencode(part))
+        if size > limit:
+            raise InvalidArgumentError(
+                name, _shown(str(path)),
+                f"file and folder names of at most {limit} bytes (one has {size})",
+            )
+    try:
+        path_max = int(os.pathconf("/", "PC_PATH_MAX"))
+    except (OSError, ValueError):
+        path_max = 4096
+    size = len(os.fsencode(path))
+    if size >= path_max:
+        raise InvalidArgumentError(name, _shown(str(path)),
+                                   f"a path of fewer than {path_max} bytes (it has {size})")
+    return path
+
+
+def sibling_name(target, suffix: str, reserve: int = 0) -> str:
+    """A name in ``target``'s folder for a file that goes with ``target`` (a temporary file, a
+    lock): ``<name><suffix>`` when that and ``reserve`` more bytes fit the file system's limit
+    on names, otherwise the short ``.<hash of name><suffix>`` (16 hexadecimal digits of a
+    SHA-256), so that a legal output name never makes its companion's name too long.
+
+    Parameters
+    ----------
+    target : str or os.PathLike
+        The output file.
+    suffix : str
+        What follows the name, e.g. ``".lock"``.
+    reserve : int, optional
+        Bytes the caller adds after the name (a random part and ``.tmp``), default 0.
+
+    Returns
+    -------
+    str
+        The companion's name (a name, not a path).
+    """
+    target = Path(target)
+    folder = target.parent if str(target.parent) else Path(".")
+    plain = target.name + suffix
+    if len(os.fsencode(plain)) + reserve <= name_max(folder):
+        return plain
+    return "." + hashlib.sha256(os.fsencode(target.name)).hexdigest()[:16] + suffix
+
+
+#: The random part mkstemp puts in a name (letters, digits and underscores; no dot).
+_RANDOM = re.compile(r"[A-Za-z0-9_]+")
+#: Bytes a temporary name adds after its prefix: mkstemp's random part (8 characters in
+#: CPython; room for 16) and ``.tmp``.
+_TMP_RESERVE = 16 + len(".tmp")
+
+
+def _tmp_prefix(target: Path) -> str:
+    return sibling_name(target, ".", _TMP_RESERVE)
+
+
+def _clean_stale(path: Path) -> None:
+    """Remove temporary files a killed writer of ``path`` left behind (``<name>.<random>.tmp``
+    or its hashed form); one that a live writer holds (its ``flock``) is left alone, and so is
+    the temporary file of another name (``<name>.<other>.<random>.tmp``)."""
+    folder = path.parent if str(path.parent) else Path(".")
+    for prefix in {_tmp_prefix(path), path.name + "."}:
+        for stale in glob.glob(glob.escape(str(folder / prefix)) + "*.tmp"):
+            middle = os.path.basename(stale)[len(prefix):-len(".tmp")]
+            if not _RANDOM.fullmatch(middle):
+                continue
+            try:
+                fd = os.open(stale, os.O_RDONLY | os.O_NOFOLLOW)
+            except OSError:
+                continue
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)  # held by a live writer: skip
+                os.unlink(stale)
+            except OSError:
+                pass
+            finally:
+                os.close(fd)
 
 
 def write_atomic(path, write, name: str = "path") -> Path:
@@ -171,7 +367,9 @@ def write_atomic(path, write, name: str = "path") -> Path:
     symlink names (the link stays a link).  The rename happens only onto a regular file or onto
     nothing: a directory, a device (``/dev/null`` included), a FIFO or a socket is refused with
     :class:`InvalidArgumentError` naming ``name``, before anything is written, and checked
-    again just before the rename (nothing is replaced if one appeared meanwhile).
+    again just before the rename (nothing is replaced if one appeared meanwhile).  The
+    temporary file's name (:func:`sibling_name`) never passes the file system's limit; the
+    writer holds an ``flock`` on it, so that another writer's clean-up leaves it alone.
 
     Parameters
     ----------
@@ -180,7 +378,8 @@ def write_atomic(path, write, name: str = "path") -> Path:
     write : callable
         ``write(fh)`` writes the content to the open binary file ``fh``.
     name : str, optional
-        The argument name errors report (default ``"path"``).
+        The argument name errors report (default ``"path"``: then the name given to the path
+        by :func:`name_outputs`, if any).
 
     Returns
     -------
@@ -190,30 +389,48 @@ def write_atomic(path, write, name: str = "path") -> Path:
     Raises
     ------
     particles.InvalidArgumentError
-        (argument ``name``) for an invalid path or a target that is not a regular file.
+        (argument ``name``) for an invalid path (one ending in ``/`` too) or a target that is
+        not a regular file.
+    WriteError
+        (argument ``name``) when the file system refuses the write (disk full, name too long,
+        no permission, ...): the temporary file is removed and an existing file at ``path`` is
+        left as it was.
     """
+    given = path
     path = check_path(path, name)
+    name = _argument(path, name)
+    if os.fspath(given).endswith(os.sep):  # a folder's path: Path would drop the "/"
+        raise InvalidArgumentError(name, str(given), "a file path, not a folder (it ends in '/')")
     target = output_target(path, name)
     directory = target.parent if str(target.parent) else Path(".")
     _clean_stale(target)
-    fd, tmp = tempfile.mkstemp(prefix=target.name + ".", suffix=".tmp", dir=directory)
+    tmp = None
     try:
+        fd, tmp = tempfile.mkstemp(prefix=_tmp_prefix(target), suffix=".tmp",
+                                   dir=directory)
         with os.fdopen(fd, "wb") as fh:
+            fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)  # ours until renamed
             write(fh)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
-        if file_kind(target) not in (None, "regular file"):  # appeared while we wrote
-            output_target(target, name)
-        os.replace(tmp, target)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+            fh.flush()
+            os.fsync(fh.fileno())  # a full disk is reported here, not after the rename
+            umask = os.umask(0)
+            os.umask(umask)
+            os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file normal permissions
+            if file_kind(target) not in (None, "regular file"):  # appeared while we wrote
+                output_target(target, name)
+            os.replace(tmp, target)
+            tmp = None
+    except OSError as exc:
+        raise WriteError(path, exc, name) from None
+    finally:
+        if tmp is not None:
+            with contextlib.suppress(OSError):
+                os.unlink(tmp)
     return path
 
 
-def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) -> Path:
+def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None,
+         argument: str = "path") -> Path:
     """Write ``arrays`` and ``meta`` to ``path`` atomically (:func:`write_atomic`: never onto a
     device, a FIFO, a socket or a directory; a symlink's target is written), with the format
     tag, ``kind``, ``version`` and the content hash.  Returns the path.
@@ -231,6 +448,8 @@ def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) 
     meta : dict, optional
         JSON-serialisable fields of the caller; must not use the reserved keys ``format``,
         ``kind``, ``version``, ``sha256``.
+    argument : str, optional
+        The argument name errors about ``path`` report (default ``"path"``).
 
     Returns
     -------
@@ -242,9 +461,12 @@ def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) 
     particles.InvalidArgumentError
         ``meta`` uses a reserved key; ``arrays`` holds an entry named ``meta`` or of an object
         dtype; ``path`` is invalid or not a writable regular-file target.
+    WriteError
+        When the file system refuses the write (:func:`write_atomic`).
     """
-    path = check_path(path, "path")
-    output_target(path, "path")  # refused before the content is hashed
+    path = check_path(path, argument)
+    argument = _argument(path, argument)
+    output_target(path, argument)  # refused before the content is hashed
     meta = dict(meta or {})
     clash = [k for k in _RESERVED if k in meta]
     if clash:
@@ -256,7 +478,8 @@ def save(path, kind: str, version: int, arrays: dict, meta: dict | None = None) 
     header = {**meta, "format": FORMAT_TAG, "kind": kind, "version": int(version)}
     header["sha256"] = digest(header, arrays)
     text = json.dumps(header, allow_nan=True)
-    return write_atomic(path, lambda fh: np.savez(fh, **{META: np.array(text)}, **arrays))
+    return write_atomic(path, lambda fh: np.savez(fh, **{META: np.array(text)}, **arrays),
+                        argument)
 
 
 def write_text(path, text: str, name: str = "path") -> Path:
@@ -377,6 +600,58 @@ def _legacy(kind: str, names: dict, zf) -> tuple[dict, int, str] | None:
     return None
 
 
+def read_meta(path, argument: str = "path") -> dict:
+    """The meta fields of a file of this project, without reading its arrays (nor checking
+    its hash): to tell whether an existing file is one of ours before replacing it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file.
+    argument : str, optional
+        The argument name errors report (default ``"path"``).
+
+    Returns
+    -------
+    dict
+        The JSON meta entry (``format``, ``kind``, ``version``, ...; a comparison of the
+        0.1.0 format: its skeleton).
+
+    Raises
+    ------
+    FileFormatError
+        If the file cannot be read or is not a zip archive holding a meta entry of this
+        project's format (tag ``maxwell-kinetics`` or a format of 0.1.0).
+    """
+    def fail(reason):
+        return FileFormatError(path, reason, argument, "a file of maxwell-kinetics")
+
+    path = check_path(path, argument)
+    try:
+        if not stat.S_ISREG(os.stat(path).st_mode):
+            raise fail("not a regular file")
+        with open(path, "rb") as fh, zipfile.ZipFile(fh) as zf:
+            names = _entries(zf)
+            for entry in (META, "__skeleton__"):
+                if entry in names:
+                    _, meta = _read_meta(zf, names[entry], MAX_META_BYTES)
+                    break
+            else:
+                raise _Refused("no meta entry")
+    except FileFormatError:
+        raise
+    except _Refused as exc:
+        raise fail(str(exc)) from None
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile, SyntaxError,
+            MemoryError, OverflowError, NotImplementedError, RuntimeError) as exc:
+        raise fail(f"{type(exc).__name__}: {exc}") from None
+    legacy = meta.get("format") in (1, "maxwell_kinetics.Solution/1",
+                                    "maxwell_kinetics.Comparison/2")
+    if meta.get("format") != FORMAT_TAG and not legacy:
+        raise fail(f"format {meta.get('format')!r}, not {FORMAT_TAG!r}")
+    return meta
+
+
 def load(
     path,
     kind: str,
@@ -448,7 +723,10 @@ def load(
             raise fail(f"cannot be read: {exc.strerror or exc}") from None
         if not stat.S_ISREG(st.st_mode):
             raise fail("not a regular file")
-        opened = open(path, "rb")
+        try:
+            opened = open(path, "rb")
+        except OSError as exc:  # no permission, vanished since the stat, ...
+            raise fail(f"cannot be read: {exc.strerror or exc}") from None
     pool = ThreadPoolExecutor(max_workers=1)
     try:
         with opened as fh, zipfile.ZipFile(fh) as zf:

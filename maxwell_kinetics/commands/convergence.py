@@ -1,12 +1,19 @@
-"""``maxwell-kinetics convergence``: the solver's error floor against resolution."""
+"""``maxwell-kinetics convergence``: the solver's error floor against resolution.
+
+Writes ``convergence.json`` and ``convergence.png`` into ``--out``; both are checked before the
+first solve (:func:`plan_outputs`): a directory in their place, a name too long, or a file
+there that this program did not write is refused with exit status 2, naming it, and nothing is
+written.  A write that fails after the work (a full disk) exits with status 3, one line naming
+the file; an existing file stays as it was.
+"""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 from particles.validation import (
     InvalidArgumentError,
-    check_output_dir,
     check_positive,
     check_restitution,
     parse_float_list,
@@ -15,7 +22,17 @@ from particles.validation import (
 
 from .. import compile_cache
 from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
-from ..output import emit_json, progress_enabled
+from ..output import (
+    check_files_in,
+    check_output_dir,
+    emit_json,
+    is_png,
+    progress_enabled,
+    read_json_file,
+)
+
+#: The files the command writes into ``--out``.
+JSON_NAME, FIGURE_NAME = "convergence.json", "convergence.png"
 
 
 def add_parser(subparsers) -> None:
@@ -48,7 +65,7 @@ def run(args) -> int:
     tau_max = check_positive(args.tau_max, "tau-max")
     if tau_max < 10:
         raise InvalidArgumentError("tau-max", args.tau_max, "a final time >= 10")
-    check_output_dir(args.out, "out")
+    plan_outputs(args.out, "out")
     for name in names:
         check_solve_budget(get_resolution(name), tau_max, 64, name="tau-max", force=args.force)
     compile_cache.from_args(args)
@@ -68,20 +85,82 @@ def run(args) -> int:
     return 0
 
 
+def _is_convergence_json(path) -> str | None:
+    """Why ``path`` is not a ``convergence.json`` of this command (``None`` if it is one)."""
+    try:
+        summary = read_json_file(path)
+    except ValueError as exc:
+        return str(exc)
+    if not (isinstance(summary, dict) and {"runs", "table", "order_fit"} <= set(summary)):
+        return "it is not a JSON object with 'runs', 'table' and 'order_fit'"
+    return None
+
+
+def plan_outputs(out_dir, argument: str = "out") -> dict:
+    """Check, before any work and writing nothing, the folder and the two files
+    :func:`write_results` writes: the folder usable, each file a name the file system takes,
+    a regular file or nothing, and an existing one written by this command (a
+    ``convergence.json`` with ``runs``, ``table`` and ``order_fit``; a PNG image).
+
+    Parameters
+    ----------
+    out_dir : str or os.PathLike
+        The output folder (it need not exist yet).
+    argument : str, optional
+        The folder's argument name for error messages (default ``"out"``).
+
+    Returns
+    -------
+    dict
+        ``{file name: pathlib.Path}`` of the two files.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``argument`` and the path in the way.
+    """
+    out = check_output_dir(out_dir, argument)
+    return check_files_in(out, {JSON_NAME: _is_convergence_json, FIGURE_NAME: is_png}, argument)
+
+
 def write_results(runs, out_dir) -> dict:
-    """Write ``convergence.json`` and ``convergence.png`` into ``out_dir``; return the summary
-    (:func:`maxwell_kinetics.convergence.summarize`)."""
-    import json
-    from pathlib import Path
+    """Write ``convergence.json`` and ``convergence.png`` into ``out_dir`` (created if needed,
+    after :func:`plan_outputs` checked both files); return the summary
+    (:func:`maxwell_kinetics.convergence.summarize`).
+
+    Parameters
+    ----------
+    runs : list of maxwell_kinetics.convergence.ConvergenceRun
+        The runs of the study.
+    out_dir : str or os.PathLike
+        The output folder.
+
+    Returns
+    -------
+    dict
+        The summary written to ``convergence.json``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        From :func:`plan_outputs` (naming ``out``); :class:`particles.persistence.WriteError`
+        when a write fails (a full disk), the file that was there left as it was.
+    """
+    import matplotlib.pyplot as plt
 
     from particles import persistence
 
     from ..convergence import summarize
     from ..plotting import plot_convergence
+    from ..reproduce import prepare_output
 
-    out = Path(out_dir)
-    out.mkdir(parents=True, exist_ok=True)
+    paths = plan_outputs(out_dir, "out")
+    prepare_output(out_dir, "out")
     summary = summarize(runs)
-    persistence.write_text(out / "convergence.json", json.dumps(summary, indent=1), "out")
-    persistence.save_figure(plot_convergence(runs), out / "convergence.png", "out", dpi=120)
+    persistence.write_text(paths[JSON_NAME], json.dumps(summary, indent=1), "out")
+    fig = plot_convergence(runs)
+    try:
+        persistence.save_figure(fig, paths[FIGURE_NAME], "out", dpi=120)
+    finally:
+        plt.close(fig)
     return summary

@@ -3,8 +3,13 @@
     maxwell-kinetics reproduce [--out results] [--full | --small] [--only NAME,...] [--json]
                                [--no-progress] [--workers N]
 
-The output folder is checked (and created) before the first comparison runs, so a bad ``--out``
-fails at once with exit status 2 and nothing written.
+Every file the run writes into ``--out`` is checked before the first comparison runs
+(:func:`maxwell_kinetics.reproduce.plan_outputs`), so a bad ``--out``, a directory where a
+figure, an ``.npz`` or ``summary.json`` goes, a ``summary.json`` that is not ours or one made
+at another size (which ``--only`` would mix with) fails at once with exit status 2, naming
+the file, and nothing written.  ``--only`` merges its comparisons into the ``summary.json``
+already there.  A write that fails after the work (a full disk) exits with status 3, one
+line naming the file; no partial file is left and an existing file stays as it was.
 """
 
 from __future__ import annotations
@@ -17,7 +22,7 @@ from particles.validation import (
 )
 
 from .. import compile_cache
-from ..output import check_output_dir, emit_json, progress_enabled
+from ..output import emit_json, progress_enabled
 
 __all__ = ["add_parser", "run"]
 
@@ -58,7 +63,9 @@ def run(args) -> int:
 
     Runs the selected comparisons at the chosen size through
     :func:`maxwell_kinetics.reproduce.run_all`, which writes a PNG and an ``.npz`` per comparison
-    and ``summary.json`` into ``--out``; prints a one-line summary (or one JSON object).
+    and merges their numbers into ``summary.json`` in ``--out``; prints a one-line summary (or
+    one JSON object: ``out``, ``size``, ``seconds``, ``comparisons`` the names run now and
+    ``in_summary`` every name ``summary.json`` holds).
 
     Parameters
     ----------
@@ -74,11 +81,13 @@ def run(args) -> int:
     ------
     particles.validation.InvalidArgumentError
         If ``--only`` names a comparison that does not exist, or (from the validators it calls)
-        for a bad ``--workers`` (not a count, or above 4 x the CPUs without ``--force``) or an
-        unusable ``--out`` folder; the output folder is checked before anything runs.
+        for a bad ``--workers`` (not a count, or above 4 x the CPUs without ``--force``), an
+        unusable ``--out`` folder or a file in it that may not be replaced; every output is
+        checked before anything runs.  :class:`particles.persistence.WriteError` (exit 3) for
+        a write that fails after the work.
     """
     from ..comparisons import COMPARISONS
-    from ..reproduce import prepare_output, run_all
+    from ..reproduce import plan_outputs, run_all
 
     only = None
     if args.only is not None:
@@ -88,15 +97,19 @@ def run(args) -> int:
             raise InvalidArgumentError("only", args.only, "names among " + ", ".join(COMPARISONS))
     workers = None if args.workers is None else parse_count(args.workers, "workers", 1)
     check_workers(workers, "workers", force=args.force)
-    out = prepare_output(check_output_dir(args.out, "out"), "out")
     size = "full" if args.full else "small" if args.small else "default"
+    names = list(COMPARISONS) if only is None else only
+    plan_outputs(args.out, names, size, "out")  # every output, before anything is written
+    out = args.out
     compile_cache.from_args(args)
     summary = run_all(out, size, only, progress=progress_enabled(args), workers=workers,
                       force=args.force)
     if args.json:
         emit_json({"out": str(out), "size": size, "seconds": summary["seconds"],
-                   "comparisons": sorted(summary["comparisons"])})
+                   "comparisons": sorted(names), "in_summary": sorted(summary["comparisons"])})
     else:
-        print(f"wrote {out}/summary.json and {len(summary['comparisons'])} figures "
-              f"in {summary['seconds']:.0f} s")
+        held = len(summary["comparisons"])
+        print(f"wrote {len(names)} comparison{'s' * (len(names) != 1)} (figure and .npz) and "
+              f"{out}/summary.json, which holds {held} comparison{'s' * (held != 1)} at size "
+              f"{size}, in {summary['seconds']:.0f} s")
     return 0

@@ -3,6 +3,7 @@ checkpoint with its consistency checks, and the lock that keeps two runs off one
 
 from __future__ import annotations
 
+import errno
 import json
 import math
 import os
@@ -11,7 +12,9 @@ from pathlib import Path
 import numpy as np
 
 from .. import observables as obs
-from .result import CheckpointError, read_file, write_file
+from .. import persistence
+from ..validation import InvalidArgumentError
+from .result import FORMAT_VERSION, CheckpointError, read_file
 
 
 class Records:
@@ -127,13 +130,13 @@ def save_checkpoint(path, identity, state, rng_state, records: Records) -> None:
     arrays = {"state." + k: np.asarray(v) for k, v in state.to_arrays().items()}
     arrays.update(records.arrays())
     meta = {
-        "kind": "checkpoint",
         "run": identity,
         "rng": rng_state,
         "done": records.done,
         "seconds": records.seconds,
     }
-    write_file(path, arrays, meta)
+    # errors name the argument ``checkpoint`` (a full disk: persistence.WriteError)
+    persistence.save(path, "checkpoint", FORMAT_VERSION, arrays, meta, argument="checkpoint")
 
 
 def load_checkpoint(path, engine, identity, records: Records):
@@ -263,10 +266,23 @@ def _inconsistency(engine, times: list[float], state, records: Records) -> str |
 
 class CheckpointLock:
     """An exclusive ``flock`` on ``<checkpoint>.lock`` while a run writes ``checkpoint`` (the
-    kernel drops it when the process dies, so a killed run leaves no stale lock)."""
+    kernel drops it when the process dies, so a killed run leaves no stale lock).
+
+    The lock file lies beside the file the checkpoint is written to (a symlink is followed, so
+    two runs given two links to one file share one lock).  Where ``<name>.lock`` would pass the
+    file system's limit on names (a legal name of 251 to 255 bytes), the lock is the short
+    ``.<hash of name>.lock`` instead (:func:`particles.persistence.sibling_name`).  A lock that
+    cannot be created (a directory or a symlink in its place, no permission, a disk full of
+    inodes) raises :class:`particles.InvalidArgumentError` naming ``checkpoint`` and the lock
+    file, before the run starts.
+    """
 
     def __init__(self, checkpoint):
-        self.path = None if checkpoint is None else Path(str(checkpoint) + ".lock")
+        self.path = None
+        if checkpoint is not None:
+            target = Path(os.path.realpath(checkpoint))
+            self.path = target.parent / persistence.sibling_name(target, ".lock")
+        self.checkpoint = checkpoint
         self.fd = None
 
     def __enter__(self):
@@ -274,15 +290,23 @@ class CheckpointLock:
             return self
         import fcntl
 
-        self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT, 0o666)
+        try:  # never through a symlink: that would create a file wherever it points
+            self.fd = os.open(self.path, os.O_RDWR | os.O_CREAT | os.O_NOFOLLOW, 0o666)
+        except OSError as exc:
+            reason = exc.strerror or str(exc)
+            if exc.errno == errno.ELOOP:
+                reason = "it is a symlink"
+            raise InvalidArgumentError(
+                "checkpoint", str(self.checkpoint),
+                f"a checkpoint whose lock file {self.path} can be created ({reason})",
+            ) from None
         try:
             fcntl.flock(self.fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
             os.close(self.fd)
             self.fd = None
             raise CheckpointError(
-                self.path.with_suffix(""), "another run is writing this checkpoint now",
-                "checkpoint",
+                self.checkpoint, "another run is writing this checkpoint now", "checkpoint",
             ) from None
         return self
 

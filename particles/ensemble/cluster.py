@@ -70,7 +70,7 @@ def load_cluster_config(path, cluster: str) -> dict:
             data = tomllib.load(fh)
     except (OSError, TypeError) as exc:
         raise InvalidArgumentError("config", str(path), f"a readable TOML file ({exc})") from None
-    except tomllib.TOMLDecodeError as exc:
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:  # a binary file: not UTF-8
         raise InvalidArgumentError("config", str(path), f"valid TOML ({exc})") from None
     if isinstance(data.get(cluster), dict):
         data = data[cluster]

@@ -203,7 +203,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     started = _time.perf_counter()
     if not isinstance(spec, EnsembleSpec):
         raise InvalidArgumentError("spec", spec, "an EnsembleSpec")
-    out = check_output_dir(out, "out")
+    out = check_output_dir(persistence.check_name_length(out, "out"), "out")
     if executor not in ("dask", "serial"):
         raise InvalidArgumentError("executor", executor, "'dask' or 'serial'")
     given = {"workers": workers, "scheduler": scheduler, "cluster": cluster}
@@ -248,7 +248,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
             recorded = {"shared": True} if shared else {
                 **identity, "spec": json.loads(json.dumps(described))}
             persistence.save(out / MANIFEST, "ensemble-manifest", FORMAT_VERSION, {},
-                             {"writer": "particles.ensemble", **recorded})
+                             {"writer": "particles.ensemble", **recorded}, argument="out")
         records = _execute(client, todo, model.factory, out.absolute(), progress)
     finally:
         for close in closers:
@@ -266,7 +266,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     meta = {"spec": spec.to_dict(), "summary": summary, "tasks": len(tasks),
             "failed": [{k: v for k, v in f.items() if k != "traceback"} for f in failed]}
     persistence.save(out / AGGREGATE, "ensemble", FORMAT_VERSION, arrays,
-                     json.loads(json.dumps(meta, allow_nan=True)))
+                     json.loads(json.dumps(meta, allow_nan=True)), argument="out")
     notes = tuple(f"{r['key']}: {n}" for r in records for n in r.get("notes", []))
     return EnsembleReport(
         out=str(out), executor=executor, tasks=len(tasks),
