@@ -12,7 +12,8 @@ physics: ``name``, ``stop_step``, ``state_keys``, ``to_dict``, ``initial_state``
 Adding an engine
 ----------------
 Derive from :class:`EngineBase`; give it a ``name`` (the model's name), a ``stop_step`` (the
-spacing of the driver's stops in the engine's time; ``inf``: none between requested times) and
+spacing of the driver's stops in the engine's time; default ``inf``: none between requested
+times) and
 the ``state_keys`` its state's ``to_arrays`` writes; write ``to_dict``, ``initial_state``,
 ``advance``, ``rebuild_state`` and the estimates ``memory_per_particle`` and ``expected_events``
 (an engine without them is refused by :func:`particles.simulate`, naming it: its cost is never
@@ -268,8 +269,8 @@ class EngineBase:
     time_name : str
         ``"tau"`` unless the engine sets another.
     stop_step : float
-        The spacing of the stop grid in the engine's time, > 0; ``inf``: no intermediate stops
-        (each engine sets it).
+        The spacing of the stop grid in the engine's time, > 0; ``inf`` (the default): no
+        stops between requested times, so checkpoints are written only there.
     state_keys : tuple of str
         The keys that the state's ``to_arrays`` always writes (each engine sets them).
     snapshot_fields : tuple of str
@@ -278,6 +279,7 @@ class EngineBase:
 
     name: ClassVar[str] = ""
     time_name: ClassVar[str] = "tau"
+    stop_step: ClassVar[float] = math.inf
     state_keys: ClassVar[tuple[str, ...]] = ("time", "velocities", "collisions")
     snapshot_fields: ClassVar[tuple[str, ...]] = ()
 

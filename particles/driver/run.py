@@ -200,6 +200,12 @@ def _check_engine(engine) -> None:
             "engine", engine_label(engine),
             f"an engine of the driver contract particles.driver.Engine (missing {missing})",
         )
+    if not (isinstance(engine.name, str) and engine.name):
+        raise InvalidArgumentError("engine", engine_label(engine), "an engine with a name")
+    if not (isinstance(engine.time_name, str) and engine.time_name):
+        raise InvalidArgumentError(
+            "engine", engine_label(engine), "an engine whose time_name is a non-empty string"
+        )
 
 
 def _run(engine, times, seed, identity, state, rng, records, progress, checkpoint,

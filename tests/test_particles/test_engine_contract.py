@@ -166,6 +166,21 @@ def test_an_object_missing_members_of_the_contract_is_refused_naming_them():
         simulate(Duck(), [1.0], 0, progress=False)
 
 
+def test_an_engine_without_a_name_or_a_stop_step_gets_no_guess():
+    class Nameless(ToyRotation):
+        name = ""
+
+    with pytest.raises(InvalidArgumentError, match=r"engine=.*Nameless.*an engine with a name"):
+        simulate(Nameless(4), [1.0], 0, progress=False)
+
+    class NoGrid(ToyRotation):  # EngineBase's default: no stops between requested times
+        stop_step = EngineBase.stop_step
+
+    assert NoGrid(4).next_stop(3.0) == math.inf
+    _same(simulate(NoGrid(6), TIMES, 2, progress=False),
+          simulate(ToyRotation(6), TIMES, 2, progress=False))
+
+
 def test_the_contract_lists_what_engine_base_and_the_four_engines_have():
     members = [m for m in vars(Engine) if not m.startswith("_")] + list(Engine.__annotations__)
     for engine in (Ulam(10, 0.5), Lattice(10, 0.5), MDEngine(n=10, density=1.0, restitution=0.5),
