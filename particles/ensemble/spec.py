@@ -73,8 +73,6 @@ def parse_seeds(text: str) -> tuple[int, ...]:
 def _check_seeds(seeds, shown) -> tuple[int, ...]:
     out = []
     for s in seeds:
-        if isinstance(s, (bool, np.bool_)) or not isinstance(s, (int, np.integer)):
-            raise InvalidArgumentError("seeds", shown, "integers >= 0")
         try:
             out.append(check_seed(s, "seeds"))  # the one seed rule (particles.simulate's)
         except InvalidArgumentError:

@@ -226,7 +226,8 @@ def test_bad_state_arrays_raise_one_error_type_naming_checkpoint(engine):
 # --------------------------------------------------------------------------- one seed rule
 
 
-SEEDS = [(0, True), (2**64 - 1, True), (2**64, False), (-1, False), (2**70, False)]
+SEEDS = [(0, True), (2**64 - 1, True), (2**64, False), (-1, False), (2**70, False),
+         (7.0, True), (True, False), (2.5, False)]
 
 
 @pytest.mark.parametrize("seed, accepted", SEEDS)
