@@ -194,6 +194,8 @@ def _check_engine(engine) -> None:
     object is bad input naming the engine, not an AttributeError deep inside (an engine
     derived from :class:`particles.driver.EngineBase` has every member but perhaps the two
     estimates, which :func:`particles.budget.estimate_run` refuses by name)."""
+    if isinstance(engine, type):
+        raise InvalidArgumentError("engine", engine.__name__, "an engine object, not its class")
     missing = [name for name in ENGINE_MEMBERS if not hasattr(engine, name)]
     if missing:
         raise InvalidArgumentError(

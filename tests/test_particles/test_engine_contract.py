@@ -177,6 +177,8 @@ def test_an_engine_without_a_name_or_a_stop_step_gets_no_guess():
         stop_step = EngineBase.stop_step
 
     assert NoGrid(4).next_stop(3.0) == math.inf
+    with pytest.raises(InvalidArgumentError, match="engine='Ulam'.*not its class"):
+        simulate(Ulam, [1.0], 0, progress=False)
     _same(simulate(NoGrid(6), TIMES, 2, progress=False),
           simulate(ToyRotation(6), TIMES, 2, progress=False))
 
