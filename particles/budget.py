@@ -1,6 +1,8 @@
 """Estimate before spending: the memory and the work of a run, checked before it starts.
 
-Every run of the driver (and every command) first estimates
+Every run of the driver (and every command) first estimates, from two methods of its engine
+(``memory_per_particle`` and ``expected_events`` of :class:`particles.driver.Engine`; an engine
+without them is refused by name, never costed by guess):
 
 * its **memory**: the engine's working arrays (bytes per particle measured on this project's
   machine, doubled for headroom: Ulam 31, lattice 77, MD 181 bytes per particle at N = 10⁶), the
@@ -32,12 +34,6 @@ __all__ = ["Estimate", "MAX_EVENTS", "available_memory", "estimate_run", "check_
 
 #: Above this many events a run is refused unless forced (10¹³ events is months of CPU).
 MAX_EVENTS = 1e13
-
-#: Working bytes per particle of each engine (measured peak at N = 10⁶, doubled; the sticky gas:
-#: 69 bytes measured at N = 3·10⁷ with 20 output times, rounded up to 96).
-BYTES_PER_PARTICLE = {"ulam": 64, "lattice": 160, "md": 400, "sticky": 96}
-_DEFAULT_BYTES_PER_PARTICLE = 400
-
 
 @dataclass(frozen=True)
 class Estimate:
@@ -138,50 +134,23 @@ def available_memory() -> float:
         return float("inf")
 
 
-def _md_tau(t: float, params: dict) -> float:
-    """Collisions per particle by time t in the homogeneous (Haff) stage."""
-    n = float(params.get("n", 2))
-    length = n / float(params["density"])
-    reduced = length - n * float(params.get("rod_length", 0.0))
-    density = n / reduced if reduced > 0 else float("inf")
-    r = float(params["restitution"])
-    delta = float(params.get("delta", 0.0))
-    rate0 = 2.0 / math.sqrt(math.pi) * density  # dτ/dt at t = 0, unit temperature
-    if r >= 1.0:
-        return rate0 * t
-    from .md.observables import haff_time
+def estimate_run(engine, t_max: float, *, n_times: int = 1, structure: str | None = None,
+                 snapshots: bool = False) -> Estimate:
+    """Estimate the memory and the number of events of a run of ``engine``, in a few arithmetic
+    operations.
 
-    t0 = haff_time(r, density)
-    tau = 2.0 / (1.0 - r * r) * math.log1p(t / t0)
-    if delta > 0.0:
-        # relative velocities below δ are not dissipated: once Haff's T falls to δ², collisions
-        # go on at least at the rate of a gas at temperature δ² (a heuristic floor)
-        t_delta = t0 * (1.0 / min(delta, 1.0) - 1.0)
-        tau += rate0 * min(delta, 1.0) * max(0.0, t - t_delta)
-    return tau
-
-
-def estimate_run(model: str, params: dict, t_max: float, *, n_times: int = 1,
-                 structure: str | None = None, snapshots: bool = False) -> Estimate:
-    """Estimate the memory and the number of events of a run, in a few arithmetic operations.
-
-    The memory is the engine's working bytes per particle (``BYTES_PER_PARTICLE``, times the
-    dimension) plus the records: the energy rows, the S(k) rows (``structure``) and the velocity
-    snapshots.  The events are counted as the module docstring says: pair collisions N τ/2 for
-    Ulam, N τ attempted updates for the lattice (more for clocks at the relative-velocity rate),
-    collisions from Haff's law for MD (a rough lower bound), N log₂N hull steps per output time
-    for the sticky gas.
+    The memory is the engine's working bytes per particle (its ``memory_per_particle()``) times
+    N, plus the records: the energy rows, the S(k) rows (``structure``) and the velocity
+    snapshots.  The events are the engine's ``expected_events(t_max, n_times)`` (module
+    docstring).  Both estimates are methods of the engine (:class:`particles.driver.Engine`);
+    an engine without them is refused, naming it: a run is never costed by guess.
 
     Parameters
     ----------
-    model : str
-        The model's name (``"ulam"``, ``"lattice"``, ``"md"``, ``"sticky"``; any other name is
-        counted like Ulam, with the MD bytes per particle).
-    params : dict
-        The model's parameter dict (the engine's ``to_dict()``); ``n`` is read, and for MD
-        ``density``, ``restitution``, ``rod_length`` and ``delta``.
+    engine : particles.driver.Engine
+        The run's engine; ``engine.to_dict()`` gives ``n`` and (d > 1) ``dimension``.
     t_max : float
-        The last output time (τ for Ulam and the lattice, t for MD).
+        The last output time, in the engine's time (τ for Ulam and the lattice, t for MD).
     n_times : int, optional
         The number of output times (default 1).
     structure : str or None, optional
@@ -193,27 +162,33 @@ def estimate_run(model: str, params: dict, t_max: float, *, n_times: int = 1,
     -------
     Estimate
         The estimate, with ``driver = "n"``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        Naming ``engine`` when it is not an engine object with both estimates (a model's name
+        alone, or an engine that does not write them out).
     """
+    from .driver.engine import engine_label
+
+    estimates = ("memory_per_particle", "expected_events", "to_dict")
+    if isinstance(engine, str) or not all(callable(getattr(engine, m, None)) for m in estimates):
+        raise InvalidArgumentError(
+            "engine", engine if isinstance(engine, str) else engine_label(engine),
+            "an engine with its own cost estimates (memory_per_particle and expected_events): "
+            "a run is never costed by guess",
+        )
+    params = engine.to_dict()
     n = float(params.get("n", 0))
     d = float(params.get("dimension", 1))
-    per = BYTES_PER_PARTICLE.get(model, _DEFAULT_BYTES_PER_PARTICLE) * d
-    memory = n * per + 64.0 * n_times * 8
+    memory = n * float(engine.memory_per_particle()) + 64.0 * n_times * 8
     if structure == "all":
         memory += n_times * (n / 2 + 1) * 8 + 48 * n
     elif structure == "last":
         memory += (n / 2 + 1) * 8 + 48 * n
     if snapshots:
         memory += n_times * n * 8 * d
-    if model == "lattice":
-        events, unit = n * t_max, "attempts"
-        if params.get("rate") == "relative_velocity":  # clocks tick at the velocity range R,
-            events *= 2.0 * math.sqrt(2.0 * math.log(max(n, 2.0)))  # ≈ 2√(2 ln N) at t = 0
-    elif model == "md":
-        events, unit = n * _md_tau(t_max, params) / 2.0, "collisions (at least)"
-    elif model == "sticky":
-        events, unit = n * max(1.0, math.log2(max(n, 2.0))) * n_times, "hull steps"
-    else:  # ulam and its variants: pair collisions at rate N/2 per unit τ
-        events, unit = n * t_max / 2.0, "collisions"
+    events, unit = engine.expected_events(float(t_max), int(n_times))
     return Estimate(memory, events, "n", unit, params.get("n", 0), t_max)
 
 

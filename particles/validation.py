@@ -383,12 +383,47 @@ def parse_count(text, name: str, minimum: int) -> int:
     return parse_int(text, name, minimum)
 
 
-#: Seeds are any integer in [0, 2**64 - 1], stored exactly.
+#: Seeds are any integer in [0, 2**64 - 1], stored exactly: the one bound of the library
+#: (:func:`particles.simulate`), the command line and the ensembles (:func:`check_seed`).
 SEED_MAX = 2**64 - 1
 
 
+def check_seed(value, name: str = "seed") -> int:
+    """Check a random seed: an integer in [0, :data:`SEED_MAX`] = [0, 2**64 - 1] (a float
+    only when it equals an integer; booleans refused).  The one seed rule of
+    :func:`particles.simulate`, :func:`parse_seed` (the command line) and the ensembles.
+
+    Parameters
+    ----------
+    value : int
+        The seed.
+    name : str, optional
+        The argument name shown in the error (default ``"seed"``).
+
+    Returns
+    -------
+    int
+        The seed, exactly.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        Naming ``name``, for a value that is not an integer in [0, 2**64 - 1].
+    """
+    expected = "an integer in [0, 2**64 - 1]"
+    if isinstance(value, (bool, np.bool_)):
+        raise InvalidArgumentError(name, value, expected)
+    try:
+        as_int = int(value)
+    except (TypeError, ValueError, OverflowError):
+        raise InvalidArgumentError(name, value, expected) from None
+    if as_int != value or not 0 <= as_int <= SEED_MAX:
+        raise InvalidArgumentError(name, value, expected)
+    return as_int
+
+
 def parse_seed(text, name: str = "seed") -> int:
-    """Parse a random seed: an exact integer in [0, 2**64 - 1].
+    """Parse a random seed: an exact integer in [0, 2**64 - 1] (:func:`check_seed`).
 
     Parameters
     ----------
@@ -407,7 +442,11 @@ def parse_seed(text, name: str = "seed") -> int:
     particles.InvalidArgumentError
         From :func:`parse_int`, if the value is not an integer in that range.
     """
-    return parse_int(text, name, 0, SEED_MAX)
+    value = parse_int(text, name)
+    try:
+        return check_seed(value, name)
+    except InvalidArgumentError:
+        raise InvalidArgumentError(name, text, "an integer in [0, 2**64 - 1]") from None
 
 
 def check_path(path, name: str) -> Path:

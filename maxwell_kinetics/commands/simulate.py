@@ -215,6 +215,12 @@ def run_model(args) -> int:
     -------
     int
         The exit status.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For a bad value (the command line prints it and exits 2), also ``--workers`` or
+        ``--scheduler`` without ``--chunks``.
     """
     model = get_model(args.model)
     engine = model.build(model_params(args, model, sweep=False))

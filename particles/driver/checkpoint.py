@@ -56,10 +56,8 @@ class Records:
         if self.snapshot_extras:
             for key, value in engine.snapshot_arrays(state).items():
                 self.snapshot_extras[key][i] = value
-        observe = getattr(engine, "observe", None)
-        if observe is not None:
-            for key, value in observe(state).items():
-                self.extras.setdefault(key, np.full(nt, np.nan))[i] = value
+        for key, value in engine.observe(state).items():
+            self.extras.setdefault(key, np.full(nt, np.nan))[i] = value
         self.done += 1
 
     def arrays(self) -> dict[str, np.ndarray]:

@@ -1,11 +1,10 @@
-"""The run loop: initial velocities, the engine protocol, and :func:`simulate` (progress bar,
-checkpoints, Ctrl-C, the final histogram)."""
+"""The run loop: initial velocities and :func:`simulate` (progress bar, checkpoints, Ctrl-C, the
+final histogram).  It calls nothing of an engine outside :class:`particles.driver.Engine`."""
 
 from __future__ import annotations
 
 import math
 import time as _time
-from typing import Any, Protocol
 
 import numpy as np
 
@@ -19,90 +18,12 @@ from ..validation import (
     check_nonnegative,
     check_output_file,
     check_path,
+    check_seed,
     check_times,
 )
 from .checkpoint import CheckpointLock, Records, load_checkpoint, run_identity, save_checkpoint
+from .engine import ENGINE_MEMBERS, Engine, engine_label, next_grid_point  # noqa: F401 (were here)
 from .result import RunResult
-
-
-class Engine(Protocol):  # pragma: no cover - typing only
-    """What :func:`simulate` needs of a particle engine (:class:`particles.Ulam`,
-    :class:`particles.Lattice`, :class:`particles.MDEngine`, :class:`particles.StickyGas`).
-
-    Attributes
-    ----------
-    name : str
-        The model's name in the catalogue :mod:`particles.models`.
-    """
-
-    name: str
-
-    def to_dict(self) -> dict:
-        """The engine's parameters, JSON-able (they name the run in its files).
-
-        Returns
-        -------
-        dict
-        """
-
-    def initial_state(self, rng: np.random.Generator) -> Any:
-        """The state at time 0.
-
-        Parameters
-        ----------
-        rng : numpy.random.Generator
-            The run's generator.
-
-        Returns
-        -------
-        object
-            The engine's state, with ``velocities`` and ``collisions``.
-        """
-
-    def advance(self, state: Any, until: float, rng: np.random.Generator) -> Any:
-        """The state at time ``until``, exactly.
-
-        Parameters
-        ----------
-        state : object
-            The state to advance (not changed).
-        until : float
-            The time to advance to (≥ the state's time; in the engine's time).
-        rng : numpy.random.Generator
-            The run's generator (unused by the deterministic engines).
-
-        Returns
-        -------
-        object
-            The new state.
-        """
-
-    def next_stop(self, time: float) -> float:
-        """The next time after ``time`` at which the driver may stop (checkpoint, progress).
-
-        Parameters
-        ----------
-        time : float
-            The current time.
-
-        Returns
-        -------
-        float
-        """
-
-    def state_from_arrays(self, arrays: dict[str, np.ndarray]) -> Any:
-        """Rebuild a state from the arrays a checkpoint holds, checking them.
-
-        Parameters
-        ----------
-        arrays : dict of numpy.ndarray
-            The state's arrays.
-
-        Returns
-        -------
-        object
-            The state.
-        """
 
 
 def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
@@ -139,29 +60,6 @@ def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
         )
     v *= 1.0 / math.sqrt(e)
     return v
-
-
-def next_grid_point(time: float, step: float) -> float:
-    """The smallest ``m * step`` (m an integer) strictly greater than ``time``: the stop grid
-    of the engines.
-
-    Parameters
-    ----------
-    time : float
-        The current time.
-    step : float
-        The grid's spacing, > 0.
-
-    Returns
-    -------
-    float
-    """
-    m = math.floor(time / step) + 1
-    while m * step <= time:
-        m += 1
-    while m > 1 and (m - 1) * step > time:
-        m -= 1
-    return m * step
 
 
 def _structure_mode(value) -> str | None:
@@ -213,7 +111,9 @@ def simulate(
     histogram on ``bins`` (edges in x = v/√E, default
     :data:`particles.observables.DEFAULT_EDGES`).
 
-    ``seed`` (an integer ≥ 0) seeds the one ``np.random.default_rng`` of the run.  With
+    ``seed`` (an integer in [0, :data:`particles.validation.SEED_MAX`] = [0, 2⁶⁴ − 1], the one
+    bound of the command line and the ensembles too) seeds the one ``np.random.default_rng``
+    of the run.  With
     ``checkpoint=PATH`` the state, the RNG state and the records so far are written to PATH
     every ``checkpoint_interval`` wall-clock seconds (at the engine's stops), at the end, and on
     Ctrl-C before the ``KeyboardInterrupt`` propagates; the propagating exception then carries
@@ -232,11 +132,12 @@ def simulate(
     ----------
     engine : particles.driver.Engine
         A model's engine (:class:`~particles.Ulam`, :class:`~particles.Lattice`,
-        :class:`~particles.MDEngine`, :class:`~particles.StickyGas`).
+        :class:`~particles.MDEngine`, :class:`~particles.StickyGas`, or any object with every
+        member of the contract :class:`particles.driver.Engine`).
     times : sequence of float
         Increasing times ≥ 0, in the engine's own time (τ, or t for MD and the sticky gas).
     seed : int
-        The run's seed, an integer ≥ 0.
+        The run's seed, an integer in [0, 2⁶⁴ − 1] (:func:`particles.validation.check_seed`).
     progress, checkpoint, resume, bins, structure_factor, snapshots, checkpoint_interval, force
         As described above.
 
@@ -248,34 +149,35 @@ def simulate(
     Raises
     ------
     particles.InvalidArgumentError
-        For a bad argument, or a run refused by its estimated memory or work.
+        For a bad argument (``engine`` lacking a member of the contract, naming the engine and
+        the members), or a run refused by its estimated memory or work (an engine without the
+        estimates is refused, naming it).
     particles.CheckpointError
         For a checkpoint of another run, or one locked by a running process.
     """
-    times = check_times(times, getattr(engine, "time_name", "tau"))
-    seed = check_count(seed, "seed", 0)
+    _check_engine(engine)
+    times = check_times(times, engine.time_name)
+    seed = check_seed(seed)
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
     structure_factor = _structure_mode(structure_factor)
     snapshots = bool(snapshots)
     if checkpoint is not None:
         checkpoint = check_output_file(checkpoint, "checkpoint")
-    _check_engine(engine)
     if int(engine.to_dict().get("dimension", 1)) != 1 and (structure_factor or snapshots):
         raise InvalidArgumentError(
             "structure_factor" if structure_factor else "snapshots", True,
             "a one-dimensional model (S(k) and snapshots are recorded in d = 1 only)",
         )
     identity = run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
-    time_name = getattr(engine, "time_name", "tau")
     estimate = budget.check_budget(
-        budget.estimate_run(engine.name, identity["params"], float(times[-1]),
-                            n_times=len(times), structure=structure_factor, snapshots=snapshots),
-        force=force, time_name=time_name,
+        budget.estimate_run(engine, float(times[-1]), n_times=len(times),
+                            structure=structure_factor, snapshots=snapshots),
+        force=force, time_name=engine.time_name,
     )
     n = int(engine.to_dict()["n"])
     with CheckpointLock(checkpoint):
-        fields = tuple(getattr(engine, "snapshot_fields", ())) if snapshots else ()
+        fields = tuple(engine.snapshot_fields) if snapshots else ()
         records = Records(len(times), n, structure_factor, snapshots, fields)
         if resume is not None:
             state, rng = load_checkpoint(check_path(resume, "resume"), engine, identity,
@@ -288,13 +190,23 @@ def simulate(
 
 
 def _check_engine(engine) -> None:
-    """The engine protocol, checked at the boundary (a wrong object is bad input, not an
-    AttributeError deep inside)."""
-    missing = [name for name in ("name", "to_dict", "initial_state", "advance", "next_stop",
-                                 "state_from_arrays") if not hasattr(engine, name)]
+    """The engine contract (:class:`particles.driver.Engine`), checked at the boundary: a wrong
+    object is bad input naming the engine, not an AttributeError deep inside (an engine
+    derived from :class:`particles.driver.EngineBase` has every member but perhaps the two
+    estimates, which :func:`particles.budget.estimate_run` refuses by name)."""
+    if isinstance(engine, type):
+        raise InvalidArgumentError("engine", engine.__name__, "an engine object, not its class")
+    missing = [name for name in ENGINE_MEMBERS if not hasattr(engine, name)]
     if missing:
         raise InvalidArgumentError(
-            "engine", type(engine).__name__, f"an engine of the driver protocol (missing {missing})"
+            "engine", engine_label(engine),
+            f"an engine of the driver contract particles.driver.Engine (missing {missing})",
+        )
+    if not (isinstance(engine.name, str) and engine.name):
+        raise InvalidArgumentError("engine", engine_label(engine), "an engine with a name")
+    if not (isinstance(engine.time_name, str) and engine.time_name):
+        raise InvalidArgumentError(
+            "engine", engine_label(engine), "an engine whose time_name is a non-empty string"
         )
 
 
@@ -308,7 +220,7 @@ def _run(engine, times, seed, identity, state, rng, records, progress, checkpoin
     last_save = _time.monotonic()
     bar = None
     if progress:
-        bar = progress_bar(float(times[-1]), engine.name, getattr(engine, "time_name", "τ"),
+        bar = progress_bar(float(times[-1]), engine.name, engine.time_name,
                            initial=float(state.time), postfix=f"estimate {estimate.describe()}")
     try:
         while records.done < len(times):

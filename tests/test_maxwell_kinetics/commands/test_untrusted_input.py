@@ -271,15 +271,15 @@ def test_absurd_runs_are_refused_before_they_start(capsys, argv, named):
 
 
 def test_force_lets_a_large_estimate_through():
-    from particles import budget
+    from particles import Lattice, Ulam, budget
 
-    estimate = budget.estimate_run("ulam", {"n": 1000}, 1e12)  # 5e14 collisions
+    estimate = budget.estimate_run(Ulam(1000, 0.5), 1e12)  # 5e14 collisions
     with pytest.raises(InvalidArgumentError, match="tau=1000000000000.0.*force"):
         budget.check_budget(estimate)
     assert budget.check_budget(estimate, force=True) is estimate
-    # memory is never forced: 1e12 particles do not fit
+    # memory is never forced: 1e12 sites do not fit
     with pytest.raises(InvalidArgumentError, match="n=1000000000000"):
-        budget.check_budget(budget.estimate_run("ulam", {"n": 10**12}, 1.0), force=True)
+        budget.check_budget(budget.estimate_run(Lattice(10**12, 0.5), 1.0), force=True)
 
 
 # --------------------------------------------------------------------------- parsing
