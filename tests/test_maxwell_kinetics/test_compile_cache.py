@@ -24,9 +24,16 @@ from maxwell_kinetics import compile_cache
 
 _SOLVE = """
 import hashlib, json, sys
+import jax
 import numpy as np
 from maxwell_kinetics import _kinetic_scheme, compile_cache
 from maxwell_kinetics.solver import solve
+for option in sys.argv[2:]:
+    if option == "edit":  # as after an edit of the sources or an upgrade of a library
+        compile_cache._code_fingerprint = lambda: "sources after an edit"
+    elif option.startswith("jax-cache="):  # JAX's own persistent cache, on by the user
+        jax.config.update("jax_compilation_cache_dir", option.split("=", 1)[1])
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 folder = compile_cache.enable(sys.argv[1])
 sol = solve(0.5, "gaussian", (1.0, 3.0), "coarse")
 print(json.dumps({"folder": str(folder), "traces": dict(_kinetic_scheme.TRACES),
@@ -34,20 +41,25 @@ print(json.dumps({"folder": str(folder), "traces": dict(_kinetic_scheme.TRACES),
 """
 
 
-def _start(cache: Path) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-c", _SOLVE, str(cache)], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
+def _start(cache: Path, *options: str) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-c", _SOLVE, str(cache), *options],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
-def _finish(proc: subprocess.Popen) -> dict:
-    out, err = proc.communicate(timeout=300)
+def _finish(proc: subprocess.Popen, timeout: float = 300) -> dict:
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        raise
     assert proc.returncode == 0, err
     assert err == "", err  # no warning either (a damaged entry is rebuilt silently)
     return json.loads(out)
 
 
-def _solve_in_fresh_process(cache: Path) -> dict:
-    return _finish(_start(cache))
+def _solve_in_fresh_process(cache: Path, *options: str) -> dict:
+    return _finish(_start(cache, *options))
 
 
 def _entries(folder: Path) -> dict[str, bytes]:
@@ -65,6 +77,24 @@ def _reference_digest() -> str:
     assert compile_cache.active_path() is None
     sol = solve(0.5, "gaussian", (1.0, 3.0), "coarse")
     return hashlib.sha256(np.ascontiguousarray(sol.G).tobytes()).hexdigest()
+
+
+@pytest.fixture(scope="module")
+def reference() -> str:
+    """The digest of G from a solve with the cache off (this process, plain ``jax.jit``)."""
+    return _reference_digest()
+
+
+def _copy_of(warm, tmp_path) -> tuple[Path, Path]:
+    """A copy of the warm cache: (root, folder of entries)."""
+    root = tmp_path / "cache"
+    shutil.copytree(warm[0], root)
+    return root, root / warm[1].name
+
+
+def _entry(folder: Path, name: str) -> Path:
+    (path,) = folder.glob(f"aot_{name}-*.entry")
+    return path
 
 
 @pytest.fixture(scope="module")
@@ -128,9 +158,86 @@ def test_two_processes_starting_at_once_on_an_empty_cache(tmp_path):
     assert not list(folder.glob(".tmp-*"))  # every write was renamed into place
 
 
+@pytest.mark.parametrize("damage", ["delete", "truncate", "swap", "edit"])
+def test_an_executable_compiled_again_is_whole_and_every_later_run_is_right(
+        warm, tmp_path, reference, damage):
+    # The entry of `advance` is gone (deleted, truncated, swapped with another entry's file),
+    # or the key changed (an edit of the sources, an upgrade of a library): the run compiles
+    # again and stores the new executable, and the NEXT run loads it.  Both runs must give the
+    # numbers of the cache-off solve (once, a stored executable lacked its code: every later
+    # run failed with "Function ... not found" until the folder was deleted).
+    root, folder = _copy_of(warm, tmp_path)
+    advance, output = _entry(folder, "advance"), _entry(folder, "output")
+    options = ()
+    if damage == "delete":
+        advance.unlink()
+    elif damage == "truncate":
+        advance.write_bytes(advance.read_bytes()[:1000])
+    elif damage == "swap":
+        data = advance.read_bytes()
+        advance.write_bytes(output.read_bytes())
+        output.write_bytes(data)
+    else:
+        options = ("edit",)
+    first = _solve_in_fresh_process(root, *options)
+    second = _solve_in_fresh_process(root, *options)
+    assert first["G"] == second["G"] == reference
+    assert second["traces"] == {}  # the second run loaded what the first one stored
+
+
+def test_an_entry_that_fails_when_it_runs_is_dropped_and_the_solve_is_right(
+        warm, tmp_path, reference):
+    # Each executable sealed under the other's key: both pass the checksum and load, and fail
+    # when called.  The solve compiles afresh, replaces both entries, and is right.
+    root, folder = _copy_of(warm, tmp_path)
+    advance, output = _entry(folder, "advance"), _entry(folder, "output")
+    contents = {path: compile_cache._open(path.name.removesuffix(".entry"), path.read_bytes())
+                for path in (advance, output)}
+    for path, other in ((advance, output), (output, advance)):
+        path.write_bytes(compile_cache._seal(path.name.removesuffix(".entry"), contents[other]))
+    swapped = _entries(folder)
+    assert all(_valid(name, data) for name, data in swapped.items())
+    report = _solve_in_fresh_process(root)
+    assert report["G"] == reference
+    assert report["traces"] == {"advance": 1, "output": 1}  # compiled again
+    rebuilt = _entries(folder)  # both replaced by fresh executables...
+    assert set(rebuilt) == set(swapped)
+    assert all(rebuilt[name] != swapped[name] for name in (advance.name, output.name))
+    again = _solve_in_fresh_process(root)
+    assert again["G"] == reference and again["traces"] == {}  # ...and loaded by the next
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this system")
+def test_a_fifo_in_the_folder_is_skipped_not_opened(warm, tmp_path, reference):
+    root, folder = _copy_of(warm, tmp_path)
+    advance = _entry(folder, "advance")
+    advance.unlink()
+    os.mkfifo(advance)  # opened for reading, it would block until a writer comes: never
+    os.mkfifo(folder / "a-fifo-of-no-entry")
+    report = _finish(_start(root), timeout=120)
+    assert report["G"] == reference
+    assert advance.is_file() and _valid(advance.name, advance.read_bytes())  # replaced
+
+
+def test_with_jax_own_cache_on_only_whole_executables_are_stored(tmp_path, reference):
+    # A user who switched on JAX's own persistent cache: the second process gets its compiles
+    # from there, and XLA serializes such an executable without the code of its functions.
+    # Nothing that does not run is stored: the third process (JAX's cache off) loads what the
+    # second one stored, or compiles, and removes nothing.
+    jax_cache = f"jax-cache={tmp_path / 'jax-own'}"
+    first = _solve_in_fresh_process(tmp_path / "one", jax_cache)
+    second = _solve_in_fresh_process(tmp_path / "two", jax_cache)
+    stored = _entries(Path(second["folder"]))
+    third = _solve_in_fresh_process(tmp_path / "two")
+    assert first["G"] == second["G"] == third["G"] == reference
+    after = _entries(Path(third["folder"]))
+    assert all(after[name] == data for name, data in stored.items())  # none failed, none dropped
+    assert {name.split("-")[0] for name in after} == {"aot_advance", "aot_output"}
+
+
 # -- the store itself ------------------------------------------------------------------------
 def test_an_entry_read_under_another_key_is_foreign_and_removed(tmp_path):
-    store = compile_cache._store_class()(tmp_path)
+    store = compile_cache._Store(tmp_path)
     store.put("jit_a-01", b"payload of a")
     assert store.get("jit_a-01") == b"payload of a"
     shutil.copy(tmp_path / "jit_a-01.entry", tmp_path / "jit_b-02.entry")
@@ -161,18 +268,27 @@ def test_the_variable_turns_the_cache_off(monkeypatch, tmp_path, word):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_enable_and_disable_restore_jax_settings(tmp_path):
+_JAX_OPTIONS = ("jax_compilation_cache_dir", "jax_enable_compilation_cache",
+                "jax_persistent_cache_min_compile_time_secs",
+                "jax_persistent_cache_enable_xla_caches")
+
+
+def test_enable_and_disable_change_no_jax_setting(tmp_path):
+    # A Python user's JAX stays as it was: JAX's own persistent cache is not switched on (it
+    # would write every function of the user's program into the folder).
     import jax
 
-    before = jax.config.jax_compilation_cache_dir
+    before = {name: getattr(jax.config, name) for name in _JAX_OPTIONS}
     folder = compile_cache.enable(tmp_path / "c")
     try:
         assert folder is not None and folder.is_dir()
-        assert jax.config.jax_compilation_cache_dir == str(folder)
+        assert {name: getattr(jax.config, name) for name in _JAX_OPTIONS} == before
         assert compile_cache.enable(tmp_path / "c") == folder  # again: the same, no change
+        jax.jit(lambda x: x * 3.0)(np.arange(3.0)).block_until_ready()
+        assert list(folder.iterdir()) == []  # a function of the user's: not in the folder
     finally:
         compile_cache.disable()
-    assert jax.config.jax_compilation_cache_dir == before
+    assert {name: getattr(jax.config, name) for name in _JAX_OPTIONS} == before
     assert compile_cache.active_path() is None
 
 
