@@ -522,13 +522,15 @@ def add_option(parser, compiles: bool = True) -> None:
         The subcommand's parser.
     compiles : bool, default True
         False for a subcommand that compiles nothing (its help text says the option is
-        accepted for uniformity).
+        accepted for uniformity).  The parsed arguments get ``runs_jax`` = ``compiles``.
     """
     text = ("do not use the persistent compilation cache (default: on, in "
             f"${ENV} or ~/.cache/maxwell-kinetics/jax)")
     if not compiles:
         text += "; this subcommand compiles nothing, the option is accepted for uniformity"
     parser.add_argument("--no-cache", action="store_true", help=text)
+    # the command line checks JAX_PLATFORMS before a subcommand that runs JAX writes anything
+    parser.set_defaults(runs_jax=compiles)
 
 
 def check_platforms() -> None:
@@ -551,7 +553,7 @@ def check_platforms() -> None:
             raise
         from particles.validation import InvalidArgumentError
 
-        reason = " ".join(str(exc).split()) or type(exc).__name__
+        reason = " ".join(str(exc).split()) or f"{type(exc).__name__} while starting it"
         if len(reason) > 200:
             reason = reason[:200] + "..."
         shown = value if len(value) <= 200 else value[:200] + "..."

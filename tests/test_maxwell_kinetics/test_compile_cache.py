@@ -355,3 +355,24 @@ def test_a_failed_window_is_reported_not_hidden():
     options = dataclasses.replace(SolverOptions(), max_steps_per_window=2)
     with pytest.raises(FloatingPointError, match="non-finite G at tau=1"):
         solve(0.5, "gaussian", (1.0,), "coarse", options=options)
+
+
+@pytest.mark.parametrize("platforms, command", [
+    ("cuda", ["solve", "-r", "0.5", "--tau", "1", "--resolution", "coarse", "--save", "G.npz"]),
+    ("nonsense", ["solve", "-r", "0.5", "--tau", "1", "--resolution", "coarse", "--plot",
+                  "G.png"]),
+    ("nonsense", ["reproduce", "--small", "--only", "kinetic_theory", "--out", "figures"]),
+])
+def test_an_unusable_jax_platforms_is_one_line_and_exit_2(tmp_path, platforms, command):
+    # No GPU here (cuda), or no such platform: the user's setting is refused like a bad option,
+    # before anything is written (the output, the figures folder, the cache folder).
+    env = {**os.environ, "JAX_PLATFORMS": platforms, compile_cache.ENV: str(tmp_path / "cache")}
+    proc = subprocess.run([sys.executable, "-m", "maxwell_kinetics.cli", *command, "--json"],
+                          cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 2, proc.stderr
+    assert proc.stdout == ""
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith(f"maxwell-kinetics {command[0]}: error: ")
+    assert f"JAX_PLATFORMS={platforms!r}" in lines[0]
+    assert list(tmp_path.iterdir()) == []
