@@ -145,7 +145,8 @@ def _warn_once(root: Path, reason: str) -> None:
     key = f"{root}|{reason}"
     if key not in _warned:
         _warned.add(key)
-        shown = str(root) if len(str(root)) <= 200 else str(root)[:200] + "..."
+        shown = str(root) if str(root).isprintable() else repr(str(root))  # one line
+        shown = shown if len(shown) <= 200 else shown[:200] + "..."
         print(f"maxwell-kinetics: warning: compilation cache {shown} is not usable ({reason}); "
               "running without it", file=sys.stderr)
 

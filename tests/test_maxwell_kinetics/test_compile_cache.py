@@ -248,6 +248,30 @@ def test_an_entry_read_under_another_key_is_foreign_and_removed(tmp_path):
     assert store.get("jit_a-01") == b"payload of a"  # the good one is left alone
 
 
+def test_the_store_reads_regular_files_only_and_none_too_large(tmp_path, monkeypatch):
+    store = compile_cache._Store(tmp_path)
+    store.put("jit_a-01", b"payload of a")
+    good = (tmp_path / "jit_a-01.entry").read_bytes()
+    # a symbolic link to a valid entry is not followed (it could point to /dev/zero) ...
+    (tmp_path / "elsewhere").write_bytes(good)
+    link = tmp_path / "jit_a-01.entry"
+    link.unlink()
+    link.symlink_to(tmp_path / "elsewhere")
+    assert store.get("jit_a-01") is None
+    assert (tmp_path / "elsewhere").read_bytes() == good  # ... and what it points to stays
+    store.put("jit_a-01", b"payload of a")  # the next write replaces the link
+    assert not link.is_symlink() and store.get("jit_a-01") == b"payload of a"
+    if hasattr(os, "mkfifo"):  # a FIFO is not opened (no writer: the reader would block)
+        link.unlink()
+        os.mkfifo(link)
+        assert store.get("jit_a-01") is None
+    # an entry above the limit is damaged: not read, removed
+    monkeypatch.setattr(compile_cache, "MAX_ENTRY_BYTES", len(good) - 1)
+    store.put("jit_b-02", b"payload of a")
+    assert store.get("jit_b-02") is None
+    assert not (tmp_path / "jit_b-02.entry").exists()
+
+
 # -- where the cache lives, and turning it off ------------------------------------------------
 def test_default_folder_follows_xdg(monkeypatch, tmp_path):
     monkeypatch.delenv(compile_cache.ENV, raising=False)
@@ -257,6 +281,14 @@ def test_default_folder_follows_xdg(monkeypatch, tmp_path):
     assert compile_cache.default_path() == Path.home() / ".cache" / "maxwell-kinetics" / "jax"
     monkeypatch.setenv(compile_cache.ENV, str(tmp_path / "mine"))
     assert compile_cache.configured_path() == tmp_path / "mine"
+
+
+@pytest.mark.parametrize("word", ["1", "on", "ON", "yes", "true", "", "  "])
+def test_the_variable_saying_on_means_the_default_folder(monkeypatch, tmp_path, word):
+    # not a folder named "1" or "on" in the working folder
+    monkeypatch.setenv(compile_cache.ENV, word)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
+    assert compile_cache.configured_path() == tmp_path / "maxwell-kinetics" / "jax"
 
 
 @pytest.mark.parametrize("word", ["0", "off", "OFF", "none", "false", "no"])
@@ -303,16 +335,19 @@ def _main(capsys, argv):
     return status, captured.out, captured.err
 
 
-@pytest.mark.parametrize("where", ["file", "file/sub"])
+@pytest.mark.parametrize("where", ["file", "file/sub", "loop", "new\nline"])
 def test_an_unusable_folder_gives_one_warning_line_and_the_solve_runs(
         monkeypatch, tmp_path, capsys, where):
     (tmp_path / "file").write_text("a regular file is in the way")
+    (tmp_path / "loop").symlink_to(tmp_path / "loop")  # a symbolic link to itself
+    (tmp_path / "new\nline").write_text("a file whose name has a line break")
     monkeypatch.setenv(compile_cache.ENV, str(tmp_path / where))
     status, out, err = _main(capsys, _CLI)
     assert status == 0
     assert json.loads(out)["G_real"]
     lines = err.splitlines()
-    assert len(lines) == 1 and "warning" in lines[0] and str(tmp_path / where) in lines[0]
+    shown = str(tmp_path / where) if "\n" not in where else repr(str(tmp_path / where))
+    assert len(lines) == 1 and "warning" in lines[0] and shown in lines[0]
     assert compile_cache.active_path() is None
     assert (tmp_path / "file").read_text() == "a regular file is in the way"
 
