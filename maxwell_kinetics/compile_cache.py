@@ -21,7 +21,9 @@ Where
     cache off; ``1``, ``on``, ``yes``, ``true`` or an empty value mean the default folder.
     Entries live in one sub-folder per (jax, jaxlib, machine, CPU) combination, so that
     different versions or machines sharing a home folder never read each other's executables.
-    Deleting the folder is always safe.
+    Deleting the folder is always safe; entries not loaded for :data:`UNUSED_DAYS` days (those
+    of an older version of the code or of a library) are removed when a process turns the cache
+    on.
 
 Safety
     * An executable is written to the folder only after its serialized form was loaded back
@@ -66,14 +68,18 @@ import time
 import zlib
 from pathlib import Path
 
-__all__ = ["ENV", "MAX_ENTRY_BYTES", "default_path", "configured_path", "enable", "disable",
-           "active_path", "check_platforms", "from_args", "end_command", "add_option", "call"]
+__all__ = ["ENV", "MAX_ENTRY_BYTES", "UNUSED_DAYS", "default_path", "configured_path", "enable",
+           "disable", "active_path", "check_platforms", "from_args", "end_command", "add_option",
+           "call"]
 
 #: The environment variable that names the cache folder (or turns the cache off).
 ENV = "MAXWELL_KINETICS_CACHE"
 #: Entries larger than this (bytes) are damaged by definition: never read, deleted.  The
 #: solver's executables weigh about 0.1 MB in 1D and a few MB in 3D.
 MAX_ENTRY_BYTES = 256 * 2**20
+#: Entries that no process has loaded (or written) for this many days are removed when a
+#: process turns the cache on.
+UNUSED_DAYS = 30
 _OFF_WORDS = frozenset({"0", "off", "no", "false", "none"})
 _ON_WORDS = frozenset({"1", "on", "yes", "true"})
 _MAGIC = b"maxwell-kinetics jax executable v1\n"
@@ -162,19 +168,23 @@ def _prepare(folder: Path) -> str | None:
         os.unlink(probe)
     except OSError as exc:
         return f"{type(exc).__name__}: {exc.strerror or exc}"
-    _remove_stale_temporaries(folder)
+    _remove_stale(folder)
     return None
 
 
-def _remove_stale_temporaries(folder: Path) -> None:
-    """Temporary files older than an hour are left by killed writers: remove them."""
+def _remove_stale(folder: Path) -> None:
+    """Remove temporary files older than an hour (left by killed writers) and entries that no
+    process has loaded for :data:`UNUSED_DAYS` days (those of an older version of the code or
+    of a library: without this the folder would grow with every upgrade)."""
     now = time.time()
-    for tmp in folder.glob(".tmp-*"):
-        try:
-            if now - tmp.lstat().st_mtime > _STALE_TMP_SECONDS:
-                tmp.unlink()
-        except OSError:
-            pass
+    for pattern, age in ((".tmp-*", _STALE_TMP_SECONDS), ("*" + _SUFFIX, UNUSED_DAYS * 86400.0)):
+        for path in folder.glob(pattern):
+            try:
+                info = os.lstat(path)
+                if not stat.S_ISDIR(info.st_mode) and now - info.st_mtime > age:
+                    path.unlink()
+            except OSError:
+                pass
 
 
 def _seal(key: str, value: bytes) -> bytes:
@@ -233,6 +243,10 @@ class _Store:
             self._remove(path, (info.st_dev, info.st_ino))
         else:
             self._read[key] = (info.st_dev, info.st_ino)
+            try:  # used now: kept another UNUSED_DAYS days
+                os.utime(path, follow_symlinks=False)
+            except (OSError, NotImplementedError):
+                pass
         return value
 
     def drop(self, key: str) -> None:

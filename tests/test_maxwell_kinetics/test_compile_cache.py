@@ -272,6 +272,29 @@ def test_the_store_reads_regular_files_only_and_none_too_large(tmp_path, monkeyp
     assert not (tmp_path / "jit_b-02.entry").exists()
 
 
+def test_entries_unused_for_a_month_are_removed_and_a_load_keeps_one(tmp_path, monkeypatch):
+    # Each edit or upgrade changes the keys: the old entries would pile up for ever.
+    import time
+
+    folder = compile_cache.enable(tmp_path / "c")
+    compile_cache.disable()
+    store = compile_cache._Store(folder)
+    for key in ("aot_old-01", "aot_used-02", "aot_recent-03"):
+        store.put(key, b"an executable")
+    month = compile_cache.UNUSED_DAYS * 86400.0
+    now = time.time()
+    for key, age in (("aot_old-01", month + 60), ("aot_used-02", month + 60),
+                     ("aot_recent-03", month - 3600)):
+        os.utime(folder / f"{key}.entry", (now - age, now - age))
+    (folder / ".tmp-killed").write_bytes(b"half")
+    os.utime(folder / ".tmp-killed", (now - 7200, now - 7200))
+    assert store.get("aot_used-02") == b"an executable"  # loaded now: its month starts again
+    assert compile_cache.enable(tmp_path / "c") == folder
+    compile_cache.disable()
+    assert sorted(p.name for p in folder.iterdir()) == ["aot_recent-03.entry",
+                                                         "aot_used-02.entry"]
+
+
 # -- where the cache lives, and turning it off ------------------------------------------------
 def test_default_folder_follows_xdg(monkeypatch, tmp_path):
     monkeypatch.delenv(compile_cache.ENV, raising=False)
