@@ -165,6 +165,8 @@ def main(argv=None) -> int:
         argv = list(sys.argv[1:] if argv is None else argv)
         args = parser.parse_args(join_negative_values(parser, argv))
         command = f"maxwell-kinetics {args.command}"
+        if getattr(args, "runs_jax", False) and "JAX_PLATFORMS" in os.environ:
+            compile_cache.check_platforms()  # one line, exit 2, before anything is written
         return int(args.handler(args) or 0)
     except InvalidArgumentError as exc:  # a failed write (a full disk) carries exit status 3
         print(f"{command}: error: {exc}", file=sys.stderr)

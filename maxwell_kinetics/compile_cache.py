@@ -1,46 +1,58 @@
-"""A persistent cache of JAX's compiled executables, shared by the processes of one user.
+"""A persistent cache of the solver's compiled executables, shared by the processes of one user.
 
 Without it every new process compiles the kinetic solver again (seconds in 1D, about 15 s in 2D
-and 3D).  With it, the first process writes each compiled executable to disk and the next ones
-load it instead of compiling.  Two layers, in one folder:
-
-* JAX's persistent compilation cache, with a checked store (below) in place of JAX's file
-  cache: every function that JAX compiles; a warm process still traces (Python: seconds for
-  the solver in 2D) and then loads instead of compiling.
-* The solver's two big functions (``advance``, ``output`` of the kinetic scheme) compiled ahead
-  of time and kept as serialized executables (:func:`call`): a warm process neither traces nor
-  compiles them, and does not even import diffrax.
+and 3D).  With it, the first process writes the solver's two big functions (``advance`` and
+``output`` of the kinetic scheme), compiled ahead of time, to disk as serialized executables
+(:func:`call`), and the next processes load them instead: a warm process neither traces nor
+compiles them, and does not even import diffrax.  Everything else is compiled by ``jax.jit`` as
+usual (small functions, milliseconds each).
 
 The command line turns the cache on for every subcommand that compiles (``solve``,
 ``fixed-point``, ``convergence``, ``reproduce``); ``--no-cache`` turns it off for one run.
-The Python API leaves JAX's configuration alone until asked: :func:`enable` and :func:`disable`.
+The Python API leaves the cache off until asked: :func:`enable` and :func:`disable`.  Neither
+changes any JAX setting: JAX's own persistent compilation cache is never switched on (nor off)
+by this module.
 
 Where
-    ``$MAXWELL_KINETICS_CACHE`` when set to a path; else ``$XDG_CACHE_HOME/maxwell-kinetics/jax``
-    when ``XDG_CACHE_HOME`` is an absolute path; else ``~/.cache/maxwell-kinetics/jax``.
+    ``$MAXWELL_KINETICS_CACHE`` when set to a path (a relative path is taken from the working
+    folder at :func:`enable`); else ``$XDG_CACHE_HOME/maxwell-kinetics/jax`` when
+    ``XDG_CACHE_HOME`` is an absolute path; else ``~/.cache/maxwell-kinetics/jax``.
     ``MAXWELL_KINETICS_CACHE`` set to ``0``, ``off``, ``no``, ``false`` or ``none`` turns the
-    cache off (an empty value means the default folder).  Entries live in one sub-folder per
-    (jax, jaxlib, machine, CPU) combination, so that different versions or machines sharing a
-    home folder never read each other's executables.  Deleting the folder is always safe.
+    cache off; ``1``, ``on``, ``yes``, ``true`` or an empty value mean the default folder.
+    Entries live in one sub-folder per (jax, jaxlib, machine, CPU) combination, so that
+    different versions or machines sharing a home folder never read each other's executables.
+    Deleting the folder is always safe; entries not loaded for :data:`UNUSED_DAYS` days (those
+    of an older version of the code or of a library) are removed when a process turns the cache
+    on.
 
 Safety
+    * An executable is written to the folder only after its serialized form was loaded back
+      and run once, in place of the executable just compiled, and gave a result: a blob that
+      does not run (an executable that XLA serializes incompletely, e.g. one that JAX's own
+      persistent cache, switched on by the user, served instead of compiling) is never stored;
+      the run goes on with the compiled executable.
+    * An entry that loads but fails when it runs is deleted, and the call is compiled again:
+      the result is that of a fresh compile, and the fresh executable replaces the entry.
     * Each entry is written to a temporary file and renamed into place, so a reader sees a
       whole entry or none, and two processes that start at once (and both compile) both succeed;
       the second rename replaces an equivalent entry.
     * Each entry carries a header and a SHA-256 of its key and content.  An entry that fails the
-      check (truncated, garbage, renamed from another key, written by another program, or not
-      owned by the current user) is never given to JAX: it is deleted and compiled again, and
-      the fresh executable replaces it.  (JAX's own file cache hands anything that decompresses
-      to XLA, and keeps a damaged entry forever.)
-    * A folder that cannot be used (a file is in the way, or it cannot be written) gives one
-      warning line on stderr, and the run goes on without the cache.
+      check (truncated, garbage, renamed from another key, written by another program, larger
+      than :data:`MAX_ENTRY_BYTES`, or not owned by the current user) is never given to JAX: it
+      is deleted and compiled again, and the fresh executable replaces it.
+    * Only regular files are read: a symbolic link, a FIFO, a device or a folder with an
+      entry's name is skipped without being opened for reading (a FIFO would block the reader
+      forever), and the next write replaces it (a folder stays).
+    * A folder that cannot be used (a file is in the way, a symbolic-link loop, it cannot be
+      written) gives one warning line on stderr, and the run goes on without the cache.  A
+      write that fails later (a full disk) is skipped silently.
     * The checksum guards against damage, not against an attacker: like JAX's cache, the folder
-      is trusted, so it is created readable and writable by its owner only.
+      is trusted (loading an executable runs its code), so it is created readable and writable
+      by its owner only.
 
-This module relies on private names of ``jax._src.compilation_cache`` (``_cache``,
-``_cache_initialized``, ``_cache_initialized_mutex``) to put the checked store in place of JAX's
-file cache; when they are missing (another JAX), the cache stays off with one warning line, and
-nothing else changes.
+This module uses JAX's public API (``jax.jit(...).lower(...).compile()``,
+``jax.experimental.serialize_executable``) and, for the key only, the list of JAX's settings
+that change a trace (``jax._src.config.trace_context``; with another JAX, the x64 switch).
 """
 
 from __future__ import annotations
@@ -49,24 +61,33 @@ import hashlib
 import os
 import platform
 import re
+import stat
 import sys
 import tempfile
 import time
 import zlib
 from pathlib import Path
 
-__all__ = ["ENV", "default_path", "configured_path", "enable", "disable", "active_path",
-           "from_args", "end_command", "add_option", "call"]
+__all__ = ["ENV", "MAX_ENTRY_BYTES", "UNUSED_DAYS", "default_path", "configured_path", "enable",
+           "disable", "active_path", "check_platforms", "from_args", "end_command", "add_option",
+           "call"]
 
 #: The environment variable that names the cache folder (or turns the cache off).
 ENV = "MAXWELL_KINETICS_CACHE"
+#: Entries larger than this (bytes) are damaged by definition: never read, deleted.  The
+#: solver's executables weigh about 0.1 MB in 1D and a few MB in 3D.
+MAX_ENTRY_BYTES = 256 * 2**20
+#: Entries that no process has loaded (or written) for this many days are removed when a
+#: process turns the cache on.
+UNUSED_DAYS = 30
 _OFF_WORDS = frozenset({"0", "off", "no", "false", "none"})
+_ON_WORDS = frozenset({"1", "on", "yes", "true"})
 _MAGIC = b"maxwell-kinetics jax executable v1\n"
 _DIGEST = 32
 _SUFFIX = ".entry"
 _STALE_TMP_SECONDS = 3600.0
 
-_state: dict = {"path": None, "saved": None, "store": None, "root": None}
+_state: dict = {"path": None, "store": None, "root": None}
 _warned: set[str] = set()
 
 
@@ -86,7 +107,8 @@ def default_path() -> Path:
 
 def configured_path() -> Path | None:
     """The folder that :func:`enable` uses by default: ``$MAXWELL_KINETICS_CACHE`` (None when
-    it turns the cache off), else :func:`default_path`.
+    it turns the cache off, :func:`default_path` when it is empty or says on), else
+    :func:`default_path`.
 
     Returns
     -------
@@ -94,7 +116,7 @@ def configured_path() -> Path | None:
         The folder, or None when the environment variable turns the cache off.
     """
     value = os.environ.get(ENV, "").strip()
-    if not value:
+    if not value or value.lower() in _ON_WORDS:
         return default_path()
     if value.lower() in _OFF_WORDS:
         return None
@@ -129,7 +151,9 @@ def _warn_once(root: Path, reason: str) -> None:
     key = f"{root}|{reason}"
     if key not in _warned:
         _warned.add(key)
-        print(f"maxwell-kinetics: warning: compilation cache {root} is not usable ({reason}); "
+        shown = str(root) if str(root).isprintable() else repr(str(root))  # one line
+        shown = shown if len(shown) <= 200 else shown[:200] + "..."
+        print(f"maxwell-kinetics: warning: compilation cache {shown} is not usable ({reason}); "
               "running without it", file=sys.stderr)
 
 
@@ -144,19 +168,23 @@ def _prepare(folder: Path) -> str | None:
         os.unlink(probe)
     except OSError as exc:
         return f"{type(exc).__name__}: {exc.strerror or exc}"
-    _remove_stale_temporaries(folder)
+    _remove_stale(folder)
     return None
 
 
-def _remove_stale_temporaries(folder: Path) -> None:
-    """Temporary files older than an hour are left by killed writers: remove them."""
+def _remove_stale(folder: Path) -> None:
+    """Remove temporary files older than an hour (left by killed writers) and entries that no
+    process has loaded for :data:`UNUSED_DAYS` days (those of an older version of the code or
+    of a library: without this the folder would grow with every upgrade)."""
     now = time.time()
-    for tmp in folder.glob(".tmp-*"):
-        try:
-            if now - tmp.stat().st_mtime > _STALE_TMP_SECONDS:
-                tmp.unlink()
-        except OSError:
-            pass
+    for pattern, age in ((".tmp-*", _STALE_TMP_SECONDS), ("*" + _SUFFIX, UNUSED_DAYS * 86400.0)):
+        for path in folder.glob(pattern):
+            try:
+                info = os.lstat(path)
+                if not stat.S_ISDIR(info.st_mode) and now - info.st_mtime > age:
+                    path.unlink()
+            except OSError:
+                pass
 
 
 def _seal(key: str, value: bytes) -> bytes:
@@ -174,62 +202,86 @@ def _open(key: str, data: bytes) -> bytes | None:
     return value
 
 
-def _store_class():
-    from jax._src.compilation_cache_interface import CacheInterface
+class _Store:
+    """The entries of one folder: atomic writes, checked reads of regular files only."""
 
-    class CheckedStore(CacheInterface):
-        """JAX's cache interface over one folder: atomic writes, checked reads."""
+    def __init__(self, path: Path):
+        self._path = path
+        self._read: dict[str, tuple[int, int]] = {}  # key -> (device, inode) of the entry read
 
-        def __init__(self, path: Path):
-            self._path = path
+    def _file(self, key: str) -> Path:
+        name = key if re.fullmatch(r"[A-Za-z0-9_.\-]{1,200}", key) else (
+            "h-" + hashlib.sha256(key.encode()).hexdigest())
+        return self._path / (name + _SUFFIX)
 
-        def _file(self, key: str) -> Path:
-            name = key if re.fullmatch(r"[A-Za-z0-9_.\-]{1,200}", key) else (
-                "h-" + hashlib.sha256(key.encode()).hexdigest())
-            return self._path / (name + _SUFFIX)
-
-        def get(self, key: str) -> bytes | None:
-            path = self._file(key)
-            try:
-                with open(path, "rb") as fh:
-                    info = os.fstat(fh.fileno())
-                    data = fh.read()
-            except OSError:
+    def get(self, key: str) -> bytes | None:
+        """The content stored under ``key``; None when there is none, or it is not a regular
+        file (left alone), or it fails the checks (then it is removed)."""
+        path = self._file(key)
+        try:
+            if not stat.S_ISREG(os.lstat(path).st_mode):
+                return None  # a link, FIFO, device or folder: never opened
+            flags = (os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOFOLLOW", 0)
+                     | getattr(os, "O_CLOEXEC", 0))
+            fd = os.open(path, flags)
+        except OSError:
+            return None
+        try:
+            info = os.fstat(fd)
+            if not stat.S_ISREG(info.st_mode):  # replaced between lstat and open
                 return None
-            value = _open(key, data) if info.st_uid == os.getuid() else None
-            if value is None:  # damaged or foreign: never trusted; removed, then rebuilt
-                try:
-                    if os.stat(path).st_ino == info.st_ino:  # not already replaced by a writer
-                        os.unlink(path)
-                except OSError:
-                    pass
-            return value
+            data = None
+            if info.st_uid == os.getuid() and info.st_size <= MAX_ENTRY_BYTES:
+                with os.fdopen(os.dup(fd), "rb") as fh:
+                    data = fh.read(MAX_ENTRY_BYTES + 1)
+        except OSError:
+            return None
+        finally:
+            os.close(fd)
+        value = _open(key, data) if data is not None and len(data) <= MAX_ENTRY_BYTES else None
+        if value is None:  # damaged or foreign: never trusted; removed, then rebuilt
+            self._remove(path, (info.st_dev, info.st_ino))
+        else:
+            self._read[key] = (info.st_dev, info.st_ino)
+            try:  # used now: kept another UNUSED_DAYS days
+                os.utime(path, follow_symlinks=False)
+            except (OSError, NotImplementedError):
+                pass
+        return value
 
-        def put(self, key: str, value: bytes) -> None:
+    def drop(self, key: str) -> None:
+        """Remove the entry that :meth:`get` returned for ``key`` (it failed when it ran),
+        unless another process has replaced it since."""
+        if key in self._read:
+            self._remove(self._file(key), self._read.pop(key))
+
+    @staticmethod
+    def _remove(path: Path, identity: tuple[int, int]) -> None:
+        try:
+            info = os.lstat(path)
+            if (info.st_dev, info.st_ino) == identity:  # not already replaced by a writer
+                os.unlink(path)
+        except OSError:
+            pass
+
+    def put(self, key: str, value: bytes) -> None:
+        """Store ``value`` under ``key`` (a temporary file renamed into place); a failure (a
+        full disk, a removed folder, a folder in the way) is skipped."""
+        tmp = None
+        try:
+            fd, tmp = tempfile.mkstemp(dir=self._path, prefix=".tmp-")
+            with os.fdopen(fd, "wb") as fh:
+                fh.write(_seal(key, value))
+            os.replace(tmp, self._file(key))
             tmp = None
-            try:
-                fd, tmp = tempfile.mkstemp(dir=self._path, prefix=".tmp-")
-                with os.fdopen(fd, "wb") as fh:
-                    fh.write(_seal(key, value))
-                os.replace(tmp, self._file(key))
-                tmp = None
-            except OSError:
-                pass  # a full disk or a removed folder: the run goes on, uncached
-            finally:
-                if tmp is not None:
-                    try:
-                        os.unlink(tmp)
-                    except OSError:
-                        pass
-
-        def clear(self) -> None:
-            for entry in self._path.glob("*" + _SUFFIX):
+        except OSError:
+            pass  # the run goes on, uncached
+        finally:
+            if tmp is not None:
                 try:
-                    entry.unlink()
+                    os.unlink(tmp)
                 except OSError:
                     pass
-
-    return CheckedStore
 
 
 def _code_fingerprint() -> str:
@@ -324,16 +376,34 @@ def _dump_compiled(compiled) -> bytes | None:
         return None
 
 
+def _try(blob: bytes, args: tuple):
+    """``(result, executable)``: the executable of ``blob`` run on ``args`` and waited for (an
+    executable that cannot run fails here, not later when its result is read); ``(None,
+    None)`` when it does not load or raises when it runs."""
+    import jax
+
+    loaded = _load_compiled(blob)
+    if loaded is None:
+        return None, None
+    try:
+        return jax.block_until_ready(loaded(*args)), loaded
+    except Exception:  # noqa: BLE001 - whatever fails here, the blob is not used
+        return None, None
+
+
 def call(name: str, function, jitted, static, args: tuple):
     """``jitted(static, *args)``, where ``jitted`` is ``jax.jit(function, static_argnums=0)``;
     with the cache on, through an executable compiled ahead of time and kept in the cache.
 
     A warm process loads the executable and neither traces nor compiles.  The key hashes
     ``name``, the static part, the shapes and dtypes of ``args``, the backend and JAX's trace
-    settings (``_jax_settings``) and a hash of the project's sources (``_code_fingerprint``).
-    An entry that does not load (checked, but from a JAX that cannot read it) is compiled again
-    and replaced.  With the cache off, or a static part without a key (a user's law),
-    ``jitted`` runs as it is.
+    settings (``_jax_settings``) and a hash of the project's sources and of the versions of the
+    libraries that trace the scheme (``_code_fingerprint``).  The first call of a loaded entry
+    in a process is waited for: an entry that does not load, or that raises when it runs, is
+    deleted and the call is compiled afresh.  A fresh executable is serialized, loaded back and
+    run in its place; only when that run succeeds is the serialized form stored (else the
+    compiled executable gives the result, and nothing is stored).  With the cache off, or a
+    static part without a key (a user's law), ``jitted`` runs as it is.
 
     Parameters
     ----------
@@ -346,37 +416,62 @@ def call(name: str, function, jitted, static, args: tuple):
     static : object
         The static (hashable) first argument.
     args : tuple
-        The array arguments.
+        The array arguments (never donated: a failed run leaves them intact).
 
     Returns
     -------
     object
         What ``function(static, *args)`` returns (JAX arrays).
+
+    Raises
+    ------
+    Exception
+        Whatever a freshly compiled executable raises when it runs (never an error of a
+        cache entry).
     """
     store = _state.get("store")
     token = _static_token(static) if store is not None else None
     if token is None:
         return jitted(static, *args)
     key = _exported_key(name, token, args)
-    # Executables in memory: per cache folder (so that each folder gets its entries), and by
-    # key alone (an executable compiled here for another folder is stored, not compiled again).
+    # Executables that ran in this process, with the blob that is known to load and run (None
+    # when there is none): per cache folder, and by key alone (an executable that ran here for
+    # another folder is stored there, not compiled again).  A loaded executable is never
+    # serialized again: XLA may serialize it incompletely.
     in_folder = _state.setdefault("compiled", {})
     any_folder = _state.setdefault("compiled_any", {})
     compiled = in_folder.get((_state["path"], key))
-    if compiled is None:
-        blob = store.get(key)
-        compiled = None if blob is None else _load_compiled(blob)
-        if compiled is None:
-            compiled = any_folder.get(key)
-            if compiled is None:
-                import jax
+    if compiled is not None:
+        return compiled(*args)
+    known = any_folder.get(key)
+    if known is not None:
+        compiled, blob = known
+        if blob is not None:
+            store.put(key, blob)
+        in_folder[(_state["path"], key)] = compiled
+        return compiled(*args)
+    blob = store.get(key)
+    if blob is not None:
+        out, loaded = _try(blob, args)
+        if loaded is not None:
+            in_folder[(_state["path"], key)] = loaded
+            any_folder[key] = (loaded, blob)
+            return out
+        store.drop(key)  # it does not load, or it fails when it runs: compiled afresh
+    import jax
 
-                compiled = jax.jit(lambda *a: function(static, *a)).lower(*args).compile()
-            blob = _dump_compiled(compiled)
-            if blob is not None:
-                store.put(key, blob)
-        in_folder[(_state["path"], key)] = any_folder[key] = compiled
-    return compiled(*args)
+    compiled = jax.jit(lambda *a: function(static, *a)).lower(*args).compile()
+    blob = _dump_compiled(compiled)
+    out, loaded = (None, None) if blob is None else _try(blob, args)
+    if loaded is None:  # not serializable, or not whole: kept in memory only
+        blob = None
+        out = compiled(*args)
+    else:
+        store.put(key, blob)  # loaded back and run: whole
+        compiled = loaded
+    in_folder[(_state["path"], key)] = compiled
+    any_folder[key] = (compiled, blob)
+    return out
 
 
 def active_path() -> Path | None:
@@ -391,18 +486,20 @@ def active_path() -> Path | None:
 
 
 def enable(path: str | os.PathLike | None = None) -> Path | None:
-    """Turn the persistent cache on in this process; returns the folder of entries in use.
+    """Turn the cache on in this process; returns the folder of entries in use.
 
     ``path`` is the cache folder (default :func:`configured_path`); entries go to a
     sub-folder of it named after the jax and jaxlib versions and the machine.  A cache turned
     off by ``$MAXWELL_KINETICS_CACHE`` (``path`` None) returns None; an unusable folder prints
-    one warning line on stderr and returns None.  Either way JAX runs as before, uncached.
-    This changes JAX's global configuration for the process, until :func:`disable`.
+    one warning line on stderr and returns None.  Either way the solver runs as before,
+    uncached.  No JAX setting changes (JAX's own persistent cache stays as the user set it);
+    only :func:`call` uses the folder, until :func:`disable`.
 
     Parameters
     ----------
     path : str or os.PathLike, optional
-        The cache folder; None means :func:`configured_path`.
+        The cache folder; None means :func:`configured_path`.  A relative path is taken from
+        the working folder now.
 
     Returns
     -------
@@ -413,8 +510,7 @@ def enable(path: str | os.PathLike | None = None) -> Path | None:
     if root is None:
         disable()
         return None
-    import jax
-
+    root = root.absolute()
     folder = root / _namespace()
     if _state["path"] == folder:
         return folder
@@ -423,42 +519,13 @@ def enable(path: str | os.PathLike | None = None) -> Path | None:
     if reason is not None:
         _warn_once(root, reason)
         return None
-    from jax._src import compilation_cache as cc
-
-    hooks = ("_cache", "_cache_initialized", "_cache_initialized_mutex", "reset_cache")
-    if not all(hasattr(cc, name) for name in hooks):
-        _warn_once(root, f"jax {jax.__version__} has no hook for it")
-        return None
-    options = ("jax_compilation_cache_dir", "jax_persistent_cache_min_compile_time_secs",
-               "jax_persistent_cache_enable_xla_caches", "jax_enable_compilation_cache")
-    _state["saved"] = {name: getattr(jax.config, name) for name in options}
-    jax.config.update("jax_compilation_cache_dir", str(folder))
-    jax.config.update("jax_enable_compilation_cache", True)
-    # Every executable is kept: the small ones cost a few ms each to compile, and there are many.
-    jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
-    # XLA's own GPU side caches would write files that bypass the checks: off.
-    jax.config.update("jax_persistent_cache_enable_xla_caches", "none")
-    cc.reset_cache()
-    store = _store_class()(folder)
-    with cc._cache_initialized_mutex:
-        cc._cache = store
-        cc._cache_initialized = True
-    _state["path"], _state["store"], _state["root"] = folder, store, root
+    _state["path"], _state["store"], _state["root"] = folder, _Store(folder), root
     return folder
 
 
 def disable() -> None:
-    """Turn off the cache that :func:`enable` turned on (JAX's previous settings come back);
-    nothing happens when it is off."""
-    if _state["path"] is None:
-        return
-    import jax
-    from jax._src import compilation_cache as cc
-
-    cc.reset_cache()
-    for name, value in (_state["saved"] or {}).items():
-        jax.config.update(name, value)
-    _state["path"], _state["saved"], _state["store"] = None, None, None
+    """Turn off the cache that :func:`enable` turned on; nothing happens when it is off."""
+    _state["path"], _state["store"] = None, None
 
 
 def add_option(parser, compiles: bool = True) -> None:
@@ -470,18 +537,51 @@ def add_option(parser, compiles: bool = True) -> None:
         The subcommand's parser.
     compiles : bool, default True
         False for a subcommand that compiles nothing (its help text says the option is
-        accepted for uniformity).
+        accepted for uniformity).  The parsed arguments get ``runs_jax`` = ``compiles``.
     """
     text = ("do not use the persistent compilation cache (default: on, in "
             f"${ENV} or ~/.cache/maxwell-kinetics/jax)")
     if not compiles:
         text += "; this subcommand compiles nothing, the option is accepted for uniformity"
     parser.add_argument("--no-cache", action="store_true", help=text)
+    # the command line checks JAX_PLATFORMS before a subcommand that runs JAX writes anything
+    parser.set_defaults(runs_jax=compiles)
+
+
+def check_platforms() -> None:
+    """Start JAX's backend; a ``JAX_PLATFORMS`` that JAX cannot start here is bad input.
+
+    Raises
+    ------
+    InvalidArgumentError
+        ``JAX_PLATFORMS`` is set (e.g. to ``cuda`` on a machine without a GPU, or to an
+        unknown name) and JAX cannot start any device with it; the message names the variable,
+        its value (at most 200 characters) and JAX's reason, on one line.
+    """
+    import jax
+
+    try:
+        jax.devices()
+    except Exception as exc:
+        value = os.environ.get("JAX_PLATFORMS")
+        if value is None:  # not the user's setting: JAX's own failure, as it is
+            raise
+        from particles.validation import InvalidArgumentError
+
+        reason = " ".join(str(exc).split()) or f"{type(exc).__name__} while starting it"
+        if len(reason) > 200:
+            reason = reason[:200] + "..."
+        shown = value if len(value) <= 200 else value[:200] + "..."
+        raise InvalidArgumentError(
+            "JAX_PLATFORMS", shown, "platforms that JAX can start on this machine (such as "
+            f"'cpu'), or the variable unset; JAX said: {reason}") from None
 
 
 def from_args(args) -> Path | None:
     """The command line's rule: the cache on unless ``--no-cache``; call it after the input
-    checks, right before the first JAX computation.  :func:`end_command` undoes it.
+    checks, right before the first JAX computation.  It first starts JAX's backend
+    (:func:`check_platforms`), so that a ``JAX_PLATFORMS`` that cannot work is reported
+    before anything is written.  :func:`end_command` undoes it.
 
     Parameters
     ----------
@@ -492,7 +592,13 @@ def from_args(args) -> Path | None:
     -------
     pathlib.Path or None
         What :func:`enable` returns, or None with ``--no-cache``.
+
+    Raises
+    ------
+    InvalidArgumentError
+        From :func:`check_platforms`.
     """
+    check_platforms()
     _state.setdefault("before_command", _state["root"] if _state["path"] else None)
     if getattr(args, "no_cache", False):
         disable()
@@ -502,7 +608,7 @@ def from_args(args) -> Path | None:
 
 def end_command() -> None:
     """Put back the cache state from before :func:`from_args` (the command line calls it when
-    a subcommand ends, so that a command run in-process leaves JAX as it found it)."""
+    a subcommand ends, so that a command run in-process leaves the cache as it found it)."""
     if "before_command" not in _state:
         return
     root = _state.pop("before_command")
