@@ -214,10 +214,6 @@ THIRD_PARTY_PRIVATE = {
     # both only in private attributes
     "maxwell_kinetics.cli": {"parser._option_string_actions", "parser._actions",
                              "argparse._SubParsersAction"},
-    # the compile cache installs its checked store (atomic, hashed entries) as JAX's persistent
-    # cache: JAX has no public hook for a cache of one's own
-    "maxwell_kinetics.compile_cache": {"cc._cache_initialized_mutex", "cc._cache",
-                                       "cc._cache_initialized"},
 }
 
 
