@@ -116,12 +116,10 @@ def angular_law(dimension: int, angular: str = "uniform") -> AngularLaw:
     particles.validation.InvalidArgumentError
         If ``dimension`` is not 1, 2 or 3, or ``angular`` is not a known model.
     """
-    from particles.validation import InvalidArgumentError, check_choice
+    from particles.validation import check_choice, check_dimension
 
-    if dimension not in (1, 2, 3) or isinstance(dimension, bool):
-        raise InvalidArgumentError("dimension", dimension, "1, 2 or 3")
+    d = check_dimension(dimension)
     angular = check_choice(angular, "angular", ANGULAR_MODELS)
-    d = int(dimension)
     if d == 1:
         return AngularLaw(1, angular, 1.0, 0.0)
     return AngularLaw(d, angular, ANGULAR_MODELS[angular], 0.5 * (d - 1))

@@ -108,6 +108,7 @@ from .validation import (
     InvalidArgumentError,
     check_choice,
     check_count,
+    check_dimension,
     check_nonnegative,
     check_restitution,
 )
@@ -805,9 +806,7 @@ class Ulam:
         if law.sampler is None:
             raise InvalidArgumentError("initial", law.name, "a law with a sampler")
         object.__setattr__(self, "initial", law.name)
-        if isinstance(self.dimension, bool) or self.dimension not in (1, 2, 3):
-            raise InvalidArgumentError("dimension", self.dimension, "1, 2 or 3")
-        object.__setattr__(self, "dimension", int(self.dimension))
+        object.__setattr__(self, "dimension", check_dimension(self.dimension))
         _check_angular(self.angular)
         driving = check_nonnegative(self.driving, "driving")
         if driving > 0.0 and self.dimension != 1:

@@ -20,6 +20,7 @@ __all__ = [
     "check_restitution",
     "check_times",
     "check_count",
+    "check_dimension",
     "check_positive",
     "check_nonnegative",
     "parse_float_list",
@@ -35,6 +36,8 @@ __all__ = [
     "check_path",
     "check_choice",
     "check_output_dir",
+    "shown",
+    "SHOWN_CHARACTERS",
 ]
 
 
@@ -51,7 +54,9 @@ class InvalidArgumentError(ValueError):
     name : str
         The name of the argument (or command-line option) that was refused.
     value : object
-        The value received, shown with ``repr`` in the message.
+        The value received, shown with ``repr`` in the message, cut to its first
+        :data:`SHOWN_CHARACTERS` characters (and ``...``) when longer; the attribute keeps it
+        whole.
     expected : str
         What the argument should have been, in words (e.g. ``"a number in [0, 1]"``).
     """
@@ -60,14 +65,53 @@ class InvalidArgumentError(ValueError):
         self.name = name
         self.value = value
         self.expected = expected
-        super().__init__(f"argument {name!s}={value!r} is invalid: expected {expected}")
+        super().__init__(f"argument {name!s}={shown(value)} is invalid: expected {expected}")
+
+
+#: The most characters of a value's ``repr`` that an error message shows.
+SHOWN_CHARACTERS = 200
+
+
+def shown(value) -> str:
+    """``repr(value)`` cut to :data:`SHOWN_CHARACTERS` characters (then ``...`` and the length).
+
+    Parameters
+    ----------
+    value : object
+        Anything; a ``repr`` that fails is replaced by the type's name.
+
+    Returns
+    -------
+    str
+        The text shown for ``value`` in an error message.
+    """
+    try:
+        text = repr(value)
+    except Exception:  # noqa: BLE001 - a message must never fail
+        text = f"<{type(value).__name__}>"
+    if len(text) <= SHOWN_CHARACTERS:
+        return text
+    return f"{text[:SHOWN_CHARACTERS]}... ({len(text)} characters)"
+
+
+def _is_bool(value) -> bool:
+    return isinstance(value, (bool, np.bool_))
+
+
+def _is_complex(value) -> bool:
+    return isinstance(value, (complex, np.complexfloating))
 
 
 def _as_float(name: str, value) -> float:
+    """``value`` as a finite float; booleans and complex numbers are refused, not converted."""
+    if _is_bool(value) or _is_complex(value):
+        raise InvalidArgumentError(name, value, "a real number")
     try:
         x = float(value)
     except (TypeError, ValueError):
         raise InvalidArgumentError(name, value, "a real number") from None
+    except OverflowError:  # an int beyond the float range
+        raise InvalidArgumentError(name, value, "a finite real number") from None
     if not math.isfinite(x):
         raise InvalidArgumentError(name, value, "a finite real number")
     return x
@@ -156,7 +200,8 @@ def check_nonnegative(value, name: str) -> float:
 def check_count(value, name: str, minimum: int) -> int:
     """Check an integer count (number of particles, grid points) of at least ``minimum``.
 
-    A float is accepted only when it equals an integer (``8.0``); booleans are refused.
+    A float is accepted only when it equals an integer (``8.0``); booleans (NumPy's included),
+    complex numbers and strings are refused.
 
     Parameters
     ----------
@@ -175,9 +220,10 @@ def check_count(value, name: str, minimum: int) -> int:
     Raises
     ------
     particles.InvalidArgumentError
-        If ``value`` is a bool, not integral, or below ``minimum`` (naming ``name``).
+        If ``value`` is a bool, complex, a string, not integral, or below ``minimum`` (naming
+        ``name``).
     """
-    if isinstance(value, bool):
+    if _is_bool(value) or _is_complex(value) or isinstance(value, str):
         raise InvalidArgumentError(name, value, f"an integer >= {minimum}")
     try:
         as_int = int(value)
@@ -186,6 +232,33 @@ def check_count(value, name: str, minimum: int) -> int:
     if as_int != value or as_int < minimum:
         raise InvalidArgumentError(name, value, f"an integer >= {minimum}")
     return as_int
+
+
+def check_dimension(value, name: str = "dimension") -> int:
+    """Check a space dimension d ∈ {1, 2, 3}: an integer (``2.0`` accepted), never a bool, a
+    complex number or a string.
+
+    Parameters
+    ----------
+    value : int
+        The dimension.
+    name : str, optional
+        The argument name shown in the error (default ``"dimension"``).
+
+    Returns
+    -------
+    int
+        ``value`` as an ``int``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``value`` is not 1, 2 or 3 as a real number (naming ``name``).
+    """
+    if (_is_bool(value) or not isinstance(value, (int, float, np.integer, np.floating))
+            or value not in (1, 2, 3)):
+        raise InvalidArgumentError(name, value, "1, 2 or 3")
+    return int(value)
 
 
 def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarray:
@@ -212,25 +285,31 @@ def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarra
     Raises
     ------
     particles.InvalidArgumentError
-        If ``times`` is not numeric, empty or not one-dimensional, contains a non-finite or
-        negative value, or is not increasing (naming ``name``).
+        If ``times`` is not numeric (booleans, complex numbers and strings are refused), empty or
+        not one-dimensional, contains a non-finite or negative value, or is not increasing
+        (naming ``name``).
     """
     if np.isscalar(times):
         times = [times]
     try:
-        arr = np.asarray(times, dtype=float)
-    except (TypeError, ValueError):
+        raw = np.asarray(times)
+        if raw.dtype.kind not in "iuf" and not (raw.dtype == object and all(
+                isinstance(x, (int, float, np.integer, np.floating)) and not _is_bool(x)
+                for x in raw.ravel())):
+            raise TypeError("not real numbers")  # booleans, complex, strings, None
+        arr = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
         raise InvalidArgumentError(name, times, "a list of real numbers") from None
-    shown = times if not isinstance(times, np.ndarray) else times.tolist()
+    given = times if not isinstance(times, np.ndarray) else times.tolist()
     if arr.ndim != 1 or arr.size == 0:
-        raise InvalidArgumentError(name, shown, "a non-empty one-dimensional list of times")
+        raise InvalidArgumentError(name, given, "a non-empty one-dimensional list of times")
     if not np.all(np.isfinite(arr)):
-        raise InvalidArgumentError(name, shown, "finite times")
+        raise InvalidArgumentError(name, given, "finite times")
     if np.any(arr < 0):
-        raise InvalidArgumentError(name, shown, "times >= 0")
+        raise InvalidArgumentError(name, given, "times >= 0")
     steps = np.diff(arr)
     if np.any(steps <= 0 if strictly else steps < 0):
-        raise InvalidArgumentError(name, shown, "increasing times")
+        raise InvalidArgumentError(name, given, "increasing times")
     return arr
 
 
@@ -246,8 +325,10 @@ def _split_list(text: str, name: str, what: str) -> list[str]:
 def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
     """Parse a comma-separated list of numbers such as ``"1,10,100"`` (for the command line).
 
-    Empty elements (``"1,,2"``, ``","``) and an empty list are refused.  A sequence that is not a
-    string is converted element by element with ``float`` and not otherwise checked.
+    Empty elements (``"1,,2"``, ``","``) and an empty list are refused, and so are non-finite
+    values (``nan``, ``inf``, ``1e400``) and repeated values: equal numbers spelled differently
+    (``0,-0`` or ``1000,1000.0``) are repeats.  A sequence that is not a string is checked the
+    same way element by element (booleans and complex numbers are refused).
 
     Parameters
     ----------
@@ -264,17 +345,35 @@ def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
     Raises
     ------
     particles.InvalidArgumentError
-        If the text is empty, has an empty element, or an element is not a number (naming
-        ``name``).
+        If the text is empty, has an empty element, an element is not a finite number, or a
+        value is repeated (naming ``name``).
     """
-    if not isinstance(text, str):
-        return [float(x) for x in text]
-    out = []
-    for part in _split_list(text, name, "numbers"):
+    if isinstance(text, str):
+        parts = _split_list(text, name, "numbers")
+    else:
         try:
-            out.append(float(part))
-        except ValueError:
+            parts = list(text)
+        except TypeError:
+            raise InvalidArgumentError(name, text, "a list of numbers") from None
+        if not parts:
+            raise InvalidArgumentError(name, text, "a non-empty list of numbers")
+    out = []
+    for part in parts:
+        if _is_bool(part) or _is_complex(part) or not isinstance(
+                part, (str, int, float, np.integer, np.floating)):
+            raise InvalidArgumentError(name, text, "a list of real numbers")
+        try:
+            value = float(part)
+        except (ValueError, OverflowError):
             raise InvalidArgumentError(name, text, "a comma-separated list of numbers") from None
+        if not math.isfinite(value):
+            raise InvalidArgumentError(name, text, f"finite numbers (got {part!s})")
+        out.append(value)
+    seen: set[float] = set()
+    for value in out:  # 0.0 == -0.0, so "0,-0" is a repeat
+        if value in seen:
+            raise InvalidArgumentError(name, text, f"distinct values ({value + 0.0:g} is repeated)")
+        seen.add(value)
     return out
 
 

@@ -101,6 +101,10 @@ def test_simulate_and_ensemble_give_the_same_numbers(capsys, tmp_path, model_nam
     p = model.parameter(name)
     texts = _base(model)
     texts[name] = N if name == "n" else _text(p.example)
+    if p.needs:  # e.g. ulam's --angular needs --dimension 2 or 3
+        other, values, _ = p.needs
+        example = model.parameter(other).example
+        texts.setdefault(other, _text(example if example in values else values[0]))
     time = _time(model, texts)
     argv = _argv(model, texts) + [f"--{time}", TIMES]
     runs = {}
@@ -184,6 +188,27 @@ def test_a_bad_value_gets_one_message_from_both_commands(capsys, tmp_path, model
         assert message.startswith(f"argument {name}="), message
         assert text in message or _parsed(model, name, text) in message, message
         assert list(tmp_path.iterdir()) == [], (model_name, name, text)
+
+
+@pytest.mark.parametrize("argv, named", [
+    (["--angular", "hard"], "angular='hard'"),  # default dimension 1: no collision direction
+    (["--angular", "uniform", "--dimension", "1"], "angular='uniform'"),
+    (["--driving", "0", "--dimension", "2"], "driving=0.0"),  # driving is one-dimensional
+])
+def test_an_option_that_needs_another_is_refused_without_it(capsys, tmp_path, argv, named):
+    base = ["ulam", "--n", N, "--restitution", "0.5", "--tau", TIMES, *argv]
+    err = run_error(capsys, ["simulate", *base, "--save", str(tmp_path / "s.npz")])
+    assert named in err and "--dimension" in err
+    err = run_error(capsys, ["ensemble", *base, "--seeds", "1", "--serial",
+                             "--out", str(tmp_path / "e")])
+    assert named in err and "--dimension" in err
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(InvalidArgumentError, match="--dimension 2 or 3"):
+        get_model("ulam").build({"n": 10, "restitution": 0.5, "angular": "hard"})
+    # with the setting it needs, the option is taken
+    engine = get_model("ulam").build({"n": 10, "restitution": 0.5, "angular": "hard",
+                                      "dimension": 2})
+    assert engine.angular == "hard"
 
 
 @pytest.mark.parametrize("model_name", ["md", "sticky"])
