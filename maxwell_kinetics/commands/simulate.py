@@ -39,6 +39,8 @@ from particles.md import InelasticCollapseError, profile_x
 from particles.models import get_model
 from particles.sticky import profile_x as sticky_profile_x
 from particles.validation import (
+    InvalidArgumentError,
+    check_nonnegative,
     check_times,
     parse_float_list,
     parse_seed,
@@ -69,6 +71,8 @@ def add_common_options(parser: argparse.ArgumentParser) -> None:
     """
     parser.add_argument("--seed", default="0", help="integer seed >= 0 (default 0)")
     add_run_options(parser)
+    # simulate writes checkpoints only with --checkpoint: None tells an interval given from none
+    parser.set_defaults(checkpoint_interval=None)
     parser.add_argument("--checkpoint", metavar="FILE", help="write checkpoints to FILE")
     parser.add_argument("--resume", metavar="FILE", help="continue the run saved in FILE")
     parser.add_argument("--save", metavar="FILE", help="save the full result (.npz) to FILE")
@@ -108,6 +112,7 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
     """
     times = check_times(parse_float_list(args.times, time_key), time_key)
     seed = parse_seed(args.seed)
+    interval = _checkpoint_interval(args)
     progress = sys.stderr.isatty() if args.progress is None else args.progress
     check_outputs(checkpoint=args.checkpoint, save=args.save, inputs={"resume": args.resume})
     try:
@@ -119,7 +124,7 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             checkpoint=args.checkpoint,
             resume=args.resume,
             structure_factor="last" if args.structure_factor else False,  # only S(τ_last) printed
-            checkpoint_interval=args.checkpoint_interval,
+            checkpoint_interval=interval,
             force=args.force,
         )
     except KeyboardInterrupt as exc:
@@ -148,6 +153,19 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             print(f"histogram: {result.histogram_note}")
         print(f"{result.seconds:.3f} s")
     return 0
+
+
+def _checkpoint_interval(args) -> float:
+    """``--checkpoint-interval`` checked (named as the option), and only with ``--checkpoint``;
+    60 s when not given."""
+    text = getattr(args, "checkpoint_interval", None)
+    if text is None:
+        return 60.0
+    interval = check_nonnegative(text, "checkpoint-interval")
+    if args.checkpoint is None:
+        raise InvalidArgumentError("checkpoint-interval", text,
+                                   "no --checkpoint-interval without --checkpoint FILE")
+    return interval
 
 
 def _md_extend(engine, args):
@@ -220,6 +238,10 @@ def run_model(args) -> int:
     time_name, args.times = time_option(args, model, model.time_name(engine))
     if getattr(args, "chunks", None) is not None:
         return _run_sticky_chunks(engine, args)
+    for option in ("workers", "scheduler"):  # sticky's: they place the chunks
+        if getattr(args, option, None) is not None:
+            raise InvalidArgumentError(option, getattr(args, option),
+                                       f"no --{option} without --chunks K")
     extend = _EXTEND[model.name](engine, args) if model.name in _EXTEND else None
     try:
         return run_engine(engine, args, time_key=time_name, extend=extend)
@@ -273,14 +295,15 @@ def _run_sticky_chunks(engine, args) -> int:
     """``simulate sticky --chunks K``: :func:`particles.sticky_chunks.simulate_chunks`."""
     from particles.ensemble.cluster import connect
     from particles.sticky_chunks import check_chunks, simulate_chunks
-    from particles.validation import InvalidArgumentError, check_workers, parse_count
+    from particles.validation import check_workers, parse_count
 
     times = check_times(parse_float_list(args.times, "t"), "t")
     seed = parse_seed(args.seed)
     chunks = check_chunks(parse_count(args.chunks, "chunks", 1), engine.params.n)
-    for option in ("checkpoint", "resume", "save"):
+    for option in ("checkpoint", "resume", "save", "checkpoint_interval"):
         if getattr(args, option) is not None:
-            raise InvalidArgumentError(option, getattr(args, option), "no --" + option +
+            flag = option.replace("_", "-")
+            raise InvalidArgumentError(flag, getattr(args, option), "no --" + flag +
                                        " with --chunks (only the outputs reach this process)")
     if args.profile:
         raise InvalidArgumentError("profile", True,
