@@ -21,6 +21,9 @@ __all__ = [
     "check_times",
     "check_count",
     "check_dimension",
+    "check_real_array",
+    "check_edges",
+    "check_fit_points",
     "check_positive",
     "check_nonnegative",
     "parse_float_list",
@@ -259,6 +262,140 @@ def check_dimension(value, name: str = "dimension") -> int:
             or value not in (1, 2, 3)):
         raise InvalidArgumentError(name, value, "1, 2 or 3")
     return int(value)
+
+
+def check_real_array(values, name: str, *, ndim: int | None = None, min_size: int = 0,
+                     finite: bool = True) -> np.ndarray:
+    """Check an array of real numbers (for the numerical functions' array arguments).
+
+    Booleans, complex numbers, strings and other objects are refused, not converted; a scalar is
+    a 0-dimensional array.
+
+    Parameters
+    ----------
+    values : array_like
+        The values.
+    name : str
+        The argument name shown in the error.
+    ndim : int, optional
+        The required number of dimensions (any when None).
+    min_size : int, optional
+        The fewest elements accepted (default 0).
+    finite : bool, optional
+        If True (default), NaN and ±inf are refused.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``values`` as a float array.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``values`` is not real, has the wrong number of dimensions, fewer than ``min_size``
+        elements, or (``finite``) a non-finite element (naming ``name``).
+    """
+    try:
+        raw = np.asarray(values)
+        if raw.dtype.kind not in "iuf" and not (raw.dtype == object and all(
+                isinstance(x, (int, float, np.integer, np.floating)) and not _is_bool(x)
+                for x in raw.ravel())):
+            raise TypeError("not real numbers")
+        arr = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise InvalidArgumentError(name, _summary(values), "an array of real numbers") from None
+    if ndim is not None and arr.ndim != ndim:
+        raise InvalidArgumentError(name, _summary(values), f"a {ndim}-dimensional array "
+                                   f"(got shape {arr.shape})")
+    if arr.size < min_size:
+        raise InvalidArgumentError(name, _summary(values), f"at least {min_size} values")
+    if finite and not np.all(np.isfinite(arr)):
+        raise InvalidArgumentError(name, _summary(values), "finite values (no NaN or inf)")
+    return arr
+
+
+def check_edges(edges, name: str = "edges") -> np.ndarray:
+    """Check histogram bin edges: at least two finite, strictly increasing real numbers.
+
+    Parameters
+    ----------
+    edges : array_like
+        The edges.
+    name : str, optional
+        The argument name shown in the error (default ``"edges"``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The edges as a one-dimensional float array.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If they are not real, not one-dimensional, fewer than two, not finite (NaN inside
+        included) or not strictly increasing (naming ``name``).
+    """
+    arr = check_real_array(edges, name, ndim=1, min_size=2)
+    if np.any(np.diff(arr) <= 0):
+        raise InvalidArgumentError(name, _summary(edges), "strictly increasing edges")
+    return arr
+
+
+def check_fit_points(x, y, *, fewest: int, name_x: str = "x", name_y: str = "y"):
+    """Check the points of a least-squares fit: finite, one-dimensional, of one length, with at
+    least ``fewest`` distinct abscissae (a fit through repeated x has no unique solution).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Abscissae and ordinates (``y`` may be two-dimensional: one row per run, each of the
+        length of ``x``).
+    fewest : int
+        The fewest distinct x the fit needs (2 for a line; degree + 1 for a polynomial).
+    name_x, name_y : str, optional
+        The argument names shown in the error.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(x, y)`` as float arrays.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For non-real or non-finite values, mismatched lengths, or fewer than ``fewest``
+        distinct x (naming the argument).
+    """
+    x = check_real_array(x, name_x, ndim=1)
+    y = check_real_array(y, name_y)
+    if y.ndim not in (1, 2) or y.shape[-1] != x.size:
+        raise InvalidArgumentError(name_y, _summary(y), f"{x.size} values per row, one per x")
+    distinct = np.unique(x).size
+    if distinct < fewest:
+        raise InvalidArgumentError(name_x, _summary(x), f"at least {fewest} distinct values "
+                                   f"(got {distinct}): the fit is not determined")
+    return x, y
+
+
+class _Text:
+    """A value shown in an error message by this text (``repr`` gives it unquoted)."""
+
+    def __init__(self, text: str):
+        self.text = text
+
+    def __repr__(self) -> str:
+        return self.text
+
+
+def _summary(values):
+    """A value for an error message: a small array as a list, a large one by its shape and its
+    first values (never converted whole)."""
+    if not isinstance(values, np.ndarray):
+        return values
+    if values.size <= 40:
+        return values.tolist()
+    head = ", ".join(repr(x) for x in values.ravel()[:8].tolist())
+    return _Text(f"array of shape {values.shape}: [{head}, ...]")
 
 
 def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarray:
