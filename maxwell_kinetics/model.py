@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from particles.validation import check_restitution
+from particles.validation import check_nonnegative, check_real, check_restitution
 
 __all__ = ["MaxwellModel", "AngularLaw", "angular_law", "ANGULAR_MODELS"]
 
@@ -180,7 +180,13 @@ class MaxwellModel:
         -------
         float
             a_n, per unit τ: M_n ∝ e^{−a_n τ} at late times.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``n`` is not a finite real number (booleans and complex numbers refused).
         """
+        n = check_real(n, "n")
         return 1.0 - self.p**n - (1.0 - self.p) ** n
 
     def growth_rate(self, s: float) -> float:
@@ -198,7 +204,13 @@ class MaxwellModel:
         -------
         float
             g(s), per unit τ.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``s`` is not a finite real number (booleans and complex numbers refused).
         """
+        s = check_real(s, "s")
         return self.lam * s - 1.0 + self.p**s + (1.0 - self.p) ** s
 
     def contraction_rate(self, s: float) -> float:
@@ -216,6 +228,11 @@ class MaxwellModel:
         -------
         float
             γ(s), per unit τ.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``s`` is not a finite real number (booleans and complex numbers refused).
         """
         return -self.growth_rate(s)
 
@@ -256,5 +273,11 @@ class MaxwellModel:
         -------
         float
             The mean energy ⟨v²⟩ at τ.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``tau`` is not a finite real number >= 0.
         """
+        tau = check_nonnegative(tau, "tau")
         return math.exp(-2.0 * self.lam * tau)

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from particles.validation import InvalidArgumentError
+from particles.validation import InvalidArgumentError, check_count
 
 __all__ = ["Moments", "check_orders", "series_estimate", "sphere_cos_moment"]
 
@@ -102,9 +102,16 @@ def sphere_cos_moment(dimension: int, n: int) -> float:
     -------
     float
         ⟨cos^{2n} θ⟩, which links ⟨v_x^{2n}⟩ = ⟨|v|^{2n}⟩ ⟨cos^{2n} θ⟩ for an isotropic law.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``dimension`` is not an integer >= 1 or ``n`` not an integer >= 0 (booleans
+        refused).
     """
-    d = int(dimension)
-    return math.prod((2 * k + 1) / (d + 2 * k) for k in range(int(n)))
+    d = check_count(dimension, "dimension", 1)
+    n = check_count(n, "n", 0)
+    return math.prod((2 * k + 1) / (d + 2 * k) for k in range(n))
 
 
 def _window_fits(q, w, n_max):

@@ -20,6 +20,7 @@ __all__ = [
     "check_restitution",
     "check_times",
     "check_count",
+    "check_real",
     "check_dimension",
     "check_real_array",
     "check_edges",
@@ -118,6 +119,29 @@ def _as_float(name: str, value) -> float:
     if not math.isfinite(x):
         raise InvalidArgumentError(name, value, "a finite real number")
     return x
+
+
+def check_real(value, name: str) -> float:
+    """Check a finite real number (any sign); booleans and complex numbers are refused.
+
+    Parameters
+    ----------
+    value : float or str
+        The value; anything ``float()`` accepts except a bool or a complex number.
+    name : str
+        The argument name shown in the error.
+
+    Returns
+    -------
+    float
+        ``value`` as a float.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``value`` is not a finite real number (naming ``name``).
+    """
+    return _as_float(name, value)
 
 
 def check_restitution(r, name: str = "restitution") -> float:
