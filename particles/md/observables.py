@@ -12,7 +12,18 @@ import math
 
 import numpy as np
 
+from ..validation import (
+    InvalidArgumentError,
+    check_positive,
+    check_real_array,
+    check_restitution,
+)
 from .state import MDParams, MDState
+
+
+def _haff_arguments(restitution, density, t0_energy) -> tuple[float, float, float]:
+    return (check_restitution(restitution), check_positive(density, "density"),
+            check_positive(t0_energy, "t0_energy"))
 
 __all__ = [
     "collisions_per_particle",
@@ -138,7 +149,14 @@ def haff_time(restitution: float, density: float, t0_energy: float = 1.0) -> flo
     -------
     float
         t₀, in units of physical time t.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``restitution`` is not in [0, 1] or ``density`` or ``t0_energy`` is not a finite
+        number > 0 (booleans and complex numbers refused).
     """
+    restitution, density, t0_energy = _haff_arguments(restitution, density, t0_energy)
     if restitution >= 1.0:
         return math.inf
     return math.sqrt(math.pi) / ((1.0 - restitution**2) * density * math.sqrt(t0_energy))
@@ -162,8 +180,16 @@ def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
     -------
     numpy.ndarray
         T(t), a float array of the shape of ``t``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``t`` is not finite real times >= 0, or as :func:`haff_time`.
     """
-    t = np.asarray(t, dtype=float)
+    t = check_real_array(t, "t")
+    if np.any(t < 0):
+        raise InvalidArgumentError("t", t.tolist() if t.size <= 40 else f"shape {t.shape}",
+                                   "times >= 0")
     return t0_energy / (1.0 + t / haff_time(restitution, density, t0_energy)) ** 2
 
 
@@ -184,5 +210,11 @@ def initial_cooling_rate(restitution: float, density: float, t0_energy: float = 
     -------
     float
         dT/dt at t = 0⁺ (≤ 0).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        As :func:`haff_time`.
     """
+    restitution, density, t0_energy = _haff_arguments(restitution, density, t0_energy)
     return -2.0 / math.sqrt(math.pi) * (1.0 - restitution**2) * density * t0_energy**1.5

@@ -1,0 +1,51 @@
+"""The particle-side fits and decay laws on hostile input.
+
+``velocity_tail_exponent`` fitted a line through repeated points: with |v| taking three values
+in the tail its 25 quantile points are only 2 distinct abscissae, and it returned β = 0.92 with
+a standard error of 4e-16.  Haff's law took NaN or a boolean restitution and returned NaN."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from particles.md.observables import haff_energy, haff_time, initial_cooling_rate
+from particles.sticky import velocity_tail_exponent
+from particles.validation import InvalidArgumentError
+
+NAN = float("nan")
+
+
+def test_a_tail_of_two_distinct_points_is_not_fitted():
+    v = np.repeat([0.1, 3.0, 4.0, 5.0], [98900, 600, 400, 100]).astype(float)
+    with pytest.raises(InvalidArgumentError, match="2 distinct points") as info:
+        velocity_tail_exponent(v)
+    assert info.value.name == "v"
+
+
+def test_a_gaussian_tail_is_still_fitted():
+    # 1e5 Gaussian velocities: 25 distinct tail points; the local slope of ln(-ln P) against
+    # ln w over P in [1e-5, 1e-2] is below the asymptotic 2 (it tends to 2 only as w -> inf);
+    # it must be finite with a positive error
+    beta, err, (lo, hi) = velocity_tail_exponent(np.random.default_rng(0).normal(size=100_000))
+    assert 1.0 < beta < 2.0 and 0.0 < err < 0.2 and 2.0 < lo < hi
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: velocity_tail_exponent([NAN] * 20), "v"),
+    (lambda: velocity_tail_exponent([1j] * 20), "v"),
+    (lambda: velocity_tail_exponent(np.zeros(20)), "v"),  # E = 0: w was NaN
+    (lambda: velocity_tail_exponent(np.ones(1000), quantiles=(True, 1e-2)), "quantiles"),
+    (lambda: velocity_tail_exponent(np.ones(1000), quantiles=0.1), "quantiles"),
+    (lambda: haff_time(NAN, 1.0), "restitution"),
+    (lambda: haff_time(True, 1.0), "restitution"),
+    (lambda: haff_time(0.5, 0.0), "density"),
+    (lambda: haff_energy([1.0, NAN], 0.5, 1.0), "t"),
+    (lambda: haff_energy(-1.0, 0.5, 1.0), "t"),
+    (lambda: haff_energy(1.0, 0.5, 1.0, t0_energy=-1.0), "t0_energy"),
+    (lambda: initial_cooling_rate(0.5j, 1.0), "restitution"),
+])
+def test_hostile_arguments_are_invalid_arguments(call, name):
+    with pytest.raises(InvalidArgumentError) as info:
+        call()
+    assert info.value.name == name
