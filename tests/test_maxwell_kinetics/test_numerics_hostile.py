@@ -13,11 +13,12 @@ from maxwell_kinetics import chebyshev as cheb
 from maxwell_kinetics.deviation import reference, source
 from maxwell_kinetics.grid import lagrange_weights
 from maxwell_kinetics.model import MaxwellModel
-from maxwell_kinetics.moments import sphere_cos_moment
+from maxwell_kinetics.moments import moments_of, series_estimate, sphere_cos_moment
 from particles.validation import InvalidArgumentError
 
 NAN = float("nan")
 M = MaxwellModel(0.5)
+Q = np.geomspace(1e-3, 10.0, 200)
 
 
 @pytest.mark.parametrize("call, name", [
@@ -42,6 +43,12 @@ M = MaxwellModel(0.5)
     (lambda: reference([0.0, 1.0], NAN), "m3"),  # TypeError: list times float
     (lambda: reference([0.0, NAN], 0.1), "q"),
     (lambda: source([1.0], 0.1j, 0.1), "lam"),
+    (lambda: series_estimate(Q, np.where(Q > 1, NAN, Q**4), 3), "w"),  # NaN went into the fits
+    (lambda: series_estimate(Q, Q**4, 2.5), "n_max"),  # was taken as 2
+    (lambda: series_estimate(Q[::-1], Q**4, 3), "q"),
+    (lambda: series_estimate(Q, Q[:-1] ** 4, 3), "w"),
+    (lambda: moments_of(Q, [Q**4], [1.0], 1 + 0j, [2, 4]), "dimension"),
+    (lambda: moments_of(Q, [Q**4], [1.0, 2.0], 1, [2, 4]), "w_rows"),
 ])
 def test_hostile_arguments_are_invalid_arguments(call, name):
     with pytest.raises(InvalidArgumentError) as info:
