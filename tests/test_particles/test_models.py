@@ -211,6 +211,19 @@ def test_an_option_that_needs_another_is_refused_without_it(capsys, tmp_path, ar
     assert engine.angular == "hard"
 
 
+@pytest.mark.parametrize("option, values, shown", [
+    ("--restitution", "0.5,0.50", "0.5"), ("--restitution", "0,-0", "0.0"),
+    ("--n", "1000,1e3", "1000"), ("--driving", "0,0.0", "0.0"),
+])
+def test_a_sweep_that_gives_one_value_twice_is_refused(capsys, tmp_path, option, values, shown):
+    base = {"--n": N, "--restitution": "0.5", option: values}
+    argv = [a for k, v in base.items() for a in (k, v)]
+    err = run_error(capsys, ["ensemble", "ulam", *argv, "--tau", TIMES, "--seeds", "1",
+                             "--serial", "--out", str(tmp_path / "e")])
+    assert f"{shown} is given twice" in err and values in err
+    assert list(tmp_path.iterdir()) == []
+
+
 @pytest.mark.parametrize("model_name", ["md", "sticky"])
 def test_a_density_whose_ring_length_overflows_is_refused(capsys, tmp_path, model_name):
     argv = ["simulate", model_name, "--n", "10", "--density", "1e-310", "--t", "1",
