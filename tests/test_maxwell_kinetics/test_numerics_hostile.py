@@ -12,6 +12,7 @@ import pytest
 from maxwell_kinetics import chebyshev as cheb
 from maxwell_kinetics.deviation import reference, source
 from maxwell_kinetics.grid import lagrange_weights
+from maxwell_kinetics.linear_rates import linear_decay_rates, linearised_operator
 from maxwell_kinetics.model import MaxwellModel
 from maxwell_kinetics.moments import moments_of, series_estimate, sphere_cos_moment
 from particles.validation import InvalidArgumentError
@@ -64,3 +65,16 @@ def test_valid_calls_are_unchanged():
     q = cheb.chebyshev_nodes(8, 2.0)
     assert cheb.differentiation_matrix(q) @ q == pytest.approx(np.ones(9))
     assert reference([0.0], 0.0).tolist() == [1.0]
+
+
+@pytest.mark.parametrize("call, name", [
+    # n = 1e9: 1e19 bytes of dense matrices; it was a MemoryError (or the process killed)
+    (lambda: linear_decay_rates(0.5, n=10**9), "n"),
+    (lambda: linearised_operator(0.5, n=10**9), "n"),
+    (lambda: linear_decay_rates(0.5, n=16, count=1000), "count"),  # gave fewer rates silently
+    (lambda: linear_decay_rates(0.5, sigma=2.5j), "sigma"),
+])
+def test_linear_rates_refuse_what_they_cannot_compute(call, name):
+    with pytest.raises(InvalidArgumentError, match="estimate|n \\+ 1|real") as info:
+        call()
+    assert info.value.name == name
