@@ -136,6 +136,11 @@ class Parameter:
     def required(self) -> bool:
         return self.default is REQUIRED
 
+    @property
+    def label(self) -> str:
+        """The name errors show: the option without its dashes (``rod-length``), as typed."""
+        return self.option.lstrip("-")
+
     def validate(self, value):
         """``value`` checked (and normalised) by the parameter's validator.
 
@@ -176,8 +181,8 @@ class Parameter:
         Raises
         ------
         particles.InvalidArgumentError
-            (argument: the parameter's name, value: ``text``) if the text does not parse or
-            the value is refused.
+            (argument: the option's :attr:`label`, e.g. ``rod-length``; value: ``text``) if the
+            text does not parse or the value is refused.
         """
         try:
             if self.kind == "int":
@@ -194,7 +199,7 @@ class Parameter:
             return self.validate(value)
         except ValueError as exc:  # InvalidArgumentError included: shown with the text given
             expected = getattr(exc, "expected", "a real number")
-            raise InvalidArgumentError(self.name, text, expected) from None
+            raise InvalidArgumentError(self.label, text, expected) from None
 
     def describe(self) -> str:
         """The help text of the option: help, unit, choices and default.
@@ -328,7 +333,8 @@ class Model:
             (argument ``params``) for an unknown or missing parameter, or a ``TypeError`` /
             ``ValueError`` of the factory; (argument: the parameter's name) for a parameter
             given without the setting it ``needs`` (:class:`Parameter`); the factory's own
-            ``InvalidArgumentError`` passes through.
+            ``InvalidArgumentError`` passes through, renamed to the option's :attr:`label`
+            (``rod-length``) when it names a declared parameter.
         """
         for name in params:
             self.parameter(name)
@@ -346,7 +352,10 @@ class Model:
                         f"means nothing at {other} = {given!r})")
         try:
             return self.factory(**params)
-        except InvalidArgumentError:
+        except InvalidArgumentError as exc:
+            declared = self._by_name.get(exc.name)
+            if declared is not None and declared.label != exc.name:  # rod_length: --rod-length
+                raise InvalidArgumentError(declared.label, exc.value, exc.expected) from None
             raise
         except (TypeError, ValueError) as exc:
             raise InvalidArgumentError(

@@ -185,7 +185,8 @@ def test_a_bad_value_gets_one_message_from_both_commands(capsys, tmp_path, model
                                      "--out", str(out)])
         message = _message(err_sim, "simulate")
         assert message == _message(err_ens, "ensemble")
-        assert message.startswith(f"argument {name}="), message
+        label = model.parameter(name).option.lstrip("-")  # the option as typed: rod-length
+        assert message.startswith(f"argument {label}="), message
         assert text in message or _parsed(model, name, text) in message, message
         assert list(tmp_path.iterdir()) == [], (model_name, name, text)
 

@@ -9,6 +9,7 @@ from helpers import run_error, run_json
 
 ULAM = ["simulate", "ulam", "--n", "50", "--restitution", "0.5", "--tau", "1"]
 STICKY = ["simulate", "sticky", "--n", "50", "--density", "1", "--t", "1"]
+MD = ["simulate", "md", "--n", "20", "--density", "1", "--restitution", "0.5", "--t", "1"]
 
 
 @pytest.mark.parametrize("argv, shown, words", [
@@ -24,12 +25,17 @@ STICKY = ["simulate", "sticky", "--n", "50", "--density", "1", "--t", "1"]
      "with --chunks"),
     (ULAM[:-1] + ["0,-0", "--save", "OUT"], "tau='0,-0'", "repeated"),
     (ULAM[:-1] + ["1,1e400", "--save", "OUT"], "tau='1,1e400'", "finite"),
+    # the option as typed, not the keyword rod_length / stop_step
+    (MD + ["--rod-length", "1e400", "--save", "OUT"], "rod-length='1e400'", "finite"),
+    (MD + ["--rod-length", "1", "--save", "OUT"], "rod-length=1.0", "fit"),  # engine's check
+    (MD + ["--stop-step", "0", "--save", "OUT"], "stop-step='0'", "> 0"),
 ])
 def test_an_option_is_checked_and_needs_its_partner(capsys, tmp_path, argv, shown, words):
     argv = [str(tmp_path / "out") if a == "OUT" else a for a in argv]
     err = run_error(capsys, argv)
     assert shown in err and words in err and "Traceback" not in err
-    assert "checkpoint_interval" not in err  # the option's name, not the internal one
+    for internal in ("checkpoint_interval", "rod_length", "stop_step"):
+        assert f"argument {internal}=" not in err  # the option as typed, not the keyword
     assert list(tmp_path.iterdir()) == []
 
 
