@@ -22,7 +22,9 @@ the total at each time, where the other models give one integer); ``--structure-
 adds ``C`` (C(r) = (1/N) Σ_i v_i v_{i+r}, r = 0..⌊N/2⌋, label order) and ``--profile`` adds
 ``profile`` (``x``: rod positions in [0, L) sorted, ``v_x``: their velocities, ``v_i``: velocities
 by particle label), all at the last time.  An inelastic collapse (δ = 0) exits with status 3 and
-a message that names the time, the particles and the number of collisions.
+a message that names the time, the particles and the number of collisions.  A run whose energy
+overflows float64 (e.g. a --driving far too strong) also exits with status 3, printing and saving
+nothing.
 
 Bad input raises ``InvalidArgumentError`` before anything is written,
 which the top-level command turns into exit status 2.
@@ -32,6 +34,8 @@ from __future__ import annotations
 
 import argparse
 import sys
+
+import numpy as np
 
 from particles import driver
 from particles import observables as obs
@@ -132,6 +136,10 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
         if saved is not None:
             print(f"checkpoint saved to {saved}", file=sys.stderr)
         raise
+    overflow = _overflow(result.times, result.energy, time_key)
+    if overflow is not None:  # a physics failure: nothing printed or saved as if it were a result
+        print(f"maxwell-kinetics simulate {engine.name}: error: {overflow}", file=sys.stderr)
+        return 3
     if args.save:
         result.save(args.save)
     payload = result.summary()
@@ -153,6 +161,16 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             print(f"histogram: {result.histogram_note}")
         print(f"{result.seconds:.3f} s")
     return 0
+
+
+def _overflow(times, energy, time_key: str) -> str | None:
+    """Why the run is no result (velocities beyond float64: inf or NaN energy), or None."""
+    bad = [i for i, e in enumerate(energy) if not np.isfinite(e)]
+    if not bad:
+        return None
+    return (f"the energy overflowed float64 ({energy[bad[0]]} at {time_key} = "
+            f"{times[bad[0]]:g}): the velocities are beyond 1e154, e.g. from a --driving too "
+            "strong for these times")
 
 
 def _checkpoint_interval(args) -> float:

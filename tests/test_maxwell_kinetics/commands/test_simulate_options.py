@@ -48,3 +48,15 @@ def test_the_interval_is_taken_with_a_checkpoint(capsys, tmp_path):
     out = run_json(capsys, ULAM + ["--checkpoint", str(tmp_path / "c.ckpt"),
                                    "--checkpoint-interval", "0", "--json"])
     assert out["tau"] == [1.0]
+
+
+@pytest.mark.parametrize("json", [True, False])
+def test_an_energy_that_overflows_is_a_failure_not_a_result(capsys, tmp_path, json):
+    # --driving 1e307 at r = 1: the energy ~ 2 D tau is beyond float64 at tau = 1.  The JSON
+    # output crashed with a traceback after printing half an object; the table printed inf
+    # with exit status 0.
+    argv = ["simulate", "ulam", "--n", "50", "--restitution", "1", "--driving", "1e307",
+            "--tau", "1,100", "--save", str(tmp_path / "s.npz")] + (["--json"] if json else [])
+    err = run_error(capsys, argv, status=3)
+    assert "overflowed" in err and "tau = 1" in err and err.count("\n") == 1
+    assert list(tmp_path.iterdir()) == []
