@@ -55,7 +55,11 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     from ..linear_rates import linear_decay_rates
-    from ..stationary import MAX_DEGREE_1D, fixed_point  # JAX: imported only when it runs
+    from ..stationary import (  # JAX: imported only when it runs
+        MAX_DEGREE_1D,
+        RESIDUAL_PER_LAMBDA,
+        fixed_point,
+    )
 
     start = time.perf_counter()
     from ..model import angular_law
@@ -99,9 +103,15 @@ def run(args) -> int:
     }
     status = 0
     if not converged:  # never a silent success: a warning and exit status 3
+        against = f"{RESIDUAL_TOLERANCE:g}"
+        if dimension == 1:  # and 1e-8 λ: see stationary.RESIDUAL_PER_LAMBDA
+            from ..model import MaxwellModel
+
+            against += f" and {RESIDUAL_PER_LAMBDA:g} lambda = " + \
+                f"{RESIDUAL_PER_LAMBDA * MaxwellModel(fp.restitution).lam:.1e}"
         print(f"maxwell-kinetics fixed-point: warning: Gauss-Newton did not converge in "
               f"{fp.iterations} iterations (residual {fp.residual:.3e} against "
-              f"{RESIDUAL_TOLERANCE:g}); the result is not a fixed point", file=sys.stderr)
+              f"{against}); the result is not a fixed point", file=sys.stderr)
         status = 3
     if args.json:
         emit_json(payload)

@@ -37,3 +37,17 @@ def test_angular_without_a_dimension_above_one_is_refused(capsys):
     err = run_error(capsys, ["fixed-point", "-r", "0.5", "--angular", "nosuch", "--dimension",
                              "2"])
     assert "angular='nosuch'" in err
+
+
+def test_a_near_elastic_restitution_that_meets_a_wrong_function_is_not_converged(capsys):
+    # r = 1 - 1e-9 (lambda = 5e-10): Newton stopped after 5 steps on a function 0.27 from f_hat
+    # with residual 2.4e-16 and reported "converged": true, exit 0.  The residual is small only
+    # against 1, not against lambda.
+    fp = fixed_point(0.999999999)
+    assert fp.max_error > 0.1 and not fp.converged
+    assert main(["fixed-point", "-r", "0.999999999", "--json"]) == 3
+    captured = capsys.readouterr()
+    assert json.loads(captured.out)["converged"] is False and "did not converge" in captured.err
+    # r = 0.9995 still converges (measured max error 2.6e-8, residual 1e-12 lambda)
+    good = fixed_point(0.9995)
+    assert good.converged and good.max_error < 1e-7
