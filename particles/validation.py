@@ -211,7 +211,7 @@ def check_nonnegative(value, name: str) -> float:
     Returns
     -------
     float
-        ``value`` as a float.
+        ``value`` as a float (``-0.0`` as ``0.0``).
 
     Raises
     ------
@@ -221,7 +221,7 @@ def check_nonnegative(value, name: str) -> float:
     x = _as_float(name, value)
     if x < 0.0:
         raise InvalidArgumentError(name, value, "a finite number >= 0")
-    return x
+    return x + 0.0  # -0.0 is 0.0 (never shown as -0 in parameters or output)
 
 
 def check_count(value, name: str, minimum: int) -> int:
@@ -529,7 +529,7 @@ def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
             raise InvalidArgumentError(name, text, "a comma-separated list of numbers") from None
         if not math.isfinite(value):
             raise InvalidArgumentError(name, text, f"finite numbers (got {part!s})")
-        out.append(value)
+        out.append(value + 0.0)  # "-0" is 0.0
     seen: set[float] = set()
     for value in out:  # 0.0 == -0.0, so "0,-0" is a repeat
         if value in seen:

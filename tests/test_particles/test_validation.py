@@ -79,3 +79,9 @@ def test_a_long_value_is_cut_in_the_message():
     with pytest.raises(InvalidArgumentError) as info:
         check_times(list(range(10_000, 0, -1)), "t")
     assert len(str(info.value)) < SHOWN_CHARACTERS + 100
+
+
+def test_minus_zero_is_zero():
+    # "--driving -0" was stored and shown as -0.0; "--tau -0" as the time -0
+    assert str(check_nonnegative("-0", "driving")) == "0.0"
+    assert [str(x) for x in parse_float_list("-0,1", "tau")] == ["0.0", "1.0"]
