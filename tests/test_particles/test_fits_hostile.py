@@ -49,3 +49,22 @@ def test_hostile_arguments_are_invalid_arguments(call, name):
     with pytest.raises(InvalidArgumentError) as info:
         call()
     assert info.value.name == name
+
+
+def test_md_observables_check_their_state_and_time():
+    from particles.md import MDEngine, MDParams, collisions_per_particle, profile_x, rod_positions
+
+    params = MDParams(10, 1.0, 0.5)
+    state = MDEngine(params).initial_state(np.random.default_rng(0))
+    for call, name in [
+        (lambda: rod_positions(state, params, NAN), "t"),  # gave NaN positions
+        (lambda: rod_positions(state, params, 1j), "t"),  # TypeError
+        (lambda: profile_x(state, params, True), "t"),  # was taken as t = 1
+        (lambda: profile_x(None, params), "state"),  # AttributeError
+        (lambda: rod_positions(state, MDParams(12, 1.0, 0.5)), "params"),  # another N
+        (lambda: collisions_per_particle(None), "state"),
+    ]:
+        with pytest.raises(InvalidArgumentError) as info:
+            call()
+        assert info.value.name == name
+    assert rod_positions(state, params).shape == (10,)
