@@ -68,3 +68,23 @@ def test_md_observables_check_their_state_and_time():
             call()
         assert info.value.name == name
     assert rod_positions(state, params).shape == (10,)
+
+
+def test_engine_helpers_check_their_arguments():
+    from particles.lattice import thinning_bound
+    from particles.ulam import draw_pairs
+
+    rng = np.random.default_rng(0)
+    for call, name in [
+        (lambda: thinning_bound(np.array([NAN, 1.0])), "v"),  # returned NaN
+        (lambda: thinning_bound(np.array([1j, 2.0])), "v"),
+        (lambda: draw_pairs(rng, 1, 3), "n"),  # ValueError "high <= 0" from NumPy
+        (lambda: draw_pairs(rng, 10, True), "k"),
+        (lambda: draw_pairs(5, 10, 3), "rng"),
+    ]:
+        with pytest.raises(InvalidArgumentError) as info:
+            call()
+        assert info.value.name == name
+    pairs = draw_pairs(rng, 10, 1000)
+    assert pairs.shape == (1000, 2) and np.all(pairs[:, 0] != pairs[:, 1])
+    assert thinning_bound([-1.0, 2.0]) == pytest.approx(3.0)  # a list: AttributeError before
