@@ -249,7 +249,13 @@ def run_model(args) -> int:
     Returns
     -------
     int
-        The exit status.
+        The exit status (3: inelastic collapse, or an energy beyond float64).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        For any bad option, and for ``--workers`` or ``--scheduler`` without ``--chunks`` (the
+        top-level command prints it and exits 2).
     """
     model = get_model(args.model)
     engine = model.build(model_params(args, model, sweep=False))
