@@ -262,8 +262,8 @@ def sticky_state(x0, v0, length: float, t: float) -> StickyState:
     """The exact sticky-gas state at time ``t`` ≥ 0 from initial positions ``x0`` (sorted, in
     [0, ``length``)) and velocities ``v0`` (module docstring: the isotonic regression of two
     unrolled periods, computed as one period's and the pooling across the junction).  At
-    t = 0 every particle is its own cluster.  Inputs are trusted (checked by the public
-    callers).
+    t = 0 every particle is its own cluster.  The inputs are checked (a few passes over
+    the arrays, small beside the regression).
 
     Parameters
     ----------
@@ -279,12 +279,24 @@ def sticky_state(x0, v0, length: float, t: float) -> StickyState:
     Returns
     -------
     StickyState
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``x0`` or ``v0`` (not one-dimensional finite reals of one non-zero length, or
+        positions not sorted in [0, ``length``)), ``length`` (not a finite number > 0) or ``t``
+        (not a finite number >= 0).
     """
-    x0 = np.asarray(x0, dtype=float)
-    v0 = np.asarray(v0, dtype=float)
+    x0 = check_real_array(x0, "x0", ndim=1, min_size=1)
+    v0 = check_real_array(v0, "v0", ndim=1)
+    length = check_positive(length, "length")
+    t = check_nonnegative(t, "t")
+    if v0.size != x0.size:
+        raise InvalidArgumentError("v0", f"{v0.size} values", f"one per position ({x0.size})")
+    if x0[0] < 0.0 or not x0[-1] < length or np.any(np.diff(x0) < 0):
+        raise InvalidArgumentError("x0", f"positions in [{x0.min():g}, {x0.max():g}]",
+                                   f"positions sorted in [0, length = {length:g})")
     n = x0.size
-    length = float(length)
-    t = float(t)
     if t == 0.0:
         frozen = [a.view() for a in (x0, v0)]
         for a in frozen:

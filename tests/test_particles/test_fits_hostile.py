@@ -88,3 +88,25 @@ def test_engine_helpers_check_their_arguments():
     pairs = draw_pairs(rng, 10, 1000)
     assert pairs.shape == (1000, 2) and np.all(pairs[:, 0] != pairs[:, 1])
     assert thinning_bound([-1.0, 2.0]) == pytest.approx(3.0)  # a list: AttributeError before
+
+
+def test_sticky_state_checks_its_inputs():
+    from particles.sticky import sticky_state
+
+    x = np.linspace(0.5, 9.5, 10)
+    v = np.random.default_rng(1).normal(size=10)
+    for call, name in [
+        (lambda: sticky_state(np.r_[x[:-1], NAN], v, 10.0, 1.0), "x0"),  # NaN positions out
+        (lambda: sticky_state(x, np.r_[v[:-1], NAN], 10.0, 1.0), "v0"),
+        (lambda: sticky_state(x, v, NAN, 1.0), "length"),
+        (lambda: sticky_state(x, v, 10.0, NAN), "t"),  # a state at time NaN
+        (lambda: sticky_state(x, v, 10.0, True), "t"),  # taken as t = 1
+        (lambda: sticky_state(x, v, 10.0, 1j), "t"),  # TypeError
+        (lambda: sticky_state(x[::-1], v, 10.0, 1.0), "x0"),  # unsorted: a wrong state
+        (lambda: sticky_state(x + 20.0, v, 10.0, 1.0), "x0"),  # outside the ring
+        (lambda: sticky_state(x, v[:-1], 10.0, 1.0), "v0"),  # broadcasting ValueError
+    ]:
+        with pytest.raises(InvalidArgumentError) as info:
+            call()
+        assert info.value.name == name
+    assert sticky_state(x, v, 10.0, 1.0).time == 1.0
