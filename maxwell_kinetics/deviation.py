@@ -33,10 +33,19 @@ def reference(q, m3: float, xp=np):
     array
         g(q), real if ``m3 == 0`` and complex otherwise.
     """
+    if xp is np:  # the public NumPy call; the compiled scheme passes traced jax arrays
+        q, m3 = _checked(q, {"m3": m3})
     gauss = xp.exp(-0.5 * q * q)
     if m3 == 0.0:
         return gauss
     return gauss * (1.0 - 1j * (m3 / 6.0) * q**3)
+
+
+def _checked(q, scalars: dict):
+    """q as a float array and the named scalars as floats, checked (NumPy path only)."""
+    from particles.validation import check_real, check_real_array
+
+    return (check_real_array(q, "q"), *(check_real(v, k) for k, v in scalars.items()))
 
 
 def _expm1_minus_x(x, xp):
@@ -74,6 +83,8 @@ def source(q, lam: float, m3: float, xp=np):
     array
         S(q), real if ``m3 == 0`` and complex otherwise.
     """
+    if xp is np:
+        q, lam, m3 = _checked(q, {"lam": lam, "m3": m3})
     re, im = source_parts(q, lam, m3, xp)
     return re if im is None else re + 1j * im
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from particles.validation import check_restitution
+from particles.validation import check_nonnegative, check_real, check_restitution
 
 __all__ = ["MaxwellModel", "AngularLaw", "angular_law", "ANGULAR_MODELS"]
 
@@ -116,12 +116,10 @@ def angular_law(dimension: int, angular: str = "uniform") -> AngularLaw:
     particles.validation.InvalidArgumentError
         If ``dimension`` is not 1, 2 or 3, or ``angular`` is not a known model.
     """
-    from particles.validation import InvalidArgumentError, check_choice
+    from particles.validation import check_choice, check_dimension
 
-    if dimension not in (1, 2, 3) or isinstance(dimension, bool):
-        raise InvalidArgumentError("dimension", dimension, "1, 2 or 3")
+    d = check_dimension(dimension)
     angular = check_choice(angular, "angular", ANGULAR_MODELS)
-    d = int(dimension)
     if d == 1:
         return AngularLaw(1, angular, 1.0, 0.0)
     return AngularLaw(d, angular, ANGULAR_MODELS[angular], 0.5 * (d - 1))
@@ -182,7 +180,13 @@ class MaxwellModel:
         -------
         float
             a_n, per unit τ: M_n ∝ e^{−a_n τ} at late times.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``n`` is not a finite real number (booleans and complex numbers refused).
         """
+        n = check_real(n, "n")
         return 1.0 - self.p**n - (1.0 - self.p) ** n
 
     def growth_rate(self, s: float) -> float:
@@ -200,7 +204,13 @@ class MaxwellModel:
         -------
         float
             g(s), per unit τ.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``s`` is not a finite real number (booleans and complex numbers refused).
         """
+        s = check_real(s, "s")
         return self.lam * s - 1.0 + self.p**s + (1.0 - self.p) ** s
 
     def contraction_rate(self, s: float) -> float:
@@ -218,6 +228,11 @@ class MaxwellModel:
         -------
         float
             γ(s), per unit τ.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``s`` is not a finite real number (booleans and complex numbers refused).
         """
         return -self.growth_rate(s)
 
@@ -258,5 +273,11 @@ class MaxwellModel:
         -------
         float
             The mean energy ⟨v²⟩ at τ.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            If ``tau`` is not a finite real number >= 0.
         """
+        tau = check_nonnegative(tau, "tau")
         return math.exp(-2.0 * self.lam * tau)

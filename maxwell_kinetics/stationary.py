@@ -52,12 +52,24 @@ from .exact import f_hat
 from .model import MaxwellModel
 
 __all__ = [
+    "MAX_DEGREE_1D",
     "FixedPoint",
     "fixed_point",
     "stationary_residual",
     "check_inelastic",
     "collocation_operators",
 ]
+
+
+#: Largest Chebyshev degree of the 1D collocation.  Its conditioning worsens with N (the G''(0)
+#: row grows like N⁴): measured max |G − f̂| at N = 256 is <= 2e-9 for r <= 0.99, 5e-7 at
+#: r = 0.995 and 1.5e-6 at r = 0.999; beyond, Gauss–Newton meets a wrong function with a small
+#: residual (max error 9.6e-4 at N = 448 and r = 0.99, 2.6e-3 at N = 600 and r = 0, 0.22 at
+#: N = 700 and r = 0.5), so a larger N is refused.
+MAX_DEGREE_1D = 256
+#: A 1D fixed point counts as converged only with a residual below this times λ (see
+#: :func:`fixed_point`).
+RESIDUAL_PER_LAMBDA = 1e-8
 
 
 def check_inelastic(restitution) -> MaxwellModel:
@@ -383,7 +395,8 @@ def fixed_point(
     restitution : float
         r ∈ [0, 1).
     n : int, optional
-        Polynomial degree N ≥ 8 (default 64 in d = 1, 128 in d ≥ 2).
+        Polynomial degree N ≥ 8 (default 64 in d = 1, 128 in d ≥ 2); at most
+        :data:`MAX_DEGREE_1D` = 256 in d = 1 (larger N is worse conditioned and less accurate).
     q_max : float, default 40.0
         Q, the end of the collocation interval (> 0), where G(Q) = 0 is imposed.
     initial : callable, optional
@@ -403,14 +416,18 @@ def fixed_point(
     -------
     FixedPoint
         The solution with its residuals, error against f̂ (d = 1), iteration count and a
-        ``converged`` flag (not reaching ``tol`` is reported there, not raised).
+        ``converged`` flag (not reaching ``tol`` is reported there, not raised).  In d = 1
+        ``converged`` also needs a residual below :data:`RESIDUAL_PER_LAMBDA` · λ: as r → 1
+        every G with G(0) = 1 has a residual O(λ), and Newton may stop on a small step far from
+        f̂ (r = 1 − 1e-9: max error 0.27 at a residual of 2.4e-16).
 
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``restitution`` is not in [0, 1), ``dimension`` or ``angular`` is invalid, ``n``,
-        ``max_iterations`` or ``angular_nodes`` is not a count in range, ``q_max`` or ``tol``
-        is not positive, or ``initial`` does not give finite values on the grid.
+        If ``restitution`` is not in [0, 1), ``dimension`` or ``angular`` is invalid, ``n``
+        (above :data:`MAX_DEGREE_1D` in d = 1 included), ``max_iterations`` or
+        ``angular_nodes`` is not a count in range, ``q_max`` or ``tol`` is not positive, or
+        ``initial`` does not give finite values on the grid.
     """
     t0 = time.perf_counter()
     model = check_inelastic(restitution)
@@ -421,6 +438,10 @@ def fixed_point(
         angular_nodes = check_count(angular_nodes, "angular_nodes", 1)
         n = 128 if n is None else n
     n = check_count(64 if n is None else n, "n", 8)
+    if dimension == 1 and n > MAX_DEGREE_1D:
+        raise InvalidArgumentError(
+            "n", n, f"a degree <= {MAX_DEGREE_1D} in d = 1 (beyond, the collocation is too "
+            "ill-conditioned: it converges to a wrong function)")
     length = check_positive(q_max, "q_max")
     tol = check_positive(tol, "tol")
     max_iterations = check_count(max_iterations, "max_iterations", 1)
@@ -453,11 +474,16 @@ def fixed_point(
 
     G, iterations, converged = _gauss_newton(G, res_fn, jac_fn, tol, max_iterations)
     eq = np.asarray(res_fn(G))[: n + 1]
+    residual = float(np.max(np.abs(eq)))
+    # As r -> 1 every G with G(0) = 1 has a residual O(λ): only a residual small against λ
+    # tells the solution from the rest (measured: r = 1 - 1e-9 stopped on a small step at a
+    # function 0.27 from f̂ with residual 2.4e-16 = 0.5 λ; r = 0.9995 has 2.5e-16 = 1e-12 λ).
+    converged = converged and residual <= RESIDUAL_PER_LAMBDA * lam
     fp = FixedPoint(
         restitution=model.restitution,
         q=q,
         G=G,
-        residual=float(np.max(np.abs(eq))),
+        residual=residual,
         check_residual=0.0,
         iterations=iterations,
         max_error=0.0,
