@@ -6,8 +6,6 @@ G(q, τ) = P̂(q / v0(τ), τ) with v0² = ⟨v²⟩; x = v / v0 is the rescaled
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from .model import MaxwellModel
@@ -76,12 +74,8 @@ def moment_hierarchy(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
     from scipy.integrate import solve_ivp
 
     m0 = np.asarray(initial_moments, dtype=float)
-    p = model.p
     nmax = len(m0) - 1
-    coef = np.zeros((nmax + 1, nmax + 1))
-    for n in range(nmax + 1):
-        for m in range(n + 1):
-            coef[n, m] = math.comb(n, m) * p**m * (1 - p) ** (n - m)
+    coef = model.gain_moment_coefficients(nmax)
 
     def rhs(_, M):
         out = -M.copy()
