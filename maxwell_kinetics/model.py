@@ -95,7 +95,18 @@ class AngularLaw:
         yield self.b
 
     def moment(self, s):
-        """⟨η^s⟩ = B(a + s, b)/B(a, b) (1 in d = 1), for array_like s ≥ 0 (a NumPy array)."""
+        """⟨η^s⟩ = B(a + s, b)/B(a, b) (1 in d = 1).
+
+        Parameters
+        ----------
+        s : array_like
+            Exponents s ≥ 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            ⟨η^s⟩, of the shape of ``s`` (scipy's ``beta``).
+        """
         s = np.asarray(s, dtype=float)
         if self.degenerate:
             return np.ones_like(s)
@@ -104,8 +115,20 @@ class AngularLaw:
         return beta_function(self.a + s, self.b) / beta_function(self.a, self.b)
 
     def mixed_moment(self, c: float, s):
-        """⟨(1 − c η)^s⟩ = ₂F₁(−s, a; a + b; c) for c ∈ [0, 1] ((1 − c)^s in d = 1), array_like
-        s ≥ 0 (a NumPy array, scipy's ``hyp2f1``)."""
+        """⟨(1 − c η)^s⟩ = ₂F₁(−s, a; a + b; c) for c ∈ [0, 1] ((1 − c)^s in d = 1).
+
+        Parameters
+        ----------
+        c : float
+            Coefficient in [0, 1].
+        s : array_like
+            Exponents s ≥ 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            ⟨(1 − cη)^s⟩, of the shape of ``s`` (scipy's ``hyp2f1``).
+        """
         s = np.asarray(s, dtype=float)
         if self.degenerate:
             return (1.0 - c) ** s
@@ -221,6 +244,18 @@ class CollisionModel:
         """The collision rate of a pair with velocities ``v``, ``w`` (arrays of ``xp``, the
         velocity components along the last axis in d ≥ 2), per unit τ.
 
+        Parameters
+        ----------
+        v, w : array
+            Velocities of the two partners (arrays of ``xp``).
+        xp : module, default numpy
+            Array module (``numpy`` or ``jax.numpy``).
+
+        Returns
+        -------
+        array
+            The rate of each pair.
+
         Raises
         ------
         NotImplementedError
@@ -289,28 +324,86 @@ class MaxwellModel(CollisionModel):
     @staticmethod
     def complement_of(p):
         """1 − p: the fraction of the relative velocity a particle keeps (the gain's second
-        argument (1 − p) q in d = 1)."""
+        argument (1 − p) q in d = 1).
+
+        Parameters
+        ----------
+        p : float or array
+            The transfer fraction p (a float, a NumPy array or a traced JAX array).
+
+        Returns
+        -------
+        float or array
+            ``1.0 - p``, of the type of ``p``.
+        """
         return 1.0 - p
 
     @staticmethod
     def lam_of(p):
-        """λ = p(1 − p), written as ``p * (1.0 - p)``."""
+        """λ = p(1 − p), computed as ``p * (1.0 - p)``.
+
+        Parameters
+        ----------
+        p : float or array
+            The transfer fraction p (a float, a NumPy array or a traced JAX array).
+
+        Returns
+        -------
+        float or array
+            λ, of the type of ``p``.
+        """
         return p * (1.0 - p)
 
     @staticmethod
     def cross_fraction_of(p):
         """1 − (1 − p)² = p(2 − p): the coefficient c of a² = 1 − c η in the gain factor
-        a = √(1 − c η) (d ≥ 2)."""
+        a = √(1 − c η) (d ≥ 2).
+
+        Parameters
+        ----------
+        p : float or array
+            The transfer fraction p (a float, a NumPy array or a traced JAX array).
+
+        Returns
+        -------
+        float or array
+            c, of the type of ``p``.
+        """
         return 1.0 - (1.0 - p) ** 2
 
     @staticmethod
     def rate_of(p, s):
-        """1 − p^s − (1 − p)^s: the decay rate of the moment of order s (d = 1)."""
+        """1 − p^s − (1 − p)^s: the decay rate of the moment of order s (d = 1), per unit τ.
+
+        Parameters
+        ----------
+        p : float or array
+            The transfer fraction p (a float, a NumPy array or a traced JAX array).
+        s : float or array
+            Moment order (need not be an integer).
+
+        Returns
+        -------
+        float or array
+            The rate, broadcast over ``p`` and ``s``.
+        """
         return 1.0 - p**s - (1.0 - p) ** s
 
     @staticmethod
     def power_sum_of(lam, k: int):
         """p^k + (1 − p)^k in terms of λ = p(1 − p), for k = 2 (1 − 2λ) and k = 3 (1 − 3λ).
+
+        Parameters
+        ----------
+        lam : float or array
+            λ (a float, a NumPy array or a traced JAX array).
+        k : int
+            2 or 3.
+
+        Returns
+        -------
+        float or array
+            ``1.0 - k * lam``, of the type of ``lam``.
 
         Raises
         ------
@@ -325,7 +418,22 @@ class MaxwellModel(CollisionModel):
 
     @staticmethod
     def gain_scales_of(p, eta, xp=np):
-        """(b, a) = (p √η, √(1 − (1 − (1 − p)²) η)): the gain is G(b q) G(a q) at the node η."""
+        """(b, a) = (p √η, √(1 − (1 − (1 − p)²) η)): the gain is G(b q) G(a q) at the node η.
+
+        Parameters
+        ----------
+        p : float or array
+            The transfer fraction p (a float, a NumPy array or a traced JAX array).
+        eta : float or array
+            η = (k̂·n)² ∈ [0, 1] (η = 1 gives b = p, a = 1 − p: d = 1).
+        xp : module, default numpy
+            Array module of ``sqrt`` (``numpy`` or ``jax.numpy``).
+
+        Returns
+        -------
+        b, a : float or array
+            The two factors.
+        """
         return p * xp.sqrt(eta), xp.sqrt(1.0 - (1.0 - (1.0 - p) ** 2) * eta)
 
     # -- the model's own numbers --
@@ -336,8 +444,20 @@ class MaxwellModel(CollisionModel):
         return angular_law(self.dimension, self.angular)
 
     def rate(self, v, w, xp=np):
-        """1 for every pair (Maxwell molecules): an array of ones of the pair's shape (less the
-        last axis in d ≥ 2)."""
+        """1 for every pair (Maxwell molecules).
+
+        Parameters
+        ----------
+        v, w : array
+            Velocities of the two partners (arrays of ``xp``).
+        xp : module, default numpy
+            Array module (``numpy`` or ``jax.numpy``).
+
+        Returns
+        -------
+        array
+            Ones, of the broadcast shape of ``v`` and ``w`` (less the last axis in d ≥ 2).
+        """
         shape = np.broadcast_shapes(xp.shape(v), xp.shape(w))
         return xp.ones(shape if self.dimension == 1 else shape[:-1])
 
@@ -365,7 +485,18 @@ class MaxwellModel(CollisionModel):
     def gain_shifts(self, eta: float) -> tuple[float, float]:
         """(ln b, ln a) of the gain factors at the node η (:meth:`gain_scales_of`): ln p and
         ln(1 − p) for η = 1 (d = 1, by log and log1p), else ln p + ½ ln η and
-        ½ ln(1 − (1 − (1 − p)²) η) (log1p).  The solver's stencils move by these over h."""
+        ½ ln(1 − (1 − (1 − p)²) η) (log1p).  The solver's stencils move by these over h.
+
+        Parameters
+        ----------
+        eta : float
+            η ∈ (0, 1].
+
+        Returns
+        -------
+        shift_b, shift_a : float
+            ln b and ln a.
+        """
         p = self.p
         q = 1.0 - p
         if eta == 1.0:
@@ -374,7 +505,18 @@ class MaxwellModel(CollisionModel):
 
     def gain_moment_coefficients(self, nmax: int) -> np.ndarray:
         """c[n, m] = C(n, m) p^m (1 − p)^{n−m} (m ≤ n ≤ ``nmax``): the n-th moment of the gain
-        is Σ_m c[n, m] M_m M_{n−m} (d = 1)."""
+        is Σ_m c[n, m] M_m M_{n−m} (d = 1).
+
+        Parameters
+        ----------
+        nmax : int
+            Highest moment order.
+
+        Returns
+        -------
+        numpy.ndarray
+            c, shape (nmax + 1, nmax + 1), zero above the diagonal.
+        """
         p = self.p
         coef = np.zeros((nmax + 1, nmax + 1))
         for n in range(nmax + 1):
@@ -386,7 +528,18 @@ class MaxwellModel(CollisionModel):
         """λ(s) = 1 − ⟨(1 − (1 − (1 − p)²)η)^s⟩ − p^{2s}⟨η^s⟩: decay rate of the |k|^{2s}
         coefficient of the characteristic function, per unit τ (array_like s ≥ 0, a NumPy
         array).  d = 1: 1 − p^{2s} − (1 − p)^{2s}, with 1 − p^{2s} free of cancellation as
-        r → 1.  λ(1) = Λ, λ(n) the rate of ⟨|v|^{2n}⟩."""
+        r → 1.  λ(1) = Λ, λ(n) the rate of ⟨|v|^{2n}⟩.
+
+        Parameters
+        ----------
+        s : array_like
+            Exponents s ≥ 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            λ(s), of the shape of ``s``.
+        """
         law, p = self.law, self.p
         q = self.complement_of(p)
         if law.degenerate:
@@ -398,7 +551,18 @@ class MaxwellModel(CollisionModel):
     def transport_speed(self, eta: np.ndarray, weights: np.ndarray) -> float:
         """p (1 − p) Σ ω_i η_i for a quadrature (η_i, ω_i) of the law (= Λ/2 with the
         quadrature's own ⟨η⟩, so that the discrete equation keeps G''(0) = −1 exactly); λ for
-        the single node η = 1 (d = 1)."""
+        the single node η = 1 (d = 1).
+
+        Parameters
+        ----------
+        eta, weights : numpy.ndarray
+            Nodes η_i and weights ω_i (Σ ω_i = 1) of the quadrature.
+
+        Returns
+        -------
+        float
+            The speed, per unit τ.
+        """
         if eta.size == 1 and eta[0] == 1.0:
             return self.lam
         return self.lam * float(weights @ eta)
@@ -506,6 +670,8 @@ class DrivenMaxwellModel(MaxwellModel):
     ----------
     restitution : float
         r ∈ [0, 1] (the steady state needs r < 1: :mod:`maxwell_kinetics.driven` checks it).
+    dimension, angular
+        As for :class:`MaxwellModel` (the driven model is one-dimensional: keep 1).
     driving : float, default 1.0
         Noise strength D ≥ 0 (checked by :mod:`maxwell_kinetics.driven`).
     """
@@ -516,7 +682,18 @@ class DrivenMaxwellModel(MaxwellModel):
 
     def moment_rates(self, orders) -> np.ndarray:
         """a_j = 1 − p^{2j} − (1 − p)^{2j} of the cumulant/moment hierarchy, for array_like j
-        (:meth:`MaxwellModel.rate_of` at s = 2j)."""
+        (:meth:`MaxwellModel.rate_of` at s = 2j).
+
+        Parameters
+        ----------
+        orders : array_like
+            The j ≥ 1.
+
+        Returns
+        -------
+        numpy.ndarray
+            a_j, of the shape of ``orders``.
+        """
         return self.rate_of(self.p, 2.0 * np.asarray(orders, dtype=float))
 
     @property
