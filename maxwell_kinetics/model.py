@@ -37,7 +37,7 @@ provides what its velocity-space solver needs (its post-collision velocities are
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
@@ -671,14 +671,29 @@ class DrivenMaxwellModel(MaxwellModel):
     restitution : float
         r ∈ [0, 1] (the steady state needs r < 1: :mod:`maxwell_kinetics.driven` checks it).
     dimension, angular
-        As for :class:`MaxwellModel` (the driven model is one-dimensional: keep 1).
+        As for :class:`MaxwellModel`; the driven model is one-dimensional: ``dimension`` must
+        be 1.
     driving : float, default 1.0
-        Noise strength D ≥ 0 (checked by :mod:`maxwell_kinetics.driven`).
+        Noise strength D ≥ 0, keyword only (checked by :mod:`maxwell_kinetics.driven`).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        As :class:`MaxwellModel`, and for ``dimension`` other than 1.
     """
 
     name: ClassVar[str] = "driven"
 
-    driving: float = 1.0
+    driving: float = field(default=1.0, kw_only=True)
+
+    def __post_init__(self):
+        super().__post_init__()
+        if self.dimension != 1:
+            from particles.validation import InvalidArgumentError
+
+            raise InvalidArgumentError("dimension", self.dimension,
+                                       "1 (the driven model is one-dimensional; pass driving= "
+                                       "by name)")
 
     def moment_rates(self, orders) -> np.ndarray:
         """a_j = 1 − p^{2j} − (1 − p)^{2j} of the cumulant/moment hierarchy, for array_like j

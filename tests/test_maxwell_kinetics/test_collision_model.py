@@ -104,6 +104,11 @@ def test_driven_model_by_hand():
     assert model.steady_energy == pytest.approx(2.0 / (3 / 16), rel=1e-15)  # D / (p(1 − p))
     assert model.moment_rates([1, 2, 3]) == pytest.approx([3 / 8, 87 / 128, 1683 / 2048],
                                                           rel=1e-14)
+    # a second positional number is not taken for D: D is keyword-only, the model is 1D
+    with pytest.raises(InvalidArgumentError, match="dimension=3 .*one-dimensional"):
+        DrivenMaxwellModel(0.5, 3)
+    with pytest.raises(TypeError):
+        DrivenMaxwellModel(0.5, 1, "uniform", 2.0)
 
 
 def test_the_models_are_listed_and_say_how_they_collide():
