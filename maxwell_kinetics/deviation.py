@@ -10,6 +10,8 @@ import math
 
 import numpy as np
 
+from .model import MaxwellModel
+
 __all__ = ["reference", "source", "source_parts"]
 
 
@@ -117,12 +119,13 @@ def source_parts(q, lam: float, m3: float, xp=np, gauss=None, gain=None):
     """
     x = lam * q * q
     gauss = xp.exp(-0.5 * q * q) if gauss is None else gauss
-    gain = xp.exp(-0.5 * (1.0 - 2.0 * lam) * q * q) if gain is None else gain
+    if gain is None:  # p² + (1 − p)² = 1 − 2λ
+        gain = xp.exp(-0.5 * MaxwellModel.power_sum_of(lam, 2) * q * q)
     phi2 = xp.where(x < 0.5, gauss * _expm1_minus_x(x, xp), gain - gauss * (1.0 + x))
     if m3 == 0.0:
         return phi2, None
     a = -m3 / 6.0
     q3 = q * q * q
     re = phi2 - a * a * lam**3 * q3 * q3 * gain
-    im = a * q3 * ((1.0 - 3.0 * lam) * phi2 - 3.0 * lam * lam * q * q * gauss)
+    im = a * q3 * (MaxwellModel.power_sum_of(lam, 3) * phi2 - 3.0 * lam * lam * q * q * gauss)
     return re, im

@@ -6,8 +6,6 @@ G(q, τ) = P̂(q / v0(τ), τ) with v0² = ⟨v²⟩; x = v / v0 is the rescaled
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from particles.validation import InvalidArgumentError, check_real_array, check_times
@@ -115,16 +113,8 @@ def moment_hierarchy(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
         ``tau`` is not a list of finite times >= 0 in increasing order.
     """
     m0, taus = _hierarchy_arguments(model, initial_moments, tau, 1)
-    sol = _integrate(_coefficients(model.p, len(m0) - 1), m0, taus, rescaled=False)
+    sol = _integrate(model.gain_moment_coefficients(len(m0) - 1), m0, taus, rescaled=False)
     return sol
-
-
-def _coefficients(p: float, nmax: int) -> np.ndarray:
-    coef = np.zeros((nmax + 1, nmax + 1))
-    for n in range(nmax + 1):
-        for m in range(n + 1):
-            coef[n, m] = math.comb(n, m) * p**m * (1 - p) ** (n - m)
-    return coef
 
 
 def _integrate(coef: np.ndarray, m0: np.ndarray, taus: np.ndarray, *, rescaled: bool):
@@ -188,4 +178,4 @@ def rescaled_moments(model: MaxwellModel, initial_moments, tau) -> np.ndarray:
         raise InvalidArgumentError("initial_moments", m0.tolist()[:20], "M_2 > 0 (the third)")
     mu0 = m0 / m0[2] ** (np.arange(m0.size) / 2.0)
     with np.errstate(over="ignore", invalid="ignore"):
-        return _integrate(_coefficients(model.p, len(m0) - 1), mu0, taus, rescaled=True)
+        return _integrate(model.gain_moment_coefficients(len(m0) - 1), mu0, taus, rescaled=True)

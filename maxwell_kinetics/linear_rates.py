@@ -121,7 +121,7 @@ def _gamma_star(model: MaxwellModel) -> tuple[float, float, float]:
         model.growth_rate, bounds=(2.0, 3.0), method="bounded", options={"xatol": 1e-12}
     )
     s = float(res.x)
-    p, m = model.p, 1.0 - model.p
+    p, m = model.p, model.complement
     curvature = p**s * math.log(p) ** 2 + (m**s * math.log(m) ** 2 if m > 0 else 0.0)
     return s, -float(res.fun), curvature
 
@@ -164,7 +164,7 @@ def weighted_operator(
     a, b = math.log(q_min), math.log(q_max)
     y = a + chebyshev_nodes(n, b - a)
     A = lam * differentiation_matrix(y) + (lam * sigma - 1.0) * np.eye(n + 1)
-    for c, other in ((p, 1.0 - p), (1.0 - p, p)):
+    for c, other in ((p, model.complement), (model.complement, p)):
         if c == 0.0:
             continue
         t = y + math.log(c)
@@ -228,7 +228,7 @@ def linearised_operator(restitution: float, n: int = 64, q_max: float = 40.0):
     q, D, Bp, Bm = collocation_operators(model, _check_degree(n, 8),
                                          check_positive(q_max, "q_max"))
     p = model.p
-    L = (model.lam * q[:, None] * D - np.eye(len(q)) + f_hat((1.0 - p) * q)[:, None] * Bp
+    L = (model.lam * q[:, None] * D - np.eye(len(q)) + f_hat(model.complement * q)[:, None] * Bp
          + f_hat(p * q)[:, None] * Bm)
     return q, L
 

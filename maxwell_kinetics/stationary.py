@@ -202,12 +202,12 @@ def _isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_ite
     p = model.p
     eta = np.asarray(eta, dtype=float)
     weights = np.asarray(weights, dtype=float)
-    half_rate = p * (1.0 - p) * float(weights @ eta)  # Λ/2 with the quadrature's own ⟨η⟩
+    half_rate = model.pair_lam * float(weights @ eta)  # Λ/2 with the quadrature's own ⟨η⟩
     q = chebyshev_nodes(n, length)
     D = differentiation_matrix(q)
-    A = np.stack([barycentric_matrix(q, np.sqrt(1.0 - (1.0 - (1.0 - p) ** 2) * e) * q)
-                  for e in eta])
-    B = np.stack([barycentric_matrix(q, p * np.sqrt(e) * q) for e in eta])
+    scales = [MaxwellModel.gain_scales_of(p, e) for e in eta]  # (b_i, a_i)
+    A = np.stack([barycentric_matrix(q, a * q) for _, a in scales])
+    B = np.stack([barycentric_matrix(q, b * q) for b, _ in scales])
     transport = half_rate * q[:, None] * D
     D2_row0 = (D @ D)[0]
     w2 = 1.0 / float(np.max(np.abs(D2_row0)))
@@ -233,8 +233,8 @@ def _isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_ite
                     seconds=0.0)
     fine = np.linspace(0.0, length, 4001)
     dG = barycentric_matrix(q, fine) @ (D @ G)
-    gain = sum(w * fp(np.sqrt(1.0 - (1.0 - (1.0 - p) ** 2) * e) * fine) * fp(p * np.sqrt(e) * fine)
-               for e, w in zip(eta, weights, strict=True))
+    gain = sum(w * fp(a * fine) * fp(b * fine)
+               for (b, a), w in zip(scales, weights, strict=True))
     check = half_rate * fine * dG - fp(fine) + gain
     return replace(fp, check_residual=float(np.max(np.abs(check))))
 
@@ -306,7 +306,7 @@ def stationary_residual(G: Callable, restitution: float, q) -> np.ndarray:
     """
     m = MaxwellModel(restitution)
     q = np.asarray(q, dtype=float)
-    return m.lam * q * G(q, 1) - G(q, 0) + G(m.p * q, 0) * G((1.0 - m.p) * q, 0)
+    return m.lam * q * G(q, 1) - G(q, 0) + G(m.p * q, 0) * G(m.complement * q, 0)
 
 
 def collocation_operators(model: MaxwellModel, n: int, length: float):
@@ -333,7 +333,7 @@ def collocation_operators(model: MaxwellModel, n: int, length: float):
     q = chebyshev_nodes(n, length)
     D = differentiation_matrix(q)
     Bp = barycentric_matrix(q, model.p * q)
-    Bm = barycentric_matrix(q, (1.0 - model.p) * q)
+    Bm = barycentric_matrix(q, model.complement * q)
     return q, D, Bp, Bm
 
 
@@ -492,7 +492,7 @@ def fixed_point(
     )
     fine = np.linspace(0.0, length, 4001)
     dG = barycentric_matrix(q, fine) @ (D @ G)
-    check = lam * fine * dG - fp(fine) + fp(model.p * fine) * fp((1.0 - model.p) * fine)
+    check = lam * fine * dG - fp(fine) + fp(model.p * fine) * fp(model.complement * fine)
     err = max(float(np.max(np.abs(G - f_hat(q)))), float(np.max(np.abs(fp(fine) - f_hat(fine)))))
     return replace(
         fp,
