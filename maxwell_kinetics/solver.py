@@ -76,7 +76,7 @@ from particles.validation import (
     check_times,
 )
 
-from . import compile_cache
+from . import _interrupt, compile_cache
 from .deviation import reference
 from .exact import f_hat
 from .grid import INFLOW_CUT, Resolution, get_resolution
@@ -240,6 +240,12 @@ class _Stepper:
             return compile_cache.call("advance", scheme.advance_unjitted, scheme.advance,
                                       self.static, (self.dynamic, y, i_start, count))
 
+    def wait(self, y) -> None:
+        """Block until the (asynchronously dispatched) state ``y`` is computed."""
+        import jax
+
+        jax.block_until_ready(y)
+
     def output(self, y, i_window: int, tau: float):
         """w on the fixed grid at τ (≥ i_window Δτ) as a (parts, n) array."""
         with self._x64(True):
@@ -380,6 +386,7 @@ def solve(
                         time.perf_counter() - start)
 
     stepper = _Stepper(model, law, grid, opts, dimension, angular, angular_nodes, angular_rule)
+    _interrupt.check()  # a Ctrl-C deferred by the command line while JAX was loading
     y = stepper.y0
     i_window = 0
     bar = None
@@ -399,6 +406,11 @@ def solve(
             while n_full > 0:
                 step = min(chunk, n_full)
                 y = stepper.advance(y, i_window, step)
+                # JAX dispatches asynchronously: wait for this chunk, so that the command
+                # line's deferred Ctrl-C is seen within one chunk (1/200 of the run) and raised
+                # here, with no JAX computation in flight
+                stepper.wait(y)
+                _interrupt.check()
                 i_window += step
                 n_full -= step
                 if bar is not None:

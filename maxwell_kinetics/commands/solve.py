@@ -1,10 +1,14 @@
 """``maxwell-kinetics solve``: integrate the rescaled Fourier-space equation (kinetic theory).
 
 Every input, output paths included, is checked before any work, so bad input writes no file.
+Ctrl-C (SIGINT) is deferred for the whole run (:mod:`maxwell_kinetics._interrupt`): the solver
+stops at the end of its current chunk of windows, nothing is written, and the command line
+prints "interrupted" and exits with status 130.
 """
 
 from __future__ import annotations
 
+import os
 import time
 
 import numpy as np
@@ -19,7 +23,7 @@ from particles.validation import (
     parse_int,
 )
 
-from .. import compile_cache
+from .. import _interrupt, compile_cache
 from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
 from ..model import MaxwellModel
 from ..output import check_outputs, emit_json, progress_enabled
@@ -60,6 +64,23 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    """Run ``maxwell-kinetics solve`` on parsed arguments, with Ctrl-C deferred (module
+    docstring): an interrupt raises KeyboardInterrupt from the solver's loop or before any
+    file is written, and files written when it arrives during the writing are removed."""
+    with _interrupt.deferred_sigint():
+        written = []
+        try:
+            return _run(args, written)
+        except KeyboardInterrupt:
+            for path in written:  # an interrupt while writing: leave no output behind
+                try:
+                    os.unlink(path)
+                except OSError:
+                    pass
+            raise
+
+
+def _run(args, written: list) -> int:
     model = MaxwellModel(args.restitution)
     law = get_law(args.initial)
     try:
@@ -100,12 +121,18 @@ def run(args) -> int:
     speed_density = None
     if speeds is not None:
         speed_density = np.array([sol.speed_density(speeds, k)[1] for k in range(len(taus))])
+    _interrupt.check()  # a Ctrl-C since the solve: write nothing
     if args.plot:
         from ..plotting import plot_solution
 
-        persistence.save_figure(plot_solution(sol), args.plot, "plot", dpi=120)
+        figure = plot_solution(sol)
+        _interrupt.check()
+        written.append(args.plot)
+        persistence.save_figure(figure, args.plot, "plot", dpi=120)
     if args.save:
+        written.append(args.save)
         sol.save(args.save)
+    _interrupt.check()  # a Ctrl-C while writing: the files are removed
     if args.json:
         extra = {}
         if speeds is not None:
