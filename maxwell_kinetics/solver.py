@@ -338,8 +338,15 @@ def solve(
     Solution
         G and G − f̂ on the grid at the saved τ, with the settings and the wall-clock time.
 
+    Ctrl-C: called from Python, an interrupt raises KeyboardInterrupt as usual (Python's own
+    SIGINT handler).  The command line instead defers it (:mod:`maxwell_kinetics._interrupt`):
+    the loop waits for each chunk of windows (1/200 of the run) and raises KeyboardInterrupt
+    between chunks, so that it is neither lost nor raised inside JAX.
+
     Raises
     ------
+    KeyboardInterrupt
+        On Ctrl-C (see above).
     particles.validation.InvalidArgumentError
         For an invalid restitution, law, time list, resolution, dimension, angular model,
         ``angular_nodes`` or ``angular_rule``; in d ≥ 2 for r = 1 (naming ``restitution``) or
@@ -690,7 +697,10 @@ class Solution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            If ``x`` is not finite or ``tau_index`` is out of range.
+            Naming ``x`` if it is not an array of finite real numbers, or so large that the
+            quadrature would exceed :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` nodes
+            or the memory available (panels of width π / max|x|: |x| up to about 9e4; the
+            check runs before any work); naming ``tau_index`` if it is out of range.
         """
         from .velocity import invert
 
@@ -742,8 +752,10 @@ class Solution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``s`` for a negative or non-finite speed, or ``tau_index`` when out of
-            range.
+            Naming ``s`` for a negative, non-finite, boolean or complex speed or one so large
+            that the quadrature would exceed
+            :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` nodes or the memory
+            available (about 9e4; checked before any work), or ``tau_index`` when out of range.
         """
         from .velocity import check_speeds, speed_density_at
 

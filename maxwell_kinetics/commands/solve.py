@@ -98,6 +98,9 @@ def _run(args, written: list) -> int:
         speeds = np.asarray(parse_float_list(args.speed, "speed"))
         if np.any(~np.isfinite(speeds)) or np.any(speeds < 0):
             raise InvalidArgumentError("speed", args.speed, "finite speeds |v|/v0 >= 0")
+        from ..velocity import check_quadrature  # refuse a transform too large, before the solve
+
+        check_quadrature(grid.q_max, speeds, "speed", radial=True, shown=args.speed)
     dimension = parse_int(args.dimension, "dimension")
     if dimension not in (1, 2, 3):
         raise InvalidArgumentError("dimension", args.dimension, "1, 2 or 3")
