@@ -47,12 +47,12 @@ def add_parser(subparsers) -> None:
     p.add_argument("--resolution", default="default", help="one of " + ", ".join(RESOLUTIONS))
     p.add_argument("--dimension", default="1",
                    help="velocity dimension d = 1, 2 or 3 (isotropic inelastic Maxwell model)")
-    p.add_argument("--angular", default="uniform",
-                   help="d > 1: collision directions uniform on the sphere ('uniform') or "
-                   "weighted by |g.n| ('hard')")
-    p.add_argument("--angular-rule", default="fast",
-                   help="d > 1: the η quadrature, 'fast' (default; G to ~1e-8) or 'accurate' "
-                   "(needed for fits of the |q|^{2s*} term, ~2.3x the cost)")
+    p.add_argument("--angular", default=None,
+                   help="d > 1 only: collision directions uniform on the sphere ('uniform', "
+                   "the default) or weighted by |g.n| ('hard')")
+    p.add_argument("--angular-rule", default=None,
+                   help="d > 1 only: the η quadrature, 'fast' (default; G to ~1e-8) or "
+                   "'accurate' (needed for fits of the |q|^{2s*} term, ~2.3x the cost)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE", help="write a PNG of G and |G − f̂|")
     p.add_argument("--save", metavar="FILE", help="save the Solution (.npz)")
@@ -93,19 +93,27 @@ def _run(args, written: list) -> int:
         raise InvalidArgumentError(
             "q", args.q, f"values with |q| <= q_max={grid.q_max:.6g} of resolution {grid.name!r}"
         )
+    if len(np.unique(q)) < q.size:  # 1,1.0 or 0,-0: the same q twice
+        raise InvalidArgumentError("q", args.q, "distinct values of q")
     speeds = None
     if args.speed is not None:
         speeds = np.asarray(parse_float_list(args.speed, "speed"))
         if np.any(~np.isfinite(speeds)) or np.any(speeds < 0):
             raise InvalidArgumentError("speed", args.speed, "finite speeds |v|/v0 >= 0")
+        if len(np.unique(speeds)) < speeds.size:  # 1,1.0 or 0,-0: the same speed twice
+            raise InvalidArgumentError("speed", args.speed, "distinct speeds")
         from ..velocity import check_quadrature  # refuse a transform too large, before the solve
 
         check_quadrature(grid.q_max, speeds, "speed", radial=True, shown=args.speed)
     dimension = parse_int(args.dimension, "dimension")
     if dimension not in (1, 2, 3):
         raise InvalidArgumentError("dimension", args.dimension, "1, 2 or 3")
-    angular = check_choice(args.angular, "angular", ("uniform", "hard"))
-    rule = check_choice(args.angular_rule, "angular-rule", ("fast", "accurate"))
+    for option, value in (("angular", args.angular), ("angular-rule", args.angular_rule)):
+        if value is not None and dimension == 1:  # d = 1 has η ≡ 1: the option would do nothing
+            raise InvalidArgumentError(option, value, "--dimension 2 or 3 with it (d = 1 has "
+                                       "a single collision direction)")
+    angular = check_choice(args.angular or "uniform", "angular", ("uniform", "hard"))
+    rule = check_choice(args.angular_rule or "fast", "angular-rule", ("fast", "accurate"))
     check_outputs(save=args.save, images={"plot": args.plot})
     cost = check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force,
                               dimension=dimension, angular_rule=rule)
