@@ -24,9 +24,20 @@ from particles.validation import (
 )
 
 from .. import _interrupt, compile_cache
-from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
+from ..grid import (
+    MAX_SOLVE_SECONDS,
+    RESOLUTIONS,
+    check_solve_budget,
+    format_seconds,
+    get_resolution,
+)
 from ..model import MaxwellModel
 from ..output import check_outputs, emit_json, progress_enabled
+
+#: Seconds per quadrature node of the speed density at one τ (G interpolated there; measured:
+#: 36 s for 1.7e7 nodes, 5 speeds, d = 3), and per node and speed (the kernel).
+SECONDS_PER_SPEED_NODE = 2e-6
+SECONDS_PER_SPEED_NODE_VALUE = 1e-8
 
 
 def add_parser(subparsers) -> None:
@@ -58,7 +69,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--save", metavar="FILE", help="save the Solution (.npz)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.add_argument("--force", action="store_true",
-                   help="run even when the estimated time exceeds one day")
+                   help="run even when the estimated time (the solve and the speed density) "
+                   "exceeds one day")
     compile_cache.add_option(p)
     p.set_defaults(handler=run)
 
@@ -104,7 +116,8 @@ def _run(args, written: list) -> int:
             raise InvalidArgumentError("speed", args.speed, "distinct speeds")
         from ..velocity import check_quadrature  # refuse a transform too large, before the solve
 
-        check_quadrature(grid.q_max, speeds, "speed", radial=True, shown=args.speed)
+        speed_nodes = check_quadrature(grid.q_max, speeds, "speed", radial=True,
+                                       shown=args.speed)
     dimension = parse_int(args.dimension, "dimension")
     if dimension not in (1, 2, 3):
         raise InvalidArgumentError("dimension", args.dimension, "1, 2 or 3")
@@ -117,6 +130,17 @@ def _run(args, written: list) -> int:
     check_outputs(save=args.save, images={"plot": args.plot})
     cost = check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force,
                               dimension=dimension, angular_rule=rule)
+    if speeds is not None:  # the speed density at every τ: its quadrature costs too
+        speed_seconds = len(taus) * speed_nodes * (SECONDS_PER_SPEED_NODE
+                                                   + speeds.size * SECONDS_PER_SPEED_NODE_VALUE)
+        cost = {**cost, "seconds": cost["seconds"] + speed_seconds}
+        if not args.force and not cost["seconds"] <= MAX_SOLVE_SECONDS:
+            raise InvalidArgumentError(
+                "speed", args.speed,
+                f"a solve estimated to take at most {format_seconds(MAX_SOLVE_SECONDS)} (the "
+                f"speed density at {len(taus)} times on {speed_nodes:.3g} quadrature nodes: "
+                f"about {format_seconds(speed_seconds)}); fewer or smaller speeds or times, or "
+                "pass --force to run it anyway")
     compile_cache.from_args(args)
     from ..solver import solve  # JAX: imported only when a solve runs
 

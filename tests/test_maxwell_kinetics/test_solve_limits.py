@@ -73,3 +73,29 @@ def test_cli_refuses_a_speed_too_large_before_the_solve(capsys, tmp_path):
     assert err.count("\n") == 1
     assert "argument speed='0,1,2,50,1e12'" in err and "|speed| <= 9." in err
     assert not out.exists()
+
+
+def test_cli_refuses_a_speed_density_of_more_than_a_day_unless_forced(capsys, tmp_path,
+                                                                      monkeypatch):
+    """The speed density's time counts in the day's budget: speeds near the quadrature's limit
+    (9e4: ~1.7e7 nodes, ~35 s per time) at 3000 output times are about 29 h after a short
+    solve (the old code ran them); --force lets a refused one through."""
+    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.commands import solve as command
+
+    out = tmp_path / "s.npz"
+    with monkeypatch.context() as patch:  # the limit lowered to 1 µs: refused, then forced
+        patch.setattr(command, "MAX_SOLVE_SECONDS", 1e-6)
+        small = ["solve", "-r", "0.5", "--tau", "1", "--resolution", "coarse", "--speed",
+                 "0,1", "--no-progress", "--save", str(out)]
+        assert "argument speed='0,1'" in run_error(capsys, small)
+        assert not out.exists()
+        assert main([*small, "--force"]) == 0
+        assert out.exists()
+        capsys.readouterr()
+    out.unlink()
+    taus = ",".join(str(k) for k in range(1, 3001))
+    err = run_error(capsys, ["solve", "-r", "0.5", "--tau", taus, "--resolution", "coarse",
+                             "--speed", "0,9e4", "--save", str(out)])
+    assert "argument speed='0,9e4'" in err and "--force" in err and "h)" in err
+    assert not out.exists()
