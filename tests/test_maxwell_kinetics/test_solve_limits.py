@@ -99,3 +99,18 @@ def test_cli_refuses_a_speed_density_of_more_than_a_day_unless_forced(capsys, tm
                              "--speed", "0,9e4", "--save", str(out)])
     assert "argument speed='0,9e4'" in err and "--force" in err and "h)" in err
     assert not out.exists()
+
+
+def test_fixed_point_refuses_a_degree_of_more_than_a_day_unless_forced(monkeypatch):
+    """Dense Gauss-Newton costs ~n³ (49 s at n = 1024): n = 20000 is ~4 days, refused naming
+    n before any matrix is built; with the limit lowered to 1 µs a small degree is refused and
+    force=True runs it (the old code had no time limit, only the memory check of the CLI)."""
+    from maxwell_kinetics import stationary
+
+    with monkeypatch.context() as patch:
+        patch.setattr(stationary, "MAX_FIXED_POINT_SECONDS", 1e-6)
+        with pytest.raises(InvalidArgumentError, match="argument n=16 "):
+            stationary.fixed_point(0.5, n=16)
+        assert stationary.fixed_point(0.5, n=16, force=True).n == 16
+    with pytest.raises(InvalidArgumentError, match=r"argument n=20000 .*days.*force=True"):
+        stationary.fixed_point(0.5, n=20000)
