@@ -26,7 +26,24 @@ from __future__ import annotations
 import os
 import sys
 
-try:  # Ctrl-C during these imports (~0.3 s): one line and status 130 when run as the program
+# Ctrl-C during the imports below (~0.3 s) when run as the program: one line and status 130.
+# The handler records the signal because an interrupt inside a C extension's import (NumPy's)
+# may surface as an ImportError instead of a KeyboardInterrupt.
+_PROGRAM = os.path.basename(getattr(sys.modules.get("__main__"), "__file__", "") or "") in (
+    "maxwell-kinetics", "cli.py")
+_START_SIGNALS: list = []
+
+
+def _start_handler(signum, frame):
+    _START_SIGNALS.append(signum)
+    raise KeyboardInterrupt
+
+
+if _PROGRAM:
+    import _signal
+
+    _signal.signal(_signal.SIGINT, _start_handler)
+try:
     import argparse
 
     from particles.validation import InvalidArgumentError
@@ -43,12 +60,14 @@ try:  # Ctrl-C during these imports (~0.3 s): one line and status 130 when run a
         tails,
     )
     from .output import emit_json
-except KeyboardInterrupt:
-    if os.path.basename(getattr(sys.modules.get("__main__"), "__file__", "") or "") not in (
-            "maxwell-kinetics", "cli.py"):
-        raise  # imported by Python code: the caller's KeyboardInterrupt
+except BaseException:
+    if not (_PROGRAM and _START_SIGNALS):
+        raise  # imported by Python code (the caller's KeyboardInterrupt), or a real error
     print("maxwell-kinetics: interrupted", file=sys.stderr)
     raise SystemExit(130) from None
+finally:
+    if _PROGRAM:
+        _signal.signal(_signal.SIGINT, _signal.default_int_handler)
 
 __all__ = ["main", "build_parser", "emit_json", "join_negative_values"]
 
