@@ -8,10 +8,10 @@ scaled variables w = v (n t/T₀)^{1/3} and μ = m/(n² T₀ t²)^{1/3} (n the n
 velocity law of a particle (:func:`exact_velocity_density`), of the field
 (:func:`exact_eulerian_velocity_density`), the cluster-mass law (:func:`exact_mass_density`),
 the tail survival and its local exponent, the asymptotes and moments, Chernoff's law of the
-displacements (:func:`chernoff_density`). :class:`particles.sticky.ExactLawComparison` compares
-pooled engine states with them. The derivation is in the docstring of
-:func:`exact_shock_density`. Every name is also exported by :mod:`particles.sticky`; this module
-imports nothing of the engine.
+displacements (:func:`chernoff_density`).
+:class:`particles.sticky_comparison.ExactLawComparison` compares pooled engine states with them.
+The derivation is in the docstring of :func:`exact_shock_density`. This module is the one home of
+these names and imports nothing of the engine (:mod:`particles.sticky`).
 """
 
 from __future__ import annotations

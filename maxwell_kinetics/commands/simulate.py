@@ -41,7 +41,7 @@ from particles import driver
 from particles import observables as obs
 from particles.md import InelasticCollapseError, profile_x
 from particles.models import get_model
-from particles.sticky import profile_x as sticky_profile_x
+from particles.sticky_observables import profile_x as sticky_profile_x
 from particles.validation import (
     InvalidArgumentError,
     check_nonnegative,

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from particles.md.observables import haff_energy, haff_time, initial_cooling_rate
-from particles.sticky import velocity_tail_exponent
+from particles.sticky_observables import velocity_tail_exponent
 from particles.validation import InvalidArgumentError
 
 NAN = float("nan")

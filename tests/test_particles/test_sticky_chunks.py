@@ -6,13 +6,8 @@ import pytest
 import particles.sticky_chunks as sc
 from particles.driver import simulate
 from particles.observables import DEFAULT_EDGES, correlation, rescaled_histogram, structure_factor
-from particles.sticky import (
-    StickyGas,
-    StickyParams,
-    cluster_mass_distribution,
-    sticky_state,
-    total_momentum,
-)
+from particles.sticky import StickyGas, StickyParams, sticky_state
+from particles.sticky_observables import cluster_mass_distribution, total_momentum
 from particles.validation import InvalidArgumentError
 
 N, K = 20000, 5
