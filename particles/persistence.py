@@ -54,7 +54,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .validation import InvalidArgumentError, check_path, file_kind, output_target
+from .paths import check_path, file_kind, output_target
+from .validation import InvalidArgumentError
 
 __all__ = ["FileFormatError", "WriteError", "Loaded", "FORMAT_TAG", "save", "load", "digest",
            "write_atomic", "write_text", "save_figure", "read_meta", "sibling_name", "name_max",
@@ -363,7 +364,7 @@ def write_atomic(path, write, name: str = "path") -> Path:
     """Write a file atomically: ``write(fh)`` fills a temporary file (binary) in the target's
     folder, which is then renamed onto the target.  Returns ``path``.
 
-    The target is :func:`particles.validation.output_target`: ``path`` itself, or the file a
+    The target is :func:`particles.paths.output_target`: ``path`` itself, or the file a
     symlink names (the link stays a link).  The rename happens only onto a regular file or onto
     nothing: a directory, a device (``/dev/null`` included), a FIFO or a socket is refused with
     :class:`InvalidArgumentError` naming ``name``, before anything is written, and checked
@@ -384,7 +385,7 @@ def write_atomic(path, write, name: str = "path") -> Path:
     Returns
     -------
     pathlib.Path
-        ``path`` (as validated by :func:`particles.validation.check_path`).
+        ``path`` (as validated by :func:`particles.paths.check_path`).
 
     Raises
     ------

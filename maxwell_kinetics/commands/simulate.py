@@ -41,14 +41,9 @@ from particles import driver
 from particles import observables as obs
 from particles.md import InelasticCollapseError, profile_x
 from particles.models import get_model
+from particles.parsing import parse_float_list, parse_seed
 from particles.sticky_observables import profile_x as sticky_profile_x
-from particles.validation import (
-    InvalidArgumentError,
-    check_nonnegative,
-    check_times,
-    parse_float_list,
-    parse_seed,
-)
+from particles.validation import InvalidArgumentError, check_nonnegative, check_times
 
 from ..output import check_outputs, emit_json
 from .model_options import (
@@ -318,9 +313,10 @@ def _add_chunk_options(parser) -> None:
 def _run_sticky_chunks(engine, args) -> int:
     """``simulate sticky --chunks K``: :func:`particles.sticky_chunks.simulate_chunks`."""
     from particles.ensemble.cluster import check_scheduler, connect
+    from particles.parsing import parse_count
     from particles.progress import progress_bar
     from particles.sticky_chunks import check_chunks, simulate_chunks
-    from particles.validation import check_workers, parse_count
+    from particles.workers import check_workers
 
     times = check_times(parse_float_list(args.times, "t"), "t")
     seed = parse_seed(args.seed)
