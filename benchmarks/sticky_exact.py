@@ -1,5 +1,5 @@
-"""The exact sticky gas against its exact late-time laws (``particles/sticky.py``, section
-"Exact late-time laws"): χ²/dof of the mass-weighted velocity histogram and of the cluster-mass
+"""The exact sticky gas against its exact late-time laws (``particles/sticky_exact.py``,
+compared by ``particles/sticky_comparison.py``): χ²/dof of the mass-weighted velocity histogram and of the cluster-mass
 histogram at several times, pooled over seeds, and the corrections to scaling.
 
     python benchmarks/sticky_exact.py                          # N = 1e7, 4 seeds
