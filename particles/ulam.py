@@ -67,9 +67,9 @@ from .ulam_kinematics import (
     _check_angular,
     _collide_events_vectors,
     _subset,
-    draw_angles,
-    plane_transfer,
 )
+from .ulam_kinematics import draw_angles as _draw_angles
+from .ulam_kinematics import plane_transfer as _plane_transfer
 from .validation import (
     InvalidArgumentError,
     check_count,
@@ -471,9 +471,9 @@ class Ulam(EngineBase):
             if k:
                 occurrence = self._occurrences(occurrence, k)
                 pairs = _draw_pairs(rng, self.n, k)  # row 0 is the window's last event
-                draws = draw_angles(rng, k, self.dimension, angular)
+                draws = _draw_angles(rng, k, self.dimension, angular)
                 if plane is not None:
-                    transfer = plane_transfer(draws.sine, p)
+                    transfer = _plane_transfer(draws.sine, p)
                     _fire_rounds_plane(plane, pairs, transfer, first, occurrence)
                 else:
 
