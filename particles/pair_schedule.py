@@ -27,12 +27,12 @@ import numpy as np
 from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .ulam_kinematics import (
     AngularDraws,
-    _as_complex,
-    _check_angular,
-    _collide_events_vectors,
-    _subset,
+    as_complex,
+    check_angular,
     collide_complex,
+    collide_pairs_vectors,
     plane_transfer,
+    subset_draws,
 )
 from .validation import InvalidArgumentError, check_count
 
@@ -74,10 +74,10 @@ def draw_pairs(rng: np.random.Generator, n: int, k: int) -> np.ndarray:
     n = check_count(n, "n", 2)
     if n > 2**31 - 1:
         raise InvalidArgumentError("n", n, "an integer <= 2**31 - 1 (int32 particle ids)")
-    return _draw_pairs(rng, n, check_count(k, "k", 0))
+    return draw_pairs_unchecked(rng, n, check_count(k, "k", 0))
 
 
-def _draw_pairs(rng: np.random.Generator, n: int, k: int) -> np.ndarray:
+def draw_pairs_unchecked(rng: np.random.Generator, n: int, k: int) -> np.ndarray:
     """:func:`draw_pairs` without the checks (the engine's own arguments)."""
     pairs = np.empty((k, 2), dtype=np.int32)
     pairs[:, 0] = rng.integers(0, n, k, dtype=np.int32)
@@ -129,7 +129,7 @@ def _rounds(reversed_pairs: np.ndarray, first: np.ndarray, occurrence: np.ndarra
         packed = np.compress(fire, packed)
 
 
-def _fire_rounds(
+def fire_rounds(
     v: np.ndarray, reversed_pairs: np.ndarray, p: float, first: np.ndarray, occurrence: np.ndarray
 ) -> int:
     """Apply the events of ``reversed_pairs`` to ``v`` in place, round by round (:func:`_rounds`).
@@ -144,8 +144,8 @@ def _fire_rounds(
     return rounds
 
 
-def _fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide) -> int:
-    """:func:`_fire_rounds` for events that carry data: ``collide(v, fired, rows)`` applies the
+def fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide) -> int:
+    """:func:`fire_rounds` for events that carry data: ``collide(v, fired, rows)`` applies the
     events of rows ``rows`` of ``reversed_pairs`` (particles ``fired`` = [a_0, b_0, a_1, …], all
     distinct)."""
     rows = np.arange(len(reversed_pairs), dtype=np.intp)
@@ -157,8 +157,8 @@ def _fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide) -> int
     return rounds
 
 
-def _fire_rounds_plane(w, reversed_pairs, transfer, first, occurrence) -> int:
-    """d = 2: :func:`_fire_rounds` on complex velocities ``w`` (N,) with one complex factor
+def fire_rounds_plane(w, reversed_pairs, transfer, first, occurrence) -> int:
+    """d = 2: :func:`fire_rounds` on complex velocities ``w`` (N,) with one complex factor
     per event (``transfer``, rows as ``reversed_pairs``;
     :func:`~particles.ulam_kinematics.plane_transfer`).  A gather, the
     rule and a scatter of 16-byte elements per round; the factors of the pending events are
@@ -215,7 +215,7 @@ def collide_in_order(v, pairs, restitution) -> np.ndarray:
     reversed_pairs = np.ascontiguousarray(pairs[::-1], dtype=np.int32)
     first = np.empty(v.size, dtype=np.int32)
     occurrence = np.arange(2 * len(pairs), dtype=np.int32)
-    _fire_rounds(v, reversed_pairs, p, first, occurrence)
+    fire_rounds(v, reversed_pairs, p, first, occurrence)
     return v
 
 
@@ -253,7 +253,7 @@ def _check_vector_events(v, pairs, restitution, draws, angular):
     v = np.array(v, dtype=float, order="C")  # a C-contiguous copy (_scatter_rows needs it)
     if v.ndim != 2 or v.shape[1] < 2:
         raise InvalidArgumentError("v", f"array of shape {v.shape}", "shape (N, d), d >= 2")
-    angular = _check_angular(angular)
+    angular = check_angular(angular)
     pairs = np.asarray(pairs)
     _check_events(np.zeros(v.shape[0]), pairs, restitution)
     k = (len(pairs),)
@@ -300,18 +300,18 @@ def collide_in_order_vectors(v, pairs, restitution, draws: AngularDraws, angular
     v, pairs, p, angular = _check_vector_events(v, pairs, restitution, draws, angular)
     k = len(pairs)
     reversed_pairs = np.ascontiguousarray(pairs[::-1], dtype=np.int32)
-    reversed_draws = _subset(draws, np.arange(k - 1, -1, -1))
+    reversed_draws = subset_draws(draws, np.arange(k - 1, -1, -1))
     first = np.empty(v.shape[0], dtype=np.int32)
     occurrence = np.arange(2 * k, dtype=np.int32)
     if v.shape[1] == 2:
         transfer = plane_transfer(reversed_draws.sine, p)
-        _fire_rounds_plane(_as_complex(v), reversed_pairs, transfer, first, occurrence)
+        fire_rounds_plane(as_complex(v), reversed_pairs, transfer, first, occurrence)
         return v
 
     def collide(w, fired, rows):
-        _collide_events_vectors(w, fired, _subset(reversed_draws, rows), angular, p)
+        collide_pairs_vectors(w, fired, subset_draws(reversed_draws, rows), angular, p)
 
-    _fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide)
+    fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide)
     return v
 
 
@@ -344,7 +344,7 @@ def collide_sequential_vectors(v, pairs, restitution, draws: AngularDraws, angul
     """
     v, pairs, p, angular = _check_vector_events(v, pairs, restitution, draws, angular)
     if v.shape[1] == 2:
-        w = _as_complex(v)
+        w = as_complex(v)
         for k, (a, b) in enumerate(pairs.astype(np.intp)):
             pair = w[[a, b]]
             collide_complex(pair[0:1], pair[1:2], plane_transfer(draws.sine[k : k + 1], p))
@@ -352,5 +352,5 @@ def collide_sequential_vectors(v, pairs, restitution, draws: AngularDraws, angul
         return v
     for k, (a, b) in enumerate(pairs.astype(np.intp)):
         row = np.array([k], dtype=np.intp)
-        _collide_events_vectors(v, np.array([a, b]), _subset(draws, row), angular, p)
+        collide_pairs_vectors(v, np.array([a, b]), subset_draws(draws, row), angular, p)
     return v

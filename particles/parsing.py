@@ -13,7 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .validation import InvalidArgumentError, _is_bool, _is_complex, check_seed
+from .validation import InvalidArgumentError, check_seed
 
 __all__ = [
     "parse_float_list",
@@ -70,7 +70,7 @@ def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
             raise InvalidArgumentError(name, text, "a non-empty list of numbers")
     out = []
     for part in parts:
-        if _is_bool(part) or _is_complex(part) or not isinstance(
+        if isinstance(part, (bool, np.bool_, complex, np.complexfloating)) or not isinstance(
                 part, (str, int, float, np.integer, np.floating)):
             raise InvalidArgumentError(name, text, "a list of real numbers")
         try:

@@ -61,12 +61,17 @@ import numpy as np
 from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .driver import EngineBase, initial_velocities, next_grid_point
 from .initial import get_law
-from .pair_schedule import _draw_pairs, _fire_rounds, _fire_rounds_plane, _fire_rounds_with_rows
+from .pair_schedule import (
+    draw_pairs_unchecked,
+    fire_rounds,
+    fire_rounds_plane,
+    fire_rounds_with_rows,
+)
 from .ulam_kinematics import (
-    _as_complex,
-    _check_angular,
-    _collide_events_vectors,
-    _subset,
+    as_complex,
+    check_angular,
+    collide_pairs_vectors,
+    subset_draws,
 )
 from .ulam_kinematics import draw_angles as _draw_angles
 from .ulam_kinematics import plane_transfer as _plane_transfer
@@ -90,7 +95,7 @@ __all__ = [
 _MOVED = {
     **{name: "particles.pair_schedule" for name in (
         "draw_pairs", "collide_in_order", "collide_sequential", "collide_in_order_vectors",
-        "collide_sequential_vectors", "_draw_pairs", "_largest_occurrence",
+        "collide_sequential_vectors", "_largest_occurrence",
         "_largest_occurrence_ufunc", "_rounds")},
     **{name: "particles.ulam_kinematics" for name in (
         "AngularDraws", "ANGULAR_MODELS", "draw_angles", "collision_directions",
@@ -266,7 +271,7 @@ class Ulam(EngineBase):
             raise InvalidArgumentError("initial", law.name, "a law with a sampler")
         object.__setattr__(self, "initial", law.name)
         object.__setattr__(self, "dimension", check_dimension(self.dimension))
-        _check_angular(self.angular)
+        check_angular(self.angular)
         driving = check_nonnegative(self.driving, "driving")
         if driving > 0.0 and self.dimension != 1:
             raise InvalidArgumentError("driving", self.driving, "0 when dimension > 1")
@@ -445,7 +450,7 @@ class Ulam(EngineBase):
                         max(2 * k, int(1.25 * self.n * self.window) + 16), dtype=np.int32
                     )
                 # The drawn pairs, read from last to first, are the window's events in order.
-                _fire_rounds(v, _draw_pairs(rng, self.n, k), p, first, occurrence)
+                fire_rounds(v, draw_pairs_unchecked(rng, self.n, k), p, first, occurrence)
                 collisions += k
             if _is_grid_point(b, self.stop_step):
                 recentre(v)
@@ -463,24 +468,24 @@ class Ulam(EngineBase):
         v = state.velocities.copy()
         collisions = int(state.collisions)
         p, angular = self.p, self.angular
-        plane = _as_complex(v) if self.dimension == 2 else None  # a view: v changes with it
+        plane = as_complex(v) if self.dimension == 2 else None  # a view: v changes with it
         first = np.empty(self.n, dtype=np.int32)
         occurrence = np.empty(0, dtype=np.int32)
         for a, b in self.windows(state.time, until):
             k = int(rng.poisson(0.5 * self.n * (b - a)))
             if k:
                 occurrence = self._occurrences(occurrence, k)
-                pairs = _draw_pairs(rng, self.n, k)  # row 0 is the window's last event
+                pairs = draw_pairs_unchecked(rng, self.n, k)  # row 0 is the window's last event
                 draws = _draw_angles(rng, k, self.dimension, angular)
                 if plane is not None:
                     transfer = _plane_transfer(draws.sine, p)
-                    _fire_rounds_plane(plane, pairs, transfer, first, occurrence)
+                    fire_rounds_plane(plane, pairs, transfer, first, occurrence)
                 else:
 
                     def collide(w, fired, rows, draws=draws):
-                        _collide_events_vectors(w, fired, _subset(draws, rows), angular, p)
+                        collide_pairs_vectors(w, fired, subset_draws(draws, rows), angular, p)
 
-                    _fire_rounds_with_rows(v, pairs, first, occurrence, collide)
+                    fire_rounds_with_rows(v, pairs, first, occurrence, collide)
                 collisions += k
             if _is_grid_point(b, self.stop_step):
                 recentre(v)
@@ -500,7 +505,7 @@ class Ulam(EngineBase):
             k = int(rng.poisson(0.5 * self.n * (b - a)))
             if k:
                 occurrence = self._occurrences(occurrence, k)
-                pairs = _draw_pairs(rng, self.n, k)  # row 0 is the window's last event
+                pairs = draw_pairs_unchecked(rng, self.n, k)  # row 0 is the window's last event
                 times = np.sort(rng.uniform(a, b, k))[::-1]  # row order: latest first
                 kicks = rng.standard_normal((k, 2))
 
@@ -515,7 +520,7 @@ class Ulam(EngineBase):
                     w[ia] = va
                     w[ib] = vb
 
-                _fire_rounds_with_rows(v, pairs, first, occurrence, collide)
+                fire_rounds_with_rows(v, pairs, first, occurrence, collide)
                 collisions += k
             if _is_grid_point(b, self.stop_step):  # bring every particle to b, then recentre
                 v += np.sqrt(two_d * (b - last)) * rng.standard_normal(self.n)

@@ -252,7 +252,7 @@ def _scatter_rows(v: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
         flat[base + c] = values[:, c]
 
 
-def _collide_events_vectors(v, fired, draws: AngularDraws, angular: str, p: float) -> None:
+def collide_pairs_vectors(v, fired, draws: AngularDraws, angular: str, p: float) -> None:
     """Collide the pairs ``fired`` = [a_0, b_0, a_1, b_1, …] (all distinct) with the events'
     ``draws``: one ``np.take`` gather and one scatter (row-wise fancy indexing of (N, d) arrays
     is slow, see :func:`_scatter_rows`)."""
@@ -263,17 +263,19 @@ def _collide_events_vectors(v, fired, draws: AngularDraws, angular: str, p: floa
     _scatter_rows(v, fired, vv)
 
 
-def _subset(draws: AngularDraws, rows) -> AngularDraws:
+def subset_draws(draws: AngularDraws, rows) -> AngularDraws:
+    """The draws of the events ``rows`` (in that order)."""
     def take(a, axis=None):
         return None if a is None else np.take(a, rows, axis=axis)
 
     return AngularDraws(take(draws.z, 0), take(draws.eta), take(draws.sine))
 
 
-def _as_complex(v: np.ndarray) -> np.ndarray:
+def as_complex(v: np.ndarray) -> np.ndarray:
     """The (N,) complex128 view v_x + i v_y of a C-contiguous (N, 2) float array."""
     return v.view(np.complex128).reshape(-1)
 
 
-def _check_angular(angular) -> str:
+def check_angular(angular) -> str:
+    """``angular`` when it is one of :data:`ANGULAR_MODELS` (else InvalidArgumentError)."""
     return check_choice(angular, "angular", ANGULAR_MODELS)
