@@ -160,9 +160,9 @@ def fire_rounds_with_rows(v, reversed_pairs, first, occurrence, collide) -> int:
 def fire_rounds_plane(w, reversed_pairs, transfer, first, occurrence) -> int:
     """d = 2: :func:`fire_rounds` on complex velocities ``w`` (N,) with one complex factor
     per event (``transfer``, rows as ``reversed_pairs``;
-    :func:`~particles.ulam_kinematics.plane_transfer`).  A gather, the
-    rule and a scatter of 16-byte elements per round; the factors of the pending events are
-    compacted alongside the pairs."""
+    :func:`~particles.ulam_kinematics.plane_transfer`).  A gather, the rule and a scatter of
+    16-byte elements per round; the factors of the pending events are compacted alongside the
+    pairs."""
     rounds = 0
     for fired, fire in _rounds(reversed_pairs, first, occurrence):
         vv = np.take(w, fired)

@@ -14,10 +14,10 @@ with the dynamics and is exact up to round-off.  Both engines do it (:func:`rece
 same deterministic points: the multiples of ``stop_step`` in τ, after every event before that
 point and before every event after it.  They are window boundaries of the fast path (``stop_step``
 is a multiple of ``window``), so the fast path and the sequential loop still agree bit for bit on
-the same events (:func:`~particles.pair_schedule.collide_sequential` followed by :func:`recentre`).
- The momentum recorded
-at a grid point is therefore ~0 by construction and says nothing about conservation; the
-collisions' own drift shows at times between grid points, and the tests bound it there.
+the same events (:func:`~particles.pair_schedule.collide_sequential` followed by
+:func:`recentre`).  The momentum recorded at a grid point is therefore ~0 by construction and
+says nothing about conservation; the collisions' own drift shows at times between grid points,
+and the tests bound it there.
 
 Throughput: ``benchmarks/ulam_dimensions.py`` (N = 10⁶, 10⁶ collisions, configurations
 interleaved; the table is in benchmarks/README.md).  With complex arithmetic, 2D uniform runs

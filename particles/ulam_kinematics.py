@@ -5,9 +5,8 @@ d dimensions, ``dimension`` = 2 or 3.  Velocities have shape (N, d).  A collisio
 (a, b) with g = v_a − v_b and a unit vector n applies v_a' = v_a − p (g·n) n, v_b' = v_b + p (g·n) n
 (:func:`collide_vectors`; operations in a fixed order, dot products summed column by column, so
 the fast path and :func:`~particles.pair_schedule.collide_sequential_vectors` agree bit for bit).
-The same window scheme
-is used; each event's angular variables are drawn with the window, in advance
-(:func:`draw_angles`).
+The same window scheme is used; each event's angular variables are drawn with the window, in
+advance (:func:`draw_angles`).
 
 d = 2 runs in complex numbers: inside ``advance`` the (N, 2) array is viewed as N complex
 velocities v = v_x + i v_y (one 16-byte element per particle, so each round is one 1-D gather
