@@ -26,6 +26,8 @@ __all__ = [
     "check_choice",
     "shown",
     "SHOWN_CHARACTERS",
+    "SEED_MAX",
+    "check_seed",
 ]
 
 #: Names that lived here before and have one home elsewhere now: a deep import of one of them
