@@ -58,8 +58,8 @@ def _times(lo, hi, count):
 #: * ``n`` particles, ``seeds`` seeds 0, 1, …, at ``times`` (two decades or more): energy,
 #:   S(k), kurtosis, skewness of the gradients, displacements and the zoomed profile;
 #: * ``exact_n`` particles, ``exact_seeds`` seeds 1000, 1001, …, at ``exact_times``: the
-#:   histograms against the exact laws (:class:`particles.sticky_comparison.ExactLawComparison`; outer
-#:   bins merged until each holds ``min_clusters`` clusters, tail points resolved where that
+#:   histograms against the exact laws (:class:`particles.sticky_comparison.ExactLawComparison`;
+#:   outer bins merged until each holds ``min_clusters`` clusters, tail points resolved where that
 #:   many clusters lie beyond), the tail survival on
 #:   :func:`tail_grid` (``tail_w``: first point, last point, points per octave), its exponent
 #:   reported at ``tail_time``, and the secondary small-μ fit of the mass law on the tables at
@@ -110,12 +110,14 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
       :func:`particles.sticky_exact.exact_velocity_density` and of the pooled cluster-mass
       histogram in μ = m/t^{2/3} against :func:`particles.sticky_exact.exact_mass_density`, with
       their degrees of freedom (nothing is fitted) and the variance models of
-      :class:`particles.sticky_comparison.ExactLawComparison` (velocity: Σ m² over the clusters in a bin;
+      :class:`particles.sticky_comparison.ExactLawComparison` (velocity: Σ m² over the clusters in
+      a bin;
       mass: Poisson); and the scale-free corrections to scaling E t^{2/3} and clusters ×
       t^{2/3}/N against their exact limits.  Finite t is the only systematic difference, so
       χ²/dof falls towards 1 as t grows;
     * ``tail``: the local exponent β(w) = d ln(−ln P(|w| > w))/d ln w.  Exact: on the
-      ``beta_curve`` points (:func:`particles.sticky_exact.exact_velocity_tail_exponent`), with the w
+      ``beta_curve`` points (:func:`particles.sticky_exact.exact_velocity_tail_exponent`), with the
+      w
       where β crosses 2 and 2.5 (cubic interpolation in ln w of those points) and the exact
       P(|w| > w) there.  Engine: chords of ln(−ln S) between neighbouring points of
       :func:`tail_grid`, pooled over the ``exact_seeds`` runs, at ``tail_time`` and per time,

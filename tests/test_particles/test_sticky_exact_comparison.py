@@ -1,5 +1,5 @@
-"""particles.sticky_comparison.ExactLawComparison: the pooled histograms of sticky-gas states against the
-exact late-time laws — counting on hand-made states, the delta-method error of the tail
+"""particles.sticky_comparison.ExactLawComparison: the pooled histograms of sticky-gas states
+against the exact late-time laws — counting on hand-made states, the delta-method error of the tail
 exponent against the scatter of repeated samples, and bad input."""
 
 from __future__ import annotations
