@@ -1,13 +1,14 @@
-"""The exact sticky gas against its exact late-time laws (``particles/sticky.py``, section
-"Exact late-time laws"): χ²/dof of the mass-weighted velocity histogram and of the cluster-mass
-histogram at several times, pooled over seeds, and the corrections to scaling.
+"""The exact sticky gas against its exact late-time laws (``particles/sticky_exact.py``,
+compared by ``particles/sticky_comparison.py``): χ²/dof of the mass-weighted velocity histogram and
+of the cluster-mass histogram at several times, pooled over seeds, and the corrections to scaling.
 
     python benchmarks/sticky_exact.py                          # N = 1e7, 4 seeds
     python benchmarks/sticky_exact.py --n 1000000 --seeds 3 --times 10 100
 
 Units: density n = 1 and ⟨v²⟩ = T₀ = 1 (the engine's draw), so w = v t^{1/3} and
 μ = m / t^{2/3}.  The histograms, their bins and variance models are those of
-:class:`particles.sticky.ExactLawComparison` (shared with comparison 9): the mass-weighted
+:class:`particles.sticky_comparison.ExactLawComparison` (shared with comparison 9): the
+mass-weighted
 velocity histogram (24 bins of width 0.25 on w ∈ [−3, 3] plus the open bins beyond, variance
 Σ m² over the clusters in a bin) and the cluster-mass histogram (about 12 bins per decade in m,
 Poisson variance).  Also printed: E t^{2/3} against the exact
@@ -26,17 +27,15 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from particles.sticky import (  # noqa: E402
-    ExactLawComparison,
-    StickyGas,
-    StickyParams,
-    exact_moments,
-)
+from particles.sticky import StickyGas, StickyParams  # noqa: E402
+from particles.sticky_comparison import ExactLawComparison  # noqa: E402
+from particles.sticky_exact import exact_moments  # noqa: E402
 
 
 def compare(n_particles: int, seeds: int, t: float, seed0: int = 0) -> dict:
     """χ² of the velocity and mass histograms at time t, pooled over ``seeds`` runs
-    (:class:`particles.sticky.ExactLawComparison`, which states the bins and variance models)."""
+    (:class:`particles.sticky_comparison.ExactLawComparison`, which states the bins and variance
+    models)."""
     engine = StickyGas(StickyParams(n_particles, 1.0, "gaussian"))
     cmp = ExactLawComparison(t)
     for seed in range(seed0, seed0 + seeds):

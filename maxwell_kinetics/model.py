@@ -43,7 +43,7 @@ from typing import ClassVar
 import numpy as np
 
 from particles.collision import transfer_fraction
-from particles.ulam import ANGULAR_MODELS as _ANGULAR_NAMES
+from particles.ulam_kinematics import ANGULAR_MODELS as _ANGULAR_NAMES
 from particles.validation import check_nonnegative, check_real, check_restitution
 
 __all__ = ["CollisionModel", "MaxwellModel", "DrivenMaxwellModel", "KINETIC_MODELS",
@@ -51,7 +51,7 @@ __all__ = ["CollisionModel", "MaxwellModel", "DrivenMaxwellModel", "KINETIC_MODE
 
 #: Angular models of the d-dimensional isotropic equation, each with the Beta parameter a of
 #: η ~ Beta(a, (d − 1)/2) (see :func:`angular_law`).  Its names are those of the particle
-#: engines (:data:`particles.ulam.ANGULAR_MODELS`), in the same order.
+#: engines (:data:`particles.ulam_kinematics.ANGULAR_MODELS`), in the same order.
 ANGULAR_MODELS = dict(zip(_ANGULAR_NAMES, (0.5, 1.0), strict=True))
 
 

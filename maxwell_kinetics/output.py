@@ -14,13 +14,9 @@ import sys
 from pathlib import Path
 
 from particles import persistence
-from particles.validation import (
-    InvalidArgumentError,
-    check_output_file,
-    file_kind,
-    output_target,
-)
-from particles.validation import check_output_dir as _check_output_dir
+from particles.paths import check_output_dir as _check_output_dir
+from particles.paths import check_output_file, file_kind, output_target
+from particles.validation import InvalidArgumentError
 
 __all__ = ["emit_json", "clean_json", "check_outputs", "check_image_path", "check_output_dir",
            "check_files_in", "is_png", "read_json_file", "MAX_JSON_BYTES", "progress_enabled"]
@@ -104,7 +100,7 @@ def check_image_path(path, name: str) -> Path:
 
 
 def check_output_dir(path, name: str) -> Path:
-    """An output folder: :func:`particles.validation.check_output_dir` (an existing writable
+    """An output folder: :func:`particles.paths.check_output_dir` (an existing writable
     directory or one that can be created; nothing is created here), and names short enough for
     the file system (:func:`particles.persistence.check_name_length`).
 
@@ -267,7 +263,7 @@ def read_json_file(path):
 def check_files_in(folder, files: dict, name: str) -> dict:
     """Check, before any work, the files a command writes into the output folder ``folder``
     under names of its own choosing: each name fits the file system, nothing but a regular
-    file (or nothing) is at its place (:func:`particles.validation.output_target`), and a file
+    file (or nothing) is at its place (:func:`particles.paths.output_target`), and a file
     already there is one this program wrote, by the check given for it: a file the program did
     not write is never replaced.
 

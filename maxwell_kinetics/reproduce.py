@@ -22,7 +22,8 @@ import time
 from pathlib import Path
 
 from particles import persistence
-from particles.validation import InvalidArgumentError, check_workers
+from particles.validation import InvalidArgumentError
+from particles.workers import check_workers
 
 from .output import check_files_in, check_output_dir, clean_json, is_png, read_json_file
 
@@ -236,7 +237,7 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
     through the ensemble engine on dask (``workers`` processes; default one per core), one task
     file per run in ``<out>/runs``: a rerun after an interruption takes the finished runs from
     there, and the results equal the serial ones bit for bit.  More workers than
-    :func:`particles.validation.max_workers` (4 × the CPUs) are refused unless ``force``.
+    :func:`particles.workers.max_workers` (4 × the CPUs) are refused unless ``force``.
 
     Parameters
     ----------
@@ -253,7 +254,7 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
         Number of dask processes for the particle runs through the ensemble engine; default
         serial (except at ``size="full"``).
     force : bool, optional
-        Allow more workers than :func:`particles.validation.max_workers`.
+        Allow more workers than :func:`particles.workers.max_workers`.
 
     Returns
     -------

@@ -3,7 +3,10 @@
 The base layer of maxwell-kinetics: it imports nothing from :mod:`maxwell_kinetics` and no JAX.
 Modules, one job each:
 
-* :mod:`.validation` — argument checks and exact parsing (``InvalidArgumentError``);
+* :mod:`.validation` — argument checks (``InvalidArgumentError``);
+* :mod:`.parsing` — exact parsing of command-line text into typed values;
+* :mod:`.paths` — file-system checks of input and output paths;
+* :mod:`.workers` — worker limits of parallel runs;
 * :mod:`.initial` — the initial velocity laws with their characteristic functions;
 * :mod:`.collision` — the collision rule;
 * :mod:`.observables` — energy, histograms, C(r), S(k);

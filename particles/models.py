@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .initial import LAWS
+from .parsing import parse_int
 from .validation import (
     InvalidArgumentError,
     check_choice,
@@ -38,7 +39,6 @@ from .validation import (
     check_nonnegative,
     check_positive,
     check_restitution,
-    parse_int,
 )
 
 __all__ = [

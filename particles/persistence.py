@@ -13,26 +13,23 @@ entry holding a JSON object with
   the check on two cores (``benchmarks/persistence.py``);
 * the caller's own fields.
 
-Writing goes to a temporary file in the same folder, then :func:`os.replace` renames it into
-place: a reader never sees half a file, and a writer killed half-way leaves only a
-``<name>.<random>.tmp`` (or, where that name would pass the file system's limit on the length
-of a name, ``.<hash of name>.<random>.tmp``: :func:`sibling_name`) that :func:`save` removes on
-a later write to the same path (a temporary file that another writer still holds is left
-alone).  A write that fails (disk full, a folder that became read-only, ...) removes its
-temporary file, leaves an existing file of that name as it was and raises :class:`WriteError`,
-one line naming the file and the reason.  The rename happens only onto a regular file or onto
-nothing (:func:`write_atomic`): an output path that is a device (``/dev/null`` too), a FIFO, a
-socket or a directory is refused, and a symlink is followed, so its target is replaced and the
-link stays.
+Writing goes to a temporary file in the same folder, then :func:`os.replace` renames it into place:
+a reader never sees half a file, and a writer killed half-way leaves only a ``<name>.<random>.tmp``
+(or, where that name would pass the file system's limit on the length of a name,
+``.<hash of name>.<random>.tmp``: :func:`sibling_name`) that :func:`save` removes on a later write
+to the same path (a temporary file that another writer still holds is left alone).  A write that
+fails (disk full, a folder that became read-only, ...) removes its temporary file, leaves an
+existing file of that name as it was and raises :class:`WriteError`, one line naming the file and
+the reason.  The rename happens only onto a regular file or onto nothing (:func:`write_atomic`):
+an output path that is a device (``/dev/null`` too), a FIFO, a socket or a directory is refused,
+and a symlink is followed, so its target is replaced and the link stays.
 
 Reading treats the file as untrusted: only regular files are opened (a FIFO would block); every
-entry's ``.npy`` header (dtype and shape) is read and checked *before* its data is, so a zip
-bomb or a header that declares a huge shape is refused without allocating; object arrays (which
-would need pickle) are refused; an entry larger than its header says is refused; the total size is
-capped (``max_bytes``, default the smaller of 8 GiB and half the memory available); then the
-hash is verified.  Files written before this helper existed
-(kinds ``result``, ``checkpoint``, ``solution``, ``comparison`` of the formats of version 0.1.0)
-load as ``legacy``: they carry no hash.
+entry's ``.npy`` header (dtype and shape) is read and checked *before* its data is, so a zip bomb
+or a header that declares a huge shape is refused without allocating; object arrays (which would
+need pickle) are refused; an entry larger than its header says is refused; the total size is
+capped (``max_bytes``, default the smaller of 8 GiB and half the memory available); then the hash
+is verified.  Files in the formats of 0.1.0 (before this helper) load as ``legacy``: no hash.
 """
 
 from __future__ import annotations
@@ -54,7 +51,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .validation import InvalidArgumentError, check_path, file_kind, output_target
+from .paths import check_path, file_kind, output_target
+from .validation import InvalidArgumentError
 
 __all__ = ["FileFormatError", "WriteError", "Loaded", "FORMAT_TAG", "save", "load", "digest",
            "write_atomic", "write_text", "save_figure", "read_meta", "sibling_name", "name_max",
@@ -363,7 +361,7 @@ def write_atomic(path, write, name: str = "path") -> Path:
     """Write a file atomically: ``write(fh)`` fills a temporary file (binary) in the target's
     folder, which is then renamed onto the target.  Returns ``path``.
 
-    The target is :func:`particles.validation.output_target`: ``path`` itself, or the file a
+    The target is :func:`particles.paths.output_target`: ``path`` itself, or the file a
     symlink names (the link stays a link).  The rename happens only onto a regular file or onto
     nothing: a directory, a device (``/dev/null`` included), a FIFO or a socket is refused with
     :class:`InvalidArgumentError` naming ``name``, before anything is written, and checked
@@ -384,7 +382,7 @@ def write_atomic(path, write, name: str = "path") -> Path:
     Returns
     -------
     pathlib.Path
-        ``path`` (as validated by :func:`particles.validation.check_path`).
+        ``path`` (as validated by :func:`particles.paths.check_path`).
 
     Raises
     ------

@@ -382,7 +382,8 @@ def _spectrum_of(v: np.ndarray) -> dict:
 def _single(params, times, seed, edges, start, structure_factor) -> ChunkedResult:
     """K = 1: the single-process engine, run by the driver."""
     from .driver import simulate
-    from .sticky import StickyGas, cluster_mass_distribution
+    from .sticky import StickyGas
+    from .sticky_observables import cluster_mass_distribution
 
     run = simulate(StickyGas(params), times, seed, progress=False, bins=edges)
     clusters = run.extras["clusters"].astype(np.int64)

@@ -8,10 +8,10 @@ scaled variables w = v (n t/T₀)^{1/3} and μ = m/(n² T₀ t²)^{1/3} (n the n
 velocity law of a particle (:func:`exact_velocity_density`), of the field
 (:func:`exact_eulerian_velocity_density`), the cluster-mass law (:func:`exact_mass_density`),
 the tail survival and its local exponent, the asymptotes and moments, Chernoff's law of the
-displacements (:func:`chernoff_density`). :class:`particles.sticky.ExactLawComparison` compares
-pooled engine states with them. The derivation is in the docstring of
-:func:`exact_shock_density`. Every name is also exported by :mod:`particles.sticky`; this module
-imports nothing of the engine.
+displacements (:func:`chernoff_density`).
+:class:`particles.sticky_comparison.ExactLawComparison` compares pooled engine states with them.
+The derivation is in the docstring of :func:`exact_shock_density`. This module is the one home of
+these names and imports nothing of the engine (:mod:`particles.sticky`).
 """
 
 from __future__ import annotations
@@ -567,8 +567,8 @@ def exact_eulerian_velocity_density(w) -> np.ndarray:
     The field at x is (x − q(x))/t with q(x) the label that the minimising parabola picks,
     so w = ξ − argmin_s (W(s) + (s − ξ)²/2), of density ½ ψ(w) ψ(−w) (the argmin density of
     :func:`exact_shock_density`).  This is also the law of the particles' scaled
-    displacements (:func:`displacements` / (ℓ/n)): w ≡ 2^{2/3} Z, Z of Chernoff's law
-    (:func:`chernoff_density`), variance 2^{4/3} · 0.2635596 = 0.664129.  Tail
+    displacements (:func:`~particles.sticky_observables.displacements` / (ℓ/n)): w ≡ 2^{2/3} Z, Z
+    of Chernoff's law (:func:`chernoff_density`), variance 2^{4/3} · 0.2635596 = 0.664129.  Tail
     P_E ≈ 2^{1/3}/Ai'(a₁) · |w| exp(−|w|³/6 − λ₁|w|).  ψ from its table; zero for |w| > 30.
     Not finite → ``InvalidArgumentError``.
 
@@ -656,9 +656,10 @@ def exact_velocity_survival(w, *, nodes: int = 60) -> np.ndarray:
 
 def exact_velocity_tail_exponent(w) -> np.ndarray:
     """β(w) = d ln(−ln P(|v| > w)) / d ln w from the exact law: the local exponent that
-    :func:`velocity_tail_exponent` estimates from a sample (a scale change of w leaves it
-    unchanged, so normalising by √E or not does not matter).  With S = 2 P_>(w) (two-sided
-    survival, :func:`exact_velocity_survival`) and dS/dw = −2 P(w): β = 2 w P(w)/(S (−ln S)).
+    :func:`~particles.sticky_observables.velocity_tail_exponent` estimates from a sample (a scale
+    change of w leaves it unchanged, so normalising by √E or not does not matter).  With
+    S = 2 P_>(w) (two-sided survival, :func:`exact_velocity_survival`) and dS/dw = −2 P(w):
+    β = 2 w P(w)/(S (−ln S)).
 
     β → 3 only as −ln S ≈ w³/6 + λ₁ w + 4 ln w + const, i.e.
     β ≈ (w³/2 + λ₁ w + 4)/(w³/6 + λ₁ w + 4 ln w − ln(2^{17/6}/Ai'(a₁))): the linear Airy

@@ -12,13 +12,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from particles.validation import (
-    InvalidArgumentError,
-    check_positive,
-    check_restitution,
-    parse_float_list,
-    parse_name_list,
-)
+from particles.parsing import parse_float_list, parse_name_list
+from particles.validation import InvalidArgumentError, check_positive, check_restitution
 
 from .. import compile_cache
 from ..grid import RESOLUTIONS, check_solve_budget, get_resolution

@@ -24,13 +24,9 @@ from __future__ import annotations
 
 from particles.ensemble import EnsembleSpec, parse_seeds, run_ensemble
 from particles.models import get_model
-from particles.validation import (
-    InvalidArgumentError,
-    check_times,
-    check_workers,
-    parse_count,
-    parse_float_list,
-)
+from particles.parsing import parse_count, parse_float_list
+from particles.validation import InvalidArgumentError, check_times
+from particles.workers import check_workers
 
 from ..output import emit_json
 from .model_options import (

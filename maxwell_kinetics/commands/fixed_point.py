@@ -6,7 +6,8 @@ from __future__ import annotations
 import sys
 import time
 
-from particles.validation import InvalidArgumentError, parse_count
+from particles.parsing import parse_count
+from particles.validation import InvalidArgumentError
 
 from .. import compile_cache
 from ..output import emit_json

@@ -15,7 +15,8 @@ from __future__ import annotations
 import argparse
 
 from particles.models import MODELS, Model
-from particles.validation import InvalidArgumentError, parse_name_list
+from particles.parsing import parse_name_list
+from particles.validation import InvalidArgumentError
 
 __all__ = [
     "cli_models",

@@ -14,12 +14,9 @@ line naming the file; no partial file is left and an existing file stays as it w
 
 from __future__ import annotations
 
-from particles.validation import (
-    InvalidArgumentError,
-    check_workers,
-    parse_count,
-    parse_name_list,
-)
+from particles.parsing import parse_count, parse_name_list
+from particles.validation import InvalidArgumentError
+from particles.workers import check_workers
 
 from .. import compile_cache
 from ..output import emit_json, progress_enabled

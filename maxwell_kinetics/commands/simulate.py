@@ -41,14 +41,9 @@ from particles import driver
 from particles import observables as obs
 from particles.md import InelasticCollapseError, profile_x
 from particles.models import get_model
-from particles.sticky import profile_x as sticky_profile_x
-from particles.validation import (
-    InvalidArgumentError,
-    check_nonnegative,
-    check_times,
-    parse_float_list,
-    parse_seed,
-)
+from particles.parsing import parse_float_list, parse_seed
+from particles.sticky_observables import profile_x as sticky_profile_x
+from particles.validation import InvalidArgumentError, check_nonnegative, check_times
 
 from ..output import check_outputs, emit_json
 from .model_options import (
@@ -265,7 +260,8 @@ def run_model(args) -> int:
     for option in ("workers", "scheduler"):  # they run chunks: alone they would do nothing
         if getattr(args, option, None) is not None:
             raise InvalidArgumentError(option, getattr(args, option),
-                                       f"--{option} only with --chunks K (K >= 2)")
+                                       f"--{option} only with --chunks K (K >= 2): "
+                                       "without --chunks it would run nothing")
     extend = _EXTEND[model.name](engine, args) if model.name in _EXTEND else None
     try:
         return run_engine(engine, args, time_key=time_name, extend=extend)
@@ -318,9 +314,10 @@ def _add_chunk_options(parser) -> None:
 def _run_sticky_chunks(engine, args) -> int:
     """``simulate sticky --chunks K``: :func:`particles.sticky_chunks.simulate_chunks`."""
     from particles.ensemble.cluster import check_scheduler, connect
+    from particles.parsing import parse_count
     from particles.progress import progress_bar
     from particles.sticky_chunks import check_chunks, simulate_chunks
-    from particles.validation import check_workers, parse_count
+    from particles.workers import check_workers
 
     times = check_times(parse_float_list(args.times, "t"), "t")
     seed = parse_seed(args.seed)

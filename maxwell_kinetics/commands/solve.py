@@ -15,13 +15,8 @@ import numpy as np
 
 from particles import persistence
 from particles.initial import get_law
-from particles.validation import (
-    InvalidArgumentError,
-    check_choice,
-    check_times,
-    parse_float_list,
-    parse_int,
-)
+from particles.parsing import parse_float_list, parse_int
+from particles.validation import InvalidArgumentError, check_choice, check_times
 
 from .. import _interrupt, compile_cache
 from ..grid import (

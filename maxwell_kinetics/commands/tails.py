@@ -10,7 +10,8 @@ Prints ``s`` (s* > 1, the nontrivial root of λ(s) = s λ(1)) and ``exponents``:
 
 from __future__ import annotations
 
-from particles.validation import InvalidArgumentError, parse_int
+from particles.parsing import parse_int
+from particles.validation import InvalidArgumentError
 
 from .. import compile_cache
 from ..output import emit_json

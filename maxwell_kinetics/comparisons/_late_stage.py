@@ -15,21 +15,18 @@ import numpy as np
 from particles.models import get_model
 from particles.observables import mean_sem, mean_sem_json, structure_factor
 from particles.progress import progress_bar
-from particles.sticky import (
+from particles.sticky_comparison import ExactLawComparison, exact_law_runs
+from particles.sticky_exact import (
     CHERNOFF_VARIANCE,
-    ExactLawComparison,
     chernoff_density,
-    cluster_mass_distribution,
     displacement_scale,
-    displacements,
-    exact_law_runs,
     exact_mass_density,
     exact_moments,
     exact_velocity_density,
     exact_velocity_survival,
     exact_velocity_tail_exponent,
-    profile_x,
 )
+from particles.sticky_observables import cluster_mass_distribution, displacements, profile_x
 from particles.validation import InvalidArgumentError
 
 from .analysis import (
@@ -61,8 +58,8 @@ def _times(lo, hi, count):
 #: * ``n`` particles, ``seeds`` seeds 0, 1, …, at ``times`` (two decades or more): energy,
 #:   S(k), kurtosis, skewness of the gradients, displacements and the zoomed profile;
 #: * ``exact_n`` particles, ``exact_seeds`` seeds 1000, 1001, …, at ``exact_times``: the
-#:   histograms against the exact laws (:class:`particles.sticky.ExactLawComparison`; outer
-#:   bins merged until each holds ``min_clusters`` clusters, tail points resolved where that
+#:   histograms against the exact laws (:class:`particles.sticky_comparison.ExactLawComparison`;
+#:   outer bins merged until each holds ``min_clusters`` clusters, tail points resolved where that
 #:   many clusters lie beyond), the tail survival on
 #:   :func:`tail_grid` (``tail_w``: first point, last point, points per octave), its exponent
 #:   reported at ``tail_time``, and the secondary small-μ fit of the mass law on the tables at
@@ -110,15 +107,17 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
 
     * ``exact`` (the primary verdict): per time of ``exact_times``, χ² of the pooled
       mass-weighted velocity histogram in w = v t^{1/3} against
-      :func:`particles.sticky.exact_velocity_density` and of the pooled cluster-mass
-      histogram in μ = m/t^{2/3} against :func:`particles.sticky.exact_mass_density`, with
+      :func:`particles.sticky_exact.exact_velocity_density` and of the pooled cluster-mass
+      histogram in μ = m/t^{2/3} against :func:`particles.sticky_exact.exact_mass_density`, with
       their degrees of freedom (nothing is fitted) and the variance models of
-      :class:`particles.sticky.ExactLawComparison` (velocity: Σ m² over the clusters in a bin;
+      :class:`particles.sticky_comparison.ExactLawComparison` (velocity: Σ m² over the clusters in
+      a bin;
       mass: Poisson); and the scale-free corrections to scaling E t^{2/3} and clusters ×
       t^{2/3}/N against their exact limits.  Finite t is the only systematic difference, so
       χ²/dof falls towards 1 as t grows;
     * ``tail``: the local exponent β(w) = d ln(−ln P(|w| > w))/d ln w.  Exact: on the
-      ``beta_curve`` points (:func:`particles.sticky.exact_velocity_tail_exponent`), with the w
+      ``beta_curve`` points (:func:`particles.sticky_exact.exact_velocity_tail_exponent`), with the
+      w
       where β crosses 2 and 2.5 (cubic interpolation in ln w of those points) and the exact
       P(|w| > w) there.  Engine: chords of ln(−ln S) between neighbouring points of
       :func:`tail_grid`, pooled over the ``exact_seeds`` runs, at ``tail_time`` and per time,
@@ -146,7 +145,7 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
       (:func:`.analysis.coarse_increment_skewness`; paper Fig. 4: v(x) negative, v(i)
       positive); the figure shows a window of a few clusters of seed 0;
     * ``displacement``: each particle's displacement D since t = 0 at the last time, as
-      z = D / (b t^{2/3}) (:func:`particles.sticky.displacement_scale`): ⟨z²⟩ per seed against
+      z = D / (b t^{2/3}) (:func:`particles.sticky_exact.displacement_scale`): ⟨z²⟩ per seed against
       Var Z = 0.26356 of Chernoff's law, the exact large-t limit, and the histogram of z
       against Chernoff's density in the figure.
 

@@ -332,12 +332,12 @@ def tail_grid(first: float, last: float, per_octave: int) -> np.ndarray:
 def mass_density(masses_counts, times, length, mu_edges, m_min=1, *, errors=False):
     """Scaled cluster-mass density Φ(μ) = M² n(m, t) with μ = m/M, M = t^{2/3} (density 1),
     pooled over ``times``: ``masses_counts`` is a list (one per time) of ``(m, count)`` from
-    :func:`particles.sticky.cluster_mass_distribution`, n(m, t) = count(m)/L the number of
-    clusters of mass m per unit length.  In each bin [a, b) of ``mu_edges``, with C_t the
+    :func:`particles.sticky_observables.cluster_mass_distribution`, n(m, t) = count(m)/L the number
+    of clusters of mass m per unit length.  In each bin [a, b) of ``mu_edges``, with C_t the
     clusters and k_t the integers m ≥ ``m_min`` with a M ≤ m < b M at time t,
     Φ = Σ_t M² C_t / (L Σ_t k_t) (bins with no integer are NaN).  Σ_m m n(m) = n = 1 makes
     ∫ μ Φ dμ time-independent in the scaling state; the sticky gas has Φ → F(μ)
-    (:func:`particles.sticky.exact_mass_density`), ~ μ^{−1/2}/√(2π) at small μ.
+    (:func:`particles.sticky_exact.exact_mass_density`), ~ μ^{−1/2}/√(2π) at small μ.
 
     With ``errors=True`` it returns ``(Φ, σ, clusters)``: σ is the standard error of Φ with the
     cluster counts taken as independent Poisson numbers (var Σ_t M² C_t / L = Σ_t M⁴ C_t / L²),

@@ -38,7 +38,7 @@ from particles.driver import simulate
 from particles.ensemble import EnsembleSpec, load_task, run_ensemble
 from particles.models import get_model
 from particles.progress import progress_bar
-from particles.validation import check_workers
+from particles.workers import check_workers
 
 __all__ = [
     "ulam_snapshots",
@@ -105,7 +105,7 @@ class ParticleRuns:
 
     ``ParticleRuns()`` runs them one after the other in this process.  With ``out`` (a folder)
     the runs of fixed times (Ulam, lattice, MD) go through the ensemble engine on ``workers``
-    dask processes (None: one per core; more than :func:`particles.validation.max_workers`
+    dask processes (None: one per core; more than :func:`particles.workers.max_workers`
     only with ``force``), one task file per run in ``out``.  The lattice, MD and sticky runs
     are kept for the life of the object (read-only), so comparisons given the same object share
     them; :meth:`clear` forgets them.  Every comparison takes one as ``runner`` (default: a new
@@ -118,7 +118,7 @@ class ParticleRuns:
     workers : int, optional
         Number of dask processes with ``out`` (None: one per core).
     force : bool, optional
-        Allow more workers than :func:`particles.validation.max_workers` (default false).
+        Allow more workers than :func:`particles.workers.max_workers` (default false).
 
     Raises
     ------

@@ -11,13 +11,12 @@ import numpy as np
 from .. import budget
 from .. import observables as obs
 from ..initial import get_law
+from ..paths import check_output_file, check_path
 from ..progress import progress_bar
 from ..validation import (
     InvalidArgumentError,
     check_count,
     check_nonnegative,
-    check_output_file,
-    check_path,
     check_seed,
     check_times,
 )

@@ -12,8 +12,10 @@ from pathlib import Path
 
 from .. import persistence
 from ..models import get_model
+from ..paths import check_output_dir
 from ..progress import progress_bar
-from ..validation import InvalidArgumentError, check_output_dir, check_workers
+from ..validation import InvalidArgumentError
+from ..workers import check_workers
 from .aggregate import EnsembleReport, aggregate
 from .cluster import check_scheduler, connect, load_cluster_config, require_jobqueue
 from .spec import FORMAT_VERSION, EnsembleSpec
@@ -148,7 +150,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
 
     ``executor="dask"``: a local cluster of ``workers`` processes (default: the number of
     CPUs; never more than the tasks left to run, and at most
-    :func:`particles.validation.max_workers`, 4 × the CPUs, unless ``force``), or
+    :func:`particles.workers.max_workers`, 4 × the CPUs, unless ``force``), or
     ``scheduler=ADDRESS`` (an existing cluster; connection timeout :data:`SCHEDULER_TIMEOUT`
     seconds), or ``cluster="slurm"|"pbs"`` with ``config`` (TOML, :func:`load_cluster_config`).
     ``executor="serial"``: in this process, no dask.  Bad arguments raise
@@ -174,7 +176,7 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     executor : str, optional
         ``"dask"`` (default) or ``"serial"``.
     force : bool, optional
-        Allow more workers than :func:`particles.validation.max_workers`.
+        Allow more workers than :func:`particles.workers.max_workers`.
     shared : bool, optional
         ``out`` holds the task files of many ensembles (the comparisons' runs of
         ``reproduce``): its manifest records no single ensemble, and any manifest of this

@@ -28,7 +28,7 @@ from .observables import collisions_per_particle, haff_time, rod_positions, tota
 from .reference import advance_reference
 from .state import InelasticCollapseError, MDParams, MDState
 
-__all__ = ["InelasticCollapseError", "MDParams", "MDState", "MDEngine"]
+__all__ = ["MDEngine"]
 
 # With δ > 0: collisions of one particle with no time advance at all before a stall is reported.
 _STALL_STREAK = 100_000

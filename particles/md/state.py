@@ -1,7 +1,7 @@
 """The data of the hard-rod gas: its parameters (:class:`MDParams`), a state that can be saved
 and continued bit for bit (:class:`MDState`), and the failure of the physics,
 :class:`InelasticCollapseError`.  The dynamics is in :mod:`.lightcone` and :mod:`.reference`, the
-driver interface in :mod:`.engine`."""
+driver interface in :mod:`particles.md.engine`."""
 
 from __future__ import annotations
 

@@ -14,7 +14,7 @@ from maxwell_kinetics.model import (
     MaxwellModel,
 )
 from particles.collision import transfer_fraction
-from particles.ulam import ANGULAR_MODELS as PARTICLE_ANGULAR_MODELS
+from particles.ulam_kinematics import ANGULAR_MODELS as PARTICLE_ANGULAR_MODELS
 from particles.validation import InvalidArgumentError
 
 #: r: (p, λ, 1 − p^s − (1 − p)^s at s = 2, 4, 6), by hand.

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from particles.md.observables import haff_energy, haff_time, initial_cooling_rate
-from particles.sticky import velocity_tail_exponent
+from particles.sticky_observables import velocity_tail_exponent
 from particles.validation import InvalidArgumentError
 
 NAN = float("nan")
@@ -72,7 +72,7 @@ def test_md_observables_check_their_state_and_time():
 
 def test_engine_helpers_check_their_arguments():
     from particles.lattice import thinning_bound
-    from particles.ulam import draw_pairs
+    from particles.pair_schedule import draw_pairs
 
     rng = np.random.default_rng(0)
     for call, name in [

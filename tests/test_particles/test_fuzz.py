@@ -19,13 +19,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from particles import persistence
-from particles.validation import (
-    InvalidArgumentError,
-    parse_float_list,
-    parse_int,
-    parse_name_list,
-    parse_seed,
-)
+from particles.parsing import parse_float_list, parse_int, parse_name_list, parse_seed
+from particles.validation import InvalidArgumentError
 
 FAST = settings(max_examples=300, deadline=None,
                 suppress_health_check=[HealthCheck.function_scoped_fixture])

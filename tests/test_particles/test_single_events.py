@@ -22,8 +22,9 @@ import pytest
 from particles import Lattice, LatticeState, MDEngine, MDParams, MDState
 from particles.lattice import run_clocks, thinning_bound
 from particles.md.kernel import collide as md_collide
+from particles.pair_schedule import collide_in_order, collide_sequential
 from particles.sticky import sticky_state
-from particles.ulam import collide_in_order, collide_sequential, collide_vectors
+from particles.ulam_kinematics import collide_vectors
 
 RESTITUTIONS = [0.0, 0.3, 0.6, 0.95, 1.0]
 

@@ -10,15 +10,12 @@ import pytest
 
 from particles.driver import simulate
 from particles.md import MDEngine, MDParams
-from particles.sticky import (
-    StickyGas,
-    StickyParams,
-    StickyState,
+from particles.sticky import StickyGas, StickyParams, StickyState, sticky_state
+from particles.sticky_observables import (
     cluster_mass_distribution,
     clusters,
     profile_i,
     profile_x,
-    sticky_state,
     total_momentum,
     velocity_tail_exponent,
 )

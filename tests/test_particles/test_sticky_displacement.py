@@ -1,7 +1,7 @@
 """The sticky gas's displacements and their exact large-t law.
 
 At t ≫ 1/n a particle's displacement D tends in law to b t^{2/3} Z, b = 2^{2/3} σ^{2/3} n^{−1/3}
-and Z of Chernoff's law (argmax of W(u) − u², :func:`particles.sticky.displacement_scale`):
+and Z of Chernoff's law (argmax of W(u) − u², :func:`particles.sticky_exact.displacement_scale`):
 an exact constant the engine must reach, where the energy's ⟨U²⟩ is only measured."""
 
 from __future__ import annotations
@@ -12,15 +12,9 @@ import numpy as np
 import pytest
 from scipy.integrate import simpson
 
-from particles.sticky import (
-    CHERNOFF_VARIANCE,
-    StickyGas,
-    StickyParams,
-    chernoff_density,
-    displacement_scale,
-    displacements,
-    sticky_state,
-)
+from particles.sticky import StickyGas, StickyParams, sticky_state
+from particles.sticky_exact import CHERNOFF_VARIANCE, chernoff_density, displacement_scale
+from particles.sticky_observables import displacements
 from particles.validation import InvalidArgumentError
 
 

@@ -12,9 +12,8 @@ from scipy.integrate import quad
 from scipy.stats import chi2 as chi2_dist
 
 from particles import sticky_exact as S  # the exact laws and their private helpers
-from particles.sticky import (
-    StickyGas,
-    StickyParams,
+from particles.sticky import StickyGas, StickyParams
+from particles.sticky_exact import (
     chernoff_density,
     exact_asymptotes,
     exact_eulerian_velocity_density,

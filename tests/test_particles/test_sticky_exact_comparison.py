@@ -1,5 +1,5 @@
-"""particles.sticky.ExactLawComparison: the pooled histograms of sticky-gas states against the
-exact late-time laws — counting on hand-made states, the delta-method error of the tail
+"""particles.sticky_comparison.ExactLawComparison: the pooled histograms of sticky-gas states
+against the exact late-time laws — counting on hand-made states, the delta-method error of the tail
 exponent against the scatter of repeated samples, and bad input."""
 
 from __future__ import annotations
@@ -9,13 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from particles.sticky import (
-    EXACT_W_EDGES,
-    ExactLawComparison,
-    StickyGas,
-    StickyParams,
-    StickyState,
-)
+from particles.sticky import StickyGas, StickyParams, StickyState
+from particles.sticky_comparison import EXACT_W_EDGES, ExactLawComparison
 from particles.validation import InvalidArgumentError
 
 
@@ -108,7 +103,7 @@ def test_bad_input_names_the_argument():
 def test_merged_halves_are_the_whole():
     # two gases added to one comparison, against one gas added to each of two merged ones; the
     # sums are the same up to the order of additions (1e-12)
-    from particles.sticky import exact_law_runs
+    from particles.sticky_comparison import exact_law_runs
 
     grid = [0.8, 1.2, 1.8, 2.7]
     whole = exact_law_runs(3000, [1, 2, 3], [50.0, 400.0], tail_w=grid, min_clusters=3)

@@ -5,14 +5,8 @@ import numpy as np
 import pytest
 
 from particles.driver import simulate
-from particles.ulam import (
-    Ulam,
-    UlamReference,
-    collide_in_order,
-    collide_sequential,
-    draw_pairs,
-    recentre,
-)
+from particles.pair_schedule import collide_in_order, collide_sequential, draw_pairs
+from particles.ulam import Ulam, UlamReference, recentre
 from particles.validation import InvalidArgumentError
 
 
@@ -39,7 +33,7 @@ def test_fast_path_equals_sequential_loop_on_the_same_events(n, k, r):
 
 
 def test_scatter_max_matches_the_order_independent_fallback():
-    from particles.ulam import _largest_occurrence, _largest_occurrence_ufunc
+    from particles.pair_schedule import _largest_occurrence, _largest_occurrence_ufunc
 
     rng = np.random.default_rng(3)
     flat = rng.integers(0, 500, 4000).astype(np.intp)  # many repeats per particle

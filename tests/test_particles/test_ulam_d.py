@@ -15,19 +15,15 @@ from maxwell_kinetics.driven import moments, steady_kurtosis, steady_variance
 from maxwell_kinetics.tails import decay_rate
 from particles.collision import collide_scalar
 from particles.driver import simulate
-from particles.ulam import (
+from particles.pair_schedule import collide_in_order_vectors, collide_sequential_vectors, draw_pairs
+from particles.ulam import Ulam, UlamReference, recentre
+from particles.ulam_kinematics import (
     AngularDraws,
-    Ulam,
-    UlamReference,
     collide_complex,
-    collide_in_order_vectors,
-    collide_sequential_vectors,
     collide_vectors,
     collision_directions,
     draw_angles,
-    draw_pairs,
     plane_transfer,
-    recentre,
 )
 from particles.validation import InvalidArgumentError
 

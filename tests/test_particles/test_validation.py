@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from particles.parsing import parse_float_list
 from particles.validation import (
     SHOWN_CHARACTERS,
     InvalidArgumentError,
@@ -17,7 +18,6 @@ from particles.validation import (
     check_positive,
     check_restitution,
     check_times,
-    parse_float_list,
 )
 
 

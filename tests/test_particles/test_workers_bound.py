@@ -10,7 +10,8 @@ from helpers import run_error
 
 from particles import ensemble
 from particles.ensemble import EnsembleSpec, run_ensemble
-from particles.validation import InvalidArgumentError, check_workers, max_workers
+from particles.validation import InvalidArgumentError
+from particles.workers import check_workers, max_workers
 
 BOUND = 4 * (os.cpu_count() or 1)
 

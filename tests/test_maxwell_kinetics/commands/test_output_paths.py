@@ -24,7 +24,8 @@ from helpers import run_error
 
 from maxwell_kinetics.cli import build_parser, main
 from particles import persistence
-from particles.validation import InvalidArgumentError, file_kind
+from particles.paths import file_kind
+from particles.validation import InvalidArgumentError
 
 #: Options that name a file the command writes, and those that name a folder it writes into.
 FILE_OPTIONS = {"save", "checkpoint", "plot"}
@@ -144,7 +145,7 @@ def test_symlink_to_directory(capsys, tmp_path, path, option):
         capsys.readouterr()
         assert os.listdir(folder)
     else:  # too costly to run here: the check that runs before any work accepts it
-        from particles.validation import check_output_dir
+        from particles.paths import check_output_dir
 
         assert check_output_dir(link, option) == link
     assert link.is_symlink() and link.resolve() == folder.resolve()

@@ -25,8 +25,9 @@ from particles.driver import CheckpointError, simulate
 from particles.driver.checkpoint import CheckpointLock
 from particles.initial import law_from_characteristic
 from particles.lattice import Lattice
+from particles.parsing import parse_float_list, parse_int, parse_seed
 from particles.ulam import Ulam
-from particles.validation import InvalidArgumentError, parse_float_list, parse_int, parse_seed
+from particles.validation import InvalidArgumentError
 
 ULAM = ["simulate", "ulam", "--n", "200", "--restitution", "0.5", "--tau", "1,2", "--seed", "3"]
 

@@ -12,7 +12,8 @@ from scipy.stats import chi2 as chi2_dist
 from maxwell_kinetics.comparisons import Comparison, sticky_vs_md
 from maxwell_kinetics.comparisons._sticky_vs_md import paired_numbers
 from maxwell_kinetics.comparisons.analysis import mass_density
-from particles.sticky import StickyGas, StickyParams, cluster_mass_distribution
+from particles.sticky import StickyGas, StickyParams
+from particles.sticky_observables import cluster_mass_distribution
 
 # Student t with 2 degrees of freedom (3 seeds): |t| > 5 has two-sided probability 0.038, so
 # "within 5 standard errors over 3 seeds" is a ~96 % statement, not a 3σ Gaussian one.
@@ -214,7 +215,7 @@ def test_displacements_follow_chernoffs_law(late):
     # the histogram is a density and sits on Chernoff's near the centre (|z| < 1, bins of 0.1;
     # measured: at most 4.4 % off; 20 % leaves room for the seed scatter of 3 runs at N = 10⁵,
     # whose clusters of ~100 particles move as one)
-    from particles.sticky import chernoff_density
+    from particles.sticky_exact import chernoff_density
 
     edges, hist = late.data["z_edges"], late.data["z_hist"]
     centres = 0.5 * (edges[:-1] + edges[1:])
