@@ -38,6 +38,7 @@ from .validation import (
     check_dimension,
     check_nonnegative,
     check_positive,
+    check_real,
     check_restitution,
 )
 
@@ -188,7 +189,7 @@ class Parameter:
             if self.kind == "int":
                 value = parse_int(text, self.name)
             elif self.kind == "float":
-                value = float(text)
+                value = check_real(text, self.name)
             elif self.kind == "flag":
                 word = str(text).strip().lower()
                 if word not in _TRUE + _FALSE:

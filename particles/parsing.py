@@ -13,7 +13,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .validation import InvalidArgumentError, check_seed
+from .validation import InvalidArgumentError, check_seed, number_text_problem
 
 __all__ = [
     "parse_float_list",
@@ -79,6 +79,10 @@ def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
             raise InvalidArgumentError(name, text, "a comma-separated list of numbers") from None
         if not math.isfinite(value):
             raise InvalidArgumentError(name, text, f"finite numbers (got {part!s})")
+        if isinstance(part, str):
+            problem = number_text_problem(part, value)
+            if problem:
+                raise InvalidArgumentError(name, text, f"{problem} (got {part})")
         out.append(value + 0.0)  # "-0" is 0.0
     seen: set[float] = set()
     for value in out:  # 0.0 == -0.0, so "0,-0" is a repeat
@@ -154,6 +158,8 @@ def parse_int(text, name: str, minimum: int | None = None, maximum: int | None =
         value = text
     else:
         raw = str(text).strip()
+        if "_" in raw:
+            raise InvalidArgumentError(name, text, expected + " written without underscores")
         try:
             d = Decimal(raw)
         except InvalidOperation:

@@ -17,6 +17,7 @@ __all__ = [
     "check_times",
     "check_count",
     "check_real",
+    "number_text_problem",
     "check_dimension",
     "check_real_array",
     "check_edges",
@@ -108,8 +109,41 @@ def _is_complex(value) -> bool:
     return isinstance(value, (complex, np.complexfloating))
 
 
+def number_text_problem(text: str, value: float) -> str | None:
+    """Why the text of a number must be refused although ``float()`` read it as ``value``, or
+    None: digit-group underscores (``1_000``, which Python's ``float`` takes as 1000 but a
+    typo such as ``1_0e-1`` would silently become 1), and a non-zero number so small that it
+    reads as 0.0 (``1e-400``).
+
+    Parameters
+    ----------
+    text : str
+        The number as typed.
+    value : float
+        What ``float(text)`` gave.
+
+    Returns
+    -------
+    str or None
+        What is expected instead, or None when the text is fine.
+    """
+    if "_" in text:
+        return "a number written without underscores"
+    if value == 0.0:
+        from decimal import Decimal, InvalidOperation
+
+        try:
+            exact = Decimal(text.strip())
+        except InvalidOperation:
+            return None
+        if exact.is_finite() and exact != 0:
+            return "a number that is 0 or at least 1e-308 in magnitude (this one reads as 0)"
+    return None
+
+
 def _as_float(name: str, value) -> float:
-    """``value`` as a finite float; booleans and complex numbers are refused, not converted."""
+    """``value`` as a finite float; booleans and complex numbers are refused, not converted;
+    a text with underscores or one that underflows to 0 (:func:`number_text_problem`) too."""
     if _is_bool(value) or _is_complex(value):
         raise InvalidArgumentError(name, value, "a real number")
     try:
@@ -120,6 +154,10 @@ def _as_float(name: str, value) -> float:
         raise InvalidArgumentError(name, value, "a finite real number") from None
     if not math.isfinite(x):
         raise InvalidArgumentError(name, value, "a finite real number")
+    if isinstance(value, str):
+        problem = number_text_problem(value, x)
+        if problem:
+            raise InvalidArgumentError(name, value, problem)
     return x
 
 

@@ -85,3 +85,25 @@ def test_minus_zero_is_zero():
     # "--driving -0" was stored and shown as -0.0; "--tau -0" as the time -0
     assert str(check_nonnegative("-0", "driving")) == "0.0"
     assert [str(x) for x in parse_float_list("-0,1", "tau")] == ["0.0", "1.0"]
+
+
+@pytest.mark.parametrize("text", ["1_000", "1_0e-1", "1e-400", "-1e-999"])
+def test_a_number_with_underscores_or_that_reads_as_zero_is_refused(text):
+    from particles.parsing import parse_float_list, parse_int
+    from particles.validation import check_real
+
+    with pytest.raises(InvalidArgumentError, match="restitution"):
+        check_real(text, "restitution")
+    with pytest.raises(InvalidArgumentError, match="tau"):
+        parse_float_list(f"1,{text}", "tau")
+    if "_" in text:
+        with pytest.raises(InvalidArgumentError, match="seed"):
+            parse_int(text, "seed")
+
+
+@pytest.mark.parametrize("text,value", [("0", 0.0), ("-0.0", 0.0), ("0e5", 0.0), ("1e-300", 1e-300),
+                                        ("5e-324", 5e-324)])
+def test_zero_and_small_numbers_are_still_read(text, value):
+    from particles.validation import check_real
+
+    assert check_real(text, "x") == value

@@ -29,6 +29,13 @@ MD = ["simulate", "md", "--n", "20", "--density", "1", "--restitution", "0.5", "
     (MD + ["--rod-length", "1e400", "--save", "OUT"], "rod-length='1e400'", "finite"),
     (MD + ["--rod-length", "1", "--save", "OUT"], "rod-length=1.0", "fit"),  # engine's check
     (MD + ["--stop-step", "0", "--save", "OUT"], "stop-step='0'", "> 0"),
+    # Python's float() reads digit-group underscores and underflows to 0 silently
+    (ULAM[:4] + ["--restitution", "1_0e-1", "--tau", "1", "--save", "OUT"],
+     "restitution='1_0e-1'", "without underscores"),
+    (ULAM[:4] + ["--restitution", "1e-400", "--tau", "1", "--save", "OUT"],
+     "restitution='1e-400'", "reads as 0"),
+    (ULAM[:-1] + ["1_0", "--save", "OUT"], "tau='1_0'", "without underscores"),
+    (ULAM + ["--seed", "1_0", "--save", "OUT"], "seed=", "without underscores"),
 ])
 def test_an_option_is_checked_and_needs_its_partner(capsys, tmp_path, argv, shown, words):
     argv = [str(tmp_path / "out") if a == "OUT" else a for a in argv]
