@@ -32,7 +32,7 @@ _SOLUTIONS: dict = {}
 
 
 def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coarse",
-                     progress: bool = False):
+                     progress: bool | None = None):
     """The solver's :class:`~maxwell_kinetics.solver.Solution`, cached per (r, law, τ list,
     resolution) so that the comparisons of one ``reproduce`` run share solves (each new
     (r, law, resolution) costs seconds of JIT compilation).
@@ -50,8 +50,9 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
         Times τ (collisions per particle) at which the solution is recorded.
     resolution : str, optional
         Name of the solver's grid resolution (default ``"coarse"``).
-    progress : bool, optional
-        Show the solver's progress (first solve only; default false).
+    progress : bool or None, optional
+        Show the solver's progress (first solve only; None, the default: a bar on a terminal or
+        in a notebook, nothing otherwise).
 
     Returns
     -------
