@@ -36,7 +36,7 @@ PRESETS = {
 
 
 
-def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
+def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Comparison:
     """For each r: the exact steady variance D/(pq) (with the finite-N factor (1 − 1/N)² of a
     gas of zero total momentum) and kurtosis against the particles' (mean ± standard error:
     the seed scatter for the kurtosis, the larger of the seed scatter and the pooled particles'
@@ -56,8 +56,9 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
         Where the particle runs execute and are kept; default a new serial one.
     **overrides
