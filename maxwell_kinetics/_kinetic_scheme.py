@@ -220,10 +220,8 @@ def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution,
 
 def transport_speed(model: MaxwellModel, eta: np.ndarray, weights: np.ndarray) -> float:
     """p (1 − p) Σ ω_i η_i (= Λ/2 with the quadrature's own ⟨η⟩, so that the discrete
-    equation keeps G''(0) = −1 exactly; λ for d = 1)."""
-    if eta.size == 1 and eta[0] == 1.0:
-        return model.lam
-    return model.lam * float(weights @ eta)
+    equation keeps G''(0) = −1 exactly; λ for d = 1): :meth:`.MaxwellModel.transport_speed`."""
+    return model.transport_speed(eta, weights)
 
 
 def dynamic(model: MaxwellModel, grid: Resolution, opts, tiers=None) -> Dynamic:
@@ -239,14 +237,9 @@ def dynamic(model: MaxwellModel, grid: Resolution, opts, tiers=None) -> Dynamic:
     weights = np.concatenate([t.weights for t in tiers])
     speed = transport_speed(model, tiers[0].eta, tiers[0].weights)
     cells, dtau = window_cells(speed, grid, opts)
-    p, q = model.p, 1.0 - model.p
     fa, wa, fb, wb = [], [], [], []
     for e in eta:
-        if e == 1.0:
-            shift_a, shift_b = math.log(p), math.log1p(-p)
-        else:
-            shift_a = math.log(p) + 0.5 * math.log(e)
-            shift_b = 0.5 * math.log1p(-(1.0 - q * q) * e)
+        shift_a, shift_b = model.gain_shifts(float(e))
         first, w = lagrange_weights(shift_a / grid.h, grid.order)
         fa.append(first)
         wa.append(w)
@@ -364,10 +357,11 @@ def _rhs(st: Static, t, y, args):
     w_p = _stencil(st, padded, dy.first_a[0], dy.weights_a[0])  # w(p q)
     w_1mp = _stencil(st, padded, dy.first_b[0], dy.weights_b[0])  # w((1 − p) q)
     # three exponentials per node: e^{−q²/2}, e^{−p²q²/2}, e^{−(1−p)²q²/2}
+    # the gain's arguments p q and (1 − p) q, each written as before (the same traced graph)
     gauss_p = jnp.exp(-0.5 * (p * q) ** 2)
-    gauss_1mp = jnp.exp(-0.5 * ((1.0 - p) * q) ** 2)
+    gauss_1mp = jnp.exp(-0.5 * (MaxwellModel.complement_of(p) * q) ** 2)
     g_p = _reference_pair(st, p * q, gauss_p)
-    g_1mp = _reference_pair(st, (1.0 - p) * q, gauss_1mp)
+    g_1mp = _reference_pair(st, MaxwellModel.complement_of(p) * q, gauss_1mp)
     re, im = source_parts(q, lam, st.m3, jnp, jnp.exp(-0.5 * q * q), gauss_p * gauss_1mp)
     if st.complex:  # an asymmetric law may still have m₃ = 0: then Im S = 0
         im = jnp.zeros_like(re) if im is None else im
@@ -421,8 +415,8 @@ def _rhs_isotropic(st: Static, t, y, args):
     padded = _padded(st, dy, w, t, tau_w)
     j_grid = jnp.arange(st.n_state, dtype=jnp.float64)
     q_all = jnp.exp(st.grid.s_min + st.grid.h * j_grid) * jnp.exp(-lam * t)
-    pq = p * (1.0 - p)
-    one_minus_q2 = 1.0 - (1.0 - p) ** 2
+    pq = MaxwellModel.lam_of(p)
+    one_minus_q2 = MaxwellModel.cross_fraction_of(p)
     pieces = []
     node = 0
     for k, (j0, count) in enumerate(st.tiers):

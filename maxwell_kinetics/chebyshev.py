@@ -6,6 +6,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from particles.validation import (
+    InvalidArgumentError,
+    check_count,
+    check_positive,
+    check_real_array,
+)
+
 __all__ = ["chebyshev_nodes", "barycentric_weights", "barycentric_matrix",
            "differentiation_matrix"]
 
@@ -24,7 +31,14 @@ def chebyshev_nodes(n: int, length: float) -> np.ndarray:
     -------
     numpy.ndarray
         The n + 1 nodes, shape (n + 1,), with the end points set exactly to 0 and Q.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``n`` is not an integer >= 1 or ``length`` not a finite number > 0.
     """
+    n = check_count(n, "n", 1)
+    length = check_positive(length, "length")
     j = np.arange(n + 1)
     q = 0.5 * length * (1.0 - np.cos(np.pi * j / n))
     q[0], q[-1] = 0.0, float(length)
@@ -43,7 +57,13 @@ def barycentric_weights(n: int) -> np.ndarray:
     -------
     numpy.ndarray
         Shape (n + 1,).  Any common factor cancels in the barycentric formula.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``n`` is not an integer >= 1.
     """
+    n = check_count(n, "n", 1)
     w = (-1.0) ** np.arange(n + 1)
     w[0] *= 0.5
     w[-1] *= 0.5
@@ -67,9 +87,15 @@ def barycentric_matrix(nodes: np.ndarray, targets) -> np.ndarray:
     -------
     numpy.ndarray
         B, shape (len(targets), len(nodes)).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``nodes`` are not at least two distinct finite reals or ``targets`` are not finite
+        reals.
     """
-    nodes = np.asarray(nodes, dtype=float)
-    targets = np.atleast_1d(np.asarray(targets, dtype=float))
+    nodes = _check_nodes(nodes)
+    targets = np.atleast_1d(check_real_array(targets, "targets"))
     w = barycentric_weights(len(nodes) - 1)
     diff = targets[:, None] - nodes[None, :]
     exact = diff == 0.0
@@ -96,7 +122,13 @@ def differentiation_matrix(nodes: np.ndarray) -> np.ndarray:
     -------
     numpy.ndarray
         D, shape (n + 1, n + 1): (D @ values) is the derivative of the interpolant at the nodes.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``nodes`` are not at least two distinct finite reals.
     """
+    nodes = _check_nodes(nodes)
     n = len(nodes) - 1
     w = barycentric_weights(n)
     dx = nodes[:, None] - nodes[None, :]
@@ -105,3 +137,10 @@ def differentiation_matrix(nodes: np.ndarray) -> np.ndarray:
     np.fill_diagonal(D, 0.0)
     np.fill_diagonal(D, -D.sum(axis=1))
     return D
+
+
+def _check_nodes(nodes) -> np.ndarray:
+    nodes = check_real_array(nodes, "nodes", ndim=1, min_size=2)
+    if np.unique(nodes).size != nodes.size:
+        raise InvalidArgumentError("nodes", nodes.tolist()[:40], "distinct nodes")
+    return nodes

@@ -10,6 +10,8 @@ import math
 
 import numpy as np
 
+from .model import MaxwellModel
+
 __all__ = ["reference", "source", "source_parts"]
 
 
@@ -33,10 +35,19 @@ def reference(q, m3: float, xp=np):
     array
         g(q), real if ``m3 == 0`` and complex otherwise.
     """
+    if xp is np:  # the public NumPy call; the compiled scheme passes traced jax arrays
+        q, m3 = _checked(q, {"m3": m3})
     gauss = xp.exp(-0.5 * q * q)
     if m3 == 0.0:
         return gauss
     return gauss * (1.0 - 1j * (m3 / 6.0) * q**3)
+
+
+def _checked(q, scalars: dict):
+    """q as a float array and the named scalars as floats, checked (NumPy path only)."""
+    from particles.validation import check_real, check_real_array
+
+    return (check_real_array(q, "q"), *(check_real(v, k) for k, v in scalars.items()))
 
 
 def _expm1_minus_x(x, xp):
@@ -74,6 +85,8 @@ def source(q, lam: float, m3: float, xp=np):
     array
         S(q), real if ``m3 == 0`` and complex otherwise.
     """
+    if xp is np:
+        q, lam, m3 = _checked(q, {"lam": lam, "m3": m3})
     re, im = source_parts(q, lam, m3, xp)
     return re if im is None else re + 1j * im
 
@@ -106,12 +119,13 @@ def source_parts(q, lam: float, m3: float, xp=np, gauss=None, gain=None):
     """
     x = lam * q * q
     gauss = xp.exp(-0.5 * q * q) if gauss is None else gauss
-    gain = xp.exp(-0.5 * (1.0 - 2.0 * lam) * q * q) if gain is None else gain
+    if gain is None:  # p² + (1 − p)² = 1 − 2λ
+        gain = xp.exp(-0.5 * MaxwellModel.power_sum_of(lam, 2) * q * q)
     phi2 = xp.where(x < 0.5, gauss * _expm1_minus_x(x, xp), gain - gauss * (1.0 + x))
     if m3 == 0.0:
         return phi2, None
     a = -m3 / 6.0
     q3 = q * q * q
     re = phi2 - a * a * lam**3 * q3 * q3 * gain
-    im = a * q3 * ((1.0 - 3.0 * lam) * phi2 - 3.0 * lam * lam * q * q * gauss)
+    im = a * q3 * (MaxwellModel.power_sum_of(lam, 3) * phi2 - 3.0 * lam * lam * q * q * gauss)
     return re, im

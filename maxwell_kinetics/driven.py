@@ -52,6 +52,8 @@ import numpy as np
 from particles.collision import transfer_fraction
 from particles.validation import InvalidArgumentError, check_restitution
 
+from .model import DrivenMaxwellModel, MaxwellModel
+
 __all__ = [
     "DrivenSteadyState",
     "cumulants",
@@ -98,9 +100,8 @@ def _check_driving(driving, restitution, *, allow_zero=False) -> tuple[float, fl
 
 
 def _rates(p: float, orders: np.ndarray) -> np.ndarray:
-    """a_j = 1 − p^{2j} − q^{2j}."""
-    q = 1.0 - p
-    return 1.0 - p ** (2.0 * orders) - q ** (2.0 * orders)
+    """a_j = 1 − p^{2j} − q^{2j} (:meth:`.DrivenMaxwellModel.moment_rates`)."""
+    return MaxwellModel.rate_of(p, 2.0 * orders)
 
 
 def cumulants(restitution, driving, count: int = 4) -> np.ndarray:
@@ -156,8 +157,7 @@ def steady_variance(restitution, driving) -> float:
         If r is outside [0, 1) or D is not a finite number in (0, MAX_DRIVING].
     """
     r, d = _check_driving(driving, restitution)
-    p = transfer_fraction(r)
-    return d / (p * (1.0 - p))
+    return DrivenMaxwellModel(r, driving=d).steady_energy
 
 
 def steady_kurtosis(restitution, driving=1.0) -> float:
@@ -181,8 +181,7 @@ def steady_kurtosis(restitution, driving=1.0) -> float:
         If r is outside [0, 1) or D is not a finite number in (0, MAX_DRIVING].
     """
     r, _ = _check_driving(driving, restitution)
-    p = transfer_fraction(r)
-    pq = p * (1.0 - p)
+    pq = MaxwellModel(r).pair_lam
     return 3.0 + 6.0 * pq / (2.0 - pq)
 
 
@@ -199,7 +198,7 @@ def _series(p: float, y2: np.ndarray, terms: int = _SERIES_TERMS) -> np.ndarray:
 
 def _log_cf_unit(p: float, k: np.ndarray) -> np.ndarray:
     """ln P̂(k) at D = 1 for real k (tree expansion of the module docstring)."""
-    q = 1.0 - p
+    q = MaxwellModel.complement_of(p)
     k = np.abs(np.asarray(k, dtype=float))
     out = np.zeros_like(k)
     kmax = float(k.max(initial=0.0))
@@ -272,7 +271,7 @@ def tail_amplitude(restitution) -> float:
     """
     r, _ = _check_driving(1.0, restitution)
     p = transfer_fraction(r)
-    y2 = -np.array([p * p, (1 - p) ** 2])  # D k² at k = −ip, −iq
+    y2 = -np.array([p * p, MaxwellModel.complement_of(p) ** 2])  # D k² at k = −ip, −iq
     terms = int(np.ceil(40.0 / -np.log(p * p))) + 1  # p^{2j} < e^{−40}
     return 0.5 * float(np.exp(_series(p, y2, max(terms, _SERIES_TERMS))).prod())
 
@@ -306,10 +305,10 @@ def moments(tau, restitution, driving, m2_initial=1.0, m4_initial=3.0):
     """
     r, d = _check_driving(driving, restitution, allow_zero=True)
     p = transfer_fraction(r)
-    pq = p * (1.0 - p)
+    pq = MaxwellModel.lam_of(p)
     tau = np.asarray(tau, dtype=float)
     a2 = 2.0 * pq
-    a4 = 1.0 - p**4 - (1.0 - p) ** 4  # = 2pq(2 − pq), never a2 or 2 a2 for r < 1
+    a4 = MaxwellModel.rate_of(p, 4)  # = 2pq(2 − pq), never a2 or 2 a2 for r < 1
     m2_steady = d / pq
     amp = m2_initial - m2_steady
     m2 = m2_steady + amp * np.exp(-a2 * tau)

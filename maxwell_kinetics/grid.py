@@ -163,7 +163,18 @@ def lagrange_weights(offset: float, order: int) -> tuple[int, np.ndarray]:
         Offset of the first stencil point relative to j.
     w : numpy.ndarray
         The ``order`` Lagrange weights.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``offset`` is not a finite real number or ``order`` not an even integer >= 2.
     """
+    from particles.validation import InvalidArgumentError, check_count, check_real
+
+    offset = check_real(offset, "offset")
+    order = check_count(order, "order", 2)
+    if order % 2:
+        raise InvalidArgumentError("order", order, "an even integer >= 2")
     base = math.floor(offset)
     frac = offset - base
     first = base - order // 2 + 1

@@ -121,7 +121,7 @@ def _gamma_star(model: MaxwellModel) -> tuple[float, float, float]:
         model.growth_rate, bounds=(2.0, 3.0), method="bounded", options={"xatol": 1e-12}
     )
     s = float(res.x)
-    p, m = model.p, 1.0 - model.p
+    p, m = model.p, model.complement
     curvature = p**s * math.log(p) ** 2 + (m**s * math.log(m) ** 2 if m > 0 else 0.0)
     return s, -float(res.fun), curvature
 
@@ -164,7 +164,7 @@ def weighted_operator(
     a, b = math.log(q_min), math.log(q_max)
     y = a + chebyshev_nodes(n, b - a)
     A = lam * differentiation_matrix(y) + (lam * sigma - 1.0) * np.eye(n + 1)
-    for c, other in ((p, 1.0 - p), (1.0 - p, p)):
+    for c, other in ((p, model.complement), (model.complement, p)):
         if c == 0.0:
             continue
         t = y + math.log(c)
@@ -172,6 +172,25 @@ def weighted_operator(
         S[t < a] = 0.0
         A += c**sigma * f_hat(other * np.exp(y))[:, None] * S
     return y[:-1], A[:-1, :-1]
+
+
+#: Dense (n + 1)² matrices held at once by the collocation and the eigenvalue solver.
+_MATRICES = 12
+
+
+def _check_degree(n, minimum: int) -> int:
+    """A Chebyshev degree >= ``minimum`` whose dense matrices fit in the memory available (an
+    absurd n was a MemoryError, or the process killed, instead of an error naming ``n``)."""
+    from particles.budget import available_memory, format_bytes
+
+    n = check_count(n, "n", minimum)
+    need = _MATRICES * 8.0 * (n + 1) ** 2
+    available = available_memory()
+    if not need <= available:
+        raise InvalidArgumentError("n", n, f"a degree whose dense matrices fit in the "
+                                   f"{format_bytes(available)} available (estimate "
+                                   f"{format_bytes(need)})")
+    return n
 
 
 def linearised_operator(restitution: float, n: int = 64, q_max: float = 40.0):
@@ -202,14 +221,14 @@ def linearised_operator(restitution: float, n: int = 64, q_max: float = 40.0):
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``restitution`` is not in [0, 1), ``n`` is not a count ≥ 8, or ``q_max`` is not
-        positive.
+        If ``restitution`` is not in [0, 1), ``n`` is not a count ≥ 8 whose dense matrices fit
+        in the memory available, or ``q_max`` is not positive.
     """
     model = check_inelastic(restitution)
-    q, D, Bp, Bm = collocation_operators(model, check_count(n, "n", 8),
+    q, D, Bp, Bm = collocation_operators(model, _check_degree(n, 8),
                                          check_positive(q_max, "q_max"))
     p = model.p
-    L = (model.lam * q[:, None] * D - np.eye(len(q)) + f_hat((1.0 - p) * q)[:, None] * Bp
+    L = (model.lam * q[:, None] * D - np.eye(len(q)) + f_hat(model.complement * q)[:, None] * Bp
          + f_hat(p * q)[:, None] * Bm)
     return q, L
 
@@ -264,8 +283,8 @@ def linear_decay_rates(
     ------
     particles.validation.InvalidArgumentError
         Naming ``sigma`` if it is not in (2, 3), ``q_min`` if it is not in (0, min(1, q_max)),
-        and for a restitution not in [0, 1) or a non-positive ``q_max``, ``n`` or ``count``
-        out of range.
+        and for a restitution not in [0, 1) or a non-positive ``q_max``, ``n`` out of range
+        (or too large for the memory available) or ``count`` not in [1, n + 1].
     """
     t0 = time.perf_counter()
     model = check_inelastic(restitution)
@@ -277,8 +296,11 @@ def linear_decay_rates(
     q_max = check_positive(q_max, "q_max")
     if not q_min < min(1.0, q_max):
         raise InvalidArgumentError("q_min", q_min, f"0 < q_min < min(1, q_max={q_max})")
-    n = check_count(n, "n", 16)
+    n = _check_degree(n, 16)
     count = check_count(count, "count", 1)
+    if count > n + 1:
+        raise InvalidArgumentError("count", count, f"at most n + 1 = {n + 1} rates (the "
+                                   "operator has n + 1 eigenvalues)")
 
     from scipy.linalg import eigvals
 

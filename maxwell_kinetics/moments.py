@@ -43,7 +43,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from particles.validation import InvalidArgumentError
+from particles.validation import (
+    InvalidArgumentError,
+    check_count,
+    check_dimension,
+    check_real_array,
+)
 
 __all__ = ["Moments", "check_orders", "series_estimate", "sphere_cos_moment"]
 
@@ -102,9 +107,16 @@ def sphere_cos_moment(dimension: int, n: int) -> float:
     -------
     float
         ⟨cos^{2n} θ⟩, which links ⟨v_x^{2n}⟩ = ⟨|v|^{2n}⟩ ⟨cos^{2n} θ⟩ for an isotropic law.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``dimension`` is not an integer >= 1 or ``n`` not an integer >= 0 (booleans
+        refused).
     """
-    d = int(dimension)
-    return math.prod((2 * k + 1) / (d + 2 * k) for k in range(int(n)))
+    d = check_count(dimension, "dimension", 1)
+    n = check_count(n, "n", 0)
+    return math.prod((2 * k + 1) / (d + 2 * k) for k in range(n))
 
 
 def _window_fits(q, w, n_max):
@@ -170,10 +182,11 @@ def series_estimate(q, w, n_max: int) -> SeriesEstimate:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``q`` is not a geometric grid (raised while fitting the windows).
+        If ``q`` is not a geometric grid of finite q > 0 (at least two points), ``w`` is not one
+        finite real value per point, or ``n_max`` is not an integer >= 2.
     """
-    q = np.asarray(q, dtype=float)
-    w = np.asarray(w, dtype=float)
+    q, w = _grid_and_values(q, w, "w")
+    n_max = check_count(n_max, "n_max", 2)
     lows, highs, fits = _window_fits(q, w, n_max)
     gauss = np.array([(-0.5) ** n / math.factorial(n) for n in range(2, n_max + 1)])
     m = n_max - 1
@@ -206,6 +219,18 @@ def series_estimate(q, w, n_max: int) -> SeriesEstimate:
         else:
             values[j], errors[j], reasons[j] = c, err, ""
     return SeriesEstimate(values, errors, windows, tuple(reasons))
+
+
+def _grid_and_values(q, w, name: str):
+    """The checked geometric grid q and values on it (one row, or rows of its length)."""
+    q = check_real_array(q, "q", ndim=1, min_size=2)
+    if np.any(q <= 0) or np.any(np.diff(q) <= 0):
+        raise InvalidArgumentError("q", q.tolist()[:20], "the solver's increasing grid of q > 0")
+    w = check_real_array(w, name)
+    if w.ndim not in (1, 2) or w.shape[-1] != q.size:
+        raise InvalidArgumentError(name, f"shape {w.shape}", f"{q.size} values per row, one "
+                                   "per q")
+    return q, w
 
 
 def _residual_exponent(q, w, lo, hi, lower) -> float:
@@ -305,10 +330,22 @@ class Moments:
 
 
 def moments_of(q, w_rows, tau, dimension: int, orders) -> Moments:
-    """:class:`Moments` of the rows ``w_rows[k]`` = Re G − e^{−q²/2} at ``tau[k]``."""
+    """:class:`Moments` of the rows ``w_rows[k]`` = Re G − e^{−q²/2} at ``tau[k]``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        If ``orders`` are not even positive integers, ``dimension`` is not 1, 2 or 3, ``q`` is
+        not the solver's grid, or ``w_rows`` is not one finite row per time in ``tau``.
+    """
     orders = check_orders(orders)
+    d = check_dimension(dimension)
+    q, w_rows = _grid_and_values(q, w_rows, "w_rows")
+    tau = check_real_array(tau, "tau", ndim=1)
+    if np.ndim(w_rows) != 2 or len(w_rows) != len(tau):
+        raise InvalidArgumentError("w_rows", f"shape {np.shape(w_rows)}",
+                                   f"one row per time ({len(tau)})")
     n_max = max(2, max(orders) // 2)
-    d = int(dimension)
     T, K = len(tau), len(orders)
     values = np.full((T, K), np.nan)
     component = np.full((T, K), np.nan)

@@ -40,10 +40,9 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 from scipy.special import comb
 
-from particles.collision import transfer_fraction
 from particles.validation import InvalidArgumentError, check_times
 
-from .model import angular_law
+from .model import MaxwellModel, angular_law
 from .solver import Solution, deviation_from_f_hat
 from .tails import eta_moment, growth_rate
 
@@ -87,8 +86,8 @@ def gain_coefficient(dimension, restitution, n: int, m: int, angular="uniform") 
         For a dimension, restitution or angular law out of range.
     """
     law = angular_law(dimension, angular)
-    p = transfer_fraction(restitution)
-    a = 1.0 - (1.0 - p) ** 2
+    p = MaxwellModel(restitution, law.dimension, law.angular).p
+    a = MaxwellModel.cross_fraction_of(p)
     total = sum(comb(m, i, exact=True) * (-a) ** i * float(eta_moment(law, i + n - m))
                 for i in range(m + 1))
     return float(p ** (2 * (n - m)) * total)

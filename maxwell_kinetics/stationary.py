@@ -52,12 +52,24 @@ from .exact import f_hat
 from .model import MaxwellModel
 
 __all__ = [
+    "MAX_DEGREE_1D",
     "FixedPoint",
     "fixed_point",
     "stationary_residual",
     "check_inelastic",
     "collocation_operators",
 ]
+
+
+#: Largest Chebyshev degree of the 1D collocation.  Its conditioning worsens with N (the G''(0)
+#: row grows like N⁴): measured max |G − f̂| at N = 256 is <= 2e-9 for r <= 0.99, 5e-7 at
+#: r = 0.995 and 1.5e-6 at r = 0.999; beyond, Gauss–Newton meets a wrong function with a small
+#: residual (max error 9.6e-4 at N = 448 and r = 0.99, 2.6e-3 at N = 600 and r = 0, 0.22 at
+#: N = 700 and r = 0.5), so a larger N is refused.
+MAX_DEGREE_1D = 256
+#: A 1D fixed point counts as converged only with a residual below this times λ (see
+#: :func:`fixed_point`).
+RESIDUAL_PER_LAMBDA = 1e-8
 
 
 def check_inelastic(restitution) -> MaxwellModel:
@@ -190,12 +202,12 @@ def _isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_ite
     p = model.p
     eta = np.asarray(eta, dtype=float)
     weights = np.asarray(weights, dtype=float)
-    half_rate = p * (1.0 - p) * float(weights @ eta)  # Λ/2 with the quadrature's own ⟨η⟩
+    half_rate = model.pair_lam * float(weights @ eta)  # Λ/2 with the quadrature's own ⟨η⟩
     q = chebyshev_nodes(n, length)
     D = differentiation_matrix(q)
-    A = np.stack([barycentric_matrix(q, np.sqrt(1.0 - (1.0 - (1.0 - p) ** 2) * e) * q)
-                  for e in eta])
-    B = np.stack([barycentric_matrix(q, p * np.sqrt(e) * q) for e in eta])
+    scales = [MaxwellModel.gain_scales_of(p, e) for e in eta]  # (b_i, a_i)
+    A = np.stack([barycentric_matrix(q, a * q) for _, a in scales])
+    B = np.stack([barycentric_matrix(q, b * q) for b, _ in scales])
     transport = half_rate * q[:, None] * D
     D2_row0 = (D @ D)[0]
     w2 = 1.0 / float(np.max(np.abs(D2_row0)))
@@ -221,8 +233,8 @@ def _isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_ite
                     seconds=0.0)
     fine = np.linspace(0.0, length, 4001)
     dG = barycentric_matrix(q, fine) @ (D @ G)
-    gain = sum(w * fp(np.sqrt(1.0 - (1.0 - (1.0 - p) ** 2) * e) * fine) * fp(p * np.sqrt(e) * fine)
-               for e, w in zip(eta, weights, strict=True))
+    gain = sum(w * fp(a * fine) * fp(b * fine)
+               for (b, a), w in zip(scales, weights, strict=True))
     check = half_rate * fine * dG - fp(fine) + gain
     return replace(fp, check_residual=float(np.max(np.abs(check))))
 
@@ -294,7 +306,7 @@ def stationary_residual(G: Callable, restitution: float, q) -> np.ndarray:
     """
     m = MaxwellModel(restitution)
     q = np.asarray(q, dtype=float)
-    return m.lam * q * G(q, 1) - G(q, 0) + G(m.p * q, 0) * G((1.0 - m.p) * q, 0)
+    return m.lam * q * G(q, 1) - G(q, 0) + G(m.p * q, 0) * G(m.complement * q, 0)
 
 
 def collocation_operators(model: MaxwellModel, n: int, length: float):
@@ -321,7 +333,7 @@ def collocation_operators(model: MaxwellModel, n: int, length: float):
     q = chebyshev_nodes(n, length)
     D = differentiation_matrix(q)
     Bp = barycentric_matrix(q, model.p * q)
-    Bm = barycentric_matrix(q, (1.0 - model.p) * q)
+    Bm = barycentric_matrix(q, model.complement * q)
     return q, D, Bp, Bm
 
 
@@ -383,7 +395,8 @@ def fixed_point(
     restitution : float
         r ∈ [0, 1).
     n : int, optional
-        Polynomial degree N ≥ 8 (default 64 in d = 1, 128 in d ≥ 2).
+        Polynomial degree N ≥ 8 (default 64 in d = 1, 128 in d ≥ 2); at most
+        :data:`MAX_DEGREE_1D` = 256 in d = 1 (larger N is worse conditioned and less accurate).
     q_max : float, default 40.0
         Q, the end of the collocation interval (> 0), where G(Q) = 0 is imposed.
     initial : callable, optional
@@ -403,14 +416,18 @@ def fixed_point(
     -------
     FixedPoint
         The solution with its residuals, error against f̂ (d = 1), iteration count and a
-        ``converged`` flag (not reaching ``tol`` is reported there, not raised).
+        ``converged`` flag (not reaching ``tol`` is reported there, not raised).  In d = 1
+        ``converged`` also needs a residual below :data:`RESIDUAL_PER_LAMBDA` · λ: as r → 1
+        every G with G(0) = 1 has a residual O(λ), and Newton may stop on a small step far from
+        f̂ (r = 1 − 1e-9: max error 0.27 at a residual of 2.4e-16).
 
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``restitution`` is not in [0, 1), ``dimension`` or ``angular`` is invalid, ``n``,
-        ``max_iterations`` or ``angular_nodes`` is not a count in range, ``q_max`` or ``tol``
-        is not positive, or ``initial`` does not give finite values on the grid.
+        If ``restitution`` is not in [0, 1), ``dimension`` or ``angular`` is invalid, ``n``
+        (above :data:`MAX_DEGREE_1D` in d = 1 included), ``max_iterations`` or
+        ``angular_nodes`` is not a count in range, ``q_max`` or ``tol`` is not positive, or
+        ``initial`` does not give finite values on the grid.
     """
     t0 = time.perf_counter()
     model = check_inelastic(restitution)
@@ -421,6 +438,10 @@ def fixed_point(
         angular_nodes = check_count(angular_nodes, "angular_nodes", 1)
         n = 128 if n is None else n
     n = check_count(64 if n is None else n, "n", 8)
+    if dimension == 1 and n > MAX_DEGREE_1D:
+        raise InvalidArgumentError(
+            "n", n, f"a degree <= {MAX_DEGREE_1D} in d = 1 (beyond, the collocation is too "
+            "ill-conditioned: it converges to a wrong function)")
     length = check_positive(q_max, "q_max")
     tol = check_positive(tol, "tol")
     max_iterations = check_count(max_iterations, "max_iterations", 1)
@@ -453,11 +474,16 @@ def fixed_point(
 
     G, iterations, converged = _gauss_newton(G, res_fn, jac_fn, tol, max_iterations)
     eq = np.asarray(res_fn(G))[: n + 1]
+    residual = float(np.max(np.abs(eq)))
+    # As r -> 1 every G with G(0) = 1 has a residual O(λ): only a residual small against λ
+    # tells the solution from the rest (measured: r = 1 - 1e-9 stopped on a small step at a
+    # function 0.27 from f̂ with residual 2.4e-16 = 0.5 λ; r = 0.9995 has 2.5e-16 = 1e-12 λ).
+    converged = converged and residual <= RESIDUAL_PER_LAMBDA * lam
     fp = FixedPoint(
         restitution=model.restitution,
         q=q,
         G=G,
-        residual=float(np.max(np.abs(eq))),
+        residual=residual,
         check_residual=0.0,
         iterations=iterations,
         max_error=0.0,
@@ -466,7 +492,7 @@ def fixed_point(
     )
     fine = np.linspace(0.0, length, 4001)
     dG = barycentric_matrix(q, fine) @ (D @ G)
-    check = lam * fine * dG - fp(fine) + fp(model.p * fine) * fp((1.0 - model.p) * fine)
+    check = lam * fine * dG - fp(fine) + fp(model.p * fine) * fp(model.complement * fine)
     err = max(float(np.max(np.abs(G - f_hat(q)))), float(np.max(np.abs(fp(fine) - f_hat(fine)))))
     return replace(
         fp,

@@ -33,6 +33,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from particles.observables import mean_sem
+from particles.validation import (
+    InvalidArgumentError,
+    check_count,
+    check_edges,
+    check_fit_points,
+    check_nonnegative,
+    check_positive,
+    check_real_array,
+)
 
 __all__ = [
     "interval_probabilities",
@@ -81,8 +90,17 @@ def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
     -------
     numpy.ndarray
         Shape (len(edges) − 1,): the bin probabilities.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``G`` is not callable, ``edges`` are not finite and strictly increasing, or
+        ``q_max`` is not a finite number > 0.
     """
-    edges = np.asarray(edges, dtype=float)
+    if not callable(G):
+        raise InvalidArgumentError("G", G, "a callable G(q)")
+    edges = check_edges(edges, "edges")
+    q_max = check_positive(q_max, "q_max")
     a, b = edges[:-1], edges[1:]
     m, h = 0.5 * (a + b), 0.5 * (b - a)
     out = np.empty(a.size)
@@ -132,8 +150,17 @@ def f_interval_probabilities(edges) -> np.ndarray:
     -------
     numpy.ndarray
         Shape (len(edges) − 1,): differences of :func:`f_cdf`.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``edges`` are not real, at least two, strictly increasing and free of NaN.
     """
-    return np.diff(f_cdf(edges))
+    arr = check_real_array(edges, "edges", ndim=1, min_size=2, finite=False)
+    if np.any(np.isnan(arr)) or np.any(np.diff(arr) <= 0):
+        raise InvalidArgumentError("edges", arr.tolist()[:50], "strictly increasing edges "
+                                   "(±inf allowed, no NaN)")
+    return np.diff(f_cdf(arr))
 
 
 def bin_counts(samples, edges) -> np.ndarray:
@@ -150,8 +177,17 @@ def bin_counts(samples, edges) -> np.ndarray:
     -------
     numpy.ndarray
         Float counts of shape (R, len(edges) − 1); samples outside the edges are not counted.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``samples`` are not finite reals of one or two dimensions, or ``edges`` are not
+        finite and strictly increasing.
     """
-    rows = np.atleast_2d(np.asarray(samples, dtype=float))
+    rows = np.atleast_2d(check_real_array(samples, "samples"))
+    if rows.ndim != 2:
+        raise InvalidArgumentError("samples", f"shape {rows.shape}", "shape (R, M) or (M,)")
+    edges = check_edges(edges, "edges")
     return np.stack([np.histogram(r, bins=edges)[0] for r in rows]).astype(float)
 
 
@@ -171,10 +207,21 @@ def ks_distance(samples, edges, cdf_at_edges) -> float:
     -------
     float
         The Kolmogorov–Smirnov distance restricted to the edges (F_emp counts samples < edge).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``samples`` are empty or not finite reals, ``edges`` are not finite and strictly
+        increasing, or ``cdf_at_edges`` is not one finite value per edge.
     """
-    x = np.sort(np.asarray(samples, dtype=float).ravel())
+    x = np.sort(check_real_array(samples, "samples", min_size=1).ravel())
+    edges = check_edges(edges, "edges")
+    cdf = check_real_array(cdf_at_edges, "cdf_at_edges", ndim=1)
+    if cdf.size != edges.size:
+        raise InvalidArgumentError("cdf_at_edges", f"{cdf.size} values",
+                                   f"one value per edge ({edges.size})")
     emp = np.searchsorted(x, edges, side="left") / x.size
-    return float(np.max(np.abs(emp - np.asarray(cdf_at_edges))))
+    return float(np.max(np.abs(emp - cdf)))
 
 
 @dataclass(frozen=True)
@@ -288,11 +335,26 @@ def compare_histograms(samples, edges, probabilities, mass_below: float, *,
     -------
     HistogramComparison
         The pooled histogram, χ²/dof, φ and the KS distances.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``samples`` are not finite reals of shape (R, M) with M ≥ 1, ``edges`` are not finite
+        and strictly increasing, ``probabilities`` are not one finite value per bin,
+        ``mass_below`` is not a finite real number, or ``min_expected`` is not a finite number
+        >= 0.
     """
-    rows = np.atleast_2d(np.asarray(samples, dtype=float))
+    rows = np.atleast_2d(check_real_array(samples, "samples", min_size=1))
+    if rows.ndim != 2:
+        raise InvalidArgumentError("samples", f"shape {rows.shape}", "shape (R, M) or (M,)")
     runs, m = rows.shape
-    edges = np.asarray(edges, dtype=float)
-    prob = np.asarray(probabilities, dtype=float)
+    edges = check_edges(edges, "edges")
+    prob = check_real_array(probabilities, "probabilities", ndim=1)
+    if prob.size != edges.size - 1:  # quadrature may leave -1e-17: no sign check
+        raise InvalidArgumentError("probabilities", prob.tolist()[:50],
+                                   f"{edges.size - 1} probabilities, one per bin")
+    mass_below = float(check_real_array(mass_below, "mass_below", ndim=0))
+    min_expected = check_nonnegative(min_expected, "min_expected")
     counts = bin_counts(rows, edges)
     outside = m - counts.sum(axis=1)
     counts = np.column_stack([counts, outside])
@@ -348,9 +410,22 @@ def weighted_slope(x, y, sigma=None) -> tuple[float, float, float]:
     tuple of float
         (slope, slope standard error, intercept).  Unweighted with at most 3 points the
         standard error is NaN.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``x`` and ``y`` are not finite one-dimensional arrays of one length with at least two
+        distinct x (a line through one abscissa is not determined), or ``sigma`` is not one
+        finite value > 0 per point.
     """
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
+    x, y = check_fit_points(x, y, fewest=2)
+    if y.ndim != 1:
+        raise InvalidArgumentError("y", f"shape {y.shape}", "a one-dimensional array")
+    if sigma is not None:
+        sigma = check_real_array(sigma, "sigma", ndim=1)
+        if sigma.size != x.size or np.any(sigma <= 0):
+            raise InvalidArgumentError("sigma", sigma.tolist()[:50],
+                                       f"{x.size} standard errors > 0, one per point")
     if sigma is None:
         coef, cov = np.polyfit(x, y, 1, cov=True) if x.size > 3 else (np.polyfit(x, y, 1), None)
         err = math.sqrt(cov[0, 0]) if cov is not None else float("nan")
@@ -385,8 +460,17 @@ def seed_slope(x, ys, degree: int = 1) -> tuple[float, float, np.ndarray]:
         Its standard error from the scatter between runs.
     slopes : numpy.ndarray
         Shape (R,): the per-run slopes.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``degree`` is not an integer >= 1, or ``x`` and ``ys`` are not finite arrays with
+        one value per x in each row and at least ``degree`` + 1 distinct x (fewer leave the
+        polynomial undetermined).
     """
-    ys = np.atleast_2d(np.asarray(ys, dtype=float))
+    degree = check_count(degree, "degree", 1)
+    x, ys = check_fit_points(x, ys, fewest=degree + 1, name_y="ys")
+    ys = np.atleast_2d(ys)
     slopes = np.array([np.polyfit(x, y, degree)[-2] for y in ys])
     mean, err = mean_sem(slopes)
     return mean, err, slopes

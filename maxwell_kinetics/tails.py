@@ -58,13 +58,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
-from scipy.special import beta as beta_function
-from scipy.special import hyp2f1
 
-from particles.collision import transfer_fraction
 from particles.validation import InvalidArgumentError, check_restitution
 
-from .model import AngularLaw, angular_law
+from .model import AngularLaw, MaxwellModel, angular_law
 
 __all__ = [
     "TailExponent",
@@ -91,10 +88,7 @@ def eta_moment(law: AngularLaw, s):
     numpy.ndarray
         ⟨η^s⟩, of the shape of ``s``.
     """
-    s = np.asarray(s, dtype=float)
-    if law.degenerate:
-        return np.ones_like(s)
-    return beta_function(law.a + s, law.b) / beta_function(law.a, law.b)
+    return law.moment(s)
 
 
 def mixed_moment(law: AngularLaw, c: float, s):
@@ -114,18 +108,7 @@ def mixed_moment(law: AngularLaw, c: float, s):
     numpy.ndarray
         ⟨(1 − cη)^s⟩, of the shape of ``s`` (scipy's ``hyp2f1``).
     """
-    s = np.asarray(s, dtype=float)
-    if law.degenerate:
-        return (1.0 - c) ** s
-    return hyp2f1(-s, law.a, law.a + law.b, c)
-
-
-def _growth(law: AngularLaw, p: float, s):
-    q = 1.0 - p
-    if law.degenerate:  # 1 − p^{2s} − q^{2s}, with 1 − p^{2s} free of cancellation as r → 1
-        s = np.asarray(s, dtype=float)
-        return -np.expm1(2.0 * s * np.log1p(-q)) - q ** (2.0 * s)
-    return 1.0 - mixed_moment(law, 1.0 - q * q, s) - p ** (2.0 * np.asarray(s)) * eta_moment(law, s)
+    return law.mixed_moment(c, s)
 
 
 def growth_rate(dimension, restitution, s, angular="uniform"):
@@ -159,7 +142,7 @@ def growth_rate(dimension, restitution, s, angular="uniform"):
         :func:`maxwell_kinetics.model.angular_law` and ``check_restitution``).
     """
     law = angular_law(dimension, angular)
-    return _growth(law, transfer_fraction(restitution), s)
+    return MaxwellModel(restitution, law.dimension, law.angular).coefficient_rate(s)
 
 
 def decay_rate(dimension, restitution, angular="uniform") -> float:
@@ -185,8 +168,7 @@ def decay_rate(dimension, restitution, angular="uniform") -> float:
         For an argument out of range.
     """
     law = angular_law(dimension, angular)
-    p = transfer_fraction(restitution)
-    return float(2.0 * p * (1.0 - p) * eta_moment(law, 1.0))
+    return float(MaxwellModel(restitution, law.dimension, law.angular).energy_rate())
 
 
 def moment_rates(dimension, restitution, orders, angular="uniform") -> np.ndarray:
@@ -210,15 +192,15 @@ def moment_rates(dimension, restitution, orders, angular="uniform") -> np.ndarra
         For orders that are not integers ≥ 1, or another argument out of range.
     """
     law = angular_law(dimension, angular)
-    p = transfer_fraction(restitution)
+    model = MaxwellModel(restitution, law.dimension, law.angular)
     try:
         n = np.asarray(orders, dtype=float)
     except (TypeError, ValueError):
         raise InvalidArgumentError("orders", orders, "integers >= 1") from None
     if n.size == 0 or np.any(~np.isfinite(n)) or np.any(n < 1) or np.any(n != np.round(n)):
         raise InvalidArgumentError("orders", orders, "integers >= 1")
-    lam1 = float(_growth(law, p, 1.0))
-    return np.minimum(_growth(law, p, n), n * lam1)
+    lam1 = float(model.coefficient_rate(1.0))
+    return np.minimum(model.coefficient_rate(n), n * lam1)
 
 
 @dataclass(frozen=True)
@@ -286,11 +268,11 @@ def tail_exponent(dimension, restitution, angular="uniform") -> TailExponent:
         raise InvalidArgumentError(
             "restitution", restitution, "r < 1 (elastic collisions have no power-law tail)"
         )
-    p = transfer_fraction(r)
-    lam1 = float(_growth(law, p, 1.0))
+    model = MaxwellModel(r, law.dimension, law.angular)
+    lam1 = float(model.coefficient_rate(1.0))
 
     def balance(s):
-        return float(_growth(law, p, s)) - s * lam1
+        return float(model.coefficient_rate(s)) - s * lam1
 
     s_hi = max(2.0, 1.0 / lam1) + 1.0
     peak = minimize_scalar(

@@ -53,7 +53,7 @@ import numpy as np
 from .collision import collide_scalar, transfer_fraction
 from .driver import EngineBase, initial_velocities
 from .initial import get_law
-from .validation import InvalidArgumentError, check_count, check_restitution
+from .validation import InvalidArgumentError, check_count, check_real_array, check_restitution
 
 __all__ = [
     "Lattice",
@@ -483,7 +483,7 @@ class Lattice(EngineBase):
         v = initial_velocities(self.initial, self.n, rng)
         if not self.relative_velocity_rate:
             return LatticeState(0.0, v, rng.standard_exponential(self.n), 0, 0)
-        bound = thinning_bound(v)
+        bound = _thinning_bound(v)
         return LatticeState(0.0, v, rng.standard_exponential(self.n) / bound, 0, 0, bound)
 
     def rebuild_state(self, arrays) -> LatticeState:
@@ -610,7 +610,7 @@ class Lattice(EngineBase):
         old = state.attempt_rate
         if old is None:
             raise InvalidArgumentError("state", "a state without attempt_rate", "a rate-|Δ| state")
-        bound = thinning_bound(v)
+        bound = _thinning_bound(v)
         if bound == 0.0:  # all velocities equal: no bond can ever collide again
             np.maximum(clocks, float(until), out=clocks)
             return LatticeState(float(until), v, clocks, state.collisions, state.attempts, old)
@@ -652,7 +652,17 @@ def thinning_bound(v: np.ndarray) -> float:
     -------
     float
         R (0 when all velocities are equal).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``v``) if ``v`` is not a non-empty one-dimensional array of finite reals.
     """
+    return _thinning_bound(check_real_array(v, "v", ndim=1, min_size=1))
+
+
+def _thinning_bound(v: np.ndarray) -> float:
+    """:func:`thinning_bound` without the checks (the engines' own finite velocities)."""
     return float(v.max() - v.min()) * (1.0 + RATE_BOUND_MARGIN)
 
 

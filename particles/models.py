@@ -34,6 +34,7 @@ from .validation import (
     InvalidArgumentError,
     check_choice,
     check_count,
+    check_dimension,
     check_nonnegative,
     check_positive,
     check_restitution,
@@ -73,7 +74,9 @@ class Parameter:
     ``--`` and the name with ``-`` for ``_``); a ``"flag"`` (a boolean) also has ``switch``, an
     option without a value that sets it to ``not default`` (``--no-constraint``).  ``example``
     is a valid value other than the default (shown in the help, and what the generated tests
-    run).
+    run).  ``needs`` is ``(other, values, words)`` for a parameter that means something only
+    when the parameter ``other`` is one of ``values`` (``angular`` only when ``dimension`` is 2
+    or 3): giving it otherwise is refused by :meth:`Model.build`, whatever its value.
 
     Attributes
     ----------
@@ -98,6 +101,10 @@ class Parameter:
         The allowed values of a ``"choice"``.
     example : object
         A valid non-default value (help and generated tests).
+    needs : tuple
+        ``(other, values, words)``: the parameter may be given only when ``other`` (given or
+        defaulted) is in ``values``; ``words`` says so in the error (e.g. ``"--dimension 2 or
+        3"``).  Empty (default): no condition.
 
     Raises
     ------
@@ -115,6 +122,7 @@ class Parameter:
     switch: str = ""
     choices: tuple = ()
     example: Any = None
+    needs: tuple = ()
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -127,6 +135,11 @@ class Parameter:
     @property
     def required(self) -> bool:
         return self.default is REQUIRED
+
+    @property
+    def label(self) -> str:
+        """The name errors show: the option without its dashes (``rod-length``), as typed."""
+        return self.option.lstrip("-")
 
     def validate(self, value):
         """``value`` checked (and normalised) by the parameter's validator.
@@ -168,8 +181,8 @@ class Parameter:
         Raises
         ------
         particles.InvalidArgumentError
-            (argument: the parameter's name, value: ``text``) if the text does not parse or
-            the value is refused.
+            (argument: the option's :attr:`label`, e.g. ``rod-length``; value: ``text``) if the
+            text does not parse or the value is refused.
         """
         try:
             if self.kind == "int":
@@ -186,7 +199,7 @@ class Parameter:
             return self.validate(value)
         except ValueError as exc:  # InvalidArgumentError included: shown with the text given
             expected = getattr(exc, "expected", "a real number")
-            raise InvalidArgumentError(self.name, text, expected) from None
+            raise InvalidArgumentError(self.label, text, expected) from None
 
     def describe(self) -> str:
         """The help text of the option: help, unit, choices and default.
@@ -219,9 +232,7 @@ def _check_count(value, name, minimum):
 
 
 def _dimension(value, name):
-    if isinstance(value, bool) or value not in (1, 2, 3):
-        raise InvalidArgumentError(name, value, "1, 2 or 3")
-    return int(value)
+    return check_dimension(value, name)
 
 
 def _restitution(value, name):
@@ -320,17 +331,31 @@ class Model:
         ------
         particles.InvalidArgumentError
             (argument ``params``) for an unknown or missing parameter, or a ``TypeError`` /
-            ``ValueError`` of the factory; the factory's own ``InvalidArgumentError`` passes
-            through.
+            ``ValueError`` of the factory; (argument: the parameter's name) for a parameter
+            given without the setting it ``needs`` (:class:`Parameter`); the factory's own
+            ``InvalidArgumentError`` passes through, renamed to the option's :attr:`label`
+            (``rod-length``) when it names a declared parameter.
         """
         for name in params:
             self.parameter(name)
         missing = [p for p in self.required if p not in params]
         if missing:
             raise InvalidArgumentError("params", sorted(params), f"values for {missing}")
+        for name, value in params.items():
+            needs = self.parameter(name).needs
+            if needs:
+                other, values, words = needs
+                given = params.get(other, self.parameter(other).default)
+                if isinstance(given, bool) or given not in values:
+                    raise InvalidArgumentError(
+                        name, value, f"no {self.parameter(name).option} without {words} (it "
+                        f"means nothing at {other} = {given!r})")
         try:
             return self.factory(**params)
-        except InvalidArgumentError:
+        except InvalidArgumentError as exc:
+            declared = self._by_name.get(exc.name)
+            if declared is not None and declared.label != exc.name:  # rod_length: --rod-length
+                raise InvalidArgumentError(declared.label, exc.value, exc.expected) from None
             raise
         except (TypeError, ValueError) as exc:
             raise InvalidArgumentError(
@@ -447,10 +472,12 @@ _declare(Model(
                   help="velocity dimension d: 1, 2 or 3"),
         Parameter("angular", "choice", default="uniform", choices=("uniform", "hard"),
                   example="hard", help="d > 1: law of the collision direction, uniform on the "
-                  "sphere or weighted by |g.n|"),
+                  "sphere or weighted by |g.n| (only with --dimension 2 or 3)",
+                  needs=("dimension", (2, 3), "--dimension 2 or 3")),
         Parameter("driving", "float", default=0.0, check=check_nonnegative,
                   unit="energy per unit time", example=0.1,
-                  help="white-noise heating strength D >= 0 (d = 1 only; 0: free cooling)"),
+                  help="white-noise heating strength D >= 0 (d = 1 only; 0: free cooling)",
+                  needs=("dimension", (1,), "--dimension 1")),
     ),
     help="mean-field pseudo-Maxwell (Ulam) model, exact continuous time in τ",
 ))

@@ -16,11 +16,18 @@ Conventions
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from .validation import InvalidArgumentError
+from .validation import (
+    InvalidArgumentError,
+    check_count,
+    check_edges,
+    check_positive,
+    check_real_array,
+)
 
 __all__ = [
     "Histogram",
@@ -52,7 +59,8 @@ def _fftw():
     return fft
 
 def _as_velocities(v, *, min_dims=1, max_dims=2) -> np.ndarray:
-    arr = np.asarray(v, dtype=float)
+    """``v`` as a float array of finite real velocities, 1- or 2-dimensional and non-empty."""
+    arr = check_real_array(v, "v")
     if not min_dims <= arr.ndim <= max_dims or arr.shape[-1] < 1:
         raise InvalidArgumentError(
             "v",
@@ -76,7 +84,8 @@ def energy(v) -> np.ndarray | float:
         ⟨v²⟩, a float for one set of velocities.
     """
     arr = _as_velocities(v)
-    out = np.mean(arr * arr, axis=-1)
+    with np.errstate(over="ignore"):  # |v| beyond ~1e154: ⟨v²⟩ is inf, as it should be
+        out = np.mean(arr * arr, axis=-1)
     return float(out) if out.ndim == 0 else out
 
 
@@ -226,9 +235,9 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
     Raises
     ------
     particles.InvalidArgumentError
-        ``v`` of a wrong shape or with zero or non-finite energy; ``bins`` not an integer in
-        [1, 10⁶] nor at least two finite, strictly increasing edges; ``v0`` not finite and
-        positive.
+        ``v`` of a wrong shape, not real, with a non-finite value, or with zero energy;
+        ``bins`` not an integer in [1, 10⁶] nor at least two finite, strictly increasing edges;
+        ``v0`` not a finite number > 0 (booleans and complex numbers refused).
     """
     arr = _as_velocities(v)
     if bins is None:
@@ -239,21 +248,12 @@ def rescaled_histogram(v, bins=None, v0=None) -> Histogram:
             raise InvalidArgumentError("bins", bins, "an integer in [1, 1e6] or an array of edges")
         edges = np.linspace(-6.0, 6.0, int(bins) + 1)
     else:
-        try:
-            edges = np.asarray(bins, dtype=float)
-        except (TypeError, ValueError):
-            raise InvalidArgumentError("bins", bins, "an array of increasing edges") from None
-        if (edges.ndim != 1 or edges.size < 2 or not np.all(np.isfinite(edges))
-                or np.any(np.diff(edges) <= 0)):
-            raise InvalidArgumentError("bins", bins,
-                                       "at least two finite, strictly increasing edges")
+        edges = check_edges(bins, "bins")
     rows = arr.reshape(-1, arr.shape[-1])
     if v0 is None:
         v0 = _rms(rows)
     else:
-        if not (np.isscalar(v0) and float(v0) > 0 and np.isfinite(float(v0))):
-            raise InvalidArgumentError("v0", v0, "a finite number > 0")
-        v0 = np.full(rows.shape[0], float(v0))
+        v0 = np.full(rows.shape[0], check_positive(v0, "v0"))
     if np.any(v0 <= 0) or not np.all(np.isfinite(v0)):
         raise InvalidArgumentError("v", f"energy {v0**2}", "a finite, non-zero energy per run")
     x = (rows / v0[:, None]).ravel()
@@ -281,9 +281,20 @@ def histogram_from_counts(edges, count, n: int, v0: float) -> Histogram:
     -------
     Histogram
         The normalised density and its error.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``edges`` are not finite and strictly increasing, ``count`` is not one non-negative
+        finite number per bin, ``n`` is not a count >= 1, or ``v0`` is not a finite number > 0.
     """
-    edges = np.asarray(edges, dtype=float)
-    count = np.asarray(count)
+    edges = check_edges(edges, "edges")
+    count = check_real_array(count, "count", ndim=1)
+    if count.size != edges.size - 1 or np.any(count < 0):
+        raise InvalidArgumentError("count", count.tolist()[:50], f"{edges.size - 1} "
+                                   "non-negative counts, one per bin")
+    n = check_count(n, "n", 1)
+    v0 = check_positive(v0, "v0")
     width = np.diff(edges)
     prob = count / n
     density = prob / width
@@ -292,10 +303,23 @@ def histogram_from_counts(edges, count, n: int, v0: float) -> Histogram:
     return Histogram(edges, centres, density, error, count, int(n), float(v0))
 
 
-def _spectrum(arr: np.ndarray) -> np.ndarray:
-    """|v̂(k)|² for k = 2πm/N, m = 0..⌊N/2⌋, for every row (pyfftw, one thread)."""
-    vhat = _fftw().rfft(arr, axis=-1, threads=1)
-    return vhat.real**2 + vhat.imag**2
+def _spectrum(arr: np.ndarray) -> tuple[np.ndarray, float]:
+    """(P, c) with |v̂(k)|² = P · c² for k = 2πm/N, m = 0..⌊N/2⌋, for every row (pyfftw, one
+    thread).  c = 1 unless some |v| ≥ 2⁵⁰⁰, where |v̂|² would overflow (and its inverse transform
+    give NaN): the velocities are then divided by a power of two c first (exact), and the
+    caller multiplies its result by c twice, which overflows to ±inf only where the true value
+    does."""
+    top = float(np.max(np.abs(arr))) if arr.size else 0.0
+    scale = 2.0 ** (math.frexp(top)[1] - 1) if top >= 2.0**500 else 1.0
+    vhat = _fftw().rfft(arr / scale if scale != 1.0 else arr, axis=-1, threads=1)
+    return vhat.real**2 + vhat.imag**2, scale
+
+
+def _unscale(values: np.ndarray, scale: float) -> np.ndarray:
+    if scale == 1.0:
+        return values
+    with np.errstate(over="ignore"):
+        return values * scale * scale  # left to right: 0 stays 0, never inf * 0
 
 
 def structure_factor(v) -> tuple[np.ndarray, np.ndarray]:
@@ -331,10 +355,11 @@ def structure_factor(v) -> tuple[np.ndarray, np.ndarray]:
     """
     arr = _as_velocities(v)
     n = arr.shape[-1]
-    power = _spectrum(arr) / n
+    power, scale = _spectrum(arr)
+    power = power / n
     if power.ndim == 2:
         power = power.mean(axis=0)
-    return wavenumbers(n), power
+    return wavenumbers(n), _unscale(power, scale)
 
 
 def wavenumbers(n: int) -> np.ndarray:
@@ -349,7 +374,13 @@ def wavenumbers(n: int) -> np.ndarray:
     -------
     numpy.ndarray
         The ⌊n/2⌋ + 1 wavenumbers, increasing from 0.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``n`` is not an integer >= 1 (booleans refused).
     """
+    n = check_count(n, "n", 1)
     return 2.0 * np.pi * np.arange(n // 2 + 1) / n
 
 
@@ -378,11 +409,11 @@ def correlation(v) -> np.ndarray:
     """
     arr = _as_velocities(v)
     n = arr.shape[-1]
-    power = _spectrum(arr)
+    power, scale = _spectrum(arr)
     c = _fftw().irfft(power, n=n, axis=-1, threads=1) / n
     if c.ndim == 2:
         c = c.mean(axis=0)
-    return c
+    return _unscale(c, scale)
 
 
 def velocity_profile(v) -> tuple[np.ndarray, np.ndarray]:
@@ -448,15 +479,14 @@ def log_bin(k, s, bins_per_decade: int = 10) -> tuple[np.ndarray, np.ndarray, np
     Raises
     ------
     particles.InvalidArgumentError
-        (argument ``s``) if ``k`` and ``s`` are not 1-D arrays of one shape; (argument
-        ``bins_per_decade``) if it is not a positive integer.
+        (argument ``k`` or ``s``) if they are not 1-D arrays of finite real numbers of one
+        shape; (argument ``bins_per_decade``) if it is not an integer >= 1.
     """
-    k = np.asarray(k, dtype=float)
-    s = np.asarray(s, dtype=float)
-    if k.shape != s.shape or k.ndim != 1:
+    k = check_real_array(k, "k", ndim=1)
+    s = check_real_array(s, "s", ndim=1)
+    if k.shape != s.shape:
         raise InvalidArgumentError("s", f"shape {s.shape}", f"the shape of k, {k.shape}")
-    if isinstance(bins_per_decade, bool) or int(bins_per_decade) < 1:
-        raise InvalidArgumentError("bins_per_decade", bins_per_decade, "a positive integer")
+    bins_per_decade = check_count(bins_per_decade, "bins_per_decade", 1)
     keep = k > 0
     k, s = k[keep], s[keep]
     if k.size == 0:
@@ -471,6 +501,10 @@ def log_bin(k, s, bins_per_decade: int = 10) -> tuple[np.ndarray, np.ndarray, np
     ssum = np.bincount(index, weights=s, minlength=edges.size - 1)
     full = count > 0
     return ksum[full] / count[full], ssum[full] / count[full], count[full]
+
+
+def _is_bool(value) -> bool:
+    return isinstance(value, (bool, np.bool_))
 
 
 def mean_sem(values, axis: int = 0):
@@ -490,20 +524,37 @@ def mean_sem(values, axis: int = 0):
     mean, sem : float or numpy.ndarray
         The mean and its standard error (NaN where fewer than two values).
 
+    Values beyond 2⁵⁰⁰ are summed in units of a power of two near the largest |value| along
+    ``axis``, so values near the float limit (1e308) give their finite mean and error instead
+    of an overflow to inf or NaN.
+
     Raises
     ------
     particles.InvalidArgumentError
-        (argument ``values``) if there is no value along ``axis``.
+        (argument ``values``) if they are not real numbers or there is no value along
+        ``axis``; (argument ``axis``) if it is not an axis of ``values``.
     """
-    a = np.asarray(values, dtype=float)
-    m = a.shape[axis] if a.ndim else 1
+    a = check_real_array(values, "values", finite=False)
+    if a.ndim == 0:
+        a = a.reshape(1)
+    if _is_bool(axis) or not isinstance(axis, (int, np.integer)) or not -a.ndim <= axis < a.ndim:
+        raise InvalidArgumentError("axis", axis, f"an axis of the {a.ndim}-dimensional values")
+    m = a.shape[axis]
     if m == 0:
         raise InvalidArgumentError("values", a.shape, "at least one value along the axis")
-    mean = a.mean(axis=axis)
-    if m < 2:
-        sem = np.full_like(mean, np.nan, dtype=float)
-    else:
-        sem = a.std(axis=axis, ddof=1) / np.sqrt(m)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        # near the float limit the sums are taken in units of a power of two (exact); below
+        # 2⁵⁰⁰ nothing is rescaled, so ordinary values give NumPy's own mean and std
+        top = np.max(np.abs(a), axis=axis, keepdims=True)
+        big = np.isfinite(top) & (top >= 2.0**500)
+        scale = np.where(big, np.exp2(np.frexp(np.where(big, top, 1.0))[1] - 1.0), 1.0)
+        unit = a / scale
+        mean = np.squeeze(scale * unit.mean(axis=axis, keepdims=True), axis=axis)
+        if m < 2:
+            sem = np.full_like(mean, np.nan, dtype=float)
+        else:
+            sem = np.squeeze(scale * unit.std(axis=axis, ddof=1, keepdims=True), axis=axis)
+            sem = sem / np.sqrt(m)
     if np.ndim(mean) == 0:
         return float(mean), float(sem)
     return mean, sem

@@ -100,7 +100,14 @@ from .sticky_exact import (
     exact_velocity_survival,
     exact_velocity_tail_exponent,
 )
-from .validation import InvalidArgumentError, check_count, check_nonnegative, check_positive
+from .validation import (
+    InvalidArgumentError,
+    check_count,
+    check_nonnegative,
+    check_positive,
+    check_real,
+    check_real_array,
+)
 
 __all__ = [
     "StickyParams",
@@ -255,8 +262,8 @@ def sticky_state(x0, v0, length: float, t: float) -> StickyState:
     """The exact sticky-gas state at time ``t`` ≥ 0 from initial positions ``x0`` (sorted, in
     [0, ``length``)) and velocities ``v0`` (module docstring: the isotonic regression of two
     unrolled periods, computed as one period's and the pooling across the junction).  At
-    t = 0 every particle is its own cluster.  Inputs are trusted (checked by the public
-    callers).
+    t = 0 every particle is its own cluster.  The inputs are checked (a few passes over
+    the arrays, small beside the regression).
 
     Parameters
     ----------
@@ -272,12 +279,24 @@ def sticky_state(x0, v0, length: float, t: float) -> StickyState:
     Returns
     -------
     StickyState
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``x0`` or ``v0`` (not one-dimensional finite reals of one non-zero length, or
+        positions not sorted in [0, ``length``)), ``length`` (not a finite number > 0) or ``t``
+        (not a finite number >= 0).
     """
-    x0 = np.asarray(x0, dtype=float)
-    v0 = np.asarray(v0, dtype=float)
+    x0 = check_real_array(x0, "x0", ndim=1, min_size=1)
+    v0 = check_real_array(v0, "v0", ndim=1)
+    length = check_positive(length, "length")
+    t = check_nonnegative(t, "t")
+    if v0.size != x0.size:
+        raise InvalidArgumentError("v0", f"{v0.size} values", f"one per position ({x0.size})")
+    if x0[0] < 0.0 or not x0[-1] < length or np.any(np.diff(x0) < 0):
+        raise InvalidArgumentError("x0", f"positions in [{x0.min():g}, {x0.max():g}]",
+                                   f"positions sorted in [0, length = {length:g})")
     n = x0.size
-    length = float(length)
-    t = float(t)
     if t == 0.0:
         frozen = [a.view() for a in (x0, v0)]
         for a in frozen:
@@ -561,14 +580,26 @@ def velocity_tail_exponent(v, energy: float | None = None, *, quantiles=(1e-2, 1
     Raises
     ------
     InvalidArgumentError
-        Naming ``v`` (fewer than 10 velocities, or a tail of fewer than 3 distinct points) or
-        ``quantiles``.
+        Naming ``v`` (not finite reals, fewer than 10 velocities, all zero, or a tail of fewer
+        than 3 distinct points: the fit and its error need three), ``energy`` (not a finite
+        number > 0) or ``quantiles`` (not two real tail fractions 1 > q1 > q2 >= 1/N).
     """
-    v = np.abs(np.asarray(v, dtype=float).ravel())
+    v = np.abs(check_real_array(v, "v").ravel())
     if v.size < 10:
         raise InvalidArgumentError("v", f"{v.size} values", "at least 10 velocities")
-    e = float(np.mean(v * v)) if energy is None else check_positive(energy, "energy")
-    hi, lo = (float(q) for q in quantiles)
+    if energy is None:
+        with np.errstate(over="ignore"):
+            e = float(np.mean(v * v))
+        if not 0.0 < e < math.inf:
+            raise InvalidArgumentError("v", f"energy {e}", "velocities of finite, non-zero "
+                                       "energy (or pass energy)")
+    else:
+        e = check_positive(energy, "energy")
+    try:
+        hi, lo = (check_real(q, "quantiles") for q in quantiles)
+    except (TypeError, ValueError):  # not two values (InvalidArgumentError is a ValueError)
+        raise InvalidArgumentError("quantiles", quantiles, "two tail fractions 1 > q1 > q2 > 0"
+                                   ) from None
     if not (0.0 < lo < hi < 1.0) or lo * v.size < 1.0:
         raise InvalidArgumentError(
             "quantiles", quantiles, f"upper tail fractions 1 > q1 > q2 >= 1/N = {1 / v.size:g}"
@@ -580,8 +611,9 @@ def velocity_tail_exponent(v, energy: float | None = None, *, quantiles=(1e-2, 1
     tail = np.array([np.count_nonzero(w > a) for a in wq]) / v.size
     keep = (tail > 0) & (wq > 0)
     xs, ys = np.log(wq[keep]), np.log(-np.log(tail[keep]))
-    if xs.size < 3 or np.ptp(xs) == 0.0:
-        raise InvalidArgumentError("v", "a tail with fewer than 3 distinct points", "a tail")
+    if np.unique(xs).size < 3:  # repeated points (ties in |v|) do not determine the error
+        raise InvalidArgumentError("v", f"a tail with {np.unique(xs).size} distinct points",
+                                   "a tail of at least 3 distinct points")
     a = np.vstack([xs, np.ones_like(xs)]).T
     coef, res, *_ = np.linalg.lstsq(a, ys, rcond=None)
     dof = xs.size - 2

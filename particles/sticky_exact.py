@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from .validation import InvalidArgumentError, check_positive
+from .validation import InvalidArgumentError, check_count, check_positive, check_real_array
 
 __all__ = [
     "chernoff_density",
@@ -67,11 +67,18 @@ def chernoff_density(z, *, cutoff: float = 40.0, nodes: int = 800) -> np.ndarray
     -------
     numpy.ndarray
         f(z).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``z`` (not finite reals), ``cutoff`` (not a finite number > 0) or ``nodes``
+        (not an integer >= 1).
     """
     from scipy.special import airy
 
-    z = np.asarray(z, dtype=float)
-    x, w = _leggauss(int(nodes))
+    z = _check_finite_array(z, "z")
+    cutoff = check_positive(cutoff, "cutoff")
+    x, w = _leggauss(check_count(nodes, "nodes", 1))
     lam = 0.5 * cutoff * (x + 1.0)
     w = 0.5 * cutoff * w
     ghat = 2.0 ** (1.0 / 3.0) / airy(1j * 2.0 ** (-1.0 / 3.0) * lam)[0]
@@ -145,10 +152,8 @@ def _leggauss(nodes: int):
 
 
 def _check_finite_array(x, name: str) -> np.ndarray:
-    try:
-        arr = np.asarray(x, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidArgumentError(name, x, "finite real numbers") from None
+    """Finite real numbers (booleans, complex numbers and strings refused), as a float array."""
+    arr = check_real_array(x, name, finite=False)
     if not np.all(np.isfinite(arr)):
         bad = arr[~np.isfinite(arr)].ravel()[0]
         raise InvalidArgumentError(name, float(bad), "finite real numbers")
@@ -543,13 +548,15 @@ def exact_velocity_density(w, *, nodes: int = 80) -> np.ndarray:
     Raises
     ------
     InvalidArgumentError
-        Naming ``w`` when a value is not finite.
+        Naming ``w`` when a value is not a finite real number, ``nodes`` when it is not an
+        integer >= 1.
     """
     w = np.abs(_check_finite_array(w, "w"))
+    nodes = check_count(nodes, "nodes", 1)
     out = np.zeros(w.shape)
     ok = w <= _W_MAX
     if np.any(ok):
-        out[ok] = np.exp(_log_velocity_density(w[ok], int(nodes)))
+        out[ok] = np.exp(_log_velocity_density(w[ok], nodes))
     return out
 
 
@@ -637,11 +644,13 @@ def exact_velocity_survival(w, *, nodes: int = 60) -> np.ndarray:
     Raises
     ------
     InvalidArgumentError
-        Naming ``w`` when a value is not finite.
+        Naming ``w`` when a value is not a finite real number, ``nodes`` when it is not an
+        integer >= 1.
     """
     w = _check_finite_array(w, "w")
+    nodes = check_count(nodes, "nodes", 1)
     flat = np.abs(w.ravel())
-    out = np.exp(_log_velocity_survival(flat, int(nodes))).reshape(w.shape)
+    out = np.exp(_log_velocity_survival(flat, nodes)).reshape(w.shape)
     return np.where(w < 0, 1.0 - out, out)
 
 

@@ -108,6 +108,7 @@ from .validation import (
     InvalidArgumentError,
     check_choice,
     check_count,
+    check_dimension,
     check_nonnegative,
     check_restitution,
 )
@@ -232,7 +233,23 @@ def draw_pairs(rng: np.random.Generator, n: int, k: int) -> np.ndarray:
     -------
     numpy.ndarray
         int32 array of shape ``(k, 2)``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``rng``) if it is not a ``numpy.random.Generator``; (``n``) if it is not an
+        integer in [2, 2³¹ − 1]; (``k``) if it is not an integer >= 0.
     """
+    if not isinstance(rng, np.random.Generator):
+        raise InvalidArgumentError("rng", type(rng).__name__, "a numpy.random.Generator")
+    n = check_count(n, "n", 2)
+    if n > 2**31 - 1:
+        raise InvalidArgumentError("n", n, "an integer <= 2**31 - 1 (int32 particle ids)")
+    return _draw_pairs(rng, n, check_count(k, "k", 0))
+
+
+def _draw_pairs(rng: np.random.Generator, n: int, k: int) -> np.ndarray:
+    """:func:`draw_pairs` without the checks (the engine's own arguments)."""
     pairs = np.empty((k, 2), dtype=np.int32)
     pairs[:, 0] = rng.integers(0, n, k, dtype=np.int32)
     second = rng.integers(0, n - 1, k, dtype=np.int32)
@@ -812,9 +829,7 @@ class Ulam(EngineBase):
         if law.sampler is None:
             raise InvalidArgumentError("initial", law.name, "a law with a sampler")
         object.__setattr__(self, "initial", law.name)
-        if isinstance(self.dimension, bool) or self.dimension not in (1, 2, 3):
-            raise InvalidArgumentError("dimension", self.dimension, "1, 2 or 3")
-        object.__setattr__(self, "dimension", int(self.dimension))
+        object.__setattr__(self, "dimension", check_dimension(self.dimension))
         _check_angular(self.angular)
         driving = check_nonnegative(self.driving, "driving")
         if driving > 0.0 and self.dimension != 1:
@@ -994,7 +1009,7 @@ class Ulam(EngineBase):
                         max(2 * k, int(1.25 * self.n * self.window) + 16), dtype=np.int32
                     )
                 # The drawn pairs, read from last to first, are the window's events in order.
-                _fire_rounds(v, draw_pairs(rng, self.n, k), p, first, occurrence)
+                _fire_rounds(v, _draw_pairs(rng, self.n, k), p, first, occurrence)
                 collisions += k
             if _is_grid_point(b, self.stop_step):
                 recentre(v)
@@ -1019,7 +1034,7 @@ class Ulam(EngineBase):
             k = int(rng.poisson(0.5 * self.n * (b - a)))
             if k:
                 occurrence = self._occurrences(occurrence, k)
-                pairs = draw_pairs(rng, self.n, k)  # row 0 is the window's last event
+                pairs = _draw_pairs(rng, self.n, k)  # row 0 is the window's last event
                 draws = draw_angles(rng, k, self.dimension, angular)
                 if plane is not None:
                     transfer = plane_transfer(draws.sine, p)
@@ -1049,7 +1064,7 @@ class Ulam(EngineBase):
             k = int(rng.poisson(0.5 * self.n * (b - a)))
             if k:
                 occurrence = self._occurrences(occurrence, k)
-                pairs = draw_pairs(rng, self.n, k)  # row 0 is the window's last event
+                pairs = _draw_pairs(rng, self.n, k)  # row 0 is the window's last event
                 times = np.sort(rng.uniform(a, b, k))[::-1]  # row order: latest first
                 kicks = rng.standard_normal((k, 2))
 

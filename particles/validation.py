@@ -20,6 +20,11 @@ __all__ = [
     "check_restitution",
     "check_times",
     "check_count",
+    "check_real",
+    "check_dimension",
+    "check_real_array",
+    "check_edges",
+    "check_fit_points",
     "check_positive",
     "check_nonnegative",
     "parse_float_list",
@@ -35,6 +40,8 @@ __all__ = [
     "check_path",
     "check_choice",
     "check_output_dir",
+    "shown",
+    "SHOWN_CHARACTERS",
 ]
 
 
@@ -51,7 +58,9 @@ class InvalidArgumentError(ValueError):
     name : str
         The name of the argument (or command-line option) that was refused.
     value : object
-        The value received, shown with ``repr`` in the message.
+        The value received, shown with ``repr`` in the message, cut to its first
+        :data:`SHOWN_CHARACTERS` characters (and ``...``) when longer; the attribute keeps it
+        whole.
     expected : str
         What the argument should have been, in words (e.g. ``"a number in [0, 1]"``).
     """
@@ -60,17 +69,79 @@ class InvalidArgumentError(ValueError):
         self.name = name
         self.value = value
         self.expected = expected
-        super().__init__(f"argument {name!s}={value!r} is invalid: expected {expected}")
+        super().__init__(f"argument {name!s}={shown(value)} is invalid: expected {expected}")
+
+
+#: The most characters of a value's ``repr`` that an error message shows.
+SHOWN_CHARACTERS = 200
+
+
+def shown(value) -> str:
+    """``repr(value)`` cut to :data:`SHOWN_CHARACTERS` characters (then ``...`` and the length).
+
+    Parameters
+    ----------
+    value : object
+        Anything; a ``repr`` that fails is replaced by the type's name.
+
+    Returns
+    -------
+    str
+        The text shown for ``value`` in an error message.
+    """
+    try:
+        text = repr(value)
+    except Exception:  # noqa: BLE001 - a message must never fail
+        text = f"<{type(value).__name__}>"
+    if len(text) <= SHOWN_CHARACTERS:
+        return text
+    return f"{text[:SHOWN_CHARACTERS]}... ({len(text)} characters)"
+
+
+def _is_bool(value) -> bool:
+    return isinstance(value, (bool, np.bool_))
+
+
+def _is_complex(value) -> bool:
+    return isinstance(value, (complex, np.complexfloating))
 
 
 def _as_float(name: str, value) -> float:
+    """``value`` as a finite float; booleans and complex numbers are refused, not converted."""
+    if _is_bool(value) or _is_complex(value):
+        raise InvalidArgumentError(name, value, "a real number")
     try:
         x = float(value)
     except (TypeError, ValueError):
         raise InvalidArgumentError(name, value, "a real number") from None
+    except OverflowError:  # an int beyond the float range
+        raise InvalidArgumentError(name, value, "a finite real number") from None
     if not math.isfinite(x):
         raise InvalidArgumentError(name, value, "a finite real number")
     return x
+
+
+def check_real(value, name: str) -> float:
+    """Check a finite real number (any sign); booleans and complex numbers are refused.
+
+    Parameters
+    ----------
+    value : float or str
+        The value; anything ``float()`` accepts except a bool or a complex number.
+    name : str
+        The argument name shown in the error.
+
+    Returns
+    -------
+    float
+        ``value`` as a float.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``value`` is not a finite real number (naming ``name``).
+    """
+    return _as_float(name, value)
 
 
 def check_restitution(r, name: str = "restitution") -> float:
@@ -140,7 +211,7 @@ def check_nonnegative(value, name: str) -> float:
     Returns
     -------
     float
-        ``value`` as a float.
+        ``value`` as a float (``-0.0`` as ``0.0``).
 
     Raises
     ------
@@ -150,13 +221,14 @@ def check_nonnegative(value, name: str) -> float:
     x = _as_float(name, value)
     if x < 0.0:
         raise InvalidArgumentError(name, value, "a finite number >= 0")
-    return x
+    return x + 0.0  # -0.0 is 0.0 (never shown as -0 in parameters or output)
 
 
 def check_count(value, name: str, minimum: int) -> int:
     """Check an integer count (number of particles, grid points) of at least ``minimum``.
 
-    A float is accepted only when it equals an integer (``8.0``); booleans are refused.
+    A float is accepted only when it equals an integer (``8.0``); booleans (NumPy's included),
+    complex numbers and strings are refused.
 
     Parameters
     ----------
@@ -175,9 +247,10 @@ def check_count(value, name: str, minimum: int) -> int:
     Raises
     ------
     particles.InvalidArgumentError
-        If ``value`` is a bool, not integral, or below ``minimum`` (naming ``name``).
+        If ``value`` is a bool, complex, a string, not integral, or below ``minimum`` (naming
+        ``name``).
     """
-    if isinstance(value, bool):
+    if _is_bool(value) or _is_complex(value) or isinstance(value, str):
         raise InvalidArgumentError(name, value, f"an integer >= {minimum}")
     try:
         as_int = int(value)
@@ -186,6 +259,167 @@ def check_count(value, name: str, minimum: int) -> int:
     if as_int != value or as_int < minimum:
         raise InvalidArgumentError(name, value, f"an integer >= {minimum}")
     return as_int
+
+
+def check_dimension(value, name: str = "dimension") -> int:
+    """Check a space dimension d ∈ {1, 2, 3}: an integer (``2.0`` accepted), never a bool, a
+    complex number or a string.
+
+    Parameters
+    ----------
+    value : int
+        The dimension.
+    name : str, optional
+        The argument name shown in the error (default ``"dimension"``).
+
+    Returns
+    -------
+    int
+        ``value`` as an ``int``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``value`` is not 1, 2 or 3 as a real number (naming ``name``).
+    """
+    if (_is_bool(value) or not isinstance(value, (int, float, np.integer, np.floating))
+            or value not in (1, 2, 3)):
+        raise InvalidArgumentError(name, value, "1, 2 or 3")
+    return int(value)
+
+
+def check_real_array(values, name: str, *, ndim: int | None = None, min_size: int = 0,
+                     finite: bool = True) -> np.ndarray:
+    """Check an array of real numbers (for the numerical functions' array arguments).
+
+    Booleans, complex numbers, strings and other objects are refused, not converted; a scalar is
+    a 0-dimensional array.
+
+    Parameters
+    ----------
+    values : array_like
+        The values.
+    name : str
+        The argument name shown in the error.
+    ndim : int, optional
+        The required number of dimensions (any when None).
+    min_size : int, optional
+        The fewest elements accepted (default 0).
+    finite : bool, optional
+        If True (default), NaN and ±inf are refused.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``values`` as a float array.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``values`` is not real, has the wrong number of dimensions, fewer than ``min_size``
+        elements, or (``finite``) a non-finite element (naming ``name``).
+    """
+    try:
+        raw = np.asarray(values)
+        if raw.dtype.kind not in "iuf" and not (raw.dtype == object and all(
+                isinstance(x, (int, float, np.integer, np.floating)) and not _is_bool(x)
+                for x in raw.ravel())):
+            raise TypeError("not real numbers")
+        arr = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise InvalidArgumentError(name, _summary(values), "an array of real numbers") from None
+    if ndim is not None and arr.ndim != ndim:
+        raise InvalidArgumentError(name, _summary(values), f"a {ndim}-dimensional array "
+                                   f"(got shape {arr.shape})")
+    if arr.size < min_size:
+        raise InvalidArgumentError(name, _summary(values), f"at least {min_size} values")
+    if finite and not np.all(np.isfinite(arr)):
+        raise InvalidArgumentError(name, _summary(values), "finite values (no NaN or inf)")
+    return arr
+
+
+def check_edges(edges, name: str = "edges") -> np.ndarray:
+    """Check histogram bin edges: at least two finite, strictly increasing real numbers.
+
+    Parameters
+    ----------
+    edges : array_like
+        The edges.
+    name : str, optional
+        The argument name shown in the error (default ``"edges"``).
+
+    Returns
+    -------
+    numpy.ndarray
+        The edges as a one-dimensional float array.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If they are not real, not one-dimensional, fewer than two, not finite (NaN inside
+        included) or not strictly increasing (naming ``name``).
+    """
+    arr = check_real_array(edges, name, ndim=1, min_size=2)
+    if np.any(np.diff(arr) <= 0):
+        raise InvalidArgumentError(name, _summary(edges), "strictly increasing edges")
+    return arr
+
+
+def check_fit_points(x, y, *, fewest: int, name_x: str = "x", name_y: str = "y"):
+    """Check the points of a least-squares fit: finite, one-dimensional, of one length, with at
+    least ``fewest`` distinct abscissae (a fit through repeated x has no unique solution).
+
+    Parameters
+    ----------
+    x, y : array_like
+        Abscissae and ordinates (``y`` may be two-dimensional: one row per run, each of the
+        length of ``x``).
+    fewest : int
+        The fewest distinct x the fit needs (2 for a line; degree + 1 for a polynomial).
+    name_x, name_y : str, optional
+        The argument names shown in the error.
+
+    Returns
+    -------
+    tuple of numpy.ndarray
+        ``(x, y)`` as float arrays.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        For non-real or non-finite values, mismatched lengths, or fewer than ``fewest``
+        distinct x (naming the argument).
+    """
+    x = check_real_array(x, name_x, ndim=1)
+    y = check_real_array(y, name_y)
+    if y.ndim not in (1, 2) or y.shape[-1] != x.size:
+        raise InvalidArgumentError(name_y, _summary(y), f"{x.size} values per row, one per x")
+    distinct = np.unique(x).size
+    if distinct < fewest:
+        raise InvalidArgumentError(name_x, _summary(x), f"at least {fewest} distinct values "
+                                   f"(got {distinct}): the fit is not determined")
+    return x, y
+
+
+class _Text:
+    """A value shown in an error message by this text (``repr`` gives it unquoted)."""
+
+    def __init__(self, text: str):
+        self.text = text
+
+    def __repr__(self) -> str:
+        return self.text
+
+
+def _summary(values):
+    """A value for an error message: a small array as a list, a large one by its shape and its
+    first values (never converted whole)."""
+    if not isinstance(values, np.ndarray):
+        return values
+    if values.size <= 40:
+        return values.tolist()
+    head = ", ".join(repr(x) for x in values.ravel()[:8].tolist())
+    return _Text(f"array of shape {values.shape}: [{head}, ...]")
 
 
 def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarray:
@@ -212,25 +446,31 @@ def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarra
     Raises
     ------
     particles.InvalidArgumentError
-        If ``times`` is not numeric, empty or not one-dimensional, contains a non-finite or
-        negative value, or is not increasing (naming ``name``).
+        If ``times`` is not numeric (booleans, complex numbers and strings are refused), empty or
+        not one-dimensional, contains a non-finite or negative value, or is not increasing
+        (naming ``name``).
     """
     if np.isscalar(times):
         times = [times]
     try:
-        arr = np.asarray(times, dtype=float)
-    except (TypeError, ValueError):
+        raw = np.asarray(times)
+        if raw.dtype.kind not in "iuf" and not (raw.dtype == object and all(
+                isinstance(x, (int, float, np.integer, np.floating)) and not _is_bool(x)
+                for x in raw.ravel())):
+            raise TypeError("not real numbers")  # booleans, complex, strings, None
+        arr = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
         raise InvalidArgumentError(name, times, "a list of real numbers") from None
-    shown = times if not isinstance(times, np.ndarray) else times.tolist()
+    given = times if not isinstance(times, np.ndarray) else times.tolist()
     if arr.ndim != 1 or arr.size == 0:
-        raise InvalidArgumentError(name, shown, "a non-empty one-dimensional list of times")
+        raise InvalidArgumentError(name, given, "a non-empty one-dimensional list of times")
     if not np.all(np.isfinite(arr)):
-        raise InvalidArgumentError(name, shown, "finite times")
+        raise InvalidArgumentError(name, given, "finite times")
     if np.any(arr < 0):
-        raise InvalidArgumentError(name, shown, "times >= 0")
+        raise InvalidArgumentError(name, given, "times >= 0")
     steps = np.diff(arr)
     if np.any(steps <= 0 if strictly else steps < 0):
-        raise InvalidArgumentError(name, shown, "increasing times")
+        raise InvalidArgumentError(name, given, "increasing times")
     return arr
 
 
@@ -246,8 +486,10 @@ def _split_list(text: str, name: str, what: str) -> list[str]:
 def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
     """Parse a comma-separated list of numbers such as ``"1,10,100"`` (for the command line).
 
-    Empty elements (``"1,,2"``, ``","``) and an empty list are refused.  A sequence that is not a
-    string is converted element by element with ``float`` and not otherwise checked.
+    Empty elements (``"1,,2"``, ``","``) and an empty list are refused, and so are non-finite
+    values (``nan``, ``inf``, ``1e400``) and repeated values: equal numbers spelled differently
+    (``0,-0`` or ``1000,1000.0``) are repeats.  A sequence that is not a string is checked the
+    same way element by element (booleans and complex numbers are refused).
 
     Parameters
     ----------
@@ -264,17 +506,35 @@ def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
     Raises
     ------
     particles.InvalidArgumentError
-        If the text is empty, has an empty element, or an element is not a number (naming
-        ``name``).
+        If the text is empty, has an empty element, an element is not a finite number, or a
+        value is repeated (naming ``name``).
     """
-    if not isinstance(text, str):
-        return [float(x) for x in text]
-    out = []
-    for part in _split_list(text, name, "numbers"):
+    if isinstance(text, str):
+        parts = _split_list(text, name, "numbers")
+    else:
         try:
-            out.append(float(part))
-        except ValueError:
+            parts = list(text)
+        except TypeError:
+            raise InvalidArgumentError(name, text, "a list of numbers") from None
+        if not parts:
+            raise InvalidArgumentError(name, text, "a non-empty list of numbers")
+    out = []
+    for part in parts:
+        if _is_bool(part) or _is_complex(part) or not isinstance(
+                part, (str, int, float, np.integer, np.floating)):
+            raise InvalidArgumentError(name, text, "a list of real numbers")
+        try:
+            value = float(part)
+        except (ValueError, OverflowError):
             raise InvalidArgumentError(name, text, "a comma-separated list of numbers") from None
+        if not math.isfinite(value):
+            raise InvalidArgumentError(name, text, f"finite numbers (got {part!s})")
+        out.append(value + 0.0)  # "-0" is 0.0
+    seen: set[float] = set()
+    for value in out:  # 0.0 == -0.0, so "0,-0" is a repeat
+        if value in seen:
+            raise InvalidArgumentError(name, text, f"distinct values ({value + 0.0:g} is repeated)")
+        seen.add(value)
     return out
 
 

@@ -6,6 +6,7 @@ functions included), and by importing ``particles`` in a fresh interpreter."""
 from __future__ import annotations
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -234,3 +235,69 @@ def test_the_private_name_checker_finds_both_kinds(tmp_path):
     modules = {"particles.driver": path, "particles._kinetic_scheme": path}
     assert private_uses("particles.m", path, modules) == [
         "from particles.driver import _read_npz", "solution._index"]
+
+
+#: The module that holds the kinetic collision models: the only one that writes out the kernel.
+COLLISION_MODEL = "maxwell_kinetics.model"
+
+#: The kernel written out, as ``ast.unparse`` spells it (docstrings and every other string
+#: constant blanked, comments gone): the transfer fraction p = (1 + r)/2, λ = p(1 − p) =
+#: (1 − r²)/4, the complement 1 − p of a variable or attribute named ``p``, and the sums
+#: p^k + (1 − p)^k = 1 − kλ of the deviation source.
+KERNEL_PATTERNS = {
+    "transfer fraction": re.compile(r"0\.5 \* \(1(?:\.0)? \+ [\w.]+\)"
+                                    r"|\(1(?:\.0)? \+ [\w.]+\) / 2\b"),
+    "lambda": re.compile(r"\b([\w.]+) \* \(1(?:\.0)? - \1\)"
+                         r"|\(1(?:\.0)? - [\w.]+ (?:\*\* 2|\* [\w.]+)\) / 4\b"
+                         r"|0\.25 \* \(1(?:\.0)? - [\w.]+ (?:\*\* 2|\* [\w.]+)\)"),
+    "complement 1 - p": re.compile(r"(?<![\w.])1(?:\.0)? - (?:\w+\.)?p\b(?!\s*\()"),
+    "1 - k lambda": re.compile(r"(?<![\w.])1(?:\.0)? - [23](?:\.0)? \* (?:\w+\.)?lam\b"),
+}
+
+
+def kernel_rederivations(source: str) -> list[str]:
+    """The kernel expressions (:data:`KERNEL_PATTERNS`) written out in ``source``'s code."""
+    tree = ast.parse(source)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str):
+            node.value = ""
+    code = ast.unparse(tree)
+    return sorted({f"{kind}: {match.group(0)}" for kind, pattern in KERNEL_PATTERNS.items()
+                   for match in pattern.finditer(code)})
+
+
+def kernel_rederiving_modules(sources: dict[str, str]) -> dict[str, list[str]]:
+    """Kinetic (library) modules of ``maxwell_kinetics`` other than :data:`COLLISION_MODEL` that
+    write out the kernel, with what they write."""
+    out = {}
+    for name, source in sources.items():
+        if (not name.startswith("maxwell_kinetics") or _is_application(name)
+                or name == COLLISION_MODEL):
+            continue
+        found = kernel_rederivations(source)
+        if found:
+            out[name] = found
+    return out
+
+
+def test_the_kernel_checker_finds_each_form():
+    assert kernel_rederivations("p = 0.5 * (1.0 + r)\nq = (1 + restitution) / 2") == [
+        "transfer fraction: (1 + restitution) / 2", "transfer fraction: 0.5 * (1.0 + r)"]
+    assert kernel_rederivations("a = m.p * (1.0 - m.p)\nb = (1 - r ** 2) / 4\n"
+                                "c = 0.25 * (1.0 - r * r)") == [
+        "complement 1 - p: 1.0 - m.p", "lambda: (1 - r ** 2) / 4", "lambda: 0.25 * (1.0 - r * r)",
+        "lambda: m.p * (1.0 - m.p)"]
+    assert kernel_rederivations("g = x ** (1.0 - p)\nh = 1.0 - 3.0 * lam") == [
+        "1 - k lambda: 1.0 - 3.0 * lam", "complement 1 - p: 1.0 - p"]
+    # docstrings, strings, comments and look-alikes are not code of the kernel
+    assert kernel_rederivations('"""p = (1 + r)/2"""\nx = "1 - p"  # p * (1 - p)\n'
+                                "y = 1.0 - prob + 1 - p2 + 11 - p.q(1)") == []
+    sources = {"maxwell_kinetics.tails": "lam = p * (1 - p)", COLLISION_MODEL: "lam = p * (1 - p)",
+               "maxwell_kinetics.cli": "lam = p * (1 - p)"}
+    assert kernel_rederiving_modules(sources) == {
+        "maxwell_kinetics.tails": ["complement 1 - p: 1 - p", "lambda: p * (1 - p)"]}
+
+
+def test_only_the_collision_model_writes_out_the_kernel():
+    sources = {name: path.read_text() for name, path in project_modules().items()}
+    assert kernel_rederiving_modules(sources) == {}

@@ -42,11 +42,12 @@ def add_parser(subparsers) -> None:
         "form and no decay rates there.",
     )
     p.add_argument("--restitution", "-r", required=True, help="restitution r in [0, 1)")
-    p.add_argument("--n", default=None, help="Chebyshev degree (default 64 in 1D, 128 in 2D/3D)")
+    p.add_argument("--n", default=None, help="Chebyshev degree (default 64 in 1D, 128 in 2D/3D; "
+                   "at most 256 in 1D, where a larger degree is ill-conditioned)")
     p.add_argument("--dimension", default="1",
                    help="velocity dimension d in {1, 2, 3} (d >= 2: the isotropic model)")
-    p.add_argument("--angular", default="uniform",
-                   help="angular model for d >= 2: uniform or hard")
+    p.add_argument("--angular", default=None,
+                   help="angular model, only with --dimension 2 or 3: uniform (default) or hard")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     compile_cache.add_option(p)
     p.set_defaults(handler=run)
@@ -54,17 +55,32 @@ def add_parser(subparsers) -> None:
 
 def run(args) -> int:
     from ..linear_rates import linear_decay_rates
-    from ..stationary import fixed_point  # JAX: imported only when it runs
+    from ..stationary import (  # JAX: imported only when it runs
+        MAX_DEGREE_1D,
+        RESIDUAL_PER_LAMBDA,
+        fixed_point,
+    )
 
     start = time.perf_counter()
     from ..model import angular_law
 
     dimension = parse_count(args.dimension, "dimension", 1)
-    angular_law(dimension, args.angular)  # checks both, before any work
+    angular = "uniform" if args.angular is None else args.angular
+    angular_law(dimension, angular)  # checks both, before any work
+    if dimension == 1 and args.angular is not None:
+        raise InvalidArgumentError("angular", args.angular,
+                                   "no --angular without --dimension 2 or 3 (in d = 1 there is "
+                                   "no collision direction to choose)")
     n = parse_count(args.n, "n", 8) if args.n is not None else (64 if dimension == 1 else 128)
     check_fixed_point_budget(n)
+    if dimension == 1 and n > MAX_DEGREE_1D:
+        # measured: beyond, Gauss-Newton meets a wrong function with a small residual
+        # (max |G - f_hat| = 0.22 at --n 800, r = 0.5); see stationary.MAX_DEGREE_1D
+        raise InvalidArgumentError("n", args.n, f"a Chebyshev degree --n <= {MAX_DEGREE_1D} in "
+                                   "d = 1 (a larger one is too ill-conditioned: it converges to "
+                                   "a wrong function)")
     compile_cache.from_args(args)
-    fp = fixed_point(args.restitution, n=n, dimension=dimension, angular=args.angular)
+    fp = fixed_point(args.restitution, n=n, dimension=dimension, angular=angular)
     # Newton may stop on a small step at a non-solution (n = 8, r = 0.99: residual 4.8e-3):
     # a fixed point counts as converged only when its residual is small too
     converged = bool(fp.converged) and fp.residual <= RESIDUAL_TOLERANCE
@@ -73,7 +89,7 @@ def run(args) -> int:
     payload = {
         "restitution": fp.restitution,
         "dimension": dimension,
-        "angular": args.angular if dimension > 1 else None,
+        "angular": angular if dimension > 1 else None,
         "max_error": fp.max_error if dimension == 1 else None,
         "residual": fp.residual,
         "iterations": fp.iterations,
@@ -87,14 +103,20 @@ def run(args) -> int:
     }
     status = 0
     if not converged:  # never a silent success: a warning and exit status 3
+        against = f"{RESIDUAL_TOLERANCE:g}"
+        if dimension == 1:  # and 1e-8 λ: see stationary.RESIDUAL_PER_LAMBDA
+            from ..model import MaxwellModel
+
+            against += f" and {RESIDUAL_PER_LAMBDA:g} lambda = " + \
+                f"{RESIDUAL_PER_LAMBDA * MaxwellModel(fp.restitution).lam:.1e}"
         print(f"maxwell-kinetics fixed-point: warning: Gauss-Newton did not converge in "
               f"{fp.iterations} iterations (residual {fp.residual:.3e} against "
-              f"{RESIDUAL_TOLERANCE:g}); the result is not a fixed point", file=sys.stderr)
+              f"{against}); the result is not a fixed point", file=sys.stderr)
         status = 3
     if args.json:
         emit_json(payload)
         return status
-    model = "" if dimension == 1 else f", d = {dimension} ({args.angular})"
+    model = "" if dimension == 1 else f", d = {dimension} ({angular})"
     print(f"fixed point, r = {fp.restitution:g}{model}: Chebyshev n = {fp.n} on "
           f"[0, {fp.q_max:g}]")
     if rates is None:

@@ -132,7 +132,8 @@ def model_params(args, model: Model, *, sweep: bool) -> dict:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        From the parsers it calls, for a value that is not valid for its parameter.
+        From the parsers it calls, for a value that is not valid for its parameter, or (sweep)
+        for a list that gives one value twice, however spelled (``0,-0``; ``1000,1e3``).
     """
     params = {}
     for p in model.parameters:
@@ -143,6 +144,10 @@ def model_params(args, model: Model, *, sweep: bool) -> dict:
             params[p.name] = text
         elif sweep:
             values = [p.parse(part) for part in parse_name_list(text, p.name)]
+            for i, value in enumerate(values):  # "0.5,0.50" or "1e3,1000": one value twice
+                if value in values[:i]:
+                    raise InvalidArgumentError(p.name, text, f"distinct values ({value!r} is "
+                                               "given twice)")
             params[p.name] = values if len(values) > 1 else values[0]
         else:
             params[p.name] = p.parse(text)

@@ -22,7 +22,9 @@ the total at each time, where the other models give one integer); ``--structure-
 adds ``C`` (C(r) = (1/N) Σ_i v_i v_{i+r}, r = 0..⌊N/2⌋, label order) and ``--profile`` adds
 ``profile`` (``x``: rod positions in [0, L) sorted, ``v_x``: their velocities, ``v_i``: velocities
 by particle label), all at the last time.  An inelastic collapse (δ = 0) exits with status 3 and
-a message that names the time, the particles and the number of collisions.
+a message that names the time, the particles and the number of collisions.  A run whose energy
+overflows float64 (e.g. a --driving far too strong) also exits with status 3, printing and saving
+nothing.
 
 Bad input raises ``InvalidArgumentError`` before anything is written,
 which the top-level command turns into exit status 2.
@@ -33,6 +35,8 @@ from __future__ import annotations
 import argparse
 import sys
 
+import numpy as np
+
 from particles import driver
 from particles import observables as obs
 from particles.md import InelasticCollapseError, profile_x
@@ -40,6 +44,7 @@ from particles.models import get_model
 from particles.sticky import profile_x as sticky_profile_x
 from particles.validation import (
     InvalidArgumentError,
+    check_nonnegative,
     check_times,
     parse_float_list,
     parse_seed,
@@ -70,6 +75,8 @@ def add_common_options(parser: argparse.ArgumentParser) -> None:
     """
     parser.add_argument("--seed", default="0", help="integer seed >= 0 (default 0)")
     add_run_options(parser)
+    # simulate writes checkpoints only with --checkpoint: None tells an interval given from none
+    parser.set_defaults(checkpoint_interval=None)
     parser.add_argument("--checkpoint", metavar="FILE", help="write checkpoints to FILE")
     parser.add_argument("--resume", metavar="FILE", help="continue the run saved in FILE")
     parser.add_argument("--save", metavar="FILE", help="save the full result (.npz) to FILE")
@@ -109,6 +116,7 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
     """
     times = check_times(parse_float_list(args.times, time_key), time_key)
     seed = parse_seed(args.seed)
+    interval = _checkpoint_interval(args)
     progress = sys.stderr.isatty() if args.progress is None else args.progress
     check_outputs(checkpoint=args.checkpoint, save=args.save, inputs={"resume": args.resume})
     try:
@@ -120,7 +128,7 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             checkpoint=args.checkpoint,
             resume=args.resume,
             structure_factor="last" if args.structure_factor else False,  # only S(τ_last) printed
-            checkpoint_interval=args.checkpoint_interval,
+            checkpoint_interval=interval,
             force=args.force,
         )
     except KeyboardInterrupt as exc:
@@ -128,6 +136,10 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
         if saved is not None:
             print(f"checkpoint saved to {saved}", file=sys.stderr)
         raise
+    overflow = _overflow(result.times, result.energy, time_key)
+    if overflow is not None:  # a physics failure: nothing printed or saved as if it were a result
+        print(f"maxwell-kinetics simulate {engine.name}: error: {overflow}", file=sys.stderr)
+        return 3
     if args.save:
         result.save(args.save)
     payload = result.summary()
@@ -149,6 +161,29 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             print(f"histogram: {result.histogram_note}")
         print(f"{result.seconds:.3f} s")
     return 0
+
+
+def _overflow(times, energy, time_key: str) -> str | None:
+    """Why the run is no result (velocities beyond float64: inf or NaN energy), or None."""
+    bad = [i for i, e in enumerate(energy) if not np.isfinite(e)]
+    if not bad:
+        return None
+    return (f"the energy overflowed float64 ({energy[bad[0]]} at {time_key} = "
+            f"{times[bad[0]]:g}): the velocities are beyond 1e154, e.g. from a --driving too "
+            "strong for these times")
+
+
+def _checkpoint_interval(args) -> float:
+    """``--checkpoint-interval`` checked (named as the option), and only with ``--checkpoint``;
+    60 s when not given."""
+    text = getattr(args, "checkpoint_interval", None)
+    if text is None:
+        return 60.0
+    interval = check_nonnegative(text, "checkpoint-interval")
+    if args.checkpoint is None:
+        raise InvalidArgumentError("checkpoint-interval", text,
+                                   "no --checkpoint-interval without --checkpoint FILE")
+    return interval
 
 
 def _md_extend(engine, args):
@@ -214,13 +249,13 @@ def run_model(args) -> int:
     Returns
     -------
     int
-        The exit status.
+        The exit status (3: inelastic collapse, or an energy beyond float64).
 
     Raises
     ------
-    particles.InvalidArgumentError
-        For a bad value (the command line prints it and exits 2), also ``--workers`` or
-        ``--scheduler`` without ``--chunks``.
+    particles.validation.InvalidArgumentError
+        For any bad option, and for ``--workers`` or ``--scheduler`` without ``--chunks`` (the
+        top-level command prints it and exits 2).
     """
     model = get_model(args.model)
     engine = model.build(model_params(args, model, sweep=False))
@@ -290,9 +325,10 @@ def _run_sticky_chunks(engine, args) -> int:
     times = check_times(parse_float_list(args.times, "t"), "t")
     seed = parse_seed(args.seed)
     chunks = check_chunks(parse_count(args.chunks, "chunks", 1), engine.params.n)
-    for option in ("checkpoint", "resume", "save"):
+    for option in ("checkpoint", "resume", "save", "checkpoint_interval"):
         if getattr(args, option) is not None:
-            raise InvalidArgumentError(option, getattr(args, option), "no --" + option +
+            flag = option.replace("_", "-")
+            raise InvalidArgumentError(flag, getattr(args, option), "no --" + flag +
                                        " with --chunks (only the outputs reach this process)")
     if args.profile:
         raise InvalidArgumentError("profile", True,

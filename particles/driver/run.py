@@ -55,10 +55,12 @@ def initial_velocities(law, n: int, rng: np.random.Generator) -> np.ndarray:
     Raises
     ------
     InvalidArgumentError
-        Naming ``n`` (not an integer ≥ 2) or ``initial`` (an unknown law or one of zero
-        variance).
+        Naming ``n`` (not an integer ≥ 2), ``rng`` (not a ``numpy.random.Generator``) or
+        ``initial`` (an unknown law or one of zero variance).
     """
     n = check_count(n, "n", 2)
+    if not isinstance(rng, np.random.Generator):
+        raise InvalidArgumentError("rng", rng, "a numpy.random.Generator (default_rng(seed))")
     v = get_law(law).sample(rng, n)
     v = v - v.mean()
     e = float(np.mean(v * v))

@@ -12,7 +12,32 @@ import math
 
 import numpy as np
 
+from ..validation import (
+    InvalidArgumentError,
+    check_positive,
+    check_real,
+    check_real_array,
+    check_restitution,
+)
 from .state import MDParams, MDState
+
+
+def _state(state, params=None) -> MDState:
+    """``state`` checked to be an :class:`MDState` (of ``params``' N when given)."""
+    if not isinstance(state, MDState):
+        raise InvalidArgumentError("state", type(state).__name__, "a particles.MDState")
+    if params is not None:
+        if not isinstance(params, MDParams):
+            raise InvalidArgumentError("params", type(params).__name__, "a particles.MDParams")
+        if state.velocities.size != params.n:
+            raise InvalidArgumentError("params", f"n = {params.n}", "the parameters of this "
+                                       f"state (N = {state.velocities.size})")
+    return state
+
+
+def _haff_arguments(restitution, density, t0_energy) -> tuple[float, float, float]:
+    return (check_restitution(restitution), check_positive(density, "density"),
+            check_positive(t0_energy, "t0_energy"))
 
 __all__ = [
     "collisions_per_particle",
@@ -38,7 +63,13 @@ def collisions_per_particle(state: MDState) -> float:
     -------
     float
         τ = 2 · (pair collisions so far) / N.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``state`` is not an MDState.
     """
+    state = _state(state)
     return 2.0 * state.collisions / state.velocities.size
 
 
@@ -54,8 +85,13 @@ def total_momentum(state: MDState) -> float:
     -------
     float
         Σ_i v_i.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``state`` is not an MDState.
     """
-    return float(np.sum(state.velocities))
+    return float(np.sum(_state(state).velocities))
 
 
 def rod_positions(state: MDState, params: MDParams, t: float | None = None) -> np.ndarray:
@@ -74,7 +110,16 @@ def rod_positions(state: MDState, params: MDParams, t: float | None = None) -> n
     -------
     numpy.ndarray
         Float array of shape ``(N,)``, in particle-label order.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``state`` is not an MDState, ``params`` not the MDParams of its N, or ``t`` not a
+        finite real number.
     """
+    state = _state(state, params)
+    if t is not None:
+        t = check_real(t, "t")
     x = state.positions_at(t) + np.arange(params.n) * params.rod_length
     return np.mod(x, params.length)
 
@@ -96,6 +141,12 @@ def profile_x(state: MDState, params: MDParams, t: float | None = None):
     tuple of numpy.ndarray
         ``(y, v)``: the sorted positions and the velocities in that order, each of shape
         ``(N,)``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``state`` is not an MDState, ``params`` not the MDParams of its N, or ``t`` not a
+        finite real number.
     """
     y = rod_positions(state, params, t)
     order = np.argsort(y, kind="stable")
@@ -114,7 +165,13 @@ def profile_i(state: MDState):
     -------
     tuple of numpy.ndarray
         ``(i, v)``: the labels 0..N−1 and a copy of the velocities, each of shape ``(N,)``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``state`` is not an MDState.
     """
+    state = _state(state)
     return np.arange(state.velocities.size), state.velocities.copy()
 
 
@@ -138,7 +195,14 @@ def haff_time(restitution: float, density: float, t0_energy: float = 1.0) -> flo
     -------
     float
         t₀, in units of physical time t.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``restitution`` is not in [0, 1] or ``density`` or ``t0_energy`` is not a finite
+        number > 0 (booleans and complex numbers refused).
     """
+    restitution, density, t0_energy = _haff_arguments(restitution, density, t0_energy)
     if restitution >= 1.0:
         return math.inf
     return math.sqrt(math.pi) / ((1.0 - restitution**2) * density * math.sqrt(t0_energy))
@@ -162,8 +226,16 @@ def haff_energy(t, restitution: float, density: float, t0_energy: float = 1.0):
     -------
     numpy.ndarray
         T(t), a float array of the shape of ``t``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``t`` is not finite real times >= 0, or as :func:`haff_time`.
     """
-    t = np.asarray(t, dtype=float)
+    t = check_real_array(t, "t")
+    if np.any(t < 0):
+        raise InvalidArgumentError("t", t.tolist() if t.size <= 40 else f"shape {t.shape}",
+                                   "times >= 0")
     return t0_energy / (1.0 + t / haff_time(restitution, density, t0_energy)) ** 2
 
 
@@ -184,5 +256,11 @@ def initial_cooling_rate(restitution: float, density: float, t0_energy: float = 
     -------
     float
         dT/dt at t = 0⁺ (≤ 0).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        As :func:`haff_time`.
     """
+    restitution, density, t0_energy = _haff_arguments(restitution, density, t0_energy)
     return -2.0 / math.sqrt(math.pi) * (1.0 - restitution**2) * density * t0_energy**1.5

@@ -282,3 +282,11 @@ def test_progress_bar_runs_on_stderr(capsys):
     _assert_same_run(quiet, loud)
     captured = capsys.readouterr()
     assert captured.out == "" and "lattice" in captured.err
+
+
+@pytest.mark.parametrize("rng", [5, None, "seed", np.random.SeedSequence(1)])
+def test_initial_velocities_names_a_bad_rng(rng):
+    from particles import InvalidArgumentError, initial_velocities
+
+    with pytest.raises(InvalidArgumentError, match="rng"):
+        initial_velocities("gaussian", 10, rng)

@@ -101,6 +101,10 @@ def test_simulate_and_ensemble_give_the_same_numbers(capsys, tmp_path, model_nam
     p = model.parameter(name)
     texts = _base(model)
     texts[name] = N if name == "n" else _text(p.example)
+    if p.needs:  # e.g. ulam's --angular needs --dimension 2 or 3
+        other, values, _ = p.needs
+        example = model.parameter(other).example
+        texts.setdefault(other, _text(example if example in values else values[0]))
     time = _time(model, texts)
     argv = _argv(model, texts) + [f"--{time}", TIMES]
     runs = {}
@@ -181,9 +185,44 @@ def test_a_bad_value_gets_one_message_from_both_commands(capsys, tmp_path, model
                                      "--out", str(out)])
         message = _message(err_sim, "simulate")
         assert message == _message(err_ens, "ensemble")
-        assert message.startswith(f"argument {name}="), message
+        label = model.parameter(name).option.lstrip("-")  # the option as typed: rod-length
+        assert message.startswith(f"argument {label}="), message
         assert text in message or _parsed(model, name, text) in message, message
         assert list(tmp_path.iterdir()) == [], (model_name, name, text)
+
+
+@pytest.mark.parametrize("argv, named", [
+    (["--angular", "hard"], "angular='hard'"),  # default dimension 1: no collision direction
+    (["--angular", "uniform", "--dimension", "1"], "angular='uniform'"),
+    (["--driving", "0", "--dimension", "2"], "driving=0.0"),  # driving is one-dimensional
+])
+def test_an_option_that_needs_another_is_refused_without_it(capsys, tmp_path, argv, named):
+    base = ["ulam", "--n", N, "--restitution", "0.5", "--tau", TIMES, *argv]
+    err = run_error(capsys, ["simulate", *base, "--save", str(tmp_path / "s.npz")])
+    assert named in err and "--dimension" in err
+    err = run_error(capsys, ["ensemble", *base, "--seeds", "1", "--serial",
+                             "--out", str(tmp_path / "e")])
+    assert named in err and "--dimension" in err
+    assert list(tmp_path.iterdir()) == []
+    with pytest.raises(InvalidArgumentError, match="--dimension 2 or 3"):
+        get_model("ulam").build({"n": 10, "restitution": 0.5, "angular": "hard"})
+    # with the setting it needs, the option is taken
+    engine = get_model("ulam").build({"n": 10, "restitution": 0.5, "angular": "hard",
+                                      "dimension": 2})
+    assert engine.angular == "hard"
+
+
+@pytest.mark.parametrize("option, values, shown", [
+    ("--restitution", "0.5,0.50", "0.5"), ("--restitution", "0,-0", "0.0"),
+    ("--n", "1000,1e3", "1000"), ("--driving", "0,0.0", "0.0"),
+])
+def test_a_sweep_that_gives_one_value_twice_is_refused(capsys, tmp_path, option, values, shown):
+    base = {"--n": N, "--restitution": "0.5", option: values}
+    argv = [a for k, v in base.items() for a in (k, v)]
+    err = run_error(capsys, ["ensemble", "ulam", *argv, "--tau", TIMES, "--seeds", "1",
+                             "--serial", "--out", str(tmp_path / "e")])
+    assert f"{shown} is given twice" in err and values in err
+    assert list(tmp_path.iterdir()) == []
 
 
 @pytest.mark.parametrize("model_name", ["md", "sticky"])

@@ -100,7 +100,7 @@ def test_inelastic_collapse_exits_3_with_a_clear_message(capsys, tmp_path):
                 "--t",
                 "1",
             ],
-            r"rod_length=1.0.*fit",
+            r"rod-length=1.0.*fit",  # the option as typed
         ),
         (["--n", "10", "--density", "1", "--restitution", "1.5", "--t", "1"], "restitution='1.5'"),
         (

@@ -1,0 +1,62 @@
+"""The statistics helpers on hostile input: fits through points that are not distinct, NaN
+inside bin edges and samples, mismatched lengths, and degrees that the points cannot determine.
+Each raises ``InvalidArgumentError`` naming the argument (before: NumPy's RankWarning,
+LinAlgError, ZeroDivisionError, or a silent NaN or negative count)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics import statistics as st
+from maxwell_kinetics.exact import f_hat
+from particles.validation import InvalidArgumentError
+
+NAN, INF = float("nan"), float("inf")
+X = np.random.default_rng(1).normal(size=200)
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: st.weighted_slope([1, 1, 1, 1, 1], [1, 2, 3, 4, 5]), "x"),  # one abscissa
+    (lambda: st.weighted_slope([2.0, 2.0], [1.0, 2.0], [1.0, 1.0]), "x"),  # det = 0: NaN before
+    (lambda: st.weighted_slope([1.0], [1.0]), "x"),
+    (lambda: st.weighted_slope([1.0, 2.0, NAN], [1.0, 2.0, 3.0]), "x"),
+    (lambda: st.weighted_slope([1.0, 2.0], [1.0, 2.0, 3.0]), "y"),
+    (lambda: st.weighted_slope([1.0, 2.0], [1.0, 2.0], [0.0, 1.0]), "sigma"),
+    (lambda: st.weighted_slope([1.0, 2.0], [1.0, 2.0], [1.0]), "sigma"),
+    (lambda: st.seed_slope([1.0, 1.0, 1.0], [[1.0, 2.0, 3.0]]), "x"),
+    (lambda: st.seed_slope([1.0, 2.0, 3.0], [[1.0, 2.0, 3.0]], degree=5), "x"),
+    (lambda: st.seed_slope([1.0, 2.0, 3.0], [[1.0, 2.0, 3.0]], degree=0), "degree"),
+    (lambda: st.seed_slope([1.0, 2.0, 3.0], [[1.0, 2.0, 3.0]], degree=True), "degree"),
+    (lambda: st.seed_slope([1.0, 2.0, 3.0], [[1.0, INF, 3.0]]), "ys"),
+    (lambda: st.bin_counts(X, [0.0, NAN, 1.0]), "edges"),  # gave a count of -20
+    (lambda: st.bin_counts([NAN], [0.0, 1.0]), "samples"),
+    (lambda: st.ks_distance(X, [0.0, NAN], [0.5, 0.6]), "edges"),
+    (lambda: st.ks_distance(X, [0.0, 1.0], [0.5]), "cdf_at_edges"),
+    (lambda: st.ks_distance([], [0.0, 1.0], [0.5, 0.6]), "samples"),
+    (lambda: st.f_interval_probabilities([0.0, NAN, 1.0]), "edges"),
+    (lambda: st.f_interval_probabilities([1.0, 0.0]), "edges"),  # a negative probability
+    (lambda: st.interval_probabilities(f_hat, [0.0, NAN, 1.0], 40.0), "edges"),
+    (lambda: st.interval_probabilities(f_hat, [0.0, INF], 40.0), "edges"),
+    (lambda: st.interval_probabilities(f_hat, [0.0, 1.0], NAN), "q_max"),
+    (lambda: st.interval_probabilities(None, [0.0, 1.0], 40.0), "G"),
+    (lambda: st.compare_histograms([X], [0.0, 1.0], [0.3, 0.2], 0.5), "probabilities"),
+    (lambda: st.compare_histograms([X], [0.0, NAN], [0.3], 0.5), "edges"),
+    (lambda: st.compare_histograms([X], [0.0, 1.0], [0.3], NAN), "mass_below"),
+])
+def test_hostile_arguments_are_invalid_arguments(call, name):
+    with pytest.raises(InvalidArgumentError) as info:
+        call()
+    assert info.value.name == name
+
+
+def test_good_fits_are_unchanged():
+    # exact lines: the fit must return them to round-off
+    x = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    slope, err, icpt = st.weighted_slope(x, 2.0 * x + 1.0)
+    assert slope == pytest.approx(2.0, abs=1e-12) and icpt == pytest.approx(1.0, abs=1e-12)
+    slope, err, icpt = st.weighted_slope(x, 2.0 * x + 1.0, np.ones(5))
+    assert slope == pytest.approx(2.0, abs=1e-12) and err == pytest.approx(1 / np.sqrt(10))
+    mean, _, slopes = st.seed_slope(x, [3.0 * x, 5.0 * x + x**2], degree=2)
+    assert slopes == pytest.approx([3.0, 5.0], abs=1e-10) and mean == pytest.approx(4.0)
+    assert st.f_interval_probabilities([-INF, 0.0, INF]) == pytest.approx([0.5, 0.5])

@@ -1,0 +1,63 @@
+"""The observables on hostile input: non-finite values inside arrays (velocities, bin edges,
+wavenumbers), booleans and complex numbers where reals are expected, and values near the float
+limit (an overflow gives ±inf where the true value overflows, never NaN)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from particles import observables as obs
+from particles.validation import InvalidArgumentError
+
+NAN, INF = float("nan"), float("inf")
+V = np.random.default_rng(0).normal(size=100)
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: obs.rescaled_histogram(V, [0.0, NAN, 1.0]), "bins"),  # NaN passed diff(edges) > 0
+    (lambda: obs.rescaled_histogram(V, [-INF, 0.0, INF]), "bins"),
+    (lambda: obs.rescaled_histogram(V, [False, True]), "bins"),
+    (lambda: obs.rescaled_histogram(V, [0j, 1.0]), "bins"),
+    (lambda: obs.rescaled_histogram(V, None, True), "v0"),
+    (lambda: obs.rescaled_histogram(V, None, 1j), "v0"),
+    (lambda: obs.rescaled_histogram([1j, 1.0]), "v"),
+    (lambda: obs.rescaled_histogram(["a"]), "v"),
+    (lambda: obs.histogram_from_counts([0.0, NAN], [1], 1, 1.0), "edges"),
+    (lambda: obs.histogram_from_counts([0.0, 1.0], [1, 2], 3, 1.0), "count"),
+    (lambda: obs.histogram_from_counts([0.0, 1.0], [1], True, 1.0), "n"),
+    (lambda: obs.energy([NAN]), "v"),
+    (lambda: obs.energy([1j]), "v"),
+    (lambda: obs.momentum(["x"]), "v"),
+    (lambda: obs.structure_factor([NAN, 1.0]), "v"),
+    (lambda: obs.correlation([INF, 1.0]), "v"),
+    (lambda: obs.velocity_profile([NAN, 1.0]), "v"),
+    (lambda: obs.wavenumbers(True), "n"),
+    (lambda: obs.wavenumbers(2.5), "n"),
+    (lambda: obs.log_bin([1.0, INF], [1.0, 2.0]), "k"),  # was "Maximum allowed size exceeded"
+    (lambda: obs.log_bin([1.0, NAN], [1.0, 2.0]), "k"),  # was silently dropped
+    (lambda: obs.log_bin([1.0, 2.0], [1.0, NAN]), "s"),
+    (lambda: obs.log_bin([1.0, 2.0], [1.0, 2.0], NAN), "bins_per_decade"),
+    (lambda: obs.log_bin([1.0, 2.0], [1.0, 2.0], 2.5), "bins_per_decade"),  # was taken as 2
+    (lambda: obs.mean_sem(["x"]), "values"),
+    (lambda: obs.mean_sem([1.0, 2.0], True), "axis"),
+    (lambda: obs.mean_sem([1.0, 2.0], 5), "axis"),
+])
+def test_hostile_arguments_are_invalid_arguments(call, name):
+    with pytest.raises(InvalidArgumentError) as info:
+        call()
+    assert info.value.name == name
+
+
+def test_values_near_the_float_limit_overflow_to_inf_not_nan():
+    # C(r) of v = ±1e200 alternating is ±1e400: ±inf, not the NaN the inverse FFT of inf gave
+    c = obs.correlation([1e200, -1e200, 1e200, -1e200])
+    assert c.tolist() == [INF, -INF, INF, -INF]
+    k, s = obs.structure_factor([1e200, 3e199, 1.0])
+    assert np.all(np.isinf(s))
+    assert obs.energy([1e200]) == INF
+    np.testing.assert_allclose(obs.correlation([1e152, 2e152]), [2.5e304, 2e304], rtol=1e-14)
+    # the mean and error of values near 1e308 are finite (the sum overflowed to inf, then NaN)
+    mean, sem = obs.mean_sem([1e308, 1e308, -1e308])
+    assert mean == pytest.approx(1e308 / 3, rel=1e-14)
+    assert sem == pytest.approx(np.std([1, 1, -1], ddof=1) / np.sqrt(3) * 1e308, rel=1e-14)

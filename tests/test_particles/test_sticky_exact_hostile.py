@@ -1,0 +1,30 @@
+"""The exact sticky-gas laws on hostile input: NaN and complex points, booleans, a non-integer
+or zero number of quadrature nodes, a NaN cutoff.  Each raises ``InvalidArgumentError`` naming
+the argument (before: NaN returned for z = NaN, True taken as the point 1, nodes = 2.5 taken as
+2, SciPy's ValueError for nodes = 0, a NumPy warning for cutoff = NaN)."""
+
+from __future__ import annotations
+
+import pytest
+
+from particles import sticky_exact as se
+from particles.validation import InvalidArgumentError
+
+NAN = float("nan")
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: se.chernoff_density([NAN]), "z"),
+    (lambda: se.chernoff_density([1j]), "z"),
+    (lambda: se.chernoff_density([0.0], cutoff=NAN), "cutoff"),
+    (lambda: se.chernoff_density([0.0], nodes=True), "nodes"),
+    (lambda: se.exact_mass_density(True), "mu"),
+    (lambda: se.exact_velocity_density([1.0], nodes=2.5), "nodes"),
+    (lambda: se.exact_velocity_density([1.0], nodes=True), "nodes"),
+    (lambda: se.exact_velocity_survival([1.0], nodes=0), "nodes"),
+    (lambda: se.exact_shock_density([1.0], [1j]), "b"),
+])
+def test_hostile_arguments_are_invalid_arguments(call, name):
+    with pytest.raises(InvalidArgumentError) as info:
+        call()
+    assert info.value.name == name
