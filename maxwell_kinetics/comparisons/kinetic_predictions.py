@@ -120,21 +120,10 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
     below : float
         Predicted probability of x < ``edges[0]``.
     """
-    q_max = sol.resolution.q_max
-    tau = float(sol.tau[tau_index])
-    lam = MaxwellModel(sol.restitution).lam
-    law = get_law(sol.initial)
-    weight, stretch = math.exp(-tau), math.exp(lam * tau)
+    from ..kinetic_histogram import bin_probabilities
 
-    def H(q):
-        q = np.minimum(q, q_max)
-        return sol.evaluate(q, tau_index) - weight * law.phi(q * stretch)
-
-    cdf_free = weight * law_cdf(sol.initial, np.asarray(edges, dtype=float) / stretch)
-    prob = st.interval_probabilities(H, edges, q_max) + np.diff(cdf_free)
-    below = float(st.interval_probabilities(H, [-far, float(edges[0])], q_max)[0]
-                  + cdf_free[0] - weight * law_cdf(sol.initial, -far / stretch))
-    return prob, below
+    # one home with Solution.histogram (maxwell_kinetics.kinetic_histogram)
+    return bin_probabilities(sol, sol.time_index(tau_index), np.asarray(edges, dtype=float), far)
 
 
 def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):
