@@ -22,6 +22,11 @@ NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 #: ``comparisons.NAME(comparisons.default_size())``: the one call each notebook makes.
 CALL = re.compile(r"comparisons\.(\w+)\(comparisons\.default_size\(\)\)")
 
+#: The notebooks of the paper's figures, one comparison each; the others are tutorials.
+PAPER = [p for p in NOTEBOOKS if CALL.search(p.read_text())]
+#: The tutorials, built on the public API step by step.
+TUTORIALS = [p for p in NOTEBOOKS if p not in PAPER]
+
 pytestmark = pytest.mark.slow
 
 
@@ -42,7 +47,7 @@ def test_notebooks_are_stored_without_outputs():
                 assert not cell.outputs and cell.execution_count is None, path.name
 
 
-@pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])
+@pytest.mark.parametrize("path", PAPER, ids=[p.stem for p in PAPER])
 def test_notebook_code_runs_on_its_comparison(path, comparison, monkeypatch):
     import matplotlib.pyplot as plt
 
@@ -111,3 +116,6 @@ def test_notebook_runs_headless_with_its_figures_inline(path):
         for output in cell.outputs:
             assert output["output_type"] != "error", (path.name, cell.source)
             assert output.get("name") != "stderr", (path.name, output.get("text", "")[:500])
+            if path in TUTORIALS:  # a tutorial prints no more than ~40 lines at once
+                text = output.get("text", "") or output.get("data", {}).get("text/plain", "")
+                assert text.count("\n") <= 40, (path.name, text[:300])
