@@ -33,8 +33,10 @@ where a node is expanded while k_max p^a q^b > 1/(2√D) and the series is used 
 (:func:`characteristic_function`; exact up to round-off and the truncated series, < 1e-17).
 
 Density.  P(v) = (1/2π) ∫ e^{−ikv} P̂(k) dk, evaluated by an FFT of P̂ on k_m = mΔk, |k| ≤ k_max
-(P̂(k_max) < e^{−40}), on the periodic v-grid of period 2π/Δk (aliasing: P(v + period),
-< e^{−100} on the returned grid).  The tail: P̂ has simple poles at k = ±i/√D (the nearest
+(P̂(k_max) < e^{−40}), on the periodic v-grid of period 2π/Δk = 2H, H = √D max(60, 15/√(pq))
+(aliasing: P(v + 2H), < e^{−100} on the returned grid; a grid fixed at ±60√D, narrower than the
+law for r → 1 where the variance D/(pq) diverges, returned half the variance at r = 0.999).
+The tail: P̂ has simple poles at k = ±i/√D (the nearest
 singularities), so P(v) ≈ R e^{−|v|/√D}/√D for |v| ≫ √D with
 R = ½ P̂(−ip) P̂(−iq) at D = 1 (residue at k = −i; P̂(−iy) = ⟨e^{yv}⟩ from the series).
 
@@ -68,7 +70,12 @@ __all__ = [
 #: Terms of the ln P̂ series at |k|√D ≤ 1/2 (terms ≤ 4^{−j}: 4^{−30} ≈ 1e-18).
 _SERIES_TERMS = 30
 _LEAF = 0.5  # the series is used for |k|√D ≤ _LEAF
-_HALF_WIDTH = 60.0  # the v-grid covers [−60√D, 60√D)
+_HALF_WIDTH = 60.0  # the v-grid covers at least [−60√D, 60√D) ...
+_SIGMAS = 15.0  # ... and 15 standard deviations √(D/(pq)) on either side
+
+#: Largest number of cumulants (κ_{2j} holds (2j)!, which overflows float64 beyond 2j = 170).
+MAX_CUMULANTS = 85
+
 
 
 #: Largest heating strength accepted: the cumulants grow as D^j (j ≤ 4 by default), so D^4 must
@@ -96,7 +103,22 @@ def _check_driving(driving, restitution, *, allow_zero=False) -> tuple[float, fl
         raise InvalidArgumentError(
             "restitution", restitution, "r < 1 (elastic collisions never dissipate the heating)"
         )
+    if transfer_fraction(r) == 1.0:
+        raise InvalidArgumentError(
+            "restitution", restitution, "r < 1 with 1 − r above round-off (p = (1 + r)/2 rounds "
+            "to 1: no dissipation left in float64)"
+        )
     return r, d
+
+
+def _check_count(count) -> int:
+    from particles.validation import check_count
+
+    count = check_count(count, "count", 1)
+    if count > MAX_CUMULANTS:
+        raise InvalidArgumentError(
+            "count", count, f"at most {MAX_CUMULANTS} cumulants ((2j)! overflows beyond)")
+    return count
 
 
 def _rates(p: float, orders: np.ndarray) -> np.ndarray:
@@ -131,7 +153,8 @@ def cumulants(restitution, driving, count: int = 4) -> np.ndarray:
         If r is outside [0, 1) or D is not a finite number in (0, MAX_DRIVING].
     """
     r, d = _check_driving(driving, restitution)
-    j = np.arange(1, int(count) + 1, dtype=float)
+    count = _check_count(count)
+    j = np.arange(1, count + 1, dtype=float)
     factorial = np.array([math.factorial(2 * int(i)) for i in j], dtype=float)
     return factorial * d**j / (j * _rates(transfer_fraction(r), j))
 
@@ -344,7 +367,8 @@ class DrivenSteadyState:
     cumulants : numpy.ndarray
         [κ₂, κ₄, …] (see :func:`cumulants`).
     velocity : numpy.ndarray
-        Uniform velocity grid on [−60√D, 60√D).
+        Uniform velocity grid on [−H, H), H = √D · max(60, 15/√(pq)) (15 standard
+        deviations of the steady law on either side: wider than 60√D for r > 0.87).
     density : numpy.ndarray
         P(v) on ``velocity``, from an FFT of P̂ (P(v) = (1/2π) ∫ e^{−ikv} P̂(k) dk, numpy's
         forward sign; round-off ~ 1e-16).
@@ -359,15 +383,30 @@ class DrivenSteadyState:
     density: np.ndarray = field(repr=False)
 
 
+def _half_width(p: float) -> float:
+    """Half-width H of the x grid at D = 1: max(60, 15/√(pq)) (15 standard deviations)."""
+    return max(_HALF_WIDTH, _SIGMAS / math.sqrt(MaxwellModel.lam_of(p)))
+
+
+def _first_kmax(p: float) -> float:
+    """Starting k_max: 8, or 16√(pq) on the wider grids of pq < 1/16 (r > 0.87), where
+    P̂ ≈ e^{−k²/(2pq)} is then below e^{−128}.  The tree expansion of ln P̂ has
+    ~ ln(2 k_max)/(1 − p) levels and the FFT grid ~ k_max H points, so a k_max fixed at 8 made
+    the cost grow like 1/(1 − r) (16 s at r = 0.9999, a day near r = 1 − 1e-8); with k_max
+    ∝ √(pq) ∝ 1/H both stay bounded for every r < 1."""
+    pq = MaxwellModel.lam_of(p)
+    return 8.0 if _half_width(p) == _HALF_WIDTH else 16.0 * math.sqrt(pq)
+
+
 def _density_unit(p: float) -> tuple[np.ndarray, np.ndarray]:
-    """P(x) at D = 1 on [−60, 60) by FFT."""
-    period = 2.0 * _HALF_WIDTH
+    """P(x) at D = 1 on [−H, H) by FFT, H = :func:`_half_width`."""
+    period = 2.0 * _half_width(p)
     dk = 2.0 * math.pi / period
     # k_max: double until ln P̂(k_max) < −40
-    kmax = 8.0
+    kmax = _first_kmax(p)
     while _log_cf_unit(p, np.array([kmax]))[0] > -40.0:
         kmax *= 2.0
-    m = 1 << int(np.ceil(np.log2(2.0 * kmax / dk)))
+    m = max(512, 1 << int(np.ceil(np.log2(2.0 * kmax / dk))))
     k = np.fft.fftfreq(m, d=1.0 / (m * dk))  # k_j = j Δk in FFT order, |k| ≤ m Δk/2 ≥ k_max
     phi = np.exp(_log_cf_unit(p, k))
     # P(x_n) = (Δk/2π) Σ_j P̂(k_j) e^{−i k_j x_n}, x_n = n · period/m: numpy's forward FFT sign

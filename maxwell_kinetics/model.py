@@ -371,7 +371,9 @@ class MaxwellModel(CollisionModel):
 
     @staticmethod
     def rate_of(p, s):
-        """1 − p^s − (1 − p)^s: the decay rate of the moment of order s (d = 1), per unit τ.
+        """1 − p^s − (1 − p)^s: the decay rate of the moment of order s (d = 1), per unit τ,
+        computed as −expm1(s ln(1 − q)) − q^s with q = 1 − p, so that 1 − p^s keeps its relative
+        precision as r → 1 (q → 0, where 1 − p^s ≈ sq).  Host arithmetic (NumPy).
 
         Parameters
         ----------
@@ -385,7 +387,10 @@ class MaxwellModel(CollisionModel):
         float or array
             The rate, broadcast over ``p`` and ``s``.
         """
-        return 1.0 - p**s - (1.0 - p) ** s
+        q = 1.0 - np.asarray(p, dtype=float)
+        s = np.asarray(s, dtype=float)
+        out = -np.expm1(s * np.log1p(-q)) - q**s
+        return float(out) if out.ndim == 0 else out
 
     @staticmethod
     def power_sum_of(lam, k: int):
@@ -539,7 +544,7 @@ class MaxwellModel(CollisionModel):
             λ(s), of the shape of ``s``.
         """
         law, p = self.law, self.p
-        q = self.complement_of(p)
+        q = 0.5 * (1.0 - self.restitution)  # 1 − p, exact for r ≥ 1/2 (1.0 − p would round)
         if law.degenerate:
             s = np.asarray(s, dtype=float)
             return -np.expm1(2.0 * s * np.log1p(-q)) - q ** (2.0 * s)

@@ -76,7 +76,7 @@ from particles.validation import (
     check_times,
 )
 
-from . import compile_cache
+from . import _interrupt, compile_cache
 from .deviation import reference
 from .exact import f_hat
 from .grid import INFLOW_CUT, Resolution, get_resolution
@@ -240,6 +240,12 @@ class _Stepper:
             return compile_cache.call("advance", scheme.advance_unjitted, scheme.advance,
                                       self.static, (self.dynamic, y, i_start, count))
 
+    def wait(self, y) -> None:
+        """Block until the (asynchronously dispatched) state ``y`` is computed."""
+        import jax
+
+        jax.block_until_ready(y)
+
     def output(self, y, i_window: int, tau: float):
         """w on the fixed grid at τ (≥ i_window Δτ) as a (parts, n) array."""
         with self._x64(True):
@@ -332,8 +338,15 @@ def solve(
     Solution
         G and G − f̂ on the grid at the saved τ, with the settings and the wall-clock time.
 
+    Ctrl-C: called from Python, an interrupt raises KeyboardInterrupt as usual (Python's own
+    SIGINT handler).  The command line instead defers it (:mod:`maxwell_kinetics._interrupt`):
+    the loop waits for each chunk of windows (1/200 of the run) and raises KeyboardInterrupt
+    between chunks, so that it is neither lost nor raised inside JAX.
+
     Raises
     ------
+    KeyboardInterrupt
+        On Ctrl-C (see above).
     particles.validation.InvalidArgumentError
         For an invalid restitution, law, time list, resolution, dimension, angular model,
         ``angular_nodes`` or ``angular_rule``; in d ≥ 2 for r = 1 (naming ``restitution``) or
@@ -380,6 +393,7 @@ def solve(
                         time.perf_counter() - start)
 
     stepper = _Stepper(model, law, grid, opts, dimension, angular, angular_nodes, angular_rule)
+    _interrupt.check()  # a Ctrl-C deferred by the command line while JAX was loading
     y = stepper.y0
     i_window = 0
     bar = None
@@ -399,6 +413,11 @@ def solve(
             while n_full > 0:
                 step = min(chunk, n_full)
                 y = stepper.advance(y, i_window, step)
+                # JAX dispatches asynchronously: wait for this chunk, so that the command
+                # line's deferred Ctrl-C is seen within one chunk (1/200 of the run) and raised
+                # here, with no JAX computation in flight
+                stepper.wait(y)
+                _interrupt.check()
                 i_window += step
                 n_full -= step
                 if bar is not None:
@@ -710,7 +729,10 @@ class Solution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            If ``x`` is not finite or ``tau_index`` is out of range.
+            Naming ``x`` if it is not an array of finite real numbers, or so large that the
+            quadrature would exceed :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` nodes
+            or the memory available (panels of width π / max|x|: |x| up to about 9e4; the
+            check runs before any work); naming ``tau_index`` if it is out of range.
         """
         from .velocity import invert
 
@@ -765,8 +787,10 @@ class Solution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``s`` for a negative or non-finite speed, or ``tau_index`` when out of
-            range.
+            Naming ``s`` for a negative, non-finite, boolean or complex speed or one so large
+            that the quadrature would exceed
+            :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` nodes or the memory
+            available (about 9e4; checked before any work), or ``tau_index`` when out of range.
         """
         from .velocity import check_speeds, speed_density_at
 

@@ -351,6 +351,31 @@ _residual = jax.jit(_collocation_residual)
 _jacobian = jax.jit(jax.jacfwd(_collocation_residual))
 
 
+#: Estimated seconds above which :func:`fixed_point` refuses to start unless forced (one day, as
+#: the time-dependent solver's :data:`maxwell_kinetics.grid.MAX_SOLVE_SECONDS`).
+MAX_FIXED_POINT_SECONDS = 86400.0
+
+#: Seconds per n³ of a d = 1 fixed point, all iterations included (measured: 49 s at n = 1024,
+#: 7.3 s at n = 512 on a loaded 2-core machine); d >= 2 costs more, so this is a lower bound.
+SECONDS_PER_CUBED_DEGREE = 4.5e-8
+
+
+def estimate_fixed_point_seconds(n: int) -> float:
+    """Estimated seconds of :func:`fixed_point` at Chebyshev degree ``n`` (dense Gauss–Newton:
+    ~n³), before any work.
+
+    Parameters
+    ----------
+    n : int
+        The Chebyshev degree.
+
+    Returns
+    -------
+    float
+    """
+    return SECONDS_PER_CUBED_DEGREE * float(n) ** 3
+
+
 def fixed_point(
     restitution: float,
     n: int | None = None,
@@ -362,6 +387,7 @@ def fixed_point(
     dimension: int = 1,
     angular: str = "uniform",
     angular_nodes: int = 16,
+    force: bool = False,
 ) -> FixedPoint:
     """Solve λ q G' − G + G(pq) G((1−p)q) = 0 with G(0) = 1, G''(0) = −1, G(q_max) = 0.
 
@@ -411,6 +437,8 @@ def fixed_point(
         Angular model ("uniform" or "hard"), used in d ≥ 2.
     angular_nodes : int, default 16
         Gauss–Jacobi nodes of the η quadrature in d ≥ 2 (≥ 1).
+    force : bool, default False
+        Run even when the estimated time exceeds :data:`MAX_FIXED_POINT_SECONDS`.
 
     Returns
     -------
@@ -427,7 +455,9 @@ def fixed_point(
         If ``restitution`` is not in [0, 1), ``dimension`` or ``angular`` is invalid, ``n``
         (above :data:`MAX_DEGREE_1D` in d = 1 included), ``max_iterations`` or
         ``angular_nodes`` is not a count in range, ``q_max`` or ``tol`` is not positive, or
-        ``initial`` does not give finite values on the grid.
+        ``initial`` does not give finite values on the grid; naming ``n`` when the estimated
+        time (:func:`estimate_fixed_point_seconds`, ~n³: a day near n = 12500) exceeds
+        :data:`MAX_FIXED_POINT_SECONDS` and ``force`` is False.
     """
     t0 = time.perf_counter()
     model = check_inelastic(restitution)
@@ -442,6 +472,14 @@ def fixed_point(
         raise InvalidArgumentError(
             "n", n, f"a degree <= {MAX_DEGREE_1D} in d = 1 (beyond, the collocation is too "
             "ill-conditioned: it converges to a wrong function)")
+    seconds = estimate_fixed_point_seconds(n)
+    if not force and not seconds <= MAX_FIXED_POINT_SECONDS:
+        from .grid import format_seconds
+
+        raise InvalidArgumentError(
+            "n", n, f"a Chebyshev degree whose Gauss-Newton solve is estimated to take at most "
+            f"{format_seconds(MAX_FIXED_POINT_SECONDS)} (this one: about "
+            f"{format_seconds(seconds)}, growing like n^3); force=True to run it anyway")
     length = check_positive(q_max, "q_max")
     tol = check_positive(tol, "tol")
     max_iterations = check_count(max_iterations, "max_iterations", 1)

@@ -258,9 +258,9 @@ def tail_exponent(dimension, restitution, angular="uniform") -> TailExponent:
     particles.InvalidArgumentError
         For a dimension, restitution (r = 1 included: no power-law tail) or angular law out of
         range.
-    RuntimeError
-        If the root is not bracketed (cannot happen by the concavity argument of the module
-        docstring).
+        Naming ``restitution`` also when r is so close to 1 (1 − 1e-8 in d = 3) that the root,
+        s* ~ 1/(1 − r), cannot be bracketed in float64 (the concavity argument of the module
+        docstring holds in exact arithmetic).
     """
     law = angular_law(dimension, angular)
     r = check_restitution(restitution)
@@ -274,13 +274,26 @@ def tail_exponent(dimension, restitution, angular="uniform") -> TailExponent:
     def balance(s):
         return float(model.coefficient_rate(s)) - s * lam1
 
+    if law.degenerate:
+        # d = 1: 1 − p³ − q³ = 3pq exactly (p + q = 1), so s* = 3/2 for every r; found
+        # numerically the root is ill-conditioned as r → 1 (balance and its slope are O(q²):
+        # s* = 1.50005 at r = 1 − 1e-13)
+        s_star = 1.5
+        return TailExponent(1, r, law.angular, s_star, lam1,
+                            {"density": 1 + 2 * s_star, "speed": 1 + 2 * s_star,
+                             "component": 1 + 2 * s_star})
     s_hi = max(2.0, 1.0 / lam1) + 1.0
     peak = minimize_scalar(
         lambda s: -balance(s), bounds=(1.0, s_hi), method="bounded", options={"xatol": 1e-10}
     )
     s_lo = float(peak.x)
-    if not balance(s_lo) > 0.0 or not balance(s_hi) < 0.0:  # pragma: no cover - see docstring
-        raise RuntimeError(f"no tail root bracketed on [{s_lo}, {s_hi}] (r = {r}, {law})")
+    if not balance(s_lo) > 0.0 or not balance(s_hi) < 0.0:
+        # s* grows like 1/(1 − r) in d >= 2; near r = 1 (1 − 1e-8 in d = 3) the moments
+        # ⟨(1 − cη)^s⟩ at s ~ 1e8 are beyond scipy's hyp2f1 in float64
+        raise InvalidArgumentError(
+            "restitution", restitution,
+            f"r further from 1: the tail root s* (> {s_lo:.3g}) cannot be bracketed in float64 "
+            f"here ({law.dimension} dimensions, {law.angular})")
     s_star = brentq(balance, s_lo, s_hi, xtol=1e-14, rtol=4 * np.finfo(float).eps)
     d = law.dimension
     return TailExponent(

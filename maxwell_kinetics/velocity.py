@@ -71,6 +71,9 @@ from scipy.special import j0 as bessel_j0
 from particles.validation import InvalidArgumentError, check_count, check_positive
 
 __all__ = [
+    "MAX_QUADRATURE_NODES",
+    "check_quadrature",
+    "quadrature_nodes",
     "inverse_transform",
     "density_at",
     "invert",
@@ -89,6 +92,96 @@ def _irfft_plan(m: int) -> pyfftw.FFTW:
         plan = pyfftw.builders.irfft(buf, n=m, planner_effort="FFTW_ESTIMATE", threads=1)
         _PLANS[m] = plan
     return plan
+
+
+#: Most Gauss–Legendre nodes of one quadrature of :func:`density_at` or
+#: :func:`radial_density_at` (2**24: about 2.7 GB at :data:`BYTES_PER_NODE`).  The panels have
+#: width π / max|x|, so the node count grows like q_max · max|x| · nodes_per_panel / π: with the
+#: solver's q_max ≈ 35 and 16 nodes per panel, |x| up to about 9e4.  Far beyond that the density
+#: is below the round-off of the transform anyway (a relative error growing like 1/P).
+MAX_QUADRATURE_NODES = 2**24
+
+#: Peak bytes per quadrature node when G is a :class:`~maxwell_kinetics.solver.Solution`'s
+#: interpolant (measured with tracemalloc: 155 for 3.4e5 and 1.3e6 nodes).
+BYTES_PER_NODE = 160.0
+
+
+def quadrature_nodes(q_max: float, v_max: float, nodes_per_panel: int = 16,
+                     radial: bool = False) -> float:
+    """Number of Gauss–Legendre nodes of :func:`density_at` (``radial`` False) or
+    :func:`radial_density_at` (True) for a largest |x| of ``v_max``, as a float (inf for an
+    infinite one), computed without building anything.
+
+    Parameters
+    ----------
+    q_max : float
+        Cut-off of the q integral.
+    v_max : float
+        Largest |x| (or speed) asked for.
+    nodes_per_panel : int, default 16
+        Gauss–Legendre points per panel.
+    radial : bool, default False
+        Count the 3 extra panels of the radial transform.
+
+    Returns
+    -------
+    float
+    """
+    width = min(0.5, math.pi / max(1.0, float(v_max)))
+    if width == 0.0:
+        return math.inf
+    panels = float(q_max) / width
+    panels = math.ceil(panels) if math.isfinite(panels) else panels
+    return (panels + (3 if radial else 0)) * float(nodes_per_panel)
+
+
+def check_quadrature(q_max: float, values, name: str, nodes_per_panel: int = 16,
+                     radial: bool = False, shown=None) -> float:
+    """Refuse, before any work, a density whose quadrature would exceed
+    :data:`MAX_QUADRATURE_NODES` nodes or the memory available: InvalidArgumentError naming
+    ``name`` (the caller's argument), with the largest value accepted.  Returns the node count.
+
+    Parameters
+    ----------
+    q_max : float
+        Cut-off of the q integral.
+    values : numpy.ndarray
+        The finite velocities or speeds asked for.
+    name : str
+        The argument to name in the error.
+    nodes_per_panel : int, default 16
+        Gauss–Legendre points per panel.
+    radial : bool, default False
+        :func:`radial_density_at` (3 more panels).
+    shown : object, optional
+        The value to show in the error (default: the largest |value|).
+
+    Returns
+    -------
+    float
+        The number of nodes.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``name``, when the quadrature is too large.
+    """
+    from particles.budget import available_memory, format_bytes
+
+    v_max = float(np.max(np.abs(values), initial=0.0))
+    nodes = quadrature_nodes(q_max, v_max, nodes_per_panel, radial)
+    limit = min(float(MAX_QUADRATURE_NODES), available_memory() / BYTES_PER_NODE)
+    if not nodes <= limit:
+        panels = limit / float(nodes_per_panel) - (3 if radial else 0)
+        largest = math.pi * max(panels - 1.0, 1.0) / float(q_max)
+        raise InvalidArgumentError(
+            name, v_max if shown is None else shown,
+            f"values with |{name}| <= {largest:.3g}: the quadrature of the inverse transform "
+            f"has panels of width pi/max|{name}| up to q_max = {float(q_max):.4g}, "
+            f"{nodes:.3g} nodes here (about {format_bytes(nodes * BYTES_PER_NODE)}), at most "
+            f"{limit:.3g}",
+        )
+    return nodes
 
 
 def _evaluate(G: Callable, q: np.ndarray) -> np.ndarray:
@@ -180,17 +273,22 @@ def density_at(G: Callable, x, q_max: float = 50.0, nodes_per_panel: int = 16) -
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``q_max`` is not positive, ``x`` is not finite, or ``G`` is not callable or returns
-        non-finite values.
+        If ``q_max`` is not positive, ``nodes_per_panel`` is not a count >= 1, ``x`` is not
+        finite or so large that the quadrature would exceed :data:`MAX_QUADRATURE_NODES` nodes
+        or the memory available (:func:`check_quadrature`, naming ``x``), or ``G`` is not
+        callable or returns non-finite values.
     """
     q_max = check_positive(q_max, "q_max")
-    x = np.asarray(x, dtype=float)
+    npp = check_count(nodes_per_panel, "nodes_per_panel", 1)
+    x = real_array(x, "x", "an array of finite real velocities")
     if not np.all(np.isfinite(x)):
-        raise InvalidArgumentError("x", x.tolist(), "finite velocities")
+        raise InvalidArgumentError("x", x.ravel()[~np.isfinite(x.ravel())][:3].tolist(),
+                                   "finite velocities")
+    check_quadrature(q_max, x, "x", npp)
     xf = x.ravel()
     width = min(0.5, math.pi / max(1.0, float(np.max(np.abs(xf), initial=0.0))))
     panels = math.ceil(q_max / width)
-    t, w = np.polynomial.legendre.leggauss(int(nodes_per_panel))
+    t, w = np.polynomial.legendre.leggauss(npp)
     edges = np.linspace(0.0, q_max, panels + 1)
     half = 0.5 * np.diff(edges)
     q = (edges[:-1, None] + half[:, None] * (t[None, :] + 1.0)).ravel()
@@ -282,7 +380,7 @@ def invert(
     """
     if x is None:
         return inverse_transform(G, q_max=q_max, period=period)
-    x = np.asarray(x, dtype=float)
+    x = real_array(x, "x", "an array of finite real velocities")
     return x, density_at(G, x, q_max=q_max)
 
 
@@ -290,12 +388,27 @@ def invert(
 _SPHERE = {1: 2.0, 2: 2.0 * math.pi, 3: 4.0 * math.pi}
 
 
-def check_speeds(s, name: str) -> np.ndarray:
-    """Speeds as a float array: finite and ≥ 0, or InvalidArgumentError naming ``name``."""
+def real_array(values, name: str, expected: str) -> np.ndarray:
+    """``values`` as a float array, refusing (InvalidArgumentError naming ``name``) booleans,
+    complex numbers, strings and ragged or non-numeric input, which ``np.asarray(...,
+    dtype=float)`` would turn into numbers (True → 1.0, "5" → 5.0) or a raw TypeError."""
+    if isinstance(values, np.ndarray) and values.dtype.kind in "iuf":
+        return values.astype(float)
     try:
-        out = np.asarray(s, dtype=float)
+        raw = np.asarray(values, dtype=object)
     except (TypeError, ValueError):
-        raise InvalidArgumentError(name, s, "an array of finite speeds >= 0") from None
+        raise InvalidArgumentError(name, values, expected) from None
+    for item in raw.ravel():  # a True in a list of floats would become 1.0
+        if isinstance(item, (bool, np.bool_)) or not isinstance(item, (int, float, np.integer,
+                                                                        np.floating)):
+            raise InvalidArgumentError(name, values, expected)
+    return raw.astype(float)
+
+
+def check_speeds(s, name: str) -> np.ndarray:
+    """Speeds as a float array: finite and ≥ 0, or InvalidArgumentError naming ``name``
+    (also for booleans, complex numbers and strings)."""
+    out = real_array(s, name, "an array of finite speeds >= 0")
     bad = ~(np.isfinite(out) & (out >= 0.0))
     if np.any(bad):
         raise InvalidArgumentError(name, out[bad].ravel()[:3].tolist(), "finite speeds >= 0")
@@ -325,7 +438,7 @@ def _radial_nodes(q_max: float, v_max: float, nodes_per_panel: int):
 
 
 def radial_density_at(G: Callable, v, dimension: int, q_max: float = 50.0,
-                      nodes_per_panel: int = 16) -> np.ndarray:
+                      nodes_per_panel: int = 16, *, name: str = "v") -> np.ndarray:
     """Density f(v) of an isotropic law in d = ``dimension`` at |v| = ``v`` (module docstring).
 
     ``G`` is the radial profile Φ(k), k ≥ 0 (its real part is used), cut at ``q_max``.
@@ -347,6 +460,8 @@ def radial_density_at(G: Callable, v, dimension: int, q_max: float = 50.0,
         Cut-off of the k integral (> 0).
     nodes_per_panel : int, default 16
         Gauss–Legendre points per panel (≥ 1).
+    name : str, default "v"
+        The name under which a bad ``v`` is reported (the caller's argument).
 
     Returns
     -------
@@ -357,13 +472,15 @@ def radial_density_at(G: Callable, v, dimension: int, q_max: float = 50.0,
     ------
     particles.validation.InvalidArgumentError
         If ``dimension`` is not 1, 2 or 3, ``q_max`` is not positive, ``nodes_per_panel`` is
-        not a count ≥ 1, ``v`` holds a negative or non-finite speed, or ``G`` is not callable
-        or returns non-finite values.
+        not a count ≥ 1, ``v`` holds a negative or non-finite speed or one so large that the
+        quadrature would exceed :data:`MAX_QUADRATURE_NODES` nodes or the memory available
+        (:func:`check_quadrature`), or ``G`` is not callable or returns non-finite values.
     """
     d = _check_dimension(dimension)
     q_max = check_positive(q_max, "q_max")
     npp = check_count(nodes_per_panel, "nodes_per_panel", 1)
-    v = check_speeds(v, "v")
+    v = check_speeds(v, name)
+    check_quadrature(q_max, v, name, npp, radial=True)
     vf = v.ravel()
     q, wq = _radial_nodes(q_max, float(np.max(vf, initial=0.0)), npp)
     phi = _evaluate(G, q).real
@@ -421,5 +538,5 @@ def speed_density_at(G: Callable, s, dimension: int, q_max: float = 50.0,
     """
     d = _check_dimension(dimension)
     s = check_speeds(s, "s")
-    f = radial_density_at(G, s, d, q_max=q_max, nodes_per_panel=nodes_per_panel)
+    f = radial_density_at(G, s, d, q_max=q_max, nodes_per_panel=nodes_per_panel, name="s")
     return _SPHERE[d] * s ** (d - 1) * f

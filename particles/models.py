@@ -257,7 +257,8 @@ class Model:
     description : str
         Longer command-line description.
     default_time_name : str
-        Time name (``"tau"`` or ``"t"``) of engines without a ``time_name`` of their own.
+        Time name (``"tau"`` or ``"t"``) of the command line's time option when no engine can
+        be built from the parameters' examples.
 
     Raises
     ------
@@ -270,7 +271,7 @@ class Model:
     parameters: tuple[Parameter, ...]
     help: str = ""
     description: str = ""
-    #: time name of engines that have no ``time_name`` (models of :func:`register_model`)
+    #: the time option's name when no engine can be built from the examples
     default_time_name: str = "tau"
     _by_name: dict = field(init=False, repr=False, compare=False)
 
@@ -567,7 +568,9 @@ def register_model(name: str, factory: Callable[..., Any], *, time_name: str = "
     """Add ``name`` to the catalogue: ``factory(**params)`` builds its engine.  ``parameters``
     (a sequence of :class:`Parameter`) declares them; without it they are the keyword
     parameters of ``factory``, of kind ``"any"`` (those without a default are required).
-    ``time_name`` is used only for engines that have no ``time_name`` of their own.  The factory
+    The engine itself must meet the engine contract (:class:`particles.driver.Engine`, which
+    includes its ``time_name``); ``time_name`` here only names the time option of the command
+    line when the model's examples cannot build an engine to ask.  The factory
     travels to ensemble workers by reference (by pickle), so it must be importable there.
     Registering a name again replaces it.
 
@@ -578,7 +581,8 @@ def register_model(name: str, factory: Callable[..., Any], *, time_name: str = "
     factory : Callable[..., Any]
         Builds the engine from keyword parameters; must be importable by workers.
     time_name : str, optional
-        Time name for engines without their own (default ``"tau"``).
+        The time option's name when no engine can be built from the examples (default
+        ``"tau"``).
     parameters : sequence of Parameter, optional
         The declared parameters; default: the factory's keywords, of kind ``"any"``.
 

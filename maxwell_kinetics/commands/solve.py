@@ -1,10 +1,14 @@
 """``maxwell-kinetics solve``: integrate the rescaled Fourier-space equation (kinetic theory).
 
 Every input, output paths included, is checked before any work, so bad input writes no file.
+Ctrl-C (SIGINT) is deferred for the whole run (:mod:`maxwell_kinetics._interrupt`): the solver
+stops at the end of its current chunk of windows, nothing is written, and the command line
+prints "interrupted" and exits with status 130.
 """
 
 from __future__ import annotations
 
+import os
 import time
 
 import numpy as np
@@ -19,10 +23,21 @@ from particles.validation import (
     parse_int,
 )
 
-from .. import compile_cache
-from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
+from .. import _interrupt, compile_cache
+from ..grid import (
+    MAX_SOLVE_SECONDS,
+    RESOLUTIONS,
+    check_solve_budget,
+    format_seconds,
+    get_resolution,
+)
 from ..model import MaxwellModel
 from ..output import check_outputs, emit_json, progress_enabled
+
+#: Seconds per quadrature node of the speed density at one τ (G interpolated there; measured:
+#: 36 s for 1.7e7 nodes, 5 speeds, d = 3), and per node and speed (the kernel).
+SECONDS_PER_SPEED_NODE = 2e-6
+SECONDS_PER_SPEED_NODE_VALUE = 1e-8
 
 
 def add_parser(subparsers) -> None:
@@ -43,23 +58,41 @@ def add_parser(subparsers) -> None:
     p.add_argument("--resolution", default="default", help="one of " + ", ".join(RESOLUTIONS))
     p.add_argument("--dimension", default="1",
                    help="velocity dimension d = 1, 2 or 3 (isotropic inelastic Maxwell model)")
-    p.add_argument("--angular", default="uniform",
-                   help="d > 1: collision directions uniform on the sphere ('uniform') or "
-                   "weighted by |g.n| ('hard')")
-    p.add_argument("--angular-rule", default="fast",
-                   help="d > 1: the η quadrature, 'fast' (default; G to ~1e-8) or 'accurate' "
-                   "(needed for fits of the |q|^{2s*} term, ~2.3x the cost)")
+    p.add_argument("--angular", default=None,
+                   help="d > 1 only: collision directions uniform on the sphere ('uniform', "
+                   "the default) or weighted by |g.n| ('hard')")
+    p.add_argument("--angular-rule", default=None,
+                   help="d > 1 only: the η quadrature, 'fast' (default; G to ~1e-8) or "
+                   "'accurate' (needed for fits of the |q|^{2s*} term, ~2.3x the cost)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE", help="write a PNG of G and |G − f̂|")
     p.add_argument("--save", metavar="FILE", help="save the Solution (.npz)")
     p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     p.add_argument("--force", action="store_true",
-                   help="run even when the estimated time exceeds one day")
+                   help="run even when the estimated time (the solve and the speed density) "
+                   "exceeds one day")
     compile_cache.add_option(p)
     p.set_defaults(handler=run)
 
 
 def run(args) -> int:
+    """Run ``maxwell-kinetics solve`` on parsed arguments, with Ctrl-C deferred (module
+    docstring): an interrupt raises KeyboardInterrupt from the solver's loop or before any
+    file is written, and files written when it arrives during the writing are removed."""
+    with _interrupt.deferred_sigint():
+        written = []
+        try:
+            return _run(args, written)
+        except KeyboardInterrupt:
+            for path in written:  # an interrupt while writing: leave no output behind
+                try:
+                    os.unlink(path)
+                except OSError:
+                    pass
+            raise
+
+
+def _run(args, written: list) -> int:
     model = MaxwellModel(args.restitution)
     law = get_law(args.initial)
     try:
@@ -72,19 +105,42 @@ def run(args) -> int:
         raise InvalidArgumentError(
             "q", args.q, f"values with |q| <= q_max={grid.q_max:.6g} of resolution {grid.name!r}"
         )
+    if len(np.unique(q)) < q.size:  # 1,1.0 or 0,-0: the same q twice
+        raise InvalidArgumentError("q", args.q, "distinct values of q")
     speeds = None
     if args.speed is not None:
         speeds = np.asarray(parse_float_list(args.speed, "speed"))
         if np.any(~np.isfinite(speeds)) or np.any(speeds < 0):
             raise InvalidArgumentError("speed", args.speed, "finite speeds |v|/v0 >= 0")
+        if len(np.unique(speeds)) < speeds.size:  # 1,1.0 or 0,-0: the same speed twice
+            raise InvalidArgumentError("speed", args.speed, "distinct speeds")
+        from ..velocity import check_quadrature  # refuse a transform too large, before the solve
+
+        speed_nodes = check_quadrature(grid.q_max, speeds, "speed", radial=True,
+                                       shown=args.speed)
     dimension = parse_int(args.dimension, "dimension")
     if dimension not in (1, 2, 3):
         raise InvalidArgumentError("dimension", args.dimension, "1, 2 or 3")
-    angular = check_choice(args.angular, "angular", ("uniform", "hard"))
-    rule = check_choice(args.angular_rule, "angular-rule", ("fast", "accurate"))
+    for option, value in (("angular", args.angular), ("angular-rule", args.angular_rule)):
+        if value is not None and dimension == 1:  # d = 1 has η ≡ 1: the option would do nothing
+            raise InvalidArgumentError(option, value, "--dimension 2 or 3 with it (d = 1 has "
+                                       "a single collision direction)")
+    angular = check_choice(args.angular or "uniform", "angular", ("uniform", "hard"))
+    rule = check_choice(args.angular_rule or "fast", "angular-rule", ("fast", "accurate"))
     check_outputs(save=args.save, images={"plot": args.plot})
     cost = check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force,
                               dimension=dimension, angular_rule=rule)
+    if speeds is not None:  # the speed density at every τ: its quadrature costs too
+        speed_seconds = len(taus) * speed_nodes * (SECONDS_PER_SPEED_NODE
+                                                   + speeds.size * SECONDS_PER_SPEED_NODE_VALUE)
+        cost = {**cost, "seconds": cost["seconds"] + speed_seconds}
+        if not args.force and not cost["seconds"] <= MAX_SOLVE_SECONDS:
+            raise InvalidArgumentError(
+                "speed", args.speed,
+                f"a solve estimated to take at most {format_seconds(MAX_SOLVE_SECONDS)} (the "
+                f"speed density at {len(taus)} times on {speed_nodes:.3g} quadrature nodes: "
+                f"about {format_seconds(speed_seconds)}); fewer or smaller speeds or times, or "
+                "pass --force to run it anyway")
     compile_cache.from_args(args)
     from ..solver import solve  # JAX: imported only when a solve runs
 
@@ -100,12 +156,18 @@ def run(args) -> int:
     speed_density = None
     if speeds is not None:
         speed_density = np.array([sol.speed_density(speeds, k)[1] for k in range(len(taus))])
+    _interrupt.check()  # a Ctrl-C since the solve: write nothing
     if args.plot:
         from ..plotting import plot_solution
 
-        persistence.save_figure(plot_solution(sol), args.plot, "plot", dpi=120)
+        figure = plot_solution(sol)
+        _interrupt.check()
+        written.append(args.plot)
+        persistence.save_figure(figure, args.plot, "plot", dpi=120)
     if args.save:
+        written.append(args.save)
         sol.save(args.save)
+    _interrupt.check()  # a Ctrl-C while writing: the files are removed
     if args.json:
         extra = {}
         if speeds is not None:

@@ -4,7 +4,8 @@
     maxwell-kinetics steady --restitution R --driving D [--json] [--plot FILE]
 
 Prints the steady ``variance`` D/(pq), the ``kurtosis`` 3 + 6pq/(2 − pq), the first
-``cumulants`` and the ``density`` (``x`` and ``P``: P(v) on a uniform grid of [−60√D, 60√D),
+``cumulants`` and the ``density`` (``x`` and ``P``: P(v) on a uniform grid of [−H, H),
+H = √D max(60, 15/√(pq)),
 from the exact characteristic function by FFT, with round-off of ~1e-16 far out;
 :mod:`maxwell_kinetics.driven`).  There is no steady state for
 D = 0 (the gas cools to rest) or r = 1 with D > 0 (the heating is never dissipated): both exit 2.

@@ -10,7 +10,7 @@ Prints ``s`` (s* > 1, the nontrivial root of λ(s) = s λ(1)) and ``exponents``:
 
 from __future__ import annotations
 
-from particles.validation import parse_int
+from particles.validation import InvalidArgumentError, parse_int
 
 from .. import compile_cache
 from ..output import emit_json
@@ -33,7 +33,8 @@ def add_parser(subparsers) -> None:
     )
     p.add_argument("--dimension", default="2", help="1, 2 or 3 (default 2)")
     p.add_argument("--restitution", "-r", required=True, help="restitution r in [0, 1)")
-    p.add_argument("--angular", default="uniform", help="uniform or hard (default uniform)")
+    p.add_argument("--angular", default=None,
+                   help="d >= 2 only: uniform or hard (default uniform)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     compile_cache.add_option(p, compiles=False)
     p.set_defaults(handler=run)
@@ -58,13 +59,17 @@ def run(args) -> int:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        From the validators it calls: a bad ``--dimension``, ``--restitution`` or
-        ``--angular`` (exit 2).
+        From the validators it calls: a bad ``--dimension``, ``--restitution`` (also one so
+        close to 1 that s* cannot be resolved) or ``--angular`` (also given with
+        ``--dimension 1``, where it means nothing) (exit 2).
     """
     from ..tails import tail_exponent  # scipy.optimize: imported only when it runs
 
     dimension = parse_int(args.dimension, "dimension")
-    tail = tail_exponent(dimension, args.restitution, args.angular)
+    if args.angular is not None and dimension == 1:  # η ≡ 1 in d = 1: the option does nothing
+        raise InvalidArgumentError("angular", args.angular, "--dimension 2 or 3 with it (d = 1 "
+                                   "has a single collision direction)")
+    tail = tail_exponent(dimension, args.restitution, args.angular or "uniform")
     payload = {"dimension": tail.dimension, "restitution": tail.restitution,
                "angular": tail.angular, "s": tail.s, "decay_rate": tail.decay_rate,
                "exponents": dict(tail.exponents)}
