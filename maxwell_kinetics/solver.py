@@ -261,7 +261,7 @@ def solve(
     resolution="default",
     *,
     options: SolverOptions | None = None,
-    progress: bool = False,
+    progress: bool | None = None,
     dimension: int = 1,
     angular: str = "uniform",
     angular_nodes: int = 16,
@@ -322,8 +322,10 @@ def solve(
         A name in :data:`maxwell_kinetics.grid.RESOLUTIONS` or a grid.
     options : SolverOptions, optional
         Tolerances and window length; None for the defaults.
-    progress : bool, default False
-        Show a tqdm progress bar over τ.
+    progress : bool or None, optional
+        A progress bar over τ: None (default) a bar on a terminal or in a notebook and nothing
+        otherwise, True a bar or a few plain lines, False nothing
+        (:func:`particles.progress.progress_bar`).
     dimension : int, default 1
         Space dimension d ∈ {1, 2, 3}.
     angular : str, default "uniform"
@@ -397,7 +399,7 @@ def solve(
     y = stepper.y0
     i_window = 0
     bar = None
-    if progress:  # the bar shows the estimate of grid.estimate_solve until its own ETA is known
+    if progress is not False:  # the bar shows grid.estimate_solve until its own ETA is known
         from particles.progress import progress_bar
 
         from .grid import estimate_solve, format_seconds
@@ -405,6 +407,7 @@ def solve(
         cost = estimate_solve(grid, float(taus[-1]), len(taus), dimension=dimension,
                               angular_rule=angular_rule, window=opts.window)
         bar = progress_bar(float(taus[-1]), f"solve r={model.restitution:g}", "τ",
+                           enabled=progress,
                            postfix=f"estimate ~{format_seconds(cost['seconds'])} after compile")
     chunk = max(1, int(math.ceil(taus[-1] / stepper.dtau / 200)))
     try:

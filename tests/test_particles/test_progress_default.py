@@ -58,10 +58,12 @@ def test_not_a_notebook_outside_a_kernel():
 
 
 def test_every_function_with_progress_defaults_to_none():
-    from maxwell_kinetics import comparisons
+    from maxwell_kinetics import comparisons, convergence, solve
+    from maxwell_kinetics.comparisons.kinetic_predictions import kinetic_solution
 
-    functions = [simulate, run_ensemble] + [getattr(comparisons, n) for n in comparisons.__all__
-                                            if callable(getattr(comparisons, n))]
+    functions = [simulate, run_ensemble, solve, convergence.convergence_study, kinetic_solution]
+    functions += [getattr(comparisons, n) for n in comparisons.__all__
+                  if callable(getattr(comparisons, n))]
     checked = 0
     for f in functions:
         try:
@@ -83,3 +85,12 @@ def test_ensemble_progress_must_be_a_bool_or_none(tmp_path):
     with pytest.raises(InvalidArgumentError, match="progress='yes'"):
         run_ensemble(spec, tmp_path / "out", executor="serial", progress="yes")
     assert not (tmp_path / "out").exists()
+
+
+def test_a_plain_solve_prints_nothing_where_no_bar_can_be_drawn(capsys):
+    from maxwell_kinetics import solve
+
+    solve(0.5, "gaussian", tau=[0.5], resolution="coarse")
+    assert capsys.readouterr().err == ""
+    solve(0.5, "gaussian", tau=[0.5], resolution="coarse", progress=True)
+    assert "solve r=0.5" in capsys.readouterr().err
