@@ -4,17 +4,17 @@ the machinery behind :meth:`maxwell_kinetics.solver.Solution.histogram` and
 
 Convention: x = v/v0(τ) with v0² the variance of one Cartesian component, e^{−2λτ} in d = 1
 (e^{−Λτ} in d ≥ 2) for a unit initial variance.  In the kinetic theory this *is* the energy
-per component at τ, so x is the particle runs' x = v/√E (:func:`particles.observables.
-rescaled_histogram`; one Cartesian component in d ≥ 2): a kinetic histogram and a particle
-histogram on the same edges describe the same variable.
+per component at τ, so x is the particle runs' x = v/√E
+(:func:`particles.observables.rescaled_histogram`; one Cartesian component in d ≥ 2): a kinetic
+histogram and a particle histogram on the same edges describe the same variable.
 
 Bin probabilities (exact up to the cut of G at the grid's end q_max):
 
     Pr(a ≤ x < b) = (1/π) Re ∫_0^{q_max} G(q, τ) · 2 sin(qh)/q · e^{−iqm} dq,  m = (a+b)/2,
     h = (b−a)/2,
 
-by composite Gauss–Legendre quadrature (:func:`maxwell_kinetics.statistics.
-interval_probabilities`).  In d = 1 with a built-in initial law, the particles that never
+by composite Gauss–Legendre quadrature
+(:func:`maxwell_kinetics.statistics.interval_probabilities`).  In d = 1 with a built-in initial law, the particles that never
 collided (a fraction e^{−τ}, distributed as the initial law stretched by e^{λτ}: G_free(q) =
 e^{−τ} φ(q e^{λτ})) are counted exactly from the law's CDF and only G − G_free is transformed,
 so a law with a jump (whose 1/q Fourier tail the cut would misrepresent) is exact too.
@@ -26,13 +26,14 @@ import math
 
 import numpy as np
 
-from particles.validation import InvalidArgumentError
+from particles.validation import check_edges as _check_edges
 
 __all__ = ["check_edges", "bin_probabilities", "solution_histogram", "solution_to_xarray"]
 
 
 def check_edges(edges, name: str = "edges") -> np.ndarray:
-    """At least two finite, strictly increasing edges, as a float array.
+    """At least two finite, strictly increasing edges, as a float array: the project's one
+    rule, :func:`particles.validation.check_edges`.
 
     Parameters
     ----------
@@ -51,16 +52,7 @@ def check_edges(edges, name: str = "edges") -> np.ndarray:
     particles.validation.InvalidArgumentError
         Naming ``name`` for anything else.
     """
-    expected = "at least two finite, strictly increasing edges"
-    if isinstance(edges, (str, bytes)):
-        raise InvalidArgumentError(name, edges, expected)
-    try:
-        out = np.asarray(edges, dtype=float)
-    except (TypeError, ValueError):
-        raise InvalidArgumentError(name, edges, expected) from None
-    if out.ndim != 1 or out.size < 2 or not np.all(np.isfinite(out)) or np.any(np.diff(out) <= 0):
-        raise InvalidArgumentError(name, edges, expected)
-    return out
+    return _check_edges(edges, name)
 
 
 def _free_part(sol, k: int):

@@ -1,10 +1,10 @@
 """Figures of the kinetic solver (matplotlib, drawn on an Agg canvas without pyplot).
 
-Each function returns a :class:`Figure` (a ``matplotlib.figure.Figure``); the caller saves or
+Each function returns a ``Figure`` (a ``matplotlib.figure.Figure``); the caller saves or
 shows it.  The figures are made without :mod:`matplotlib.pyplot`: the library changes no
 matplotlib backend and leaves no figure in pyplot's global list (nothing to close, no "more than
 20 figures" warning).  In Jupyter a figure that is the last expression of a cell displays
-itself as a PNG (:meth:`Figure._repr_png_`), with or without ``%matplotlib inline``; elsewhere
+itself as a PNG (``Figure._repr_png_``), with or without ``%matplotlib inline``; elsewhere
 ``fig.savefig(path)`` saves it.
 """
 
@@ -12,11 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Figure", "new_figure", "plot_solution", "plot_convergence", "plot_density"]  # noqa: F822
+__all__ = ["new_figure", "plot_solution", "plot_convergence", "plot_density"]
 
 
 def _figure_class():
-    """The :class:`Figure` class, defined on first use (matplotlib is imported only then)."""
+    """The ``Figure`` class, defined on first use (matplotlib is imported only then)."""
     global _FIGURE
     if _FIGURE is None:
         from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -56,7 +56,7 @@ def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0, nrows: i
     """A new figure of ``nrows`` × ``ncols`` panels, each ``width`` × ``height`` inches:
     ``(fig, axes)`` with ``axes`` of shape (nrows, ncols).
 
-    The figure is a :class:`Figure` made without :mod:`matplotlib.pyplot` (no backend is
+    The figure is a ``Figure`` made without :mod:`matplotlib.pyplot` (no backend is
     switched, nothing is added to pyplot's list of open figures; it is freed when no longer
     referenced).  In Jupyter it displays itself when it is the last expression of a cell.
 

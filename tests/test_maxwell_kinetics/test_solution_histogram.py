@@ -80,7 +80,7 @@ def test_tau_and_tau_index_together_are_refused(sol):
 @pytest.mark.parametrize("edges", [[0.0, 0.0, 1.0], [1.0, 0.0], [0.0, np.inf], [0.0],
                                    [[0.0, 1.0]], "0,1", [0.0, np.nan, 1.0]])
 def test_bad_edges_are_refused_naming_edges(sol, edges):
-    with pytest.raises(InvalidArgumentError, match="edges=.*finite, strictly increasing"):
+    with pytest.raises(InvalidArgumentError, match="argument edges="):
         sol.histogram(edges)
 
 
