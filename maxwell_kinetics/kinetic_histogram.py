@@ -14,10 +14,11 @@ Bin probabilities (exact up to the cut of G at the grid's end q_max):
     h = (b−a)/2,
 
 by composite Gauss–Legendre quadrature
-(:func:`maxwell_kinetics.statistics.interval_probabilities`).  In d = 1 with a built-in initial law, the particles that never
-collided (a fraction e^{−τ}, distributed as the initial law stretched by e^{λτ}: G_free(q) =
-e^{−τ} φ(q e^{λτ})) are counted exactly from the law's CDF and only G − G_free is transformed,
-so a law with a jump (whose 1/q Fourier tail the cut would misrepresent) is exact too.
+(:func:`maxwell_kinetics.statistics.interval_probabilities`).  In d = 1 with a built-in
+initial law, the particles that never collided (a fraction e^{−τ}, distributed as the initial
+law stretched by e^{λτ}: G_free(q) = e^{−τ} φ(q e^{λτ})) are counted exactly from the law's CDF
+and only G − G_free is transformed, so a law with a jump (whose 1/q Fourier tail the cut would
+misrepresent) is exact too.
 """
 
 from __future__ import annotations
