@@ -177,6 +177,8 @@ def simulate(
     _check_engine(engine)
     times = check_times(times, engine.time_name)
     seed = _run_seed(seed)
+    if progress is not None and not isinstance(progress, (bool, np.bool_)):
+        raise InvalidArgumentError("progress", progress, "True, False or None")
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
     structure_factor = _structure_mode(structure_factor)

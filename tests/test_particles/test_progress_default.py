@@ -94,3 +94,12 @@ def test_a_plain_solve_prints_nothing_where_no_bar_can_be_drawn(capsys):
     assert capsys.readouterr().err == ""
     solve(0.5, "gaussian", tau=[0.5], resolution="coarse", progress=True)
     assert "solve r=0.5" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("value", ["yes", 1, 0.0])
+def test_simulate_progress_must_be_a_bool_or_none(value, capsys):
+    from particles.validation import InvalidArgumentError
+
+    with pytest.raises(InvalidArgumentError, match="progress="):
+        simulate(Lattice(30, 0.5), [1.0], 1, progress=value)
+    assert capsys.readouterr().err == ""
