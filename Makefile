@@ -1,12 +1,19 @@
 # Two commands do everything on a fresh machine: `make demo` and `make test`; `make docs`
-# builds the documentation site into docs/_build/html.
+# builds the documentation site into docs/_build/html; `make notebooks` installs Jupyter (the
+# `notebooks` extra) and executes every notebook headless into $(NOTEBOOKS_OUT)/, and
+# `make notebooks-open` opens notebooks/ in Jupyter.  `make demo` installs the project alone
+# (no test or docs tools).
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 RESULTS ?= results
 
-.PHONY: demo test install lint bench clean docs
+NOTEBOOKS_OUT ?= notebooks_executed
+# SMALL=1 runs the notebooks at the tests' size (seconds each) instead of their default size.
+SMALL ?=
+
+.PHONY: demo test install lint bench clean docs notebooks notebooks-open
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -27,8 +34,30 @@ $(DOCS_STAMP): pyproject.toml | $(STAMP)
 docs: $(DOCS_STAMP)
 	$(PY) -m sphinx -b html docs docs/_build/html
 
-demo: install
+DEMO_STAMP := $(VENV)/.installed-demo
+
+$(DEMO_STAMP): pyproject.toml | $(PY)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e .
+	touch $(DEMO_STAMP)
+
+demo: $(DEMO_STAMP)
 	$(VENV)/bin/maxwell-kinetics reproduce --out $(RESULTS)
+
+NB_STAMP := $(VENV)/.installed-notebooks
+
+$(NB_STAMP): pyproject.toml | $(PY)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[notebooks,xarray]'
+	touch $(NB_STAMP)
+
+notebooks: $(NB_STAMP)
+	mkdir -p $(NOTEBOOKS_OUT)
+	MAXWELL_KINETICS_SMALL=$(SMALL) $(VENV)/bin/jupyter nbconvert --to notebook --execute \
+		--output-dir $(NOTEBOOKS_OUT) notebooks/*.ipynb
+
+notebooks-open: $(NB_STAMP)
+	$(VENV)/bin/jupyter notebook notebooks/
 
 test: install
 	$(PY) -m pytest -q
@@ -43,4 +72,4 @@ bench: install
 	$(PY) benchmarks/compile_cache.py
 
 clean:
-	rm -rf $(VENV) $(RESULTS) build *.egg-info docs/_build docs/api docs/_generated
+	rm -rf $(VENV) $(RESULTS) $(NOTEBOOKS_OUT) build *.egg-info docs/_build docs/api docs/_generated

@@ -7,11 +7,12 @@ and 3D).  With it, the first process writes the solver's two big functions (``ad
 compiles them, and does not even import diffrax.  Everything else is compiled by ``jax.jit`` as
 usual (small functions, milliseconds each).
 
-The command line turns the cache on for every subcommand that compiles (``solve``,
-``fixed-point``, ``convergence``, ``reproduce``); ``--no-cache`` turns it off for one run.
-The Python API leaves the cache off until asked: :func:`enable` and :func:`disable`.  Neither
-changes any JAX setting: JAX's own persistent compilation cache is never switched on (nor off)
-by this module.
+The cache is on by default, in Python and on the command line alike: the first solve of a
+process turns it on in :func:`configured_path` unless :func:`enable` or :func:`disable` was called
+before.  ``MAXWELL_KINETICS_CACHE=off`` is the one opt-out for both; on the command line
+``--no-cache`` also turns it off for one run, and in Python :func:`disable` for the rest of the
+process.  Neither changes any JAX setting: JAX's own persistent compilation cache is never
+switched on (nor off) by this module.
 
 Where
     ``$MAXWELL_KINETICS_CACHE`` when set to a path (a relative path is taken from the working
@@ -87,7 +88,9 @@ _DIGEST = 32
 _SUFFIX = ".entry"
 _STALE_TMP_SECONDS = 3600.0
 
-_state: dict = {"path": None, "store": None, "root": None}
+# "decided": enable() or disable() was called (by the user, the command line, or the first
+# call() that turned the cache on by default); until then call() enables it.
+_state: dict = {"path": None, "store": None, "root": None, "decided": False}
 _warned: set[str] = set()
 
 
@@ -400,7 +403,9 @@ def call(name: str, function, jitted, static, args: tuple):
     settings (``_jax_settings``) and a hash of the project's sources and of the versions of the
     libraries that trace the scheme (``_code_fingerprint``).  The first call of a loaded entry
     in a process is waited for: an entry that does not load, or that raises when it runs, is
-    deleted and the call is compiled afresh.  A fresh executable is serialized, loaded back and
+    deleted and the call is compiled afresh.  The first call of a process in which neither
+    :func:`enable` nor :func:`disable` was called turns the cache on (:func:`enable`, which
+    honours ``MAXWELL_KINETICS_CACHE=off``).  A fresh executable is serialized, loaded back and
     run in its place; only when that run succeeds is the serialized form stored (else the
     compiled executable gives the result, and nothing is stored).  With the cache off, or a
     static part without a key (a user's law), ``jitted`` runs as it is.
@@ -429,6 +434,8 @@ def call(name: str, function, jitted, static, args: tuple):
         Whatever a freshly compiled executable raises when it runs (never an error of a
         cache entry).
     """
+    if not _state["decided"]:
+        enable()  # the default: on in configured_path(), unless MAXWELL_KINETICS_CACHE=off
     store = _state.get("store")
     token = _static_token(static) if store is not None else None
     if token is None:
@@ -506,6 +513,7 @@ def enable(path: str | os.PathLike | None = None) -> Path | None:
     pathlib.Path or None
         The folder of entries in use, or None when the cache stays off.
     """
+    _state["decided"] = True
     root = Path(path).expanduser() if path is not None else configured_path()
     if root is None:
         disable()
@@ -524,8 +532,9 @@ def enable(path: str | os.PathLike | None = None) -> Path | None:
 
 
 def disable() -> None:
-    """Turn off the cache that :func:`enable` turned on; nothing happens when it is off."""
-    _state["path"], _state["store"] = None, None
+    """Turn off the cache that :func:`enable` turned on (also the default one of the first
+    solve: after ``disable()`` the process stays uncached until :func:`enable`)."""
+    _state["path"], _state["store"], _state["decided"] = None, None, True
 
 
 def add_option(parser, compiles: bool = True) -> None:
@@ -600,6 +609,7 @@ def from_args(args) -> Path | None:
     """
     check_platforms()
     _state.setdefault("before_command", _state["root"] if _state["path"] else None)
+    _state.setdefault("decided_before_command", _state["decided"])
     if getattr(args, "no_cache", False):
         disable()
         return None
@@ -616,3 +626,4 @@ def end_command() -> None:
         disable()
     else:
         enable(root)
+    _state["decided"] = _state.pop("decided_before_command", True)

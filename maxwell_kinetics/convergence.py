@@ -81,7 +81,7 @@ def convergence_study(
     initial: str = "gaussian",
     points: int = 41,
     floor_points: int = 5,
-    progress: bool = False,
+    progress: bool | None = None,
 ) -> list[ConvergenceRun]:
     """Run every (r, resolution) pair to ``tau_max`` and return the error traces and floors.
 
@@ -104,8 +104,9 @@ def convergence_study(
         Number of log-spaced saved times in [1, tau_max] (duplicates after rounding dropped).
     floor_points : int, default 5
         Number of last saved times whose median error is the floor.
-    progress : bool, default False
-        Show the solver's progress bar.
+    progress : bool or None, optional
+        The solver's progress bar (None, the default: a bar on a terminal or in a notebook,
+        nothing otherwise).
 
     Returns
     -------

@@ -1,6 +1,11 @@
-"""Figures of the kinetic solver (matplotlib, non-interactive Agg backend).
+"""Figures of the kinetic solver (matplotlib, drawn on an Agg canvas without pyplot).
 
-Each function returns a ``matplotlib.figure.Figure``; the caller saves or shows it.
+Each function returns a ``Figure`` (a ``matplotlib.figure.Figure``); the caller saves or
+shows it.  The figures are made without :mod:`matplotlib.pyplot`: the library changes no
+matplotlib backend and leaves no figure in pyplot's global list (nothing to close, no "more than
+20 figures" warning).  In Jupyter a figure that is the last expression of a cell displays
+itself as a PNG (``Figure._repr_png_``), with or without ``%matplotlib inline``; elsewhere
+``fig.savefig(path)`` saves it.
 """
 
 from __future__ import annotations
@@ -10,10 +15,50 @@ import numpy as np
 __all__ = ["new_figure", "plot_solution", "plot_convergence", "plot_density"]
 
 
-def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
-    """A figure of one row of ``ncols`` panels, each ``width`` × ``height`` inches, on the
-    non-interactive Agg backend (unless another backend was chosen): ``(fig, axes)`` with
-    ``axes`` of shape (1, ncols).
+def _figure_class():
+    """The ``Figure`` class, defined on first use (matplotlib is imported only then)."""
+    global _FIGURE
+    if _FIGURE is None:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure as _MplFigure
+
+        class Figure(_MplFigure):
+            """A ``matplotlib.figure.Figure`` on its own Agg canvas, outside pyplot, that
+            displays itself in Jupyter: :meth:`_repr_png_` gives IPython the PNG of the
+            figure (cropped to its content, as ``%matplotlib inline`` would show it)."""
+
+            def __init__(self, *args, **kwargs):
+                super().__init__(*args, **kwargs)
+                FigureCanvasAgg(self)
+
+            def _repr_png_(self) -> bytes:
+                import io
+
+                buffer = io.BytesIO()
+                self.savefig(buffer, format="png", bbox_inches="tight")
+                return buffer.getvalue()
+
+        Figure.__module__, Figure.__qualname__ = __name__, "Figure"
+        _FIGURE = Figure
+    return _FIGURE
+
+
+_FIGURE = None
+
+
+def __getattr__(name):
+    if name == "Figure":
+        return _figure_class()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0, nrows: int = 1):
+    """A new figure of ``nrows`` × ``ncols`` panels, each ``width`` × ``height`` inches:
+    ``(fig, axes)`` with ``axes`` of shape (nrows, ncols).
+
+    The figure is a ``Figure`` made without :mod:`matplotlib.pyplot` (no backend is
+    switched, nothing is added to pyplot's list of open figures; it is freed when no longer
+    referenced).  In Jupyter it displays itself when it is the last expression of a cell.
 
     Parameters
     ----------
@@ -21,18 +66,16 @@ def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0):
         Number of panels side by side (default 1).
     width, height : float, optional
         Size of one panel in inches (default 5 × 4).
+    nrows : int, optional
+        Number of rows of panels (default 1).
 
     Returns
     -------
-    tuple of (matplotlib.figure.Figure, numpy.ndarray)
-        The figure and its axes, an object array of shape (1, ncols).
+    tuple of (maxwell_kinetics.plotting.Figure, numpy.ndarray)
+        The figure and its axes, an object array of shape (nrows, ncols).
     """
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt.subplots(1, ncols, figsize=(width * ncols, height), squeeze=False)
+    fig = _figure_class()(figsize=(width * ncols, height * nrows))
+    return fig, fig.subplots(nrows, ncols, squeeze=False)
 
 
 def plot_solution(solution):

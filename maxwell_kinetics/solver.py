@@ -261,7 +261,7 @@ def solve(
     resolution="default",
     *,
     options: SolverOptions | None = None,
-    progress: bool = False,
+    progress: bool | None = None,
     dimension: int = 1,
     angular: str = "uniform",
     angular_nodes: int = 16,
@@ -322,8 +322,10 @@ def solve(
         A name in :data:`maxwell_kinetics.grid.RESOLUTIONS` or a grid.
     options : SolverOptions, optional
         Tolerances and window length; None for the defaults.
-    progress : bool, default False
-        Show a tqdm progress bar over τ.
+    progress : bool or None, optional
+        A progress bar over τ: None (default) a bar on a terminal or in a notebook and nothing
+        otherwise, True a bar or a few plain lines, False nothing
+        (:func:`particles.progress.progress_bar`).
     dimension : int, default 1
         Space dimension d ∈ {1, 2, 3}.
     angular : str, default "uniform"
@@ -397,7 +399,7 @@ def solve(
     y = stepper.y0
     i_window = 0
     bar = None
-    if progress:  # the bar shows the estimate of grid.estimate_solve until its own ETA is known
+    if progress is not False:  # the bar shows grid.estimate_solve until its own ETA is known
         from particles.progress import progress_bar
 
         from .grid import estimate_solve, format_seconds
@@ -405,6 +407,7 @@ def solve(
         cost = estimate_solve(grid, float(taus[-1]), len(taus), dimension=dimension,
                               angular_rule=angular_rule, window=opts.window)
         bar = progress_bar(float(taus[-1]), f"solve r={model.restitution:g}", "τ",
+                           enabled=progress,
                            postfix=f"estimate ~{format_seconds(cost['seconds'])} after compile")
     chunk = max(1, int(math.ceil(taus[-1] / stepper.dtau / 200)))
     try:
@@ -499,15 +502,18 @@ class Solution:
         """The :class:`~maxwell_kinetics.model.MaxwellModel` of ``restitution``."""
         return MaxwellModel(self.restitution)
 
-    def time_index(self, tau_index: int) -> int:
-        """The non-negative index of saved time ``tau_index`` (negative counts from the end, as
-        in Python); :class:`~particles.validation.InvalidArgumentError` naming ``tau_index``
-        when there is no such saved time.
+    def time_index(self, tau_index: int | None = None, tau: float | None = None) -> int:
+        """The non-negative index of a saved time, chosen by index ``tau_index`` (negative
+        counts from the end, as in Python) or by value ``tau`` (one of the saved times
+        ``self.tau``, to a relative 1e-12); neither: the last time.  Every method of
+        :class:`Solution` that takes ``tau_index`` also takes ``tau`` and resolves them here.
 
         Parameters
         ----------
-        tau_index : int
+        tau_index : int, optional
             Index into the saved times, −T ≤ tau_index < T.
+        tau : float, optional
+            A saved time τ.
 
         Returns
         -------
@@ -517,14 +523,33 @@ class Solution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``tau_index``, when it is out of range.
+            Naming ``tau_index`` when it is out of range, ``tau`` when it is not one of the
+            saved times (they are listed), and ``tau`` when both are given.
         """
         n = len(self.tau)
+        if tau is not None:
+            if tau_index is not None:
+                raise InvalidArgumentError("tau", tau, "either tau or tau_index, not both "
+                                           f"(tau_index={tau_index!r} was given too)")
+            saved = np.asarray(self.tau, dtype=float)
+            shown = ", ".join(f"{t:g}" for t in saved)
+            if len(shown) > 200:
+                shown = shown[:200] + "..."
+            if (isinstance(tau, (bool, np.bool_))
+                    or not isinstance(tau, (int, float, np.integer, np.floating))
+                    or not np.isfinite(float(tau))):
+                raise InvalidArgumentError("tau", tau, f"one of the saved times: {shown}")
+            match = np.flatnonzero(np.abs(saved - float(tau)) <= 1e-12 * np.abs(saved))
+            if match.size == 0:
+                raise InvalidArgumentError("tau", tau, f"one of the saved times: {shown}")
+            return int(match[0])
+        if tau_index is None:
+            return n - 1
         if not -n <= tau_index < n:
             raise InvalidArgumentError("tau_index", tau_index, f"an index into {n} saved times")
         return tau_index % n
 
-    def evaluate(self, q, tau_index: int = -1) -> np.ndarray:
+    def evaluate(self, q, tau_index: int | None = None, *, tau: float | None = None) -> np.ndarray:
         """G(q) at arbitrary real q, |q| ≤ q_max, by Lagrange interpolation in s = ln|q|.
 
         Inside the grid G = f̂ + (G − f̂), the deviation interpolated at O(h^order) accuracy;
@@ -535,8 +560,10 @@ class Solution:
         q : array_like
             Real rescaled wave numbers q = k·v0(τ) with |q| ≤ q_max (any shape; negative q
             gives conj G(|q|)).
-        tau_index : int, default -1
-            Index of the saved τ (negative counts from the end).
+        tau_index : int, optional
+            Index of the saved τ (negative counts from the end); default the last.
+        tau : float, optional
+            The saved τ itself, instead of ``tau_index`` (:meth:`time_index`).
 
         Returns
         -------
@@ -559,7 +586,7 @@ class Solution:
             )
         out = np.array(reference(a, self.skewness), dtype=complex)  # G = g below q_min
         inside = a >= grid.q_min
-        dev = self.deviation[self.time_index(tau_index)]
+        dev = self.deviation[self.time_index(tau_index, tau)]
         out[inside] = f_hat(a[inside]) + self._interpolate(dev, a[inside])
         return np.where(q < 0, np.conj(out), out)
 
@@ -587,7 +614,8 @@ class Solution:
                 "the one-dimensional equation only (none is known in closed form for d >= 2)",
             )
 
-    def sup_error(self, tau_index: int | None = None) -> np.ndarray | float:
+    def sup_error(self, tau_index: int | None = None, *,
+                  tau: float | None = None) -> np.ndarray | float:
         """sup over q ≥ 0 of |G(q, τ) − f̂(q)|: on the grid, refined 16× around the maximum.
 
         Only for ``dimension`` 1 (InvalidArgumentError naming ``dimension`` otherwise): f̂ is
@@ -597,7 +625,9 @@ class Solution:
         Parameters
         ----------
         tau_index : int, optional
-            One saved time; None for all.
+            One saved time; None (and no ``tau``) for all.
+        tau : float, optional
+            One saved time by value (:meth:`time_index`).
 
         Returns
         -------
@@ -610,11 +640,12 @@ class Solution:
             Naming ``dimension`` when d ≥ 2, or ``tau_index`` when out of range.
         """
         self._require_one_dimension("sup_error")
-        if tau_index is None:
+        if tau_index is None and tau is None:
             return np.array([self.sup_error(k) for k in range(len(self.tau))])
-        return self._weighted_sup(self.time_index(tau_index), 0.0, self.resolution.q_min)
+        return self._weighted_sup(self.time_index(tau_index, tau), 0.0, self.resolution.q_min)
 
-    def fourier_distance(self, s: float, tau_index: int | None = None, q_low: float | None = None):
+    def fourier_distance(self, s: float, tau_index: int | None = None, q_low: float | None = None,
+                         *, tau: float | None = None):
         """d_s(G, f̂) = sup_q |G − f̂| / q^s over q ∈ [q_low, q_max] (default q_low = q_min).
 
         Restricting the sup to q ≥ q_low gives a lower bound of the full metric, so it obeys the
@@ -628,9 +659,11 @@ class Solution:
         s : float
             Exponent of the metric.
         tau_index : int, optional
-            One saved time; None for all.
+            One saved time; None (and no ``tau``) for all.
         q_low : float, optional
             Lower end of the sup; None for the grid's q_min.
+        tau : float, optional
+            One saved time by value (:meth:`time_index`).
 
         Returns
         -------
@@ -643,10 +676,10 @@ class Solution:
             Naming ``dimension`` when d ≥ 2, or ``tau_index`` when out of range.
         """
         self._require_one_dimension("fourier_distance")
-        if tau_index is None:
+        if tau_index is None and tau is None:
             return np.array([self.fourier_distance(s, k, q_low) for k in range(len(self.tau))])
         q_low = self.resolution.q_min if q_low is None else q_low
-        return self._weighted_sup(self.time_index(tau_index), s, q_low)
+        return self._weighted_sup(self.time_index(tau_index, tau), s, q_low)
 
     def _weighted_sup(self, k: int, s: float, q_low: float) -> float:
         q = self.q
@@ -659,7 +692,7 @@ class Solution:
         fine_diff = np.abs(self._interpolate(self.deviation[k], fine)) / fine**s
         return float(max(diff[j], fine_diff.max()))
 
-    def density(self, x=None, tau_index: int = -1):
+    def density(self, x=None, tau_index: int | None = None, *, tau: float | None = None):
         """Velocity-space density P(x, τ) of the rescaled velocity x = v / v0: returns ``(x, P)``.
 
         Units: x = v / v0(τ) with v0² = ⟨v²⟩ = e^{−2λτ} (unit initial variance), so P has unit
@@ -686,8 +719,10 @@ class Solution:
         ----------
         x : array_like, optional
             Rescaled velocities at which to evaluate P; None for the FFT grid.
-        tau_index : int, default -1
-            Index of the saved τ (negative counts from the end).
+        tau_index : int, optional
+            Index of the saved τ (negative counts from the end); default the last.
+        tau : float, optional
+            The saved τ itself, instead of ``tau_index`` (:meth:`time_index`).
 
         Returns
         -------
@@ -704,7 +739,8 @@ class Solution:
         """
         from .velocity import invert
 
-        return invert(self._truncated(tau_index), q_max=self.resolution.q_max, x=x)
+        return invert(self._truncated(self.time_index(tau_index, tau)), q_max=self.resolution.q_max,
+                      x=x)
 
     def _truncated(self, tau_index: int):
         """G(q) at saved time ``tau_index`` as a callable, zero beyond the grid's end q_max
@@ -721,7 +757,7 @@ class Solution:
 
         return G
 
-    def speed_density(self, s, tau_index: int = -1):
+    def speed_density(self, s, tau_index: int | None = None, *, tau: float | None = None):
         """Density of the rescaled speed |v| / v0 in d = ``dimension``: returns ``(s, P)``.
 
         Units: v0² = e^{−Λτ} is the variance of one component (unit initial variance per
@@ -741,8 +777,10 @@ class Solution:
         ----------
         s : array_like
             Rescaled speeds |v| / v0 ≥ 0, finite.
-        tau_index : int, default -1
-            Index of the saved τ (negative counts from the end).
+        tau_index : int, optional
+            Index of the saved τ (negative counts from the end); default the last.
+        tau : float, optional
+            The saved τ itself, instead of ``tau_index`` (:meth:`time_index`).
 
         Returns
         -------
@@ -760,10 +798,11 @@ class Solution:
         from .velocity import check_speeds, speed_density_at
 
         s = check_speeds(s, "s")
-        G = self._truncated(tau_index)
+        G = self._truncated(self.time_index(tau_index, tau))
         return s, speed_density_at(G, s, self.dimension, q_max=self.resolution.q_max)
 
-    def moments(self, orders=(2, 4, 6), tau_index: int | None = None):
+    def moments(self, orders=(2, 4, 6), tau_index: int | None = None, *,
+                tau: float | None = None):
         """Even moments at the saved τ, read from G near q = 0: a
         :class:`~maxwell_kinetics.moments.Moments`.
 
@@ -781,7 +820,9 @@ class Solution:
         orders : sequence of int, default (2, 4, 6)
             Even positive orders n.
         tau_index : int, optional
-            One saved time; None for all.
+            One saved time; None (and no ``tau``) for all.
+        tau : float, optional
+            One saved time by value (:meth:`time_index`).
 
         Returns
         -------
@@ -795,11 +836,72 @@ class Solution:
         """
         from .moments import moments_of
 
-        idx = range(len(self.tau)) if tau_index is None else [self.time_index(tau_index)]
+        idx = (range(len(self.tau)) if tau_index is None and tau is None
+               else [self.time_index(tau_index, tau)])
         q = self.q
         ref = deviation_from_f_hat(q, self.skewness)
         rows = [(self.deviation[k] - ref).real for k in idx]
         return moments_of(q, rows, self.tau[list(idx)], self.dimension, orders)
+
+    def histogram(self, edges, tau_index: int | None = None, *, tau: float | None = None):
+        """The kinetic prediction on the bins ``edges`` at one saved time, as the
+        :class:`particles.observables.Histogram` that particle runs return: ``density`` = the
+        exact bin probability ∫_a^b P(x, τ) dx divided by the width (G cut at the grid's end
+        q_max, as in :meth:`density`; in d = 1 the never-collided particles of a built-in law
+        exactly), ``error`` and ``count`` 0, ``samples`` 0, ``v0`` = v0(τ).
+
+        x = v/v0(τ) with v0² the variance of one component (e^{−2λτ} in d = 1): in the kinetic
+        theory the energy per component itself, so this is the particle runs' convention
+        x = v/√E (:func:`particles.observables.rescaled_histogram`; one Cartesian component in
+        d ≥ 2), and ``run.histograms[i].distance(sol.histogram(edges, tau=...))`` compares them
+        (:meth:`particles.observables.Histogram.distance`).  Method and conventions:
+        :mod:`maxwell_kinetics.kinetic_histogram`.
+
+        Parameters
+        ----------
+        edges : array_like
+            At least two finite, strictly increasing bin edges in x.
+        tau_index : int, optional
+            Index of the saved τ (negative counts from the end); default the last.
+        tau : float, optional
+            The saved τ itself, instead of ``tau_index`` (:meth:`time_index`).
+
+        Returns
+        -------
+        particles.observables.Histogram
+            The predicted histogram (zero error).
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``edges`` (not increasing, not finite, fewer than 2), ``tau`` (not a saved
+            time) or ``tau_index`` (out of range).
+        """
+        from .kinetic_histogram import check_edges, solution_histogram
+
+        edges = check_edges(edges)
+        return solution_histogram(self, self.time_index(tau_index, tau), edges)
+
+    def to_xarray(self):
+        """The solution as an ``xarray.Dataset`` (needs the optional ``xarray`` extra):
+        ``G`` and ``deviation`` (G − f̂) over (``tau``, ``q``), complex, and ``density``
+        P(x, τ) over (``tau``, ``x``) on the FFT grid of :meth:`density`; attributes
+        ``restitution``, ``initial``, ``dimension``, ``angular`` and ``resolution`` (JSON).
+
+        Returns
+        -------
+        xarray.Dataset
+            The labelled arrays.
+
+        Raises
+        ------
+        ImportError
+            When xarray is not installed, naming the extra to install
+            (``pip install 'maxwell-kinetics[xarray]'``).
+        """
+        from .kinetic_histogram import solution_to_xarray
+
+        return solution_to_xarray(self)
 
     def kurtosis(self) -> np.ndarray:
         """⟨|v|⁴⟩/⟨|v|²⟩² at each saved τ (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian; d = 2: 2;

@@ -162,6 +162,34 @@ class Histogram:
             "error": self.error.tolist(),
         }
 
+    def distance(self, other, *, min_count: int = 5):
+        """χ², degrees of freedom and χ²/dof (with the errors of both histograms) and the
+        Kolmogorov–Smirnov distance to ``other``, a histogram on the same edges (a particle run's,
+        or a prediction with zero error such as
+        :meth:`maxwell_kinetics.solver.Solution.histogram`); conventions in
+        :mod:`particles.distance`.
+
+        Parameters
+        ----------
+        other : Histogram
+            The histogram compared with this one, on the same edges.
+        min_count : int, optional
+            Bins where a sampled side counts fewer samples are left out of χ² (default 5).
+
+        Returns
+        -------
+        particles.distance.HistogramDistance
+            ``chi2``, ``dof``, ``chi2_dof``, ``chi2_dof_expected`` = (1, √(2/dof)), ``ks``.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``other`` if it is not a histogram on the same edges.
+        """
+        from .distance import histogram_distance
+
+        return histogram_distance(self, other, min_count=min_count)
+
 
 def _rms(rows: np.ndarray) -> np.ndarray:
     """√⟨v²⟩ of each row.  A row whose ⟨v²⟩ underflows below the smallest normal float (every

@@ -3,9 +3,13 @@
 ``progress_bar(total, desc=..., unit=..., enabled=True)`` returns an object with ``update(n)``,
 ``set_postfix_str(text)`` and ``close()`` (also a context manager):
 
-* stderr is a terminal: a tqdm bar (carriage-return updates);
-* stderr is not a terminal (a log file, CI): a few plain lines instead, one at the start, one at
-  each further 25 % of ``total`` and one at the end, so a log holds a handful of lines and not
+* ``enabled=None``, the default of every function of the API that takes ``progress``: a tqdm
+  bar when stderr is a terminal, tqdm's notebook widget in a Jupyter kernel (when ipywidgets is
+  installed), and nothing otherwise (a script whose stderr goes to a log, a test, a notebook
+  without ipywidgets);
+* ``enabled=True`` (the command line): a tqdm bar on a terminal, the notebook widget in a
+  Jupyter kernel with ipywidgets, and otherwise a few plain lines, one at the start, one at each
+  further 25 % of ``total`` and one at the end, so a log holds a handful of lines and not
   thousands of carriage-return updates;
 * ``enabled=False`` (``--no-progress``): nothing at all.
 """
@@ -15,7 +19,27 @@ from __future__ import annotations
 import sys
 import time
 
-__all__ = ["progress_bar", "PlainProgress", "NoProgress"]
+__all__ = ["progress_bar", "PlainProgress", "NoProgress", "in_notebook"]
+
+
+def in_notebook() -> bool:
+    """Whether this process is a Jupyter kernel whose front end can show tqdm's notebook widget
+    (an IPython kernel shell, with ipywidgets importable).
+
+    Returns
+    -------
+    bool
+        True in a Jupyter kernel with ipywidgets installed, else False.
+    """
+    ipython = sys.modules.get("IPython")
+    if ipython is None:
+        return False
+    shell = ipython.get_ipython()
+    if shell is None or type(shell).__name__ != "ZMQInteractiveShell":
+        return False
+    import importlib.util
+
+    return importlib.util.find_spec("ipywidgets") is not None
 
 
 class NoProgress:
@@ -145,7 +169,8 @@ class PlainProgress(NoProgress):
             self._emit()
 
 
-def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool = True, initial=0.0,
+def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool | None = True,
+                 initial=0.0,
                  leave: bool = False, stream=None, postfix: str = ""):
     """A progress reporter: a tqdm bar on a terminal, plain lines otherwise, nothing when disabled.
 
@@ -160,8 +185,9 @@ def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool = True,
         The label of the bar.
     unit : str, optional
         The unit of the progress count.
-    enabled : bool, optional
-        False (``--no-progress``) reports nothing (default True).
+    enabled : bool or None, optional
+        None: a bar on a terminal or in a notebook, nothing otherwise; True: the same, but plain
+        lines where no bar can be drawn; False (``--no-progress``): nothing (default True).
     initial : float, optional
         The progress already made, e.g. by a resumed run (default 0).
     leave : bool, optional
@@ -173,11 +199,19 @@ def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool = True,
 
     Returns
     -------
-    tqdm.tqdm or PlainProgress or NoProgress
+    tqdm.tqdm or tqdm.notebook.tqdm or PlainProgress or NoProgress
         The progress object.
     """
-    if not enabled:
+    if enabled is False:
         return NoProgress()
+    if stream is None and in_notebook():
+        from tqdm.notebook import tqdm as notebook_tqdm
+
+        bar = notebook_tqdm(total=float(total), initial=float(initial), desc=desc, unit=unit,
+                            leave=leave)
+        if postfix:
+            bar.set_postfix_str(postfix)
+        return bar
     stream = stream if stream is not None else sys.stderr
     isatty = getattr(stream, "isatty", None)
     if isatty is not None and isatty():
@@ -189,4 +223,6 @@ def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool = True,
         if postfix:
             bar.set_postfix_str(postfix)
         return bar
+    if enabled is None:
+        return NoProgress()
     return PlainProgress(total, desc, unit, stream, initial=initial, postfix=postfix)

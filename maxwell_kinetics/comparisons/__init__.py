@@ -1,7 +1,7 @@
 """The comparisons of ``maxwell-kinetics reproduce``: kinetic theory, the paper's figures, and
 kinetic theory against the particle models, each returning numbers and the data of a figure.
 
-Every comparison is a function ``name(size=None, progress=True, **overrides)`` returning a
+Every comparison is a function ``name(size=None, progress=None, **overrides)`` returning a
 :class:`Comparison`: ``summary`` (JSON-able: every fitted exponent and distance with its
 uncertainty, the parameters used, wall-clock seconds) and ``data`` (arrays for the figure,
 drawn by ``Comparison.figure()``).  ``size`` is one of :data:`SIZES`:
@@ -24,7 +24,7 @@ Layout (imports run downwards only; no module of the package imports this one):
 * :mod:`.analysis` — estimators on arrays (profiles, S(k) fits, jackknife);
 * :mod:`.drawing` — array-level drawing helpers;
 * one private module per comparison (``_kinetic_theory`` …), each with ``PRESETS``,
-  ``run(size=None, progress=True, **overrides) -> Comparison`` and ``plot(comparison, ax=None)``
+  ``run(size=None, progress=None, **overrides) -> Comparison`` and ``plot(comparison, ax=None)``
   (draws only; registered so that ``Comparison.figure()`` finds it).
 """
 

@@ -13,7 +13,7 @@ import time
 
 import numpy as np
 
-from particles.observables import mean_sem_json
+from particles.observables import Histogram, histogram_from_counts, mean_sem_json
 
 from ..driven import steady_state
 from .base import Comparison, jsonable, preset, register_plot
@@ -36,7 +36,7 @@ PRESETS = {
 
 
 
-def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
+def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Comparison:
     """For each r: the exact steady variance D/(pq) (with the finite-N factor (1 − 1/N)² of a
     gas of zero total momentum) and kurtosis against the particles' (mean ± standard error:
     the seed scatter for the kurtosis, the larger of the seed scatter and the pooled particles'
@@ -56,8 +56,9 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
         Where the particle runs execute and are kept; default a new serial one.
     **overrides
@@ -95,12 +96,15 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
         # mean-field model the particles of one run are nearly independent)
         counts = np.sum([np.histogram(row, edges)[0] for row in v], axis=0)
         total = v.size
-        dens = counts / (total * width)
-        err = np.sqrt(counts) / (total * width)
-        centres = 0.5 * (edges[1:] + edges[:-1])
+        particles_h = histogram_from_counts(edges, counts, total, 1.0)
+        dens = particles_h.density
+        centres = particles_h.centres
         exact = np.interp(centres, theory.velocity, theory.density)
-        ok = counts >= 10
-        chi2 = float(np.sum(((dens - exact)[ok] / err[ok]) ** 2) / ok.sum())
+        exact_h = Histogram(edges, centres, exact, np.zeros(centres.size),
+                            np.zeros(centres.size, dtype=np.int64), 0, 1.0)
+        # χ²/dof with the binomial errors of the pooled counts, bins with ≥ 10 counts
+        distance = particles_h.distance(exact_h, min_count=10)
+        chi2, ok = distance.chi2_dof, distance.bins
         # tail: slope of ln P on |v|/√D ∈ [3, 6], particles and theory on the same window (the
         # asymptotic slope −1/√D is reached further out: the next poles add e^{−|v|/(p√D)})
         w = np.abs(centres) / math.sqrt(d)
@@ -123,7 +127,7 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
             "tail_slope_asymptotic": -1.0 / math.sqrt(d),
         })
         curves.append({"x": theory.velocity, "P": theory.density, "centres": centres,
-                       "density": dens, "error": err})
+                       "density": dens, "error": particles_h.error})
     summary = {"parameters": jsonable(params), "rows": rows,
                "seconds": time.perf_counter() - start}
     return Comparison(NAME, summary, {"curves": curves, "rows": rows})

@@ -43,7 +43,7 @@ def lattice_times(tau_max):
     return tuple(float(t) for t in np.round(np.concatenate([early, late]), 6))
 
 
-def run(size=None, progress: bool = True, checkpoint_dir=None,
+def run(size=None, progress: bool | None = None, checkpoint_dir=None,
         runner=None, **overrides) -> Comparison:
     """Comparison 5: E(t) of MD (Haff's t⁻², then t^{−2/3}) and E(τ) of the lattice
     (exponential, then τ^{−1/2}), r = ``restitution``.
@@ -76,8 +76,9 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     checkpoint_dir : str or os.PathLike, optional
         Existing folder for the MD runs' checkpoints (see above); default none.
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional

@@ -41,7 +41,7 @@ _GAUSSIAN_MOMENTS = [1.0, 0.0, 1.0, 0.0, 3.0, 0.0, 15.0, 0.0, 105.0]
 _BOUND_CHECKED_ABOVE = 1e-5
 
 
-def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
+def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Comparison:
     """Comparison 1: G(q, τ) → f̂, sup|G − f̂| and d_s(G, f̂) against τ with the contraction
     bound d_s(τ) ≤ e^{−γ(s)τ} d_s(0) (checked at the saved τ > 0 where the bound is ≥ 1e-5,
     above the solver's floor; ``max_distance_over_bound`` is the largest d_s/bound there, τ = 0
@@ -60,8 +60,9 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
         Where the particle runs execute and are kept; default a new serial one.
     **overrides

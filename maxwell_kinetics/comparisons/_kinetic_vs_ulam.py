@@ -87,7 +87,7 @@ def _smoothed_comparison(sol, tau_index, x, edges, width, seed):
 _SMOOTHING_SEED = 2026
 
 
-def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
+def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Comparison:
     """Comparison 2: the solver's P(x, τ) against the Ulam particles at the same τ.
 
     For each case (r, law) and each τ: the pooled histogram of ``seeds`` runs of ``n`` particles
@@ -133,8 +133,9 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
         Where the particle runs execute and are kept; default a new serial one.
     **overrides

@@ -98,7 +98,7 @@ def _mean_se(values):
     return mean_sem_json([x for x in values if x is not None])
 
 
-def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
+def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Comparison:
     """Comparison 9: the late stage at the paper's sizes (N = 10⁵ small, 10⁶ default, 10⁷
     full), with the exact sticky gas standing in for late MD (from the same initial state MD at
     r = 0.5, δ = 10⁻⁴ and the sticky gas agree within a few per cent, comparison 8), and the
@@ -506,12 +506,9 @@ def _structure_numbers(kb, sb_mean, times, porod_seed, params) -> dict:
 def _grid(ax):
     """Eight axes in two rows of four (a new figure), or the eight axes given."""
     if ax is None:
-        import matplotlib
+        from ..plotting import new_figure
 
-        matplotlib.use("Agg", force=False)
-        import matplotlib.pyplot as plt
-
-        fig, axes = plt.subplots(2, 4, figsize=(19.0, 9.0))
+        fig, axes = new_figure(4, width=19.0 / 4, height=9.0 / 2, nrows=2)
         return fig, list(axes.ravel()), True
     axes = list(np.ravel(ax))
     if len(axes) != 8:

@@ -55,7 +55,7 @@ def paired_numbers(e_md, e_sticky):
     return paired, unpaired
 
 
-def run(size=None, progress: bool = True, checkpoint_dir=None,
+def run(size=None, progress: bool | None = None, checkpoint_dir=None,
         runner=None, **overrides) -> Comparison:
     """Comparison 8: MD (r = ``restitution``, δ = ``delta``) against the exact sticky gas from
     the same initial state (seed s of :func:`.particle_runs.md_runs` and of
@@ -87,8 +87,9 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     checkpoint_dir : str or os.PathLike, optional
         Existing folder for the MD runs' checkpoints (see above); default none.
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional

@@ -49,7 +49,7 @@ def _collapse_spread(k, spectra, times, z, x_range):
     return float(np.sqrt(np.mean(np.var(np.array(curves), axis=0, ddof=1))))
 
 
-def run(size=None, progress: bool = True, checkpoint_dir=None,
+def run(size=None, progress: bool | None = None, checkpoint_dir=None,
         runner=None, **overrides) -> Comparison:
     """Comparison 6 (paper Fig. 3): S(k, τ) of the lattice against k τ^{1/2} (with and without the
     kinematic constraint) and S(k, t) of MD against k t^{2/3}, r = 0.5.
@@ -84,8 +84,9 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     checkpoint_dir : str or os.PathLike, optional
         Existing folder for the MD runs' checkpoints (see above); default none.
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional

@@ -45,7 +45,7 @@ def hill_exponent(speeds, top: int) -> float:
     return float(1.0 / np.mean(np.log(c[:top] / c[top])))
 
 
-def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
+def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Comparison:
     """The exponents against r ∈ [0, 0.95] for d = 2, 3 and both angular models, the paper's
     "α = 5 at r = 0 in 2D" against each, and the particles' tail: d-dimensional Ulam runs (from
     a unit Gaussian per component, at τ = ``tau``, N particles, ``seeds`` runs), Hill's
@@ -57,8 +57,9 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
         Where the particle runs execute and are kept; default a new serial one.
     **overrides

@@ -32,7 +32,7 @@ PRESETS = {
 }
 
 
-def run(size=None, progress: bool = True, runner=None, **overrides) -> Comparison:
+def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Comparison:
     """Comparison 3 (paper Fig. 2): Ulam P(v, τ) against v/v0 for several r, against
     f(x) = 2/(π(1+x²)²), at a late τ per r (``tau``, one per restitution).  The τ are chosen
     with λτ ≈ 30, the largest that float64 particle runs support (see
@@ -56,8 +56,9 @@ def run(size=None, progress: bool = True, runner=None, **overrides) -> Compariso
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
         Where the particle runs execute and are kept; default a new serial one.
     **overrides

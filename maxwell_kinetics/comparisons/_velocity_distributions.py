@@ -60,7 +60,7 @@ def _shape_numbers(v: np.ndarray, edges) -> dict:
             "_density_error": (mean_sem(dens, axis=0)[1] if r > 1 else np.zeros(dens.shape[1]))}
 
 
-def run(size=None, progress: bool = True, checkpoint_dir=None,
+def run(size=None, progress: bool | None = None, checkpoint_dir=None,
         runner=None, **overrides) -> Comparison:
     """Comparison 4 (paper Figs. 1a/1b): rescaled P(x), x = (v − ⟨v⟩)/v0, of MD, the lattice and
     the Ulam model at equal energy, early (MD homogeneous) and late (MD inhomogeneous).
@@ -98,8 +98,9 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     checkpoint_dir : str or os.PathLike, optional
         Existing folder for the MD runs' checkpoints (see above); default none.
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional

@@ -36,7 +36,7 @@ PRESETS = {
 }
 
 
-def run(size=None, progress: bool = True, checkpoint_dir=None,
+def run(size=None, progress: bool | None = None, checkpoint_dir=None,
         runner=None, **overrides) -> Comparison:
     """Comparison 7 (paper Fig. 4): v(x, t) and v(i, t) of MD and v(i, τ) of the lattice at
     equal energy, r = 0.99 — the late (clustered) stage of comparison 4 (MD recorded at
@@ -68,8 +68,9 @@ def run(size=None, progress: bool = True, checkpoint_dir=None,
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
         :func:`maxwell_kinetics.comparisons.base.default_size`.
-    progress : bool, optional
-        Show progress of the runs and solves (default true).
+    progress : bool or None, optional
+        Show progress of the runs and solves (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
     checkpoint_dir : str or os.PathLike, optional
         Existing folder for the MD runs' checkpoints (see above); default none.
     runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional

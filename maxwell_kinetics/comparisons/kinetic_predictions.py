@@ -32,7 +32,7 @@ _SOLUTIONS: dict = {}
 
 
 def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coarse",
-                     progress: bool = False):
+                     progress: bool | None = None):
     """The solver's :class:`~maxwell_kinetics.solver.Solution`, cached per (r, law, τ list,
     resolution) so that the comparisons of one ``reproduce`` run share solves (each new
     (r, law, resolution) costs seconds of JIT compilation).
@@ -50,8 +50,9 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
         Times τ (collisions per particle) at which the solution is recorded.
     resolution : str, optional
         Name of the solver's grid resolution (default ``"coarse"``).
-    progress : bool, optional
-        Show the solver's progress (first solve only; default false).
+    progress : bool or None, optional
+        Show the solver's progress (first solve only; None, the default: a bar on a terminal or
+        in a notebook, nothing otherwise).
 
     Returns
     -------
@@ -119,21 +120,10 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
     below : float
         Predicted probability of x < ``edges[0]``.
     """
-    q_max = sol.resolution.q_max
-    tau = float(sol.tau[tau_index])
-    lam = MaxwellModel(sol.restitution).lam
-    law = get_law(sol.initial)
-    weight, stretch = math.exp(-tau), math.exp(lam * tau)
+    from ..kinetic_histogram import bin_probabilities
 
-    def H(q):
-        q = np.minimum(q, q_max)
-        return sol.evaluate(q, tau_index) - weight * law.phi(q * stretch)
-
-    cdf_free = weight * law_cdf(sol.initial, np.asarray(edges, dtype=float) / stretch)
-    prob = st.interval_probabilities(H, edges, q_max) + np.diff(cdf_free)
-    below = float(st.interval_probabilities(H, [-far, float(edges[0])], q_max)[0]
-                  + cdf_free[0] - weight * law_cdf(sol.initial, -far / stretch))
-    return prob, below
+    # one home with Solution.histogram (maxwell_kinetics.kinetic_histogram)
+    return bin_probabilities(sol, sol.time_index(tau_index), np.asarray(edges, dtype=float), far)
 
 
 def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):

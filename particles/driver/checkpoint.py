@@ -21,8 +21,15 @@ class Records:
     """Per-time records of a run in progress (also what a checkpoint stores)."""
 
     def __init__(self, nt: int, n: int, structure: str | None, snapshots: bool,
-                 snapshot_fields: tuple[str, ...] = ()):
+                 snapshot_fields: tuple[str, ...] = (), edges=None):
         self.done = 0
+        # The rescaled histogram at every time (RunResult.histograms): its counts on ``edges``
+        # and its scale v0 = sqrt(E) (0 where E = 0 and x is undefined; NaN: not recorded),
+        # nt * (B + 1) numbers in all.
+        self.hist_edges = None if edges is None else np.asarray(edges, dtype=float)
+        if self.hist_edges is not None:
+            self.hist_count = np.zeros((nt, self.hist_edges.size - 1), dtype=np.int64)
+            self.hist_v0 = np.full(nt, np.nan)
         self.energy = np.full(nt, np.nan)
         self.momentum = np.full(nt, np.nan)
         self.collisions = np.zeros(nt, dtype=np.int64)
@@ -58,6 +65,13 @@ class Records:
                 self.snapshot_extras[key][i] = value
         for key, value in engine.observe(state).items():
             self.extras.setdefault(key, np.full(nt, np.nan))[i] = value
+        if self.hist_edges is not None:
+            first = np.ascontiguousarray(v[:, 0]) if v.ndim == 2 else v
+            if np.any(first):
+                h = obs.rescaled_histogram(first, self.hist_edges)
+                self.hist_count[i], self.hist_v0[i] = h.count, h.v0
+            else:
+                self.hist_count[i], self.hist_v0[i] = 0, 0.0
         self.done += 1
 
     def arrays(self) -> dict[str, np.ndarray]:
@@ -90,6 +104,9 @@ class Records:
             out["rec.snapshot." + key] = unrecorded_from(value, done)
         for key, value in self.extras.items():
             out["rec.extra." + key] = unrecorded_from(value, done)
+        if self.hist_edges is not None:
+            out["rec.hist_count"] = unrecorded_from(self.hist_count, done)
+            out["rec.hist_v0"] = unrecorded_from(self.hist_v0, done)
         return out
 
     def restore(self, arrays: dict[str, np.ndarray], done: int, seconds: float) -> None:
@@ -106,6 +123,34 @@ class Records:
             self.snapshot_extras[key] = arrays["rec.snapshot." + key]
         prefix = "rec.extra."
         self.extras = {k[len(prefix) :]: v for k, v in arrays.items() if k.startswith(prefix)}
+        if self.hist_edges is not None:
+            count, v0 = arrays.get("rec.hist_count"), arrays.get("rec.hist_v0")
+            if count is not None and v0 is not None:
+                self.hist_count, self.hist_v0 = np.asarray(count), np.asarray(v0, dtype=float)
+            else:  # a checkpoint written before per-time histograms: those times have none
+                self.hist_v0[:] = np.nan
+
+
+def seed_record(seed):
+    """The JSON form of a run's seed: the int itself, or for a
+    :class:`numpy.random.SeedSequence` that is not a plain int seed (a spawned child, a large
+    or sequence entropy) ``{"entropy", "spawn_key", "pool_size"}``."""
+    if isinstance(seed, np.random.SeedSequence):
+        entropy = seed.entropy
+        entropy = int(entropy) if np.isscalar(entropy) else [int(e) for e in entropy]
+        return {"entropy": entropy, "spawn_key": [int(k) for k in seed.spawn_key],
+                "pool_size": int(seed.pool_size)}
+    if isinstance(seed, dict):  # already a record
+        return seed
+    return int(seed)
+
+
+def seed_source(record):
+    """What ``numpy.random.default_rng`` takes for a seed record of :func:`seed_record`."""
+    if isinstance(record, dict):
+        return np.random.SeedSequence(record["entropy"], spawn_key=tuple(record["spawn_key"]),
+                                      pool_size=int(record["pool_size"]))
+    return int(record)
 
 
 def run_identity(engine, times, seed, edges, structure, snapshots) -> dict:
@@ -113,7 +158,7 @@ def run_identity(engine, times, seed, edges, structure, snapshots) -> dict:
         "model": engine.name,
         "params": engine.to_dict(),
         "times": [float(t) for t in times],
-        "seed": int(seed),
+        "seed": seed_record(seed),
         "options": {
             "bins": [float(e) for e in edges],
             # True for "all" (what every checkpoint so far holds), "last", or False
@@ -156,7 +201,7 @@ def load_checkpoint(path, engine, identity, records: Records):
         if isinstance(done, bool) or not isinstance(done, int):
             raise ValueError(f"done={done!r} is not an integer")
         records.restore(arrays, done, float(meta["seconds"]))
-        rng = np.random.default_rng(identity["seed"])
+        rng = np.random.default_rng(seed_source(identity["seed"]))
         rng.bit_generator.state = meta["rng"]
     except (KeyError, TypeError, ValueError) as exc:
         raise CheckpointError(path, f"incomplete checkpoint: {type(exc).__name__}: {exc}") from None
@@ -219,6 +264,9 @@ def _inconsistency(engine, times: list[float], state, records: Records) -> str |
         shapes["rec.snapshot." + key] = (value, (nt, n))
     for key, value in records.extras.items():
         shapes["rec.extra." + key] = (value, (nt,))
+    if records.hist_edges is not None:
+        shapes["rec.hist_count"] = (records.hist_count, (nt, records.hist_edges.size - 1))
+        shapes["rec.hist_v0"] = (records.hist_v0, (nt,))
     for key, (value, shape) in shapes.items():
         if np.shape(value) != shape:
             return f"{key} has shape {np.shape(value)}, expected {shape}"

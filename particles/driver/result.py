@@ -17,6 +17,21 @@ FORMAT_VERSION = 2
 READABLE_VERSIONS = (1, 2)
 
 
+def import_xarray(what: str):
+    """The :mod:`xarray` module, or an ``ImportError`` saying that ``what`` needs the optional
+    ``xarray`` extra and how to install it."""
+    try:
+        import xarray
+    except ImportError:
+        raise ImportError(f"{what} needs xarray, an optional dependency: pip install "
+                          "'maxwell-kinetics[xarray]' (or pip install xarray)") from None
+    return xarray
+
+
+#: The time coordinate of :meth:`RunResult.to_xarray`, by model (t for MD and the sticky gas).
+_TIME_NAMES = {"md": "t", "sticky": "t"}
+
+
 class CheckpointError(persistence.FileFormatError):
     """A checkpoint or result file that cannot be read or belongs to another run.
 
@@ -46,8 +61,8 @@ def write_file(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
 
 _ENTRY_PREFIXES = {
     "checkpoint": ("state.", "rec."),
-    "result": ("times", "energy", "momentum", "collisions", "velocities", "hist.", "structure.",
-               "snapshots", "snapshot.", "extra."),
+    "result": ("times", "energy", "momentum", "collisions", "velocities", "hist.", "hists.",
+               "structure.", "snapshots", "snapshot.", "extra."),
 }
 
 
@@ -62,6 +77,8 @@ def _entry_checker(kind: str, n: int | None, nt: int | None):
             return f"not an entry of a {kind} file"
         if n is not None:
             limit = max(nt or 1, 1) * (n + 2) * 3
+            if name in ("rec.hist_count", "hists.count"):  # nt rows of at most 10⁶ bins
+                limit = max(nt or 1, 1) * 10**6
             count = int(np.prod(shape, dtype=object)) if shape else 1
             if count > limit:
                 return f"declares shape {shape}, more than a run of N = {n} can hold"
@@ -100,6 +117,9 @@ class RunResult:
     ``extras`` engine-specific scalars per time; ``snapshot_extras[name][i]`` the engine's
     per-particle arrays at ``times[i]`` (with ``snapshots``, e.g. MD ``positions``);
     ``seconds`` the wall-clock time of the run (of all its resumed pieces);
+    ``histograms`` the rescaled histogram at every time (``histograms[-1]`` is ``histogram``),
+    kept as counts: nt · (B + 1) numbers, 8 bytes each, for B bins (1000 times of 200 bins:
+    1.6 MB), whatever N;
     ``final_state`` the engine's state at the last time (None for a result read from a file:
     files keep the records, not the state).
 
@@ -109,8 +129,9 @@ class RunResult:
         The engine's name (``"ulam"``, ``"lattice"``, ``"md"``, ``"sticky"``, ...).
     params : dict
         The engine's JSON-able parameters.
-    seed : int
-        The run's seed.
+    seed : int or dict
+        The run's seed: an int, or for a ``SeedSequence`` that is not one
+        ``{"entropy", "spawn_key", "pool_size"}``.
     times : numpy.ndarray
         The requested times, shape ``(nt,)`` (τ, or t for MD and the sticky gas).
     energy : numpy.ndarray
@@ -137,6 +158,13 @@ class RunResult:
         Engine per-particle arrays at each time (e.g. MD ``positions``).
     final_state : object
         The engine's last state (not compared; None for a result read from a file).
+    histogram_edges : numpy.ndarray or None
+        The edges of the histograms in x (None for a record without per-time histograms).
+    histogram_counts : numpy.ndarray or None
+        Counts per bin at each time, shape ``(nt, B)``.
+    histogram_scales : numpy.ndarray or None
+        v0 = √E of each time's histogram, shape ``(nt,)`` (0 where E = 0, NaN where the time
+        was not recorded, e.g. resumed from a checkpoint that kept no per-time histograms).
     """
 
     model: str
@@ -155,11 +183,35 @@ class RunResult:
     histogram_note: str | None = None
     snapshot_extras: dict[str, np.ndarray] = field(default_factory=dict)
     final_state: Any = field(default=None, compare=False, repr=False)
+    histogram_edges: np.ndarray | None = field(default=None, repr=False)
+    histogram_counts: np.ndarray | None = field(default=None, repr=False)
+    histogram_scales: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def histograms(self) -> tuple:
+        """The rescaled histogram of x = v/√E (one Cartesian component in d > 1) at each of
+        ``times``, on the run's ``bins``: a tuple of :class:`particles.observables.Histogram`
+        (None at a time where x is undefined or that was not recorded); the last is
+        :attr:`histogram`.  Built from the counts kept per time (nt · (B + 1) numbers).
+
+        Returns
+        -------
+        tuple of particles.observables.Histogram or None
+            One entry per time (empty for a record without per-time histograms).
+        """
+        if self.histogram_counts is None or self.histogram_edges is None:
+            return ()
+        n = self.velocities.shape[0]
+        return tuple(
+            obs.histogram_from_counts(self.histogram_edges, count, n, v0)
+            if np.isfinite(v0) and v0 > 0 else None
+            for count, v0 in zip(self.histogram_counts, self.histogram_scales, strict=True))
 
     def to_record(self) -> tuple[dict[str, np.ndarray], dict]:
         """``(arrays, meta)``: the layout of a result file (:meth:`save`, and the ensemble's
         task files).  ``arrays``: ``times``, ``energy``, ``momentum``, ``collisions``,
-        ``velocities``, ``hist.*``, ``structure.k``/``structure.S``, ``snapshots``,
+        ``velocities``, ``hist.*``, ``hists.*`` (the per-time histograms),
+        ``structure.k``/``structure.S``, ``snapshots``,
         ``snapshot.<field>`` and ``extra.<name>`` where present; ``meta`` (JSON-able):
         ``model``, ``params``, ``seed``, ``seconds`` (None when NaN), and ``hist`` (samples,
         v0) and ``histogram_note`` where present.  The final state is not part of it.
@@ -187,6 +239,10 @@ class RunResult:
             meta["hist"] = {"samples": h.samples, "v0": h.v0}
         if self.histogram_note is not None:
             meta["histogram_note"] = self.histogram_note
+        if self.histogram_counts is not None:
+            arrays.update({"hists.edges": self.histogram_edges,
+                           "hists.count": self.histogram_counts,
+                           "hists.v0": self.histogram_scales})
         if self.structure is not None:
             arrays["structure.k"], arrays["structure.S"] = self.structure
         if self.snapshots is not None:
@@ -226,7 +282,7 @@ class RunResult:
         return cls(
             model=meta["model"],
             params=meta["params"],
-            seed=int(meta["seed"]),
+            seed=meta["seed"] if isinstance(meta["seed"], dict) else int(meta["seed"]),
             times=a["times"],
             energy=a["energy"],
             momentum=a["momentum"],
@@ -240,7 +296,62 @@ class RunResult:
             histogram_note=meta.get("histogram_note"),
             snapshot_extras={k[len("snapshot."):]: v for k, v in a.items()
                              if k.startswith("snapshot.")},
+            histogram_edges=a.get("hists.edges"),
+            histogram_counts=a.get("hists.count"),
+            histogram_scales=a.get("hists.v0"),
         )
+
+    def to_xarray(self):
+        """The records as an ``xarray.Dataset`` (needs the optional ``xarray`` extra).
+
+        Coordinates: the time (``tau`` for the Ulam and lattice models, ``t`` for MD and the
+        sticky gas), ``x`` (the bin centres of the histograms, with ``x_edges`` as a variable)
+        and, where recorded, ``k`` (the wavenumbers of S(k)).  Variables over time: ``energy``,
+        ``momentum``, ``collisions``, ``v0`` (each time's √E) and the engine's extras; over
+        (time, x): ``density``, ``error`` and ``count`` of the per-time histograms (NaN at a
+        time without one); ``structure_factor`` over (time, k) (``structure_factor=True``) or
+        k (``"last"``); ``snapshots`` over (time, particle) when recorded.  Attributes:
+        ``model``, ``params`` and ``seed`` as JSON text.
+
+        Returns
+        -------
+        xarray.Dataset
+            The labelled records.
+
+        Raises
+        ------
+        ImportError
+            When xarray is not installed, naming the extra to install.
+        """
+        import json
+
+        xr = import_xarray("RunResult.to_xarray()")
+        time = _TIME_NAMES.get(self.model, "tau")
+        data = {"energy": ((time,), self.energy), "momentum": ((time,), self.momentum),
+                "collisions": ((time,), self.collisions)}
+        coords = {time: self.times}
+        hists = self.histograms
+        if hists:
+            edges = self.histogram_edges
+            coords["x"] = 0.5 * (edges[1:] + edges[:-1])
+            data["x_edges"] = (("x_edge",), edges)
+            nan = np.full(coords["x"].size, np.nan)
+            for name in ("density", "error"):
+                data[name] = ((time, "x"), np.array(
+                    [nan if h is None else getattr(h, name) for h in hists]))
+            data["count"] = ((time, "x"), self.histogram_counts)
+            data["v0"] = ((time,), self.histogram_scales)
+        if self.structure is not None:
+            k, s = self.structure
+            coords["k"] = k
+            data["structure_factor"] = ((time, "k") if s.ndim == 2 else ("k",), s)
+        if self.snapshots is not None:
+            data["snapshots"] = ((time, "particle"), self.snapshots)
+        for key, value in self.extras.items():
+            data[key] = ((time,), value)
+        attrs = {"model": self.model, "params": json.dumps(self.params),
+                 "seed": json.dumps(self.seed)}
+        return xr.Dataset(data, coords=coords, attrs=attrs)
 
     def save(self, path) -> None:
         """Save to ``path`` (an ``.npz`` archive with a JSON ``meta`` entry; the layout of

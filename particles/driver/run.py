@@ -20,7 +20,15 @@ from ..validation import (
     check_seed,
     check_times,
 )
-from .checkpoint import CheckpointLock, Records, load_checkpoint, run_identity, save_checkpoint
+from .checkpoint import (
+    CheckpointLock,
+    Records,
+    load_checkpoint,
+    run_identity,
+    save_checkpoint,
+    seed_record,
+    seed_source,
+)
 from .engine import ENGINE_MEMBERS, Engine, engine_label, next_grid_point  # noqa: F401 (were here)
 from .result import RunResult
 
@@ -94,7 +102,7 @@ def simulate(
     times,
     seed,
     *,
-    progress: bool = True,
+    progress: bool | None = None,
     checkpoint=None,
     resume=None,
     bins=None,
@@ -137,9 +145,17 @@ def simulate(
         member of the contract :class:`particles.driver.Engine`).
     times : sequence of float
         Increasing times ≥ 0, in the engine's own time (τ, or t for MD and the sticky gas).
-    seed : int
-        The run's seed, an integer in [0, 2⁶⁴ − 1] (:func:`particles.validation.check_seed`).
-    progress, checkpoint, resume, bins, structure_factor, snapshots, checkpoint_interval, force
+    seed : int or numpy.random.SeedSequence
+        The run's seed: an integer in [0, 2⁶⁴ − 1] (:func:`particles.validation.check_seed`),
+        or a ``SeedSequence`` (e.g. a child of ``SeedSequence(s).spawn(k)`` for independent
+        runs).  ``SeedSequence(s)`` of such an integer s is the run of seed s, bit for bit,
+        and is recorded as s; any other is recorded (``RunResult.seed``, checkpoints) as
+        ``{"entropy", "spawn_key", "pool_size"}``.  A ``numpy.random.Generator`` is refused.
+    progress : bool or None, optional
+        None (default): a bar on a terminal or in a notebook, nothing otherwise; True: a bar,
+        or a few plain lines where no bar can be drawn; False: nothing
+        (:func:`particles.progress.progress_bar`).
+    checkpoint, resume, bins, structure_factor, snapshots, checkpoint_interval, force
         As described above.
 
     Returns
@@ -151,14 +167,17 @@ def simulate(
     ------
     particles.InvalidArgumentError
         For a bad argument (``engine`` lacking a member of the contract, naming the engine and
-        the members), or a run refused by its estimated memory or work (an engine without the
+        the members; a ``seed`` that is a Generator, saying why), or a run refused by its
+        estimated memory or work (an engine without the
         estimates is refused, naming it).
     particles.CheckpointError
         For a checkpoint of another run, or one locked by a running process.
     """
     _check_engine(engine)
     times = check_times(times, engine.time_name)
-    seed = check_seed(seed)
+    seed = _run_seed(seed)
+    if progress is not None and not isinstance(progress, (bool, np.bool_)):
+        raise InvalidArgumentError("progress", progress, "True, False or None")
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
     structure_factor = _structure_mode(structure_factor)
@@ -179,15 +198,45 @@ def simulate(
     n = int(engine.to_dict()["n"])
     with CheckpointLock(checkpoint):
         fields = tuple(engine.snapshot_fields) if snapshots else ()
-        records = Records(len(times), n, structure_factor, snapshots, fields)
+        records = Records(len(times), n, structure_factor, snapshots, fields, hist_edges)
         if resume is not None:
             state, rng = load_checkpoint(check_path(resume, "resume"), engine, identity,
                                           records)
         else:
-            rng = np.random.default_rng(seed)
+            rng = np.random.default_rng(seed_source(seed))
             state = engine.initial_state(rng)
         return _run(engine, times, seed, identity, state, rng, records, progress, checkpoint,
                     checkpoint_interval, hist_edges, estimate)
+
+
+_SEED_EXPECTED = "an integer in [0, 2**64 - 1] or a numpy.random.SeedSequence"
+
+
+def _run_seed(seed):
+    """The seed of a run as recorded (:func:`particles.driver.checkpoint.seed_record`): an int
+    (checked by :func:`particles.validation.check_seed`), a root ``SeedSequence`` of such an
+    int turned into that int (``default_rng`` draws the same stream from both), or the record
+    of any other ``SeedSequence``.  A ``Generator`` is refused: its state moves as it is drawn
+    from, so a run seeded by it could be neither repeated nor resumed from its seed."""
+    if isinstance(seed, np.random.Generator):
+        raise InvalidArgumentError(
+            "seed", f"a numpy.random.Generator ({type(seed.bit_generator).__name__})",
+            _SEED_EXPECTED + "; a Generator's state moves as it is drawn from, so the run could "
+            "be neither repeated nor resumed from it (pass generator.bit_generator.seed_seq, or "
+            "a child of SeedSequence.spawn)")
+    if isinstance(seed, np.random.BitGenerator):
+        raise InvalidArgumentError("seed", f"a numpy.random.{type(seed).__name__}",
+                                   _SEED_EXPECTED + " (pass its seed_seq)")
+    if isinstance(seed, np.random.SeedSequence):
+        if type(seed) is not np.random.SeedSequence:
+            raise InvalidArgumentError("seed", type(seed).__name__, _SEED_EXPECTED)
+        record = seed_record(seed)
+        entropy = record["entropy"]
+        if (not record["spawn_key"] and record["pool_size"] == 4 and isinstance(entropy, int)
+                and 0 <= entropy < 2**64):
+            return entropy
+        return record
+    return check_seed(seed)
 
 
 def _check_engine(engine) -> None:
@@ -220,8 +269,8 @@ def _run(engine, times, seed, identity, state, rng, records, progress, checkpoin
     seconds_before = records.seconds
     last_save = _time.monotonic()
     bar = None
-    if progress:
-        bar = progress_bar(float(times[-1]), engine.name, engine.time_name,
+    if progress is not False:
+        bar = progress_bar(float(times[-1]), engine.name, engine.time_name, enabled=progress,
                            initial=float(state.time), postfix=f"estimate {estimate.describe()}")
     try:
         while records.done < len(times):
@@ -278,4 +327,7 @@ def _run(engine, times, seed, identity, state, rng, records, progress, checkpoin
         extras=records.extras,
         histogram_note=histogram_note,
         final_state=state,
+        histogram_edges=hist_edges,
+        histogram_counts=records.hist_count,
+        histogram_scales=records.hist_v0,
     )

@@ -143,7 +143,7 @@ def _check_existing(out: Path, tasks) -> tuple[set, list]:
 
 
 def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, scheduler=None,
-                 cluster: str | None = None, config=None, progress: bool = True,
+                 cluster: str | None = None, config=None, progress: bool | None = None,
                  executor: str = "dask", force: bool = False,
                  shared: bool = False) -> EnsembleReport:
     """Run the tasks of ``spec`` that have no valid file in ``out`` and aggregate them all.
@@ -171,8 +171,10 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
         ``"slurm"`` or ``"pbs"``.
     config : str or os.PathLike, optional
         The cluster's TOML file (only with ``cluster``).
-    progress : bool, optional
-        Show a progress bar (default True).
+    progress : bool or None, optional
+        None (default): a bar on a terminal or in a notebook, nothing otherwise; True: a bar,
+        or a few plain lines where no bar can be drawn; False: nothing
+        (:func:`particles.progress.progress_bar`).
     executor : str, optional
         ``"dask"`` (default) or ``"serial"``.
     force : bool, optional
@@ -214,7 +216,9 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
         name = chosen[-1]
         raise InvalidArgumentError(name, given[name],
                                    "one of workers, scheduler, cluster (dask executor only)")
-    for name, value in (("progress", progress), ("force", force), ("shared", shared)):
+    if progress is not None and not isinstance(progress, bool):
+        raise InvalidArgumentError("progress", progress, "True, False or None")
+    for name, value in (("force", force), ("shared", shared)):
         if not isinstance(value, bool):
             raise InvalidArgumentError(name, value, "True or False")
     workers = check_workers(workers, "workers", force=force)
@@ -281,8 +285,8 @@ def run_ensemble(spec: EnsembleSpec, out, *, workers: int | None = None, schedul
     )
 
 
-def _execute(client, todo, factory, out: Path, progress: bool) -> list[dict]:
-    bar = progress_bar(len(todo), "ensemble", "tasks", enabled=progress and bool(todo))
+def _execute(client, todo, factory, out: Path, progress: bool | None) -> list[dict]:
+    bar = progress_bar(len(todo), "ensemble", "tasks", enabled=progress if todo else False)
     records = []
     try:
         if client is None:
