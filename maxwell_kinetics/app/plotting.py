@@ -54,7 +54,7 @@ def plot_solution(solution):
     matplotlib.figure.Figure
         The figure, laid out (``tight_layout``); the caller saves or closes it.
     """
-    from .exact import f_hat
+    from ..exact import f_hat
 
     fig, axes = new_figure(2)
     left, right = axes[0]
@@ -97,8 +97,8 @@ def plot_convergence(runs):
 
     Parameters
     ----------
-    runs : list of maxwell_kinetics.convergence.ConvergenceRun
-        The runs of :func:`maxwell_kinetics.convergence.convergence_study`; may be empty.
+    runs : list of maxwell_kinetics.app.convergence.ConvergenceRun
+        The runs of :func:`maxwell_kinetics.app.convergence.convergence_study`; may be empty.
 
     Returns
     -------
