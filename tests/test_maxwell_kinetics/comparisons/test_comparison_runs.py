@@ -17,7 +17,7 @@ from particles import md, observables
 from particles.driver import simulate
 from particles.lattice import Lattice
 
-PACKAGE = ROOT / "maxwell_kinetics" / "comparisons"
+PACKAGE = ROOT / "maxwell_kinetics" / "app" / "comparisons"
 
 
 def test_cached_lattice_runs_cannot_be_changed_by_a_caller():
@@ -140,7 +140,7 @@ def _package_imports(path: Path) -> tuple[set[str], list[str]]:
             names = [node.module] if node.module else [a.name for a in node.names]
         elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith(
                 "maxwell_kinetics.app.comparisons"):
-            names = [node.module.split(".")[2] if node.module.count(".") > 1 else "__init__"]
+            names = [node.module.split(".")[3] if node.module.count(".") > 2 else "__init__"]
         names = [n.split(".")[0] for n in names]
         if not names:
             continue
