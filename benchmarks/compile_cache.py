@@ -41,7 +41,7 @@ def _run(argv: list[str], cache: Path, workdir: Path) -> tuple[float, dict]:
     if argv[0] == "reproduce":
         argv = [*argv, "--out", str(workdir / "results")]
     start = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "maxwell_kinetics.cli", *argv, "--json",
+    subprocess.run([sys.executable, "-m", "maxwell_kinetics.app.cli", *argv, "--json",
                     "--no-progress"], check=True, env=env, cwd=workdir, stdout=subprocess.DEVNULL)
     wall = time.perf_counter() - start
     parts = {}

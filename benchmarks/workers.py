@@ -26,7 +26,7 @@ COMMAND = ["ensemble", "ulam", "--n", "1000", "--restitution", "0.5", "--tau", "
 
 
 def run(workers: int, out: Path) -> float:
-    argv = [sys.executable, "-m", "maxwell_kinetics.cli", *COMMAND, "--workers", str(workers),
+    argv = [sys.executable, "-m", "maxwell_kinetics.app.cli", *COMMAND, "--workers", str(workers),
             "--out", str(out)]
     if workers > 4 * (os.cpu_count() or 1):
         argv.append("--force")

@@ -109,7 +109,7 @@ apigen_faces = [
     "particles.sticky_comparison",
     "particles.sticky_chunks",
     "maxwell_kinetics",
-    "maxwell_kinetics.comparisons",
+    "maxwell_kinetics.app.comparisons",
 ]
 # The results shown on "Reproducing the paper": $MAXWELL_KINETICS_DOCS_RESULTS, else the
 # results/ folder of a local `make demo` when it has a summary, else the `make demo` run whose

@@ -1,7 +1,14 @@
 """maxwell_kinetics: kinetic theory of inelastic Maxwell models in Fourier space (JAX in float64,
-diffrax, pyfftw), and the application built on it and on :mod:`particles`: the command line
-(:mod:`.cli`, one module per subcommand in :mod:`.commands`), the comparisons with the paper
-(:mod:`.comparisons`) and ``reproduce``.
+diffrax, pyfftw), and, in its own subpackage :mod:`maxwell_kinetics.app`, the application built on
+it and on :mod:`particles`: the command line (:mod:`.app.cli`, one module per subcommand in
+:mod:`.app.commands`), the comparisons with the paper (:mod:`.app.comparisons`), ``reproduce``,
+plotting and output.  The kinetic library (every module outside ``app``) imports nothing from the
+application.
+
+The application's modules used to live at the top of the package (``maxwell_kinetics.cli``,
+``maxwell_kinetics.comparisons``, ...): importing one of those old paths raises an
+:class:`ImportError` that names the new home (a finder for those names alone, :data:`MOVED`,
+is put first on ``sys.meta_path`` on import; it finds no other module).
 
 Importing this package changes no global configuration.  The JAX computations (:mod:`.solver`,
 :mod:`.stationary`) run in float64 inside ``jax.enable_x64(True)``, a thread-local context that
@@ -14,6 +21,8 @@ solver runs).
 from __future__ import annotations
 
 import importlib
+import importlib.abc
+import sys
 
 __version__ = "0.2.0"
 
@@ -41,9 +50,36 @@ _LAZY = {
     "moment_rates": "tails",
     "steady_state": "driven",
     "DrivenSteadyState": "driven",
-    "Comparison": "comparisons",
-    "COMPARISONS": "comparisons",
+    "Comparison": "maxwell_kinetics.app.comparisons",
+    "COMPARISONS": "maxwell_kinetics.app.comparisons",
 }
+
+#: Modules moved into :mod:`maxwell_kinetics.app`: old dotted name -> new one.  Importing an old
+#: name (or a module below it) raises an ImportError naming the new home.
+MOVED = {f"maxwell_kinetics.{name}": f"maxwell_kinetics.app.{name}"
+         for name in ("cli", "commands", "comparisons", "reproduce", "plotting", "output",
+                      "convergence")}
+
+
+def _moved_message(fullname: str) -> str | None:
+    for old, new in MOVED.items():
+        if fullname == old or fullname.startswith(old + "."):
+            return f"{fullname} moved to {new + fullname[len(old):]}"
+    return None
+
+
+class _MovedFinder(importlib.abc.MetaPathFinder):
+    """Refuses the old paths of the moved modules with an ImportError naming the new home."""
+
+    def find_spec(self, fullname, path=None, target=None):
+        message = _moved_message(fullname)
+        if message is not None:
+            raise ImportError(message, name=fullname)
+        return None
+
+
+if not any(type(f).__name__ == "_MovedFinder" for f in sys.meta_path):
+    sys.meta_path.insert(0, _MovedFinder())
 
 #: The public names: each is loaded on first access.
 __all__ = list(_LAZY)
@@ -54,6 +90,9 @@ def __getattr__(name):
         where = _LAZY[name]
         module = importlib.import_module(where if "." in where else f".{where}", __name__)
         return getattr(module, name)
+    message = _moved_message(f"{__name__}.{name}")
+    if message is not None:
+        raise AttributeError(message)
     raise AttributeError(f"module 'maxwell_kinetics' has no attribute {name!r}")
 
 

@@ -10,7 +10,8 @@ usual (small functions, milliseconds each).
 The cache is on by default, in Python and on the command line alike: the first solve of a
 process turns it on in :func:`configured_path` unless :func:`enable` or :func:`disable` was called
 before.  ``MAXWELL_KINETICS_CACHE=off`` is the one opt-out for both; on the command line
-``--no-cache`` also turns it off for one run, and in Python :func:`disable` for the rest of the
+``--no-cache`` also turns it off for one run (:mod:`maxwell_kinetics.app.cache_options`), and
+in Python :func:`disable` for the rest of the
 process.  Neither changes any JAX setting: JAX's own persistent compilation cache is never
 switched on (nor off) by this module.
 
@@ -70,8 +71,7 @@ import zlib
 from pathlib import Path
 
 __all__ = ["ENV", "MAX_ENTRY_BYTES", "UNUSED_DAYS", "default_path", "configured_path", "enable",
-           "disable", "active_path", "check_platforms", "from_args", "end_command", "add_option",
-           "call"]
+           "disable", "active_path", "current_choice", "restore_choice", "call"]
 
 #: The environment variable that names the cache folder (or turns the cache off).
 ENV = "MAXWELL_KINETICS_CACHE"
@@ -537,93 +537,31 @@ def disable() -> None:
     _state["path"], _state["store"], _state["decided"] = None, None, True
 
 
-def add_option(parser, compiles: bool = True) -> None:
-    """Add ``--no-cache`` to a subcommand's parser.
-
-    Parameters
-    ----------
-    parser : argparse.ArgumentParser
-        The subcommand's parser.
-    compiles : bool, default True
-        False for a subcommand that compiles nothing (its help text says the option is
-        accepted for uniformity).  The parsed arguments get ``runs_jax`` = ``compiles``.
-    """
-    text = ("do not use the persistent compilation cache (default: on, in "
-            f"${ENV} or ~/.cache/maxwell-kinetics/jax)")
-    if not compiles:
-        text += "; this subcommand compiles nothing, the option is accepted for uniformity"
-    parser.add_argument("--no-cache", action="store_true", help=text)
-    # the command line checks JAX_PLATFORMS before a subcommand that runs JAX writes anything
-    parser.set_defaults(runs_jax=compiles)
-
-
-def check_platforms() -> None:
-    """Start JAX's backend; a ``JAX_PLATFORMS`` that JAX cannot start here is bad input.
-
-    Raises
-    ------
-    InvalidArgumentError
-        ``JAX_PLATFORMS`` is set (e.g. to ``cuda`` on a machine without a GPU, or to an
-        unknown name) and JAX cannot start any device with it; the message names the variable,
-        its value (at most 200 characters) and JAX's reason, on one line.
-    """
-    import jax
-
-    try:
-        jax.devices()
-    except Exception as exc:
-        value = os.environ.get("JAX_PLATFORMS")
-        if value is None:  # not the user's setting: JAX's own failure, as it is
-            raise
-        from particles.validation import InvalidArgumentError
-
-        reason = " ".join(str(exc).split()) or f"{type(exc).__name__} while starting it"
-        if len(reason) > 200:
-            reason = reason[:200] + "..."
-        shown = value if len(value) <= 200 else value[:200] + "..."
-        raise InvalidArgumentError(
-            "JAX_PLATFORMS", shown, "platforms that JAX can start on this machine (such as "
-            f"'cpu'), or the variable unset; JAX said: {reason}") from None
-
-
-def from_args(args) -> Path | None:
-    """The command line's rule: the cache on unless ``--no-cache``; call it after the input
-    checks, right before the first JAX computation.  It first starts JAX's backend
-    (:func:`check_platforms`), so that a ``JAX_PLATFORMS`` that cannot work is reported
-    before anything is written.  :func:`end_command` undoes it.
-
-    Parameters
-    ----------
-    args : argparse.Namespace
-        The parsed command line (its ``no_cache`` attribute, False when absent).
+def current_choice() -> tuple:
+    """The cache's state as :func:`restore_choice` takes it back: the root folder in use (None
+    when off) and whether :func:`enable` or :func:`disable` was called in this process (until
+    then the first solve turns the cache on by default).
 
     Returns
     -------
-    pathlib.Path or None
-        What :func:`enable` returns, or None with ``--no-cache``.
-
-    Raises
-    ------
-    InvalidArgumentError
-        From :func:`check_platforms`.
+    tuple
+        ``(root or None, decided)``; opaque to callers.
     """
-    check_platforms()
-    _state.setdefault("before_command", _state["root"] if _state["path"] else None)
-    _state.setdefault("decided_before_command", _state["decided"])
-    if getattr(args, "no_cache", False):
-        disable()
-        return None
-    return enable()
+    return (_state["root"] if _state["path"] else None, bool(_state["decided"]))
 
 
-def end_command() -> None:
-    """Put back the cache state from before :func:`from_args` (the command line calls it when
-    a subcommand ends, so that a command run in-process leaves the cache as it found it)."""
-    if "before_command" not in _state:
-        return
-    root = _state.pop("before_command")
+def restore_choice(choice: tuple) -> None:
+    """Put back a state from :func:`current_choice` (the command line does so when a subcommand
+    run in-process ends).
+
+    Parameters
+    ----------
+    choice : tuple
+        What :func:`current_choice` returned.
+    """
+    root, decided = choice
     if root is None:
         disable()
     else:
         enable(root)
-    _state["decided"] = _state.pop("decided_before_command", True)
+    _state["decided"] = decided

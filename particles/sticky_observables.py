@@ -12,7 +12,7 @@ minorant of B(s) + s²/2, so E t^{2/3} → n^{−2/3} ⟨U²⟩ for any law of v
 Burgers problem; Frachebourg, Martin, Piasecki). ⟨U²⟩ = 0.44275 is the second moment of the
 exact late-time velocity law (:mod:`particles.sticky_exact`,
 :func:`~particles.sticky_exact.exact_moments` ``["velocity_variance"]``); comparison 9 of
-:mod:`maxwell_kinetics.comparisons` shows E t^{2/3}
+:mod:`maxwell_kinetics.app.comparisons` shows E t^{2/3}
 approaching it. Exact as well: the *displacements* of the particles. A particle's position at t
 is the slope of the minorant, so D/t^{2/3} tends in law to a multiple of Chernoff's argmax of
 W(u) − u² (:func:`displacements`, :func:`~particles.sticky_exact.displacement_scale`,

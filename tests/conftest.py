@@ -1,7 +1,7 @@
 """Fixtures shared by the test files; plain helpers live in ``helpers.py``.
 
-* ``comparison(name)``: the comparison ``maxwell_kinetics.comparisons.<name>`` at the small size,
-  computed once per test session and shared by every test that reads it (the comparison tests
+* ``comparison(name)``: the comparison ``maxwell_kinetics.app.comparisons.<name>`` at the small
+  size, computed once per test session and shared by every test that reads it (the comparison tests
   and the notebooks);
 * the persistent compilation cache is off during the tests (its own tests turn it on).
 """
@@ -13,10 +13,10 @@ import pytest
 
 @pytest.fixture(scope="session")
 def comparison():
-    """``comparison(name)`` → ``maxwell_kinetics.comparisons.<name>("small", progress=False)``,
+    """``comparison(name)`` → ``maxwell_kinetics.app.comparisons.<name>("small", progress=False)``,
     computed on first use and kept for the session (the comparisons share one runner, as in
     ``reproduce``)."""
-    from maxwell_kinetics import comparisons
+    from maxwell_kinetics.app import comparisons
 
     done = {}
     runner = comparisons.ParticleRuns()  # one runner: comparisons share their particle runs

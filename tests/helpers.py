@@ -1,7 +1,7 @@
 """Helpers shared by the test files (imported as ``from helpers import ...``).
 
 * :func:`run_json` / :func:`run_error` call the command line in-process through
-  ``maxwell_kinetics.cli.main``;
+  ``maxwell_kinetics.app.cli.main``;
 * :func:`edited_file` copies a saved file with some meta fields or arrays replaced, and by
   default signs it again with a valid content hash, so that a test can reach the consistency
   checks behind the hash (an edit that is not re-signed is refused by the hash alone).
@@ -23,7 +23,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def run_json(capsys, argv):
     """Run ``main(argv)``, check it printed exactly one JSON object on one line, return it."""
-    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.app.cli import main
 
     status = main(argv)
     captured = capsys.readouterr()
@@ -38,7 +38,7 @@ def run_json(capsys, argv):
 
 def run_error(capsys, argv, status: int = 2):
     """Run ``main(argv)`` expecting exit ``status``; return stderr (stdout must stay empty)."""
-    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.app.cli import main
 
     try:
         code = main(argv)

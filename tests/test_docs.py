@@ -49,7 +49,7 @@ def test_site_builds_with_warnings_as_errors(built_site):
     # The CLI reference is generated from the parser: every subcommand is on the page.
     import argparse
 
-    from maxwell_kinetics.cli import build_parser
+    from maxwell_kinetics.app.cli import build_parser
 
     cli = (built_site / "cli.html").read_text()
     (sub,) = [a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction)]

@@ -1,6 +1,6 @@
 """The notebooks in notebooks/: stored without outputs, and their code runs at the small size.
 
-Each notebook calls one comparison of ``maxwell_kinetics.comparisons`` and then draws and prints
+Each notebook calls one comparison of ``maxwell_kinetics.app.comparisons`` and then draws and prints
 from its result.  The comparison itself is computed once per test session (the ``comparison``
 fixture, shared with the comparison tests): here each notebook's code runs in this process with
 that comparison's function answering from the session's result, so everything the notebook does
@@ -51,7 +51,7 @@ def test_notebooks_are_stored_without_outputs():
 def test_notebook_code_runs_on_its_comparison(path, comparison, monkeypatch):
     import matplotlib.pyplot as plt
 
-    from maxwell_kinetics import comparisons
+    from maxwell_kinetics.app import comparisons
 
     code = _code(path)
     names = CALL.findall(code)

@@ -2,7 +2,7 @@
 
 The help strings are plain text written for a terminal (``|v|`` is an absolute value, not a
 substitution); sphinx-argparse renders them as reStructuredText, so this module builds the
-parser with :func:`maxwell_kinetics.cli.build_parser` and escapes what reStructuredText would
+parser with :func:`maxwell_kinetics.app.cli.build_parser` and escapes what reStructuredText would
 misread.  Options, defaults and choices are those of the real parser.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import re
 
-from maxwell_kinetics.cli import build_parser
+from maxwell_kinetics.app.cli import build_parser
 
 _LITERAL = re.compile(r"(``.*?``)", re.S)
 

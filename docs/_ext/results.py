@@ -71,7 +71,7 @@ def _rows(key: str, value, depth: int) -> list[str]:
 
 def _claim(name: str) -> str:
     try:
-        module = importlib.import_module(f"maxwell_kinetics.comparisons._{name}")
+        module = importlib.import_module(f"maxwell_kinetics.app.comparisons._{name}")
     except ImportError:
         return ""
     doc = (module.__doc__ or "").strip().split("\n\n")[0]

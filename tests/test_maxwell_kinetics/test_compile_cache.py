@@ -351,7 +351,7 @@ _CLI = ["solve", "-r", "0.5", "--tau", "1", "--resolution", "coarse", "--json", 
 
 
 def _main(capsys, argv):
-    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.app.cli import main
 
     status = main(argv)
     captured = capsys.readouterr()
@@ -398,7 +398,7 @@ def test_no_cache_writes_nothing_and_cli_runs_leave_jax_as_found(monkeypatch, tm
 @pytest.mark.parametrize("command", ["solve", "fixed-point", "steady", "tail-exponent",
                                      "convergence", "reproduce"])
 def test_every_kinetic_subcommand_takes_no_cache(command):
-    from maxwell_kinetics.cli import build_parser
+    from maxwell_kinetics.app.cli import build_parser
 
     parser = build_parser()
     sub = next(a for a in parser._actions if a.dest == "command").choices[command]
@@ -425,7 +425,7 @@ def test_an_unusable_jax_platforms_is_one_line_and_exit_2(tmp_path, platforms, c
     # No GPU here (cuda), or no such platform: the user's setting is refused like a bad option,
     # before anything is written (the output, the figures folder, the cache folder).
     env = {**os.environ, "JAX_PLATFORMS": platforms, compile_cache.ENV: str(tmp_path / "cache")}
-    proc = subprocess.run([sys.executable, "-m", "maxwell_kinetics.cli", *command, "--json"],
+    proc = subprocess.run([sys.executable, "-m", "maxwell_kinetics.app.cli", *command, "--json"],
                           cwd=tmp_path, env=env, capture_output=True, text=True, timeout=120)
     assert proc.returncode == 2, proc.stderr
     assert proc.stdout == ""

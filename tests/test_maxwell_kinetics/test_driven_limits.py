@@ -33,7 +33,7 @@ def test_density_has_the_exact_norm_variance_and_kurtosis_near_elastic(r):
 def test_steady_near_elastic_finishes_quickly_from_the_command_line():
     """r = 1 − 1e-8: the old tree expansion had ~4e8 levels (about a day); now < 1 s of work."""
     done = subprocess.run(
-        [sys.executable, "-m", "maxwell_kinetics.cli", "steady", "-r", "0.99999999", "-D", "1",
+        [sys.executable, "-m", "maxwell_kinetics.app.cli", "steady", "-r", "0.99999999", "-D", "1",
          "--json"], capture_output=True, text=True, timeout=30, cwd=ROOT,
         env={"PYTHONPATH": str(ROOT), "PATH": ""})
     assert done.returncode == 0, done.stderr

@@ -44,7 +44,7 @@ def test_cli_refuses_a_solve_of_days(capsys, tmp_path):
 
 
 def test_progress_line_shows_the_estimate(capsys):
-    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.app.cli import main
 
     assert main(["solve", "-r", "0.5", "--tau", "4", "--resolution", "coarse"]) == 0
     err = capsys.readouterr().err

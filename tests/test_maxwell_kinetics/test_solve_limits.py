@@ -80,8 +80,8 @@ def test_cli_refuses_a_speed_density_of_more_than_a_day_unless_forced(capsys, tm
     """The speed density's time counts in the day's budget: speeds near the quadrature's limit
     (9e4: ~1.7e7 nodes, ~35 s per time) at 3000 output times are about 29 h after a short
     solve (the old code ran them); --force lets a refused one through."""
-    from maxwell_kinetics.cli import main
-    from maxwell_kinetics.commands import solve as command
+    from maxwell_kinetics.app.cli import main
+    from maxwell_kinetics.app.commands import solve as command
 
     out = tmp_path / "s.npz"
     with monkeypatch.context() as patch:  # the limit lowered to 1 µs: refused, then forced

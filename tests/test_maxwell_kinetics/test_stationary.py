@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from maxwell_kinetics.cli import main
+from maxwell_kinetics.app.cli import main
 from maxwell_kinetics.exact import f_hat
 from maxwell_kinetics.linear_rates import (
     linear_decay_rates,

@@ -547,7 +547,7 @@ def test_import_particles_does_not_import_distributed(fresh_interpreter_code):
 def test_a_batch_cluster_without_dask_jobqueue_is_one_clear_line(capsys, tmp_path, monkeypatch):
     # dask-jobqueue is an optional extra: without it, --cluster is refused before any work,
     # naming what to install (the import made to fail in this process)
-    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.app.cli import main
 
     monkeypatch.setitem(sys.modules, "dask_jobqueue", None)
     config = tmp_path / "c.toml"

@@ -31,7 +31,7 @@ TIMES = "0.5,1"
 
 
 def _cli_models():
-    from maxwell_kinetics.commands.model_options import cli_models
+    from maxwell_kinetics.app.commands.model_options import cli_models
 
     return cli_models()
 

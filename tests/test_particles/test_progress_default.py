@@ -59,7 +59,7 @@ def test_not_a_notebook_outside_a_kernel():
 
 def test_every_function_with_progress_defaults_to_none():
     from maxwell_kinetics import comparisons, convergence, solve
-    from maxwell_kinetics.comparisons.kinetic_predictions import kinetic_solution
+    from maxwell_kinetics.app.comparisons.kinetic_predictions import kinetic_solution
 
     functions = [simulate, run_ensemble, solve, convergence.convergence_study, kinetic_solution]
     functions += [getattr(comparisons, n) for n in comparisons.__all__

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from helpers import run_error, run_json
 
-from maxwell_kinetics.cli import main
+from maxwell_kinetics.app.cli import main
 from particles.driver import simulate
 from particles.ulam import Ulam
 

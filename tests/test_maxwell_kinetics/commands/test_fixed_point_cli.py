@@ -8,7 +8,7 @@ import json
 import pytest
 from helpers import run_error
 
-from maxwell_kinetics.cli import main
+from maxwell_kinetics.app.cli import main
 from maxwell_kinetics.stationary import MAX_DEGREE_1D, fixed_point
 from particles.validation import InvalidArgumentError
 

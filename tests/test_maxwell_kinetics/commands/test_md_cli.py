@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from helpers import run_json
 
-from maxwell_kinetics.cli import main
+from maxwell_kinetics.app.cli import main
 
 BASE = ["simulate", "md", "--n", "1000", "--density", "1", "--restitution", "0.7"]
 

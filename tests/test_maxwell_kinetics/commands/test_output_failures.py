@@ -25,7 +25,7 @@ from pathlib import Path
 import pytest
 from helpers import run_error, run_json
 
-from maxwell_kinetics import comparisons
+from maxwell_kinetics.app import comparisons
 from particles import persistence
 
 #: A cheap run of each command that writes, and its output options.
@@ -158,7 +158,7 @@ def test_a_name_too_long_is_refused_before_the_work(capsys, tmp_path, monkeypatc
 
 def _no_work(monkeypatch):
     """Make the long computations of convergence and reproduce fail the test if reached."""
-    import maxwell_kinetics.convergence as convergence
+    import maxwell_kinetics.app.convergence as convergence
 
     def reached(*args, **kwargs):
         raise AssertionError("the work started before the outputs were checked")
@@ -355,7 +355,7 @@ def test_two_links_to_one_checkpoint_share_one_lock(tmp_path):
 
 def test_a_huge_summary_is_refused_without_being_read_whole(capsys, tmp_path, monkeypatch):
     """A summary.json past the cap (made small here) is refused, not loaded into memory."""
-    from maxwell_kinetics import output
+    from maxwell_kinetics.app import output
 
     _no_work(monkeypatch)
     monkeypatch.setattr(output, "MAX_JSON_BYTES", 40)

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 from helpers import run_error
 
-from maxwell_kinetics.cli import build_parser, main
+from maxwell_kinetics.app.cli import build_parser, main
 from particles import persistence
 from particles.paths import file_kind
 from particles.validation import InvalidArgumentError

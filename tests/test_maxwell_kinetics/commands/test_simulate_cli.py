@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from helpers import ROOT, edited_file, run_json
 
-from maxwell_kinetics.cli import main
+from maxwell_kinetics.app.cli import main
 
 
 @pytest.mark.parametrize("model", ["ulam", "lattice"])
@@ -273,7 +273,7 @@ def test_real_sigint_saves_a_checkpoint_and_resume_matches(tmp_path):
     argv = [
         sys.executable,
         "-m",
-        "maxwell_kinetics.cli",
+        "maxwell_kinetics.app.cli",
         "simulate",
         "lattice",
         "--n",
@@ -355,7 +355,7 @@ def test_a_reader_that_goes_away_gives_no_traceback():
     import sys
 
     proc = subprocess.Popen(
-        [sys.executable, "-m", "maxwell_kinetics.cli", "simulate", "ulam", "--n", "200000",
+        [sys.executable, "-m", "maxwell_kinetics.app.cli", "simulate", "ulam", "--n", "200000",
          "--restitution", "0.5", "--tau", "1", "--json", "--structure-factor"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     head = proc.stdout.read(20)

@@ -20,10 +20,10 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[3]
 
-#: The console script that ``pip install`` writes for ``maxwell_kinetics.cli:main``.
+#: The console script that ``pip install`` writes for ``maxwell_kinetics.app.cli:main``.
 SCRIPT = """\
 import sys
-from maxwell_kinetics.cli import main
+from maxwell_kinetics.app.cli import main
 if __name__ == "__main__":
     sys.exit(main())
 """

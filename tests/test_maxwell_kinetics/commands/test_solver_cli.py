@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from helpers import run_error, run_json
 
-from maxwell_kinetics.cli import build_parser, join_negative_values
+from maxwell_kinetics.app.cli import build_parser, join_negative_values
 
 SOLVE_KEYS = {"restitution", "initial", "resolution", "tau", "sup_error", "q", "G_real", "G_imag",
               "seconds", "kurtosis", "moments"}

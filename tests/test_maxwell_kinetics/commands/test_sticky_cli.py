@@ -121,7 +121,7 @@ def test_dask_options_that_would_do_nothing_exit_2(capsys, extra, named):
 
 
 def test_chunks_report_progress_when_asked(capsys):
-    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.app.cli import main
 
     assert main(BASE + ["--t", "1,2,3", "--chunks", "2", "--progress"]) == 0
     assert "sticky chunks" in capsys.readouterr().err

@@ -357,7 +357,7 @@ def test_law_from_characteristic_names_the_failed_check(phi, variance, check):
 
 
 def test_interrupt_during_start_up_exits_130_without_traceback(monkeypatch, capsys):
-    from maxwell_kinetics import cli
+    from maxwell_kinetics.app import cli
 
     def interrupted(*args, **kwargs):
         raise KeyboardInterrupt
@@ -455,7 +455,7 @@ def test_a_fixed_point_that_did_not_converge_is_not_a_success(capsys, r, n):
     # n = 8 is too coarse: Newton runs out of iterations (r = 0.5, residual 0.27) or stops on a
     # small step at a non-solution (r = 0.99, residual 4.8e-3); both exit 3 with a warning and
     # "converged": false, never status 0
-    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.app.cli import main
 
     assert main(["fixed-point", "-r", str(r), "--n", n, "--json"]) == 3
     captured = capsys.readouterr()
@@ -486,7 +486,7 @@ def test_reproduce_out_is_checked_before_any_work(capsys, tmp_path, monkeypatch,
     # root, permissions do not stop writes, so the refusal is simulated at the OS call).
     import tempfile
 
-    from maxwell_kinetics import comparisons
+    from maxwell_kinetics.app import comparisons
 
     def must_not_run(*args, **kwargs):
         raise AssertionError("a comparison ran before --out was checked")

@@ -1,4 +1,4 @@
-"""The particle runs behind the comparisons (maxwell_kinetics.comparisons.particle_runs): a
+"""The particle runs behind the comparisons (maxwell_kinetics.app.comparisons.particle_runs): a
 runner keeps its runs and hands out read-only data, runners share nothing, MD goes through the
 run driver with the same results as advancing the engine directly, and the package's modules
 import each other without cycles."""
@@ -12,12 +12,12 @@ import numpy as np
 import pytest
 from helpers import ROOT
 
-from maxwell_kinetics.comparisons import particle_runs as pr
+from maxwell_kinetics.app.comparisons import particle_runs as pr
 from particles import md, observables
 from particles.driver import simulate
 from particles.lattice import Lattice
 
-PACKAGE = ROOT / "maxwell_kinetics" / "comparisons"
+PACKAGE = ROOT / "maxwell_kinetics" / "app" / "comparisons"
 
 
 def test_cached_lattice_runs_cannot_be_changed_by_a_caller():
@@ -139,8 +139,8 @@ def _package_imports(path: Path) -> tuple[set[str], list[str]]:
         if isinstance(node, ast.ImportFrom) and node.level == 1:
             names = [node.module] if node.module else [a.name for a in node.names]
         elif isinstance(node, ast.ImportFrom) and (node.module or "").startswith(
-                "maxwell_kinetics.comparisons"):
-            names = [node.module.split(".")[2] if node.module.count(".") > 1 else "__init__"]
+                "maxwell_kinetics.app.comparisons"):
+            names = [node.module.split(".")[3] if node.module.count(".") > 2 else "__init__"]
         names = [n.split(".")[0] for n in names]
         if not names:
             continue
@@ -151,7 +151,7 @@ def _package_imports(path: Path) -> tuple[set[str], list[str]]:
 
 
 def test_package_modules_import_without_cycles():
-    """The import graph of maxwell_kinetics.comparisons (relative and absolute imports of its
+    """The import graph of maxwell_kinetics.app.comparisons (relative and absolute imports of its
     modules) has no cycle, no module imports the package itself, and no import of a package
     module hides inside a function."""
     modules = {p.stem: p for p in PACKAGE.glob("*.py")}

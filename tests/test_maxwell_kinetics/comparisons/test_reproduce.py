@@ -1,6 +1,6 @@
 """The comparisons of ``maxwell-kinetics reproduce`` at the small size, with their quantitative
 checks.  Every statistical tolerance is derived from the sample sizes and seeds of the run; the
-small-size parameters are in ``maxwell_kinetics.comparisons`` (presets ``small``).
+small-size parameters are in ``maxwell_kinetics.app.comparisons`` (presets ``small``).
 """
 
 from __future__ import annotations
@@ -11,9 +11,9 @@ import math
 import numpy as np
 import pytest
 
-from maxwell_kinetics import comparisons
 from maxwell_kinetics import statistics as st
-from maxwell_kinetics.comparisons import (
+from maxwell_kinetics.app import comparisons
+from maxwell_kinetics.app.comparisons import (
     _energy_decay,
     _kinetic_vs_ulam,
     _velocity_distributions,
@@ -255,7 +255,7 @@ def test_porod_slope_with_constraint(structure):
 
 
 def test_reproduce_cli_small(tmp_path, capsys):
-    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.app.cli import main
 
     out = tmp_path / "res"
     assert main(["reproduce", "--small", "--only", "kinetic_theory", "--out", str(out),
@@ -328,7 +328,7 @@ def test_comparison_load_rejects_other_files(tmp_path):
 
 
 def test_reproduce_cli_bad_only(tmp_path, capsys):
-    from maxwell_kinetics.cli import main
+    from maxwell_kinetics.app.cli import main
 
     assert main(["reproduce", "--only", "nope", "--out", str(tmp_path / "x")]) == 2
     assert "only" in capsys.readouterr().err

@@ -5,7 +5,7 @@ import math
 
 import pytest
 
-from maxwell_kinetics import comparisons
+from maxwell_kinetics.app import comparisons
 from maxwell_kinetics.tails import tail_exponent
 
 

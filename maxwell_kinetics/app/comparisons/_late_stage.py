@@ -152,18 +152,18 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     Parameters
     ----------
     size : str, optional
-        "small", "default" or "full" (None: :func:`maxwell_kinetics.comparisons.default_size`);
+        "small", "default" or "full" (None: :func:`maxwell_kinetics.app.comparisons.default_size`);
         the parameters of each size are the module's ``PRESETS``.
     progress : bool
         Show progress on stderr.
-    runner : maxwell_kinetics.comparisons.ParticleRuns, optional
+    runner : maxwell_kinetics.app.comparisons.ParticleRuns, optional
         Shares particle runs between comparisons (default: a new serial runner).
     **overrides
         Parameters of the preset to replace.
 
     Returns
     -------
-    maxwell_kinetics.comparisons.Comparison
+    maxwell_kinetics.app.comparisons.Comparison
         The summary (numbers with their uncertainties) and the data of the figure (:func:`plot`).
 
     Raises

@@ -1,5 +1,5 @@
 """Run every comparison, write PNG figures and ``summary.json`` (the job behind
-``maxwell-kinetics reproduce``, :mod:`maxwell_kinetics.commands.reproduce`).
+``maxwell-kinetics reproduce``, :mod:`maxwell_kinetics.app.commands.reproduce`).
 
 The default size finishes in minutes on two cores (measured run times are in ``summary.json``);
 ``--full`` runs the paper's sizes where affordable; ``--small`` is the size of the tests.
@@ -31,7 +31,7 @@ __all__ = ["prepare_output", "plan_outputs", "read_summary", "run_all", "SUMMARY
 
 #: The name of the summary file in the output folder.
 SUMMARY = "summary.json"
-#: The sizes a summary may be made at (``maxwell_kinetics.comparisons.SIZES``).
+#: The sizes a summary may be made at (``maxwell_kinetics.app.comparisons.SIZES``).
 _SIZES = ("small", "default", "full")
 
 
@@ -142,7 +142,7 @@ def plan_outputs(out, names, size: str, argument: str = "out") -> dict | None:
     before any work and without writing anything; return the summary already there (to be
     merged into) or ``None``.
 
-    The folder must be usable (:func:`maxwell_kinetics.output.check_output_dir`); each
+    The folder must be usable (:func:`maxwell_kinetics.app.output.check_output_dir`); each
     ``<name>.png``, ``<name>.npz`` and ``summary.json`` must have a name the file system takes
     and be a regular file or nothing, an existing one written by this program (a PNG, a file
     of ``Comparison.save``, a summary read by :func:`read_summary`); a summary made at another

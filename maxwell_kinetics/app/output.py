@@ -1,7 +1,7 @@
 """What every subcommand shares on the way out: the one-JSON-object contract, the checks of
 output paths made before any work, and the progress switch.
 
-No command module imports :mod:`maxwell_kinetics.cli`; they all import this module, and the CLI
+No command module imports :mod:`maxwell_kinetics.app.cli`; they all import this module, and the CLI
 imports the command modules (imports run one way).
 """
 

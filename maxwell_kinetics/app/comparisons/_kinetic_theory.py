@@ -9,8 +9,8 @@ import numpy as np
 
 from particles.validation import InvalidArgumentError
 
-from ..exact import f_density, f_hat, rescaled_moments
-from ..model import MaxwellModel
+from ...exact import f_density, f_hat, rescaled_moments
+from ...model import MaxwellModel
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors, panels
 from .kinetic_predictions import kinetic_solution
@@ -59,25 +59,25 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     ----------
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
-        :func:`maxwell_kinetics.comparisons.base.default_size`.
+        :func:`maxwell_kinetics.app.comparisons.base.default_size`.
     progress : bool or None, optional
         Show progress of the runs and solves (None, the default: a bar on a terminal or in a
         notebook, nothing otherwise).
-    runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
+    runner : maxwell_kinetics.app.comparisons.particle_runs.ParticleRuns, optional
         Where the particle runs execute and are kept; default a new serial one.
     **overrides
         Replace single parameters of the size's preset (e.g. ``n=20000``).
 
     Returns
     -------
-    maxwell_kinetics.comparisons.base.Comparison
+    maxwell_kinetics.app.comparisons.base.Comparison
         ``summary``: the numbers above with their uncertainties, the parameters used and the
         wall-clock ``seconds``; ``data``: the arrays its figure is drawn from.
 
     Raises
     ------
     particles.validation.InvalidArgumentError
-        From :func:`maxwell_kinetics.comparisons.base.preset`: an unknown ``size`` or an
+        From :func:`maxwell_kinetics.app.comparisons.base.preset`: an unknown ``size`` or an
         override that is not a parameter of the preset; naming ``law``, if the law is not
         ``"gaussian"`` (the moment hierarchy needs its exact moments).
     """

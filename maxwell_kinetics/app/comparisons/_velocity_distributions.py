@@ -11,8 +11,8 @@ import numpy as np
 from particles.md import haff_energy
 from particles.observables import mean_sem, mean_sem_json
 
-from ..exact import f_density
-from ..model import MaxwellModel
+from ...exact import f_density
+from ...model import MaxwellModel
 from .analysis import bin_edges, rescaled
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
@@ -97,27 +97,27 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
     ----------
     size : str, optional
         ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
-        :func:`maxwell_kinetics.comparisons.base.default_size`.
+        :func:`maxwell_kinetics.app.comparisons.base.default_size`.
     progress : bool or None, optional
         Show progress of the runs and solves (None, the default: a bar on a terminal or in a
         notebook, nothing otherwise).
     checkpoint_dir : str or os.PathLike, optional
         Existing folder for the MD runs' checkpoints (see above); default none.
-    runner : maxwell_kinetics.comparisons.particle_runs.ParticleRuns, optional
+    runner : maxwell_kinetics.app.comparisons.particle_runs.ParticleRuns, optional
         Where the particle runs execute and are kept; default a new serial one.
     **overrides
         Replace single parameters of the size's preset (e.g. ``n=20000``).
 
     Returns
     -------
-    maxwell_kinetics.comparisons.base.Comparison
+    maxwell_kinetics.app.comparisons.base.Comparison
         ``summary``: the numbers above with their uncertainties, the parameters used and the
         wall-clock ``seconds``; ``data``: the arrays its figure is drawn from.
 
     Raises
     ------
     particles.validation.InvalidArgumentError
-        From :func:`maxwell_kinetics.comparisons.base.preset`: an unknown ``size`` or an
+        From :func:`maxwell_kinetics.app.comparisons.base.preset`: an unknown ``size`` or an
         override that is not a parameter of the preset.
     """
     runner = ParticleRuns() if runner is None else runner

@@ -18,15 +18,16 @@ from particles.initial import get_law
 from particles.parsing import parse_float_list, parse_int
 from particles.validation import InvalidArgumentError, check_choice, check_times
 
-from .. import _interrupt, compile_cache
-from ..grid import (
+from ... import _interrupt
+from ...grid import (
     MAX_SOLVE_SECONDS,
     RESOLUTIONS,
     check_solve_budget,
     format_seconds,
     get_resolution,
 )
-from ..model import MaxwellModel
+from ...model import MaxwellModel
+from .. import cache_options
 from ..output import check_outputs, emit_json, progress_enabled
 
 #: Seconds per quadrature node of the speed density at one τ (G interpolated there; measured:
@@ -66,7 +67,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--force", action="store_true",
                    help="run even when the estimated time (the solve and the speed density) "
                    "exceeds one day")
-    compile_cache.add_option(p)
+    cache_options.add_option(p)
     p.set_defaults(handler=run)
 
 
@@ -109,7 +110,7 @@ def _run(args, written: list) -> int:
             raise InvalidArgumentError("speed", args.speed, "finite speeds |v|/v0 >= 0")
         if len(np.unique(speeds)) < speeds.size:  # 1,1.0 or 0,-0: the same speed twice
             raise InvalidArgumentError("speed", args.speed, "distinct speeds")
-        from ..velocity import check_quadrature  # refuse a transform too large, before the solve
+        from ...velocity import check_quadrature  # refuse a transform too large, before the solve
 
         speed_nodes = check_quadrature(grid.q_max, speeds, "speed", radial=True,
                                        shown=args.speed)
@@ -136,8 +137,8 @@ def _run(args, written: list) -> int:
                 f"speed density at {len(taus)} times on {speed_nodes:.3g} quadrature nodes: "
                 f"about {format_seconds(speed_seconds)}); fewer or smaller speeds or times, or "
                 "pass --force to run it anyway")
-    compile_cache.from_args(args)
-    from ..solver import solve  # JAX: imported only when a solve runs
+    cache_options.from_args(args)
+    from ...solver import solve  # JAX: imported only when a solve runs
 
     start = time.perf_counter()
     sol = solve(model.restitution, law, taus, grid, progress=progress_enabled(args),

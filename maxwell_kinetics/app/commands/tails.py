@@ -13,7 +13,7 @@ from __future__ import annotations
 from particles.parsing import parse_int
 from particles.validation import InvalidArgumentError
 
-from .. import compile_cache
+from .. import cache_options
 from ..output import emit_json
 
 __all__ = ["add_parser", "run"]
@@ -37,7 +37,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--angular", default=None,
                    help="d >= 2 only: uniform or hard (default uniform)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    compile_cache.add_option(p, compiles=False)
+    cache_options.add_option(p, compiles=False)
     p.set_defaults(handler=run)
 
 
@@ -64,7 +64,7 @@ def run(args) -> int:
         close to 1 that s* cannot be resolved) or ``--angular`` (also given with
         ``--dimension 1``, where it means nothing) (exit 2).
     """
-    from ..tails import tail_exponent  # scipy.optimize: imported only when it runs
+    from ...tails import tail_exponent  # scipy.optimize: imported only when it runs
 
     dimension = parse_int(args.dimension, "dimension")
     if args.angular is not None and dimension == 1:  # η ≡ 1 in d = 1: the option does nothing

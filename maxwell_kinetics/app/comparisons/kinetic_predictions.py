@@ -16,8 +16,8 @@ import numpy as np
 
 from particles.initial import get_law
 
-from .. import statistics as st
-from ..model import MaxwellModel
+from ... import statistics as st
+from ...model import MaxwellModel
 
 __all__ = [
     "kinetic_solution",
@@ -59,7 +59,7 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
     maxwell_kinetics.solver.Solution
         The (shared) solution of :func:`maxwell_kinetics.solver.solve`.
     """
-    from ..solver import solve  # JAX: imported when a solution is first needed
+    from ...solver import solve  # JAX: imported when a solution is first needed
 
     key = (float(restitution), str(law), tuple(float(t) for t in taus), resolution)
     if key not in _SOLUTIONS:

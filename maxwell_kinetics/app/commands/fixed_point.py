@@ -9,7 +9,7 @@ import time
 from particles.parsing import parse_count
 from particles.validation import InvalidArgumentError
 
-from .. import compile_cache
+from .. import cache_options
 from ..output import emit_json
 
 #: Dense matrices of the Chebyshev collocation: about 12 of (n + 1)² doubles at once.
@@ -50,20 +50,20 @@ def add_parser(subparsers) -> None:
     p.add_argument("--angular", default=None,
                    help="angular model, only with --dimension 2 or 3: uniform (default) or hard")
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    compile_cache.add_option(p)
+    cache_options.add_option(p)
     p.set_defaults(handler=run)
 
 
 def run(args) -> int:
-    from ..linear_rates import linear_decay_rates
-    from ..stationary import (  # JAX: imported only when it runs
+    from ...linear_rates import linear_decay_rates
+    from ...stationary import (  # JAX: imported only when it runs
         MAX_DEGREE_1D,
         RESIDUAL_PER_LAMBDA,
         fixed_point,
     )
 
     start = time.perf_counter()
-    from ..model import angular_law
+    from ...model import angular_law
 
     dimension = parse_count(args.dimension, "dimension", 1)
     angular = "uniform" if args.angular is None else args.angular
@@ -80,7 +80,7 @@ def run(args) -> int:
         raise InvalidArgumentError("n", args.n, f"a Chebyshev degree --n <= {MAX_DEGREE_1D} in "
                                    "d = 1 (a larger one is too ill-conditioned: it converges to "
                                    "a wrong function)")
-    compile_cache.from_args(args)
+    cache_options.from_args(args)
     fp = fixed_point(args.restitution, n=n, dimension=dimension, angular=angular)
     # Newton may stop on a small step at a non-solution (n = 8, r = 0.99: residual 4.8e-3):
     # a fixed point counts as converged only when its residual is small too
@@ -106,7 +106,7 @@ def run(args) -> int:
     if not converged:  # never a silent success: a warning and exit status 3
         against = f"{RESIDUAL_TOLERANCE:g}"
         if dimension == 1:  # and 1e-8 λ: see stationary.RESIDUAL_PER_LAMBDA
-            from ..model import MaxwellModel
+            from ...model import MaxwellModel
 
             against += f" and {RESIDUAL_PER_LAMBDA:g} lambda = " + \
                 f"{RESIDUAL_PER_LAMBDA * MaxwellModel(fp.restitution).lam:.1e}"

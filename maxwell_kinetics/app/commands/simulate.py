@@ -1,7 +1,7 @@
 """``maxwell-kinetics simulate MODEL``: the particle models on the command line.
 
 One sub-subcommand per model of the catalogue :mod:`particles.models`, generated from it by
-:mod:`maxwell_kinetics.commands.model_options`: every parameter of the model is an option (with
+:mod:`maxwell_kinetics.app.commands.model_options`: every parameter of the model is an option (with
 its default, unit and help), the time option is ``--tau`` or ``--t`` as the engine names its
 time, and the run options (times, seed, output, checkpointing) are added by
 :func:`add_common_options`.  The handler parses and checks every value, builds the engine with

@@ -15,8 +15,8 @@ from pathlib import Path
 from particles.parsing import parse_float_list, parse_name_list
 from particles.validation import InvalidArgumentError, check_positive, check_restitution
 
-from .. import compile_cache
-from ..grid import RESOLUTIONS, check_solve_budget, get_resolution
+from ...grid import RESOLUTIONS, check_solve_budget, get_resolution
+from .. import cache_options
 from ..output import (
     check_files_in,
     check_output_dir,
@@ -49,7 +49,7 @@ def _convergence_options(p) -> None:
     p.add_argument("--no-progress", action="store_true", help="hide the progress bars")
     p.add_argument("--force", action="store_true",
                    help="run even when the estimated time exceeds one day")
-    compile_cache.add_option(p)
+    cache_options.add_option(p)
 
 
 def run(args) -> int:
@@ -63,7 +63,7 @@ def run(args) -> int:
     plan_outputs(args.out, "out")
     for name in names:
         check_solve_budget(get_resolution(name), tau_max, 64, name="tau-max", force=args.force)
-    compile_cache.from_args(args)
+    cache_options.from_args(args)
     runs = convergence_study(rs, names, tau_max, progress=progress_enabled(args))
     summary = write_results(runs, args.out)
     if args.json:
@@ -121,11 +121,11 @@ def plan_outputs(out_dir, argument: str = "out") -> dict:
 def write_results(runs, out_dir) -> dict:
     """Write ``convergence.json`` and ``convergence.png`` into ``out_dir`` (created if needed,
     after :func:`plan_outputs` checked both files); return the summary
-    (:func:`maxwell_kinetics.convergence.summarize`).
+    (:func:`maxwell_kinetics.app.convergence.summarize`).
 
     Parameters
     ----------
-    runs : list of maxwell_kinetics.convergence.ConvergenceRun
+    runs : list of maxwell_kinetics.app.convergence.ConvergenceRun
         The runs of the study.
     out_dir : str or os.PathLike
         The output folder.

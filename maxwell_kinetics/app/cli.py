@@ -11,8 +11,8 @@ Subcommands:
 ``simulate``     particle models (``ulam``, ``lattice``, ``md``, ``sticky``)
 ``ensemble``     many seeds and parameter sweeps of a particle model, on dask
 
-One module per subcommand in :mod:`maxwell_kinetics.commands`, each with ``add_parser`` and a
-handler; they share :mod:`maxwell_kinetics.output` and never import this module.
+One module per subcommand in :mod:`maxwell_kinetics.app.commands`, each with ``add_parser`` and a
+handler; they share :mod:`maxwell_kinetics.app.output` and never import this module.
 
 Every subcommand takes ``--json`` and then prints exactly one JSON object on stdout.
 Bad input exits with status 2 and a message naming the argument and the value received,
@@ -48,7 +48,7 @@ try:
 
     from particles.validation import InvalidArgumentError
 
-    from . import compile_cache
+    from . import cache_options
     from .commands import (
         convergence,
         ensemble,
@@ -193,7 +193,7 @@ def main(argv=None) -> int:
         args = parser.parse_args(join_negative_values(parser, argv))
         command = f"maxwell-kinetics {args.command}"
         if getattr(args, "runs_jax", False) and "JAX_PLATFORMS" in os.environ:
-            compile_cache.check_platforms()  # one line, exit 2, before anything is written
+            cache_options.check_platforms()  # one line, exit 2, before anything is written
         return int(args.handler(args) or 0)
     except InvalidArgumentError as exc:  # a failed write (a full disk) carries exit status 3
         print(f"{command}: error: {exc}", file=sys.stderr)
@@ -208,7 +208,7 @@ def main(argv=None) -> int:
             pass
         return 128 + 13  # 128 + SIGPIPE
     finally:
-        compile_cache.end_command()  # an in-process run leaves JAX's cache settings as they were
+        cache_options.end_command()  # an in-process run leaves JAX's cache settings as they were
 
 
 if __name__ == "__main__":  # pragma: no cover

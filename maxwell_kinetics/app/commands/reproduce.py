@@ -4,7 +4,7 @@
                                [--no-progress] [--workers N]
 
 Every file the run writes into ``--out`` is checked before the first comparison runs
-(:func:`maxwell_kinetics.reproduce.plan_outputs`), so a bad ``--out``, a directory where a
+(:func:`maxwell_kinetics.app.reproduce.plan_outputs`), so a bad ``--out``, a directory where a
 figure, an ``.npz`` or ``summary.json`` goes, a ``summary.json`` that is not ours or one made
 at another size (which ``--only`` would mix with) fails at once with exit status 2, naming
 the file, and nothing written.  ``--only`` merges its comparisons into the ``summary.json``
@@ -18,7 +18,7 @@ from particles.parsing import parse_count, parse_name_list
 from particles.validation import InvalidArgumentError
 from particles.workers import check_workers
 
-from .. import compile_cache
+from .. import cache_options
 from ..output import emit_json, progress_enabled
 
 __all__ = ["add_parser", "run"]
@@ -51,7 +51,7 @@ def add_parser(subparsers) -> None:
                    "at most 4 x the CPUs unless --force")
     p.add_argument("--force", action="store_true",
                    help="allow more than 4 x the CPUs as --workers")
-    compile_cache.add_option(p)
+    cache_options.add_option(p)
     p.set_defaults(handler=run)
 
 
@@ -59,10 +59,10 @@ def run(args) -> int:
     """Run ``maxwell-kinetics reproduce`` on parsed arguments.
 
     Runs the selected comparisons at the chosen size through
-    :func:`maxwell_kinetics.reproduce.run_all`, which writes a PNG and an ``.npz`` per comparison
-    and merges their numbers into ``summary.json`` in ``--out``; prints a one-line summary (or
-    one JSON object: ``out``, ``size``, ``seconds``, ``comparisons`` the names run now and
-    ``in_summary`` every name ``summary.json`` holds).
+    :func:`maxwell_kinetics.app.reproduce.run_all`, which writes a PNG and an ``.npz`` per
+    comparison and merges their numbers into ``summary.json`` in ``--out``; prints a one-line
+    summary (or one JSON object: ``out``, ``size``, ``seconds``, ``comparisons`` the names run now
+    and ``in_summary`` every name ``summary.json`` holds).
 
     Parameters
     ----------
@@ -98,7 +98,7 @@ def run(args) -> int:
     names = list(COMPARISONS) if only is None else only
     plan_outputs(args.out, names, size, "out")  # every output, before anything is written
     out = args.out
-    compile_cache.from_args(args)
+    cache_options.from_args(args)
     summary = run_all(out, size, only, progress=progress_enabled(args), workers=workers,
                       force=args.force)
     if args.json:

@@ -71,7 +71,7 @@ def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0, nrows: i
 
     Returns
     -------
-    tuple of (maxwell_kinetics.plotting.Figure, numpy.ndarray)
+    tuple of (maxwell_kinetics.app.plotting.Figure, numpy.ndarray)
         The figure and its axes, an object array of shape (nrows, ncols).
     """
     fig = _figure_class()(figsize=(width * ncols, height * nrows))
@@ -97,7 +97,7 @@ def plot_solution(solution):
     matplotlib.figure.Figure
         The figure, laid out (``tight_layout``); the caller saves or closes it.
     """
-    from .exact import f_hat
+    from ..exact import f_hat
 
     fig, axes = new_figure(2)
     left, right = axes[0]
@@ -140,8 +140,8 @@ def plot_convergence(runs):
 
     Parameters
     ----------
-    runs : list of maxwell_kinetics.convergence.ConvergenceRun
-        The runs of :func:`maxwell_kinetics.convergence.convergence_study`; may be empty.
+    runs : list of maxwell_kinetics.app.convergence.ConvergenceRun
+        The runs of :func:`maxwell_kinetics.app.convergence.convergence_study`; may be empty.
 
     Returns
     -------

@@ -27,7 +27,7 @@ import numpy as np
 from particles import persistence
 from particles.validation import InvalidArgumentError
 
-from .. import statistics as st
+from ... import statistics as st
 
 __all__ = [
     "SIZES",
@@ -95,7 +95,7 @@ class Comparison:
         The comparison's name; it selects the registered ``plot``.
     summary : dict
         The numbers the comparison reports (JSON-able after
-        :func:`maxwell_kinetics.output.clean_json`): the tested quantities, the sizes used and
+        :func:`maxwell_kinetics.app.output.clean_json`): the tested quantities, the sizes used and
         the wall-clock ``seconds``.
     data : dict
         What the figure is drawn from: arrays, nested dicts, lists, tuples, histogram
@@ -185,7 +185,7 @@ class Comparison:
 
 def _encode(obj, arrays: dict):
     """JSON skeleton of ``obj``; arrays go to ``arrays`` under fresh keys."""
-    from ..solver import Solution  # JAX: imported only when a solution may be saved
+    from ...solver import Solution  # JAX: imported only when a solution may be saved
 
     if obj is None or isinstance(obj, (bool, str)):
         return obj
@@ -227,7 +227,7 @@ def _decode(node, arrays: dict):
     if "__histogram__" in node:
         return st.HistogramComparison(**_decode(node["__histogram__"], arrays))
     if "__solution__" in node:
-        from ..solver import Solution  # JAX: imported only when a solution is read
+        from ...solver import Solution  # JAX: imported only when a solution is read
 
         inner = node["__solution__"]
         if isinstance(inner, dict) and "meta" in inner:

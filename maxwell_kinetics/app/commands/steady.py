@@ -17,8 +17,8 @@ import numpy as np
 
 from particles import persistence
 
-from .. import compile_cache
-from ..driven import steady_state
+from ...driven import steady_state
+from .. import cache_options
 from ..output import check_outputs, emit_json
 
 __all__ = ["add_parser", "run"]
@@ -41,7 +41,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--driving", "-D", required=True, help="heating strength D > 0")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--plot", metavar="FILE", help="write a PNG of ln P(v) with the Gaussian")
-    compile_cache.add_option(p, compiles=False)
+    cache_options.add_option(p, compiles=False)
     p.set_defaults(handler=run)
 
 

@@ -18,8 +18,8 @@ import numpy as np
 
 from particles.validation import check_restitution
 
-from .grid import RESOLUTIONS, get_resolution
-from .solver import solve
+from ..grid import RESOLUTIONS, get_resolution
+from ..solver import solve
 
 __all__ = ["ConvergenceRun", "convergence_study", "order_of_accuracy", "summarize"]
 
