@@ -64,6 +64,7 @@ import dataclasses
 import math
 import time
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -79,10 +80,10 @@ from particles.validation import (
 from . import _interrupt, compile_cache
 from .deviation import reference
 from .exact import f_hat
-from .grid import INFLOW_CUT, Resolution, get_resolution
+from .grid import INFLOW_CUT, Resolution, check_solve_budget, get_resolution
 from .model import MaxwellModel
 
-__all__ = ["solve", "Solution", "SolverOptions"]
+__all__ = ["solve", "check_solve_arguments", "SolveArguments", "Solution", "SolverOptions"]
 
 
 @dataclass(frozen=True)
@@ -254,6 +255,78 @@ class _Stepper:
                                       self.static, (self.dynamic, y, i_window, tau))
 
 
+class SolveArguments(NamedTuple):
+    """The arguments of :func:`solve`, checked and typed by :func:`check_solve_arguments`."""
+
+    model: MaxwellModel
+    law: InitialLaw
+    tau: np.ndarray
+    grid: Resolution
+    options: SolverOptions
+    dimension: int
+    angular: str
+    angular_nodes: int
+    angular_rule: str
+    estimate: dict
+
+
+def check_solve_arguments(
+    restitution: float,
+    initial="gaussian",
+    tau=(1.0, 10.0, 100.0),
+    resolution="default",
+    *,
+    options: SolverOptions | None = None,
+    dimension: int = 1,
+    angular: str = "uniform",
+    angular_nodes: int = 16,
+    angular_rule: str = "fast",
+    force: bool = False,
+) -> SolveArguments:
+    """Every check of :func:`solve` on its arguments (the same names and defaults), before
+    any work and without JAX: :func:`solve` calls it first, and a caller may call it to refuse
+    bad input before preparing anything else (the command line does, before it writes).
+
+    Returns
+    -------
+    SolveArguments
+        The checked values: the model, the law, the times as an array, the grid, the options,
+        the angular settings (in d = 1: "uniform", 1 node and rule "accurate", which d = 1
+        does not use) and the cost :func:`maxwell_kinetics.grid.estimate_solve` estimated.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        As listed under :func:`solve`.
+    """
+    model = MaxwellModel(restitution)
+    law = get_law(initial)
+    taus = check_times(tau, "tau")
+    from .model import angular_law
+
+    angular_law(dimension, angular)  # checks both
+    if dimension != 1:
+        angular_nodes = check_count(angular_nodes, "angular_nodes", 1)
+        from ._kinetic_scheme import ANGULAR_RULES
+
+        if angular_rule not in ANGULAR_RULES:
+            raise InvalidArgumentError("angular_rule", angular_rule,
+                                       "one of " + ", ".join(ANGULAR_RULES))
+        if model.restitution >= 1.0:
+            raise InvalidArgumentError("restitution", restitution, "r < 1 when dimension >= 2")
+        if law.skewness != 0.0 or not law.symmetric:
+            raise InvalidArgumentError("initial", law.name,
+                                       "a symmetric law (real Φ) when dimension >= 2")
+    else:
+        angular, angular_nodes, angular_rule = "uniform", 1, "accurate"
+    grid = get_resolution(resolution)
+    opts = options or SolverOptions()
+    estimate = check_solve_budget(grid, float(taus[-1]), len(taus), window=opts.window,
+                                  force=force, dimension=dimension, angular_rule=angular_rule)
+    return SolveArguments(model, law, taus, grid, opts, dimension, angular, angular_nodes,
+                          angular_rule, estimate)
+
+
 def solve(
     restitution: float,
     initial="gaussian",
@@ -266,6 +339,7 @@ def solve(
     angular: str = "uniform",
     angular_nodes: int = 16,
     angular_rule: str = "fast",
+    force: bool = False,
 ) -> Solution:
     """Integrate the rescaled equation from G(q, 0) = φ(q) and save G at the requested τ.
 
@@ -332,6 +406,10 @@ def solve(
         Scale of the η quadrature's node counts in d ≥ 2 (≥ 1).
     angular_rule : str, default "fast"
         The η rule in d ≥ 2, "fast" or "accurate" (d = 1 has η ≡ 1).
+    force : bool, default False
+        Run a solve estimated (:func:`maxwell_kinetics.grid.estimate_solve`) to take more than
+        :data:`maxwell_kinetics.grid.MAX_SOLVE_SECONDS` (one day) anyway; without it such a
+        solve is refused before any work.  The memory check applies either way.
 
     Returns
     -------
@@ -349,34 +427,22 @@ def solve(
         On Ctrl-C (see above).
     particles.validation.InvalidArgumentError
         For an invalid restitution, law, time list, resolution, dimension, angular model,
-        ``angular_nodes`` or ``angular_rule``; in d ≥ 2 for r = 1 (naming ``restitution``) or
+        ``angular_nodes`` or ``angular_rule``; naming ``tau`` for a solve that cannot fit in
+        the memory available or (unless ``force``) is estimated to take more than one day, the
+        estimate in the message; in d ≥ 2 for r = 1 (naming ``restitution``) or
         a law that is not symmetric (naming ``initial``); naming ``initial`` for a law without
         a finite third moment, ``characteristic`` when φ is not finite where it is sampled.
     FloatingPointError
         If the integration produces a non-finite G.
     """
-    model = MaxwellModel(restitution)
-    law = get_law(initial)
-    taus = check_times(tau, "tau")
-    from .model import angular_law
-
-    angular_law(dimension, angular)  # checks both
-    if dimension != 1:
-        angular_nodes = check_count(angular_nodes, "angular_nodes", 1)
-        from ._kinetic_scheme import ANGULAR_RULES
-
-        if angular_rule not in ANGULAR_RULES:
-            raise InvalidArgumentError("angular_rule", angular_rule,
-                                       "one of " + ", ".join(ANGULAR_RULES))
-        if model.restitution >= 1.0:
-            raise InvalidArgumentError("restitution", restitution, "r < 1 when dimension >= 2")
-        if law.skewness != 0.0 or not law.symmetric:
-            raise InvalidArgumentError("initial", law.name,
-                                       "a symmetric law (real Φ) when dimension >= 2")
-    else:
-        angular, angular_nodes, angular_rule = "uniform", 1, "accurate"
-    grid = get_resolution(resolution)
-    opts = options or SolverOptions()
+    checked = check_solve_arguments(restitution, initial, tau, resolution, options=options,
+                                    dimension=dimension, angular=angular,
+                                    angular_nodes=angular_nodes, angular_rule=angular_rule,
+                                    force=force)
+    model, law, taus, grid, opts = (checked.model, checked.law, checked.tau, checked.grid,
+                                    checked.options)
+    angular, angular_nodes, angular_rule = (checked.angular, checked.angular_nodes,
+                                            checked.angular_rule)
     start = time.perf_counter()
     q = grid.q
     saved = np.empty((taus.size, grid.n), dtype=complex)
