@@ -256,7 +256,30 @@ class _Stepper:
 
 
 class SolveArguments(NamedTuple):
-    """The arguments of :func:`solve`, checked and typed by :func:`check_solve_arguments`."""
+    """The arguments of :func:`solve`, checked and typed by :func:`check_solve_arguments`.
+
+    Parameters
+    ----------
+    model : maxwell_kinetics.model.MaxwellModel
+        The model of the restitution coefficient.
+    law : particles.initial.InitialLaw
+        The initial law.
+    tau : numpy.ndarray
+        The output times, increasing and non-negative.
+    grid : maxwell_kinetics.grid.Resolution
+        The q grid.
+    options : SolverOptions
+        The time-integration settings.
+    dimension : int
+        Space dimension d ∈ {1, 2, 3}.
+    angular, angular_rule : str
+        Angular model and η rule ("uniform" and "accurate" in d = 1, where they are unused).
+    angular_nodes : int
+        Scale of the η quadrature (1 in d = 1).
+    estimate : dict
+        The cost :func:`maxwell_kinetics.grid.estimate_solve` estimated (``seconds``,
+        ``memory``, ``windows``).
+    """
 
     model: MaxwellModel
     law: InitialLaw
@@ -286,6 +309,12 @@ def check_solve_arguments(
     """Every check of :func:`solve` on its arguments (the same names and defaults), before
     any work and without JAX: :func:`solve` calls it first, and a caller may call it to refuse
     bad input before preparing anything else (the command line does, before it writes).
+
+    Parameters
+    ----------
+    restitution, initial, tau, resolution, options, dimension, angular, angular_nodes, \
+angular_rule, force
+        As for :func:`solve`.
 
     Returns
     -------
@@ -499,7 +528,7 @@ def solve(
             bar.update(float(taus[-1]) - bar.n)
             bar.close()
     return Solution(model.restitution, law.name, grid, taus, saved, deviation, m3, opts,
-                    time.perf_counter() - start, dimension, angular, angular_rule)
+                    time.perf_counter() - start, dimension, angular, angular_rule, angular_nodes)
 
 
 @dataclass(frozen=True)
@@ -540,6 +569,8 @@ class Solution:
         Angular model (d ≥ 2).
     angular_rule : str, default "accurate"
         The η rule of the solve (d = 1: exact, η ≡ 1).
+    angular_nodes : int, default 1
+        The ``angular_nodes`` of the solve, the scale of its η rule (d = 1: 1, η ≡ 1).
     """
 
     restitution: float
@@ -554,6 +585,7 @@ class Solution:
     dimension: int = 1
     angular: str = "uniform"
     angular_rule: str = "accurate"  # the η rule of solve (d = 1: exact, η ≡ 1)
+    angular_nodes: int = 1  # the scale of the η rule of solve (d = 1: 1, η ≡ 1)
 
     @property
     def q(self) -> np.ndarray:
@@ -887,7 +919,7 @@ class Solution:
         -------
         meta : dict
             restitution, initial, resolution and options (as dicts), skewness, seconds,
-            dimension, angular, angular_rule.
+            dimension, angular, angular_rule, angular_nodes.
         arrays : dict of str to numpy.ndarray
             ``tau``, ``G`` and ``deviation``.
         """
@@ -901,6 +933,7 @@ class Solution:
             "dimension": self.dimension,
             "angular": self.angular,
             "angular_rule": self.angular_rule,
+            "angular_nodes": self.angular_nodes,
         }
         return meta, {"tau": self.tau, "G": self.G, "deviation": self.deviation}
 
@@ -912,8 +945,9 @@ class Solution:
         Parameters
         ----------
         meta : dict
-            The parameters, as :meth:`to_record` writes them (``dimension``, ``angular`` and
-            ``angular_rule`` may be missing: older records).
+            The parameters, as :meth:`to_record` writes them (``dimension``, ``angular``,
+            ``angular_rule`` and ``angular_nodes`` may be missing: older records; a missing
+            ``angular_nodes`` reads as the default 16 in d >= 2, 1 in d = 1).
         arrays : dict
             ``tau``, ``G`` and ``deviation``.
         path : str or os.PathLike, default "solution"
@@ -944,6 +978,7 @@ class Solution:
                 str(meta.get("angular", "uniform")),
                 # files written before the rule existed used the 16-node ("accurate") rule
                 str(meta.get("angular_rule", "accurate")),
+                int(meta.get("angular_nodes", 16 if int(meta.get("dimension", 1)) > 1 else 1)),
             )
         except (KeyError, ValueError, TypeError) as exc:
             raise persistence.FileFormatError(

@@ -11,6 +11,7 @@ between callers, so their arrays are read-only.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 
 import numpy as np
 
@@ -28,7 +29,10 @@ __all__ = [
 ]
 
 
-_SOLUTIONS: dict = {}
+#: Most solutions :func:`kinetic_solution` keeps (the least recently used goes first); a
+#: ``reproduce`` run needs fewer at once.
+MAX_CACHED_SOLUTIONS = 16
+_SOLUTIONS: OrderedDict = OrderedDict()
 
 
 def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coarse",
@@ -37,8 +41,9 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
     resolution) so that the comparisons of one ``reproduce`` run share solves (each new
     (r, law, resolution) costs seconds of JIT compilation).
 
-    The cached solution's ``tau``, ``G`` and ``deviation`` arrays are made read-only: every
-    caller shares them.
+    At most ``MAX_CACHED_SOLUTIONS`` solutions are kept (the least recently used is dropped
+    first).  The cached solution's ``tau``, ``G`` and ``deviation`` arrays are made read-only:
+    every caller shares them.
 
     Parameters
     ----------
@@ -67,6 +72,9 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
             if isinstance(a, np.ndarray):
                 a.flags.writeable = False  # shared by every caller: nobody may change it
         _SOLUTIONS[key] = sol
+        while len(_SOLUTIONS) > MAX_CACHED_SOLUTIONS:  # bounded: drop the least recently used
+            _SOLUTIONS.popitem(last=False)
+    _SOLUTIONS.move_to_end(key)
     return _SOLUTIONS[key]
 
 
