@@ -37,7 +37,7 @@ _SOLUTIONS: OrderedDict = OrderedDict()
 
 def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coarse",
                      progress: bool = False):
-    """The solver's :class:`~maxwell_kinetics.solver.Solution`, cached per (r, law, τ list,
+    """The solver's :class:`~maxwell_kinetics.solution.Solution`, cached per (r, law, τ list,
     resolution) so that the comparisons of one ``reproduce`` run share solves (each new
     (r, law, resolution) costs seconds of JIT compilation).
 
@@ -60,7 +60,7 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
 
     Returns
     -------
-    maxwell_kinetics.solver.Solution
+    maxwell_kinetics.solution.Solution
         The (shared) solution of :func:`maxwell_kinetics.solver.solve`.
     """
     from ..solver import solve  # JAX: imported when a solution is first needed
@@ -111,7 +111,7 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
 
     Parameters
     ----------
-    sol : maxwell_kinetics.solver.Solution
+    sol : maxwell_kinetics.solution.Solution
         A solution of the kinetic solver (1D), e.g. from :func:`kinetic_solution`.
     tau_index : int
         Index into ``sol.tau`` of the time τ (collisions per particle).
@@ -157,7 +157,7 @@ def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):
 
     Parameters
     ----------
-    sol : maxwell_kinetics.solver.Solution
+    sol : maxwell_kinetics.solution.Solution
         A solution of the kinetic solver (1D), e.g. from :func:`kinetic_solution`.
     tau_index : int
         Index into ``sol.tau`` of the time τ (collisions per particle).
@@ -199,7 +199,7 @@ def never_collided_cut(sol, tau_index: int, edges) -> np.ndarray:
 
     Parameters
     ----------
-    sol : maxwell_kinetics.solver.Solution
+    sol : maxwell_kinetics.solution.Solution
         A solution of the kinetic solver (1D), e.g. from :func:`kinetic_solution`.
     tau_index : int
         Index into ``sol.tau`` of the time τ (collisions per particle).
