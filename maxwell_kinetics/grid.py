@@ -195,6 +195,8 @@ SECONDS_PER_NODE_WINDOW = {1: 1.7e-6, 2: 6.5e-6, 3: 6.5e-6}
 ACCURATE_RULE_FACTOR = 2.3
 #: A solve estimated to take longer than this (one day) is refused unless forced (``--force``).
 MAX_SOLVE_SECONDS = 86400.0
+#: How the refusal of a long solve tells the user to force it (the command line shows --force).
+FORCE = "force=True (--force on the command line)"
 
 
 def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension: int = 1,
@@ -311,6 +313,6 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
             name, tau_max,
             f"a solve estimated to take at most {format_seconds(MAX_SOLVE_SECONDS)} (this one: "
             f"{estimate['windows']:.3g} windows of {window:g} in τ on {grid.n} nodes, about "
-            f"{format_seconds(seconds)}); pass --force to run it anyway",
+            f"{format_seconds(seconds)}); pass {FORCE} to run it anyway",
         )
     return estimate

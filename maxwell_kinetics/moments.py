@@ -250,7 +250,7 @@ class Moments:
     """Even moments of a solution at its saved τ, read from G near q = 0.
 
     Rescaled: v₀² is the per-component variance, so ⟨x²⟩ = 1 for x = v/v₀ and in d dimensions
-    ⟨|v|²⟩/v₀² = d.  Produced by :meth:`maxwell_kinetics.solver.Solution.moments`.
+    ⟨|v|²⟩/v₀² = d.  Produced by :meth:`maxwell_kinetics.solution.Solution.moments`.
 
     Attributes
     ----------

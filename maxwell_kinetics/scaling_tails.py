@@ -2,7 +2,7 @@
 
 The exponents of :mod:`maxwell_kinetics.tails` come from the equation alone (the root s* of
 λ(s) = s λ(1), the rates min(λ(n), n λ(1))).  This module measures the same quantities from a
-:class:`maxwell_kinetics.solver.Solution` of ``solve(..., dimension=d, angular=...)``, so that the
+:class:`maxwell_kinetics.solution.Solution` of ``solve(..., dimension=d, angular=...)``, so that the
 two are independent checks of each other.
 
 Conventions.  G(q, τ) = Φ(q / v₀(τ), τ) is the characteristic function of one Cartesian
@@ -43,7 +43,7 @@ from scipy.special import comb
 from particles.validation import InvalidArgumentError, check_times
 
 from .model import MaxwellModel, angular_law
-from .solver import Solution, deviation_from_f_hat
+from .solution import Solution, deviation_from_f_hat
 from .tails import eta_moment, growth_rate
 
 __all__ = [
@@ -188,10 +188,10 @@ def series_coefficients(solution: Solution, tau_index: int = -1, n_max: int = 3,
 
     Parameters
     ----------
-    solution : maxwell_kinetics.solver.Solution
+    solution : maxwell_kinetics.solution.Solution
         A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
     tau_index : int, default -1
-        Index of the saved τ (as for :meth:`maxwell_kinetics.solver.Solution.time_index`).
+        Index of the saved τ (as for :meth:`maxwell_kinetics.solution.Solution.time_index`).
     n_max : int, default 3
         Highest index n.
     window : tuple of float, optional
@@ -244,7 +244,7 @@ def moment_decay_rates(solution: Solution, n: int, window=None,
 
     Parameters
     ----------
-    solution : maxwell_kinetics.solver.Solution
+    solution : maxwell_kinetics.solution.Solution
         A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
     n : int
         Order: the moment ⟨|v|^{2n}⟩ (n ≥ 2).
@@ -281,7 +281,7 @@ def tail_exponent_from_solution(solution: Solution, window=(10.0, 30.0), tau_ind
 
     Parameters
     ----------
-    solution : maxwell_kinetics.solver.Solution
+    solution : maxwell_kinetics.solution.Solution
         A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
     window : tuple of float, default (10.0, 30.0)
         (x_lo, x_hi) in the rescaled velocity x = v_x / v₀.
@@ -355,7 +355,7 @@ def tail_root_from_solution(solution: Solution, window=(1e-4, 0.1), tau_index: i
 
     Parameters
     ----------
-    solution : maxwell_kinetics.solver.Solution
+    solution : maxwell_kinetics.solution.Solution
         A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
         In d ≥ 2 it must be solved with ``angular_rule="accurate"``.
     window : tuple of float, default (1e-4, 0.1)
@@ -440,7 +440,7 @@ def resonant_log_fit(solution: Solution, window=(1e-4, 0.1), tau_index: int = -1
 
     Parameters
     ----------
-    solution : maxwell_kinetics.solver.Solution
+    solution : maxwell_kinetics.solution.Solution
         A solve of :func:`maxwell_kinetics.solver.solve` (any dimension).
         In d ≥ 2 it must be solved with ``angular_rule="accurate"``.
     window : tuple of float, default (1e-4, 0.1)

@@ -101,7 +101,7 @@ def _irfft_plan(m: int) -> pyfftw.FFTW:
 #: is below the round-off of the transform anyway (a relative error growing like 1/P).
 MAX_QUADRATURE_NODES = 2**24
 
-#: Peak bytes per quadrature node when G is a :class:`~maxwell_kinetics.solver.Solution`'s
+#: Peak bytes per quadrature node when G is a :class:`~maxwell_kinetics.solution.Solution`'s
 #: interpolant (measured with tracemalloc: 155 for 3.4e5 and 1.3e6 nodes).
 BYTES_PER_NODE = 160.0
 

@@ -86,7 +86,7 @@ def convergence_study(
     """Run every (r, resolution) pair to ``tau_max`` and return the error traces and floors.
 
     Each run calls :func:`maxwell_kinetics.solver.solve` and
-    :meth:`maxwell_kinetics.solver.Solution.sup_error` (the distance to the exact scaling
+    :meth:`maxwell_kinetics.solution.Solution.sup_error` (the distance to the exact scaling
     solution f̂(q) = (1 + |q|) e^{−|q|}) at log-spaced τ; see the module docstring for the floor
     and the stability test.
 

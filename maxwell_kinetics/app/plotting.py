@@ -81,14 +81,14 @@ def new_figure(ncols: int = 1, width: float = 5.0, height: float = 4.0, nrows: i
 def plot_solution(solution):
     """Left: Re G(q, τ) against q (with f̂ in d = 1).  Right: in d = 1, |G − f̂| against q on
     log axes; in d ≥ 2, where f̂ is not the scaling solution, the density of the rescaled
-    speed P(s) (:meth:`~maxwell_kinetics.solver.Solution.speed_density`) on a log scale.
+    speed P(s) (:meth:`~maxwell_kinetics.solution.Solution.speed_density`) on a log scale.
 
     G(q, τ) is the characteristic function of the rescaled velocity at the recorded times τ
     (collisions per particle); f̂(q) = (1 + q) e^(−q) is the 1D scaling solution.
 
     Parameters
     ----------
-    solution : maxwell_kinetics.solver.Solution
+    solution : maxwell_kinetics.solution.Solution
         A solution of the kinetic solver (its ``q``, ``tau``, ``G`` and, in d = 1,
         ``deviation``; in d ≥ 2, ``dimension``, ``angular`` and ``speed_density``).
 

@@ -114,4 +114,35 @@ def test_fixed_point_refuses_a_degree_of_more_than_a_day_unless_forced(monkeypat
         assert stationary.fixed_point(0.5, n=16, force=True).n == 16
     # d = 2: in d = 1 a degree above 256 is refused anyway (ill-conditioned collocation)
     with pytest.raises(InvalidArgumentError, match=r"argument n=20000 .*days.*force=True"):
-        stationary.fixed_point(0.5, n=20000, dimension=2)
+        stationary.fixed_point(0.5, n=20000, dimension=2)  # d = 1 caps n at MAX_DEGREE_1D
+
+
+def test_fixed_point_cli_has_force(capsys, monkeypatch):
+    """fixed-point takes --force, and its refusal of a long solve says --force (the library's
+    message says force=True, which a command-line user cannot pass)."""
+    from maxwell_kinetics import stationary
+    from maxwell_kinetics.app.cli import main
+
+    patch_limit = monkeypatch.setattr
+    patch_limit(stationary, "MAX_FIXED_POINT_SECONDS", 1e-6)
+    err = run_error(capsys, ["fixed-point", "-r", "0.5", "--n", "32"])
+    assert "argument n=32 " in err and "pass --force" in err and "force=True" not in err
+    assert main(["fixed-point", "-r", "0.5", "--n", "32", "--force", "--json"]) == 0
+
+
+def test_solve_refuses_a_solve_of_more_than_a_day_unless_forced(monkeypatch):
+    """solve() itself (not only the command line) refuses, before any work, a solve whose
+    estimate exceeds the one-day budget, naming tau and the estimate; force=True runs it."""
+    from maxwell_kinetics import grid
+    from maxwell_kinetics.solver import solve
+
+    finest = grid.get_resolution("finest")
+    tau = 2.0 * grid.MAX_SOLVE_SECONDS / (finest.n * 1e-6)  # > one day at >= 1 us a node
+    with monkeypatch.context() as patch:  # a tiny solve over a limit of 0 s: refused, or forced
+        patch.setattr(grid, "MAX_SOLVE_SECONDS", 0.0)
+        with pytest.raises(InvalidArgumentError, match=r"argument tau=1\.0 .*force=True"):
+            solve(0.5, tau=[1.0], resolution="coarse")
+        assert solve(0.5, tau=[1.0], resolution="coarse", force=True).tau.tolist() == [1.0]
+    refused = r"argument tau=.*windows.*about .* h\).*force=True"
+    with pytest.raises(InvalidArgumentError, match=refused):
+        solve(0.5, tau=[tau], resolution="finest")

@@ -50,6 +50,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--angular", default=None,
                    help="angular model, only with --dimension 2 or 3: uniform (default) or hard")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--force", action="store_true",
+                   help="run even when the Gauss-Newton solve is estimated to take more than "
+                   "one day")
     cache_options.add_option(p)
     p.set_defaults(handler=run)
 
@@ -81,7 +84,14 @@ def run(args) -> int:
                                    "d = 1 (a larger one is too ill-conditioned: it converges to "
                                    "a wrong function)")
     cache_options.from_args(args)
-    fp = fixed_point(args.restitution, n=n, dimension=dimension, angular=angular)
+    try:
+        fp = fixed_point(args.restitution, n=n, dimension=dimension, angular=angular,
+                         force=args.force)
+    except InvalidArgumentError as exc:  # the library's refusal, with the option to force it
+        if "force=True" not in exc.expected:
+            raise
+        raise InvalidArgumentError(exc.name, exc.value, exc.expected.replace(
+            "force=True", "pass --force")) from None
     # Newton may stop on a small step at a non-solution (n = 8, r = 0.99: residual 4.8e-3):
     # a fixed point counts as converged only when its residual is small too
     converged = bool(fp.converged) and fp.residual <= RESIDUAL_TOLERANCE

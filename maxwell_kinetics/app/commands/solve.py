@@ -9,24 +9,15 @@ prints "interrupted" and exits with status 130.
 from __future__ import annotations
 
 import os
-import time
 
 import numpy as np
 
 from particles import persistence
-from particles.initial import get_law
 from particles.parsing import parse_float_list, parse_int
-from particles.validation import InvalidArgumentError, check_choice, check_times
+from particles.validation import InvalidArgumentError
 
 from ... import _interrupt
-from ...grid import (
-    MAX_SOLVE_SECONDS,
-    RESOLUTIONS,
-    check_solve_budget,
-    format_seconds,
-    get_resolution,
-)
-from ...model import MaxwellModel
+from ...grid import FORCE, MAX_SOLVE_SECONDS, RESOLUTIONS, format_seconds
 from .. import cache_options
 from ..output import check_outputs, emit_json, progress_enabled
 
@@ -88,14 +79,41 @@ def run(args) -> int:
             raise
 
 
+#: The command line's option for each argument of :func:`maxwell_kinetics.solver.solve` whose
+#: name differs from it.
+OPTIONS = {"angular_rule": "angular-rule", "angular_nodes": "angular-nodes"}
+
+
+def _library_error(exc: InvalidArgumentError, typed: dict) -> InvalidArgumentError:
+    """The library's refusal, naming the option as typed (``--angular-rule``, not
+    ``angular_rule``), with the text typed when the library saw its parsed value, and
+    ``--force`` for ``force=True``."""
+    name = OPTIONS.get(exc.name, exc.name)
+    value = typed.get(exc.name, (None, exc.value))
+    value = value[1] if value[0] is exc.value else exc.value
+    return InvalidArgumentError(name, value, exc.expected.replace(FORCE, "--force"))
+
+
 def _run(args, written: list) -> int:
-    model = MaxwellModel(args.restitution)
-    law = get_law(args.initial)
-    try:
-        taus = check_times(parse_float_list(args.tau, "tau"), "tau")
-    except InvalidArgumentError as exc:  # show the text received, not the parsed list
-        raise InvalidArgumentError("tau", args.tau, exc.expected) from None
-    grid = get_resolution(args.resolution)
+    from ...solver import check_solve_arguments, solve  # JAX is imported only when a solve runs
+
+    tau = parse_float_list(args.tau, "tau")
+    dimension = parse_int(args.dimension, "dimension")
+    for option, value in (("angular", args.angular), ("angular-rule", args.angular_rule)):
+        if value is not None and dimension == 1:  # d = 1 has η ≡ 1: the option would do nothing
+            raise InvalidArgumentError(option, value, "--dimension 2 or 3 with it (d = 1 has "
+                                       "a single collision direction)")
+    arguments = {"restitution": args.restitution, "initial": args.initial, "tau": tau,
+                 "resolution": args.resolution, "dimension": dimension,
+                 "angular": args.angular or "uniform",
+                 "angular_rule": args.angular_rule or "fast", "force": args.force}
+    typed = {"tau": (tau, args.tau), "dimension": (dimension, args.dimension)}
+    try:  # the library's checks (the solve-time budget included), before anything is written
+        checked = check_solve_arguments(**arguments)
+    except InvalidArgumentError as exc:
+        raise _library_error(exc, typed) from None
+    model, law, taus, grid = checked.model, checked.law, checked.tau, checked.grid
+    angular, cost = checked.angular, checked.estimate
     q = np.asarray(parse_float_list(args.q, "q"))
     if np.any(~np.isfinite(q)) or np.any(np.abs(q) > grid.q_max):
         raise InvalidArgumentError(
@@ -114,18 +132,7 @@ def _run(args, written: list) -> int:
 
         speed_nodes = check_quadrature(grid.q_max, speeds, "speed", radial=True,
                                        shown=args.speed)
-    dimension = parse_int(args.dimension, "dimension")
-    if dimension not in (1, 2, 3):
-        raise InvalidArgumentError("dimension", args.dimension, "1, 2 or 3")
-    for option, value in (("angular", args.angular), ("angular-rule", args.angular_rule)):
-        if value is not None and dimension == 1:  # d = 1 has η ≡ 1: the option would do nothing
-            raise InvalidArgumentError(option, value, "--dimension 2 or 3 with it (d = 1 has "
-                                       "a single collision direction)")
-    angular = check_choice(args.angular or "uniform", "angular", ("uniform", "hard"))
-    rule = check_choice(args.angular_rule or "fast", "angular-rule", ("fast", "accurate"))
     check_outputs(save=args.save, images={"plot": args.plot})
-    cost = check_solve_budget(grid, float(taus[-1]), len(taus), force=args.force,
-                              dimension=dimension, angular_rule=rule)
     if speeds is not None:  # the speed density at every τ: its quadrature costs too
         speed_seconds = len(taus) * speed_nodes * (SECONDS_PER_SPEED_NODE
                                                    + speeds.size * SECONDS_PER_SPEED_NODE_VALUE)
@@ -138,12 +145,12 @@ def _run(args, written: list) -> int:
                 f"about {format_seconds(speed_seconds)}); fewer or smaller speeds or times, or "
                 "pass --force to run it anyway")
     cache_options.from_args(args)
-    from ...solver import solve  # JAX: imported only when a solve runs
-
-    start = time.perf_counter()
-    sol = solve(model.restitution, law, taus, grid, progress=progress_enabled(args),
-                dimension=dimension, angular=angular, angular_rule=rule)
-    seconds = time.perf_counter() - start
+    try:
+        arguments["tau"] = taus
+        sol = solve(**arguments, progress=progress_enabled(args))
+    except InvalidArgumentError as exc:  # checked above: kept for the option names
+        raise _library_error(exc, typed) from None
+    seconds = sol.seconds
     # The distance to f̂ is defined in d = 1 only (f̂ is the 1D scaling solution): null for d > 1.
     sup = sol.sup_error() if dimension == 1 else None
     values = np.array([sol.evaluate(q, k) for k in range(len(taus))])

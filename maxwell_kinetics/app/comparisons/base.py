@@ -185,7 +185,7 @@ class Comparison:
 
 def _encode(obj, arrays: dict):
     """JSON skeleton of ``obj``; arrays go to ``arrays`` under fresh keys."""
-    from ...solver import Solution  # JAX: imported only when a solution may be saved
+    from ...solution import Solution  # JAX: imported only when a solution may be saved
 
     if obj is None or isinstance(obj, (bool, str)):
         return obj
@@ -227,7 +227,7 @@ def _decode(node, arrays: dict):
     if "__histogram__" in node:
         return st.HistogramComparison(**_decode(node["__histogram__"], arrays))
     if "__solution__" in node:
-        from ...solver import Solution  # JAX: imported only when a solution is read
+        from ...solution import Solution  # JAX: imported only when a solution is read
 
         inner = node["__solution__"]
         if isinstance(inner, dict) and "meta" in inner:

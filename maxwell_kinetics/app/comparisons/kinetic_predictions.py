@@ -11,6 +11,7 @@ between callers, so their arrays are read-only.
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 
 import numpy as np
 
@@ -28,17 +29,21 @@ __all__ = [
 ]
 
 
-_SOLUTIONS: dict = {}
+#: Most solutions :func:`kinetic_solution` keeps (the least recently used goes first); a
+#: ``reproduce`` run needs fewer at once.
+MAX_CACHED_SOLUTIONS = 16
+_SOLUTIONS: OrderedDict = OrderedDict()
 
 
 def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coarse",
                      progress: bool | None = None):
-    """The solver's :class:`~maxwell_kinetics.solver.Solution`, cached per (r, law, τ list,
+    """The solver's :class:`~maxwell_kinetics.solution.Solution`, cached per (r, law, τ list,
     resolution) so that the comparisons of one ``reproduce`` run share solves (each new
     (r, law, resolution) costs seconds of JIT compilation).
 
-    The cached solution's ``tau``, ``G`` and ``deviation`` arrays are made read-only: every
-    caller shares them.
+    At most ``MAX_CACHED_SOLUTIONS`` solutions are kept (the least recently used is dropped
+    first).  The cached solution's ``tau``, ``G`` and ``deviation`` arrays are made read-only:
+    every caller shares them.
 
     Parameters
     ----------
@@ -56,7 +61,7 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
 
     Returns
     -------
-    maxwell_kinetics.solver.Solution
+    maxwell_kinetics.solution.Solution
         The (shared) solution of :func:`maxwell_kinetics.solver.solve`.
     """
     from ...solver import solve  # JAX: imported when a solution is first needed
@@ -68,6 +73,9 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
             if isinstance(a, np.ndarray):
                 a.flags.writeable = False  # shared by every caller: nobody may change it
         _SOLUTIONS[key] = sol
+        while len(_SOLUTIONS) > MAX_CACHED_SOLUTIONS:  # bounded: drop the least recently used
+            _SOLUTIONS.popitem(last=False)
+    _SOLUTIONS.move_to_end(key)
     return _SOLUTIONS[key]
 
 
@@ -104,7 +112,7 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
 
     Parameters
     ----------
-    sol : maxwell_kinetics.solver.Solution
+    sol : maxwell_kinetics.solution.Solution
         A solution of the kinetic solver (1D), e.g. from :func:`kinetic_solution`.
     tau_index : int
         Index into ``sol.tau`` of the time τ (collisions per particle).
@@ -120,7 +128,7 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
     below : float
         Predicted probability of x < ``edges[0]``.
     """
-    from ..kinetic_histogram import bin_probabilities
+    from ...kinetic_histogram import bin_probabilities
 
     # one home with Solution.histogram (maxwell_kinetics.kinetic_histogram)
     return bin_probabilities(sol, sol.time_index(tau_index), np.asarray(edges, dtype=float), far)
@@ -139,7 +147,7 @@ def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):
 
     Parameters
     ----------
-    sol : maxwell_kinetics.solver.Solution
+    sol : maxwell_kinetics.solution.Solution
         A solution of the kinetic solver (1D), e.g. from :func:`kinetic_solution`.
     tau_index : int
         Index into ``sol.tau`` of the time τ (collisions per particle).
@@ -181,7 +189,7 @@ def never_collided_cut(sol, tau_index: int, edges) -> np.ndarray:
 
     Parameters
     ----------
-    sol : maxwell_kinetics.solver.Solution
+    sol : maxwell_kinetics.solution.Solution
         A solution of the kinetic solver (1D), e.g. from :func:`kinetic_solution`.
     tau_index : int
         Index into ``sol.tau`` of the time τ (collisions per particle).

@@ -476,97 +476,103 @@ class ParticleRuns:
 # Functions of a fresh serial runner, for one-off use (nothing is kept between calls).
 
 
-def ulam_snapshots(*args, **kwargs) -> np.ndarray:
+def ulam_snapshots(restitution, law, n, taus, seeds, progress=False) -> np.ndarray:
     """:meth:`ParticleRuns.ulam_snapshots` of a new serial :class:`ParticleRuns`.
 
     Parameters
     ----------
-    *args, **kwargs
-        The arguments of :meth:`ParticleRuns.ulam_snapshots`.
+    restitution, law, n, taus, seeds, progress
+        As for :meth:`ParticleRuns.ulam_snapshots`.
 
     Returns
     -------
     numpy.ndarray
         Its result (nothing is kept between calls).
     """
-    return ParticleRuns().ulam_snapshots(*args, **kwargs)
+    return ParticleRuns().ulam_snapshots(restitution, law, n, taus, seeds, progress)
 
 
-def ulam_final(*args, **kwargs) -> np.ndarray:
+def ulam_final(params: dict, tau: float, seeds, progress=False) -> np.ndarray:
     """:meth:`ParticleRuns.ulam_final` of a new serial :class:`ParticleRuns`.
 
     Parameters
     ----------
-    *args, **kwargs
-        The arguments of :meth:`ParticleRuns.ulam_final`.
+    params, tau, seeds, progress
+        As for :meth:`ParticleRuns.ulam_final`.
 
     Returns
     -------
     numpy.ndarray
         Its result (nothing is kept between calls).
     """
-    return ParticleRuns().ulam_final(*args, **kwargs)
+    return ParticleRuns().ulam_final(params, tau, seeds, progress)
 
 
-def lattice_runs(*args, **kwargs) -> dict:
+def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", progress=False, *,
+                 structure=False, snapshots=False) -> dict:
     """:meth:`ParticleRuns.lattice_runs` of a new serial :class:`ParticleRuns`.
 
     Parameters
     ----------
-    *args, **kwargs
-        The arguments of :meth:`ParticleRuns.lattice_runs`.
+    restitution, n, times, seeds, constraint, law, progress, structure, snapshots
+        As for :meth:`ParticleRuns.lattice_runs`.
 
     Returns
     -------
     dict
         Its result (nothing is kept between calls).
     """
-    return ParticleRuns().lattice_runs(*args, **kwargs)
+    return ParticleRuns().lattice_runs(restitution, n, times, seeds, constraint, law, progress,
+                                       structure=structure, snapshots=snapshots)
 
 
-def lattice_at_energy(*args, **kwargs) -> dict:
+def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gaussian",
+                      progress=False, rate="constant") -> dict:
     """:meth:`ParticleRuns.lattice_at_energy` of a new serial :class:`ParticleRuns`.
 
     Parameters
     ----------
-    *args, **kwargs
-        The arguments of :meth:`ParticleRuns.lattice_at_energy`.
+    restitution, n, target, seeds, constraint, law, progress, rate
+        As for :meth:`ParticleRuns.lattice_at_energy`.
 
     Returns
     -------
     dict
         Its result (nothing is kept between calls).
     """
-    return ParticleRuns().lattice_at_energy(*args, **kwargs)
+    return ParticleRuns().lattice_at_energy(restitution, n, target, seeds, constraint, law,
+                                            progress, rate)
 
 
-def md_runs(*args, **kwargs) -> dict:
+def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
+            checkpoint_dir=None) -> dict:
     """:meth:`ParticleRuns.md_runs` of a new serial :class:`ParticleRuns`.
 
     Parameters
     ----------
-    *args, **kwargs
-        The arguments of :meth:`ParticleRuns.md_runs`.
+    restitution, n, delta, times, seeds, law, progress, checkpoint_dir
+        As for :meth:`ParticleRuns.md_runs`.
 
     Returns
     -------
     dict
         Its result (nothing is kept between calls).
     """
-    return ParticleRuns().md_runs(*args, **kwargs)
+    return ParticleRuns().md_runs(restitution, n, delta, times, seeds, law, progress,
+                                  checkpoint_dir)
 
 
-def sticky_runs(*args, **kwargs) -> dict:
+def sticky_runs(n, times, seeds, law="gaussian", progress=False, *, snapshots=False) -> dict:
     """:meth:`ParticleRuns.sticky_runs` of a new serial :class:`ParticleRuns`.
 
     Parameters
     ----------
-    *args, **kwargs
-        The arguments of :meth:`ParticleRuns.sticky_runs`.
+    n, times, seeds, law, progress, snapshots
+        As for :meth:`ParticleRuns.sticky_runs`.
 
     Returns
     -------
     dict
         Its result (nothing is kept between calls).
     """
-    return ParticleRuns().sticky_runs(*args, **kwargs)
+    return ParticleRuns().sticky_runs(n, times, seeds, law, progress, snapshots=snapshots)
