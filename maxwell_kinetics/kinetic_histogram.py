@@ -1,6 +1,6 @@
 """The kinetic prediction in the bins of a particle histogram, and a solution as labelled arrays:
-the machinery behind :meth:`maxwell_kinetics.solver.Solution.histogram` and
-:meth:`~maxwell_kinetics.solver.Solution.to_xarray`.
+the machinery behind :meth:`maxwell_kinetics.solution.Solution.histogram` and
+:meth:`~maxwell_kinetics.solution.Solution.to_xarray`.
 
 Convention: x = v/v0(τ) with v0² the variance of one Cartesian component, e^{−2λτ} in d = 1
 (e^{−Λτ} in d ≥ 2) for a unit initial variance.  In the kinetic theory this *is* the energy
@@ -78,7 +78,7 @@ def bin_probabilities(sol, k: int, edges, far: float = 200.0):
 
     Parameters
     ----------
-    sol : maxwell_kinetics.solver.Solution
+    sol : maxwell_kinetics.solution.Solution
         The solution.
     k : int
         Non-negative index of the saved time.
@@ -125,7 +125,7 @@ def solution_histogram(sol, k: int, edges):
 
     Parameters
     ----------
-    sol : maxwell_kinetics.solver.Solution
+    sol : maxwell_kinetics.solution.Solution
         The solution.
     k : int
         Non-negative index of the saved time.
@@ -149,11 +149,11 @@ def solution_histogram(sol, k: int, edges):
 
 
 def solution_to_xarray(sol):
-    """``sol`` as an ``xarray.Dataset`` (see :meth:`maxwell_kinetics.solver.Solution.to_xarray`).
+    """``sol`` as an ``xarray.Dataset`` (see :meth:`maxwell_kinetics.solution.Solution.to_xarray`).
 
     Parameters
     ----------
-    sol : maxwell_kinetics.solver.Solution
+    sol : maxwell_kinetics.solution.Solution
         The solution.
 
     Returns

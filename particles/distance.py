@@ -3,7 +3,7 @@ Kolmogorov–Smirnov distance of :meth:`particles.observables.Histogram.distance
 
 Conventions.  A histogram here is a density on bins (``density[b]`` = mass in bin b / its
 width) with a standard error per bin; a prediction (e.g. the kinetic theory's
-:meth:`maxwell_kinetics.solver.Solution.histogram`) is a histogram with zero error.
+:meth:`maxwell_kinetics.solution.Solution.histogram`) is a histogram with zero error.
 
 * χ² = Σ_b (ρ₁[b] − ρ₂[b])² / (σ₁[b]² + σ₂[b]²) over the bins where the summed variance is
   positive and each sampled side (``samples > 0``) has at least ``min_count`` counts;

@@ -166,7 +166,7 @@ class Histogram:
         """χ², degrees of freedom and χ²/dof (with the errors of both histograms) and the
         Kolmogorov–Smirnov distance to ``other``, a histogram on the same edges (a particle run's,
         or a prediction with zero error such as
-        :meth:`maxwell_kinetics.solver.Solution.histogram`); conventions in
+        :meth:`maxwell_kinetics.solution.Solution.histogram`); conventions in
         :mod:`particles.distance`.
 
         Parameters

@@ -123,6 +123,11 @@ def write_api(app) -> None:
     path = out / "index.rst"
     if not path.exists() or path.read_text() != text:
         path.write_text(text)
+    # pages of faces that are no longer listed (a module moved) are generated files: remove them
+    written = {f"{face.replace('.', '-')}.rst" for face in app.config.apigen_faces}
+    for stale in out.glob("*.rst"):
+        if stale.name not in written | {"index.rst", "modules.rst"}:
+            stale.unlink()
 
 
 def _resolve(dotted: str):
