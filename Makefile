@@ -6,7 +6,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 RESULTS ?= results
 
-.PHONY: demo test install lint bench clean docs
+.PHONY: demo test install lint bench clean docs mutants
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -42,5 +42,21 @@ bench: install
 	$(PY) benchmarks/md.py
 	$(PY) benchmarks/compile_cache.py
 
+# Mutation testing of the physics core (mutmut; configured in pyproject.toml [tool.mutmut]): not
+# part of `make test`.  MUTANTS_ON: mutant-name globs (default: all of the configured modules,
+# hours on 2 cores); e.g. make mutants MUTANTS_ON='particles.collision* particles.md.kernel*'.
+MUTATION_STAMP := $(VENV)/.installed-mutation
+MUTANTS_ON ?=
+MUTANTS_CHILDREN ?= 2
+
+$(MUTATION_STAMP): pyproject.toml | $(STAMP)
+	$(PY) -m pip install -q -e '.[mutation]'
+	touch $(MUTATION_STAMP)
+
+mutants: $(MUTATION_STAMP)
+	rm -rf mutants
+	$(VENV)/bin/mutmut run --max-children $(MUTANTS_CHILDREN) $(MUTANTS_ON)
+	$(VENV)/bin/mutmut results
+
 clean:
-	rm -rf $(VENV) $(RESULTS) build *.egg-info docs/_build docs/api docs/_generated
+	rm -rf $(VENV) $(RESULTS) build *.egg-info docs/_build docs/api docs/_generated mutants
