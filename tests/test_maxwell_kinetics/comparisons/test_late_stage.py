@@ -362,7 +362,8 @@ def test_sticky_gas_at_a_million_particles():
     # E t^{2/3} and the kurtosis at t = 1000 (ℓ = t^{2/3} = 100), 8 seeds, against the exact
     # late-time law (particles.sticky_exact, pinned by test_sticky_exact.py).  Finite-t: the
     # corrections are of order 1/ℓ (integer masses; E t^{2/3} = 0.4494 at t = 10, ℓ = 4.6), and
-    # at t = 1000 measured at 0.4425 against 0.44275 (N = 10⁷, 12 seeds), far below the noise.
+    # at t = 1000 measured at 0.4436 ± 0.0009 against 0.44275 (N = 10⁷, 4 seeds,
+    # benchmarks/README.md), below the noise here.
     # One run scatters by 0.008 in E t^{2/3} and 0.043 in the kurtosis (10 and 12 seeds
     # measured): tolerances 5 standard errors of the mean of 8, i.e. 0.014 and 0.076.
     t, seeds = 1000.0, 8
