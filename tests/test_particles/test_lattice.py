@@ -9,6 +9,7 @@ from particles.driver import simulate
 from particles.lattice import (
     Lattice,
     LatticeDiscreteReference,
+    LatticeState,
     run_clocks,
     run_clocks_sequential,
     thinning_bound,
@@ -392,3 +393,37 @@ def test_relative_velocity_rate_is_validated():
         Lattice(10, 0.5, rate="nope")
     with pytest.raises(InvalidArgumentError, match="rate='relative_velocity'"):
         LatticeDiscreteReference(10, 0.5, rate="relative_velocity")
+
+
+@pytest.mark.parametrize("constraint", [True, False])
+def test_discrete_reference_by_hand(constraint):
+    # The discrete reference draws `round(τN) − attempts` bonds uniformly from 0..N−1 (bond b
+    # joins sites b and b + 1 mod N) and collides each, under the constraint only if the left
+    # site is strictly faster.  Here, by hand: the same draws, the rule as weighted means, the
+    # seam bond N − 1 = (N − 1, 0), a tie (no collision under the constraint), the count.
+    n, r = 5, 0.3
+    engine = LatticeDiscreteReference(n, r, constraint=constraint)
+    until = 3.0  # 15 attempts
+    bonds = np.random.default_rng(9).integers(0, n, 15).tolist()
+    assert {n - 2, n - 1} <= set(bonds)  # the last inner bond and the seam are drawn
+    v0 = np.roll([1.0, 1.0, -0.5, 2.0, 0.25], bonds[0])  # the first bond drawn is a tie
+    clocks = np.arange(1.0, 6.0)
+    state = LatticeState(0.0, v0.copy(), clocks, 0, 0)
+    v, count = v0.tolist(), 0
+    for b in bonds:
+        s = (b + 1) % n
+        if not constraint or v[b] > v[s]:
+            a, c = v[b], v[s]
+            v[b], v[s] = ((1 - r) * a + (1 + r) * c) / 2, ((1 + r) * a + (1 - r) * c) / 2
+            count += 1
+    out = engine.advance(state, until, np.random.default_rng(9))
+    np.testing.assert_allclose(out.velocities, v, rtol=1e-12, atol=1e-14)
+    assert out.collisions == count and out.attempts == 15 and out.time == until
+    assert count < 15 if constraint else count == 15
+    np.testing.assert_array_equal(out.clocks, clocks)
+
+
+def test_thinning_bound_is_never_below_the_largest_difference():
+    v = np.array([0.3, -1.7, 2.9, 0.0])
+    assert thinning_bound(v) >= 2.9 - (-1.7)
+    assert thinning_bound(v) == pytest.approx(4.6, rel=1e-8)
