@@ -427,3 +427,10 @@ def test_thinning_bound_is_never_below_the_largest_difference():
     v = np.array([0.3, -1.7, 2.9, 0.0])
     assert thinning_bound(v) >= 2.9 - (-1.7)
     assert thinning_bound(v) == pytest.approx(4.6, rel=1e-8)
+
+
+@pytest.mark.parametrize("rate", ["constant", "relative_velocity"])
+def test_initial_state_counts_nothing_yet(rate):
+    state = Lattice(50, 0.5, rate=rate).initial_state(np.random.default_rng(3))
+    assert state.time == 0.0 and state.collisions == 0 and state.attempts == 0
+    assert np.all(state.clocks > 0.0) and state.clocks.shape == (50,)
