@@ -434,3 +434,14 @@ def test_initial_state_counts_nothing_yet(rate):
     state = Lattice(50, 0.5, rate=rate).initial_state(np.random.default_rng(3))
     assert state.time == 0.0 and state.collisions == 0 and state.attempts == 0
     assert np.all(state.clocks > 0.0) and state.clocks.shape == (50,)
+
+
+def test_parameters_are_recorded_under_their_documented_names():
+    # to_dict is what checkpoints and saved runs record and what resume compares
+    engine = Lattice(50, 0.25, initial="uniform", constraint=False)
+    d = engine.to_dict()
+    assert set(d) == {"n", "restitution", "initial", "constraint", "stop_step"}
+    assert (d["n"], d["restitution"], d["initial"], d["constraint"]) == (50, 0.25, "uniform",
+                                                                         False)
+    assert d["stop_step"] == engine.stop_step
+    assert Lattice(50, 0.25, rate="relative_velocity").to_dict()["rate"] == "relative_velocity"
