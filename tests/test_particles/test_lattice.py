@@ -445,3 +445,14 @@ def test_parameters_are_recorded_under_their_documented_names():
                                                                          False)
     assert d["stop_step"] == engine.stop_step
     assert Lattice(50, 0.25, rate="relative_velocity").to_dict()["rate"] == "relative_velocity"
+
+
+def test_advance_to_the_same_time_is_a_no_op_and_backwards_is_refused():
+    engine = Lattice(20, 0.5)
+    state = engine.advance(engine.initial_state(np.random.default_rng(1)), 1.0,
+                           np.random.default_rng(2))
+    same = engine.advance(state, 1.0, np.random.default_rng(3))
+    np.testing.assert_array_equal(same.velocities, state.velocities)
+    assert same.collisions == state.collisions
+    with pytest.raises(InvalidArgumentError, match=r"until=0\.5.*a time >= 1\.0"):
+        engine.advance(state, 0.5, np.random.default_rng(3))
