@@ -13,7 +13,7 @@ NOTEBOOKS_OUT ?= notebooks_executed
 # SMALL=1 runs the notebooks at the tests' size (seconds each) instead of their default size.
 SMALL ?=
 
-.PHONY: demo test install lint bench clean docs notebooks notebooks-open
+.PHONY: demo test install lint bench clean docs notebooks notebooks-open mutants
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -71,5 +71,21 @@ bench: install
 	$(PY) benchmarks/md.py
 	$(PY) benchmarks/compile_cache.py
 
+# Mutation testing of the physics core (mutmut; configured in pyproject.toml [tool.mutmut]): not
+# part of `make test`.  MUTANTS_ON: mutant-name globs (default: all of the configured modules,
+# hours on 2 cores); e.g. make mutants MUTANTS_ON='particles.collision* particles.md.kernel*'.
+MUTATION_STAMP := $(VENV)/.installed-mutation
+MUTANTS_ON ?=
+MUTANTS_CHILDREN ?= 2
+
+$(MUTATION_STAMP): pyproject.toml | $(STAMP)
+	$(PY) -m pip install -q -e '.[mutation]'
+	touch $(MUTATION_STAMP)
+
+mutants: $(MUTATION_STAMP)
+	rm -rf mutants
+	$(VENV)/bin/mutmut run --max-children $(MUTANTS_CHILDREN) $(MUTANTS_ON)
+	$(VENV)/bin/mutmut results
+
 clean:
-	rm -rf $(VENV) $(RESULTS) $(NOTEBOOKS_OUT) build *.egg-info docs/_build docs/api docs/_generated
+	rm -rf $(VENV) $(RESULTS) $(NOTEBOOKS_OUT) build *.egg-info docs/_build docs/api docs/_generated mutants

@@ -88,3 +88,19 @@ def test_fourth_moment_closed_form(r):
     # Multiscaling: a₄ < 2a₂, so the rescaled fourth moment grows without bound.
     kurt = rescaled_moments(model, [1.0, 0.0, 1.0, 0.0, 3.0], tau)[:, 4]
     assert np.all(np.diff(kurt) > 0)
+
+
+def test_moment_hierarchy_at_tau_zero_one_and_integer_input():
+    # τ = 0 alone returns the initial moments, one row per time; τ = 1 is integrated (the
+    # energy M₂ = e^{−2p(1−p)τ} M₂(0) at zero mean: dM₂/dτ = −M₂ + (p² + (1 − p)²) M₂).
+    model = MaxwellModel(0.4)
+    at0 = moment_hierarchy(model, [1, 0, 2], [0, 0])
+    assert at0.dtype == float and at0.shape == (2, 3) and at0.tolist() == [[1, 0, 2]] * 2
+    M = moment_hierarchy(model, [1.0, 0.0, 2.0], [0.5, 1.0])
+    lam = model.p * (1 - model.p)
+    np.testing.assert_allclose(M[:, 2], 2.0 * np.exp(-2 * lam * np.array([0.5, 1.0])),
+                               rtol=1e-10)
+    # integers are read as floats: x² of a large integer does not wrap around
+    big = 2**33
+    assert f_density(np.array([big]))[0] == pytest.approx(2 / (math.pi * float(big) ** 4),
+                                                          rel=1e-12)

@@ -49,3 +49,22 @@ def test_progress_line_shows_the_estimate(capsys):
     assert main(["solve", "-r", "0.5", "--tau", "4", "--resolution", "coarse"]) == 0
     err = capsys.readouterr().err
     assert "solve r=0.5" in err and "estimate ~" in err
+
+
+def test_solve_json_reports_the_estimate_and_it_grows_with_the_work(capsys):
+    # estimate_seconds in solve --json: present, positive, the estimate of the grid and τ_max
+    # that were solved (estimate_solve), ∝ τ_max (the windows); its growth with the grid nodes
+    # is test_estimate_scales_with_windows_nodes_dimension_and_rule (a finer solve costs ~10 s).
+    from helpers import run_json
+
+    def estimate(tau, resolution):
+        out = run_json(capsys, ["solve", "-r", "0.5", "--tau", tau, "--resolution", resolution,
+                                "--json"])
+        assert out["estimate_seconds"] > 0 and out["tau"][-1] == float(tau.split(",")[-1])
+        return out["estimate_seconds"]
+
+    short = estimate("1,2", "coarse")
+    assert short == pytest.approx(estimate_solve(get_resolution("coarse"), 2.0, 2)["seconds"],
+                                  rel=1e-12)
+    longer = estimate("8", "coarse")
+    assert longer == pytest.approx(4 * short, rel=1e-12)

@@ -9,6 +9,7 @@ from particles.driver import simulate
 from particles.lattice import (
     Lattice,
     LatticeDiscreteReference,
+    LatticeState,
     run_clocks,
     run_clocks_sequential,
     thinning_bound,
@@ -392,3 +393,66 @@ def test_relative_velocity_rate_is_validated():
         Lattice(10, 0.5, rate="nope")
     with pytest.raises(InvalidArgumentError, match="rate='relative_velocity'"):
         LatticeDiscreteReference(10, 0.5, rate="relative_velocity")
+
+
+@pytest.mark.parametrize("constraint", [True, False])
+def test_discrete_reference_by_hand(constraint):
+    # The discrete reference draws `round(τN) − attempts` bonds uniformly from 0..N−1 (bond b
+    # joins sites b and b + 1 mod N) and collides each, under the constraint only if the left
+    # site is strictly faster.  Here, by hand: the same draws, the rule as weighted means, the
+    # seam bond N − 1 = (N − 1, 0), a tie (no collision under the constraint), the count.
+    n, r = 5, 0.3
+    engine = LatticeDiscreteReference(n, r, constraint=constraint)
+    until = 3.0  # 15 attempts
+    bonds = np.random.default_rng(9).integers(0, n, 15).tolist()
+    assert {n - 2, n - 1} <= set(bonds)  # the last inner bond and the seam are drawn
+    v0 = np.roll([1.0, 1.0, -0.5, 2.0, 0.25], bonds[0])  # the first bond drawn is a tie
+    clocks = np.arange(1.0, 6.0)
+    state = LatticeState(0.0, v0.copy(), clocks, 0, 0)
+    v, count = v0.tolist(), 0
+    for b in bonds:
+        s = (b + 1) % n
+        if not constraint or v[b] > v[s]:
+            a, c = v[b], v[s]
+            v[b], v[s] = ((1 - r) * a + (1 + r) * c) / 2, ((1 + r) * a + (1 - r) * c) / 2
+            count += 1
+    out = engine.advance(state, until, np.random.default_rng(9))
+    np.testing.assert_allclose(out.velocities, v, rtol=1e-12, atol=1e-14)
+    assert out.collisions == count and out.attempts == 15 and out.time == until
+    assert count < 15 if constraint else count == 15
+    np.testing.assert_array_equal(out.clocks, clocks)
+
+
+def test_thinning_bound_is_never_below_the_largest_difference():
+    v = np.array([0.3, -1.7, 2.9, 0.0])
+    assert thinning_bound(v) >= 2.9 - (-1.7)
+    assert thinning_bound(v) == pytest.approx(4.6, rel=1e-8)
+
+
+@pytest.mark.parametrize("rate", ["constant", "relative_velocity"])
+def test_initial_state_counts_nothing_yet(rate):
+    state = Lattice(50, 0.5, rate=rate).initial_state(np.random.default_rng(3))
+    assert state.time == 0.0 and state.collisions == 0 and state.attempts == 0
+    assert np.all(state.clocks > 0.0) and state.clocks.shape == (50,)
+
+
+def test_parameters_are_recorded_under_their_documented_names():
+    # to_dict is what checkpoints and saved runs record and what resume compares
+    engine = Lattice(50, 0.25, initial="uniform", constraint=False)
+    d = engine.to_dict()
+    assert set(d) == {"n", "restitution", "initial", "constraint", "stop_step"}
+    assert (d["n"], d["restitution"], d["initial"], d["constraint"]) == (50, 0.25, "uniform",
+                                                                         False)
+    assert d["stop_step"] == engine.stop_step
+    assert Lattice(50, 0.25, rate="relative_velocity").to_dict()["rate"] == "relative_velocity"
+
+
+def test_advance_to_the_same_time_is_a_no_op_and_backwards_is_refused():
+    engine = Lattice(20, 0.5)
+    state = engine.advance(engine.initial_state(np.random.default_rng(1)), 1.0,
+                           np.random.default_rng(2))
+    same = engine.advance(state, 1.0, np.random.default_rng(3))
+    np.testing.assert_array_equal(same.velocities, state.velocities)
+    assert same.collisions == state.collisions
+    with pytest.raises(InvalidArgumentError, match=r"until=0\.5.*a time >= 1\.0"):
+        engine.advance(state, 0.5, np.random.default_rng(3))

@@ -483,7 +483,11 @@ def test_driver_run_records_md_observables():
     k, s = obs.structure_factor(state.velocities)
     assert k.size == 1025 and s[0] == pytest.approx(0.0, abs=1e-20)
     np.testing.assert_array_equal(res.structure[1][-1], s)
-    assert np.mean(s) == pytest.approx(res.energy[-1], rel=0.05)  # Parseval, half spectrum
+    # Parseval, exact: over the full circle of N modes, each 0 < m < N/2 counts twice (k = 0
+    # and the Nyquist mode once), and the mean of S is ⟨v²⟩, the recorded energy, to round-off.
+    weights = np.full(s.size, 2.0)
+    weights[0] = weights[-1] = 1.0
+    assert np.sum(weights * s) / 2048 == pytest.approx(res.energy[-1], rel=1e-12)
     corr = obs.correlation(state.velocities)
     assert corr[0] == pytest.approx(res.energy[-1], rel=1e-12)
     h = res.histogram

@@ -171,7 +171,7 @@ def test_collide_many_is_collide_elementwise(seed):
         want = [collide(x, y, p, delta, elastic_only) for x, y in pairs]
         assert bits(a).tolist() == bits([w[0] for w in want]).tolist(), r
         assert bits(e).tolist() == bits([w[1] for w in want]).tolist(), r
-        assert el.tolist() == [w[2] for w in want]
+        assert el.dtype == bool and el.tolist() == [w[2] for w in want]  # a boolean mask
 
 
 # -- predictions -----------------------------------------------------------------------------

@@ -125,10 +125,9 @@ def test_moments_against_the_measured_energy_and_displacements():
     m = exact_moments()
     # Chernoff: Var Z = 0.26355964 (Groeneboom and Wellner, 8 digits): ⟨w_E²⟩ = 2^{4/3} Var Z.
     assert m["eulerian_variance"] == pytest.approx(2 ** (4 / 3) * 0.26355964, rel=2e-8)
-    # E t^{2/3} measured by this engine at N = 10⁷ × 12 seeds: 0.4425, 0.4420 (± 0.0002 …
-    # 0.003) at t = 10³, 10⁴: the exact limit must fall within 0.003 of both.
-    assert abs(m["velocity_variance"] - 0.4425) < 0.003
-    assert abs(m["velocity_variance"] - 0.4420) < 0.003
+    # The velocity variance, the cluster count and the mean mass are pinned by independent
+    # derivations in test_sticky_exact_constants.py, and the engine is held to them at
+    # t = 1000 in comparisons/test_late_stage.py (test_sticky_gas_at_a_million_particles).
     assert m["clusters"] == pytest.approx(quad(exact_mass_density, 0, 30, limit=200)[0],
                                           rel=1e-10)
 

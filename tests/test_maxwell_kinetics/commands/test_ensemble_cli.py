@@ -107,3 +107,80 @@ def test_force_without_workers_exits_2(capsys, tmp_path):
                                  "--tau", "1", "--seeds", "1", "--force", *where,
                                  "--out", str(out)])
         assert "force=" in err and "workers" in err and not out.exists()
+
+
+# ------------------------------------------------------------- a batch cluster, end to end
+
+_FAKE_SUBMIT = """#!/bin/sh
+# A stand-in batch system: keep a copy of the job script, run it here in its own session
+# (process group), answer like the real command with the group's id as the job id.
+cp "$1" "{jobs}/job-$$.sh"
+setsid sh "{jobs}/job-$$.sh" > "{jobs}/job-$$.log" 2>&1 < /dev/null &
+echo "$!" > "{jobs}/job-$$.group"
+echo "{answer} $!"
+"""
+_FAKE_CANCEL = """#!/bin/sh
+for id in "$@"; do kill -TERM -- "-$id" 2>/dev/null; done
+exit 0
+"""
+
+
+@pytest.mark.parametrize("kind, submit, cancel, answer, directive", [
+    ("slurm", "sbatch", "scancel", "Submitted batch job", "#SBATCH -p normal"),
+    ("pbs", "qsub", "qdel", "", "#PBS -q normal"),
+])
+def test_ensemble_on_a_batch_cluster_from_the_command_line(capsys, tmp_path, monkeypatch, kind,
+                                                           submit, cancel, answer, directive):
+    """``ensemble --cluster slurm|pbs --config FILE``: the command builds the dask-jobqueue
+    cluster from the TOML file and submits ``jobs`` job scripts through the batch system's
+    command (here a stand-in on PATH that runs the script on this machine); the ensemble run
+    by those jobs' workers equals the serial one, and each script carries the config."""
+    pytest.importorskip("dask_jobqueue")
+    import os
+    import stat
+
+    jobs, bin_dir = tmp_path / "jobs", tmp_path / "bin"
+    jobs.mkdir()
+    bin_dir.mkdir()
+    for name, text in ((submit, _FAKE_SUBMIT.format(jobs=jobs, answer=answer)),
+                       (cancel, _FAKE_CANCEL)):
+        (bin_dir / name).write_text(text)
+        (bin_dir / name).chmod(stat.S_IRWXU)
+    monkeypatch.setenv("PATH", f"{bin_dir}{os.pathsep}{os.environ['PATH']}")
+    config = tmp_path / "cluster.toml"
+    config.write_text(f'[{kind}]\nqueue = "normal"\nwalltime = "00:10:00"\ncores = 2\n'
+                      'memory = "2GB"\njobs = 1\ninterface = "lo"\n')
+    common = ["ensemble", "ulam", "--n", "300", "--restitution", "0.3,0.9", "--tau", "1,2",
+              "--seeds", "1-2", "--json"]
+    import signal
+    import time
+
+    def give_up(*_):  # a job that never reaches the scheduler would leave the run waiting
+        raise TimeoutError("no worker of the submitted job within 120 s")
+
+    previous = signal.signal(signal.SIGALRM, give_up)
+    signal.alarm(120)
+    try:
+        out = run_json(capsys, common + ["--cluster", kind, "--config", str(config),
+                                         "--out", str(tmp_path / "batch")])
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    serial = run_json(capsys, common + ["--serial", "--out", str(tmp_path / "serial")])
+    assert out["ok"] and out["ran"] == 4 and out["failed"] == []
+    assert out["aggregate"]["sets"] == serial["aggregate"]["sets"]
+    scripts = sorted(jobs.glob("job-*.sh"))
+    assert len(scripts) == 1, [p.name for p in jobs.iterdir()]
+    text = scripts[0].read_text()
+    assert directive in text and "--nworkers 2" in text and "--nthreads 1" in text, text
+    # the job was cancelled when the run closed its cluster: its process group is gone
+    group = int(scripts[0].with_suffix(".group").read_text())
+    for _ in range(100):
+        try:
+            os.killpg(group, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.1)
+    else:
+        os.killpg(group, signal.SIGKILL)
+        raise AssertionError("the batch job outlived the ensemble")

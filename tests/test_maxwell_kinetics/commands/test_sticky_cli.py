@@ -127,3 +127,25 @@ def test_chunks_report_progress_when_asked(capsys):
     assert "sticky chunks" in capsys.readouterr().err
     assert main(BASE + ["--t", "1,2,3", "--chunks", "2", "--no-progress"]) == 0
     assert capsys.readouterr().err == ""
+
+
+def _without_timing(out):
+    return {k: v for k, v in out.items() if k != "seconds"}
+
+
+def test_chunks_on_dask_workers_equal_the_chunks_run_here(capsys):
+    # --chunks K with --workers W (a local cluster of W processes) or --scheduler (a running
+    # cluster): the chunks are the same computations, so every number equals the in-process
+    # K-chunk run (each chunk draws from its own child seed, wherever it runs).
+    argv = BASE + ["--n", "600", "--t", "1,30,200", "--chunks", "3", "--json",
+                   "--structure-factor"]
+    here = run_json(capsys, argv)
+    on_workers = run_json(capsys, argv + ["--workers", "2"])
+    assert _without_timing(on_workers) == _without_timing(here)
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                      dashboard_address=":0") as cluster:
+        on_scheduler = run_json(capsys, argv + ["--scheduler", cluster.scheduler_address])
+    assert _without_timing(on_scheduler) == _without_timing(here)
+    assert here["chunks"] == 3 and sum(here["mass_distribution"]["count"]) == here["clusters"][-1]

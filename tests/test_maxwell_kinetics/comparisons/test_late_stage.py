@@ -3,6 +3,7 @@ exact sticky gas at N = 10⁶."""
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -274,8 +275,28 @@ def test_shocks_have_the_signs_of_the_paper(late):
 
 
 def test_late_velocity_law_is_gaussian_like(late):
-    k = np.array([v for v, _ in late.summary["kurtosis"]["kurtosis"]])
-    assert np.all(np.abs(k - 3.0) < 0.5)  # Fig. 1b: Gaussian-like (measured 3.08-3.19)
+    # Fig. 1b: Gaussian-like.  The exact late-time law has kurtosis ⟨w⁴⟩/⟨w²⟩² = 3.0410
+    # (quadrature of particles.sticky_exact.exact_velocity_density, here); its finite-t bias at
+    # t ≥ 316 (ℓ = t^{2/3} ≥ 46 particles per unit μ) is 0.008 ± 0.011, 0.000 ± 0.012 (N = 10⁶,
+    # 12 seeds), below the noise.  One run of N = 10⁵ scatters by 0.12 (t = 316) and 0.18
+    # (t = 1000), measured over 60 seeds: the mean of the fixture's 3 seeds must lie within 5
+    # of those over √3 (the engine at N = 10⁶ is held closer in test_sticky_exact.py).
+    exact = _exact_kurtosis()
+    times = late.summary["kurtosis"]["times"]
+    for t, sigma_run in ((316.228, 0.12), (1000.0, 0.18)):
+        k, _ = late.summary["kurtosis"]["kurtosis"][times.index(t)]
+        assert abs(k - exact) < 5 * sigma_run / math.sqrt(3), (t, k, exact)
+    assert abs(exact - 3.0) < 0.05  # near-Gaussian, not Gaussian
+
+
+@functools.lru_cache(maxsize=1)
+def _exact_kurtosis():
+    from particles.sticky_exact import exact_velocity_density
+
+    x, weight = np.polynomial.legendre.leggauss(120)  # P(w) < 1e-160 beyond w = 15
+    w = 7.5 * (x + 1.0)
+    p = exact_velocity_density(w) * weight
+    return float(np.sum(w**4 * p) * np.sum(p) / np.sum(w**2 * p) ** 2)  # ⟨w⁴⟩⟨1⟩/⟨w²⟩²
 
 
 def test_both_comparisons_save_load_and_draw(paired, late, tmp_path):
@@ -332,15 +353,27 @@ def test_late_stage_figure_has_two_rows_and_no_overlapping_titles(late):
 
 
 def test_sticky_gas_at_a_million_particles():
+    from particles.sticky_exact import exact_moments
+
     engine = StickyGas(StickyParams(1_000_000, 1.0))
-    s0 = engine.initial_state(np.random.default_rng(0))
-    for t, sigma in ((10.0, 0.001), (100.0, 0.0022)):
-        st = engine.advance(s0, t)
-        m, c = cluster_mass_distribution(st)
-        assert int((m * c).sum()) == 1_000_000
-        assert abs(st.velocities.sum()) < 1e-6
-        # With an independent code: E t^{2/3} = 0.445-0.450 for t ∈ [10, 1000], single-run
-        # std 0.001 at N = 10⁶, t = 10; the std grows like √(t^{2/3}/N) (independent clusters),
-        # 0.0022 at t = 100.  Allowed: half the range of the constant plus 4 such stds.
-        et = float(np.mean(st.velocities**2)) * t ** (2.0 / 3.0)
-        assert abs(et - 0.4475) < 0.0025 + 4 * sigma
+    st = engine.advance(engine.initial_state(np.random.default_rng(0)), 10.0)
+    m, c = cluster_mass_distribution(st)
+    assert int((m * c).sum()) == 1_000_000
+    assert abs(st.velocities.sum()) < 1e-6
+    # E t^{2/3} and the kurtosis at t = 1000 (ℓ = t^{2/3} = 100), 8 seeds, against the exact
+    # late-time law (particles.sticky_exact, pinned by test_sticky_exact.py).  Finite-t: the
+    # corrections are of order 1/ℓ (integer masses; E t^{2/3} = 0.4494 at t = 10, ℓ = 4.6), and
+    # at t = 1000 measured at 0.4436 ± 0.0009 against 0.44275 (N = 10⁷, 4 seeds,
+    # benchmarks/README.md), below the noise here.
+    # One run scatters by 0.008 in E t^{2/3} and 0.043 in the kurtosis (10 and 12 seeds
+    # measured): tolerances 5 standard errors of the mean of 8, i.e. 0.014 and 0.076.
+    t, seeds = 1000.0, 8
+    et, kurt = [], []
+    for seed in range(seeds):
+        v = engine.advance(engine.initial_state(np.random.default_rng(seed)), t).velocities
+        e = float(np.mean(v**2))
+        et.append(e * t ** (2.0 / 3.0))
+        kurt.append(float(np.mean(v**4)) / e**2)
+    exact = exact_moments()["velocity_variance"]
+    assert abs(np.mean(et) - exact) < 5 * 0.008 / math.sqrt(seeds), (np.mean(et), exact)
+    assert abs(np.mean(kurt) - _exact_kurtosis()) < 5 * 0.043 / math.sqrt(seeds), np.mean(kurt)
