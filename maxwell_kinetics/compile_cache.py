@@ -52,9 +52,8 @@ Safety
       is trusted (loading an executable runs its code), so it is created readable and writable
       by its owner only.
 
-This module uses JAX's public API (``jax.jit(...).lower(...).compile()``,
-``jax.experimental.serialize_executable``) and, for the key only, the list of JAX's settings
-that change a trace (``jax._src.config.trace_context``; with another JAX, the x64 switch).
+This module uses JAX's public API only: ``jax.jit(...).lower(...).compile()``,
+``jax.experimental.serialize_executable`` and, for the key, ``jax.config.values``.
 """
 
 from __future__ import annotations
@@ -328,18 +327,18 @@ def _static_token(static) -> str | None:
 
 
 def _jax_settings() -> str:
-    """The backend, its device and JAX's settings that change a trace (those that jit itself
-    keys its traces on; values without a stable text are left out)."""
+    """The backend, its device and every JAX setting with a stable text (``jax.config.values``,
+    public: a superset of those that change a trace, so a setting that changes nothing only
+    costs a compile, never a wrong executable)."""
     import enum
 
     import jax
 
-    try:
-        from jax._src.config import trace_context
-
-        plain = (bool, int, float, str, type(None), enum.Enum, tuple)
-        settings = [repr(v) for v in trace_context() if isinstance(v, plain)]
-    except Exception:  # noqa: BLE001 - another JAX: the public x64 switch at least
+    plain = (bool, int, float, str, type(None), enum.Enum, tuple)
+    values = getattr(jax.config, "values", None)
+    if isinstance(values, dict):
+        settings = [f"{k}={v!r}" for k, v in sorted(values.items()) if isinstance(v, plain)]
+    else:  # a JAX without the public table: the x64 switch at least
         settings = [repr(jax.config.jax_enable_x64)]
     device = jax.devices()[0]
     return f"{jax.default_backend()}:{device.device_kind}:{','.join(settings)}"

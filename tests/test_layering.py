@@ -365,3 +365,32 @@ def test_the_kernel_checker_finds_each_form():
 def test_only_the_collision_model_writes_out_the_kernel():
     sources = {name: path.read_text() for name, path in project_modules().items()}
     assert kernel_rederiving_modules(sources) == {}
+
+
+def private_library_imports(path: Path) -> list[str]:
+    """Imports of a library's private modules (a dotted name with a part starting with ``_``,
+    such as ``jax._src.config``), the project's own modules aside."""
+    found = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        names = []
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            names = [node.module]
+        for name in names:
+            if name.split(".")[0] in ("maxwell_kinetics", "particles", "__future__"):
+                continue
+            if any(part.startswith("_") for part in name.split(".")[1:]):
+                found.append(name)
+    return found
+
+
+def test_no_module_imports_a_private_module_of_another_library(tmp_path):
+    bad = {name: uses for name, path in project_modules().items()
+           if (uses := private_library_imports(path))}
+    assert bad == {}
+    # the checker itself: an import inside a function counts, the project's own do not
+    probe = tmp_path / "m.py"
+    probe.write_text("def f():\n    from jax._src.config import trace_context\n"
+                     "from maxwell_kinetics import _interrupt\nimport numpy.linalg\n")
+    assert private_library_imports(probe) == ["jax._src.config"]
