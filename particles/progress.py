@@ -19,7 +19,7 @@ from __future__ import annotations
 import sys
 import time
 
-__all__ = ["progress_bar", "PlainProgress", "NoProgress", "in_notebook"]
+__all__ = ["progress_bar", "progress_enabled", "PlainProgress", "NoProgress", "in_notebook"]
 
 
 def in_notebook() -> bool:
@@ -167,6 +167,26 @@ class PlainProgress(NoProgress):
         if not self._closed:
             self._closed = True
             self._emit()
+
+
+def progress_enabled(enabled: bool | None) -> bool:
+    """Whether a ``progress`` value shows anything: False never, True always, None (the API's
+    default) on a terminal (standard error) or in a notebook only.
+
+    Parameters
+    ----------
+    enabled : bool or None
+        The ``progress`` argument.
+
+    Returns
+    -------
+    bool
+        True when progress is shown.
+    """
+    if enabled is None:
+        isatty = getattr(sys.stderr, "isatty", None)
+        return in_notebook() or bool(isatty is not None and isatty())
+    return bool(enabled)
 
 
 def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool | None = True,

@@ -221,7 +221,7 @@ def _write_summary(out: Path, size: str, done: dict, order, seconds: float) -> d
     return summary
 
 
-def run_all(out="results", size="default", only=None, progress=True, workers=None,
+def run_all(out="results", size="default", only=None, progress=None, workers=None,
             force: bool = False) -> dict:
     """Run the comparisons (``only``: a list of names); write ``<name>.png``, ``<name>.npz``
     (:meth:`Comparison.save`: summary and figure data, reload with ``Comparison.load``) and
@@ -247,9 +247,9 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
         ``"small"`` (the tests' size), ``"default"`` (minutes) or ``"full"`` (the paper's sizes).
     only : list of str, optional
         Names of the comparisons to run (keys of ``COMPARISONS``); default all, in order.
-    progress : bool, optional
-        Print a line before and after each comparison, and let the comparisons show progress
-        (default true).
+    progress : bool or None, optional
+        Print a line before and after each comparison, and let the comparisons show progress:
+        None (default) on a terminal or in a notebook only, True always, False never.
     workers : int, optional
         Number of dask processes for the particle runs through the ensemble engine; default
         serial (except at ``size="full"``).
@@ -290,8 +290,11 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
     done: dict = {}
     start = time.perf_counter()
     summary = _merged(existing, size, done, COMPARISONS)
+    from particles.progress import progress_enabled
+
+    announce = progress_enabled(progress)
     for name in names:
-        if progress:
+        if announce:
             print(f"[reproduce] {name} ...", flush=True)
         result = COMPARISONS[name](size, progress=progress, runner=runner)
         fig = result.figure()
@@ -302,7 +305,7 @@ def run_all(out="results", size="default", only=None, progress=True, workers=Non
         result.save(out / f"{name}.npz")
         done[name] = clean_json(result.summary)
         summary = _write_summary(out, size, done, COMPARISONS, time.perf_counter() - start)
-        if progress:
+        if announce:
             seconds = result.summary.get("seconds", 0)
             seconds = seconds if isinstance(seconds, (int, float)) and math.isfinite(seconds) \
                 else 0.0

@@ -58,7 +58,8 @@ def test_not_a_notebook_outside_a_kernel():
 
 
 def test_every_function_with_progress_defaults_to_none():
-    from maxwell_kinetics import comparisons, convergence, solve
+    from maxwell_kinetics import solve
+    from maxwell_kinetics.app import comparisons, convergence
     from maxwell_kinetics.app.comparisons.kinetic_predictions import kinetic_solution
 
     functions = [simulate, run_ensemble, solve, convergence.convergence_study, kinetic_solution]
@@ -103,3 +104,24 @@ def test_simulate_progress_must_be_a_bool_or_none(value, capsys):
     with pytest.raises(InvalidArgumentError, match="progress="):
         simulate(Lattice(30, 0.5), [1.0], 1, progress=value)
     assert capsys.readouterr().err == ""
+
+
+def test_progress_enabled_reads_none_as_a_terminal_or_a_notebook(monkeypatch):
+    from particles.progress import progress_enabled
+
+    assert progress_enabled(True) and not progress_enabled(False)
+    monkeypatch.setattr("sys.stderr", io.StringIO())  # not a terminal, not a notebook
+    assert not progress_enabled(None)
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    monkeypatch.setattr("sys.stderr", Terminal())
+    assert progress_enabled(None)
+
+
+def test_reproduce_run_all_defaults_to_none():
+    from maxwell_kinetics.app.reproduce import run_all
+
+    assert inspect.signature(run_all).parameters["progress"].default is None

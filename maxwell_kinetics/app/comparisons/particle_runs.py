@@ -167,7 +167,7 @@ class ParticleRuns:
             self._done[key] = {k: _read_only(v) for k, v in compute().items()}
         return dict(self._done[key])
 
-    def ulam_snapshots(self, restitution, law, n, taus, seeds, progress=False) -> np.ndarray:
+    def ulam_snapshots(self, restitution, law, n, taus, seeds, progress=None) -> np.ndarray:
         """Velocities of Ulam runs: array (len(taus), len(seeds), n), one run per seed (not
         cached: a new array each call).
 
@@ -183,8 +183,8 @@ class ParticleRuns:
             Record times τ (collisions per particle).
         seeds : sequence of int
             One run per seed, in order (R runs).
-        progress : bool, optional
-            Show progress bars (default false).
+        progress : bool or None, optional
+            Show progress bars (None, the default: on a terminal or in a notebook only).
 
         Returns
         -------
@@ -198,7 +198,7 @@ class ParticleRuns:
             out[:, j, :] = res.snapshots
         return out
 
-    def ulam_final(self, params: dict, tau: float, seeds, progress=False) -> np.ndarray:
+    def ulam_final(self, params: dict, tau: float, seeds, progress=None) -> np.ndarray:
         """Final velocities of Ulam runs of any kind (``params``: the keyword arguments of
         :class:`particles.ulam.Ulam`, e.g. ``dimension``, ``angular``, ``driving``) at τ = ``tau``:
         array (len(seeds), N) in 1D, (len(seeds), N, d) in d > 1 (not cached).
@@ -211,8 +211,8 @@ class ParticleRuns:
             The final time τ (collisions per particle).
         seeds : sequence of int
             One run per seed, in order (R runs).
-        progress : bool, optional
-            Show progress bars (default false).
+        progress : bool or None, optional
+            Show progress bars (None, the default: on a terminal or in a notebook only).
 
         Returns
         -------
@@ -223,7 +223,7 @@ class ParticleRuns:
         return np.array([r.velocities for r in runs])
 
     def lattice_runs(self, restitution, n, times, seeds, constraint=True, law="gaussian",
-                     progress=False, *, structure=False, snapshots=False) -> dict:
+                     progress=None, *, structure=False, snapshots=False) -> dict:
         """Lattice runs (one per seed) recorded at ``times`` (τ): ``times`` (T,), ``energy`` (R, T),
         ``seconds``; with ``structure=True`` also ``k`` and ``structure`` (R, T, ⌊N/2⌋+1), S(k) of
         :func:`particles.observables.structure_factor`; with ``snapshots=True`` ``snapshots``
@@ -243,8 +243,8 @@ class ParticleRuns:
             The lattice's momentum constraint (default true).
         law : str, optional
             Name of the initial velocity law (zero mean, unit variance; default ``"gaussian"``).
-        progress : bool, optional
-            Show progress bars (default false).
+        progress : bool or None, optional
+            Show progress bars (None, the default: on a terminal or in a notebook only).
         structure : bool, optional
             Also record the structure factor S(k) (default false).
         snapshots : bool, optional
@@ -275,7 +275,7 @@ class ParticleRuns:
 
         return self._cached(key, compute)
 
-    def md_runs(self, restitution, n, delta, times, seeds, law="gaussian", progress=False,
+    def md_runs(self, restitution, n, delta, times, seeds, law="gaussian", progress=None,
                 checkpoint_dir=None) -> dict:
         """Event-driven MD runs (density 1, one per seed) recorded at ``times`` (t): ``energy`` and
         ``tau`` (collisions per particle) (R, T), ``snapshots`` (R, T, N) of v(i), ``positions``
@@ -303,8 +303,8 @@ class ParticleRuns:
             One run per seed, in order (R runs).
         law : str, optional
             Name of the initial velocity law (zero mean, unit variance; default ``"gaussian"``).
-        progress : bool, optional
-            Show progress bars (default false).
+        progress : bool or None, optional
+            Show progress bars (None, the default: on a terminal or in a notebook only).
         checkpoint_dir : str or os.PathLike, optional
             Existing folder for per-run checkpoints (serial runner only); default none.
 
@@ -348,7 +348,7 @@ class ParticleRuns:
 
         return self._cached(key, compute)
 
-    def sticky_runs(self, n, times, seeds, law="gaussian", progress=False, *,
+    def sticky_runs(self, n, times, seeds, law="gaussian", progress=None, *,
                     snapshots=False) -> dict:
         """Exact sticky-gas runs (:class:`particles.sticky.StickyGas`, density 1, one per seed)
         recorded at ``times`` (t): ``energy`` and ``clusters`` (number of clusters) (R, T),
@@ -366,8 +366,8 @@ class ParticleRuns:
             One run per seed, in order (R runs).
         law : str, optional
             Name of the initial velocity law (zero mean, unit variance; default ``"gaussian"``).
-        progress : bool, optional
-            Show progress bars (default false).
+        progress : bool or None, optional
+            Show progress bars (None, the default: on a terminal or in a notebook only).
         snapshots : bool, optional
             Also record the velocities (default false).
 
@@ -394,7 +394,7 @@ class ParticleRuns:
         return self._cached(key, compute)
 
     def lattice_at_energy(self, restitution, n, target, seeds, constraint=True, law="gaussian",
-                          progress=False, rate="constant") -> dict:
+                          progress=None, rate="constant") -> dict:
         """Lattice runs (one per seed) stopped at the τ where each run's energy equals ``target``
         (``rate="relative_velocity"``: the lattice whose bonds collide at a rate ∝ |Δ|, whose time
         is MD's t; "τ" below is then t).
@@ -420,8 +420,8 @@ class ParticleRuns:
             The lattice's momentum constraint (default true).
         law : str, optional
             Name of the initial velocity law (zero mean, unit variance; default ``"gaussian"``).
-        progress : bool, optional
-            Show progress bars (default false).
+        progress : bool or None, optional
+            Show progress bars (None, the default: on a terminal or in a notebook only).
         rate : str, optional
             The lattice's collision rate: ``"constant"`` (default) or ``"relative_velocity"``.
 
@@ -476,7 +476,7 @@ class ParticleRuns:
 # Functions of a fresh serial runner, for one-off use (nothing is kept between calls).
 
 
-def ulam_snapshots(restitution, law, n, taus, seeds, progress=False) -> np.ndarray:
+def ulam_snapshots(restitution, law, n, taus, seeds, progress=None) -> np.ndarray:
     """:meth:`ParticleRuns.ulam_snapshots` of a new serial :class:`ParticleRuns`.
 
     Parameters
@@ -492,7 +492,7 @@ def ulam_snapshots(restitution, law, n, taus, seeds, progress=False) -> np.ndarr
     return ParticleRuns().ulam_snapshots(restitution, law, n, taus, seeds, progress)
 
 
-def ulam_final(params: dict, tau: float, seeds, progress=False) -> np.ndarray:
+def ulam_final(params: dict, tau: float, seeds, progress=None) -> np.ndarray:
     """:meth:`ParticleRuns.ulam_final` of a new serial :class:`ParticleRuns`.
 
     Parameters
@@ -508,7 +508,7 @@ def ulam_final(params: dict, tau: float, seeds, progress=False) -> np.ndarray:
     return ParticleRuns().ulam_final(params, tau, seeds, progress)
 
 
-def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", progress=False, *,
+def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", progress=None, *,
                  structure=False, snapshots=False) -> dict:
     """:meth:`ParticleRuns.lattice_runs` of a new serial :class:`ParticleRuns`.
 
@@ -527,7 +527,7 @@ def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", 
 
 
 def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gaussian",
-                      progress=False, rate="constant") -> dict:
+                      progress=None, rate="constant") -> dict:
     """:meth:`ParticleRuns.lattice_at_energy` of a new serial :class:`ParticleRuns`.
 
     Parameters
@@ -544,7 +544,7 @@ def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gauss
                                             progress, rate)
 
 
-def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
+def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=None,
             checkpoint_dir=None) -> dict:
     """:meth:`ParticleRuns.md_runs` of a new serial :class:`ParticleRuns`.
 
@@ -562,7 +562,7 @@ def md_runs(restitution, n, delta, times, seeds, law="gaussian", progress=False,
                                   checkpoint_dir)
 
 
-def sticky_runs(n, times, seeds, law="gaussian", progress=False, *, snapshots=False) -> dict:
+def sticky_runs(n, times, seeds, law="gaussian", progress=None, *, snapshots=False) -> dict:
     """:meth:`ParticleRuns.sticky_runs` of a new serial :class:`ParticleRuns`.
 
     Parameters
