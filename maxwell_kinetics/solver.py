@@ -73,7 +73,7 @@ from particles.validation import (
     check_times,
 )
 
-from . import _interrupt, compile_cache
+from . import compile_cache, interrupt
 from .deviation import reference
 from .grid import INFLOW_CUT, Resolution, check_solve_budget, get_resolution
 from .model import MaxwellModel
@@ -390,7 +390,7 @@ def solve(
         G and G − f̂ on the grid at the saved τ, with the settings and the wall-clock time.
 
     Ctrl-C: called from Python, an interrupt raises KeyboardInterrupt as usual (Python's own
-    SIGINT handler).  The command line instead defers it (:mod:`maxwell_kinetics._interrupt`):
+    SIGINT handler).  The command line instead defers it (:mod:`maxwell_kinetics.interrupt`):
     the loop waits for each chunk of windows (1/200 of the run) and raises KeyboardInterrupt
     between chunks, so that it is neither lost nor raised inside JAX.
 
@@ -432,7 +432,7 @@ def solve(
                         time.perf_counter() - start)
 
     stepper = _Stepper(model, law, grid, opts, dimension, angular, angular_nodes, angular_rule)
-    _interrupt.check()  # a Ctrl-C deferred by the command line while JAX was loading
+    interrupt.check()  # a Ctrl-C deferred by the command line while JAX was loading
     y = stepper.y0
     i_window = 0
     bar = None
@@ -457,7 +457,7 @@ def solve(
                 # line's deferred Ctrl-C is seen within one chunk (1/200 of the run) and raised
                 # here, with no JAX computation in flight
                 stepper.wait(y)
-                _interrupt.check()
+                interrupt.check()
                 i_window += step
                 n_full -= step
                 if bar is not None:

@@ -87,17 +87,17 @@ def draw_pairs_unchecked(rng: np.random.Generator, n: int, k: int) -> np.ndarray
     return pairs
 
 
-def _largest_occurrence(first: np.ndarray, flat: np.ndarray, occ: np.ndarray) -> np.ndarray:
+def largest_occurrence(first: np.ndarray, flat: np.ndarray, occ: np.ndarray) -> np.ndarray:
     """For each entry of ``flat`` (particle ids), the largest ``occ`` among the entries with the
     same particle.  One fancy assignment (the last write wins), verified; exact fallback."""
     first[flat] = occ
     own = first[flat]
     if not np.all(own >= occ):  # pragma: no cover - NumPy did not write in order
-        own = _largest_occurrence_ufunc(first, flat, occ)
+        own = largest_occurrence_ufunc(first, flat, occ)
     return own
 
 
-def _largest_occurrence_ufunc(first: np.ndarray, flat: np.ndarray, occ: np.ndarray) -> np.ndarray:
+def largest_occurrence_ufunc(first: np.ndarray, flat: np.ndarray, occ: np.ndarray) -> np.ndarray:
     """The same with ``np.maximum.at`` (order-independent, ~10x slower)."""
     first[flat] = -1
     np.maximum.at(first, flat, occ)
@@ -117,7 +117,7 @@ def _rounds(reversed_pairs: np.ndarray, first: np.ndarray, occurrence: np.ndarra
         # a_0, b_0, a_1, b_1, ... (reverse time order); intp indices index ~2x faster than int32
         flat = packed.view(np.int32).astype(np.intp)
         occ = occurrence[: 2 * m]
-        own = _largest_occurrence(first, flat, occ)
+        own = largest_occurrence(first, flat, occ)
         # Event r (occurrences 2r, 2r+1) fires iff it is the earliest of both its particles.
         own_is_first = own == occ
         fire = own_is_first[0::2]

@@ -95,8 +95,8 @@ __all__ = [
 _MOVED = {
     **{name: "particles.pair_schedule" for name in (
         "draw_pairs", "collide_in_order", "collide_sequential", "collide_in_order_vectors",
-        "collide_sequential_vectors", "_largest_occurrence",
-        "_largest_occurrence_ufunc", "_rounds")},
+        "collide_sequential_vectors", "largest_occurrence",
+        "largest_occurrence_ufunc", "_rounds")},
     **{name: "particles.ulam_kinematics" for name in (
         "AngularDraws", "ANGULAR_MODELS", "draw_angles", "collision_directions",
         "collide_vectors", "collide_complex", "plane_transfer")},

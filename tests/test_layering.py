@@ -392,5 +392,5 @@ def test_no_module_imports_a_private_module_of_another_library(tmp_path):
     # the checker itself: an import inside a function counts, the project's own do not
     probe = tmp_path / "m.py"
     probe.write_text("def f():\n    from jax._src.config import trace_context\n"
-                     "from maxwell_kinetics import _interrupt\nimport numpy.linalg\n")
+                     "from maxwell_kinetics import interrupt\nimport numpy.linalg\n")
     assert private_library_imports(probe) == ["jax._src.config"]

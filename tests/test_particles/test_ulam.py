@@ -33,13 +33,13 @@ def test_fast_path_equals_sequential_loop_on_the_same_events(n, k, r):
 
 
 def test_scatter_max_matches_the_order_independent_fallback():
-    from particles.pair_schedule import _largest_occurrence, _largest_occurrence_ufunc
+    from particles.pair_schedule import largest_occurrence, largest_occurrence_ufunc
 
     rng = np.random.default_rng(3)
     flat = rng.integers(0, 500, 4000).astype(np.intp)  # many repeats per particle
     occ = np.arange(4000, dtype=np.int32)
-    fast = _largest_occurrence(np.empty(500, np.int32), flat, occ)
-    exact = _largest_occurrence_ufunc(np.empty(500, np.int32), flat, occ)
+    fast = largest_occurrence(np.empty(500, np.int32), flat, occ)
+    exact = largest_occurrence_ufunc(np.empty(500, np.int32), flat, occ)
     assert np.array_equal(fast, exact)
     direct = np.array([occ[flat == p].max() for p in flat])
     assert np.array_equal(exact, direct)

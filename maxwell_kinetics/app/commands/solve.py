@@ -1,7 +1,7 @@
 """``maxwell-kinetics solve``: integrate the rescaled Fourier-space equation (kinetic theory).
 
 Every input, output paths included, is checked before any work, so bad input writes no file.
-Ctrl-C (SIGINT) is deferred for the whole run (:mod:`maxwell_kinetics._interrupt`): the solver
+Ctrl-C (SIGINT) is deferred for the whole run (:mod:`maxwell_kinetics.interrupt`): the solver
 stops at the end of its current chunk of windows, nothing is written, and the command line
 prints "interrupted" and exits with status 130.
 """
@@ -16,7 +16,7 @@ from particles import persistence
 from particles.parsing import parse_float_list, parse_int
 from particles.validation import InvalidArgumentError
 
-from ... import _interrupt
+from ... import interrupt
 from ...grid import FORCE, MAX_SOLVE_SECONDS, RESOLUTIONS, format_seconds
 from .. import cache_options
 from ..output import check_outputs, emit_json, progress_enabled
@@ -66,7 +66,7 @@ def run(args) -> int:
     """Run ``maxwell-kinetics solve`` on parsed arguments, with Ctrl-C deferred (module
     docstring): an interrupt raises KeyboardInterrupt from the solver's loop or before any
     file is written, and files written when it arrives during the writing are removed."""
-    with _interrupt.deferred_sigint():
+    with interrupt.deferred_sigint():
         written = []
         try:
             return _run(args, written)
@@ -159,18 +159,18 @@ def _run(args, written: list) -> int:
     speed_density = None
     if speeds is not None:
         speed_density = np.array([sol.speed_density(speeds, k)[1] for k in range(len(taus))])
-    _interrupt.check()  # a Ctrl-C since the solve: write nothing
+    interrupt.check()  # a Ctrl-C since the solve: write nothing
     if args.plot:
         from ..plotting import plot_solution
 
         figure = plot_solution(sol)
-        _interrupt.check()
+        interrupt.check()
         written.append(args.plot)
         persistence.save_figure(figure, args.plot, "plot", dpi=120)
     if args.save:
         written.append(args.save)
         sol.save(args.save)
-    _interrupt.check()  # a Ctrl-C while writing: the files are removed
+    interrupt.check()  # a Ctrl-C while writing: the files are removed
     if args.json:
         extra = {}
         if speeds is not None:

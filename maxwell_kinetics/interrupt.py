@@ -36,6 +36,11 @@ def deferred_sigint():
 
     Only in the main thread (elsewhere Python cannot install handlers, and the block runs with
     the current handler).  The previous handler is restored on exit and the request cleared.
+
+    Yields
+    ------
+    None
+        Control, with SIGINT recorded (:func:`requested`) instead of raised.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
@@ -50,11 +55,23 @@ def deferred_sigint():
 
 
 def requested() -> bool:
-    """Whether a Ctrl-C is pending (always False outside :func:`deferred_sigint`)."""
+    """Whether a Ctrl-C is pending.
+
+    Returns
+    -------
+    bool
+        True after a SIGINT inside :func:`deferred_sigint`; always False outside it.
+    """
     return _requested.is_set()
 
 
 def check() -> None:
-    """Raise KeyboardInterrupt if a Ctrl-C is pending (inside :func:`deferred_sigint`)."""
+    """Raise KeyboardInterrupt if a Ctrl-C is pending (inside :func:`deferred_sigint`).
+
+    Raises
+    ------
+    KeyboardInterrupt
+        When :func:`requested` is True.
+    """
     if _requested.is_set():
         raise KeyboardInterrupt
