@@ -60,7 +60,7 @@ notebooks-open: $(NB_STAMP)
 	$(VENV)/bin/jupyter notebook notebooks/
 
 test: install
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q --durations=25
 
 lint: install
 	$(VENV)/bin/ruff check maxwell_kinetics particles tests benchmarks
