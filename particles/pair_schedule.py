@@ -38,6 +38,8 @@ from .validation import InvalidArgumentError, check_count
 
 __all__ = [
     "draw_pairs",
+    "fire_rounds_thinned",
+    "thin_sequential",
     "collide_in_order",
     "collide_sequential",
     "collide_in_order_vectors",
@@ -171,6 +173,90 @@ def fire_rounds_plane(w, reversed_pairs, transfer, first, occurrence) -> int:
         transfer = np.compress(~fire, transfer)
         rounds += 1
     return rounds
+
+
+def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence) -> int:
+    """:func:`fire_rounds` for thinned candidates (the collision rate ∝ |v_a − v_b|): candidate
+    row k (``reversed_pairs[k]``, last candidate first) collides iff
+    ``marks[k] * bound < |v_a − v_b|`` at the moment it fires, ``marks`` uniform on [0, 1),
+    ``bound`` ≥ every |v_a − v_b| (so the acceptance probability is |v_a − v_b|/``bound``);
+    a rejected candidate changes nothing.  A candidate fires when it is the earliest pending
+    candidate of both its particles, so it sees the velocities of the sequential loop
+    (:func:`thin_sequential`) and takes the same decision, bit for bit.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities (N,), modified in place.
+    reversed_pairs : numpy.ndarray
+        int32 (K, 2), C-contiguous, the candidates in reverse time order.
+    marks : numpy.ndarray
+        (K,) uniform marks on [0, 1), row k for candidate k.
+    bound : float
+        The thinning bound.
+    p : float
+        The transfer fraction (1 + r)/2.
+    first, occurrence : numpy.ndarray
+        Scratch of :func:`_rounds`.
+
+    Returns
+    -------
+    int
+        The number of accepted candidates (collisions).
+    """
+    accepted = 0
+    rows = np.arange(len(reversed_pairs), dtype=np.intp)
+    for fired, fire in _rounds(reversed_pairs, first, occurrence):
+        ia, ib = fired[0::2], fired[1::2]
+        va, vb = v[ia], v[ib]
+        fired_rows = np.compress(fire, rows)
+        rows = np.compress(~fire, rows)
+        accept = marks[fired_rows] * bound < np.abs(va - vb)
+        va, vb = va[accept], vb[accept]
+        collide_arrays(va, vb, p)
+        v[ia[accept]] = va
+        v[ib[accept]] = vb
+        accepted += int(np.count_nonzero(accept))
+    return accepted
+
+
+def thin_sequential(v, reversed_pairs, marks, bound, p) -> tuple[int, float]:
+    """Reference of :func:`fire_rounds_thinned`: a Python loop over the candidates in time order
+    (row K − 1 first, row 0 last), on ``v`` (N,) in place: candidate k collides iff
+    ``marks[k] * bound < |v_a − v_b|`` (:func:`~particles.collision.collide_scalar`).
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities (N,), modified in place.
+    reversed_pairs : numpy.ndarray
+        (K, 2) particle indices, the candidates in reverse time order.
+    marks : numpy.ndarray
+        (K,) uniform marks on [0, 1).
+    bound : float
+        The thinning bound.
+    p : float
+        The transfer fraction (1 + r)/2.
+
+    Returns
+    -------
+    tuple of (int, float)
+        The number of accepted candidates, and the largest |v_a − v_b|/``bound`` seen at a
+        candidate (≤ 1 when the bound holds; 0 without candidates).
+    """
+    w = v.tolist()
+    m = marks.tolist()
+    accepted = 0
+    largest = 0.0
+    for k in range(len(reversed_pairs) - 1, -1, -1):
+        a, b = int(reversed_pairs[k, 0]), int(reversed_pairs[k, 1])
+        g = abs(w[a] - w[b])
+        largest = max(largest, g / bound)
+        if m[k] * bound < g:
+            w[a], w[b] = collide_scalar(w[a], w[b], p)
+            accepted += 1
+    v[:] = w
+    return accepted, largest
 
 
 def _check_events(v, pairs, restitution):
