@@ -22,6 +22,8 @@ recomputed with ``np.maximum.at`` if the check ever fails.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .collision import collide_arrays, collide_scalar, transfer_fraction
@@ -34,12 +36,15 @@ from .ulam_kinematics import (
     plane_transfer,
     subset_draws,
 )
+from .driver.engine import next_grid_point
 from .validation import InvalidArgumentError, check_count
 
 __all__ = [
     "draw_pairs",
     "fire_rounds_thinned",
     "thin_sequential",
+    "hull_bound",
+    "thinned_windows",
     "collide_in_order",
     "collide_sequential",
     "collide_in_order_vectors",
@@ -173,6 +178,83 @@ def fire_rounds_plane(w, reversed_pairs, transfer, first, occurrence) -> int:
         transfer = np.compress(~fire, transfer)
         rounds += 1
     return rounds
+
+
+#: Relative margin of the thinning bound over max v − min v (covers ulp-level round-off of the
+#: collisions, which could otherwise put a velocity an ulp outside the hull).
+HULL_BOUND_MARGIN = 1e-9
+
+#: Sub-windows per thinning block: the bound (max v − min v, one pass over N velocities) is
+#: recomputed once per block, not once per sub-window.
+BLOCK_WINDOWS = 8
+
+
+def power_of_two_near(x: float) -> float:
+    """The power of two nearest to ``x`` > 0 in log scale, 2^e with e clipped to [−1000, 1000]."""
+    exponent = int(np.clip(np.round(np.log2(x)), -1000, 1000)) if x < math.inf else 1000
+    return 2.0**exponent
+
+
+def hull_bound(v: np.ndarray) -> float:
+    """Thinning bound (max v − min v)(1 + ``HULL_BOUND_MARGIN``) of 1D velocities ``v``: it is
+    ≥ every |v_i − v_j| now and at all later times, since an inelastic collision (and the
+    recentring) keeps both velocities inside the pair's hull, so the hull of all velocities never
+    grows.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities (N,), finite.
+
+    Returns
+    -------
+    float
+        The bound (0 when all velocities are equal).
+    """
+    return float(v.max() - v.min()) * (1.0 + HULL_BOUND_MARGIN)
+
+
+def thinned_windows(start: float, until: float, rate: float, stop_step: float,
+                    target: int) -> list[tuple[float, float]]:
+    """The sub-windows of one thinning block of the Ulam DSMC (rate ∝ |v_i − v_j|), which begins
+    at ``start`` with candidate rate ``rate`` = n(N − 1)B/2 per unit t: the sub-window length h is
+    the power of two with ``rate``·h ≈ ``target`` candidates (at least 2⁻³⁰ of ``start``, so the
+    grid stays representable); the block ends at the first of the next multiple of
+    ``BLOCK_WINDOWS``·h, the next multiple of ``stop_step`` and ``until``; it is cut at the
+    multiples of h.  A function of (``start``, the bound) only, so a run stopped at the same
+    points draws the same windows (resume bit for bit).
+
+    Parameters
+    ----------
+    start, until : float
+        The block's start and the time to reach (t).
+    rate : float
+        The candidate rate ≥ 0 (0: no candidates, one window to the block's end).
+    stop_step : float
+        The driver's stop grid (a power of two).
+    target : int
+        Candidates aimed at per sub-window.
+
+    Returns
+    -------
+    list of tuple of float
+        The consecutive sub-windows ``(a, b)``, from ``start`` to the block's end.
+    """
+    h = power_of_two_near(target / rate) if rate > 0.0 else math.inf
+    if start > 0.0:
+        h = max(h, 2.0 ** (math.frexp(start)[1] - 30))
+    end = min(until, next_grid_point(start, stop_step))
+    if math.isfinite(h):
+        end = min(end, next_grid_point(start, BLOCK_WINDOWS * h))
+    cuts = [start]
+    t = start
+    while math.isfinite(h):
+        t = next_grid_point(t, h)
+        if t >= end:
+            break
+        cuts.append(t)
+    cuts.append(end)
+    return list(zip(cuts[:-1], cuts[1:], strict=True))
 
 
 def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence) -> int:

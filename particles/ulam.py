@@ -65,9 +65,13 @@ from .pair_schedule import (
     draw_pairs_unchecked,
     fire_rounds,
     fire_rounds_plane,
+    BLOCK_WINDOWS,
     fire_rounds_thinned,
     fire_rounds_with_rows,
+    hull_bound,
+    power_of_two_near,
     thin_sequential,
+    thinned_windows,
 )
 from .ulam_kinematics import (
     as_complex,
@@ -123,40 +127,6 @@ TARGET_EVENTS = 25_000
 #: Collision-rate laws of :class:`Ulam`: every pair at the same rate (time τ), or a pair (i, j)
 #: at rate (n/N)|v_i − v_j| (time t at density n; the hard-rod Boltzmann equation).
 RATES = ("constant", "relative_velocity")
-
-#: Relative margin of the thinning bound over max v − min v (covers ulp-level round-off of the
-#: collisions, which could otherwise put a velocity an ulp outside the hull).
-HULL_BOUND_MARGIN = 1e-9
-
-#: Sub-windows per thinning block: the bound (max v − min v, one pass over N velocities) is
-#: recomputed once per block, not once per sub-window.
-BLOCK_WINDOWS = 8
-
-
-def _power_of_two_near(x: float) -> float:
-    """The power of two nearest to ``x`` > 0 in log scale, 2^e with e clipped to [−1000, 1000]."""
-    exponent = int(np.clip(np.round(np.log2(x)), -1000, 1000)) if x < math.inf else 1000
-    return 2.0**exponent
-
-
-def hull_bound(v: np.ndarray) -> float:
-    """Thinning bound (max v − min v)(1 + ``HULL_BOUND_MARGIN``) of 1D velocities ``v``: it is
-    ≥ every |v_i − v_j| now and at all later times, since an inelastic collision (and the
-    recentring) keeps both velocities inside the pair's hull, so the hull of all velocities never
-    grows.
-
-    Parameters
-    ----------
-    v : numpy.ndarray
-        Velocities (N,), finite.
-
-    Returns
-    -------
-    float
-        The bound (0 when all velocities are equal).
-    """
-    return float(v.max() - v.min()) * (1.0 + HULL_BOUND_MARGIN)
-
 
 def _window_for(n: int) -> float:
     """Window length in τ: the power of two nearest to 2·TARGET_EVENTS/N, clipped to [2⁻¹², 2]."""
@@ -271,12 +241,14 @@ class Ulam(EngineBase):
       Finite-N identities (expectations, given the velocities): the total collision rate is
       (n/N)Σ_{i<j}|v_i − v_j| and dE/dt = −(1 − r²)/4 · n · (1/N²)Σ_{i≠j}|v_i − v_j|³ with
       E = (1/N)Σ v_i² (→ −(1 − r²)/4 · n⟨|v − w|³⟩).  Exact scheme: candidate pairs (uniform,
-      i ≠ j) at the uniformized rate n(N − 1)B/2 with the bound B = :func:`hull_bound` (≥ every
+      i ≠ j) at the uniformized rate n(N − 1)B/2 with the bound B =
+      :func:`~particles.pair_schedule.hull_bound` (≥ every
       |v_i − v_j| now and later: collisions keep velocities in their pair's hull), each accepted
       with probability |v_i − v_j|/B through a uniform mark U drawn with it (accept iff
       U·B < |v_i − v_j| at the candidate's turn).  B is recomputed from the velocities every
       ``BLOCK_WINDOWS`` sub-windows (tightened as the gas cools; the thinning stays exact since
-      B bounds every later |g|).  Each block's sub-window length is the power of two h with
+      B bounds every later |g|; :func:`~particles.pair_schedule.thinned_windows`).  Each
+      block's sub-window length is the power of two h with
       n(N − 1)B h/2 ≈ ``TARGET_EVENTS`` candidates, on the grid of multiples of h; the driver
       stops (recentring, checkpoints) every ``stop_step`` in t, the power of two nearest 4/n.
       ``collisions`` counts the accepted candidates.
@@ -391,7 +363,7 @@ class Ulam(EngineBase):
         power of two nearest to 4/n in t (about 4.5 collisions per particle for a Gaussian of
         T = 1, fewer as the gas cools)."""
         if self.relative_velocity_rate:
-            return _power_of_two_near(4.0 / self.density)
+            return power_of_two_near(4.0 / self.density)
         return max(4.0, self.window)
 
     def to_dict(self) -> dict:
@@ -419,7 +391,8 @@ class Ulam(EngineBase):
             out["driving"] = self.driving
         if self.relative_velocity_rate:  # adaptive sub-windows: no fixed window
             del out["window"]
-            out.update(rate=self.rate, density=self.density, target_events=TARGET_EVENTS,
+            out.update(rate=self.rate, density=self.density,
+                       target_events=min(TARGET_EVENTS, self.n),
                        block_windows=BLOCK_WINDOWS)
         return out
 
@@ -570,12 +543,9 @@ class Ulam(EngineBase):
         return UlamState(float(until), v, collisions)
 
     def thinned_windows(self, start: float, until: float, bound: float):
-        """The sub-windows of the thinning block that begins at ``start`` (rate
-        ``"relative_velocity"``) with bound ``bound``: the sub-window length h is the power of two
-        with n(N − 1)·``bound``·h/2 ≈ ``TARGET_EVENTS`` candidates (at least 2⁻³⁰ of ``start``,
-        so the grid stays representable), the block ends at the first of the next multiple of
-        ``BLOCK_WINDOWS``·h, the next stop-grid point and ``until``, and it is cut at the
-        multiples of h.
+        """The sub-windows of the thinning block from ``start`` with bound ``bound`` (rate
+        ``"relative_velocity"``; :func:`~particles.pair_schedule.thinned_windows` at this
+        engine's candidate rate per unit bound n(N − 1)/2 and ``stop_step``).
 
         Parameters
         ----------
@@ -587,24 +557,10 @@ class Ulam(EngineBase):
         Returns
         -------
         list of tuple of float
-            The consecutive sub-windows ``(a, b)``, from ``start`` to the block's end.
+            The consecutive sub-windows ``(a, b)``.
         """
-        rate = 0.5 * self.density * (self.n - 1) * bound
-        h = _power_of_two_near(TARGET_EVENTS / rate) if rate > 0.0 else math.inf
-        if start > 0.0:
-            h = max(h, 2.0 ** (math.frexp(start)[1] - 30))
-        end = min(until, next_grid_point(start, self.stop_step))
-        if math.isfinite(h):
-            end = min(end, next_grid_point(start, BLOCK_WINDOWS * h))
-        cuts = [start]
-        t = start
-        while math.isfinite(h):
-            t = next_grid_point(t, h)
-            if t >= end:
-                break
-            cuts.append(t)
-        cuts.append(end)
-        return list(zip(cuts[:-1], cuts[1:], strict=True))
+        return thinned_windows(start, until, 0.5 * self.density * (self.n - 1) * bound,
+                               self.stop_step, min(TARGET_EVENTS, self.n))
 
     def _advance_thinned(self, state: UlamState, until: float, rng, sequential=False):
         """``rate="relative_velocity"``: block by block the bound B (:func:`hull_bound`), then
