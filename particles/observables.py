@@ -33,6 +33,7 @@ __all__ = [
     "Histogram",
     "energy",
     "momentum",
+    "kurtosis",
     "rescaled_histogram",
     "histogram_from_counts",
     "structure_factor",
@@ -87,6 +88,30 @@ def energy(v) -> np.ndarray | float:
     with np.errstate(over="ignore"):  # |v| beyond ~1e154: ⟨v²⟩ is inf, as it should be
         out = np.mean(arr * arr, axis=-1)
     return float(out) if out.ndim == 0 else out
+
+
+def kurtosis(v) -> float:
+    """Kurtosis ⟨v⁴⟩/⟨v²⟩² of one run's velocities (raw moments, as the energy ⟨v²⟩: the
+    engines keep the mean velocity at 0; 3 for a Gaussian).
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities, shape ``(N,)``.
+
+    Returns
+    -------
+    float
+        The kurtosis; NaN when every velocity is 0 (undefined).
+    """
+    arr = np.asarray(v, dtype=float)
+    sq = arr * arr
+    e2 = float(np.mean(sq))
+    if not e2 > 0.0:
+        return math.nan
+    scale = 1.0 / e2  # x = v²/E: no overflow of v⁴ for velocities up to ~1e154
+    sq *= scale
+    return float(np.mean(sq * sq))
 
 
 def momentum(v) -> np.ndarray | float:

@@ -115,6 +115,7 @@ def test_checkpoint_and_resume_are_bit_for_bit(tmp_path):
     assert np.array_equal(resumed.velocities, reference.velocities)
     assert np.array_equal(resumed.energy, reference.energy)
     assert np.array_equal(resumed.collisions, reference.collisions)
+    assert np.array_equal(resumed.kurtosis, reference.kurtosis)
     assert reference.params["rate"] == "relative_velocity" and reference.params["density"] == 2.0
 
 
