@@ -191,8 +191,9 @@ BLOCK_WINDOWS = 8
 
 def power_of_two_near(x: float) -> float:
     """The power of two nearest to ``x`` > 0 in log scale, 2^e with e clipped to [−1000, 1000]."""
-    exponent = int(np.clip(np.round(np.log2(x)), -1000, 1000)) if x < math.inf else 1000
-    return 2.0**exponent
+    if not x < math.inf:
+        return 2.0**1000
+    return 2.0 ** min(1000, max(-1000, round(math.log2(x))))
 
 
 def hull_bound(v: np.ndarray) -> float:
@@ -287,18 +288,21 @@ def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence) -
         The number of accepted candidates (collisions).
     """
     accepted = 0
-    rows = np.arange(len(reversed_pairs), dtype=np.intp)
     for fired, fire in _rounds(reversed_pairs, first, occurrence):
-        ia, ib = fired[0::2], fired[1::2]
-        va, vb = v[ia], v[ib]
-        fired_rows = np.compress(fire, rows)
-        rows = np.compress(~fire, rows)
-        accept = marks[fired_rows] * bound < np.abs(va - vb)
-        va, vb = va[accept], vb[accept]
-        collide_arrays(va, vb, p)
-        v[ia[accept]] = va
-        v[ib[accept]] = vb
-        accepted += int(np.count_nonzero(accept))
+        vv = np.take(v, fired)
+        g = vv[0::2] - vv[1::2]
+        np.abs(g, out=g)
+        threshold = np.compress(fire, marks)
+        marks = np.compress(~fire, marks)  # the marks of the candidates still pending
+        threshold *= bound
+        hit = np.flatnonzero(threshold < g)  # accepted: ~⟨|g|⟩/bound of them
+        if hit.size:
+            ia, ib = np.take(fired[0::2], hit), np.take(fired[1::2], hit)
+            va, vb = np.take(v, ia), np.take(v, ib)
+            collide_arrays(va, vb, p)
+            v[ia] = va
+            v[ib] = vb
+            accepted += int(hit.size)
     return accepted
 
 
