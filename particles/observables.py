@@ -102,16 +102,17 @@ def kurtosis(v) -> float:
     Returns
     -------
     float
-        The kurtosis; NaN when every velocity is 0 (undefined).
+        The kurtosis; NaN when every velocity is 0 (undefined) or one is not finite.
     """
     arr = np.asarray(v, dtype=float)
-    sq = arr * arr
-    e2 = float(np.mean(sq))
-    if not e2 > 0.0:
+    scale = float(np.max(np.abs(arr))) if arr.size else 0.0
+    if not (0.0 < scale < math.inf):  # every velocity 0, or beyond float64
         return math.nan
-    scale = 1.0 / e2  # x = v²/E: no overflow of v⁴ for velocities up to ~1e154
-    sq *= scale
-    return float(np.mean(sq * sq))
+    x = arr / scale  # |x| <= 1: no overflow of v⁴ whatever the velocities
+    sq = x * x
+    with np.errstate(under="ignore"):
+        e2 = float(np.mean(sq))
+        return float(np.mean(sq * sq)) / (e2 * e2)
 
 
 def momentum(v) -> np.ndarray | float:
