@@ -18,6 +18,14 @@ and a single fancy assignment ``first[pairs] = arange(2K)`` leaves, for each par
 largest occurrence index written to it.  NumPy applies repeated indices in order in practice, but
 does not promise it, so the result is checked (every occurrence must see an index ≥ its own) and
 recomputed with ``np.maximum.at`` if the check ever fails.
+
+Collision rate ∝ |v_i − v_j| (the Ulam DSMC, :class:`particles.ulam.Ulam` with
+``rate="relative_velocity"``): the events are candidates, drawn at a uniformized rate with a bound
+B ≥ every |v_i − v_j| (:func:`hull_bound`), each with a uniform mark U; a candidate collides iff
+U·B < |v_i − v_j| when it fires (:func:`fire_rounds_thinned`, against the loop
+:func:`thin_sequential`).  A rejected candidate changes nothing but still waits for the earlier
+candidates of its particles, whose outcome decides its own.  :func:`thinned_windows` cuts time
+into the blocks (one bound each) and sub-windows of the scheme.
 """
 
 from __future__ import annotations

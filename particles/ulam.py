@@ -44,6 +44,9 @@ commutes with the dynamics; it
 removes the random walk of the centre of mass (variance 2Dτ/N), and with zero total momentum the
 steady energy is ⟨v²⟩ = (D/pq)(1 − 1/N)² (derivation in :class:`Ulam`).
 
+Rate ∝ |v_i − v_j| (``rate="relative_velocity"``): DSMC of the hard-rod Boltzmann equation in
+time t at density n, by thinning under the velocity-hull bound (:class:`Ulam`).
+
 Modules.  This module holds the engines; the pair scheduler (the events' pairs, the round
 schedule and the fast and reference loops over events) is in :mod:`particles.pair_schedule`,
 the collision kinematics in d = 2 and 3 (angular draws, the complex plane rule, the vector
