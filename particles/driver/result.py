@@ -313,10 +313,11 @@ class RunResult:
     def to_xarray(self):
         """The records as an ``xarray.Dataset`` (needs the optional ``xarray`` extra).
 
-        Coordinates: the time (``tau`` for the Ulam and lattice models, ``t`` for MD and the
-        sticky gas), ``x`` (the bin centres of the histograms, with ``x_edges`` as a variable)
-        and, where recorded, ``k`` (the wavenumbers of S(k)).  Variables over time: ``energy``,
-        ``momentum``, ``collisions``, ``v0`` (each time's √E) and the engine's extras; over
+        Coordinates: the time (``tau`` for the constant-rate Ulam and lattice models, ``t`` for
+        MD, the sticky gas and ``rate="relative_velocity"``), ``x`` (the bin centres of the
+        histograms, with ``x_edges`` as a variable) and, where recorded, ``k`` (the wavenumbers
+        of S(k)).  Variables over time: ``energy``, ``momentum``, ``collisions``, ``kurtosis``,
+        ``v0`` (each time's √E) and the engine's extras; over
         (time, x): ``density``, ``error`` and ``count`` of the per-time histograms (NaN at a
         time without one); ``structure_factor`` over (time, k) (``structure_factor=True``) or
         k (``"last"``); ``snapshots`` over (time, particle) when recorded.  Attributes:
@@ -336,8 +337,12 @@ class RunResult:
 
         xr = import_xarray("RunResult.to_xarray()")
         time = _TIME_NAMES.get(self.model, "tau")
+        if self.params.get("rate") == "relative_velocity":  # Ulam DSMC, lattice rate ∝ |Δ|: t
+            time = "t"
         data = {"energy": ((time,), self.energy), "momentum": ((time,), self.momentum),
                 "collisions": ((time,), self.collisions)}
+        if self.kurtosis is not None:
+            data["kurtosis"] = ((time,), self.kurtosis)
         coords = {time: self.times}
         hists = self.histograms
         if hists:

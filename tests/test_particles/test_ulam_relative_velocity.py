@@ -281,3 +281,13 @@ def test_the_engine_agrees_in_law_with_a_direct_exact_loop():
         se = math.hypot(a.std(ddof=1), b.std(ddof=1)) / math.sqrt(replicas)
         assert abs(a.mean() - b.mean()) < 4 * se, (a.mean(), b.mean(), se)
     assert fast_k.mean() > 8 and fast_e.mean() < 0.5  # the runs did collide and cool
+
+
+def test_a_run_in_t_is_labelled_t_with_its_kurtosis():
+    pytest.importorskip("xarray")
+    run = simulate(Ulam(300, 0.5, rate="relative_velocity"), [0.5, 1.0], 1, progress=False)
+    ds = run.to_xarray()
+    assert np.array_equal(ds["t"].values, run.times) and "tau" not in ds.coords
+    assert np.array_equal(ds["kurtosis"].values, run.kurtosis)
+    v = run.velocities
+    assert run.kurtosis[-1] == pytest.approx(np.mean(v**4) / np.mean(v**2) ** 2, rel=1e-12)
