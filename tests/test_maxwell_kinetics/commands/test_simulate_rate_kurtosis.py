@@ -64,3 +64,18 @@ def test_json_has_the_kurtosis_at_every_time_for_every_model(capsys, tmp_path, a
     x = v[:, 0] if v.ndim == 2 else v
     assert kurtosis[-1] == pytest.approx(np.mean(x**4) / np.mean(x**2) ** 2, rel=1e-12)
     assert len(set(kurtosis)) == 3  # one value per time, not the last one repeated
+
+
+def test_the_ensemble_sweeps_the_density_of_the_dsmc_as_simulate_runs_it(capsys, tmp_path):
+    base = ["ulam", "--n", "300", "--restitution", "0.5", "--rate", "relative_velocity",
+            "--t", "0.5,1", "--json"]
+    one = run_json(capsys, ["simulate", *base, "--density", "1", "--seed", "4"])
+    two = run_json(capsys, ["simulate", *base, "--density", "2", "--seed", "4"])
+    report = run_json(capsys, ["ensemble", *base, "--density", "1,2", "--seeds", "4",
+                               "--serial", "--out", str(tmp_path / "e"), "--no-progress"])
+    sets = report["aggregate"]["sets"]
+    assert [s["params"]["density"] for s in sets] == [1.0, 2.0]
+    for s, run in zip(sets, (one, two), strict=True):
+        assert s["observables"]["energy"]["mean"] == run["energy"]
+        assert s["observables"]["kurtosis"]["mean"] == run["kurtosis"]
+    assert two["energy"][-1] < one["energy"][-1]  # twice the density cools faster in t
