@@ -406,10 +406,12 @@ class Model:
 # Module-level functions: the ensemble sends them to its workers by reference (pickle).
 
 
-def _ulam(n, restitution, initial="gaussian", dimension=1, angular="uniform", driving=0.0):
+def _ulam(n, restitution, initial="gaussian", dimension=1, angular="uniform", driving=0.0,
+          rate="constant", density=1.0):
     from .ulam import Ulam
 
-    return Ulam(n, restitution, initial, dimension=dimension, angular=angular, driving=driving)
+    return Ulam(n, restitution, initial, dimension=dimension, angular=angular, driving=driving,
+                rate=rate, density=density)
 
 
 def _lattice(n, restitution, initial="gaussian", constraint=True, rate="constant"):
@@ -480,8 +482,19 @@ _declare(Model(
                   unit="energy per unit time", example=0.1,
                   help="white-noise heating strength D >= 0 (d = 1 only; 0: free cooling)",
                   needs=("dimension", (1,), "--dimension 1")),
+        Parameter("rate", "choice", default="constant",
+                  choices=("constant", "relative_velocity"), example="relative_velocity",
+                  help="pair collision rate: constant (the pseudo-Maxwell model, time τ = "
+                  "collisions per particle) or (n/N)|v_i - v_j| (DSMC of the hard-rod "
+                  "Boltzmann equation, 1D, time t at density n)"),
+        Parameter("density", "float", default=1.0, check=check_positive, unit="1/length",
+                  example=2.0,
+                  help="number density n > 0 of the rate (n/N)|v_i - v_j| (only with --rate "
+                  "relative_velocity)",
+                  needs=("rate", ("relative_velocity",), "--rate relative_velocity")),
     ),
-    help="mean-field pseudo-Maxwell (Ulam) model, exact continuous time in τ",
+    help="mean-field Ulam model: pseudo-Maxwell in τ, or hard-rod Boltzmann DSMC in t "
+    "(--rate relative_velocity)",
 ))
 
 _declare(Model(

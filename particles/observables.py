@@ -33,6 +33,7 @@ __all__ = [
     "Histogram",
     "energy",
     "momentum",
+    "kurtosis",
     "rescaled_histogram",
     "histogram_from_counts",
     "structure_factor",
@@ -87,6 +88,31 @@ def energy(v) -> np.ndarray | float:
     with np.errstate(over="ignore"):  # |v| beyond ~1e154: ⟨v²⟩ is inf, as it should be
         out = np.mean(arr * arr, axis=-1)
     return float(out) if out.ndim == 0 else out
+
+
+def kurtosis(v) -> float:
+    """Kurtosis ⟨v⁴⟩/⟨v²⟩² of one run's velocities (raw moments, as the energy ⟨v²⟩: the
+    engines keep the mean velocity at 0; 3 for a Gaussian).
+
+    Parameters
+    ----------
+    v : array_like
+        Velocities, shape ``(N,)``.
+
+    Returns
+    -------
+    float
+        The kurtosis; NaN when every velocity is 0 (undefined) or one is not finite.
+    """
+    arr = np.asarray(v, dtype=float)
+    scale = float(np.max(np.abs(arr))) if arr.size else 0.0
+    if not (0.0 < scale < math.inf):  # every velocity 0, or beyond float64
+        return math.nan
+    x = arr / scale  # |x| <= 1: no overflow of v⁴ whatever the velocities
+    sq = x * x
+    with np.errstate(under="ignore"):
+        e2 = float(np.mean(sq))
+        return float(np.mean(sq * sq)) / (e2 * e2)
 
 
 def momentum(v) -> np.ndarray | float:

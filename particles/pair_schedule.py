@@ -18,9 +18,19 @@ and a single fancy assignment ``first[pairs] = arange(2K)`` leaves, for each par
 largest occurrence index written to it.  NumPy applies repeated indices in order in practice, but
 does not promise it, so the result is checked (every occurrence must see an index ≥ its own) and
 recomputed with ``np.maximum.at`` if the check ever fails.
+
+Collision rate ∝ |v_i − v_j| (the Ulam DSMC, :class:`particles.ulam.Ulam` with
+``rate="relative_velocity"``): the events are candidates, drawn at a uniformized rate with a bound
+B ≥ every |v_i − v_j| (:func:`hull_bound`), each with a uniform mark U; a candidate collides iff
+U·B < |v_i − v_j| when it fires (:func:`fire_rounds_thinned`, against the loop
+:func:`thin_sequential`).  A rejected candidate changes nothing but still waits for the earlier
+candidates of its particles, whose outcome decides its own.  :func:`thinned_windows` cuts time
+into the blocks (one bound each) and sub-windows of the scheme.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -34,10 +44,15 @@ from .ulam_kinematics import (
     plane_transfer,
     subset_draws,
 )
+from .driver.engine import next_grid_point
 from .validation import InvalidArgumentError, check_count
 
 __all__ = [
     "draw_pairs",
+    "fire_rounds_thinned",
+    "thin_sequential",
+    "hull_bound",
+    "thinned_windows",
     "collide_in_order",
     "collide_sequential",
     "collide_in_order_vectors",
@@ -171,6 +186,171 @@ def fire_rounds_plane(w, reversed_pairs, transfer, first, occurrence) -> int:
         transfer = np.compress(~fire, transfer)
         rounds += 1
     return rounds
+
+
+#: Relative margin of the thinning bound over max v − min v (covers ulp-level round-off of the
+#: collisions, which could otherwise put a velocity an ulp outside the hull).
+HULL_BOUND_MARGIN = 1e-9
+
+#: Sub-windows per thinning block: the bound (max v − min v, one pass over N velocities) is
+#: recomputed once per block, not once per sub-window.
+BLOCK_WINDOWS = 8
+
+
+def power_of_two_near(x: float) -> float:
+    """The power of two nearest to ``x`` > 0 in log scale, 2^e with e clipped to [−1000, 1000]."""
+    if not x < math.inf:
+        return 2.0**1000
+    return 2.0 ** min(1000, max(-1000, round(math.log2(x))))
+
+
+def hull_bound(v: np.ndarray) -> float:
+    """Thinning bound (max v − min v)(1 + ``HULL_BOUND_MARGIN``) of 1D velocities ``v``: it is
+    ≥ every |v_i − v_j| now and at all later times, since an inelastic collision (and the
+    recentring) keeps both velocities inside the pair's hull, so the hull of all velocities never
+    grows.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities (N,), finite.
+
+    Returns
+    -------
+    float
+        The bound (0 when all velocities are equal).
+    """
+    return float(v.max() - v.min()) * (1.0 + HULL_BOUND_MARGIN)
+
+
+def thinned_windows(start: float, until: float, rate: float, stop_step: float,
+                    target: int) -> list[tuple[float, float]]:
+    """The sub-windows of one thinning block of the Ulam DSMC (rate ∝ |v_i − v_j|), which begins
+    at ``start`` with candidate rate ``rate`` = n(N − 1)B/2 per unit t: the sub-window length h is
+    the power of two with ``rate``·h ≈ ``target`` candidates (at least 2⁻³⁰ of ``start``, so the
+    grid stays representable); the block ends at the first of the next multiple of
+    ``BLOCK_WINDOWS``·h, the next multiple of ``stop_step`` and ``until``; it is cut at the
+    multiples of h.  A function of (``start``, the bound) only, so a run stopped at the same
+    points draws the same windows (resume bit for bit).
+
+    Parameters
+    ----------
+    start, until : float
+        The block's start and the time to reach (t).
+    rate : float
+        The candidate rate ≥ 0 (0: no candidates, one window to the block's end).
+    stop_step : float
+        The driver's stop grid (a power of two).
+    target : int
+        Candidates aimed at per sub-window.
+
+    Returns
+    -------
+    list of tuple of float
+        The consecutive sub-windows ``(a, b)``, from ``start`` to the block's end.
+    """
+    h = power_of_two_near(target / rate) if rate > 0.0 else math.inf
+    if start > 0.0:
+        h = max(h, 2.0 ** (math.frexp(start)[1] - 30))
+    end = min(until, next_grid_point(start, stop_step))
+    if math.isfinite(h):
+        end = min(end, next_grid_point(start, BLOCK_WINDOWS * h))
+    cuts = [start]
+    t = start
+    while math.isfinite(h):
+        t = next_grid_point(t, h)
+        if t >= end:
+            break
+        cuts.append(t)
+    cuts.append(end)
+    return list(zip(cuts[:-1], cuts[1:], strict=True))
+
+
+def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence) -> int:
+    """:func:`fire_rounds` for thinned candidates (the collision rate ∝ |v_a − v_b|): candidate
+    row k (``reversed_pairs[k]``, last candidate first) collides iff
+    ``marks[k] * bound < |v_a − v_b|`` at the moment it fires, ``marks`` uniform on [0, 1),
+    ``bound`` ≥ every |v_a − v_b| (so the acceptance probability is |v_a − v_b|/``bound``);
+    a rejected candidate changes nothing.  A candidate fires when it is the earliest pending
+    candidate of both its particles, so it sees the velocities of the sequential loop
+    (:func:`thin_sequential`) and takes the same decision, bit for bit.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities (N,), modified in place.
+    reversed_pairs : numpy.ndarray
+        int32 (K, 2), C-contiguous, the candidates in reverse time order.
+    marks : numpy.ndarray
+        (K,) uniform marks on [0, 1), row k for candidate k.
+    bound : float
+        The thinning bound.
+    p : float
+        The transfer fraction (1 + r)/2.
+    first, occurrence : numpy.ndarray
+        Scratch of :func:`_rounds`.
+
+    Returns
+    -------
+    int
+        The number of accepted candidates (collisions).
+    """
+    accepted = 0
+    for fired, fire in _rounds(reversed_pairs, first, occurrence):
+        vv = np.take(v, fired)
+        g = vv[0::2] - vv[1::2]
+        np.abs(g, out=g)
+        threshold = np.compress(fire, marks)
+        marks = np.compress(~fire, marks)  # the marks of the candidates still pending
+        threshold *= bound
+        hit = np.flatnonzero(threshold < g)  # accepted: ~⟨|g|⟩/bound of them
+        if hit.size:
+            ia, ib = np.take(fired[0::2], hit), np.take(fired[1::2], hit)
+            va, vb = np.take(v, ia), np.take(v, ib)
+            collide_arrays(va, vb, p)
+            v[ia] = va
+            v[ib] = vb
+            accepted += int(hit.size)
+    return accepted
+
+
+def thin_sequential(v, reversed_pairs, marks, bound, p) -> tuple[int, float]:
+    """Reference of :func:`fire_rounds_thinned`: a Python loop over the candidates in time order
+    (row K − 1 first, row 0 last), on ``v`` (N,) in place: candidate k collides iff
+    ``marks[k] * bound < |v_a − v_b|`` (:func:`~particles.collision.collide_scalar`).
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        Velocities (N,), modified in place.
+    reversed_pairs : numpy.ndarray
+        (K, 2) particle indices, the candidates in reverse time order.
+    marks : numpy.ndarray
+        (K,) uniform marks on [0, 1).
+    bound : float
+        The thinning bound.
+    p : float
+        The transfer fraction (1 + r)/2.
+
+    Returns
+    -------
+    tuple of (int, float)
+        The number of accepted candidates, and the largest |v_a − v_b|/``bound`` seen at a
+        candidate (≤ 1 when the bound holds; 0 without candidates).
+    """
+    w = v.tolist()
+    m = marks.tolist()
+    accepted = 0
+    largest = 0.0
+    for k in range(len(reversed_pairs) - 1, -1, -1):
+        a, b = int(reversed_pairs[k, 0]), int(reversed_pairs[k, 1])
+        g = abs(w[a] - w[b])
+        largest = max(largest, g / bound)
+        if m[k] * bound < g:
+            w[a], w[b] = collide_scalar(w[a], w[b], p)
+            accepted += 1
+    v[:] = w
+    return accepted, largest
 
 
 def _check_events(v, pairs, restitution):

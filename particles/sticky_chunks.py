@@ -277,11 +277,14 @@ def chunk_summary(params_dict: dict, seed: int, k: int, chunks: int, norm, t: fl
     idx, flags, inner = _interior(blocks.size, edge)
     out = {"starts": blocks[idx] + first, "means": means[idx], "weights": weights[idx],
            "vsums": vsums[idx], "flags": flags, "momentum": momentum,
-           "count": 0, "energy": 0.0, "masses": (np.zeros(0, np.int64), np.zeros(0, np.int64))}
+           "count": 0, "energy": 0.0, "fourth": 0.0,
+           "masses": (np.zeros(0, np.int64), np.zeros(0, np.int64))}
     if inner is not None:
         w, s = weights[inner], vsums[inner]
         out["count"] = int(w.size)
         out["energy"] = float(np.add.reduce(s * s / w))
+        u = s / w  # the cluster's velocity, carried by its w particles
+        out["fourth"] = float(np.add.reduce(w * (u * u) ** 2))
         out["masses"] = np.unique(w.astype(np.int64), return_counts=True)
     return out
 
@@ -391,6 +394,7 @@ def _single(params, times, seed, edges, start, structure_factor) -> ChunkedResul
     spectrum = _spectrum_of(run.final_state.velocities) if structure_factor else {}
     return ChunkedResult(
         params=params.to_dict(), seed=int(seed), chunks=1, times=times, energy=run.energy,
+        kurtosis=run.kurtosis,
         momentum=run.extras["total_momentum"], clusters=clusters, collisions=run.collisions,
         masses=m, mass_counts=mass_counts, histogram=run.histogram, edge=None,
         seconds=_time.perf_counter() - start, **spectrum,
@@ -458,6 +462,8 @@ class ChunkedResult:
         The output times t (physical time).
     energy : numpy.ndarray
         ⟨v²⟩ per particle at each time.
+    kurtosis : numpy.ndarray
+        ⟨v⁴⟩/⟨v²⟩² at each time (NaN where every velocity is 0).
     momentum : numpy.ndarray
         Σ v at each time (zero up to round-off).
     clusters, collisions : numpy.ndarray
@@ -486,13 +492,15 @@ class ChunkedResult:
         Returns
         -------
         dict
-            ``model``, ``params``, ``seed``, ``chunks``, ``t``, ``energy``, ``momentum``,
+            ``model``, ``params``, ``seed``, ``chunks``, ``t``, ``energy``, ``kurtosis`` (null
+            where undefined), ``momentum``,
             ``clusters``, ``collisions``, ``mass_distribution`` (``m``, ``count``),
             ``histogram``, ``edge``, ``seconds``; and ``k``, ``S``, ``C`` when S(k) was asked.
         """
         out = {
             "model": "sticky", "params": self.params, "seed": self.seed, "chunks": self.chunks,
             "t": self.times.tolist(), "energy": self.energy.tolist(),
+            "kurtosis": [float(k) if math.isfinite(k) else None for k in self.kurtosis],
             "momentum": self.momentum.tolist(), "clusters": self.clusters.tolist(),
             "collisions": self.collisions.tolist(),
             "mass_distribution": {"m": self.masses.tolist(), "count": self.mass_counts.tolist()},
@@ -590,7 +598,7 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
 
     norms = ring_normalisation(run(chunk_moments), n, params.initial)
 
-    energy, momentum, clusters = [], [], []
+    energy, momentum, clusters, kurtosis = [], [], [], []
     edge = EDGE
     for step, t in enumerate(times):
         while True:
@@ -602,6 +610,10 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
                 edge *= 4
         e_sum = math.fsum([p["energy"] for p in parts]) + math.fsum(sums * sums / masses)
         energy.append(e_sum / n)
+        joined = sums / masses
+        fourth = (math.fsum([p["fourth"] for p in parts])
+                  + math.fsum(masses * (joined * joined) ** 2)) / n
+        kurtosis.append(fourth / energy[-1] ** 2 if energy[-1] > 0.0 else math.nan)
         momentum.append(math.fsum([p["momentum"] for p in parts]))
         clusters.append(sum(p["count"] for p in parts) + masses.size)
         if progress is not None:
@@ -631,7 +643,7 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
     clusters = np.array(clusters, dtype=np.int64)
     return ChunkedResult(
         params=pd, seed=int(seed), chunks=chunks, times=times, energy=np.array(energy),
-        momentum=np.array(momentum), clusters=clusters, collisions=n - clusters, masses=m,
+        kurtosis=np.array(kurtosis), momentum=np.array(momentum), clusters=clusters, collisions=n - clusters, masses=m,
         mass_counts=mass_counts, histogram=histogram, edge=edge,
         seconds=_time.perf_counter() - start, **spectrum,
     )

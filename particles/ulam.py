@@ -44,6 +44,9 @@ commutes with the dynamics; it
 removes the random walk of the centre of mass (variance 2Dτ/N), and with zero total momentum the
 steady energy is ⟨v²⟩ = (D/pq)(1 − 1/N)² (derivation in :class:`Ulam`).
 
+Rate ∝ |v_i − v_j| (``rate="relative_velocity"``): DSMC of the hard-rod Boltzmann equation in
+time t at density n, by thinning under the velocity-hull bound (:class:`Ulam`).
+
 Modules.  This module holds the engines; the pair scheduler (the events' pairs, the round
 schedule and the fast and reference loops over events) is in :mod:`particles.pair_schedule`,
 the collision kinematics in d = 2 and 3 (angular draws, the complex plane rule, the vector
@@ -65,7 +68,13 @@ from .pair_schedule import (
     draw_pairs_unchecked,
     fire_rounds,
     fire_rounds_plane,
+    BLOCK_WINDOWS,
+    fire_rounds_thinned,
     fire_rounds_with_rows,
+    hull_bound,
+    power_of_two_near,
+    thin_sequential,
+    thinned_windows,
 )
 from .ulam_kinematics import (
     as_complex,
@@ -79,11 +88,14 @@ from .validation import (
     InvalidArgumentError,
     check_count,
     check_dimension,
+    check_choice,
     check_nonnegative,
+    check_positive,
     check_restitution,
 )
 
 __all__ = [
+    "RATES",
     "Ulam",
     "UlamReference",
     "UlamState",
@@ -114,6 +126,10 @@ def __getattr__(name: str):
 #: (2.3e7 events/s, against 1.9e7 with 1e5 and 1.1e7 with 2e5).
 TARGET_EVENTS = 25_000
 
+
+#: Collision-rate laws of :class:`Ulam`: every pair at the same rate (time τ), or a pair (i, j)
+#: at rate (n/N)|v_i − v_j| (time t at density n; the hard-rod Boltzmann equation).
+RATES = ("constant", "relative_velocity")
 
 def _window_for(n: int) -> float:
     """Window length in τ: the power of two nearest to 2·TARGET_EVENTS/N, clipped to [2⁻¹², 2]."""
@@ -213,7 +229,32 @@ def _is_grid_point(t: float, step: float) -> bool:
 @dataclass(frozen=True)
 class Ulam(EngineBase):
     """Exact vectorized Ulam engine with ``n`` ≥ 2 particles, restitution ``restitution`` ∈ [0, 1],
-    initial law ``initial`` (a name of :mod:`particles.initial`).  Time is τ.
+    initial law ``initial`` (a name of :mod:`particles.initial`).
+
+    Two collision-rate laws (``rate``):
+
+    * ``"constant"`` (default; the pseudo-Maxwell model): every pair collides at the same rate;
+      time is τ, collisions per particle (N/2 pair collisions per unit τ).
+    * ``"relative_velocity"`` (DSMC of the homogeneous inelastic Boltzmann equation of hard rods,
+      1D, no driving): time is the physical time t at number density n = ``density``; a given
+      particle i collides with a given other particle j at rate (n/N)|v_i − v_j|, so particle i
+      collides at rate (n/N)Σ_j |v_i − v_j| → n⟨|v − w|⟩ (2n√(T/π) per particle for a Gaussian
+      of temperature T = ⟨v²⟩) and the one-particle law f obeys, as N → ∞,
+      d/dt ∫φ f = (n/2) ∫∫ |v − w| f(v) f(w) [φ(v') + φ(w') − φ(v) − φ(w)] dv dw.
+      Finite-N identities (expectations, given the velocities): the total collision rate is
+      (n/N)Σ_{i<j}|v_i − v_j| and dE/dt = −(1 − r²)/4 · n · (1/N²)Σ_{i≠j}|v_i − v_j|³ with
+      E = (1/N)Σ v_i² (→ −(1 − r²)/4 · n⟨|v − w|³⟩).  Exact scheme: candidate pairs (uniform,
+      i ≠ j) at the uniformized rate n(N − 1)B/2 with the bound B =
+      :func:`~particles.pair_schedule.hull_bound` (≥ every
+      |v_i − v_j| now and later: collisions keep velocities in their pair's hull), each accepted
+      with probability |v_i − v_j|/B through a uniform mark U drawn with it (accept iff
+      U·B < |v_i − v_j| at the candidate's turn).  B is recomputed from the velocities every
+      ``BLOCK_WINDOWS`` sub-windows (tightened as the gas cools; the thinning stays exact since
+      B bounds every later |g|; :func:`~particles.pair_schedule.thinned_windows`).  Each
+      block's sub-window length is the power of two h with
+      n(N − 1)B h/2 ≈ ``TARGET_EVENTS`` candidates, on the grid of multiples of h; the driver
+      stops (recentring, checkpoints) every ``stop_step`` in t, the power of two nearest 4/n.
+      ``collisions`` counts the accepted candidates.
 
     ``dimension`` ∈ {1, 2, 3} (velocities (N,) in 1D, (N, d) otherwise), ``angular`` ∈
     {"uniform", "hard"} (the law of the collision direction n; irrelevant in 1D), ``driving``
@@ -243,12 +284,19 @@ class Ulam(EngineBase):
         ``"uniform"`` (default) or ``"hard"``.
     driving : float, optional
         White-noise heating D ≥ 0 (default 0; 1D only).
+    rate : str, optional
+        ``"constant"`` (default, time τ) or ``"relative_velocity"`` (time t; 1D, no driving).
+    density : float, optional
+        The number density n > 0 of the rate (n/N)|v_i − v_j| (default 1; a value other than 1
+        only with ``rate="relative_velocity"``), in 1/length: t is in length/velocity.
 
     Raises
     ------
     particles.InvalidArgumentError
         Naming ``n``, ``restitution``, ``initial`` (unknown, or without a sampler),
-        ``dimension``, ``angular`` or ``driving`` (negative, or non-zero with dimension > 1).
+        ``dimension``, ``angular``, ``driving`` (negative, or non-zero with dimension > 1),
+        ``rate`` (not one of ``RATES``, or ``"relative_velocity"`` with dimension > 1 or
+        driving) or ``density`` (not finite, ≤ 0, or not 1 with the constant rate).
     """
 
     n: int
@@ -257,9 +305,9 @@ class Ulam(EngineBase):
     dimension: int = 1
     angular: str = "uniform"
     driving: float = 0.0
+    rate: str = "constant"
+    density: float = 1.0
     name: ClassVar[str] = "ulam"
-    #: The model's time: τ (N/2 collisions per unit on average).
-    time_name: ClassVar[str] = "tau"
 
     def __post_init__(self):
         object.__setattr__(self, "n", check_count(self.n, "n", 2))
@@ -276,10 +324,34 @@ class Ulam(EngineBase):
         if driving > 0.0 and self.dimension != 1:
             raise InvalidArgumentError("driving", self.driving, "0 when dimension > 1")
         object.__setattr__(self, "driving", driving)
+        rate = check_choice(self.rate, "rate", RATES)
+        object.__setattr__(self, "rate", rate)
+        density = check_positive(self.density, "density")
+        if rate == "relative_velocity":
+            if self.dimension != 1:
+                raise InvalidArgumentError("rate", rate, "'constant' when dimension > 1")
+            if driving != 0.0:
+                raise InvalidArgumentError("rate", rate, "'constant' with driving > 0")
+        elif density != 1.0:
+            raise InvalidArgumentError(
+                "density", self.density, "1 with rate 'constant' (the density sets the rate "
+                "(n/N)|v_i - v_j| of rate 'relative_velocity' only)")
+        object.__setattr__(self, "density", density)
 
     @property
     def p(self) -> float:
         return transfer_fraction(self.restitution)
+
+    @property
+    def relative_velocity_rate(self) -> bool:
+        """True for ``rate="relative_velocity"`` (time t), False for the constant rate (τ)."""
+        return self.rate == "relative_velocity"
+
+    @property
+    def time_name(self) -> str:
+        """The model's time: ``"tau"`` (collisions per particle, constant rate) or ``"t"``
+        (physical time at density n, ``rate="relative_velocity"``)."""
+        return "t" if self.relative_velocity_rate else "tau"
 
     @property
     def window(self) -> float:
@@ -290,7 +362,11 @@ class Ulam(EngineBase):
     def stop_step(self) -> float:
         """Driver stops (progress, checkpoints) every max(4, window) in τ (a power of two).  Each
         ``advance`` copies the velocities (the previous state must survive Ctrl-C); stops 4 apart
-        keep that copy below ~3% of the run time at N = 1e6."""
+        keep that copy below ~3% of the run time at N = 1e6.  ``rate="relative_velocity"``: the
+        power of two nearest to 4/n in t (about 4.5 collisions per particle for a Gaussian of
+        T = 1, fewer as the gas cools)."""
+        if self.relative_velocity_rate:
+            return power_of_two_near(4.0 / self.density)
         return max(4.0, self.window)
 
     def to_dict(self) -> dict:
@@ -316,6 +392,11 @@ class Ulam(EngineBase):
             out.update(dimension=self.dimension, angular=self.angular)
         if self.driving != 0.0:
             out["driving"] = self.driving
+        if self.relative_velocity_rate:  # adaptive sub-windows: no fixed window
+            del out["window"]
+            out.update(rate=self.rate, density=self.density,
+                       target_events=min(TARGET_EVENTS, self.n),
+                       block_windows=BLOCK_WINDOWS)
         return out
 
     def initial_state(self, rng: np.random.Generator) -> UlamState:
@@ -370,7 +451,10 @@ class Ulam(EngineBase):
         return 64.0 * self.dimension
 
     def expected_events(self, t_max: float, n_times: int) -> tuple[float, str]:
-        """Pair collisions to τ = ``t_max``: N/2 per unit τ.
+        """Pair collisions to τ = ``t_max``: N/2 per unit τ.  ``rate="relative_velocity"``: an
+        upper bound on the candidates to t = ``t_max``, n(N − 1)B t/2 with B = 2√2·6 (six
+        standard deviations of each unit-energy velocity; the real count is far smaller as the
+        gas cools).
 
         Parameters
         ----------
@@ -384,6 +468,9 @@ class Ulam(EngineBase):
         tuple of (float, str)
             ``(N t_max / 2, "collisions")``.
         """
+        if self.relative_velocity_rate:
+            bound = 12.0 * math.sqrt(2.0)
+            return 0.5 * self.density * (self.n - 1) * bound * t_max, "candidates"
         return float(self.n) * t_max / 2.0, "collisions"
 
     def windows(self, start: float, until: float) -> list[tuple[float, float]]:
@@ -433,6 +520,8 @@ class Ulam(EngineBase):
         """
         if not until >= state.time:
             raise InvalidArgumentError("until", until, f"a time >= {state.time}")
+        if self.relative_velocity_rate:
+            return self._advance_thinned(state, until, rng)
         if self.dimension != 1:
             return self._advance_vectors(state, until, rng)
         if self.driving != 0.0:
@@ -455,6 +544,66 @@ class Ulam(EngineBase):
             if _is_grid_point(b, self.stop_step):
                 recentre(v)
         return UlamState(float(until), v, collisions)
+
+    def thinned_windows(self, start: float, until: float, bound: float):
+        """The sub-windows of the thinning block from ``start`` with bound ``bound`` (rate
+        ``"relative_velocity"``; :func:`~particles.pair_schedule.thinned_windows` at this
+        engine's candidate rate per unit bound n(N − 1)/2 and ``stop_step``).
+
+        Parameters
+        ----------
+        start, until : float
+            The block's start and the time to reach (t).
+        bound : float
+            The thinning bound B ≥ 0 at ``start``.
+
+        Returns
+        -------
+        list of tuple of float
+            The consecutive sub-windows ``(a, b)``.
+        """
+        return thinned_windows(start, until, 0.5 * self.density * (self.n - 1) * bound,
+                               self.stop_step, min(TARGET_EVENTS, self.n))
+
+    def _advance_thinned(self, state: UlamState, until: float, rng, sequential=False):
+        """``rate="relative_velocity"``: block by block the bound B (:func:`hull_bound`), then
+        per sub-window the Poisson count of candidates (mean n(N − 1)B Δt/2), the pairs
+        (:func:`~particles.pair_schedule.draw_pairs_unchecked`, last candidate first) and one
+        uniform mark per candidate; fired in rounds (or, ``sequential``, one by one by
+        :meth:`_thin_window`).  Recentred at the multiples of ``stop_step``."""
+        v = state.velocities.copy()
+        collisions = int(state.collisions)
+        p = self.p
+        half_rate = 0.5 * self.density * (self.n - 1)
+        first = np.empty(self.n, dtype=np.int32)
+        occurrence = np.empty(0, dtype=np.int32)
+        s = float(state.time)
+        target = float(until)
+        while s < target:
+            bound = hull_bound(v)
+            windows = self.thinned_windows(s, target, bound)
+            for a, b in windows:
+                k = int(rng.poisson(half_rate * bound * (b - a))) if bound > 0.0 else 0
+                if k:
+                    pairs = draw_pairs_unchecked(rng, self.n, k)  # row 0: the last candidate
+                    marks = rng.random(k)
+                    if sequential:
+                        collisions += self._thin_window(v, pairs, marks, bound, p)
+                    else:
+                        if occurrence.size < 2 * k:
+                            occurrence = np.arange(max(2 * k, 4 * TARGET_EVENTS),
+                                                   dtype=np.int32)
+                        collisions += fire_rounds_thinned(v, pairs, marks, bound, p, first,
+                                                          occurrence)
+            s = windows[-1][1]
+            if _is_grid_point(s, self.stop_step):
+                recentre(v)
+        return UlamState(target, v, collisions)
+
+    def _thin_window(self, v, pairs, marks, bound, p) -> int:
+        """The reference's loop over one sub-window's candidates
+        (:func:`~particles.pair_schedule.thin_sequential`); returns the accepted count."""
+        return thin_sequential(v, pairs, marks, bound, p)[0]
 
     def _occurrences(self, occurrence: np.ndarray, k: int) -> np.ndarray:
         if occurrence.size < 2 * k:
@@ -537,9 +686,13 @@ class UlamReference(Ulam):
     waiting times of rate N/2 and one random pair per collision.  Memorylessness makes stopping
     at ``until`` and redrawing the next waiting time exact.
 
+    ``rate="relative_velocity"``: the same draws as :class:`Ulam` (blocks, bounds, candidate
+    counts, pairs, marks), the candidates applied one at a time in time order by a Python loop
+    (:func:`~particles.pair_schedule.thin_sequential`), so the two agree bit for bit.
+
     Parameters
     ----------
-    n, restitution, initial, dimension, angular, driving
+    n, restitution, initial, dimension, angular, driving, rate, density
         As for :class:`Ulam`.
     """
 
@@ -562,6 +715,8 @@ class UlamReference(Ulam):
         particles.UlamState
             The state at ``until``.
         """
+        if self.relative_velocity_rate:
+            return self._advance_thinned(state, until, rng, sequential=True)
         if self.dimension != 1 or self.driving != 0.0:
             return self._advance_general(state, until, rng)
         v = state.velocities.tolist()

@@ -32,6 +32,9 @@ class Records:
             self.hist_v0 = np.full(nt, np.nan)
         self.energy = np.full(nt, np.nan)
         self.momentum = np.full(nt, np.nan)
+        # ⟨v⁴⟩/⟨v²⟩² of the velocities (of the first Cartesian component in d > 1; NaN where
+        # every velocity is 0)
+        self.kurtosis = np.full(nt, np.nan)
         self.collisions = np.zeros(nt, dtype=np.int64)
         # S(k) at every time ("all": nt rows of N/2 + 1, 40 MB per time at N = 1e7) or at the
         # last time only ("last": one row).
@@ -55,6 +58,7 @@ class Records:
         else:
             self.energy[i] = obs.energy(v)
             self.momentum[i] = obs.momentum(v)
+        self.kurtosis[i] = obs.kurtosis(v[:, 0] if v.ndim == 2 else v)
         self.collisions[i] = int(state.collisions)
         if self.structure is not None and not (self.structure_last and i < nt - 1):
             self.structure[0 if self.structure_last else i] = obs.structure_factor(v)[1]
@@ -92,6 +96,7 @@ class Records:
         out = {
             "rec.energy": unrecorded_from(self.energy, done),
             "rec.momentum": unrecorded_from(self.momentum, done),
+            "rec.kurtosis": unrecorded_from(self.kurtosis, done),
             "rec.collisions": unrecorded_from(self.collisions, done),
         }
         if self.structure is not None:
@@ -114,6 +119,9 @@ class Records:
         self.seconds = seconds
         self.energy = arrays["rec.energy"]
         self.momentum = arrays["rec.momentum"]
+        kurtosis = arrays.get("rec.kurtosis")  # absent from checkpoints written before it
+        if kurtosis is not None:
+            self.kurtosis = np.asarray(kurtosis, dtype=float)
         self.collisions = arrays["rec.collisions"]
         if self.structure is not None:
             self.structure = arrays["rec.structure"]
@@ -253,6 +261,7 @@ def _inconsistency(engine, times: list[float], state, records: Records) -> str |
     shapes = {
         "rec.energy": (records.energy, (nt,)),
         "rec.momentum": (records.momentum, (nt,)),
+        "rec.kurtosis": (records.kurtosis, (nt,)),
         "rec.collisions": (records.collisions, (nt,)),
     }
     if records.structure is not None:

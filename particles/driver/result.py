@@ -61,7 +61,8 @@ def write_file(path, arrays: dict[str, np.ndarray], meta: dict) -> None:
 
 _ENTRY_PREFIXES = {
     "checkpoint": ("state.", "rec."),
-    "result": ("times", "energy", "momentum", "collisions", "velocities", "hist.", "hists.",
+    "result": ("times", "energy", "momentum", "kurtosis", "collisions", "velocities", "hist.",
+               "hists.",
                "structure.", "snapshots", "snapshot.", "extra."),
 }
 
@@ -117,6 +118,8 @@ class RunResult:
     ``extras`` engine-specific scalars per time; ``snapshot_extras[name][i]`` the engine's
     per-particle arrays at ``times[i]`` (with ``snapshots``, e.g. MD ``positions``);
     ``seconds`` the wall-clock time of the run (of all its resumed pieces);
+    ``kurtosis[i]`` = ⟨v⁴⟩/⟨v²⟩² at ``times[i]`` (of the first Cartesian component in d > 1;
+    NaN where every velocity is 0; None for a file written before it was recorded);
     ``histograms`` the rescaled histogram at every time (``histograms[-1]`` is ``histogram``),
     kept as counts: nt · (B + 1) numbers, 8 bytes each, for B bins (1000 times of 200 bins:
     1.6 MB), whatever N;
@@ -162,6 +165,8 @@ class RunResult:
         The edges of the histograms in x (None for a record without per-time histograms).
     histogram_counts : numpy.ndarray or None
         Counts per bin at each time, shape ``(nt, B)``.
+    kurtosis : numpy.ndarray or None
+        ⟨v⁴⟩/⟨v²⟩² at each time (see above).
     histogram_scales : numpy.ndarray or None
         v0 = √E of each time's histogram, shape ``(nt,)`` (0 where E = 0, NaN where the time
         was not recorded, e.g. resumed from a checkpoint that kept no per-time histograms).
@@ -186,6 +191,7 @@ class RunResult:
     histogram_edges: np.ndarray | None = field(default=None, repr=False)
     histogram_counts: np.ndarray | None = field(default=None, repr=False)
     histogram_scales: np.ndarray | None = field(default=None, repr=False)
+    kurtosis: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def histograms(self) -> tuple:
@@ -243,6 +249,8 @@ class RunResult:
             arrays.update({"hists.edges": self.histogram_edges,
                            "hists.count": self.histogram_counts,
                            "hists.v0": self.histogram_scales})
+        if self.kurtosis is not None:
+            arrays["kurtosis"] = self.kurtosis
         if self.structure is not None:
             arrays["structure.k"], arrays["structure.S"] = self.structure
         if self.snapshots is not None:
@@ -298,16 +306,18 @@ class RunResult:
                              if k.startswith("snapshot.")},
             histogram_edges=a.get("hists.edges"),
             histogram_counts=a.get("hists.count"),
+            kurtosis=a.get("kurtosis"),
             histogram_scales=a.get("hists.v0"),
         )
 
     def to_xarray(self):
         """The records as an ``xarray.Dataset`` (needs the optional ``xarray`` extra).
 
-        Coordinates: the time (``tau`` for the Ulam and lattice models, ``t`` for MD and the
-        sticky gas), ``x`` (the bin centres of the histograms, with ``x_edges`` as a variable)
-        and, where recorded, ``k`` (the wavenumbers of S(k)).  Variables over time: ``energy``,
-        ``momentum``, ``collisions``, ``v0`` (each time's √E) and the engine's extras; over
+        Coordinates: the time (``tau`` for the constant-rate Ulam and lattice models, ``t`` for
+        MD, the sticky gas and ``rate="relative_velocity"``), ``x`` (the bin centres of the
+        histograms, with ``x_edges`` as a variable) and, where recorded, ``k`` (the wavenumbers
+        of S(k)).  Variables over time: ``energy``, ``momentum``, ``collisions``, ``kurtosis``,
+        ``v0`` (each time's √E) and the engine's extras; over
         (time, x): ``density``, ``error`` and ``count`` of the per-time histograms (NaN at a
         time without one); ``structure_factor`` over (time, k) (``structure_factor=True``) or
         k (``"last"``); ``snapshots`` over (time, particle) when recorded.  Attributes:
@@ -327,8 +337,12 @@ class RunResult:
 
         xr = import_xarray("RunResult.to_xarray()")
         time = _TIME_NAMES.get(self.model, "tau")
+        if self.params.get("rate") == "relative_velocity":  # Ulam DSMC, lattice rate ∝ |Δ|: t
+            time = "t"
         data = {"energy": ((time,), self.energy), "momentum": ((time,), self.momentum),
                 "collisions": ((time,), self.collisions)}
+        if self.kurtosis is not None:
+            data["kurtosis"] = ((time,), self.kurtosis)
         coords = {time: self.times}
         hists = self.histograms
         if hists:
@@ -397,13 +411,16 @@ class RunResult:
         -------
         dict
             ``model``, ``tau`` (the times, whatever the model's time), ``energy``, the last
-            ``collisions``, ``seconds``, and ``histogram`` (with ``histogram_note`` when None).
+            ``collisions``, ``kurtosis`` (⟨v⁴⟩/⟨v²⟩² at each time, null where undefined or not
+            recorded), ``seconds``, and ``histogram`` (with ``histogram_note`` when None).
         """
         out = {
             "model": self.model,
             "tau": self.times.tolist(),
             "energy": self.energy.tolist(),
             "collisions": int(self.collisions[-1]),
+            "kurtosis": (None if self.kurtosis is None else
+                         [float(k) if np.isfinite(k) else None for k in self.kurtosis]),
             "seconds": self.seconds,
         }
         if self.histogram is not None:

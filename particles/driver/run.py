@@ -318,6 +318,7 @@ def _run(engine, times, seed, identity, state, rng, records, progress, checkpoin
         energy=records.energy,
         momentum=records.momentum,
         collisions=records.collisions,
+        kurtosis=records.kurtosis,
         velocities=v,
         histogram=histogram,
         seconds=records.seconds,

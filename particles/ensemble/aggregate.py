@@ -24,7 +24,7 @@ def aggregate(spec: EnsembleSpec, out, tasks=None, done=None) -> tuple[dict, dic
     """(arrays, summary) of the aggregate: for each parameter set ``i``, over the seeds whose
     task file is in ``out`` (``done``: the keys to use; default all present), in the order of
     ``spec.seeds``, mean and standard error of ``energy``, ``momentum``, ``collisions``,
-    ``collisions_per_particle`` (2·collisions/N, τ for Ulam; MD: its own τ(t)), the engine's
+    ``kurtosis`` (⟨v⁴⟩/⟨v²⟩², when every task file has it), ``collisions_per_particle`` (2·collisions/N, τ for Ulam; MD: its own τ(t)), the engine's
     extras, the histogram density at the last time (when every seed has one on the same edges)
     and S(k) (when requested).  Arrays are named ``set<i>.<observable>.mean`` / ``.sem`` (plus
     ``set<i>.hist.edges``, ``set<i>.structure.k``).  The summary is JSON-able (S(k) is in the
@@ -75,6 +75,8 @@ def aggregate(spec: EnsembleSpec, out, tasks=None, done=None) -> tuple[dict, dic
             "momentum": np.stack([r.momentum for r in results]),
             "collisions": np.stack([r.collisions.astype(float) for r in results]),
         }
+        if all(r.kurtosis is not None for r in results):  # task files before it: none
+            series["kurtosis"] = np.stack([r.kurtosis for r in results])
         for key in results[0].extras:
             if all(key in r.extras for r in results):
                 series[key] = np.stack([r.extras[key] for r in results])

@@ -186,7 +186,8 @@ def test_an_engine_without_a_name_or_a_stop_step_gets_no_guess():
 def test_the_contract_lists_what_engine_base_and_the_four_engines_have():
     members = [m for m in vars(Engine) if not m.startswith("_")] + list(Engine.__annotations__)
     for engine in (Ulam(10, 0.5), Lattice(10, 0.5), MDEngine(n=10, density=1.0, restitution=0.5),
-                   StickyGas(n=10, density=1.0), ToyRotation(4)):
+                   StickyGas(n=10, density=1.0), ToyRotation(4),
+                   Ulam(10, 0.5, rate="relative_velocity", density=2.0)):
         assert isinstance(engine, EngineBase)
         assert all(hasattr(engine, m) for m in members), type(engine).__name__
 
@@ -202,6 +203,8 @@ def test_every_engine_is_built_from_its_parameters_by_keyword():
     sticky = StickyGas(n=50, density=2.0, initial="uniform")
     assert sticky.to_dict() == StickyGas(StickyParams(50, 2.0, "uniform")).to_dict()
     assert Ulam(n=50, restitution=0.5).to_dict() == Ulam(50, 0.5).to_dict()
+    assert (Ulam(n=50, restitution=0.5, rate="relative_velocity", density=2.0).to_dict()
+            == Ulam(50, 0.5, "gaussian", 1, "uniform", 0.0, "relative_velocity", 2.0).to_dict())
     assert Lattice(n=50, restitution=0.5).to_dict() == Lattice(50, 0.5).to_dict()
     with pytest.raises(InvalidArgumentError, match="params=.*not both"):
         MDEngine(MDParams(50, 0.5, 0.7), n=50)
@@ -215,7 +218,8 @@ def test_every_engine_is_built_from_its_parameters_by_keyword():
 
 @pytest.mark.parametrize("engine", [
     Ulam(8, 0.5), Lattice(8, 0.5), MDEngine(n=8, density=1.0, restitution=0.5),
-    StickyGas(n=8, density=1.0)], ids=lambda e: e.name)
+    StickyGas(n=8, density=1.0), Ulam(8, 0.5, rate="relative_velocity")],
+    ids=lambda e: e.name + ("-" + e.rate if isinstance(e, Ulam) else ""))
 def test_bad_state_arrays_raise_one_error_type_naming_checkpoint(engine):
     good = engine.initial_state(np.random.default_rng(0)).to_arrays()
     bad_shape = dict(good, velocities=np.zeros(5))

@@ -161,3 +161,13 @@ def test_haff_time_and_energy():
     assert t0 == pytest.approx(math.sqrt(math.pi) / (0.75 * 2.0), rel=1e-15)
     assert haff_energy(t0, 0.5, 2.0) == pytest.approx(0.25, rel=1e-15)  # T₀ / (1 + 1)²
     assert haff_time(1.0, 1.0) == math.inf
+
+
+def test_kurtosis_by_hand_and_at_the_ends_of_float64():
+    from particles.observables import kurtosis
+
+    # ⟨v²⟩ = (1 + 1 + 4 + 4)/4 = 5/2, ⟨v⁴⟩ = (1 + 1 + 16 + 16)/4 = 17/2: 17/2 / (25/4) = 1.36
+    assert kurtosis([1.0, -1.0, 2.0, -2.0]) == pytest.approx(1.36, rel=1e-15)
+    assert kurtosis([1e300, -1e300, 2e300, -2e300]) == pytest.approx(1.36, rel=1e-15)
+    assert kurtosis([1e-300, -1e-300, 2e-300, -2e-300]) == pytest.approx(1.36, rel=1e-15)
+    assert np.isnan(kurtosis(np.zeros(5))) and np.isnan(kurtosis([1.0, np.inf]))

@@ -35,6 +35,8 @@ def test_chunks_equal_the_engine_on_the_same_initial_state(monkeypatch, edge):
     assert res.collisions.tolist() == [s.collisions for s in states]
     np.testing.assert_allclose(res.energy, [np.mean(s.velocities**2) for s in states],
                                rtol=1e-12)
+    kurtosis = [np.mean(s.velocities**4) / np.mean(s.velocities**2) ** 2 for s in states]
+    np.testing.assert_allclose(res.kurtosis, kurtosis, rtol=1e-10)
     np.testing.assert_allclose(res.momentum, [total_momentum(s) for s in states], atol=1e-9)
     m, count = cluster_mass_distribution(states[-1])
     assert res.masses.tolist() == m.tolist() and res.mass_counts.tolist() == count.tolist()
@@ -52,6 +54,8 @@ def test_one_chunk_is_the_single_process_engine():
     run = simulate(StickyGas(params), [1.0, 10.0, 100.0], 7, progress=False,
                    structure_factor="last")
     assert np.array_equal(res.energy, run.energy)
+    assert np.array_equal(res.kurtosis, run.kurtosis)
+    assert res.to_dict()["kurtosis"] == run.summary()["kurtosis"]
     assert np.array_equal(res.histogram.count, run.histogram.count)
     assert res.clusters.tolist() == run.extras["clusters"].astype(int).tolist()
     assert np.array_equal(res.k, run.structure[0]) and np.array_equal(res.S, run.structure[1][-1])

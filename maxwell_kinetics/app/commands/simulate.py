@@ -10,7 +10,9 @@ new model or parameter is an entry of the catalogue, not an edit here; only what
 to the output (``--profile`` of MD and the sticky gas) is written here.
 
 ``--json`` prints one object with keys ``tau`` (the requested times; ``t`` for the models whose
-engine runs in t), ``energy`` (⟨v²⟩ at each time), ``collisions`` (the total), ``seconds``
+engine runs in t: MD, the sticky gas, ``--rate relative_velocity``), ``energy`` (⟨v²⟩ at each
+time), ``kurtosis`` (⟨v⁴⟩/⟨v²⟩² at each time, of one Cartesian component in d > 1; null where
+every velocity is 0), ``collisions`` (the total), ``seconds``
 (wall clock), ``histogram`` (``centres``, ``density``, ``error`` of x = v/√E at the last time)
 and, with ``--structure-factor``, ``k`` and ``S`` (S(k) = |v̂(k)|²/N at the last time); also
 ``model``, ``params`` and ``seed``.  A run that ends with every velocity 0 (possible at r = 0) is
