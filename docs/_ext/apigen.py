@@ -4,8 +4,8 @@ Every name in the face's ``__all__`` is documented under the face's own dotted n
 (``particles.Ulam``), so that the API reference lists exactly the public names and cannot
 forget one; the names of ``apigen_first`` (the most used) lead each page.  Every other public
 module gets a page of its own under ``api/modules/``.  A name that two faces export (``particles.simulate`` is
-``particles.driver.simulate``) is documented in full under the first face and as an alias under
-the next ones.
+``particles.driver.simulate``) is documented in full under the first face of the object's own
+package and as an alias under the others.
 """
 
 from __future__ import annotations
@@ -97,6 +97,17 @@ def write_api(app) -> None:
              "One page per package face (the names of its ``__all__``), the most used first; "
              "then one page per module.", "",
              ".. toctree::", "   :maxdepth: 1", ""]
+    # an object two faces export is documented in full under the first face of its own
+    # package (``particles.InvalidArgumentError``, also exported by ``maxwell_kinetics``)
+    for own_package in (True, False):
+        for face in app.config.apigen_faces:
+            for name in importlib.import_module(face).__all__:
+                obj = getattr(importlib.import_module(face), name)
+                if not (inspect.isclass(obj) or inspect.isfunction(obj)) or id(obj) in seen:
+                    continue
+                home = getattr(obj, "__module__", "").split(".")[0] == face.split(".")[0]
+                if home or not own_package:
+                    seen[id(obj)] = f"{face}.{name}"
     for face in app.config.apigen_faces:
         module = importlib.import_module(face)
         index.append(f"   {face.replace('.', '-')}")
@@ -107,12 +118,10 @@ def write_api(app) -> None:
             obj = getattr(module, name)
             key = id(obj)
             simple = inspect.isclass(obj) or inspect.isfunction(obj)
-            if simple and key in seen:
+            if simple and seen[key] != f"{face}.{name}":
                 lines += [f".. py:data:: {name}", "",
                           f"   The same object as :py:obj:`{seen[key]}`.", ""]
                 continue
-            if simple:
-                seen[key] = f"{face}.{name}"
             if _directive(obj) == "autodata":
                 lines += _data(face, name, obj)
                 continue
