@@ -121,6 +121,8 @@ apigen_faces = [
     "particles.sticky_chunks",
     "maxwell_kinetics.app.comparisons",
 ]
+# The application is a package of its own: its names are documented under its faces.
+apigen_layers = ["maxwell_kinetics.app"]
 # The most used names lead their face's page, in this order.
 apigen_first = ["solve", "Solution", "MaxwellModel", "SolverOptions", "simulate", "RunResult",
                 "Ulam", "Lattice", "MDEngine", "StickyGas", "Histogram", "rescaled_histogram"]

@@ -188,12 +188,15 @@ def test_page_faults_are_found():
                      "development words": ["VM"]}
 
 
-def test_user_pages_hold_no_commit_hash_raw_tex_or_development_words(built_site):
+def test_user_pages_hold_no_commit_hash_raw_tex_development_words_or_private_links(built_site):
     faults = []
     for page in sorted(built_site.rglob("*.html")):
         if {"_static", "_sources", "_modules"} & set(page.parts) or page.name in (
                 "genindex.html", "search.html", "py-modindex.html"):
             continue
+        html = page.read_text(errors="replace")
+        for private in re.findall(r'href="[^"]*#[\w.]*\._[a-z][\w.]*"', html):
+            faults.append(f"{page.relative_to(built_site)}: link to a private name: {private}")
         prose = _prose(page)
         for kind, rule in _PAGE_FAULTS.items():
             for m in rule.finditer(prose):

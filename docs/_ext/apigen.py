@@ -3,9 +3,9 @@
 Every name in the face's ``__all__`` is documented under the face's own dotted name
 (``particles.Ulam``), so that the API reference lists exactly the public names and cannot
 forget one; the names of ``apigen_first`` (the most used) lead each page.  Every other public
-module gets a page of its own under ``api/modules/``.  A name that two faces export (``particles.simulate`` is
-``particles.driver.simulate``) is documented in full under the first face of the object's own
-package and as an alias under the others.
+module gets a page of its own under ``api/modules/``.  A name that two faces export
+(``particles.simulate`` is ``particles.driver.simulate``) is documented in full under its home face (:func:`_home_face`)
+and as an alias under the others.
 """
 
 from __future__ import annotations
@@ -89,6 +89,18 @@ def _write(path: Path, lines: list[str]) -> None:
         path.write_text(text)
 
 
+def _home_face(module: str, faces, layers) -> str | None:
+    """The shortest face that is a prefix of ``module``, a face inside a layer of ``layers``
+    (``maxwell_kinetics.app``) only for a module of that layer and the other way round."""
+    def within(name, prefix):
+        return name == prefix or name.startswith(prefix + ".")
+
+    layer = next((lay for lay in layers if within(module, lay)), None)
+    candidates = [f for f in faces if within(module, f)
+                  and (layer is None) == (not any(within(f, lay) for lay in layers))]
+    return min(candidates, key=len) if candidates else None
+
+
 def write_api(app) -> None:
     out = Path(app.srcdir) / "api"
     (out / "modules").mkdir(parents=True, exist_ok=True)
@@ -97,16 +109,22 @@ def write_api(app) -> None:
              "One page per package face (the names of its ``__all__``), the most used first; "
              "then one page per module.", "",
              ".. toctree::", "   :maxdepth: 1", ""]
-    # an object two faces export is documented in full under the first face of its own
-    # package (``particles.InvalidArgumentError``, also exported by ``maxwell_kinetics``)
-    for own_package in (True, False):
-        for face in app.config.apigen_faces:
-            for name in importlib.import_module(face).__all__:
-                obj = getattr(importlib.import_module(face), name)
+    # an object two faces export is documented in full under its home face: the shortest face
+    # that is a prefix of its module, the application (``apigen_layers``) counting as a
+    # package of its own (``particles.InvalidArgumentError``, also exported by
+    # ``maxwell_kinetics``; ``maxwell_kinetics.app.comparisons.Comparison``, also exported by
+    # ``maxwell_kinetics``); else the first face that exports it
+    faces = app.config.apigen_faces
+    for at_home in (True, False):
+        for face in faces:
+            module = importlib.import_module(face)
+            for name in module.__all__:
+                obj = getattr(module, name)
                 if not (inspect.isclass(obj) or inspect.isfunction(obj)) or id(obj) in seen:
                     continue
-                home = getattr(obj, "__module__", "").split(".")[0] == face.split(".")[0]
-                if home or not own_package:
+                home = _home_face(getattr(obj, "__module__", None) or "", faces,
+                                  app.config.apigen_layers)
+                if home == face or not at_home:
                     seen[id(obj)] = f"{face}.{name}"
     for face in app.config.apigen_faces:
         module = importlib.import_module(face)
@@ -209,5 +227,6 @@ def setup(app):
     _one_object_many_names()
     app.add_config_value("apigen_faces", [], "env")
     app.add_config_value("apigen_first", [], "env")
+    app.add_config_value("apigen_layers", [], "env")
     app.connect("builder-inited", write_api)
     return {"parallel_read_safe": True, "version": "1"}

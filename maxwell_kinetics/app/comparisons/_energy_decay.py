@@ -1,5 +1,5 @@
-"""Comparison 5: E(t) of MD (Haff's t⁻², then t^{−2/3}) and E(τ) of the lattice (exponential,
-then τ^{−1/2}).  ``run`` computes, ``plot`` draws."""
+"""Comparison 5: E(t) of MD (Haff's t⁻², then t^(−2/3)) and E(τ) of the lattice (exponential,
+then τ^(−1/2)).  ``run`` computes, ``plot`` draws."""
 
 from __future__ import annotations
 
