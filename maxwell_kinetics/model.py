@@ -473,7 +473,7 @@ class MaxwellModel(CollisionModel):
     def lam(self) -> float:
         """The rate λ = p(1 − p) = (1 − r²)/4, computed as the latter (accurate as r → 1).
 
-        In d = 1 the energy decays as :math:`e^{-2\lambda\tau}`."""
+        In d = 1 the energy decays as e^{−2λτ}."""
         return 0.25 * (1.0 - self.restitution**2)
 
     @property
