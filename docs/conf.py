@@ -93,8 +93,9 @@ html_title = f"maxwell-kinetics {release}"
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
-    # The guide, the tutorials and both references are in the header; the rest under "More".
-    "header_links_before_dropdown": 7,
+    # The guide, the tutorials, the paper and both references in the header; the rest under
+    # "More".
+    "header_links_before_dropdown": 6,
     "secondary_sidebar_items": ["page-toc"],
 }
 # The top-level pages have no sub-pages: no empty "Section Navigation" column on them.
