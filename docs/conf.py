@@ -32,8 +32,9 @@ _ipython = HERE / "_build" / ".ipython"
     (HERE / "_ext" / "kernel_startup.py").read_bytes())
 os.environ["IPYTHONDIR"] = str(_ipython)
 
-import maxwell_kinetics  # noqa: E402
 from mathtext import typeset  # noqa: E402
+
+import maxwell_kinetics  # noqa: E402
 
 project = "maxwell-kinetics"
 author = "the maxwell-kinetics authors"

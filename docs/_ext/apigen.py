@@ -4,8 +4,8 @@ Every name in the face's ``__all__`` is documented under the face's own dotted n
 (``particles.Ulam``), so that the API reference lists exactly the public names and cannot
 forget one; the names of ``apigen_first`` (the most used) lead each page.  Every other public
 module gets a page of its own under ``api/modules/``.  A name that two faces export
-(``particles.simulate`` is ``particles.driver.simulate``) is documented in full under its home face (:func:`_home_face`)
-and as an alias under the others.
+(``particles.simulate`` is ``particles.driver.simulate``) is documented in full under its home
+face (:func:`_home_face`) and as an alias under the others.
 """
 
 from __future__ import annotations

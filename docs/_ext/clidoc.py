@@ -11,8 +11,9 @@ from __future__ import annotations
 import argparse
 import re
 
-from maxwell_kinetics.app.cli import build_parser
 from mathtext import typeset
+
+from maxwell_kinetics.app.cli import build_parser
 
 _LITERAL = re.compile(r"(``.*?``|:math:`[^`]*`)", re.S)
 
