@@ -32,6 +32,8 @@ _ipython = HERE / "_build" / ".ipython"
     (HERE / "_ext" / "kernel_startup.py").read_bytes())
 os.environ["IPYTHONDIR"] = str(_ipython)
 
+from mathtext import typeset  # noqa: E402
+
 import maxwell_kinetics  # noqa: E402
 
 project = "maxwell-kinetics"
@@ -92,13 +94,24 @@ html_title = f"maxwell-kinetics {release}"
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
+    # The guide, the tutorials, the paper and both references in the header; the rest under
+    # "More".
+    "header_links_before_dropdown": 6,
+    "secondary_sidebar_items": ["page-toc"],
 }
-html_static_path = []
+# The top-level pages have no sub-pages: no empty "Section Navigation" column on them.
+html_sidebars = {"*": []}
+html_static_path = ["_static"]
+html_css_files = ["custom.css"]
+# Straight "--speed" stays two hyphens; quotes and ellipses are still typographic.
+smartquotes_action = "qe"
 copybutton_prompt_text = r"\$ |>>> "
 copybutton_prompt_is_regexp = True
 
 apigen_faces = [
+    "maxwell_kinetics",
     "particles",
+    "particles.observables",
     "particles.driver",
     "particles.ensemble",
     "particles.md",
@@ -108,9 +121,13 @@ apigen_faces = [
     "particles.sticky_exact",
     "particles.sticky_comparison",
     "particles.sticky_chunks",
-    "maxwell_kinetics",
     "maxwell_kinetics.app.comparisons",
 ]
+# The application is a package of its own: its names are documented under its faces.
+apigen_layers = ["maxwell_kinetics.app"]
+# The most used names lead their face's page, in this order.
+apigen_first = ["solve", "Solution", "MaxwellModel", "SolverOptions", "simulate", "RunResult",
+                "Ulam", "Lattice", "MDEngine", "StickyGas", "Histogram", "rescaled_histogram"]
 # The results shown on "Reproducing the paper": $MAXWELL_KINETICS_DOCS_RESULTS, else the
 # results/ folder of a local `make demo` when it has a summary, else the `make demo` run whose
 # summary and figures are kept in docs/figures.
@@ -127,13 +144,14 @@ for _nb in sorted((ROOT / "notebooks").glob("*.ipynb")):
 
 
 # Docstrings are written in plain mathematical text: |x| is an absolute value, not a
-# reStructuredText substitution.  Escape the bars outside ``literals`` and :math:`roles`.
+# reStructuredText substitution, and e^{−λτ} is typeset (mathtext.typeset).  Escape the bars
+# outside ``literals`` and :math:`roles`.
 _LITERAL = re.compile(r"(``.*?``|:[a-z:]+:`[^`]*`|`[^`]*`)")
 
 
 def _escape_bars(app, what, name, obj, options, lines):
     for i, line in enumerate(lines):
-        parts = _LITERAL.split(line)
+        parts = _LITERAL.split(typeset(line))
         for j in range(0, len(parts), 2):
             parts[j] = re.sub(r"(?<!\\)\|", r"\\|", parts[j])
             parts[j] = re.sub(r"(?<=\w)_(?=[^\w{`]|$)", r"\\_", parts[j])

@@ -5,10 +5,10 @@ it and on :mod:`particles`: the command line (:mod:`.app.cli`, one module per su
 plotting and output.  The kinetic library (every module outside ``app``) imports nothing from the
 application.
 
-The application's modules used to live at the top of the package (``maxwell_kinetics.cli``,
-``maxwell_kinetics.comparisons``, ...): importing one of those old paths raises an
-:class:`ImportError` that names the new home (a finder for those names alone, :data:`MOVED`,
-is put first on ``sys.meta_path`` on import; it finds no other module).
+Importing an application module by a path outside ``app`` (``maxwell_kinetics.cli``,
+``maxwell_kinetics.comparisons``, ... listed in :data:`MOVED`) raises an :class:`ImportError`
+that names its home in ``app`` (a finder for those names alone is put first on
+``sys.meta_path`` on import; it finds no other module).
 
 Importing this package changes no global configuration.  The JAX computations (:mod:`.solver`,
 :mod:`.stationary`) run in float64 inside ``jax.enable_x64(True)``, a thread-local context that

@@ -252,7 +252,7 @@ def linear_decay_rates(
     max_{2<s<3} γ(s)) as q_min → 0, from the side of faster decay: see :class:`LinearRates` and
     the module docstring.  ``sigma`` defaults to s*: the slow eigenfunctions behave like q^{s*},
     so w is O(1) across the whole log grid.  A weight far from s* makes w vary by e^{|σ−s*| ℓ}
-    (ℓ = ln(1/q_min)) and round-off then moves the computed eigenvalues (measured: σ = 2.75,
+    (ℓ = ln(1/q_min)) and round-off then moves the computed eigenvalues (σ = 2.75 with
     ln q_min = −80 gives wrong rates, below γ*, that change with n).
 
     γ(s) is the Bobylev–Cercignani–Toscani contraction rate of the d_s metric (Bobylev,

@@ -471,8 +471,9 @@ class MaxwellModel(CollisionModel):
 
     @property
     def lam(self) -> float:
-        """λ = p(1 − p) = (1 − r²)/4 (computed as the latter, accurate as r → 1): the energy
-        decays as e^{−2λτ} in d = 1."""
+        """The rate λ = p(1 − p) = (1 − r²)/4, computed as the latter (accurate as r → 1).
+
+        In d = 1 the energy decays as e^{−2λτ}."""
         return 0.25 * (1.0 - self.restitution**2)
 
     @property

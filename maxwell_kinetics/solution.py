@@ -354,12 +354,9 @@ class Solution:
 
         using G(−q) = conj G(q) and cutting G at the grid's end q_max.
 
-        ``x=None``: the pyfftw grid of :func:`maxwell_kinetics.velocity.inverse_transform`, the
-        trapezoid sum P(x_k) = (dq/2π) Σ_j e^{−2πijk/M} G(q_j), q_j = j dq, j = −M/2 .. M/2:
-        pyfftw's ``irfft`` (numpy's normalisation, (1/M) Σ_j X_j e^{+2πijk/M}) of the half
-        spectrum X_j = conj G(q_j), multiplied by M dq/2π; x_k = k L/M, k = −M/2 .. M/2 − 1,
-        with period L = 2π/dq = 1000 and M the smallest power of two with M dq/2 ≥ q_max.
-        Given x, P is computed there by Gauss–Legendre quadrature (no aliasing).  Error sources
+        ``x=None``: on the grid of the FFT of :func:`maxwell_kinetics.velocity.inverse_transform`
+        (a trapezoid sum with spacing dq, period L = 2π/dq = 1000 in x).  Given x, P is computed
+        there by Gauss–Legendre quadrature (no aliasing).  Error sources
         (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.
 
         Parameters
@@ -412,13 +409,10 @@ class Solution:
         Λ = 2λ), so ⟨s²⟩ = d and ∫_0^∞ P ds = 1; the density of |v| itself is P(|v| / v0) / v0.
 
         G(q) is the radial profile Φ(|k|) of the isotropic characteristic function
-        E[e^{ik·v/v0}] (the project's sign and normalisation), and P(s) = S_d s^{d−1} f(s) with
-        the radial inverse transform f (:func:`maxwell_kinetics.velocity.speed_density_at`,
-        where the formulas and the errors are): d = 3, P(s) = (2/π) s ∫_0^{q_max} k sin(ks)
-        G(k) dk; d = 2, P(s) = s ∫_0^{q_max} k J₀(ks) G(k) dk; d = 1, P(s) = (2/π) ∫_0^{q_max}
-        cos(ks) Re G(k) dk (the density of |x|), G cut at the grid's end q_max as in
-        :meth:`density`.  Gauss–Legendre panels, no aliasing.  ``s``: finite speeds ≥ 0
-        (InvalidArgumentError naming ``s`` otherwise).
+        E[e^{ik·v/v0}], and P(s) = S_d s^{d−1} f(s) with f its radial inverse transform, G cut
+        at the grid's end q_max as in :meth:`density` (Gauss–Legendre panels, no aliasing; the
+        formulas and the errors: :func:`maxwell_kinetics.velocity.speed_density_at`).  In
+        d = 1 it is the density of |x|.
 
         Parameters
         ----------

@@ -313,45 +313,31 @@ def solve(
 ) -> Solution:
     """Integrate the rescaled equation from G(q, 0) = φ(q) and save G at the requested τ.
 
-    ``dimension`` d ∈ {1, 2, 3} and ``angular`` ∈ {"uniform", "hard"} select the isotropic
-    inelastic Maxwell model in d dimensions (d = 1, the default, is the equation of the module
-    docstring; ``angular`` is then irrelevant).  With isotropic data φ(k) = Φ(|k|) and
-    η = (k̂·n)² ~ Beta(1/2, (d−1)/2) ("uniform") or Beta(1, (d−1)/2) ("hard"), q₁ = 1 − p:
+    G(q, τ) is the characteristic function of one Cartesian component of the rescaled velocity
+    v / v₀(τ), with v₀² = ⟨v_x²⟩ = e^{−Λτ} (unit initial variance per component); τ counts
+    collisions per particle.  In d = 1 (the default) it solves
 
-        ∂τ Φ(k) + Φ(k) = ∫₀¹ w(η) Φ(k √(1 − (1 − q₁²) η)) Φ(p k √η) dη,
+        ∂τ G = λ q ∂q G − G + G(pq) G((1 − p)q),    p = (1 + r)/2,  λ = (1 − r²)/4,
 
-    and ⟨|v|²⟩ ∝ e^{−Λτ}, Λ = 2 p q₁ ⟨η⟩
-    (:meth:`~maxwell_kinetics.model.MaxwellModel.energy_rate`; d = 1: η ≡ 1, Λ = 2λ).
-    Rescaled by the decaying per-component variance, G(q, τ) = Φ(q / v₀(τ), τ)
-    with v₀² = e^{−Λτ} (unit initial variance per component) solves
+    whose scaling solution is f̂(q) = (1 + |q|) e^{−|q|} for every r < 1.  In d = 2, 3 it solves
+    the isotropic inelastic Maxwell model, with η = (k̂·n)² ~ Beta(1/2, (d−1)/2) ("uniform") or
+    Beta(1, (d−1)/2) ("hard") and q₁ = 1 − p:
 
         ∂τ G = (Λ/2) q ∂q G − G + ∫₀¹ w(η) G(q √(1 − (1 − q₁²)η)) G(p q √η) dη,
 
-    the d = 1 equation with transport speed Λ/2 in place of λ and the gain averaged over η.
-    The η integral is Gauss–Jacobi quadrature with a node count that grows with q
-    (:func:`maxwell_kinetics._kinetic_scheme.angular_tiers`; each node is one pair of shifted
-    stencils on its range of q).  ``angular_rule`` "fast" (the default): 2, 3, 4, 6, 8, 12, 16,
-    12 nodes from q = 0, 1e-3, 1e-2, 0.05, 0.15, 0.35, 0.6, 10 (4.76 per grid point; G within
-    1.0e-8 of 32 nodes at every q, measured on the coarse grid for d = 2, 3, both angular
-    models, r = 0, 0.5, 0.9).  "accurate": 2 nodes below q = 1e-6, 16 up to q = 10 and 12 above
-    (10.7 per grid point, about 2.3× the cost): the fewer nodes of "fast" at small q keep G to
-    1e-8 but move the slowly relaxing |q|^{2s*} term that :mod:`maxwell_kinetics.scaling_tails`
-    fits (s* by 5e-4), so those fits require "accurate".  ``angular_nodes`` (16) scales every
-    range of either rule (32 doubles them; at least 2 nodes).  Measured (coarse
-    grid, r = 0.5, G at τ = 30 and 300 against 32 nodes at every q): 16 nodes at every q differ
-    by 3.1e-9 (d = 2) and 2.7e-9 (d = 3).  Λ/2 is taken as p q₁ Σ ω_i η_i with the quadrature's
-    own ⟨η⟩ (exact in every range) so that G''(0) = −1 is kept exactly.  G(0) = 1, and G is the
-    characteristic function of one Cartesian component of v / v₀ along any axis, so
-    :meth:`~maxwell_kinetics.solution.Solution.density` gives the density of one component and
-    :meth:`~maxwell_kinetics.solution.Solution.speed_density` that of the speed |v| / v₀. The
-    initial law's φ is used as the radial profile Φ: it must be a d-dimensional characteristic
-    function (the Gaussian is, in every d); d ≥ 2 needs a symmetric law with m₃ = 0 and r < 1
-    (at r = 1 the d ≥ 2 equation still relaxes, and Λ = 0 leaves the scheme no transport).
-    The distances to f̂ (:meth:`~maxwell_kinetics.solution.Solution.sup_error`,
-    :meth:`~maxwell_kinetics.solution.Solution.fourier_distance`) are defined for d = 1 only and
-    raise for d ≥ 2: f̂ is the one-dimensional scaling solution, and none is known in closed form
-    for d ≥ 2. The stored array ``deviation`` = G − f̂ is then only the representation
-    :meth:`~maxwell_kinetics.solution.Solution.evaluate` interpolates, not a distance to anything.
+    Λ = 2 p q₁ ⟨η⟩ (:meth:`~maxwell_kinetics.model.MaxwellModel.energy_rate`; Λ = 2λ in d = 1).
+    The η integral is a Gauss–Jacobi quadrature whose node count grows with q: ``angular_rule``
+    "fast" keeps G within 1e-8 of a converged rule; "accurate" (about 2.3× the cost) is needed
+    by the tail fits of :mod:`maxwell_kinetics.scaling_tails`.  The initial law's φ is used as
+    the radial profile: in d ≥ 2 it must be a d-dimensional characteristic function (the
+    Gaussian is, in every d), symmetric (m₃ = 0), and r < 1.  The distances to f̂
+    (:meth:`~maxwell_kinetics.solution.Solution.sup_error`,
+    :meth:`~maxwell_kinetics.solution.Solution.fourier_distance`) are defined in d = 1 only.
+
+    Called from Python, Ctrl-C raises ``KeyboardInterrupt`` as usual; the command line defers it
+    to the end of the current chunk of windows (:mod:`maxwell_kinetics.interrupt`), so that it
+    is neither lost nor raised inside JAX.  The method, its accuracy and its cost:
+    :doc:`/guide/kinetic` and :doc:`/performance`.
 
     Parameters
     ----------
@@ -389,11 +375,6 @@ def solve(
     maxwell_kinetics.solution.Solution
         G and G − f̂ on the grid at the saved τ, with the settings and the wall-clock time.
 
-    Ctrl-C: called from Python, an interrupt raises KeyboardInterrupt as usual (Python's own
-    SIGINT handler).  The command line instead defers it (:mod:`maxwell_kinetics.interrupt`):
-    the loop waits for each chunk of windows (1/200 of the run) and raises KeyboardInterrupt
-    between chunks, so that it is neither lost nor raised inside JAX.
-
     Raises
     ------
     KeyboardInterrupt
@@ -407,6 +388,13 @@ def solve(
         a finite third moment, ``characteristic`` when φ is not finite where it is sampled.
     FloatingPointError
         If the integration produces a non-finite G.
+
+    Examples
+    --------
+    >>> from maxwell_kinetics import solve
+    >>> sol = solve(0.5, "gaussian", tau=[1, 5], resolution="coarse", progress=False)
+    >>> sol.sup_error().shape  # sup_q |G(q, τ) − f̂(q)| at τ = 1 and 5
+    (2,)
     """
     checked = check_solve_arguments(restitution, initial, tau, resolution, options=options,
                                     dimension=dimension, angular=angular,

@@ -408,13 +408,11 @@ def fixed_point(
     G(q) the radial profile of the rescaled characteristic function (unit variance per
     component), with the same three conditions: the non-analytic A q^{2s*} term of the scaling
     solution plays the part of 1D's c₃ q³ (a free amplitude near q = 0 that only the decay at
-    large q fixes).  The Jacobian is assembled in NumPy (:func:`_isotropic_fixed_point`; with
-    the single node η = 1 it is the 1D problem, and gives the same G as the JAX path to
-    round-off, tested).  That term makes the Chebyshev convergence algebraic, not spectral:
-    measured (Q = 40, 16 nodes) max |G_n − G_128| = 1.6e-5, 1.7e-7, 2.7e-9 for n = 48, 64, 96
-    at r = 0.5, d = 2 (s* large), and 1.2e-3, 3.2e-4, 3.8e-5 at r = 0, d = 2 (2s* = 4.29);
-    against the time-dependent solve on the coarse grid at τ = 800: 3.0e-8 (d = 2, r = 0.5),
-    1.9e-8 (d = 3 hard, r = 0.5), 1.4e-5 (d = 2, r = 0).
+    large q fixes).  The Jacobian is assembled in NumPy (with the single node η = 1 it is the
+    1D problem, and gives the same G as the JAX path to round-off).  That term makes the
+    Chebyshev convergence algebraic, not spectral: the error falls slowly with ``n`` where 2s*
+    is small (r = 0), fast where it is large (the page "What is not done" of the
+    documentation gives the accuracies).
 
     Parameters
     ----------

@@ -395,11 +395,12 @@ def exact_shock_density(a, b) -> np.ndarray:
     turns this drift into the potential ∫ X ds of a driftless path X, so the density of Z killed
     at 0 is q(s₀, x; s₁, y) = e^{s₁ y − s₀ x − (s₁³ − s₀³)/6} K(s₁ − s₀; x, y), K the kernel of
     exp(−t(−½ ∂² + x)) on x > 0 with a Dirichlet wall.  Its eigenfunctions are Ai(2^{1/3} x +
-    a_k) with eigenvalues −2^{−1/3} a_k, and ∂_x ∂_y K(t; 0, 0) = k(t) = 2 Σ_k e^{2^{−1/3} a_k
-    t} (:func:`_log_k`).  The probability that Z, started at x at the point τ, never returns to
-    0 is S(τ, x) ≈ φ(τ) x for small x, and ψ(τ) = e^{−τ³/6} φ(τ) has the Fourier transform
-    ∫ e^{iλτ} ψ(τ) dτ = 2^{2/3}/Ai(i 2^{1/3} λ) (Laplace transform of the backward equation in
-    τ: the solution vanishing at x = 0 whose growth in x is that of e^{τx − τ³/6}).  Hence
+    a_k) with eigenvalues −2^{−1/3} a_k, and ∂_x ∂_y K(t; 0, 0) = k(t) =
+    2 Σ_k e^{2^{−1/3} a_k t} (``_log_k``).  The probability that Z, started at x at the point
+    τ, never returns to 0 is S(τ, x) ≈ φ(τ) x for small x, and ψ(τ) = e^{−τ³/6} φ(τ) has the
+    Fourier transform ∫ e^{iλτ} ψ(τ) dτ = 2^{2/3}/Ai(i 2^{1/3} λ) (Laplace transform of the
+    backward equation in τ: the solution vanishing at x = 0 whose growth in x is that of
+    e^{τx − τ³/6}).  Hence
     ψ(τ) = 2^{1/3} (1/2πi) ∫ e^{−2^{−1/3} τ z}/Ai(z) dz (:func:`_contour_log`), also
     ψ(τ) = 2^{1/3} Σ_k e^{−2^{−1/3} a_k τ}/Ai'(a_k) for τ < 0, and ψ(τ) ≈ 2τ e^{−τ³/6} as
     τ → ∞.  This is Groeneboom's function (1989): his g(t) is 2^{1/3} ψ(2^{2/3} t), and the

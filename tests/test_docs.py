@@ -7,6 +7,7 @@ import importlib
 import re
 import subprocess
 import sys
+from html.parser import HTMLParser
 from pathlib import Path
 
 import pytest
@@ -86,7 +87,8 @@ def _python_blocks(path: Path) -> list[str]:
     return re.findall(r"```python\n(.*?)```", path.read_text(), re.S)
 
 
-@pytest.mark.parametrize("page", ["README.md", "docs/getting_started.md", "docs/guide/sticky.md",
+@pytest.mark.parametrize("page", ["README.md", "docs/index.md", "docs/getting_started.md",
+                                  "docs/guide/sticky.md",
                                   "docs/guide/ensembles.md", "docs/guide/reproducibility.md",
                                   "docs/guide/errors.md"])
 def test_code_examples_run(page, tmp_path, monkeypatch, capsys):
@@ -114,3 +116,93 @@ def test_no_references_to_outside_documents():
                 if pattern.search(line):
                     hits.append(f"{path.relative_to(ROOT)}:{n}")
     assert not hits, hits
+
+
+class _ProseText(HTMLParser):
+    """The text a reader sees in a built page's article, without code (``<pre>``, ``<code>``,
+    literals) and without typeset maths (MathJax's ``math`` spans and divs)."""
+
+    _SKIP_TAGS = {"pre", "code", "script", "style", "math"}
+    _SKIP_CLASSES = {"math", "highlight", "pre"}
+    _VOID = {"br", "img", "hr", "meta", "link", "input", "col", "area", "base", "wbr", "source"}
+
+    def __init__(self):
+        super().__init__(convert_charrefs=True)
+        self.open: list[tuple[str, bool, bool]] = []  # (tag, skipped, article)
+        self.skip = self.article = 0
+        self.parts: list[str] = []
+
+    def handle_starttag(self, tag, attrs):
+        if tag in self._VOID:
+            return
+        classes = set((dict(attrs).get("class") or "").split())
+        skip = tag in self._SKIP_TAGS or bool(classes & self._SKIP_CLASSES)
+        self.open.append((tag, skip, tag == "article"))
+        self.skip += skip
+        self.article += tag == "article"
+
+    def handle_endtag(self, tag):
+        if all(name != tag for name, _, _ in self.open):
+            return  # a stray end tag closes nothing
+        while self.open:
+            name, skip, article = self.open.pop()
+            self.skip -= skip
+            self.article -= article
+            if name == tag:
+                break
+
+    def handle_data(self, data):
+        if self.article and not self.skip:
+            self.parts.append(data)
+
+
+def _prose(page: Path) -> str:
+    parser = _ProseText()
+    parser.feed(page.read_text(errors="replace"))
+    return " ".join(parser.parts)
+
+
+# What a user page must not hold in its prose: a commit hash (a word of 7 to 40 hex digits with
+# both a digit and a letter, not the digits of a number such as 1.80e-35), raw TeX (maths is
+# typeset, in $...$ or :math:), and words about the development of the code.
+_PAGE_FAULTS = {
+    "commit hash": re.compile(
+        r"(?<![\w.\-+])(?=[0-9a-f]*[0-9])(?=[0-9a-f]*[a-f])[0-9a-f]{7,40}(?![\w\-+])"),
+    "raw TeX": re.compile(r"\^\{|_\{|\\(?:frac|sqrt|mathrm|langle|rangle|int|sum|alpha|beta|gamma"
+                          r"|lambda|tau|partial|cdot|left|right|infty|hat|tfrac|ln|exp)\b"),
+    "development words": re.compile(r"\bVMs?\b|\bvCPUs?\b|\blent\b|\bthe issue\b|\bthis task\b",
+                                    re.I),
+}
+
+
+def test_page_faults_are_found():
+    # the scan finds each fault in a page (after a stray end tag too), and none in code or
+    # typeset maths
+    page = ("<article><p>Measured at 1a2b3c4 on this VM; e^{-x} and \\frac{1}{2}.</p>"
+            "<pre>e^{-x} 1a2b3c4 VM</pre><code>x_{1}</code>"
+            '<span class="math notranslate">\\(e^{-x}\\)</span>'
+            "<p>q_min = 1.8048513878454153e-35, 10 runs</p></li><p>then t^{2/3}</p></article>")
+    text = _ProseText()
+    text.feed(page)
+    prose = " ".join(text.parts)
+    found = {kind: [m.group(0) for m in rule.finditer(prose)]
+             for kind, rule in _PAGE_FAULTS.items()}
+    assert found == {"commit hash": ["1a2b3c4"], "raw TeX": ["^{", "\\frac", "^{"],
+                     "development words": ["VM"]}
+
+
+def test_user_pages_hold_no_commit_hash_raw_tex_development_words_or_private_links(built_site):
+    faults = []
+    for page in sorted(built_site.rglob("*.html")):
+        if {"_static", "_sources", "_modules"} & set(page.parts) or page.name in (
+                "genindex.html", "search.html", "py-modindex.html"):
+            continue
+        html = page.read_text(errors="replace")
+        for private in re.findall(r'href="[^"]*#[\w.]*\._[a-z][\w.]*"', html):
+            faults.append(f"{page.relative_to(built_site)}: link to a private name: {private}")
+        prose = _prose(page)
+        for kind, rule in _PAGE_FAULTS.items():
+            for m in rule.finditer(prose):
+                context = prose[max(0, m.start() - 40):m.end() + 40].replace("\n", " ")
+                faults.append(f"{page.relative_to(built_site)}: {kind}: ...{context}...")
+    assert not faults, "\n".join(faults[:40]) + f"\n({len(faults)} in all)"

@@ -2,17 +2,21 @@
 
 Every name in the face's ``__all__`` is documented under the face's own dotted name
 (``particles.Ulam``), so that the API reference lists exactly the public names and cannot
-forget one.  A name that two faces export (``particles.simulate`` is
-``particles.driver.simulate``) is documented in full under the first face and as an alias under
-the next ones.
+forget one; the names of ``apigen_first`` (the most used) lead each page.  Every other public
+module gets a page of its own under ``api/modules/``.  A name that two faces export
+(``particles.simulate`` is ``particles.driver.simulate``) is documented in full under its home
+face (:func:`_home_face`) and as an alias under the others.
 """
 
 from __future__ import annotations
 
 import importlib
 import inspect
+import re
 import sys
 from pathlib import Path
+
+from mathtext import typeset
 
 
 def _directive(obj) -> str:
@@ -47,7 +51,9 @@ def _data(face: str, name: str, obj) -> list[str]:
     where, doc = _data_doc(face, name, obj)
     lines = [f".. py:data:: {name}", ""]
     if doc:
-        lines += ["   " + doc.replace("|", "\\|"), ""]
+        parts = re.split(r"(:math:`[^`]*`|``.*?``)", typeset(doc))
+        parts[::2] = [part.replace("|", "\\|") for part in parts[::2]]
+        lines += ["   " + "".join(parts), ""]
     if where and where != face:
         lines += [f"   Defined in ``{where}``.", ""]
     return lines
@@ -71,62 +77,100 @@ def face_names(face: str) -> list[str]:
     return list(importlib.import_module(face).__all__)
 
 
+def _ordered(names, first) -> list[str]:
+    """``names`` with those listed in ``first`` (the most used) leading, in that order."""
+    lead = [n for n in first if n in names]
+    return lead + [n for n in names if n not in lead]
+
+
+def _write(path: Path, lines: list[str]) -> None:
+    text = "\n".join(lines) + "\n"
+    if not path.exists() or path.read_text() != text:
+        path.write_text(text)
+
+
+def _home_face(module: str, faces, layers) -> str | None:
+    """The shortest face that is a prefix of ``module``, a face inside a layer of ``layers``
+    (``maxwell_kinetics.app``) only for a module of that layer and the other way round."""
+    def within(name, prefix):
+        return name == prefix or name.startswith(prefix + ".")
+
+    layer = next((lay for lay in layers if within(module, lay)), None)
+    candidates = [f for f in faces if within(module, f)
+                  and (layer is None) == (not any(within(f, lay) for lay in layers))]
+    return min(candidates, key=len) if candidates else None
+
+
 def write_api(app) -> None:
     out = Path(app.srcdir) / "api"
-    out.mkdir(exist_ok=True)
+    (out / "modules").mkdir(parents=True, exist_ok=True)
     seen: dict[int, str] = {}
     index = ["API reference", "=============", "",
-             "Every name in the ``__all__`` of each package face, built from its docstring.", "",
+             "One page per package face (the names of its ``__all__``), the most used first; "
+             "then one page per module.", "",
              ".. toctree::", "   :maxdepth: 1", ""]
+    # an object two faces export is documented in full under its home face: the shortest face
+    # that is a prefix of its module, the application (``apigen_layers``) counting as a
+    # package of its own (``particles.InvalidArgumentError``, also exported by
+    # ``maxwell_kinetics``; ``maxwell_kinetics.app.comparisons.Comparison``, also exported by
+    # ``maxwell_kinetics``); else the first face that exports it
+    faces = app.config.apigen_faces
+    for at_home in (True, False):
+        for face in faces:
+            module = importlib.import_module(face)
+            for name in module.__all__:
+                obj = getattr(module, name)
+                if not (inspect.isclass(obj) or inspect.isfunction(obj)) or id(obj) in seen:
+                    continue
+                home = _home_face(getattr(obj, "__module__", None) or "", faces,
+                                  app.config.apigen_layers)
+                if home == face or not at_home:
+                    seen[id(obj)] = f"{face}.{name}"
     for face in app.config.apigen_faces:
         module = importlib.import_module(face)
         index.append(f"   {face.replace('.', '-')}")
         title = f"``{face}``"
         lines = [title, "=" * len(title), "", f".. automodule:: {face}", "   :no-members:", "",
                  f".. currentmodule:: {face}", ""]
-        for name in module.__all__:
+        for name in _ordered(module.__all__, app.config.apigen_first):
             obj = getattr(module, name)
             key = id(obj)
             simple = inspect.isclass(obj) or inspect.isfunction(obj)
-            if simple and key in seen:
+            if simple and seen[key] != f"{face}.{name}":
                 lines += [f".. py:data:: {name}", "",
                           f"   The same object as :py:obj:`{seen[key]}`.", ""]
                 continue
-            if simple:
-                seen[key] = f"{face}.{name}"
             if _directive(obj) == "autodata":
                 lines += _data(face, name, obj)
                 continue
             lines += [f".. {_directive(obj)}:: {name}", ""]
-        text = "\n".join(lines) + "\n"
-        path = out / f"{face.replace('.', '-')}.rst"
-        if not path.exists() or path.read_text() != text:
-            path.write_text(text)
-    index.append("   modules")
+        _write(out / f"{face.replace('.', '-')}.rst", lines)
+    index.append("   modules/index")
     mods = ["Modules", "=======", "",
-            "Every module of the two packages with its documented members; the package faces "
-            "above are the supported entry points.", ""]
+            "Every public module of the two packages, one page each, with its documented "
+            "members; the package faces are the supported entry points.", "",
+            ".. toctree::", "   :maxdepth: 1", ""]
+    written = set()
     for modname in _submodules(app.config.apigen_faces):
-        mods += [f"``{modname}``", "-" * (len(modname) + 4), "",
-                 f".. automodule:: {modname}", "   :members:", ""]
+        title = f"``{modname}``"
+        page = [title, "=" * len(title), "", f".. automodule:: {modname}", "   :members:", ""]
         parent, _, leaf = modname.rpartition(".")
         importlib.import_module(modname)
         if not isinstance(getattr(importlib.import_module(parent), leaf, None), type(sys)):
-            mods.insert(-1, "   :no-index:")  # the face exports a function of this name
-        if modname in app.config.apigen_faces:
-            mods[-2] = "   :no-members:"
-    text = "\n".join(mods) + "\n"
-    path = out / "modules.rst"
-    if not path.exists() or path.read_text() != text:
-        path.write_text(text)
-    text = "\n".join(index) + "\n"
-    path = out / "index.rst"
-    if not path.exists() or path.read_text() != text:
-        path.write_text(text)
-    # pages of faces that are no longer listed (a module moved) are generated files: remove them
-    written = {f"{face.replace('.', '-')}.rst" for face in app.config.apigen_faces}
+            page.insert(-1, "   :no-index:")  # the face exports a function of this name
+        _write(out / "modules" / f"{modname}.rst", page)
+        written.add(f"{modname}.rst")
+        mods.append(f"   {modname}")
+    _write(out / "modules" / "index.rst", mods)
+    _write(out / "index.rst", index)
+    # pages of faces or modules that are no longer listed (a module moved) are generated
+    # files: remove them
+    faces = {f"{face.replace('.', '-')}.rst" for face in app.config.apigen_faces}
     for stale in out.glob("*.rst"):
-        if stale.name not in written | {"index.rst", "modules.rst"}:
+        if stale.name not in faces | {"index.rst"}:
+            stale.unlink()
+    for stale in (out / "modules").glob("*.rst"):
+        if stale.name not in written | {"index.rst"}:
             stale.unlink()
 
 
@@ -182,5 +226,7 @@ def _one_object_many_names():
 def setup(app):
     _one_object_many_names()
     app.add_config_value("apigen_faces", [], "env")
+    app.add_config_value("apigen_first", [], "env")
+    app.add_config_value("apigen_layers", [], "env")
     app.connect("builder-inited", write_api)
     return {"parallel_read_safe": True, "version": "1"}

@@ -11,15 +11,18 @@ from __future__ import annotations
 import argparse
 import re
 
+from mathtext import typeset
+
 from maxwell_kinetics.app.cli import build_parser
 
-_LITERAL = re.compile(r"(``.*?``)", re.S)
+_LITERAL = re.compile(r"(``.*?``|:math:`[^`]*`)", re.S)
 
 
 def _escape(text):
     if not text:
         return text
     text = re.sub(r":[a-z:]+:`~?\.?([^`]*)`", r"``\1``", text)
+    text = "\n".join(typeset(line) for line in text.split("\n"))
     parts = _LITERAL.split(text)
     for j in range(0, len(parts), 2):
         parts[j] = re.sub(r"([|`*])", r"\\\1", parts[j])

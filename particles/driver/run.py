@@ -111,31 +111,14 @@ def simulate(
     checkpoint_interval: float = 60.0,
     force: bool = False,
 ) -> RunResult:
-    """Run ``engine`` from its initial state through the requested ``times`` (increasing, ≥ 0).
+    """Run ``engine`` from its initial state through the requested ``times`` and record it.
 
-    Records at every requested time the energy ⟨v²⟩, the mean velocity, the total number of
-    collisions, the structure factor (``structure_factor=True`` or ``"all"``; ``"last"`` keeps
-    it at the last time only, which is all the CLI prints: one row of N/2 + 1 floats instead of
-    one per time) and the velocities (``snapshots=True``); at the last time the rescaled
-    histogram on ``bins`` (edges in x = v/√E, default
-    :data:`particles.observables.DEFAULT_EDGES`).
-
-    ``seed`` (an integer in [0, :data:`particles.validation.SEED_MAX`] = [0, 2⁶⁴ − 1], the one
-    bound of the command line and the ensembles too) seeds the one ``np.random.default_rng``
-    of the run.  With
-    ``checkpoint=PATH`` the state, the RNG state and the records so far are written to PATH
-    every ``checkpoint_interval`` wall-clock seconds (at the engine's stops), at the end, and on
-    Ctrl-C before the ``KeyboardInterrupt`` propagates; the propagating exception then carries
-    the path as ``checkpoint_saved`` (absent if nothing was saved on the interrupt, e.g. when it
-    came before the run loop).  ``resume=PATH`` continues from such a
-    file; the run (model, parameters, times, seed, options) must be the one that wrote it, else
-    :class:`CheckpointError`.  A resumed run equals an uninterrupted one bit for bit.  While
-    the run writes ``checkpoint`` it holds a lock on ``<checkpoint>.lock``: a second run on the
-    same path is refused (:class:`CheckpointError` naming it).
-
-    Before anything is drawn, the run's memory and work are estimated
-    (:mod:`particles.budget`): a run that cannot fit in the memory available is refused, and so
-    is one of more than 10¹³ events unless ``force=True``.
+    At every requested time the run records the energy ⟨v²⟩, the mean velocity and the total
+    number of collisions, and, on request, the structure factor and the velocities; at the last
+    time it records the rescaled histogram of the velocities.  A run is a function of its
+    engine, times and seed: the same arguments give the same records bit for bit, and so does a
+    run resumed from a checkpoint.  Before anything is drawn, the run's memory and work are
+    estimated (:mod:`particles.budget`).
 
     Parameters
     ----------
@@ -144,19 +127,40 @@ def simulate(
         :class:`~particles.MDEngine`, :class:`~particles.StickyGas`, or any object with every
         member of the contract :class:`particles.driver.Engine`).
     times : sequence of float
-        Increasing times ≥ 0, in the engine's own time (τ, or t for MD and the sticky gas).
+        Increasing times ≥ 0, in the engine's own time (the collision time τ for Ulam and the
+        lattice, the physical time t for MD and the sticky gas).
     seed : int or numpy.random.SeedSequence
-        The run's seed: an integer in [0, 2⁶⁴ − 1] (:func:`particles.validation.check_seed`),
-        or a ``SeedSequence`` (e.g. a child of ``SeedSequence(s).spawn(k)`` for independent
-        runs).  ``SeedSequence(s)`` of such an integer s is the run of seed s, bit for bit,
-        and is recorded as s; any other is recorded (``RunResult.seed``, checkpoints) as
-        ``{"entropy", "spawn_key", "pool_size"}``.  A ``numpy.random.Generator`` is refused.
+        The run's seed: an integer in [0, 2⁶⁴ − 1] (:data:`particles.validation.SEED_MAX`, the
+        bound of the command line and the ensembles too), or a ``SeedSequence`` (e.g. a child
+        of ``SeedSequence(s).spawn(k)`` for independent runs).  It seeds the one
+        ``numpy.random.default_rng`` of the run.  ``SeedSequence(s)`` of an integer s is the
+        run of seed s, bit for bit, and is recorded as s; any other is recorded
+        (``RunResult.seed``, checkpoints) as ``{"entropy", "spawn_key", "pool_size"}``.
     progress : bool or None, optional
         None (default): a bar on a terminal or in a notebook, nothing otherwise; True: a bar,
         or a few plain lines where no bar can be drawn; False: nothing
         (:func:`particles.progress.progress_bar`).
-    checkpoint, resume, bins, structure_factor, snapshots, checkpoint_interval, force
-        As described above.
+    checkpoint : str or path, optional
+        A file to which the state, the RNG state and the records so far are written every
+        ``checkpoint_interval`` seconds of wall-clock time (at the engine's stops), at the end,
+        and on Ctrl-C before the ``KeyboardInterrupt`` propagates; that exception then carries
+        the path as ``checkpoint_saved`` (absent if nothing was saved, e.g. when it came before
+        the run loop).  While the run writes it, it holds a lock on ``<checkpoint>.lock``.
+    resume : str or path, optional
+        A checkpoint to continue from; it must have been written by this same run (model,
+        parameters, times, seed and options).
+    bins : array_like, optional
+        Edges of the final histogram in the rescaled velocity x = v/√E (one Cartesian component
+        in d > 1); default :data:`particles.observables.DEFAULT_EDGES`.
+    structure_factor : bool or {"all", "last"}, optional
+        Record S(k) (d = 1 only): True or ``"all"`` at every time, ``"last"`` at the last time
+        only (one row of N/2 + 1 floats), False (default) not at all.
+    snapshots : bool, optional
+        Record the velocities at every time (d = 1 only).  Default False.
+    checkpoint_interval : float, optional
+        Seconds of wall-clock time between checkpoint writes (≥ 0; default 60).
+    force : bool, optional
+        Run even when the estimated work exceeds 10¹³ events.  Default False.
 
     Returns
     -------
@@ -167,11 +171,20 @@ def simulate(
     ------
     particles.InvalidArgumentError
         For a bad argument (``engine`` lacking a member of the contract, naming the engine and
-        the members; a ``seed`` that is a Generator, saying why), or a run refused by its
-        estimated memory or work (an engine without the
-        estimates is refused, naming it).
+        the members; a ``seed`` that is a ``numpy.random.Generator``; ``structure_factor`` or
+        ``snapshots`` in d > 1), or a run refused by its estimates: one that cannot fit in the
+        memory available, or one of more than 10¹³ events without ``force=True`` (an engine
+        without the estimates is refused, naming it).
     particles.CheckpointError
-        For a checkpoint of another run, or one locked by a running process.
+        For a ``resume`` file written by another run, or a ``checkpoint`` locked by a running
+        process.
+
+    Examples
+    --------
+    >>> from particles import Ulam, simulate
+    >>> result = simulate(Ulam(n=1000, restitution=0.5), [0.0, 1.0, 2.0], seed=1, progress=False)
+    >>> result.energy.shape
+    (3,)
     """
     _check_engine(engine)
     times = check_times(times, engine.time_name)

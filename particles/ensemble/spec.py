@@ -111,7 +111,7 @@ def _json_value(name: str, value):
 
 @dataclass(frozen=True)
 class EnsembleTask:
-    """One run of an ensemble: ``params`` (this task's values of the spec's parameters),
+    """One run of an ensemble: ``params`` (the run's values of the spec's parameters),
     ``seed``, the index ``set_index`` of its parameter set in the grid, and ``key``, the hash of
     ``identity`` (what the run's result depends on) that names its file.
 
@@ -120,7 +120,7 @@ class EnsembleTask:
     model : str
         The model's name.
     params : dict
-        This task's parameter values.
+        The run's parameter values.
     seed : int
         The run's seed.
     times : tuple of float

@@ -3,8 +3,8 @@
 Velocities stay in [v_min, v_max] forever (collisions make convex combinations), so a pending
 collision at (c_a, X_a) cannot influence anything outside the cone X_a + [v_min, v_max] (t − c_a).
 A prediction (c_b, X_b) is *safe* when it is earlier than both neighbouring pairs' predictions and
-no other pending collision's cone reaches it: v_max c_b − X_b < min_{a left of b} (v_max c_a − X_a)
-and X_b − v_min c_b < min_{a right of b} (X_a − v_min c_a), prefix and suffix minima by
+no other pending collision's cone reaches it: v_max c_b − X_b < min_{a<b} (v_max c_a − X_a)
+and X_b − v_min c_b < min_{a>b} (X_a − v_min c_a), prefix and suffix minima by
 ``np.minimum.accumulate`` (the ring enters as one extra lap, + L_r). All safe collisions are
 processed in one NumPy pass. The globally earliest collision is always safe, so the scheme never
 stalls; so is the earliest, in (time, index) order, of a *tie group* (candidates within a few cone

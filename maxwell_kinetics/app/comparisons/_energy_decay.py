@@ -1,5 +1,5 @@
-"""Comparison 5: E(t) of MD (Haff's t⁻², then t^{−2/3}) and E(τ) of the lattice (exponential,
-then τ^{−1/2}).  ``run`` computes, ``plot`` draws."""
+"""Comparison 5: E(t) of MD (Haff's t⁻², then t^(−2/3)) and E(τ) of the lattice (exponential,
+then τ^(−1/2)).  ``run`` computes, ``plot`` draws."""
 
 from __future__ import annotations
 
@@ -55,9 +55,8 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
     * MD late: slope of ln E against ln t on ``md_late_window`` (expected −2/3);
     * lattice early: the initial rate d ln E/dτ at τ = 0⁺ (exact: −(1 − r²)/2), the
       linear coefficient of a quadratic fit of ln E against τ on ``lattice_early_window``.  A
-      straight line there measures the mean slope over the window instead, which the build-up
-      of correlations makes steeper: measured at N = 10⁶ (4 seeds, τ ≤ 0.25) −0.37740 ± 0.00060
-      for the line, 4.0σ from −0.375, against −0.3750 ± 0.0025 for the quadratic's slope at 0;
+      straight line there would measure the mean slope over the window instead, which the
+      build-up of correlations makes steeper;
     * lattice late: slope of ln E against ln τ on ``lattice_late_window`` (expected −1/2).
 
     Each fit reports its ``window`` (from the preset), ``fit_range`` (first and last recorded
@@ -65,8 +64,7 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
 
     The late exponents' ``uncertainty`` adds in quadrature the seeds' standard error and the
     window drift (half the difference of the slopes on the two halves of the window): the local
-    exponent still drifts there (measured for the lattice, N = 10⁵, 2 seeds: −0.474 at τ ≈ 30,
-    −0.491 at τ ≈ 300, −0.484 at τ ≈ 2000), so the seeds' error alone understates it.
+    exponent still drifts inside the window, so the seeds' error alone would understate it.
 
     ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
     resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.

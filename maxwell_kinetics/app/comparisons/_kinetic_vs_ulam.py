@@ -116,17 +116,13 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     (:func:`fft_bin_probabilities`) with the quadrature bin probabilities:
 
     * ``max_abs``: max over the bins of the difference, and ``max_abs_in_sigma`` in units of the
-      bin's standard error (seed scatter).  Measured at the small size: ≤ 2.2e-11 for the
-      bimodal law; for the asymmetric law (r = 0.9) 8.99e-4, 2.52e-4, 6.2e-7 at τ = 0.5, 2, 8
-      (0.94, 0.13, 0.001 standard errors): the ringing, which decays only like 1/distance from
-      the jump (2e-4 four bins away at τ = 0.5), so excluding the bins next to the jump would
-      not remove it.  Near 1σ in a bin at τ = 0.5 is why the χ² keeps the quadrature;
+      bin's standard error (seed scatter).  For a law with a jump (the asymmetric law) the
+      FFT rings next to the jump, and the ringing decays only like 1/distance from it: this is
+      why the χ² uses the quadrature;
     * ``never_collided_cut_max_abs``: the size of that ringing computed alone
       (:func:`never_collided_cut`, the only term the two methods treat differently);
-    * ``max_abs_cut_removed``: the difference once that term is removed: what remains is the
-      numerical error of the two integrations (measured at the small size 9.6e-7, 2.8e-7,
-      3.4e-10 for the asymmetric law at τ = 0.5, 2, 8, largest next to the jump), checked in
-      the tests against 5e-6.
+    * ``max_abs_cut_removed``: the difference once that term is removed: the numerical error
+      of the two integrations (checked in the tests against 5e-6).
 
     Parameters
     ----------

@@ -2,7 +2,7 @@
 (:mod:`particles.sticky`) standing in for late MD, and the sticky gas against its exact late-time
 laws: the velocity law and the cluster-mass law as whole curves (χ² per time, the corrections to
 scaling shrinking with t), the local exponent β(w) of the velocity tail (engine and exact law),
-E ~ t^{−2/3}, S(k) against k t^{2/3} with its Porod tail, the shocks of v(x) and v(i), and the
+E ~ t^(−2/3), S(k) against k t^(2/3) with its Porod tail, the shocks of v(x) and v(i), and the
 displacements against Chernoff's law.  ``run`` computes, ``plot`` draws."""
 
 from __future__ import annotations

@@ -1,5 +1,5 @@
 """Comparison 8: paired validation of the sticky gas as the late stage of MD — MD at
-r = 0.5, δ = 10⁻⁴ and the exact sticky gas from the SAME initial state agree in E t^{2/3}
+r = 0.5, δ = 10⁻⁴ and the exact sticky gas from the SAME initial state agree in E t^(2/3)
 closer than independent seeds do, and where the equivalence ends (t δ ≫ 1, Shinde, Das and
 Rajesh 2007).  ``run`` computes, ``plot`` draws."""
 

@@ -68,13 +68,10 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
       fewer than 3 log bins), and the mean and standard error over seeds of per-seed fits at the
       last time (``porod_slope_last_time``).  Jackknife errors need 3 seeds (None below).
 
-    Why the lattice window is x = k τ^{1/2} ∈ [8, 30], k ≤ 0.5, fitted at τ = 2000 (measured,
-    r = 0.5, N = 2·10⁴, seeds 100–103): the local slope of S overshoots to about −3 at the knee of
-    the scaling function (x ≈ 2) and comes back to −2 only for x ≳ 8; it leaves −2 again near
-    the lattice scale (k ≳ 1).  On the earlier window x ∈ [3, 15], k ≤ 0.6 the slope was
-    −2.145 ± 0.018 (τ = 200), −2.085 ± 0.016 (τ = 800), −2.082 ± 0.028 (τ = 2000): the knee's
-    crossover, not a Porod exponent.  A Porod range x ∈ [8, 30] with k ≤ 0.5 first exists at
-    τ ≈ 2000.  The window was then checked on 8 fresh seeds (500–507): −2.018 ± 0.023.
+    The lattice window x = k τ^{1/2} ∈ [8, 30], k ≤ 0.5 lies where the local slope of S has
+    come back to −2 after overshooting to about −3 at the knee of the scaling function (x ≈ 2),
+    and below the lattice scale (k ≳ 1); such a range first exists at τ ≈ 2000 (r = 0.5).  Why,
+    with the slopes on other windows: the page "Measured results" of the documentation.
 
     ``checkpoint_dir``: an existing folder where each MD run checkpoints and from which it
     resumes (:func:`.particle_runs.md_runs`); None (default): no checkpoints.

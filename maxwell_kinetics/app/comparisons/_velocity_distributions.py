@@ -76,16 +76,12 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
     energy e^{−2λτ N/(N−1)} equals the target, and f(x) = 2/(π(1+x²)²) is its τ → ∞ law.
 
     Choice of the MD times (r = 0.99): Haff's time t₀ = √π/((1 − r²) n) ≈ 89.  At t = 400 the
-    gas is still close to Haff's homogeneous cooling (E/E_Haff is reported; 1.13 measured at
-    N = 2·10⁴) and the kurtosis of P(x) is near its minimum along the run (measured 1.97 at
-    t ≈ 400 against 3 for a Gaussian, rising again later): this is the two-hump precursor of the
-    homogeneous stage.  At t = 3000 the gas is clustered (E ≈ 2.3 E_Haff at N = 2·10⁴) and
-    P(x) is back near a Gaussian.
-
-    Why the constant-rate lattice misses MD's two humps early: in MD a pair collides
-    at a rate ∝ |Δ|, in the plain lattice at a rate independent of Δ.  With the rate ∝ |Δ| the
-    lattice reproduces MD's P(x) at equal energy (measured, ``benchmarks/fig1a.py``, N = 2·10⁴,
-    6 seeds: ⟨x⁴⟩ MD 1.957 ± 0.004, rate-|Δ| lattice 1.973 ± 0.007, constant rate 2.907 ± 0.016).
+    gas is still close to Haff's homogeneous cooling (E/E_Haff is reported) and the kurtosis of
+    P(x) is near its minimum along the run: the two-hump precursor of the homogeneous stage.
+    At t = 3000 the gas is clustered and P(x) is back near a Gaussian.  The constant-rate
+    lattice misses MD's two humps early because in MD a pair collides at a rate ∝ |Δ|; with
+    that rate the lattice reproduces MD's P(x) at equal energy (the page "Measured results" of
+    the documentation).
 
     Numbers per model and stage (mean ± standard error over seeds): kurtosis ⟨x⁴⟩ (Gaussian 3,
     two δ peaks 1, ∞ for f) and the bounded ⟨|x|⟩ (Gaussian 0.798, f 2/π = 0.637, two δ peaks 1).
