@@ -370,11 +370,12 @@ def compare_histograms(samples, edges, probabilities, *,
     pooled = counts.sum(axis=0)
     total = runs * m
     # The particle side of χ²: the pooled histogram with the law's binomial error (Pearson).
-    p = np.clip(prob, 0.0, 1.0)
-    error = np.where(total * prob >= min_expected, np.sqrt(total * p * (1.0 - p)), 0.0)
+    # (the binomial error of the expected counts; quadrature may leave a probability of −1e-17)
+    expected = histogram_from_counts(edges, total * np.clip(prob, 0.0, 1.0), total, 1.0)
+    error = np.where(total * prob >= min_expected, expected.error, 0.0)
     particles = histogram_from_counts(edges, pooled, total, 1.0)
-    particles = Histogram(edges, law.centres, particles.density, error / (total * width),
-                          particles.count, total, 1.0)
+    particles = Histogram(edges, law.centres, particles.density, error, particles.count, total,
+                          1.0)
     distance = particles.distance(law, min_count=0)
     ks = np.array([histogram_from_counts(edges, c, m, 1.0).distance(law, min_count=0).ks
                    for c in counts])
