@@ -54,3 +54,14 @@ def test_the_flag_is_the_solves_and_the_builtin_keeps_its_cdf(gaussian_called_un
     assert np.max(np.abs(never_collided_cut(builtin, 0, edges))) > 1e-5  # the sinc's ringing
     with pytest.raises(InvalidArgumentError, match="argument sol=.*user's law has no CDF"):
         never_collided_cut(gaussian_called_uniform, 0, edges)
+
+
+def test_a_record_with_a_flag_that_is_not_a_bool_is_refused(gaussian_called_uniform):
+    from particles.persistence import FileFormatError
+
+    meta, arrays = gaussian_called_uniform.to_record()
+    assert meta["builtin_law"] is False
+    with pytest.raises(FileFormatError, match="builtin_law"):
+        Solution.from_record({**meta, "builtin_law": "no"}, arrays)
+    older = {k: v for k, v in meta.items() if k != "builtin_law"}  # records before the flag
+    assert Solution.from_record(older, arrays).builtin_law is True
