@@ -58,15 +58,10 @@ def check_edges(edges, name: str = "edges") -> np.ndarray:
 
 def _free_part(sol, k: int):
     """(weight, stretch, law) of the never-collided particles in d = 1 with a built-in law, or
-    None (d ≥ 2, or a law without a CDF)."""
-    if sol.dimension != 1:
-        return None
-    from particles.initial import get_law
-
-    try:
-        law = get_law(sol.initial)
-        law.cdf(np.zeros(1))
-    except Exception:  # a user's law: known by its characteristic function only
+    None (d ≥ 2, or a user's law: known by its characteristic function only, even under a
+    built-in name)."""
+    law = sol.initial_law()  # None for a user's law, whatever its name
+    if sol.dimension != 1 or law is None or law.distribution is None:
         return None
     tau = float(sol.tau[k])
     return math.exp(-tau), math.exp(sol.model.lam * tau), law

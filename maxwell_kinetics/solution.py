@@ -26,6 +26,14 @@ from .model import MaxwellModel
 __all__ = ["Solution", "SolverOptions"]
 
 
+def _record_flag(meta: dict, key: str, default: bool) -> bool:
+    """``meta[key]`` if it is a bool, ``default`` if absent; TypeError otherwise."""
+    value = meta.get(key, default)
+    if not isinstance(value, bool):
+        raise TypeError(f"{key} is {value!r}, not true or false")
+    return value
+
+
 @dataclass(frozen=True)
 class SolverOptions:
     """Time-integration settings of :func:`~maxwell_kinetics.solver.solve`.
@@ -123,6 +131,11 @@ class Solution:
         The η rule of the solve (d = 1: exact, η ≡ 1).
     angular_nodes : int, default 1
         The ``angular_nodes`` of the solve, the scale of its η rule (d = 1: 1, η ≡ 1).
+    builtin_law : bool, default True
+        True when ``initial`` names the built-in law of :mod:`particles.initial` that was
+        solved; False for a user's law (:func:`particles.initial.law_from_characteristic`),
+        whatever its name, so that a user law is never matched to a built-in by name
+        (:meth:`initial_law`).
     """
 
     restitution: float
@@ -138,6 +151,21 @@ class Solution:
     angular: str = "uniform"
     angular_rule: str = "accurate"  # the η rule of solve (d = 1: exact, η ≡ 1)
     angular_nodes: int = 1  # the scale of the η rule of solve (d = 1: 1, η ≡ 1)
+    builtin_law: bool = True  # initial names the built-in law solved (False: a user's law)
+
+    def initial_law(self):
+        """The built-in initial law this solution started from, with its CDF and sampler, or
+        None for a user's law (known by its characteristic function only, even when its name
+        is a built-in one) and for a name that is no built-in law.
+
+        Returns
+        -------
+        particles.initial.InitialLaw or None
+            The law.
+        """
+        from particles.initial import LAWS
+
+        return LAWS.get(self.initial) if self.builtin_law else None
 
     @property
     def q(self) -> np.ndarray:
@@ -564,7 +592,7 @@ class Solution:
         -------
         meta : dict
             restitution, initial, resolution and options (as dicts), skewness, seconds,
-            dimension, angular, angular_rule, angular_nodes.
+            dimension, angular, angular_rule, angular_nodes, builtin_law.
         arrays : dict of str to numpy.ndarray
             ``tau``, ``G`` and ``deviation``.
         """
@@ -579,6 +607,7 @@ class Solution:
             "angular": self.angular,
             "angular_rule": self.angular_rule,
             "angular_nodes": self.angular_nodes,
+            "builtin_law": self.builtin_law,
         }
         return meta, {"tau": self.tau, "G": self.G, "deviation": self.deviation}
 
@@ -591,8 +620,9 @@ class Solution:
         ----------
         meta : dict
             The parameters, as :meth:`to_record` writes them (``dimension``, ``angular``,
-            ``angular_rule`` and ``angular_nodes`` may be missing: older records; a missing
-            ``angular_nodes`` reads as the default 16 in d >= 2, 1 in d = 1).
+            ``angular_rule``, ``angular_nodes`` and ``builtin_law`` may be missing: older
+            records; a missing ``angular_nodes`` reads as the default 16 in d >= 2, 1 in d = 1,
+            a missing ``builtin_law`` as True, as those records were read).
         arrays : dict
             ``tau``, ``G`` and ``deviation``.
         path : str or os.PathLike, default "solution"
@@ -624,6 +654,7 @@ class Solution:
                 # files written before the rule existed used the 16-node ("accurate") rule
                 str(meta.get("angular_rule", "accurate")),
                 int(meta.get("angular_nodes", 16 if int(meta.get("dimension", 1)) > 1 else 1)),
+                _record_flag(meta, "builtin_law", True),
             )
         except (KeyError, ValueError, TypeError) as exc:
             raise persistence.FileFormatError(

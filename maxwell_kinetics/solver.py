@@ -66,7 +66,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from particles.initial import InitialLaw, first_non_finite, get_law
+from particles.initial import LAWS, InitialLaw, first_non_finite, get_law
 from particles.validation import (
     InvalidArgumentError,
     check_count,
@@ -409,6 +409,7 @@ def solve(
     saved = np.empty((taus.size, grid.n), dtype=complex)
     deviation = np.empty_like(saved)
     m3 = _check_skewness_finite(law)
+    builtin = LAWS.get(law.name) is law  # a user's law is never taken for a built-in by name
     g_ref = reference(q, m3).astype(complex)
     g_minus_fhat = deviation_from_f_hat(q, m3)
     if model.lam == 0.0:
@@ -417,7 +418,7 @@ def solve(
         saved[:] = (w0 + g_ref)[None, :]
         deviation[:] = (w0 + g_minus_fhat)[None, :]
         return Solution(model.restitution, law.name, grid, taus, saved, deviation, m3, opts,
-                        time.perf_counter() - start)
+                        time.perf_counter() - start, builtin_law=builtin)
 
     stepper = _Stepper(model, law, grid, opts, dimension, angular, angular_nodes, angular_rule)
     interrupt.check()  # a Ctrl-C deferred by the command line while JAX was loading
@@ -461,4 +462,5 @@ def solve(
             bar.update(float(taus[-1]) - bar.n)
             bar.close()
     return Solution(model.restitution, law.name, grid, taus, saved, deviation, m3, opts,
-                    time.perf_counter() - start, dimension, angular, angular_rule, angular_nodes)
+                    time.perf_counter() - start, dimension, angular, angular_rule, angular_nodes,
+                    builtin)

@@ -11,17 +11,21 @@ q = 0).  Unlike a density evaluated at points, a bin probability converges even 
 jump (G ~ 1/q): the integrand then decays like 1/q², so the cut at q_max costs O(1/q_max²).
 
 Distances, all with their expectation under the null hypothesis "the samples were drawn from the
-predicted law":
+predicted law".  They are computed by :meth:`particles.observables.Histogram.distance` (module
+:mod:`particles.distance`), the one home of χ² and KS; :func:`compare_histograms` adds what a
+comparison of several runs needs around them:
 
-* ``ks``: the Kolmogorov–Smirnov distance sup_x |F_emp(x) − F(x)|, evaluated on the bin edges.
-  For M independent samples its mean is ≈ 0.8687/√M (the mean of Kolmogorov's law,
-  √(π/2) ln 2), so √M · D_KS ≈ 0.87 and D_KS falls like 1/√M.
-* ``chi2``: Pearson's χ² over the bins with at least 5 expected counts (the rest pooled into one
-  bin), divided by its degrees of freedom (bins − 1); expectation 1, standard deviation
-  √(2/dof), for independent samples.  Velocities of one particle run are *not* independent
-  (collisions correlate them), which inflates the bin variances by an overdispersion factor φ.
-  φ is measured from the scatter of the counts between independent runs (seeds), without using
-  the prediction, and the pooled χ²/dof is compared with φ.
+* ``ks``: the Kolmogorov–Smirnov distance sup |F_emp − F| on the bin edges, counting from the
+  first edge.  For M independent samples its mean is ≈ 0.8687/√M (the mean of Kolmogorov's law,
+  √(π/2) ln 2, slightly less when restricted to the edges), so √M · D_KS ≈ 0.87 and D_KS falls
+  like 1/√M.
+* ``chi2``: Pearson's χ² (the variance of each bin from the predicted probability) over the bins
+  with at least 5 expected counts, divided by its degrees of freedom (the bins used);
+  expectation 1, standard deviation √(2/dof), for independent samples.  Velocities of one
+  particle run are *not* independent (collisions correlate them), which inflates the bin
+  variances by an overdispersion factor φ.  φ is measured from the scatter of the counts
+  between independent runs (seeds), without using the prediction, and the pooled χ²/dof is
+  compared with φ.
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from particles.observables import mean_sem
+from particles.observables import Histogram, histogram_from_counts, mean_sem
 from particles.validation import (
     InvalidArgumentError,
     check_count,
@@ -50,7 +54,7 @@ __all__ = [
     "bin_counts",
     "HistogramComparison",
     "compare_histograms",
-    "ks_distance",
+    "law_histogram",
     "KS_MEAN",
     "weighted_slope",
     "seed_slope",
@@ -191,39 +195,6 @@ def bin_counts(samples, edges) -> np.ndarray:
     return np.stack([np.histogram(r, bins=edges)[0] for r in rows]).astype(float)
 
 
-def ks_distance(samples, edges, cdf_at_edges) -> float:
-    """sup over the edges of |F_emp − F| for one run of samples (edges increasing, finite).
-
-    Parameters
-    ----------
-    samples : array_like
-        The samples of one run (flattened).
-    edges : array_like
-        Increasing finite points at which the two CDFs are compared.
-    cdf_at_edges : array_like
-        The predicted CDF F at ``edges``.
-
-    Returns
-    -------
-    float
-        The Kolmogorov–Smirnov distance restricted to the edges (F_emp counts samples < edge).
-
-    Raises
-    ------
-    particles.InvalidArgumentError
-        If ``samples`` are empty or not finite reals, ``edges`` are not finite and strictly
-        increasing, or ``cdf_at_edges`` is not one finite value per edge.
-    """
-    x = np.sort(check_real_array(samples, "samples", min_size=1).ravel())
-    edges = check_edges(edges, "edges")
-    cdf = check_real_array(cdf_at_edges, "cdf_at_edges", ndim=1)
-    if cdf.size != edges.size:
-        raise InvalidArgumentError("cdf_at_edges", f"{cdf.size} values",
-                                   f"one value per edge ({edges.size})")
-    emp = np.searchsorted(x, edges, side="left") / x.size
-    return float(np.max(np.abs(emp - cdf)))
-
-
 @dataclass(frozen=True)
 class HistogramComparison:
     """Pooled histogram of R runs against predicted bin probabilities.
@@ -242,16 +213,18 @@ class HistogramComparison:
     predicted : numpy.ndarray
         Predicted density (probability / width).
     chi2_dof : float
-        Pearson χ²/dof of the pooled counts (binomial variances).
+        Pearson χ²/dof of the pooled counts (binomial variances of the predicted
+        probabilities), :meth:`particles.observables.Histogram.distance`'s.
     dof : int
-        Degrees of freedom of χ² (pooled bins − 1).
+        Degrees of freedom of χ² (the bins with at least ``min_expected`` expected counts).
     overdispersion : float
         φ, the mean over bins of (between-run variance of the counts) / (binomial variance);
         φ = 1 for independent samples, NaN when R < 2.
     overdispersion_error : float
         Standard error of φ.
     ks : float
-        Mean Kolmogorov–Smirnov distance of the single runs.
+        Mean Kolmogorov–Smirnov distance of the single runs on the edges
+        (:meth:`particles.observables.Histogram.distance`'s).
     ks_error : float
         Its standard error.
     samples : int
@@ -308,15 +281,58 @@ class HistogramComparison:
         }
 
 
-def compare_histograms(samples, edges, probabilities, mass_below: float, *,
+def law_histogram(edges, probabilities):
+    """A predicted law on ``edges`` as the :class:`particles.observables.Histogram` a particle
+    run returns: density = probability / width, zero ``error``, ``count`` 0, ``samples`` 0 (what
+    :meth:`particles.observables.Histogram.distance` takes for a prediction).
+
+    Parameters
+    ----------
+    edges : array_like
+        Increasing finite bin edges in x.
+    probabilities : array_like
+        Predicted probabilities of the len(edges) − 1 bins.
+
+    Returns
+    -------
+    particles.observables.Histogram
+        The prediction (``v0`` 1: x is the only variable here).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``edges`` are not finite and strictly increasing, or ``probabilities`` are not one
+        finite value per bin.
+    """
+    edges = check_edges(edges, "edges")
+    prob = check_real_array(probabilities, "probabilities", ndim=1)
+    if prob.size != edges.size - 1:  # quadrature may leave -1e-17: no sign check
+        raise InvalidArgumentError("probabilities", prob.tolist()[:50],
+                                   f"{edges.size - 1} probabilities, one per bin")
+    width = np.diff(edges)
+    return Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), prob / width, np.zeros(width.size),
+                     np.zeros(width.size, dtype=np.int64), 0, 1.0)
+
+
+def compare_histograms(samples, edges, probabilities, *,
                        min_expected: float = 5.0) -> HistogramComparison:
     """Compare R runs of M samples (array (R, M)) with the predicted ``probabilities`` of the bins
-    ``edges`` (finite edges; the mass outside them, 1 − Σ probabilities, is one extra bin).
-    ``mass_below`` = F(edges[0]), the predicted mass below the first edge (for the KS distance).
+    ``edges`` (finite edges; the mass outside them is not compared).
 
-    χ² pools the bins with fewer than ``min_expected`` expected counts into one; φ is measured
-    from the scatter between runs over the bins with at least ``min_expected`` expected counts
-    per run (module docstring).
+    The distances are :meth:`particles.observables.Histogram.distance`'s (module
+    :mod:`particles.distance`), the one home of χ² and KS:
+
+    * χ²/dof: the pooled histogram of the R·M samples against the law, with Pearson's variance,
+      the binomial variance T p (1 − p) of the *predicted* bin probability p (T = R·M), over the
+      bins with at least ``min_expected`` expected counts (the others get no variance and are
+      left out).  Each term then has mean 1 under the null hypothesis, so χ²/dof ≈ 1 for
+      independent samples, φ with correlated ones.  (A variance from the observed counts,
+      Neyman's, is biased: E[(O − E)²/O] ≈ 1 + 2/E per bin.)
+    * ks: the mean over the runs of each run's Kolmogorov–Smirnov distance to the law on the
+      edges (the mass below the first edge counts 0 on both sides).
+
+    φ is measured from the scatter between runs over the bins with at least ``min_expected``
+    expected counts per run, the mass outside the edges as one more bin (module docstring).
 
     Parameters
     ----------
@@ -326,10 +342,8 @@ def compare_histograms(samples, edges, probabilities, mass_below: float, *,
         Increasing finite bin edges.
     probabilities : array_like
         Predicted probabilities of the len(edges) − 1 bins.
-    mass_below : float
-        Predicted F(edges[0]).
     min_expected : float, default 5.0
-        Smallest expected count of a bin kept on its own.
+        Smallest expected count of a bin kept in χ² (pooled) and in φ (per run).
 
     Returns
     -------
@@ -340,36 +354,35 @@ def compare_histograms(samples, edges, probabilities, mass_below: float, *,
     ------
     particles.InvalidArgumentError
         If ``samples`` are not finite reals of shape (R, M) with M ≥ 1, ``edges`` are not finite
-        and strictly increasing, ``probabilities`` are not one finite value per bin,
-        ``mass_below`` is not a finite real number, or ``min_expected`` is not a finite number
-        >= 0.
+        and strictly increasing, ``probabilities`` are not one finite value per bin, or
+        ``min_expected`` is not a finite number >= 0.
     """
     rows = np.atleast_2d(check_real_array(samples, "samples", min_size=1))
     if rows.ndim != 2:
         raise InvalidArgumentError("samples", f"shape {rows.shape}", "shape (R, M) or (M,)")
     runs, m = rows.shape
-    edges = check_edges(edges, "edges")
-    prob = check_real_array(probabilities, "probabilities", ndim=1)
-    if prob.size != edges.size - 1:  # quadrature may leave -1e-17: no sign check
-        raise InvalidArgumentError("probabilities", prob.tolist()[:50],
-                                   f"{edges.size - 1} probabilities, one per bin")
-    mass_below = float(check_real_array(mass_below, "mass_below", ndim=0))
+    law = law_histogram(edges, probabilities)
+    edges = law.edges
+    width = np.diff(edges)
+    prob = law.density * width
     min_expected = check_nonnegative(min_expected, "min_expected")
     counts = bin_counts(rows, edges)
-    outside = m - counts.sum(axis=1)
-    counts = np.column_stack([counts, outside])
-    prob_all = np.append(prob, max(0.0, 1.0 - prob.sum()))
     pooled = counts.sum(axis=0)
     total = runs * m
-    expected = total * prob_all
-    big = expected >= min_expected
-    obs_b = np.append(pooled[big], pooled[~big].sum())
-    exp_b = np.append(expected[big], expected[~big].sum())
-    keep = exp_b > 0
-    chi2 = float(np.sum((obs_b[keep] - exp_b[keep]) ** 2 / exp_b[keep]))
-    dof = int(keep.sum() - 1)
+    # The particle side of χ²: the pooled histogram with the law's binomial error (Pearson).
+    # (the binomial error of the expected counts; quadrature may leave a probability of −1e-17)
+    expected = histogram_from_counts(edges, total * np.clip(prob, 0.0, 1.0), total, 1.0)
+    error = np.where(total * prob >= min_expected, expected.error, 0.0)
+    particles = histogram_from_counts(edges, pooled, total, 1.0)
+    particles = Histogram(edges, law.centres, particles.density, error, particles.count, total,
+                          1.0)
+    distance = particles.distance(law, min_count=0)
+    ks = np.array([histogram_from_counts(edges, c, m, 1.0).distance(law, min_count=0).ks
+                   for c in counts])
     # Overdispersion from the scatter between runs (needs R ≥ 2), over bins with ≥ 5 expected
     # counts per run; the prediction only sets the binomial reference variance.
+    counts = np.column_stack([counts, m - counts.sum(axis=1)])
+    prob_all = np.append(prob, max(0.0, 1.0 - prob.sum()))
     per_run = m * prob_all
     good = per_run >= min_expected
     if runs >= 2 and np.any(good):
@@ -379,18 +392,13 @@ def compare_histograms(samples, edges, probabilities, mass_below: float, *,
         phi_err = float(phi * math.sqrt(2.0 / ((runs - 1) * good.sum())))
     else:
         phi, phi_err = float("nan"), float("nan")
-    width = np.diff(edges)
-    density = pooled[:-1] / (total * width)
     if runs >= 2:
         err = mean_sem(counts[:, :-1], axis=0)[1] / (m * width)
     else:
-        err = np.sqrt(pooled[:-1]) / (total * width)
-    cdf = np.concatenate([[0.0], np.cumsum(prob)]) + float(mass_below)
-    ks = np.array([ks_distance(r, edges, cdf) for r in rows])
-    ks_err = mean_sem(ks)[1]
+        err = np.sqrt(pooled) / (total * width)
     return HistogramComparison(
-        0.5 * (edges[1:] + edges[:-1]), density, err, prob / width, chi2 / max(dof, 1), dof,
-        phi, phi_err, float(ks.mean()), ks_err, m, runs,
+        law.centres, particles.density, err, law.density, distance.chi2_dof, distance.dof,
+        phi, phi_err, float(ks.mean()), mean_sem(ks)[1], m, runs,
     )
 
 

@@ -8,7 +8,7 @@ import time
 
 import numpy as np
 
-from particles.observables import mean_sem
+from particles.observables import mean_sem, rescaled_histogram
 
 from ... import statistics as st
 from ...model import MaxwellModel
@@ -70,8 +70,7 @@ def _kinetic_scaled(v: np.ndarray, restitution: float, tau: float) -> np.ndarray
 
 def _smoothed_comparison(sol, tau_index, x, edges, width, seed):
     """Samples ``x`` (R, M) plus N(0, width²) noise against G(q) e^{−width² q²/2} (see
-    :func:`run`); the mass below ``edges[0]`` from −200 (the laws here put < 1e-7
-    there)."""
+    :func:`run`)."""
     q_max = sol.resolution.q_max
     noise = np.random.default_rng(_SMOOTHING_SEED + seed).standard_normal(x.shape)
 
@@ -79,8 +78,7 @@ def _smoothed_comparison(sol, tau_index, x, edges, width, seed):
         return sol.evaluate(np.minimum(q, q_max), tau_index) * np.exp(-0.5 * (width * q) ** 2)
 
     prob = st.interval_probabilities(G, edges, q_max)
-    below = float(st.interval_probabilities(G, [-200.0, float(edges[0])], q_max)[0])
-    return st.compare_histograms(x + width * noise, edges, prob, below)
+    return st.compare_histograms(x + width * noise, edges, prob)
 
 
 #: Seed of the smoothing noise (one stream per τ index), fixed for reproducible summaries.
@@ -162,8 +160,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
         rows = []
         for k, tau in enumerate(taus):
             x = _kinetic_scaled(snaps[k], r, tau)
-            prob, below = solution_bin_probabilities(sol, k, edges)
-            cmp = st.compare_histograms(x, edges, prob, below)
+            prob, _ = solution_bin_probabilities(sol, k, edges)
+            cmp = st.compare_histograms(x, edges, prob)
             smoothed = _smoothed_comparison(sol, k, x, edges, params["smoothing"], seed=k)
             fft_prob, fft_x, fft_p = fft_bin_probabilities(sol, k, edges)
             diff = fft_prob - prob
@@ -183,12 +181,11 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     r, law = params["scan_case"]
     tau = float(params["scan_tau"])
     sol = kinetic_solution(r, law, [tau], _VS_ULAM_RESOLUTION, progress=progress)
-    prob, below = solution_bin_probabilities(sol, 0, edges)
-    cdf = np.concatenate([[0.0], np.cumsum(prob)]) + below
+    kinetic = st.law_histogram(edges, solution_bin_probabilities(sol, 0, edges)[0])
     ks_mean, ks_err = [], []
     for n in params["scan_n"]:
         snaps = runner.ulam_snapshots(r, law, n, [tau], list(range(int(params["scan_seeds"]))))
-        ks = np.array([st.ks_distance(x, edges, cdf)
+        ks = np.array([rescaled_histogram(x, edges, v0=1.0).distance(kinetic).ks
                        for x in _kinetic_scaled(snaps[0], r, tau)])
         mean, err = mean_sem(ks)
         ks_mean.append(mean)

@@ -83,7 +83,6 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     params = preset(PRESETS, size, overrides)
     edges = bin_edges(params["edges"])
     prob_f = st.f_interval_probabilities(edges)
-    below_f = float(st.f_cdf(edges[0]))
     median_f = brentq(lambda m: float(st.f_cdf(m)) - 0.75, 0.1, 10.0)  # median of |x| under f
     seeds = list(range(int(params["seeds"])))
     rows, hists, shapes, tails = [], [], [], []
@@ -91,10 +90,10 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
         snaps = runner.ulam_snapshots(r, params["law"], params["n"], [float(tau)], seeds,
                                       progress=progress)
         x = rescaled(snaps[0])
-        cmp = st.compare_histograms(x, edges, prob_f, below_f)
+        cmp = st.compare_histograms(x, edges, prob_f)
         # Shape only: rescale each run so that its median |x| is f's (robust to the tail).
         xs = x * (median_f / np.median(np.abs(x), axis=1, keepdims=True))
-        shape = st.compare_histograms(xs, edges, prob_f, below_f)
+        shape = st.compare_histograms(xs, edges, prob_f)
         sol = kinetic_solution(r, params["law"], [float(tau)], progress=progress)
         prob_k, _ = solution_bin_probabilities(sol, 0, edges)
         total = cmp.samples * cmp.runs

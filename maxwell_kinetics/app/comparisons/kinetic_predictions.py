@@ -16,6 +16,7 @@ from collections import OrderedDict
 import numpy as np
 
 from particles.initial import get_law
+from particles.validation import InvalidArgumentError
 
 from ... import statistics as st
 from ...model import MaxwellModel
@@ -200,12 +201,20 @@ def never_collided_cut(sol, tau_index: int, edges) -> np.ndarray:
     -------
     numpy.ndarray
         Cut minus exact probability of each bin, shape (m,).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``sol`` when its initial law is a user's (no CDF), whatever its name.
     """
     q_max = sol.resolution.q_max
     tau = float(sol.tau[tau_index])
-    law = get_law(sol.initial)
+    law = sol.initial_law()  # None for a user's law, whatever its name
+    if law is None or law.distribution is None:
+        raise InvalidArgumentError("sol", f"a solution of initial law {sol.initial!r}",
+                                   "a solution of a built-in law (a user's law has no CDF)")
     weight = math.exp(-tau)
     stretch = math.exp(MaxwellModel(sol.restitution).lam * tau)
     edges = np.asarray(edges, dtype=float)
     cut = st.interval_probabilities(lambda q: weight * law.phi(q * stretch), edges, q_max)
-    return cut - weight * np.diff(law_cdf(sol.initial, edges / stretch))
+    return cut - weight * np.diff(law.cdf(edges / stretch))
