@@ -182,7 +182,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
                "model": "exact sticky gas standing in for late MD",
                **main["summary"], **exact["summary"], **deep["summary"],
                "seconds": time.perf_counter() - start}
-    return Comparison(NAME, with_verdicts(summary, verdicts), {**main["data"], **exact["data"], **deep["data"]})
+    return Comparison(NAME, with_verdicts(summary, verdicts),
+                      {**main["data"], **exact["data"], **deep["data"]})
 
 
 def _main_runs(params, progress) -> dict:

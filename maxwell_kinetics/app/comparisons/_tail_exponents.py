@@ -110,7 +110,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
         "particles": particles,
         "seconds": time.perf_counter() - start,
     }
-    return Comparison(NAME, with_verdicts(summary, verdicts), {"r": rs, "curves": curves, "particles": particles})
+    return Comparison(NAME, with_verdicts(summary, verdicts),
+                      {"r": rs, "curves": curves, "particles": particles})
 
 
 def verdicts(s: dict) -> list:
