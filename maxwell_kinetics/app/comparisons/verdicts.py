@@ -38,6 +38,8 @@ __all__ = [
     "with_verdicts",
     "disagreeing",
     "verdict_table",
+    "measured_text",
+    "expected_text",
     "pooled_ratio",
     "pair",
 ]
@@ -139,8 +141,13 @@ class Check:
         return None if m is None else m - float(self.expected)
 
     def holds(self) -> bool:
-        """Whether the measured value agrees with the expected one within ``allowed`` (a bound
-        only on its own side); a quantity not measured does not hold."""
+        """Whether the measured value stands to the expected one as ``relation`` says, within
+        ``allowed``; a quantity not measured does not hold.
+
+        Returns
+        -------
+        bool
+        """
         d = self.deviation
         if d is None:
             return False
@@ -159,7 +166,12 @@ class Check:
     def tolerance_text(self) -> str:
         """The tolerance in words: ``"±3σ"``, ``"±0.05"``, ``"±3σ + 0.05"``; a bound ``"≤ +3σ"``,
         ``"≥ −3σ"``; a resolved difference ``"below by 3σ"``, ``"above by 3σ"``, ``"differs by
-        3σ"``."""
+        3σ"``.
+
+        Returns
+        -------
+        str
+        """
         parts = []
         if self.combined_sigma > 0:
             parts.append(f"{self.n_sigma:g}σ")
@@ -200,7 +212,13 @@ class Verdict:
         ``sigma``, ``expected``, ``expected_sigma``, ``source``, ``n_sigma``, ``tolerance``,
         ``relation``, ``allowed``, ``tolerance_text``, ``deviation_in_sigma`` (None without a
         standard error), ``status``, ``why`` and ``explanation`` (the same fields for the
-        explaining check, with ``holds``; None when none)."""
+        explaining check, with ``holds``; None when none).
+
+        Returns
+        -------
+        dict
+            JSON-able (non-finite measured values become None).
+        """
         return {"claim": self.claim, **_check_dict(self.check), "status": self.status,
                 "why": self.why,
                 "explanation": (None if self.explanation is None
@@ -313,7 +331,18 @@ def _fmt(x) -> str:
 
 
 def measured_text(record: dict) -> str:
-    """``"measured ± σ"`` of a verdict record (``"—"`` when not measured)."""
+    """``"measured ± σ"`` of a verdict record, 4 significant digits.
+
+    Parameters
+    ----------
+    record : dict
+        A verdict record (:meth:`Verdict.to_dict`) or its ``explanation``.
+
+    Returns
+    -------
+    str
+        ``"—"`` when nothing was measured.
+    """
     text = _fmt(record.get("measured"))
     if record.get("sigma"):
         text += f" ± {_fmt(record['sigma'])}"
@@ -321,7 +350,18 @@ def measured_text(record: dict) -> str:
 
 
 def expected_text(record: dict) -> str:
-    """``"expected (± σ)"`` of a verdict record."""
+    """``"expected"`` of a verdict record, with ``"± σ"`` when the expected value is itself
+    measured, 4 significant digits.
+
+    Parameters
+    ----------
+    record : dict
+        A verdict record (:meth:`Verdict.to_dict`) or its ``explanation``.
+
+    Returns
+    -------
+    str
+    """
     text = _fmt(record.get("expected"))
     if record.get("expected_sigma"):
         text += f" ± {_fmt(record['expected_sigma'])}"
