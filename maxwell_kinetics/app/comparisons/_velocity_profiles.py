@@ -155,7 +155,7 @@ def verdicts(s: dict) -> list:
                                                                       ["scales"]),
                      None, _SHOCK_SCALE, "the scale where shocks are judged", relation="below")
 
-    why = f"the run is too short to coarse-grain over m = {_SHOCK_SCALE}"
+    why = f"the run has too few particles to coarse-grain over m = {_SHOCK_SCALE}"
     vx, vx_err = at_scale("md_vx")
     vi, vi_err = at_scale("md_vi")
     lat, lat_err = at_scale("lattice_vi")

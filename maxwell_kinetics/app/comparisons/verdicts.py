@@ -166,17 +166,21 @@ class Check:
     def tolerance_text(self) -> str:
         """The tolerance in words: ``"±3σ"``, ``"±0.05"``, ``"±3σ + 0.05"``; a bound ``"≤ +3σ"``,
         ``"≥ −3σ"``; a resolved difference ``"below by 3σ"``, ``"above by 3σ"``, ``"differs by
-        3σ"``.
+        3σ"``; without standard error or tolerance ``"exact"``, ``"≤"``, ``"below"``, ....
 
         Returns
         -------
         str
         """
         parts = []
-        if self.combined_sigma > 0:
+        # a quantity not measured has no standard error: its tolerance is still nσ
+        if self.combined_sigma > 0 or (self.sigma is None and _number(self.measured) is None):
             parts.append(f"{self.n_sigma:g}σ")
-        if self.tolerance > 0 or not parts:
+        if self.tolerance > 0:
             parts.append(f"{self.tolerance:.2g}")
+        if not parts:
+            return {"equal": "exact", "at_most": "≤", "at_least": "≥", "below": "below",
+                    "above": "above", "differs": "differs"}[self.relation]
         text = " + ".join(parts)
         return {"equal": "±", "at_most": "≤ +", "at_least": "≥ −", "below": "below by ",
                 "above": "above by ", "differs": "differs by "}[self.relation] + text
