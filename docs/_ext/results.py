@@ -72,7 +72,7 @@ def _rows(key: str, value, depth: int) -> list[str]:
     return []
 
 
-_STATUS = {"agrees": "✅ agrees", "disagrees": "❌ disagrees", "explained": "⚠️ explained"}
+_STATUS = {"agrees": "agrees", "disagrees": "**disagrees**", "explained": "*explained*"}
 
 
 def _cell(text: str) -> str:
