@@ -17,7 +17,8 @@ quadrature).  :func:`judge` turns a claim and its check into a :class:`Verdict`:
 No status is ever written by hand: it always comes from :func:`judge`.  Every comparison module
 has ``verdicts(summary) -> list[Verdict]`` reading only its own summary, and its ``run`` ends
 with ``return Comparison(NAME, with_verdicts(summary, verdicts), data)``; ``reproduce`` prints
-:func:`verdict_table` and exits with status 3 when a verdict :func:`disagrees`.
+:func:`verdict_table` and exits with status 3 when :func:`disagreeing` finds a verdict that
+disagrees.
 
 This module imports nothing from the rest of the package.
 """
