@@ -2,7 +2,8 @@
 # builds the documentation site into docs/_build/html; `make notebooks` installs Jupyter (the
 # `notebooks` extra) and executes every notebook headless into $(NOTEBOOKS_OUT)/, and
 # `make notebooks-open` opens notebooks/ in Jupyter.  `make demo` installs the project alone
-# (no test or docs tools).
+# (no test or docs tools); it ends with the verdict table of `reproduce` and fails (exit 3)
+# when a claim of the paper that the comparisons test disagrees with the run.
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python

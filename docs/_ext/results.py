@@ -2,9 +2,12 @@
 
 The folder (config value ``results_dir``) holds ``summary.json`` (or ``summary_default.json``)
 and one ``<name>.png`` per comparison, as written by ``make demo``.  For each comparison the page
-gives what it tests (the first paragraph of its module's docstring), its figure, and every
-fitted number of the summary with its uncertainty and the expected value.  Nothing is typed by
-hand, so the page cannot disagree with the run it shows.
+gives what it tests (the first paragraph of its module's docstring), its verdicts (one row per
+claim: status, measured ± σ, expected and its source, tolerance), its figure at full width
+(linked to the full-size image), and, folded, every fitted number of the summary with its
+uncertainty and the expected value.  Nothing is typed by hand, so the page cannot disagree with
+the run it shows: a summary written before the verdicts existed gets them from the same
+``verdicts(summary)`` function that ``reproduce`` uses.
 """
 
 from __future__ import annotations
@@ -69,6 +72,42 @@ def _rows(key: str, value, depth: int) -> list[str]:
     return []
 
 
+_STATUS = {"agrees": "agrees", "disagrees": "**disagrees**", "explained": "*explained*"}
+
+
+def _cell(text: str) -> str:
+    return str(text).replace("|", "\\|")
+
+
+def _verdicts(name: str, entry: dict) -> list[dict] | None:
+    """The verdict records of a comparison's summary; computed with the comparison's own
+    ``verdicts`` when the summary predates them; None when they cannot be had."""
+    if isinstance(entry.get("verdicts"), list):
+        return entry["verdicts"]
+    try:
+        module = importlib.import_module(f"maxwell_kinetics.app.comparisons._{name}")
+        return [v.to_dict() for v in module.verdicts(entry)]
+    except (ImportError, AttributeError, KeyError, TypeError, IndexError, ValueError):
+        return None
+
+
+def _verdict_rows(records: list[dict]) -> list[str]:
+    from maxwell_kinetics.app.comparisons.verdicts import expected_text, measured_text
+
+    rows = ["| status | claim | measured | expected | tolerance |", "|---|---|---|---|---|"]
+    for v in records:
+        status = _STATUS.get(v["status"], v["status"])
+        claim = _cell(v["claim"])
+        e = v.get("explanation")
+        if v["status"] == "explained" and e is not None:
+            claim += (f"<br>*why:* {_cell(v['why'])}: {_cell(e['quantity'])} = "
+                      f"{measured_text(e)} against {expected_text(e)} ({_cell(e['source'])}), "
+                      f"{_cell(e['tolerance_text'])}")
+        rows.append(f"| {status} | {claim} | {_cell(v['quantity'])}: {measured_text(v)} | "
+                    f"{expected_text(v)} ({_cell(v['source'])}) | {_cell(v['tolerance_text'])} |")
+    return rows
+
+
 def _claim(name: str) -> str:
     try:
         module = importlib.import_module(f"maxwell_kinetics.app.comparisons._{name}")
@@ -84,10 +123,15 @@ def render(results: Path, figures_out: Path) -> str:
     lines = ["# Reproducing the paper", "",
              "This page is generated at build time from the `summary.json` and the figures of "
              "`maxwell-kinetics reproduce` (what `make demo` runs); it shows every comparison "
-             "with the paper {cite}`baldassarri2002`, its figure, and each fitted number with its "
-             "uncertainty (standard error over seeds or fit, as recorded in the summary) and the "
-             "expected value where the summary records one (4 significant digits here; the full "
-             "values are in the summary).", ""]
+             "with the paper {cite}`baldassarri2002`. Each comparison starts with its verdicts: "
+             "one row per claim, the quantity measured with its standard error (over seeds or "
+             "of a fit), the expected value and where it comes from (an exact result, the "
+             "paper's number, another model), the tolerance, and the status: **agrees** "
+             "(within the tolerance), **disagrees**, or **explained** (the claim fails, and "
+             "the comparison shows why, with the number that shows it). Its figure follows "
+             "(click it for the full-size image), then, folded, every fitted number of the "
+             "summary with its uncertainty and the expected value where the summary records "
+             "one (4 significant digits here; the full values are in the summary).", ""]
     if summary_path is None:
         return "\n".join(lines + [f"No results found in `{results}`.", ""])
     summary = json.loads(summary_path.read_text())
@@ -101,26 +145,44 @@ def render(results: Path, figures_out: Path) -> str:
         lines.append(f"- provenance: {provenance}")
     lines.append("")
     figures_out.mkdir(parents=True, exist_ok=True)
-    for i, (name, entry) in enumerate(summary.get("comparisons", {}).items(), 1):
+    comparisons = summary.get("comparisons", {})
+    records = {name: _verdicts(name, entry) for name, entry in comparisons.items()}
+    counts = {}
+    for recs in records.values():
+        for v in recs or []:
+            counts[v["status"]] = counts.get(v["status"], 0) + 1
+    if counts:
+        lines += ["Verdicts of this run: " + ", ".join(
+            f"{counts.get(s, 0)} {s}" for s in ("agrees", "explained", "disagrees")) + ".", ""]
+    for i, (name, entry) in enumerate(comparisons.items(), 1):
         lines += [f"## {i}. {name.replace('_', ' ').capitalize()}", ""]
         claim = _claim(name)
         if claim:
             lines += [claim, ""]
+        if records[name]:
+            lines += _verdict_rows(records[name]) + [""]
+        else:
+            lines += ["No verdicts: this summary does not hold the numbers they are made of.", ""]
         png = results / f"{name}.png"
         if png.exists():
             shutil.copyfile(png, figures_out / png.name)
-            lines += [f"```{{figure}} _generated/{png.name}", f":alt: {name}", "", "```", ""]
+            # A width makes Sphinx link the image to its full-size file.
+            lines += [f"```{{figure}} _generated/{png.name}", f":alt: {name}", ":width: 100%",
+                      "", "```", ""]
         rows = []
         for key, value in entry.items():
-            if key != "parameters":
+            if key not in ("parameters", "verdicts"):
                 rows += _rows(key, value, 0)
-        if rows:
-            lines += ["| quantity | measured | expected |", "|---|---|---|", *rows, ""]
         params = entry.get("parameters")
-        if isinstance(params, dict):
-            text = ", ".join(f"{k} = {json.dumps(v)}" for k, v in params.items()
-                             if len(json.dumps(v)) < 40)
-            lines += [f"Parameters: {text}.", ""]
+        if rows or isinstance(params, dict):
+            lines += ["<details>", f"<summary>All numbers of {name}</summary>", ""]
+            if rows:
+                lines += ["| quantity | measured | expected |", "|---|---|---|", *rows, ""]
+            if isinstance(params, dict):
+                text = ", ".join(f"{k} = {json.dumps(v)}" for k, v in params.items()
+                                 if len(json.dumps(v)) < 40)
+                lines += [f"Parameters: {text}.", ""]
+            lines += ["</details>", ""]
     return "\n".join(lines) + "\n"
 
 

@@ -174,7 +174,8 @@ def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> li
 
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (0 success, 2 bad input, 3 a failure of
-    the physics such as inelastic collapse or of a write such as a full disk, 130 interrupted,
+    the physics such as inelastic collapse or a claim that ``reproduce`` finds to disagree, or
+    of a write such as a full disk, 130 interrupted,
     141 when the reader of the output went away, as in ``| head``: no traceback).
 
     Parameters

@@ -10,6 +10,12 @@ at another size (which ``--only`` would mix with) fails at once with exit status
 the file, and nothing written.  ``--only`` merges its comparisons into the ``summary.json``
 already there.  A write that fails after the work (a full disk) exits with status 3, one
 line naming the file; no partial file is left and an existing file stays as it was.
+
+The run ends with the verdict table of the comparisons it ran, one line per claim of the
+paper (or of this project) with its status ``agrees``, ``disagrees`` or ``explained``
+(:mod:`maxwell_kinetics.app.comparisons.verdicts`); ``--json`` carries the verdicts instead.
+When a claim that should hold does not (a ``disagrees``), the exit status is 3, after every
+file is written.
 """
 
 from __future__ import annotations
@@ -36,14 +42,20 @@ def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "reproduce", help="reproduce the paper's figures and the kinetic-vs-particle comparisons",
         description="Run every comparison and write <out>/<name>.png, <out>/<name>.npz (data for "
-        "Comparison.load) and <out>/summary.json.",
+        "Comparison.load) and <out>/summary.json, then print the verdict table: one line per "
+        "claim tested, agrees, disagrees or explained (the claim fails and the comparison "
+        "shows why).",
+        epilog="Exit status: 0 every claim agrees or is explained; 2 bad input (nothing "
+        "written); 3 a claim disagrees (every file is written; see the table or --json), or a "
+        "write failed after the work (one line naming the file).",
     )
     p.add_argument("--out", default="results", help="output folder (default results/)")
     size = p.add_mutually_exclusive_group()
     size.add_argument("--full", action="store_true", help="the paper's sizes (hours)")
     size.add_argument("--small", action="store_true", help="the tests' size (a minute)")
     p.add_argument("--only", default=None, help="comma-separated comparison names")
-    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.add_argument("--json", action="store_true",
+                   help="print one JSON object (with the verdicts) instead of the table")
     p.add_argument("--no-progress", action="store_true", help="no progress lines or bars")
     p.add_argument("--workers", default=None,
                    help="run the particle runs on N dask processes through the ensemble engine "
@@ -61,8 +73,10 @@ def run(args) -> int:
     Runs the selected comparisons at the chosen size through
     :func:`maxwell_kinetics.app.reproduce.run_all`, which writes a PNG and an ``.npz`` per
     comparison and merges their numbers into ``summary.json`` in ``--out``; prints a one-line
-    summary (or one JSON object: ``out``, ``size``, ``seconds``, ``comparisons`` the names run now
-    and ``in_summary`` every name ``summary.json`` holds).
+    summary and the verdict table of the comparisons run now (or one JSON object: ``out``,
+    ``size``, ``seconds``, ``comparisons`` the names run now, ``in_summary`` every name
+    ``summary.json`` holds, ``verdicts`` ``{name: [verdict record]}`` of the comparisons run
+    now and ``disagrees`` the number of verdicts with that status).
 
     Parameters
     ----------
@@ -72,7 +86,8 @@ def run(args) -> int:
     Returns
     -------
     int
-        The exit status, 0 on success.
+        The exit status: 0 on success, 3 when a verdict of the comparisons run is
+        ``disagrees``.
 
     Raises
     ------
@@ -84,6 +99,7 @@ def run(args) -> int:
         a write that fails after the work.
     """
     from ..comparisons import COMPARISONS
+    from ..comparisons.verdicts import disagreeing, verdict_table
     from ..reproduce import plan_outputs, run_all
 
     only = None
@@ -101,12 +117,18 @@ def run(args) -> int:
     cache_options.from_args(args)
     summary = run_all(out, size, only, progress=progress_enabled(args), workers=workers,
                       force=args.force)
+    ran = {n: summary["comparisons"][n] for n in COMPARISONS if n in names}
+    failed = disagreeing(ran)
     if args.json:
         emit_json({"out": str(out), "size": size, "seconds": summary["seconds"],
-                   "comparisons": sorted(names), "in_summary": sorted(summary["comparisons"])})
+                   "comparisons": sorted(names), "in_summary": sorted(summary["comparisons"]),
+                   "verdicts": {n: s.get("verdicts", []) for n, s in ran.items()},
+                   "disagrees": len(failed)})
     else:
         held = len(summary["comparisons"])
         print(f"wrote {len(names)} comparison{'s' * (len(names) != 1)} (figure and .npz) and "
               f"{out}/summary.json, which holds {held} comparison{'s' * (held != 1)} at size "
               f"{size}, in {summary['seconds']:.0f} s")
-    return 0
+        print()
+        print(verdict_table(ran))
+    return 3 if failed else 0

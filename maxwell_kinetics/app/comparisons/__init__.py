@@ -23,9 +23,15 @@ Layout (imports run downwards only; no module of the package imports this one):
 * :mod:`.kinetic_predictions` — the solver's solutions and predicted bin probabilities;
 * :mod:`.analysis` — estimators on arrays (profiles, S(k) fits, jackknife);
 * :mod:`.drawing` — array-level drawing helpers;
+* :mod:`.verdicts` — a claim's measured value against its expected one, judged ``agrees``,
+  ``disagrees`` or ``explained``;
 * one private module per comparison (``_kinetic_theory`` …), each with ``PRESETS``,
-  ``run(size=None, progress=None, **overrides) -> Comparison`` and ``plot(comparison, ax=None)``
-  (draws only; registered so that ``Comparison.figure()`` finds it).
+  ``run(size=None, progress=None, **overrides) -> Comparison``, ``plot(comparison, ax=None)``
+  (draws only; registered so that ``Comparison.figure()`` finds it) and
+  ``verdicts(summary) -> list of Verdict`` (the claims it tests, each a
+  :func:`.verdicts.judge` of a :class:`.verdicts.Check` read from the summary); ``run`` ends
+  with ``return Comparison(NAME, with_verdicts(summary, verdicts), data)``, which puts the
+  verdicts' records in ``summary["verdicts"]``.
 """
 
 from __future__ import annotations

@@ -19,8 +19,9 @@ from ...driven import steady_state
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
 from .particle_runs import ParticleRuns
+from .verdicts import Check, judge, pair, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
 NAME = "driven_steady"
 
@@ -130,7 +131,21 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
                        "density": dens, "error": particles_h.error})
     summary = {"parameters": jsonable(params), "rows": rows,
                "seconds": time.perf_counter() - start}
-    return Comparison(NAME, summary, {"curves": curves, "rows": rows})
+    return Comparison(NAME, with_verdicts(summary, verdicts), {"curves": curves, "rows": rows})
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of the driven comparison from its summary ``s``: per r, the variance and
+    the kurtosis of the particles against the exact steady state (3σ over seeds)."""
+    out = []
+    for row in s["rows"]:
+        r = row["restitution"]
+        for q, label in (("variance", "variance D/(pq)"), ("kurtosis", "kurtosis")):
+            value, err = pair(row[q])
+            out.append(judge(f"driven 1D Maxwell gas: steady {label}, r = {r:g}",
+                             Check(f"{q} of the driven Ulam particles", value, err,
+                                   row[f"{q}_exact"], "exact: steady state")))
+    return out
 
 
 def plot(c, ax=None):

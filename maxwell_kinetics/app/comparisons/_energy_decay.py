@@ -14,8 +14,9 @@ from ... import statistics as st
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
 from .particle_runs import ParticleRuns, md_record_times
+from .verdicts import Check, judge, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "lattice_times"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "lattice_times", "verdicts"]
 
 NAME = "energy_decay"
 
@@ -167,7 +168,34 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
             "windows": {k: params[k] for k in ("md_haff_window", "md_late_window",
                                             "lattice_early_window", "lattice_late_window")},
             "fits": lines, "restitution": r}
-    return Comparison(NAME, summary, data)
+    return Comparison(NAME, with_verdicts(summary, verdicts), data)
+
+
+def _fit_check(rec: dict, quantity: str, source: str):
+    """The check of one fit record: slope ± its stated uncertainty (seeds, and the window
+    drift for the late exponents) against its expected value, 3σ."""
+    return Check(f"{quantity}, fit on [{rec['window'][0]:g}, {rec['window'][1]:g}]",
+                 rec["slope"][0], rec["uncertainty"], rec["expected"], source)
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of comparison 5 from its summary ``s``: Haff's t⁻² and the late t^{−2/3}
+    of MD, the lattice's initial rate and its τ^{−1/2} (each 3σ of its stated uncertainty)."""
+    r = s["parameters"]["restitution"]
+    return [
+        judge(f"Haff's law E ∝ t⁻² in the homogeneous regime of MD, r = {r:g}",
+              _fit_check(s["md_haff_exponent"], "slope of ln E against ln(1 + t/t₀)",
+                         "paper: Haff's law (exact for the homogeneous gas)")),
+        judge(f"late MD energy E ∝ t^(−2/3) for any r < 1 (Ben-Naim et al.), r = {r:g}",
+              _fit_check(s["md_late_exponent"], "slope of ln E against ln t",
+                         "paper: t^(−2/3)")),
+        judge(f"lattice: E(τ) first decays exponentially, rate (1 − r²)/2, r = {r:g}",
+              _fit_check(s["lattice_initial_rate"], "d ln E/dτ at τ = 0⁺",
+                         "exact: −(1 − r²)/2")),
+        judge(f"lattice: then E ∝ τ^(−1/2), r = {r:g}",
+              _fit_check(s["lattice_late_exponent"], "slope of ln E against ln τ",
+                         "paper: τ^(−1/2)")),
+    ]
 
 
 def plot(c, ax=None):

@@ -14,8 +14,9 @@ from ...model import MaxwellModel
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors, panels
 from .kinetic_predictions import kinetic_solution
+from .verdicts import Check, judge, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
 NAME = "kinetic_theory"
 
@@ -143,7 +144,49 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     }
     data = {"solution": sol, "bounds": bounds, "distances": dist, "moment_tau": mt,
             "moments": resc, "x": x, "density": dens}
-    return Comparison(NAME, summary, data)
+    return Comparison(NAME, with_verdicts(summary, verdicts), data)
+
+
+#: How close G(q, τ) must come to f̂ at the last τ (sup over q): 1 % of f̂(0) = 1.
+_SUP_TOLERANCE = 0.01
+#: Relative tolerance of a fitted moment growth rate: the fit over τ ≥ τ_max/2 still carries
+#: the subleading exponentials (measured 3.5e-3 for n = 4 at τ_max = 100, 4e-5 at 200).
+_GROWTH_RELATIVE_TOLERANCE = 0.01
+#: Tolerance of the tail slope of P(x, τ) at the last τ against f's on the same window.
+_TAIL_SLOPE_TOLERANCE = 0.05
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of comparison 1 from its summary ``s``: G → f̂ (sup error at the last τ),
+    the contraction bound, the multiscaling of the moments, and the x⁻⁴ tail."""
+    r = s["parameters"]["restitution"]
+    tau_last = s["tau"][-1]
+    out = [judge(
+        f"Eq. (exact_v): G(q, τ) of the kinetic equation tends to f̂(q) = (1 + |q|) e^(−|q|), "
+        f"r = {r:g}",
+        Check(f"sup_q |G − f̂| at τ = {tau_last:g}", s["sup_error"][-1], None, 0.0,
+              "exact: f̂ is the scaling solution", tolerance=_SUP_TOLERANCE,
+              relation="at_most"))]
+    ratios = [v for v in s["max_distance_over_bound"].values() if v is not None]
+    out.append(judge(
+        "the Fourier distance contracts: d_s(τ) ≤ e^(−γ(s)τ) d_s(0) for s = "
+        + ", ".join(s["max_distance_over_bound"]),
+        Check("max over s and τ of d_s / bound", max(ratios) if ratios else None, None, 1.0,
+              "exact: contraction bound (rigorous)", tolerance=1e-9, relation="at_most")))
+    for n, g in s["moment_growth_rates"].items():
+        out.append(judge(
+            f"multiscaling (Ben-Naim & Krapivsky, Sec. Ulam's model): M_{n}/M_2^{int(n) // 2} "
+            f"grows at rate n a_2/2 − a_n ≠ 0",
+            Check(f"fitted growth rate of M_{n}/M_2^{int(n) // 2}", g["fitted"], None,
+                  g["predicted"], "exact: moment equations",
+                  tolerance=_GROWTH_RELATIVE_TOLERANCE * abs(g["predicted"]))))
+    out.append(judge(
+        f"P(x, τ) develops the x⁻⁴ tail of f (Eq. exact_v), r = {r:g}",
+        Check(f"log-log slope of P(x, τ = {tau_last:g}) on x in "
+              f"[{s['parameters']['tail_window'][0]:g}, {s['parameters']['tail_window'][1]:g}]",
+              s["tail_slope"][-1], None, s["tail_slope_of_f"],
+              "exact: slope of f on the same window", tolerance=_TAIL_SLOPE_TOLERANCE)))
+    return out
 
 
 def plot(c, ax=None):

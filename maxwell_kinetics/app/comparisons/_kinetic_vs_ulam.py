@@ -22,8 +22,9 @@ from .kinetic_predictions import (
     solution_bin_probabilities,
 )
 from .particle_runs import ParticleRuns
+from .verdicts import Check, judge, pair, pooled_ratio, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
 NAME = "kinetic_vs_ulam"
 
@@ -219,7 +220,34 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     data = {"cases": cases, "edges": edges, "scan_n": np.asarray(params["scan_n"]),
             "scan_ks": np.asarray(ks_mean), "scan_ks_error": np.asarray(ks_err),
             "scan_fit": (slope, icpt)}
-    return Comparison(NAME, summary, data)
+    return Comparison(NAME, with_verdicts(summary, verdicts), data)
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of comparison 2 from its summary ``s``: per case, χ²/(dof·φ) pooled over
+    τ against 1 (3σ; explained when the smoothed comparison, free of the prediction's cut at
+    q_max, agrees), and the slope of the KS distance against N (−1/2, 3σ)."""
+    out = []
+    for c in s["cases"]:
+        raw, raw_err = pooled_ratio(c["rows"])
+        smooth, smooth_err = pooled_ratio([row["smoothed"] for row in c["rows"]])
+        taus = ", ".join(f"{row['tau']:g}" for row in c["rows"])
+        out.append(judge(
+            f"Eq. (ulam1d_v) is the Ulam model's master equation: particles' P(x, τ) = the "
+            f"solver's, r = {c['restitution']:g}, {c['initial']} law",
+            Check(f"χ²/(dof·φ) pooled over τ = {taus}", raw, raw_err, 1.0,
+                  "exact: χ² null expectation"),
+            Check("the same, both laws smoothed by N(0, σ²) (no cut of G at q_max)", smooth,
+                  smooth_err, 1.0, "exact: χ² null expectation"),
+            why="the solver's bin probabilities cut G at q_max; a sharp-edged law's prediction "
+                "errs next to its edge"))
+    n_scan = s["n_scan"]
+    slope, err = pair(n_scan["slope"])
+    out.append(judge(
+        "the distance between particles and kinetic theory is finite-N noise only",
+        Check("slope of log KS distance against log N", slope, err, n_scan["slope_expected"],
+              "exact: KS ~ N^(−1/2)")))
+    return out
 
 
 def plot(c, ax=None):

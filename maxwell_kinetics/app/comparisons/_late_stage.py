@@ -42,8 +42,9 @@ from .analysis import (
 )
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors
+from .verdicts import Check, judge, pair, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "deep_tail_runs"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "deep_tail_runs", "verdicts"]
 
 NAME = "late_stage"
 
@@ -181,7 +182,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
                "model": "exact sticky gas standing in for late MD",
                **main["summary"], **exact["summary"], **deep["summary"],
                "seconds": time.perf_counter() - start}
-    return Comparison(NAME, summary, {**main["data"], **exact["data"], **deep["data"]})
+    return Comparison(NAME, with_verdicts(summary, verdicts),
+                      {**main["data"], **exact["data"], **deep["data"]})
 
 
 def _main_runs(params, progress) -> dict:
@@ -520,6 +522,52 @@ def _shown_times(times) -> list[int]:
     """Indices of the first, a middle and the last time."""
     k = len(times)
     return sorted({0, k // 2, k - 1})
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of comparison 9 from its summary ``s``: E ∝ t^{−2/3} (3σ plus the window
+    drift), the Porod tail (3σ), the cluster-mass exponent (3σ), Chernoff's displacement
+    variance (3σ), the exact velocity law at the latest time (χ²/dof, 3√(2/dof)), and the
+    exp(−w³) tail: the local exponent at the deepest w against 3, explained when it equals the
+    exact law's β(w) at that w (3σ)."""
+    e = s["energy"]
+    slope, err = pair(e["exponent"])
+    out = [judge("late stage E ∝ t^(−2/3) (sticky gas)",
+                 Check(f"slope of ln E against ln t on [{e['fit_range'][0]:g}, "
+                       f"{e['fit_range'][1]:g}]", slope, err, e["expected"], "paper: t^(−2/3)",
+                       tolerance=e.get("drift") or 0.0))]
+    st = s["structure"]
+    slope, err = pair(st["porod_slope_last_fitted_time"])
+    out.append(judge("Porod's law S(k) ∼ k⁻² of the sticky gas",
+                     Check("slope of log S(k), last fitted time", slope, err, st["expected"],
+                           "paper: Porod's law")))
+    tail = s["tail"]["engine"]
+    if tail["beta"]:
+        beta, beta_err = tail["beta"][-1], tail["beta_error"][-1]
+        w = tail["beta_w"][-1]
+        out.append(judge(
+            "velocity tail ∝ exp(−v³) (Frachebourg, quoted by the paper)",
+            Check(f"local exponent β of ln P(|w| > w) at w = {w:.3g}", beta, beta_err,
+                  s["tail"]["sticky_gas_limit"], "paper: exp(−v³)"),
+            Check(f"β at w = {w:.3g} against the exact law's β(w)", beta, beta_err,
+                  tail["beta_exact"][-1], "exact: sticky-gas velocity law"),
+            why="β(w) reaches 3 only as w → ∞ (exact law: 2 at w ≈ "
+                f"{s['tail']['exact']['crossings'].get('2', {}).get('w', float('nan')):.3g})"))
+    m, m_err = pair(s["mass"]["exponent"])
+    out.append(judge("cluster masses: P(m) ∼ m^(−1/2) at small m/⟨m⟩ (exact sticky gas)",
+                     Check("fitted exponent of the mass law", m, m_err, s["mass"]["expected"],
+                           "exact: Frachebourg's mass law")))
+    d = s["displacement"]
+    var, var_err = pair(d["variance"])
+    out.append(judge("displacements follow Chernoff's law (exact sticky gas)",
+                     Check(f"variance of D/t^(2/3) at t = {d['time']:g}", var, var_err,
+                           d["chernoff_variance"], "exact: Chernoff's distribution")))
+    last = s["exact"]["per_time"][-1]
+    vel = last["velocity"]
+    out.append(judge("the sticky gas reaches its exact late-time velocity law",
+                     Check(f"χ²/dof of the velocity law at t = {last['t']:g}", vel["chi2_dof"],
+                           math.sqrt(2.0 / vel["dof"]), 1.0, "exact: χ² null expectation")))
+    return out
 
 
 def plot(c, ax=None):

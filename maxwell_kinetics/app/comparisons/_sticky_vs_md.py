@@ -14,8 +14,9 @@ from particles.observables import mean_sem_json
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors, panels
 from .particle_runs import ParticleRuns, md_record_times
+from .verdicts import Check, judge, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "paired_numbers"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "paired_numbers", "verdicts"]
 
 NAME = "sticky_vs_md"
 
@@ -168,7 +169,19 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
     data = {"times": t, "md_e_t23": e_md * scale, "sticky_e_t23": e_st * scale,
             "paired": paired, "unpaired": unpaired, "departure": tuple(dep_data),
             "delta": float(delta), "n": n}
-    return Comparison(NAME, summary, data)
+    return Comparison(NAME, with_verdicts(summary, verdicts), data)
+
+
+def verdicts(s: dict) -> list:
+    """The verdict of comparison 8 from its summary ``s``: MD and the sticky gas from the same
+    initial state differ in E t^{2/3} by less than half what independent seeds do (the stated
+    tolerance: the rms over a few seeds scatters by tens of per cent)."""
+    p = s["paired"]
+    return [judge(
+        "late MD is a sticky gas (Ben-Naim et al., quoted by the paper): paired runs agree",
+        Check("rms paired / rms unpaired relative difference of E t^(2/3)",
+              p["paired_over_unpaired"], None, 1.0, "model: independent seeds (ratio 1)",
+              tolerance=0.5, relation="below"))]
 
 
 def plot(c, ax=None):

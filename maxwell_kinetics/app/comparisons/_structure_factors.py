@@ -13,8 +13,9 @@ from .analysis import jackknife, log_binned, porod_fit, porod_slope
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors, panels
 from .particle_runs import ParticleRuns, md_record_times
+from .verdicts import Check, judge, pair, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
 NAME = "structure_factors"
 
@@ -133,7 +134,7 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
                                    lattice=False)
     data["md"] = {"k": k, "S": mean, "times": times, "z": 2.0 / 3.0}
     summary = {"parameters": jsonable(params), **out, "seconds": time.perf_counter() - start}
-    return Comparison(NAME, summary, data)
+    return Comparison(NAME, with_verdicts(summary, verdicts), data)
 
 
 def _z_minimum(k, spectra, times, zs, x_range) -> tuple[float, bool]:
@@ -209,6 +210,37 @@ def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, params, *,
         "porod_slope_per_time": [with_error(v, "slopes", i) for i, v in enumerate(full["slopes"])],
         "porod_slope_last_time": mean_sem_json(per_seed),
     }
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of comparison 6 (Fig. 3) from its summary ``s``: the collapse exponent z
+    of the lattice (1/2) and of MD (2/3), the Porod tails k⁻² of both, and no Porod tail without
+    the kinematic constraint (3σ of the jackknife errors over seeds; z is refined between the
+    points of its scan, so the scan's step adds nothing)."""
+    out = []
+
+    def z_check(part, label):
+        p = s[part]
+        z, err = pair(p["z_best"])
+        if p.get("z_best_at_scan_edge"):
+            z = None  # the scan's edge is no measurement
+        return Check(f"z of the best collapse of S(k, t) against k t^z ({label})", z, err,
+                     p["z_theory"], "paper: " + ("τ^(1/2), diffusive" if part == "lattice"
+                                                 else "t^(2/3)"))
+
+    out.append(judge("Fig. 3: lattice S(k, τ) = f₁(k τ^(1/2))", z_check("lattice", "lattice")))
+    out.append(judge("Fig. 3: MD S(k, t) = f₂(k t^(2/3))", z_check("md", "MD")))
+    for part, label in (("lattice", "lattice"), ("md", "MD")):
+        slope, err = pair(s[part]["porod_slope_last_time"])
+        out.append(judge(f"Porod's law S(k) ∼ k⁻² (shocks) in the {label}",
+                         Check(f"slope of log S(k) at large k t^z, {label}, last time", slope,
+                               err, -2.0, "paper: Porod's law")))
+    slope, err = pair(s["lattice_no_constraint"]["porod_slope_last_time"])
+    out.append(judge("without the kinematic constraint the Porod tail disappears",
+                     Check("slope of log S(k), lattice without the constraint", slope, err,
+                           -2.0, "paper: no shocks without the constraint",
+                           relation="above")))
+    return out
 
 
 def plot(c, ax=None):

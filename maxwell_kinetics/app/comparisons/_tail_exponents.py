@@ -19,8 +19,9 @@ from ...tails import tail_exponent
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
 from .particle_runs import ParticleRuns
+from .verdicts import Check, judge, pair, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "hill_exponent"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "hill_exponent", "verdicts"]
 
 NAME = "tail_exponents"
 
@@ -109,7 +110,26 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
         "particles": particles,
         "seconds": time.perf_counter() - start,
     }
-    return Comparison(NAME, summary, {"r": rs, "curves": curves, "particles": particles})
+    return Comparison(NAME, with_verdicts(summary, verdicts),
+                      {"r": rs, "curves": curves, "particles": particles})
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of the tail-exponent comparison from its summary ``s``: the paper's α = 5 in
+    2D at r = 0 (the transcendental equation, tolerance 1e-6 of its root finding) and each
+    particle case's Hill exponent against the exact one (3σ over seeds)."""
+    out = [judge("Fig. 2 (inset): 2D tails P(c) ∼ c^(−5) at r = 0",
+                 Check("speed tail exponent of the 2D hard model at r = 0 (exact equation)",
+                       s["paper_2d_r0"]["hard"]["speed"], None, 5.0, "paper: α = 5",
+                       tolerance=1e-6))]
+    for p in s["particles"]:
+        alpha, err = pair(p["alpha"])
+        out.append(judge(
+            f"{p['dimension']}D {p['angular']} particles, r = {p['restitution']:g}: power-law "
+            f"tail of the scaling solution",
+            Check("Hill exponent of the speeds", alpha, err, p["alpha_exact"],
+                  "exact: transcendental equation")))
+    return out
 
 
 def plot(c, ax=None):

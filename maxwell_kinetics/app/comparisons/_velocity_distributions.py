@@ -17,8 +17,9 @@ from .analysis import bin_edges, rescaled
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
 from .particle_runs import ParticleRuns
+from .verdicts import Check, judge, pair, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "ABS_MEAN_F", "ABS_MEAN_GAUSSIAN"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "ABS_MEAN_F", "ABS_MEAN_GAUSSIAN", "verdicts"]
 
 NAME = "velocity_distributions"
 
@@ -179,7 +180,52 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
         "seconds": time.perf_counter() - start,
     }
     data = {"edges": edges, "stages": stages}
-    return Comparison(NAME, summary, data)
+    return Comparison(NAME, with_verdicts(summary, verdicts), data)
+
+
+#: "Does not deviate appreciably from a Gaussian" (Fig. 1b) as a number: ⟨|x|⟩ within a tenth
+#: of the gap between the Gaussian's √(2/π) and the two-peak limit's 1 (Fig. 1a), 0.020.
+_GAUSSIAN_BULK_TOLERANCE = 0.1 * (1.0 - ABS_MEAN_GAUSSIAN)
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of comparison 4 (Figs. 1a/1b) from its summary ``s``: early, MD against
+    the lattice at equal energy (explained when the lattice with MD's collision rate agrees)
+    and against the Ulam model; late, MD against the lattice at r = 0.5 and against a
+    Gaussian bulk.  Models are compared by their kurtosis or ⟨|x|⟩ with the seeds' standard
+    errors added in quadrature (3σ)."""
+    def model(stage, name, q):
+        return pair(s["stages"][stage]["models"][name][q])
+
+    def versus(stage, a, b, q, relation="equal"):
+        (va, ea), (vb, eb) = model(stage, a, q), model(stage, b, q)
+        label = {"kurtosis": "kurtosis ⟨x⁴⟩", "abs_mean": "⟨|x|⟩"}[q]
+        return Check(f"{label} of {a}, {stage}", va, ea, vb, f"model: {b} at equal energy",
+                     expected_sigma=eb, relation=relation)
+
+    r = s["parameters"]["restitution"]
+    r_late = s["parameters"]["lattice_late_restitution"]
+    out = [judge(f"Fig. 1a: early (homogeneous) P(x) of the lattice equals MD's at equal energy, "
+                 f"r = {r:g}",
+                 versus("early", f"lattice_r{r:g}", "md", "kurtosis"),
+                 versus("early", f"lattice_rv_r{r:g}", "md", "kurtosis"),
+                 why="the lattice's bonds collide at one rate; with MD's rate ∝ |v_i − v_j| "
+                     "the lattice matches MD"),
+           judge("Fig. 1a: the Ulam (mean-field) P(x) does not resemble MD's",
+                 versus("early", "ulam", "md", "kurtosis", relation="differs"))]
+    late = s["stages"]["late"]["models"]
+    if f"lattice_r{r_late:g}" in late:
+        out.append(judge(
+            f"Fig. 1b: late (inhomogeneous) P(x) of the lattice at r = {r_late:g} equals MD's "
+            f"at equal energy",
+            versus("late", f"lattice_r{r_late:g}", "md", "abs_mean")))
+    md, md_err = model("late", "md", "abs_mean")
+    out.append(judge(
+        "Fig. 1b: the late MD bulk does not deviate appreciably from a Gaussian",
+        Check("⟨|x|⟩ of MD, late", md, md_err, ABS_MEAN_GAUSSIAN,
+              "exact: Gaussian √(2/π); tolerance a tenth of the Gaussian-to-two-peaks gap",
+              tolerance=_GAUSSIAN_BULK_TOLERANCE)))
+    return out
 
 
 def plot(c, ax=None):

@@ -14,8 +14,9 @@ from .analysis import block_means, coarse_increment_skewness, profile_scales, ve
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels
 from .particle_runs import ParticleRuns
+from .verdicts import Check, judge, pair, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
 NAME = "velocity_profiles"
 
@@ -129,7 +130,47 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
     data = {"md_x": md["positions"][0, j], "md_v": md["snapshots"][0, j],
             "lattice_v": lat["snapshots"][0], "length": length, "md_time": float(md["times"][j]),
             "lattice_tau": float(lat["tau"][0]), "energy": target}
-    return Comparison(NAME, summary, data)
+    return Comparison(NAME, with_verdicts(summary, verdicts), data)
+
+
+#: The coarse-graining (labels, sites or grid spacings) at which the sign of the large
+#: gradients is judged: the hydrodynamic field, above the particle scatter that dominates
+#: m ≤ 16 and below the few shocks per run that make m = 256 noisy at N = 2·10⁴, 4 seeds.
+_SHOCK_SCALE = 64
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of comparison 7 (Fig. 4) from its summary ``s``: the sign of the skewness of
+    the increments at the coarse-graining :data:`_SHOCK_SCALE` (MD v(x): negative, MD v(i):
+    positive, 3σ), and the lattice's v(i) against MD's (3σ, combined errors).  Explained when
+    the run is too small to coarse-grain that far."""
+    def at_scale(field):
+        c = s["coarse_skewness"][field]
+        if _SHOCK_SCALE in c["scales"]:
+            return pair(c["skewness"][c["scales"].index(_SHOCK_SCALE)])
+        return None, None
+
+    def too_small(field):
+        return Check(f"coarsest coarse-graining m of {field}", max(s["coarse_skewness"][field]
+                                                                      ["scales"]),
+                     None, _SHOCK_SCALE, "the scale where shocks are judged", relation="below")
+
+    why = f"the run has too few particles to coarse-grain over m = {_SHOCK_SCALE}"
+    vx, vx_err = at_scale("md_vx")
+    vi, vi_err = at_scale("md_vi")
+    lat, lat_err = at_scale("lattice_vi")
+    label = f"skewness of the increments over m = {_SHOCK_SCALE}"
+    return [
+        judge("Fig. 4: MD v(x, t) has large negative gradients (shocks)",
+              Check(f"{label}, MD v(x)", vx, vx_err, 0.0, "paper: sign of the shocks",
+                    relation="below"), too_small("md_vx"), why),
+        judge("Fig. 4: MD v(i, t) has large positive gradients",
+              Check(f"{label}, MD v(i)", vi, vi_err, 0.0, "paper: sign in the label frame",
+                    relation="above"), too_small("md_vi"), why),
+        judge("Fig. 4: the lattice's v(i, τ) compares with MD's v(i, t) at equal energy",
+              Check(f"{label}, lattice v(i)", lat, lat_err, 0.0 if vi is None else vi,
+                    "model: MD v(i)", expected_sigma=vi_err), too_small("lattice_vi"), why),
+    ]
 
 
 def plot(c, ax=None):
