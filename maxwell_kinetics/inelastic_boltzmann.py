@@ -60,13 +60,18 @@ from particles.validation import (
 from .model import RelativeVelocityModel
 
 __all__ = ["VelocityGrid", "default_grid", "solve_boltzmann", "BoltzmannSolution",
+           "scaling_state", "ScalingState",
            "EXTENT_TOLERANCE", "RESOLUTION_TOLERANCE"]
 
-#: Largest mass fraction of the initial law that may lie outside the grid.
-EXTENT_TOLERANCE = 1e-12
+#: Largest mass fraction of the initial law that may lie outside the grid (its moments of order
+#: ≤ 6 then change by less than ~1e-6; the nodes inside are renormalised).
+EXTENT_TOLERANCE = 1e-8
 #: Largest relative error of the grid's raw mass and variance of the initial law (before the
 #: correction that makes them exact): a larger one means the spacing does not resolve the law.
 RESOLUTION_TOLERANCE = 1e-3
+#: Largest grid spacing h, in units of the initial standard deviation (hard rods, r = 0.99,
+#: t = 400: h = 0.2 errs by 3.6e-4 in the kurtosis, benchmarks/README.md).
+MAX_SPACING = 0.25
 #: Most grid points (the collision tables hold N² M numbers).
 MAX_POINTS = 1601
 
@@ -164,7 +169,8 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
     particles.validation.InvalidArgumentError
         Naming ``initial`` for a law without a CDF; ``half_width`` when more than
         :data:`EXTENT_TOLERANCE` of the mass lies outside the grid, ``points`` when the spacing
-        does not resolve the law (:data:`RESOLUTION_TOLERANCE`); both with the size needed.
+        exceeds :data:`MAX_SPACING` or does not resolve the law (:data:`RESOLUTION_TOLERANCE`);
+        both with the size needed.
     """
     law = get_law(law)
     if law.distribution is None:
@@ -189,6 +195,11 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
         m = _raw_moments(_density_at(law, c), c, h)
         return max(abs(m[0] - 1.0), abs(m[1]), abs(m[2] - 1.0))
 
+    if grid.h > MAX_SPACING:
+        needed = math.ceil(2.0 * L / MAX_SPACING) + 1
+        raise InvalidArgumentError(
+            "points", grid.points, f"a spacing 2 half_width/(points - 1) <= {MAX_SPACING:g} "
+            f"(it is {grid.h:.3g} on [-{L:g}, {L:g}]): at least {needed} points")
     found = defect(grid.points)
     if not found <= RESOLUTION_TOLERANCE:
         needed = grid.points
@@ -587,3 +598,151 @@ def _cumulative(values: np.ndarray, c: np.ndarray, x: np.ndarray) -> np.ndarray:
     spline = CubicSpline(c, values)
     x = np.clip(x, c[0], c[-1])
     return np.array([spline.integrate(c[0], b) for b in x])
+
+
+@dataclass(frozen=True)
+class ScalingState:
+    """The scaling (homogeneous cooling) state of the rate |v − w|^γ: the time-independent law
+    F(c) of c = (v − u)/v₀(t), v₀² = ⟨(v − u)²⟩, on the grid (∫F = 1, ⟨c⟩ = 0, ⟨c²⟩ = 1), a
+    zero of Q_h(F) + σ′ ∂_c(c F) (:func:`scaling_state`).
+
+    Attributes
+    ----------
+    restitution, exponent : float
+        r and γ.
+    grid : VelocityGrid
+        The grid of c.
+    F : numpy.ndarray
+        Shape (N,): the state at the nodes.
+    residual : float
+        max_i |Q_h(F) + σ′ ∂_c(c F)| at the end.
+    iterations : int
+        Newton iterations.
+    relaxation_time : float
+        τ′ (collision time units n s^γ t) integrated before Newton.
+    seconds : float
+        Wall-clock time.
+    """
+
+    restitution: float
+    exponent: float
+    grid: VelocityGrid
+    F: np.ndarray = field(repr=False)
+    residual: float = 0.0
+    iterations: int = 0
+    relaxation_time: float = 0.0
+    seconds: float = 0.0
+
+    def moment(self, order: int) -> float:
+        """⟨c^k⟩ of the state.
+
+        Parameters
+        ----------
+        order : int
+            k.
+
+        Returns
+        -------
+        float
+            The moment (⟨c²⟩ = 1).
+        """
+        c = self.grid.c
+        return float(self.grid.h * (self.F @ c**order))
+
+    @property
+    def kurtosis(self) -> float:
+        """⟨c⁴⟩/⟨c²⟩²."""
+        return self.moment(4) / self.moment(2) ** 2
+
+    def density(self, x) -> np.ndarray:
+        """P(x) of the scaling state, x = c/√⟨c²⟩ (sixth-order interpolation, zero outside).
+
+        Parameters
+        ----------
+        x : array_like
+            Rescaled velocities.
+
+        Returns
+        -------
+        numpy.ndarray
+            P(x), of the shape of ``x``.
+        """
+        scale = math.sqrt(self.moment(2))
+        x = np.asarray(x, dtype=float)
+        return scale * _interpolate(self.F, self.grid.c, x * scale)
+
+
+def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None,
+                  tolerance: float = 1e-11, max_iterations: int = 30,
+                  relaxation: float | None = None) -> ScalingState:
+    """The scaling state of the rescaled equation: relaxed in τ′ from the Gaussian, then
+    Newton's method on Q_h(F) + σ′ ∂_c(c F) = 0 with ∫F = 1, ⟨c⟩ = 0 and ⟨c²⟩ = 1 (least
+    squares on the N + 3 equations).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+    exponent : float, default 1.0
+        γ of the rate.
+    grid : VelocityGrid, optional
+        Default :func:`default_grid` (γ > 0); γ = 0 has no scaling state with finite
+        kurtosis (its tail is |x|⁻⁴) and is refused.
+    tolerance : float, default 1e-11
+        Newton stops when max|residual| ≤ tolerance.
+    max_iterations : int, default 30
+        Most Newton iterations.
+    relaxation : float, optional
+        τ′ integrated before Newton (default min(2000, 5/λ)).
+
+    Returns
+    -------
+    ScalingState
+        The state (check ``residual``).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``restitution`` (r = 1 has no cooling state), ``exponent`` (γ = 0 or out of
+        range), ``points`` or ``half_width``.
+    """
+    model = RelativeVelocityModel(restitution, exponent=exponent)
+    if model.restitution == 1.0:
+        raise InvalidArgumentError("restitution", restitution,
+                                   "r < 1 (an elastic gas does not cool)")
+    if model.exponent == 0.0:
+        raise InvalidArgumentError("exponent", exponent,
+                                   "gamma > 0 (the Maxwell model's scaling state has an x^-4 "
+                                   "tail and no finite kurtosis: use fixed-point --rate "
+                                   "constant)")
+    grid = default_grid(model.exponent) if grid is None else grid
+    F0 = initial_values("gaussian", grid)
+    if relaxation is None:
+        relaxation = min(2000.0, 5.0 / model.lam)
+    import jax
+    import jax.numpy as jnp
+
+    start = time.perf_counter()
+    c, h = grid.c, grid.h
+    with jax.enable_x64(True):
+        functions = _Compiled.get()
+        tables = tables_for(model, grid)
+        cj = jnp.asarray(c)
+        args = (tables, cj, h, 1.0, 0.0, model.lam)  # s^γ ≡ 1: time is τ′
+        ys, ok, _ = functions.solve(jnp.asarray(np.append(F0, 0.0)),
+                                    jnp.asarray([float(relaxation)]), args, 1e-8, 1e-12,
+                                    1_000_000)
+        F = np.asarray(ys[-1, :-1])
+        constraints = h * np.array([np.ones_like(c), c, c * c])
+        iterations = 0
+        residual = np.asarray(functions.steady(jnp.asarray(F), tables, cj, h, model.lam))
+        while np.max(np.abs(residual)) > tolerance and iterations < max_iterations:
+            J = np.asarray(functions.jacobian(jnp.asarray(F), tables, cj, h, model.lam))
+            A = np.vstack([J, constraints])
+            b = -np.concatenate([residual, constraints @ F - np.array([1.0, 0.0, 1.0])])
+            F = F + np.linalg.lstsq(A, b, rcond=None)[0]
+            residual = np.asarray(functions.steady(jnp.asarray(F), tables, cj, h, model.lam))
+            iterations += 1
+    return ScalingState(model.restitution, model.exponent, grid, F,
+                        float(np.max(np.abs(residual))), iterations, float(relaxation),
+                        time.perf_counter() - start)
