@@ -239,6 +239,12 @@ def check_density(density) -> float:
     return check_positive(density, "density")
 
 
+def _padded(times: np.ndarray) -> np.ndarray:
+    """The times, the last repeated up to a multiple of 8 (one compilation for up to 8 times)."""
+    size = 8 * math.ceil(times.size / 8)
+    return np.concatenate([times, np.full(size - times.size, times[-1])])
+
+
 class _Compiled:
     """The jitted solve and right-hand side for one (points, stencil) (cached)."""
 
@@ -366,9 +372,9 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         args = (tables_for(model, grid), jnp.asarray(grid.c), grid.h, n, model.exponent,
                 model.lam)
         y0 = jnp.asarray(np.append(F0, 0.0))
-        ys, ok, steps = functions.solve(y0, jnp.asarray(times), args, rtol, atol,
+        ys, ok, steps = functions.solve(y0, jnp.asarray(_padded(times)), args, rtol, atol,
                                         int(max_steps))
-        ys = np.asarray(ys)
+        ys = np.asarray(ys)[:times.size]
         if not bool(ok):
             raise RuntimeError(f"the time integration failed (steps: {int(steps)}, "
                                f"max_steps={max_steps})")
@@ -730,8 +736,8 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
         cj = jnp.asarray(c)
         args = (tables, cj, h, 1.0, 0.0, model.lam)  # s^γ ≡ 1: time is τ′
         ys, ok, _ = functions.solve(jnp.asarray(np.append(F0, 0.0)),
-                                    jnp.asarray([float(relaxation)]), args, 1e-8, 1e-12,
-                                    1_000_000)
+                                    jnp.asarray(_padded(np.array([float(relaxation)]))), args,
+                                    1e-8, 1e-12, 1_000_000)
         F = np.asarray(ys[-1, :-1])
         constraints = h * np.array([np.ones_like(c), c, c * c])
         iterations = 0
