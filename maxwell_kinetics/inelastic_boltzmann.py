@@ -62,7 +62,7 @@ from particles.validation import (
 from .model import RelativeVelocityModel
 
 __all__ = ["VelocityGrid", "default_grid", "solve_boltzmann", "BoltzmannSolution",
-           "scaling_state", "ScalingState",
+           "scaling_state", "ScalingState", "SCALING_GRID",
            "EXTENT_TOLERANCE", "RESOLUTION_TOLERANCE"]
 
 #: Largest mass fraction of the initial law that may lie outside the grid (its moments of order
@@ -608,6 +608,11 @@ def _cumulative(values: np.ndarray, c: np.ndarray, x: np.ndarray) -> np.ndarray:
     return np.array([spline.integrate(c[0], b) for b in x])
 
 
+#: The default grid of :func:`scaling_state`: the hard-rod state at r = 0.5 has a kurtosis of
+#: 3.4831 and tails that reach past ±6 (121 points on ±12 and 161 on ±16 agree to 6e-8).
+SCALING_GRID = VelocityGrid(241, 12.0)
+
+
 @dataclass(frozen=True)
 class ScalingState:
     """The scaling (homogeneous cooling) state of the rate |v − w|^γ: the time-independent law
@@ -694,8 +699,8 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
     exponent : float, default 1.0
         γ of the rate.
     grid : VelocityGrid, optional
-        Default :func:`default_grid` (γ > 0); γ = 0 has no scaling state with finite
-        kurtosis (its tail is |x|⁻⁴) and is refused.
+        Default :data:`SCALING_GRID`; γ = 0 has no scaling state with finite kurtosis (its
+        tail is |x|⁻⁴) and is refused.
     tolerance : float, default 1e-11
         Newton stops when max|residual| ≤ tolerance.
     max_iterations : int, default 30
@@ -723,7 +728,7 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
                                    "gamma > 0 (the Maxwell model's scaling state has an x^-4 "
                                    "tail and no finite kurtosis: use fixed-point --rate "
                                    "constant)")
-    grid = default_grid(model.exponent) if grid is None else grid
+    grid = SCALING_GRID if grid is None else grid
     F0 = initial_values("gaussian", grid)
     if relaxation is None:
         relaxation = min(2000.0, 5.0 / model.lam)
