@@ -98,7 +98,8 @@ def collision_tables(c: np.ndarray, keep: float, transfer: float, exponent: floa
     g = np.abs(c[:, None] - c[None, :])
     kernel = np.ones_like(g) if exponent == 0.0 else g**exponent
     jacobian = transfer ** (-1.0 - exponent)
-    return {"first": first, "weights": weights, "gain_rate": np.where(inside, jacobian * kernel, 0.0),
+    return {"first": first, "weights": weights,
+            "gain_rate": np.where(inside, jacobian * kernel, 0.0),
             "kernel": kernel, "energy_kernel": g ** (exponent + 2.0),
             "node": np.full(n, kink * h ** (exponent + 1.0) * (jacobian - 1.0))}
 
