@@ -345,3 +345,36 @@ def test_driven_run_resumes_from_a_checkpoint_bit_for_bit(tmp_path):
     assert resumed.collisions[-1] == reference.collisions[-1]
     # heating is on: the energy rises from 1 towards D/(pq) (1 - 1/N)^2 = 4.16
     assert reference.energy[-1] > 1.5
+
+
+class _CountingRng:
+    """A Generator whose Poisson draws record their means (everything else passes through)."""
+
+    def __init__(self, seed):
+        self._rng = np.random.default_rng(seed)
+        self.means = []
+
+    def poisson(self, lam, *args, **kwargs):
+        self.means.append(float(lam))
+        return self._rng.poisson(lam, *args, **kwargs)
+
+    def __getattr__(self, name):
+        return getattr(self._rng, name)
+
+
+@pytest.mark.parametrize("kwargs", [{}, {"dimension": 2}, {"dimension": 3}, {"driving": 0.5}])
+def test_collisions_are_a_poisson_process_of_rate_n_over_two(kwargs):
+    """The model: pair collisions at total rate N/2 per unit τ (each particle at rate 1).  The
+    engine's window counts are Poisson draws, so the sum of their means over [τ₀, τ₁] must be
+    N (τ₁ − τ₀)/2 exactly (to round-off), whatever the windows; a rate off by 0.1 % fails by
+    1e-3 relative, the check is to 1e-12.  Each window's mean is N/2 times its length."""
+    engine = Ulam(300, 0.6, **kwargs)
+    state = engine.initial_state(np.random.default_rng(1))
+    rng = _CountingRng(2)
+    after = engine.advance(state, 7.3, rng)
+    windows = engine.windows(0.0, 7.3)
+    assert len(rng.means) == len(windows) > 1
+    assert sum(rng.means) == pytest.approx(300 * 7.3 / 2, rel=1e-12)
+    for mean, (a, b) in zip(rng.means, windows):
+        assert mean == pytest.approx(300 * (b - a) / 2, rel=1e-12)
+    assert after.collisions > 0
