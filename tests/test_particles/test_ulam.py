@@ -378,3 +378,15 @@ def test_collisions_are_a_poisson_process_of_rate_n_over_two(kwargs):
     for mean, (a, b) in zip(rng.means, windows):
         assert mean == pytest.approx(300 * (b - a) / 2, rel=1e-12)
     assert after.collisions > 0
+
+
+def test_largest_occurrence_of_a_particle_seen_only_at_index_zero():
+    """Occurrence 0 is a valid largest occurrence: for flat [0, 1, 1] particle 0 appears only
+    at index 0 and particle 1 last at index 2, so both functions return [0, 2, 2], whatever the
+    scratch held before."""
+    from particles.pair_schedule import largest_occurrence, largest_occurrence_ufunc
+
+    flat = np.array([0, 1, 1], dtype=np.intp)
+    occ = np.arange(3, dtype=np.int32)
+    for fn in (largest_occurrence, largest_occurrence_ufunc):
+        assert fn(np.full(4, 7, np.int32), flat, occ).tolist() == [0, 2, 2]

@@ -447,3 +447,16 @@ def test_component_kurtosis_follows_the_exact_moment_hierarchy(d, angular):
     se = rows.std(axis=0, ddof=1) / math.sqrt(rows.shape[0])
     assert np.all(np.abs(rows.mean(axis=0) - exact) < 4 * se)
     assert exact[-1] - 3.0 > 0.25  # far from Gaussian: the test has something to see
+
+
+@pytest.mark.parametrize("d, angular", [(2, "uniform"), (3, "uniform"), (3, "hard")])
+def test_no_events_leave_the_velocities_unchanged(d, angular):
+    """K = 0 events: both loops return an unchanged copy (the fast path's reversed draws are
+    empty too, not a row read from the end)."""
+    rng = np.random.default_rng(3)
+    v = rng.normal(size=(5, d))
+    draws = draw_angles(rng, 0, d, angular)
+    for collide in (collide_in_order_vectors, collide_sequential_vectors):
+        out = collide(v, np.empty((0, 2), dtype=np.int32), 0.4, draws, angular)
+        np.testing.assert_array_equal(out, v)
+        assert out is not v
