@@ -1,6 +1,8 @@
 """The Ulam model: exactness of the round-parallel fast path, exact energy decay, the scaling
 solution f(x) = 2/(π(1+x²)²) with its x⁻⁴ tail, and agreement with a sequential reference."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -390,3 +392,17 @@ def test_largest_occurrence_of_a_particle_seen_only_at_index_zero():
     occ = np.arange(3, dtype=np.int32)
     for fn in (largest_occurrence, largest_occurrence_ufunc):
         assert fn(np.full(4, 7, np.int32), flat, occ).tolist() == [0, 2, 2]
+
+
+def test_event_loops_take_integer_velocities_as_floats_and_check_the_pairs():
+    """Integer velocities are collided as floats (r = 0: the pair meets at its mean), and a
+    ``pairs`` array not of shape (K, 2) is refused naming it and its shape."""
+    for collide in (collide_in_order, collide_sequential):
+        out = collide([0, 3, 7], [[0, 1]], 0.0)
+        assert out.dtype == np.float64 and out.tolist() == [1.5, 1.5, 7.0]
+        for bad in ([0, 1, 2], [[0, 1, 2], [1, 2, 0]]):
+            shape = re.escape(str(np.shape(bad)))
+            with pytest.raises(InvalidArgumentError,
+                               match=rf"argument pairs='array of shape {shape}' is invalid: "
+                                     r"expected shape \(K, 2\)"):
+                collide([0.0, 1.0, 2.0], bad, 0.5)

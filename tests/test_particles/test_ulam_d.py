@@ -5,7 +5,9 @@ conservation, agreement in distribution with an independent reference (rejection
 global heating), and the driven steady state against the exact theory of
 maxwell_kinetics.driven."""
 
+import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
@@ -460,3 +462,48 @@ def test_no_events_leave_the_velocities_unchanged(d, angular):
         out = collide(v, np.empty((0, 2), dtype=np.int32), 0.4, draws, angular)
         np.testing.assert_array_equal(out, v)
         assert out is not v
+
+
+def _vector_events(d, angular, k=3, seed=4):
+    rng = np.random.default_rng(seed)
+    return (rng.normal(size=(4, d)), np.array([[0, 1], [2, 3], [1, 2]][:k]),
+            draw_angles(rng, k, d, angular))
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_vector_loops_take_integer_velocities_as_floats(d):
+    v, pairs, draws = _vector_events(d, "uniform")
+    v_int = np.arange(4 * d).reshape(4, d) * 3
+    for collide in (collide_in_order_vectors, collide_sequential_vectors):
+        out = collide(v_int, pairs, 0.3, draws)
+        assert out.dtype == np.float64
+        np.testing.assert_array_equal(out, collide(v_int.astype(float), pairs, 0.3, draws))
+
+
+def test_vector_loops_default_to_the_uniform_law():
+    for d in (2, 3):
+        v, pairs, draws = _vector_events(d, "uniform")
+        for collide in (collide_in_order_vectors, collide_sequential_vectors):
+            np.testing.assert_array_equal(collide(v, pairs, 0.3, draws),
+                                          collide(v, pairs, 0.3, draws, "uniform"))
+
+
+@pytest.mark.parametrize("collide", [collide_in_order_vectors, collide_sequential_vectors])
+def test_vector_loops_refuse_bad_velocities_and_draws(collide):
+    v, pairs, draws = _vector_events(3, "hard")
+    for bad in (v[:, 0], v[:, :1]):
+        shape = re.escape(str(bad.shape))
+        with pytest.raises(InvalidArgumentError,
+                           match=rf"argument v='array of shape {shape}' is invalid: "
+                                 r"expected shape \(N, d\), d >= 2"):
+            collide(bad, pairs, 0.3, draws, "hard")
+    wrong_draws = r"argument draws='arrays of other shapes' is invalid: expected one draw per event"
+    for bad in (dataclasses.replace(draws, eta=None), dataclasses.replace(draws, eta=draws.eta[:2]),
+                dataclasses.replace(draws, z=draws.z[:2])):
+        with pytest.raises(InvalidArgumentError, match=wrong_draws):
+            collide(v, pairs, 0.3, bad, "hard")
+    v2, pairs2, draws2 = _vector_events(2, "uniform")
+    with pytest.raises(InvalidArgumentError, match=wrong_draws):
+        collide(v2, pairs2, 0.3, dataclasses.replace(draws2, sine=draws2.sine[:2]))
+    with pytest.raises(InvalidArgumentError, match=r"argument pairs=.*expected shape \(K, 2\)"):
+        collide(v, pairs[:, :1], 0.3, draws, "hard")
