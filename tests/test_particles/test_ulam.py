@@ -377,7 +377,7 @@ def test_collisions_are_a_poisson_process_of_rate_n_over_two(kwargs):
     windows = engine.windows(0.0, 7.3)
     assert len(rng.means) == len(windows) > 1
     assert sum(rng.means) == pytest.approx(300 * 7.3 / 2, rel=1e-12)
-    for mean, (a, b) in zip(rng.means, windows):
+    for mean, (a, b) in zip(rng.means, windows, strict=True):
         assert mean == pytest.approx(300 * (b - a) / 2, rel=1e-12)
     assert after.collisions > 0
 
