@@ -406,3 +406,15 @@ def test_event_loops_take_integer_velocities_as_floats_and_check_the_pairs():
                                match=rf"argument pairs='array of shape {shape}' is invalid: "
                                      r"expected shape \(K, 2\)"):
                 collide([0.0, 1.0, 2.0], bad, 0.5)
+
+
+@pytest.mark.parametrize("bad", [[[0, 3]], [[-1, 1]], [[1, 1]], [[0, 1], [2, 2]]])
+def test_event_loops_refuse_pairs_out_of_range_or_of_one_particle(bad):
+    """Indices outside 0..N−1 (N = 3: 3 and −1) and a particle paired with itself are refused
+    naming ``pairs``; the boundary indices 0 and N − 1 are accepted."""
+    for collide in (collide_in_order, collide_sequential):
+        with pytest.raises(InvalidArgumentError,
+                           match=r"argument pairs='out-of-range or i == j entries' is invalid: "
+                                 r"expected pairs of 0\.\.2, i != j"):
+            collide([0.0, 1.0, 2.0], bad, 0.5)
+        assert collide([0.0, 1.0, 4.0], [[2, 0]], 0.0).tolist() == [2.0, 1.0, 2.0]
