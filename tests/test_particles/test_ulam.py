@@ -418,3 +418,26 @@ def test_event_loops_refuse_pairs_out_of_range_or_of_one_particle(bad):
                                  r"expected pairs of 0\.\.2, i != j"):
             collide([0.0, 1.0, 2.0], bad, 0.5)
         assert collide([0.0, 1.0, 4.0], [[2, 0]], 0.0).tolist() == [2.0, 1.0, 2.0]
+
+
+def test_draw_pairs_checks_its_arguments():
+    """``rng`` must be a Generator, N an integer in [2, 2³¹ − 1] (int32 particle ids, both
+    ends accepted), K an integer ≥ 0; each refusal names the argument and the value."""
+    rng = np.random.default_rng(0)
+    with pytest.raises(InvalidArgumentError,
+                       match=r"argument rng='RandomState' is invalid: expected a numpy\.random\."
+                             r"Generator"):
+        draw_pairs(np.random.RandomState(0), 5, 1)
+    with pytest.raises(InvalidArgumentError, match=r"argument n=1 is invalid"):
+        draw_pairs(rng, 1, 1)
+    with pytest.raises(InvalidArgumentError,
+                       match=r"argument n=2147483648 is invalid: expected an integer <= "
+                             r"2\*\*31 - 1 \(int32 particle ids\)"):
+        draw_pairs(rng, 2**31, 1)
+    with pytest.raises(InvalidArgumentError, match=r"argument k=-1 is invalid"):
+        draw_pairs(rng, 5, -1)
+    big = draw_pairs(rng, 2**31 - 1, 3)
+    assert big.dtype == np.int32 and big.shape == (3, 2) and np.all(big[:, 0] != big[:, 1])
+    two = draw_pairs(rng, 2, 50)
+    assert sorted(set(map(tuple, two.tolist()))) == [(0, 1), (1, 0)]
+    assert draw_pairs(rng, 5, 0).shape == (0, 2)
