@@ -515,6 +515,11 @@ def test_lattice_state_from_arrays_round_trip_and_copies():
     assert LatticeState.from_arrays(at_time, 4).clocks[2] == 1.0
     back = LatticeState.from_arrays(state.to_arrays(), 4)
     assert back.to_arrays().keys() == state.to_arrays().keys()
+    # integer arrays (a hand-made file) become the documented float arrays
+    ints = _lattice_arrays()
+    ints["velocities"], ints["clocks"] = np.arange(4), np.full(4, 2)
+    loaded = LatticeState.from_arrays(ints, 4)
+    assert loaded.velocities.dtype == loaded.clocks.dtype == np.float64
 
 
 @pytest.mark.parametrize("change, match", [
