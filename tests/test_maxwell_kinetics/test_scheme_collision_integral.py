@@ -16,8 +16,9 @@ Both integrals are computed here by tensor Gauss quadrature of the double (and s
 integral, never through the product G(pq) G((1 − p)q) the scheme uses.  The grid is chosen so
 that the gain's shifts ln p / h and ln(1 − p) / h are integers: p = (√5 − 1)/2 (so 1 − p = p²,
 r = √5 − 2) and h = −ln p / 20, shifts −20 and −40.  The Lagrange stencils are then exact
-(a single weight 1), and the scheme's only error is round-off: the check is to 1e-12, and a
-change of 0.1 % in the gain term (≥ 1e-4 at q ~ 1) or in p fails it by orders of magnitude.
+(a single weight 1), and the scheme's only error is round-off: the check is to the quadrature's
+error (below 1e-12), and a change of 0.1 % in the gain term (≥ 1e-4 at q ~ 1) or in p fails
+it by orders of magnitude.
 """
 
 from __future__ import annotations
@@ -41,12 +42,16 @@ R = 2.0 * P - 1.0  # p = (1 + r)/2
 H = -math.log(P) / 20.0
 GRID = Resolution("integer-shift test grid", H, 8, -6.0)
 
-# Tolerance: the quadratures' own error, estimated as the difference between N and 2N nodes
-# (spectral convergence: the coarser rule's error bounds the finer's) and asserted below
-# QUADRATURE_TOL, plus the scheme's round-off on O(1) terms (a few 1e-15, measured 1.2e-14 for
-# the uniform law and 1.2e-13 for the asymmetric one over all nodes).
+# Tolerance: the quadrature's own error, estimated as the difference between N and 2N nodes
+# (spectral convergence: the coarser rule's error bounds the finer's; asserted below
+# QUADRATURE_TOL), twice over, plus ROUND_OFF for the scheme's float64 arithmetic on O(1)
+# terms (measured: 7e-15 for the uniform law; the asymmetric law's 4.7e-13 is its quadrature's
+# 4.0e-13).  Below q ≈ 0.05 the state is not φ − g itself but the solver's small-q fit of it
+# (``initial_deviation``, a series in q), which differs from it by up to 3e-13 there: the gain
+# and loss are not the question there, and the checks start at Q_MIN.
 QUADRATURE_TOL = 1e-12
-TOL = 1e-12
+ROUND_OFF = 1e-13
+Q_MIN = 0.05
 
 
 def _scheme_rhs(law_name):
@@ -85,19 +90,22 @@ def test_grid_makes_the_gain_stencils_exact():
 
 
 def test_rhs_is_the_collision_integral_uniform_law():
-    """U(−√3, √3), real G, every node q ∈ [e^{−6}, 36]: Gauss–Legendre in v and w
-    (64 and 128 nodes per axis)."""
+    """U(−√3, √3), real G, every node q ∈ [0.05, 36]: Gauss–Legendre in v and w (64 and 128
+    nodes per axis)."""
     q, rhs, lam, m3 = _scheme_rhs("uniform")
     assert m3 == 0.0 and np.all(rhs.imag == 0.0)
+    keep = q >= Q_MIN
+    q, rhs = q[keep], rhs[keep]
 
     def integral(n):
         x, wt = np.polynomial.legendre.leggauss(n)
         return _collision_integral(q, math.sqrt(3.0) * x, wt / 2.0)
 
     coarse, fine = integral(64), integral(128)
-    assert np.abs(coarse - fine).max() < QUADRATURE_TOL
+    quadrature_error = np.abs(coarse - fine).max()
+    assert quadrature_error < QUADRATURE_TOL
     expected = fine + _transport_of_reference(q, lam, m3)
-    assert np.abs(rhs - expected).max() < TOL
+    assert np.abs(rhs - expected).max() < 2 * quadrature_error + ROUND_OFF
     # the check has teeth: the gain alone is O(0.1–1) over much of the grid
     assert np.abs(fine).max() > 0.1
 
@@ -105,19 +113,18 @@ def test_rhs_is_the_collision_integral_uniform_law():
 def test_rhs_is_the_collision_integral_asymmetric_law():
     """Shifted exponential X − 1 (m₃ = 2), complex G, nodes 0.05 ≤ q ≤ 2: Gauss–Laguerre in
     v + 1 and w + 1 (120 and 180 nodes per axis; beyond q ≈ 2 the Laguerre rules of this size
-    no longer resolve e^{iqv} to 1e-12).  Below q ≈ 0.05 the state is not φ − g itself but the
-    solver's small-q fit of it (``initial_deviation``, a series in q), which differs from it by
-    ~1e-12 there (measured at q = e^{−6}): the gain and loss are not the question there."""
+    no longer resolve e^{iqv} to 1e-12)."""
     q, rhs, lam, m3 = _scheme_rhs("asymmetric")
     assert m3 == pytest.approx(2.0)
-    keep = (q >= 0.05) & (q <= 2.0)
+    keep = (q >= Q_MIN) & (q <= 2.0)
 
     def integral(n):
         x, wt = np.polynomial.laguerre.laggauss(n)
         return _collision_integral(q[keep], x - 1.0, wt)
 
     coarse, fine = integral(120), integral(180)
-    assert np.abs(coarse - fine).max() < QUADRATURE_TOL
+    quadrature_error = np.abs(coarse - fine).max()
+    assert quadrature_error < QUADRATURE_TOL
     expected = fine + _transport_of_reference(q[keep], lam, m3)
-    assert np.abs(rhs[keep] - expected).max() < TOL
+    assert np.abs(rhs[keep] - expected).max() < 2 * quadrature_error + ROUND_OFF
     assert np.abs(fine.imag).max() > 0.05  # the imaginary part is tested, not only zeros
