@@ -526,3 +526,15 @@ def test_plane_rounds_count_and_row_scatter_in_the_plane():
     v = np.arange(10, dtype=float).reshape(5, 2)
     _scatter_rows(v, np.array([3, 0]), np.array([[-1.0, -2.0], [-3.0, -4.0]]))
     np.testing.assert_array_equal(v, [[-3, -4], [2, 3], [4, 5], [-1, -2], [8, 9]])
+
+
+def test_angular_draws_hold_only_what_their_law_uses():
+    """As documented by AngularDraws: d = 3 "uniform" draws only the normals (no η), "hard"
+    also η (K,); d = 2 only sin φ (K,)."""
+    rng = np.random.default_rng(0)
+    uniform3, hard3 = draw_angles(rng, 4, 3, "uniform"), draw_angles(rng, 4, 3, "hard")
+    assert uniform3.z.shape == (4, 3) and uniform3.eta is None and uniform3.sine is None
+    assert hard3.z.shape == (4, 3) and hard3.eta.shape == (4,) and hard3.sine is None
+    for angular in ("uniform", "hard"):
+        plane = draw_angles(rng, 4, 2, angular)
+        assert plane.z is None and plane.eta is None and plane.sine.shape == (4,)
