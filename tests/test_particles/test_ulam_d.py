@@ -538,3 +538,11 @@ def test_angular_draws_hold_only_what_their_law_uses():
     for angular in ("uniform", "hard"):
         plane = draw_angles(rng, 4, 2, angular)
         assert plane.z is None and plane.eta is None and plane.sine.shape == (4,)
+
+
+def test_hard_direction_in_three_dimensions_by_hand():
+    """g = (2, 0, 0), z = (5, 3, 0), η = 0.36: ĝ = x̂, the part of z across ĝ is ŷ, so
+    n = √η x̂ + √(1 − η) ŷ = (0.6, 0.8, 0); its (ĝ·n)² is η."""
+    draws = AngularDraws(np.array([[5.0, 3.0, 0.0]]), np.array([0.36]))
+    n = collision_directions(np.array([[2.0, 0.0, 0.0]]), draws, "hard")
+    np.testing.assert_allclose(n, [[0.6, 0.8, 0.0]], rtol=0, atol=1e-15)
