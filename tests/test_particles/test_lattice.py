@@ -456,3 +456,105 @@ def test_advance_to_the_same_time_is_a_no_op_and_backwards_is_refused():
     assert same.collisions == state.collisions
     with pytest.raises(InvalidArgumentError, match=r"until=0\.5.*a time >= 1\.0"):
         engine.advance(state, 0.5, np.random.default_rng(3))
+
+
+def test_rate_relative_velocity_advance_refuses_a_state_without_attempt_rate():
+    """A rate-|Δ| engine given a constant-rate state (no ``attempt_rate``) refuses it, naming
+    the argument, what it got and what it needs, and leaves the state untouched."""
+    engine = Lattice(20, 0.5, rate="relative_velocity")
+    constant = Lattice(20, 0.5).initial_state(np.random.default_rng(1))
+    assert constant.attempt_rate is None
+    before = constant.velocities.copy()
+    with pytest.raises(InvalidArgumentError,
+                       match=r"argument state='a state without attempt_rate' is invalid: "
+                             r"expected a rate-\|Δ\| state"):
+        engine.advance(constant, 1.0, np.random.default_rng(2))
+    np.testing.assert_array_equal(constant.velocities, before)
+
+
+def test_rate_relative_velocity_gas_of_equal_velocities_never_collides():
+    """All velocities equal: every pair's rate |Δ| is 0, so no bond ever collides.  The advance
+    returns the state at ``until`` with the velocities, counts and attempt rate unchanged, and
+    every pending clock at or after ``until`` (none due before it)."""
+    engine = Lattice(8, 0.5, rate="relative_velocity")
+    v = np.full(8, 0.3)
+    clocks = np.array([0.1, 0.5, 2.0, 3.5, 0.2, 9.0, 1.5, 0.05])
+    state = LatticeState(0.0, v, clocks, collisions=5, attempts=7, attempt_rate=1.25)
+    out = engine.advance(state, 3.0, np.random.default_rng(0))
+    assert out.time == 3.0
+    np.testing.assert_array_equal(out.velocities, v)
+    np.testing.assert_array_equal(out.clocks, np.maximum(clocks, 3.0))
+    assert (out.collisions, out.attempts, out.attempt_rate) == (5, 7, 1.25)
+    # the input state is not modified
+    np.testing.assert_array_equal(state.clocks, [0.1, 0.5, 2.0, 3.5, 0.2, 9.0, 1.5, 0.05])
+
+
+def _lattice_arrays(n=4, time=1.0, rate=None):
+    arrays = {"time": np.array(time), "velocities": np.arange(n, dtype=float),
+              "clocks": np.full(n, time + 0.5), "collisions": np.array(3),
+              "attempts": np.array(9)}
+    if rate is not None:
+        arrays["attempt_rate"] = np.array(rate)
+    return arrays
+
+
+def test_lattice_state_from_arrays_round_trip_and_copies():
+    arrays = _lattice_arrays(rate=2.5)
+    state = LatticeState.from_arrays(arrays, 4)
+    assert (state.time, state.collisions, state.attempts, state.attempt_rate) == (1.0, 3, 9, 2.5)
+    assert isinstance(state.collisions, int) and isinstance(state.attempts, int)
+    np.testing.assert_array_equal(state.velocities, arrays["velocities"])
+    np.testing.assert_array_equal(state.clocks, arrays["clocks"])
+    arrays["velocities"][0] = 99.0
+    arrays["clocks"][0] = 99.0
+    assert state.velocities[0] == 0.0 and state.clocks[0] == 1.5  # copies, not views
+    assert LatticeState.from_arrays(_lattice_arrays(), 4).attempt_rate is None
+    # a clock exactly at the state's time is pending, not past
+    at_time = _lattice_arrays()
+    at_time["clocks"][2] = 1.0
+    assert LatticeState.from_arrays(at_time, 4).clocks[2] == 1.0
+    back = LatticeState.from_arrays(state.to_arrays(), 4)
+    assert back.to_arrays().keys() == state.to_arrays().keys()
+    # integer arrays (a hand-made file) become the documented float arrays
+    ints = _lattice_arrays()
+    ints["velocities"], ints["clocks"] = np.arange(4), np.full(4, 2)
+    loaded = LatticeState.from_arrays(ints, 4)
+    assert loaded.velocities.dtype == loaded.clocks.dtype == np.float64
+
+
+@pytest.mark.parametrize("change, match", [
+    (lambda a: a.pop("clocks"), r"checkpoint=\"missing \['clocks'\]\".*a lattice state"),
+    (lambda a: a.update(velocities=np.zeros(5)),
+     r"checkpoint='velocities \(5,\) / clocks \(4,\)'.*expected \(4,\)"),
+    (lambda a: a.update(clocks=np.zeros(3)),
+     r"checkpoint='velocities \(4,\) / clocks \(3,\)'.*expected \(4,\)"),
+    (lambda a: a["clocks"].__setitem__(1, 0.999), r"checkpoint='clocks'.*>= time=1\.0"),
+    (lambda a: a["clocks"].__setitem__(1, np.inf), r"checkpoint='clocks'.*finite"),
+    (lambda a: a["clocks"].__setitem__(1, np.nan), r"checkpoint='clocks'"),
+    (lambda a: a.update(attempt_rate=np.array(0.0)),
+     r"checkpoint='attempt_rate=0\.0'.*a finite number > 0"),
+    (lambda a: a.update(attempt_rate=np.array(-1.0)), r"checkpoint='attempt_rate=-1\.0'"),
+    (lambda a: a.update(attempt_rate=np.array(np.inf)), r"checkpoint='attempt_rate=inf'"),
+    (lambda a: a.update(attempt_rate=np.array(np.nan)), r"checkpoint='attempt_rate=nan'"),
+])
+def test_lattice_state_from_arrays_refuses_an_inconsistent_state(change, match):
+    arrays = _lattice_arrays()
+    change(arrays)
+    with pytest.raises(InvalidArgumentError, match=match):
+        LatticeState.from_arrays(arrays, 4)
+
+
+def test_lattice_state_from_arrays_refuses_a_state_of_the_other_rate():
+    """The engine's state_from_arrays checks the rate as well as LatticeState's checks."""
+    with_rate, without = _lattice_arrays(rate=2.0), _lattice_arrays()
+    assert Lattice(4, 0.5, rate="relative_velocity").state_from_arrays(with_rate).attempt_rate \
+        == 2.0
+    assert Lattice(4, 0.5).state_from_arrays(without).attempt_rate is None
+    with pytest.raises(InvalidArgumentError,
+                       match=r"checkpoint='attempt_rate=2\.0'.*rate='constant'"):
+        Lattice(4, 0.5).state_from_arrays(with_rate)
+    with pytest.raises(InvalidArgumentError,
+                       match=r"checkpoint='attempt_rate=None'.*rate='relative_velocity'"):
+        Lattice(4, 0.5, rate="relative_velocity").state_from_arrays(without)
+    with pytest.raises(InvalidArgumentError, match=r"expected \(5,\)"):
+        Lattice(5, 0.5).state_from_arrays(without)

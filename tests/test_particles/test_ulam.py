@@ -1,6 +1,8 @@
 """The Ulam model: exactness of the round-parallel fast path, exact energy decay, the scaling
 solution f(x) = 2/(π(1+x²)²) with its x⁻⁴ tail, and agreement with a sequential reference."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -345,3 +347,97 @@ def test_driven_run_resumes_from_a_checkpoint_bit_for_bit(tmp_path):
     assert resumed.collisions[-1] == reference.collisions[-1]
     # heating is on: the energy rises from 1 towards D/(pq) (1 - 1/N)^2 = 4.16
     assert reference.energy[-1] > 1.5
+
+
+class _CountingRng:
+    """A Generator whose Poisson draws record their means (everything else passes through)."""
+
+    def __init__(self, seed):
+        self._rng = np.random.default_rng(seed)
+        self.means = []
+
+    def poisson(self, lam, *args, **kwargs):
+        self.means.append(float(lam))
+        return self._rng.poisson(lam, *args, **kwargs)
+
+    def __getattr__(self, name):
+        return getattr(self._rng, name)
+
+
+@pytest.mark.parametrize("kwargs", [{}, {"dimension": 2}, {"dimension": 3}, {"driving": 0.5}])
+def test_collisions_are_a_poisson_process_of_rate_n_over_two(kwargs):
+    """The model: pair collisions at total rate N/2 per unit τ (each particle at rate 1).  The
+    engine's window counts are Poisson draws, so the sum of their means over [τ₀, τ₁] must be
+    N (τ₁ − τ₀)/2 exactly (to round-off), whatever the windows; a rate off by 0.1 % fails by
+    1e-3 relative, the check is to 1e-12.  Each window's mean is N/2 times its length."""
+    engine = Ulam(300, 0.6, **kwargs)
+    state = engine.initial_state(np.random.default_rng(1))
+    rng = _CountingRng(2)
+    after = engine.advance(state, 7.3, rng)
+    windows = engine.windows(0.0, 7.3)
+    assert len(rng.means) == len(windows) > 1
+    assert sum(rng.means) == pytest.approx(300 * 7.3 / 2, rel=1e-12)
+    for mean, (a, b) in zip(rng.means, windows, strict=True):
+        assert mean == pytest.approx(300 * (b - a) / 2, rel=1e-12)
+    assert after.collisions > 0
+
+
+def test_largest_occurrence_of_a_particle_seen_only_at_index_zero():
+    """Occurrence 0 is a valid largest occurrence: for flat [0, 1, 1] particle 0 appears only
+    at index 0 and particle 1 last at index 2, so both functions return [0, 2, 2], whatever the
+    scratch held before."""
+    from particles.pair_schedule import largest_occurrence, largest_occurrence_ufunc
+
+    flat = np.array([0, 1, 1], dtype=np.intp)
+    occ = np.arange(3, dtype=np.int32)
+    for fn in (largest_occurrence, largest_occurrence_ufunc):
+        assert fn(np.full(4, 7, np.int32), flat, occ).tolist() == [0, 2, 2]
+
+
+def test_event_loops_take_integer_velocities_as_floats_and_check_the_pairs():
+    """Integer velocities are collided as floats (r = 0: the pair meets at its mean), and a
+    ``pairs`` array not of shape (K, 2) is refused naming it and its shape."""
+    for collide in (collide_in_order, collide_sequential):
+        out = collide([0, 3, 7], [[0, 1]], 0.0)
+        assert out.dtype == np.float64 and out.tolist() == [1.5, 1.5, 7.0]
+        for bad in ([0, 1, 2], [[0, 1, 2], [1, 2, 0]]):
+            shape = re.escape(str(np.shape(bad)))
+            with pytest.raises(InvalidArgumentError,
+                               match=rf"argument pairs='array of shape {shape}' is invalid: "
+                                     r"expected shape \(K, 2\)"):
+                collide([0.0, 1.0, 2.0], bad, 0.5)
+
+
+@pytest.mark.parametrize("bad", [[[0, 3]], [[-1, 1]], [[1, 1]], [[0, 1], [2, 2]]])
+def test_event_loops_refuse_pairs_out_of_range_or_of_one_particle(bad):
+    """Indices outside 0..N−1 (N = 3: 3 and −1) and a particle paired with itself are refused
+    naming ``pairs``; the boundary indices 0 and N − 1 are accepted."""
+    for collide in (collide_in_order, collide_sequential):
+        with pytest.raises(InvalidArgumentError,
+                           match=r"argument pairs='out-of-range or i == j entries' is invalid: "
+                                 r"expected pairs of 0\.\.2, i != j"):
+            collide([0.0, 1.0, 2.0], bad, 0.5)
+        assert collide([0.0, 1.0, 4.0], [[2, 0]], 0.0).tolist() == [2.0, 1.0, 2.0]
+
+
+def test_draw_pairs_checks_its_arguments():
+    """``rng`` must be a Generator, N an integer in [2, 2³¹ − 1] (int32 particle ids, both
+    ends accepted), K an integer ≥ 0; each refusal names the argument and the value."""
+    rng = np.random.default_rng(0)
+    with pytest.raises(InvalidArgumentError,
+                       match=r"argument rng='RandomState' is invalid: expected a numpy\.random\."
+                             r"Generator"):
+        draw_pairs(np.random.RandomState(0), 5, 1)
+    with pytest.raises(InvalidArgumentError, match=r"argument n=1 is invalid"):
+        draw_pairs(rng, 1, 1)
+    with pytest.raises(InvalidArgumentError,
+                       match=r"argument n=2147483648 is invalid: expected an integer <= "
+                             r"2\*\*31 - 1 \(int32 particle ids\)"):
+        draw_pairs(rng, 2**31, 1)
+    with pytest.raises(InvalidArgumentError, match=r"argument k=-1 is invalid"):
+        draw_pairs(rng, 5, -1)
+    big = draw_pairs(rng, 2**31 - 1, 3)
+    assert big.dtype == np.int32 and big.shape == (3, 2) and np.all(big[:, 0] != big[:, 1])
+    two = draw_pairs(rng, 2, 50)
+    assert sorted(set(map(tuple, two.tolist()))) == [(0, 1), (1, 0)]
+    assert draw_pairs(rng, 5, 0).shape == (0, 2)

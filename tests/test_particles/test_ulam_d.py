@@ -5,7 +5,9 @@ conservation, agreement in distribution with an independent reference (rejection
 global heating), and the driven steady state against the exact theory of
 maxwell_kinetics.driven."""
 
+import dataclasses
 import math
+import re
 
 import numpy as np
 import pytest
@@ -447,3 +449,106 @@ def test_component_kurtosis_follows_the_exact_moment_hierarchy(d, angular):
     se = rows.std(axis=0, ddof=1) / math.sqrt(rows.shape[0])
     assert np.all(np.abs(rows.mean(axis=0) - exact) < 4 * se)
     assert exact[-1] - 3.0 > 0.25  # far from Gaussian: the test has something to see
+
+
+@pytest.mark.parametrize("d, angular", [(2, "uniform"), (3, "uniform"), (3, "hard")])
+def test_no_events_leave_the_velocities_unchanged(d, angular):
+    """K = 0 events: both loops return an unchanged copy (the fast path's reversed draws are
+    empty too, not a row read from the end)."""
+    rng = np.random.default_rng(3)
+    v = rng.normal(size=(5, d))
+    draws = draw_angles(rng, 0, d, angular)
+    for collide in (collide_in_order_vectors, collide_sequential_vectors):
+        out = collide(v, np.empty((0, 2), dtype=np.int32), 0.4, draws, angular)
+        np.testing.assert_array_equal(out, v)
+        assert out is not v
+
+
+def _vector_events(d, angular, k=3, seed=4):
+    rng = np.random.default_rng(seed)
+    return (rng.normal(size=(4, d)), np.array([[0, 1], [2, 3], [1, 2]][:k]),
+            draw_angles(rng, k, d, angular))
+
+
+@pytest.mark.parametrize("d", [2, 3])
+def test_vector_loops_take_integer_velocities_as_floats(d):
+    v, pairs, draws = _vector_events(d, "uniform")
+    v_int = np.arange(4 * d).reshape(4, d) * 3
+    for collide in (collide_in_order_vectors, collide_sequential_vectors):
+        out = collide(v_int, pairs, 0.3, draws)
+        assert out.dtype == np.float64
+        np.testing.assert_array_equal(out, collide(v_int.astype(float), pairs, 0.3, draws))
+
+
+def test_vector_loops_default_to_the_uniform_law():
+    for d in (2, 3):
+        v, pairs, draws = _vector_events(d, "uniform")
+        for collide in (collide_in_order_vectors, collide_sequential_vectors):
+            np.testing.assert_array_equal(collide(v, pairs, 0.3, draws),
+                                          collide(v, pairs, 0.3, draws, "uniform"))
+
+
+@pytest.mark.parametrize("collide", [collide_in_order_vectors, collide_sequential_vectors])
+def test_vector_loops_refuse_bad_velocities_and_draws(collide):
+    v, pairs, draws = _vector_events(3, "hard")
+    for bad in (v[:, 0], v[:, :1]):
+        shape = re.escape(str(bad.shape))
+        with pytest.raises(InvalidArgumentError,
+                           match=rf"argument v='array of shape {shape}' is invalid: "
+                                 r"expected shape \(N, d\), d >= 2"):
+            collide(bad, pairs, 0.3, draws, "hard")
+    wrong_draws = r"argument draws='arrays of other shapes' is invalid: expected one draw per event"
+    for bad in (dataclasses.replace(draws, eta=None), dataclasses.replace(draws, eta=draws.eta[:2]),
+                dataclasses.replace(draws, z=draws.z[:2])):
+        with pytest.raises(InvalidArgumentError, match=wrong_draws):
+            collide(v, pairs, 0.3, bad, "hard")
+    v2, pairs2, draws2 = _vector_events(2, "uniform")
+    with pytest.raises(InvalidArgumentError, match=wrong_draws):
+        collide(v2, pairs2, 0.3, dataclasses.replace(draws2, sine=draws2.sine[:2]))
+    with pytest.raises(InvalidArgumentError, match=r"argument pairs=.*expected shape \(K, 2\)"):
+        collide(v, pairs[:, :1], 0.3, draws, "hard")
+
+
+def test_plane_rounds_count_and_row_scatter_in_the_plane():
+    """The round loops return their number of rounds: events (0, 1) then (1, 2) share a
+    particle (2 rounds), (0, 1) and (2, 3) do not (1 round), no events 0 rounds.  And the row
+    scatter of (N, 2) arrays (one complex per row) writes exactly the given rows."""
+    from particles.pair_schedule import fire_rounds, fire_rounds_plane, fire_rounds_with_rows
+    from particles.ulam_kinematics import _scatter_rows
+
+    for pairs, rounds in (([[0, 1], [1, 2]], 2), ([[0, 1], [2, 3]], 1), (np.empty((0, 2)), 0)):
+        reversed_pairs = np.ascontiguousarray(np.asarray(pairs)[::-1], dtype=np.int32)
+        k = len(reversed_pairs)
+
+        def scratch(k=k):
+            return np.empty(4, np.int32), np.arange(2 * k, dtype=np.int32)
+
+        transfer = plane_transfer(np.zeros(k), 0.5)
+        assert fire_rounds_plane(np.arange(4, dtype=complex), reversed_pairs, transfer,
+                                 *scratch()) == rounds
+        assert fire_rounds(np.arange(4.0), reversed_pairs, 0.5, *scratch()) == rounds
+        assert fire_rounds_with_rows(np.arange(4.0), reversed_pairs, *scratch(),
+                                     lambda v, fired, rows: None) == rounds
+    v = np.arange(10, dtype=float).reshape(5, 2)
+    _scatter_rows(v, np.array([3, 0]), np.array([[-1.0, -2.0], [-3.0, -4.0]]))
+    np.testing.assert_array_equal(v, [[-3, -4], [2, 3], [4, 5], [-1, -2], [8, 9]])
+
+
+def test_angular_draws_hold_only_what_their_law_uses():
+    """As documented by AngularDraws: d = 3 "uniform" draws only the normals (no η), "hard"
+    also η (K,); d = 2 only sin φ (K,)."""
+    rng = np.random.default_rng(0)
+    uniform3, hard3 = draw_angles(rng, 4, 3, "uniform"), draw_angles(rng, 4, 3, "hard")
+    assert uniform3.z.shape == (4, 3) and uniform3.eta is None and uniform3.sine is None
+    assert hard3.z.shape == (4, 3) and hard3.eta.shape == (4,) and hard3.sine is None
+    for angular in ("uniform", "hard"):
+        plane = draw_angles(rng, 4, 2, angular)
+        assert plane.z is None and plane.eta is None and plane.sine.shape == (4,)
+
+
+def test_hard_direction_in_three_dimensions_by_hand():
+    """g = (2, 0, 0), z = (5, 3, 0), η = 0.36: ĝ = x̂, the part of z across ĝ is ŷ, so
+    n = √η x̂ + √(1 − η) ŷ = (0.6, 0.8, 0); its (ĝ·n)² is η."""
+    draws = AngularDraws(np.array([[5.0, 3.0, 0.0]]), np.array([0.36]))
+    n = collision_directions(np.array([[2.0, 0.0, 0.0]]), draws, "hard")
+    np.testing.assert_allclose(n, [[0.6, 0.8, 0.0]], rtol=0, atol=1e-15)

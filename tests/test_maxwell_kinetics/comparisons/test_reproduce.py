@@ -163,14 +163,14 @@ def test_lattice_energy_exponents(energy):
 
 def test_md_late_exponent(energy):
     """MD, N = 1000, 3 seeds, t ≤ 40 (small preset), fit on t ∈ [12, 40]: measured
-    −0.647 ± 0.099 (seeds 0.074, window drift 0.066).  At this size the check cannot tell
-    −2/3 from −1/2: they are 0.17 apart, 1.7σ, and the 3σ limit accepts [−0.94, −0.35].  The
-    local exponent also moves across the window (−0.72 on [5, 12], −0.62 on [12, 22], −0.56 on
-    [22, 40], per-run spread ±0.1–0.2), so more seeds alone would not settle it, and more MD
-    (more or longer runs) costs tens of seconds, beyond the budget of this suite (the presets'
-    run parameters are fixed).  What it does tell: the decay has left Haff's t⁻² (−2 is 13.6σ
-    away) and has not stopped (0 is 6.5σ away), asserted below at 5σ.  The value measured at
-    N = 2·10⁴, t ≤ 287 with an independent code gives −0.665."""
+    −0.647 ± 0.099 (seeds 0.074, window drift 0.066).  The per-run slopes scatter by ≈ 0.12, so
+    three runs give σ ≈ 0.1, and −2/3 and −1/2 (0.17 apart) are 1.7σ apart: this sample does not
+    resolve the exponent, and the runs that do (≈ 20 seeds, ~2–5 min) are beyond this suite's
+    budget.  The exponent is therefore checked by ``benchmarks/md_late_exponent.py``, the same
+    runs and fit with 24 seeds: −0.685 ± 0.025, 0.7σ from −2/3 and 7.4σ from −1/2
+    (benchmarks/README.md).  What this sample does tell, asserted here: the slope agrees with
+    −2/3 within 3σ, its uncertainty is below 0.2, the decay has left Haff's t⁻² (−2 is 13.6σ
+    away) and has not stopped (0 is 6.5σ away), the last two at 5σ."""
     late = energy.summary["md_late_exponent"]
     assert abs(late["deviation_in_sigma"]) < 3
     assert late["uncertainty"] < 0.2
