@@ -263,40 +263,18 @@ def _z_drift(k, spec, times, zs, x_range) -> dict:
     return out
 
 
-def drift_check(s: dict):
-    """The explanation of a failed MD collapse exponent: the crossover from the homogeneous
-    stage, seen as a resolved fall of the effective exponent within the run: ``z_drift``
-    (z of the late pair of times − z of the early pair) below 0 by 3 jackknife errors.  None for
-    a summary without the pairs.
-
-    Parameters
-    ----------
-    s : dict
-        The comparison's summary.
-
-    Returns
-    -------
-    Check or None
-    """
-    md = s["md"]
-    if "z_drift" not in md:
-        return None
-    drift, err = pair(md["z_drift"])
-    (a, b), (c, d) = md["pair_times"]
-    return Check(f"z(t = {c:.3g}, {d:.3g}) − z(t = {a:.3g}, {b:.3g}) of the best collapse, MD",
-                 drift, err, 0.0, "model: one exponent at all times (no drift)",
-                 relation="below")
-
-
 def verdicts(s: dict) -> list:
     """The verdicts of comparison 6 (Fig. 3) from its summary ``s``: the collapse exponent z
     of the lattice (1/2) and of MD (2/3), the Porod tails k⁻² of both, and no Porod tail without
     the kinematic constraint (3σ of the jackknife errors over seeds; z is refined between the
     points of its scan, so the scan's step adds nothing).
 
-    The MD exponent's explanation (:func:`drift_check`): the fall of the effective exponent
-    between the early and the late pair of times, resolved by 3σ (a crossover from the
-    homogeneous stage, where the collapse over all times averages a drifting exponent)."""
+    The MD exponent has no explanation check: the drift measured within the run
+    (``z_drift``, :func:`_z_drift`) is no crossover that settles at 2/3.  The z of pairs of
+    recorded times falls through 2/3 without a plateau (r = 0.5: from about 1 at t ≈ 6 to
+    about 0.55 at the last times, N = 1000 and N = 2000 alike), so z over all the times is a
+    mean over a drifting exponent, and a resolved fall would not show why it differs from
+    2/3."""
     out = []
 
     def z_check(part, label):
@@ -309,9 +287,7 @@ def verdicts(s: dict) -> list:
                                                  else "t^(2/3)"))
 
     out.append(judge("Fig. 3: lattice S(k, τ) = f₁(k τ^(1/2))", z_check("lattice", "lattice")))
-    out.append(judge("Fig. 3: MD S(k, t) = f₂(k t^(2/3))", z_check("md", "MD"), drift_check(s),
-                     why="the effective exponent falls toward 2/3 as the clusters grow "
-                         "(crossover from the homogeneous stage)"))
+    out.append(judge("Fig. 3: MD S(k, t) = f₂(k t^(2/3))", z_check("md", "MD")))
     for part, label in (("lattice", "lattice"), ("md", "MD")):
         slope, err = pair(s[part]["porod_slope_last_time"])
         out.append(judge(f"Porod's law S(k) ∼ k⁻² (shocks) in the {label}",
