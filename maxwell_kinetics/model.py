@@ -18,6 +18,10 @@ What a kernel holds (and no other kinetic module writes out):
   λ) as an argument and use only arithmetic, so the compiled scheme calls them on traced JAX
   values and gets the same graph as the expressions written in place.
 * :class:`DrivenMaxwellModel` — the same kernel heated by white noise of strength D.
+* :class:`RelativeVelocityModel` — the 1D kernel whose pairs collide at rate n|v − w|^γ
+  (γ = 1: hard rods, the kinetic equation of molecular dynamics under molecular chaos; γ = 0:
+  the Maxwell model in physical time t = τ/n), solved in velocity space by
+  :mod:`maxwell_kinetics.inelastic_boltzmann`.
 
 Kernels are listed in :data:`KINETIC_MODELS`.  Each is a :class:`CollisionModel`, whose class
 attribute ``fourier_closed`` says whether the kernel's Fourier-space equation closes (a Maxwell
@@ -46,8 +50,9 @@ from particles.collision import transfer_fraction
 from particles.ulam_kinematics import ANGULAR_MODELS as _ANGULAR_NAMES
 from particles.validation import check_nonnegative, check_real, check_restitution
 
-__all__ = ["CollisionModel", "MaxwellModel", "DrivenMaxwellModel", "KINETIC_MODELS",
-           "AngularLaw", "angular_law", "ANGULAR_MODELS"]
+__all__ = ["CollisionModel", "MaxwellModel", "DrivenMaxwellModel", "RelativeVelocityModel",
+           "KINETIC_MODELS", "AngularLaw", "angular_law", "ANGULAR_MODELS",
+           "RATE_EXPONENTS"]
 
 #: Angular models of the d-dimensional isotropic equation, each with the Beta parameter a of
 #: η ~ Beta(a, (d − 1)/2) (see :func:`angular_law`).  Its names are those of the particle
@@ -743,8 +748,132 @@ class DrivenMaxwellModel(MaxwellModel):
         return self.driving / self.lam_of(self.p)
 
 
+#: The exponents γ of the rate n|v − w|^γ that :class:`RelativeVelocityModel` accepts: 0 (the
+#: Maxwell model in physical time) to 2, the range of the velocity-space solver (its collision
+#: sums are exact in moments for any γ ≥ 0; beyond 2 the tails of f grow too fast for a grid of
+#: fixed extent: ``maxwell_kinetics.inelastic_boltzmann``).
+RATE_EXPONENTS = (0.0, 2.0)
+
+
+@dataclass(frozen=True)
+class RelativeVelocityModel(CollisionModel):
+    """The 1D inelastic kernel whose pairs collide at rate n|v − w|^γ (a velocity-space kernel).
+
+    The weak form of its homogeneous Boltzmann equation, for any test function φ, at density n
+    and physical time t:
+
+        d/dt ∫φ f dv = (n/2) ∫∫ |v − w|^γ f(v) f(w) [φ(v′) + φ(w′) − φ(v) − φ(w)] dv dw,
+
+    v′ = v − p(v − w), w′ = w + p(v − w), p = (1 + r)/2 (:func:`particles.collision.transfer_fraction`).
+    γ = 1 is hard rods (point particles on a line); γ = 0 is the Maxwell model, whose time τ
+    (collisions per particle) is n t.  Mass and momentum are conserved and
+    d⟨v²⟩/dt = −λ n ⟨|v − w|^{γ+2}⟩, λ = (1 − r²)/4.
+
+    Attributes
+    ----------
+    restitution : float
+        Restitution coefficient r ∈ [0, 1], checked at construction (r = 1 elastic).
+    exponent : float, default 1.0
+        γ of the rate |v − w|^γ, in :data:`RATE_EXPONENTS` (a closed range).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``restitution`` if it is not a number in [0, 1], ``exponent`` if it is not a
+        finite real number in :data:`RATE_EXPONENTS`.
+    """
+
+    name: ClassVar[str] = "relative_velocity"
+    fourier_closed: ClassVar[bool] = False
+
+    exponent: float = 1.0
+
+    def __post_init__(self):
+        super().__post_init__()
+        from particles.validation import InvalidArgumentError
+
+        gamma = check_real(self.exponent, "exponent")
+        low, high = RATE_EXPONENTS
+        if not low <= gamma <= high:
+            raise InvalidArgumentError("exponent", self.exponent,
+                                       f"an exponent gamma of the rate |v - w|^gamma in "
+                                       f"[{low:g}, {high:g}]")
+        object.__setattr__(self, "exponent", gamma)
+
+    @property
+    def complement(self) -> float:
+        """1 − p: the fraction of its own velocity a colliding particle keeps
+        (v′ = (1 − p) v + p w)."""
+        return MaxwellModel.complement_of(self.p)
+
+    @property
+    def lam(self) -> float:
+        """λ = p(1 − p) = (1 − r²)/4 (computed as the latter): a pair with relative velocity g
+        loses 2λg² of v² + w²."""
+        return 0.25 * (1.0 - self.restitution**2)
+
+    def rate(self, v, w, xp=np):
+        """|v − w|^γ: the collision rate of a pair per unit density and time (1 for γ = 0,
+        also at v = w).
+
+        Parameters
+        ----------
+        v, w : array
+            Velocities of the two partners (arrays of ``xp``).
+        xp : module, default numpy
+            Array module (``numpy`` or ``jax.numpy``).
+
+        Returns
+        -------
+        array
+            The rate of each pair, of the broadcast shape of ``v`` and ``w``.
+        """
+        g = xp.abs(v - w)
+        if self.exponent == 0.0:
+            return xp.ones_like(g)
+        if self.exponent == 1.0:
+            return g
+        return g**self.exponent
+
+    def post_collision(self, v, w):
+        """v′ = (1 − p) v + p w: the velocity of the partner that had ``v``, after colliding with
+        one that had ``w`` (the other leaves with (1 − p) w + p v).
+
+        Parameters
+        ----------
+        v, w : array_like
+            Pre-collision velocities.
+
+        Returns
+        -------
+        array_like
+            v′, of the broadcast shape.
+        """
+        return self.complement * v + self.p * w
+
+    def energy_rate(self) -> float:
+        """−d ln⟨v²⟩/dt is not a constant for γ > 0 (it is λ n⟨|v − w|^{γ+2}⟩/⟨v²⟩, which
+        depends on the law); for γ = 0 it is 2λ n.
+
+        Returns
+        -------
+        float
+            2λ, per unit n t, for γ = 0.
+
+        Raises
+        ------
+        NotImplementedError
+            For γ > 0 (use the solver's ``energy`` instead).
+        """
+        if self.exponent == 0.0:
+            return 2.0 * self.lam
+        raise NotImplementedError("the energy of a gas with rate |v - w|^gamma, gamma > 0, does "
+                                  "not decay at a constant rate: solve for it")
+
+
 #: The kinetic models, by name: add a kernel's class here (module docstring).
 KINETIC_MODELS: dict[str, type[CollisionModel]] = {
     MaxwellModel.name: MaxwellModel,
     DrivenMaxwellModel.name: DrivenMaxwellModel,
+    RelativeVelocityModel.name: RelativeVelocityModel,
 }

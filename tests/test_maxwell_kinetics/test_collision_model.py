@@ -9,6 +9,7 @@ import pytest
 from maxwell_kinetics.model import (
     ANGULAR_MODELS,
     KINETIC_MODELS,
+    RelativeVelocityModel,
     CollisionModel,
     DrivenMaxwellModel,
     MaxwellModel,
@@ -112,8 +113,9 @@ def test_driven_model_by_hand():
 
 
 def test_the_models_are_listed_and_say_how_they_collide():
-    assert KINETIC_MODELS == {"maxwell": MaxwellModel, "driven": DrivenMaxwellModel}
-    assert all(cls.fourier_closed for cls in KINETIC_MODELS.values())
+    assert KINETIC_MODELS == {"maxwell": MaxwellModel, "driven": DrivenMaxwellModel,
+                              "relative_velocity": RelativeVelocityModel}
+    assert [cls.fourier_closed for cls in KINETIC_MODELS.values()] == [True, True, False]
     assert MaxwellModel(0.5).rate(np.zeros(3), np.ones(3)).tolist() == [1.0, 1.0, 1.0]
     assert MaxwellModel(0.5, 2).rate(np.zeros((4, 2)), np.ones((4, 2))).shape == (4,)
     with pytest.raises(NotImplementedError, match="CollisionModel defines no collision rate"):
@@ -133,3 +135,19 @@ def test_angular_models_are_named_once():
 def test_bad_arguments_are_refused_by_name(kwargs, name):
     with pytest.raises(InvalidArgumentError, match=name):
         MaxwellModel(**kwargs)
+
+
+def test_the_relative_velocity_rate_is_the_power_of_the_relative_speed():
+    # rods: |v - w|; Maxwell (gamma = 0): 1 even at v = w; gamma = 2: the square
+    v, w = np.array([0.0, 1.0, -2.0]), np.array([0.5, 1.0, 1.0])
+    assert RelativeVelocityModel(0.5).rate(v, w).tolist() == [0.5, 0.0, 3.0]
+    assert RelativeVelocityModel(0.5, exponent=0).rate(v, w).tolist() == [1.0, 1.0, 1.0]
+    assert RelativeVelocityModel(0.5, exponent=2).rate(v, w).tolist() == [0.25, 0.0, 9.0]
+    model = RelativeVelocityModel(0.5)
+    assert model.p == 0.75 and model.complement == 0.25 and model.lam == 3 / 16
+    # the pair keeps its momentum and loses 2 lambda g^2 of v^2 + w^2
+    a, b = model.post_collision(2.0, -1.0), model.post_collision(-1.0, 2.0)
+    assert a + b == 1.0 and 4.0 + 1.0 - a * a - b * b == pytest.approx(2 * 3 / 16 * 9, rel=1e-15)
+    for bad in (-0.5, 2.5, float("nan"), True):
+        with pytest.raises(InvalidArgumentError, match="exponent"):
+            RelativeVelocityModel(0.5, exponent=bad)

@@ -43,6 +43,17 @@ def add_parser(subparsers) -> None:
         "form and no decay rates there.",
     )
     p.add_argument("--restitution", "-r", required=True, help="restitution r in [0, 1)")
+    p.add_argument("--rate", default="constant",
+                   help="collision rate: 'constant' (the Maxwell model's Fourier-space fixed "
+                   "point; the default) or 'relative_velocity' (the scaling state of the rate "
+                   "|v - w|^gamma in velocity space: its kurtosis, <c^6> and P(c))")
+    p.add_argument("--exponent", default=None,
+                   help="--rate relative_velocity: gamma in (0, 2] (default 1: hard rods)")
+    p.add_argument("--points", default=None,
+                   help="--rate relative_velocity: velocity grid points (default 201)")
+    p.add_argument("--half-width", default=None,
+                   help="--rate relative_velocity: grid half-width in units of the standard "
+                   "deviation (default 6)")
     p.add_argument("--n", default=None, help="Chebyshev degree (default 64 in 1D, 128 in 2D/3D; "
                    "at most 256 in 1D, where a larger degree is ill-conditioned)")
     p.add_argument("--dimension", default="1",
@@ -57,7 +68,102 @@ def add_parser(subparsers) -> None:
     p.set_defaults(handler=run)
 
 
+#: The values of ``--rate``.
+RATES = ("constant", "relative_velocity")
+
+
 def run(args) -> int:
+    if args.rate not in RATES:
+        raise InvalidArgumentError("rate", args.rate, "one of " + ", ".join(RATES))
+    if args.rate == "relative_velocity":
+        return _run_relative_velocity(args)
+    for name in ("exponent", "points", "half_width"):
+        if getattr(args, name) is not None:
+            option = name.replace("_", "-")
+            raise InvalidArgumentError(option, getattr(args, name), f"no --{option} with "
+                                       "--rate constant (it belongs to --rate relative_velocity)")
+    return _run_constant(args)
+
+
+def _number(text, name: str) -> float:
+    """A finite real number from the command line's text, or an error naming ``name``."""
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(name, text, "a finite real number") from None
+    if value != value or value in (float("inf"), float("-inf")):
+        raise InvalidArgumentError(name, text, "a finite real number")
+    return value
+
+
+def _run_relative_velocity(args) -> int:
+    """``fixed-point --rate relative_velocity``: the scaling state of
+    :func:`maxwell_kinetics.inelastic_boltzmann.scaling_state`."""
+    from particles.parsing import parse_int
+
+    from ...inelastic_boltzmann import VelocityGrid, default_grid, initial_values, scaling_state
+
+    for name in ("n", "angular"):
+        if getattr(args, name) is not None:
+            raise InvalidArgumentError(name, getattr(args, name), f"no --{name} with --rate "
+                                       "relative_velocity (a Fourier fixed-point option)")
+    if args.dimension != "1":
+        raise InvalidArgumentError("dimension", args.dimension, "no --dimension with --rate "
+                                   "relative_velocity (one dimension)")
+    restitution = _number(args.restitution, "restitution")
+    exponent = 1.0 if args.exponent is None else _number(args.exponent, "exponent")
+    grid = default_grid(1.0)
+    points = grid.points if args.points is None else parse_int(args.points, "points")
+    half_width = (grid.half_width if args.half_width is None
+                  else _number(args.half_width, "half-width"))
+    from ...model import RelativeVelocityModel
+
+    RelativeVelocityModel(restitution, exponent=exponent)  # checks r and gamma first
+    try:
+        grid = VelocityGrid(points, half_width)
+        initial_values("gaussian", grid)  # the starting law must fit the grid
+    except InvalidArgumentError as exc:
+        raise InvalidArgumentError({"half_width": "half-width"}.get(exc.name, exc.name),
+                                   exc.value, exc.expected.replace(
+                                       "half_width >=", "--half-width >=")) from None
+    state = scaling_state(restitution, exponent=exponent, grid=grid)
+    converged = state.residual <= RESIDUAL_TOLERANCE
+    x = [0.0, 0.5, 1.0, 1.5, 2.0, 3.0]
+    payload = {
+        "rate": "relative_velocity",
+        "restitution": state.restitution,
+        "exponent": state.exponent,
+        "points": grid.points,
+        "half_width": grid.half_width,
+        "kurtosis": state.kurtosis,
+        "moment_6": state.moment(6),
+        "x": x,
+        "density": state.density(x).tolist(),
+        "residual": state.residual,
+        "iterations": state.iterations,
+        "converged": converged,
+        "seconds": state.seconds,
+    }
+    status = 0
+    if not converged:
+        print(f"maxwell-kinetics fixed-point: warning: Newton did not converge (residual "
+              f"{state.residual:.3e} against {RESIDUAL_TOLERANCE:g}); the result is not a "
+              "scaling state", file=sys.stderr)
+        status = 3
+    if args.json:
+        emit_json(payload)
+        return status
+    print(f"scaling state, r = {state.restitution:g}, rate |v - w|^{state.exponent:g}: grid "
+          f"{grid.points} points on +-{grid.half_width:g}")
+    print(f"  kurtosis = {state.kurtosis:.10g}   <c^6> = {state.moment(6):.10g}   "
+          f"residual = {state.residual:.3e}   Newton iterations = {state.iterations}")
+    print("  P(c) at c = " + ", ".join(f"{v:g}" for v in x) + ": "
+          + " ".join(f"{v:.6e}" for v in payload["density"]))
+    print(f"  ({state.seconds:.2f} s)")
+    return status
+
+
+def _run_constant(args) -> int:
     from ...linear_rates import linear_decay_rates
     from ...stationary import (  # JAX: imported only when it runs
         MAX_DEGREE_1D,

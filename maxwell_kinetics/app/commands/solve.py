@@ -37,7 +37,25 @@ def add_parser(subparsers) -> None:
     )
     p.add_argument("--restitution", "-r", required=True, help="restitution coefficient r in [0, 1]")
     p.add_argument("--initial", default="gaussian", help="initial law (gaussian, uniform, ...)")
-    p.add_argument("--tau", required=True, help="comma-separated increasing times, e.g. 10,50,100")
+    p.add_argument("--rate", default="constant",
+                   help="collision rate: 'constant' (the Maxwell model in Fourier space, time "
+                   "--tau; the default) or 'relative_velocity' (rate n|v - w|^gamma, solved in "
+                   "velocity space in physical time --t at --density)")
+    p.add_argument("--tau", default=None,
+                   help="--rate constant: comma-separated increasing times, e.g. 10,50,100")
+    p.add_argument("--t", default=None,
+                   help="--rate relative_velocity: comma-separated increasing physical times")
+    p.add_argument("--density", default=None,
+                   help="--rate relative_velocity: particles per unit length n > 0 (default 1)")
+    p.add_argument("--exponent", default=None,
+                   help="--rate relative_velocity: gamma of the rate |v - w|^gamma in [0, 2] "
+                   "(default 1: hard rods)")
+    p.add_argument("--points", default=None,
+                   help="--rate relative_velocity: velocity grid points (default 201, 401 for "
+                   "gamma = 0)")
+    p.add_argument("--half-width", default=None,
+                   help="--rate relative_velocity: grid half-width in units of the standard "
+                   "deviation (default 6, 40 for gamma = 0)")
     p.add_argument("--q", default="0.5,1,2,5", help="comma-separated q at which to report G")
     p.add_argument("--speed", default=None,
                    help="comma-separated speeds |v|/v0 >= 0 at which to report the density of "
@@ -94,9 +112,27 @@ def _library_error(exc: InvalidArgumentError, typed: dict) -> InvalidArgumentErr
     return InvalidArgumentError(name, value, exc.expected.replace(FORCE, "--force"))
 
 
+#: The values of ``--rate``.
+RATES = ("constant", "relative_velocity")
+#: The options of ``--rate relative_velocity`` alone.
+RELATIVE_VELOCITY_OPTIONS = ("t", "density", "exponent", "points", "half_width")
+
+
 def _run(args, written: list) -> int:
     from ...solver import check_solve_arguments, solve  # JAX is imported only when a solve runs
 
+    if args.rate not in RATES:
+        raise InvalidArgumentError("rate", args.rate, "one of " + ", ".join(RATES))
+    if args.rate == "relative_velocity":
+        return _run_relative_velocity(args, written)
+    for name in RELATIVE_VELOCITY_OPTIONS:
+        if getattr(args, name) is not None:
+            option = name.replace("_", "-")
+            raise InvalidArgumentError(option, getattr(args, name),
+                                       f"no --{option} with --rate constant (it belongs to "
+                                       "--rate relative_velocity)")
+    if args.tau is None:
+        raise InvalidArgumentError("tau", None, "--tau T1,T2,... with --rate constant")
     tau = parse_float_list(args.tau, "tau")
     dimension = parse_int(args.dimension, "dimension")
     for option, value in (("angular", args.angular), ("angular-rule", args.angular_rule)):
@@ -211,3 +247,89 @@ def _run(args, written: list) -> int:
     return 0
 
 
+
+
+def _run_relative_velocity(args, written: list) -> int:
+    """``solve --rate relative_velocity``: the velocity-space solver of
+    :mod:`maxwell_kinetics.inelastic_boltzmann`, every input checked before the solve."""
+    from particles.parsing import parse_int
+    from particles.validation import check_real
+
+    from ...inelastic_boltzmann import VelocityGrid, default_grid, initial_values, solve_boltzmann
+    from ...model import RelativeVelocityModel
+
+    if args.tau is not None:
+        raise InvalidArgumentError("tau", args.tau, "--t T1,T2,... with --rate relative_velocity "
+                                   "(its time is the physical time t, not collisions per "
+                                   "particle)")
+    for name in ("q", "speed", "plot", "save", "angular", "angular_rule"):
+        value = getattr(args, name)
+        default = {"q": "0.5,1,2,5"}.get(name)
+        if value is not None and value != default:
+            option = name.replace("_", "-")
+            raise InvalidArgumentError(option, value, f"no --{option} with --rate "
+                                       "relative_velocity (a Fourier-solver option)")
+    if args.resolution != "default" or args.dimension != "1":
+        name, value = (("resolution", args.resolution) if args.resolution != "default"
+                       else ("dimension", args.dimension))
+        raise InvalidArgumentError(name, value, f"no --{name} with --rate relative_velocity "
+                                   "(one dimension; the grid is --points and --half-width)")
+    if args.t is None:
+        raise InvalidArgumentError("t", None, "--t T1,T2,... with --rate relative_velocity")
+    times = parse_float_list(args.t, "t")
+    density = 1.0 if args.density is None else _number(args.density, "density", check_real)
+    if not density > 0:
+        raise InvalidArgumentError("density", args.density, "a finite density n > 0")
+    exponent = 1.0 if args.exponent is None else _number(args.exponent, "exponent", check_real)
+    model = RelativeVelocityModel(_number(args.restitution, "restitution", check_real),
+                                  exponent=exponent)
+    grid = default_grid(model.exponent)
+    points = grid.points if args.points is None else parse_int(args.points, "points")
+    half_width = (grid.half_width if args.half_width is None
+                  else _number(args.half_width, "half-width", check_real))
+    try:
+        grid = VelocityGrid(points, half_width)
+        initial_values(args.initial, grid)  # the grid against the law, before the solve
+    except InvalidArgumentError as exc:
+        name = {"half_width": "half-width"}.get(exc.name, exc.name)
+        raise InvalidArgumentError(name, exc.value, exc.expected.replace(
+            "half_width >=", "--half-width >=")) from None
+    sol = solve_boltzmann(model.restitution, times, exponent=model.exponent, density=density,
+                          initial=args.initial, grid=grid)
+    interrupt.check()
+    kurtosis = sol.kurtosis
+    if args.json:
+        emit_json({
+            "rate": "relative_velocity",
+            "restitution": model.restitution,
+            "exponent": model.exponent,
+            "density": density,
+            "initial": sol.initial,
+            "points": grid.points,
+            "half_width": grid.half_width,
+            "t": sol.t.tolist(),
+            "energy": sol.energy.tolist(),
+            "kurtosis": kurtosis.tolist(),
+            "moments": {str(k): col.tolist()
+                        for k, col in zip((2, 4, 6), sol.moments((2, 4, 6)).T, strict=True)},
+            "edge_mass": sol.edge_mass.tolist(),
+            "seconds": sol.seconds,
+        })
+        return 0
+    print(f"r = {model.restitution:g}, rate n|v - w|^{model.exponent:g}, n = {density:g}, "
+          f"initial {sol.initial}, grid {grid.points} points on +-{grid.half_width:g}, "
+          f"{sol.seconds:.2f} s")
+    for t, energy, kurt in zip(sol.t, sol.energy, kurtosis, strict=True):
+        print(f"  t = {t:<10g} <v^2> = {energy:.10g}   kurtosis {kurt:.10g}")
+    return 0
+
+
+def _number(text, name: str, check):
+    """A finite real number from the command line's text, or an error naming ``name``."""
+    try:
+        value = float(text)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError(name, text, "a finite real number") from None
+    if not np.isfinite(value):
+        raise InvalidArgumentError(name, text, "a finite real number")
+    return check(value, name)

@@ -1,0 +1,61 @@
+"""Benchmarks of the velocity-space solver of the inelastic Boltzmann equation with rate
+n|v − w|^γ (maxwell_kinetics/inelastic_boltzmann.py); results in benchmarks/README.md.
+
+    python benchmarks/hard_rods.py convergence   # hard rods, r = 0.99, t = 10, 100, 400
+    python benchmarks/hard_rods.py timing        # the t = 400 solve after compile
+    python benchmarks/hard_rods.py maxwell       # gamma = 0 against the exact kurtosis
+
+Run under ``taskset -c 0`` for one core.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+
+from maxwell_kinetics.inelastic_boltzmann import VelocityGrid, solve_boltzmann
+
+
+def convergence(points=(61, 81, 121, 161, 201, 241), half_width=6.0):
+    rows = []
+    for n in points:
+        sol = solve_boltzmann(0.99, [10.0, 100.0, 400.0], grid=VelocityGrid(n, half_width))
+        rows.append({"points": n, "h": sol.grid.h, "energy": sol.energy.tolist(),
+                     "kurtosis": sol.kurtosis.tolist(), "seconds": sol.seconds,
+                     "steps": sol.steps})
+        print(json.dumps(rows[-1]), flush=True)
+    return rows
+
+
+def timing(points=201, half_width=6.0, repeats=3):
+    grid = VelocityGrid(points, half_width)
+    first = solve_boltzmann(0.99, [400.0], grid=grid)  # compiles
+    best = math.inf
+    for _ in range(repeats):
+        start = time.perf_counter()
+        sol = solve_boltzmann(0.99, [400.0], grid=grid)
+        best = min(best, time.perf_counter() - start)
+    out = {"points": points, "first_call_s": first.seconds, "after_compile_s": best,
+           "kurtosis": float(sol.kurtosis[-1]), "energy": float(sol.energy[-1]),
+           "steps": sol.steps}
+    print(json.dumps(out), flush=True)
+    return out
+
+
+def maxwell(grids=((401, 40.0), (601, 60.0)), times=(10.0, 50.0)):
+    rows = []
+    for n, half_width in grids:
+        sol = solve_boltzmann(0.5, list(times), exponent=0.0, grid=VelocityGrid(n, half_width))
+        exact = [-3 + 6 * math.exp(9 * t / 128) for t in times]
+        rows.append({"points": n, "half_width": half_width, "kurtosis": sol.kurtosis.tolist(),
+                     "exact": exact, "relative_error": [k / e - 1 for k, e in
+                                                        zip(sol.kurtosis, exact, strict=True)],
+                     "edge_mass": sol.edge_mass.tolist(), "seconds": sol.seconds})
+        print(json.dumps(rows[-1]), flush=True)
+    return rows
+
+
+if __name__ == "__main__":
+    {"convergence": convergence, "timing": timing, "maxwell": maxwell}[sys.argv[1]]()

@@ -1,0 +1,748 @@
+"""The homogeneous 1D inelastic Boltzmann equation with collision rate n|v − w|^γ, solved in
+velocity space (γ = 1: hard rods, the kinetic equation of molecular dynamics under molecular
+chaos; γ = 0: the Maxwell model in physical time t, τ = n t).
+
+Equation (weak form, any test function φ; density n, physical time t):
+
+    d/dt ∫φ f dv = (n/2) ∫∫ |v − w|^γ f(v) f(w) [φ(v′) + φ(w′) − φ(v) − φ(w)] dv dw,
+
+v′ = (1 − p) v + p w, w′ = (1 − p) w + p v, p = (1 + r)/2
+(:class:`maxwell_kinetics.model.RelativeVelocityModel`).  Mass and momentum are conserved and
+d⟨v²⟩/dt = −λ n ⟨|v − w|^{γ+2}⟩, λ = (1 − r²)/4.
+
+Method.  The unknown is F(c, t) = s f(u + s c, t), the law of the rescaled velocity
+c = (v − u)/s(t) about the conserved mean u, on a uniform grid c_i = (i − (N − 1)/2) h of
+half-width L (:class:`VelocityGrid`).  In c the equation reads
+
+    ∂_t F = n s^γ [Q_γ(F, F) + σ′ ∂_c(c F)],    d ln s/dt = n s^γ σ′,
+
+and σ′ = ∫c² Q_γ / (2∫c² F) keeps ∫c² F constant (= 1): the grid follows the cooling.  The
+collision sums are the weak form over all ordered grid pairs, the post-collision velocity
+deposited on the M nearest points with Lagrange weights (:mod:`maxwell_kinetics._boltzmann_scheme`),
+so that mass, momentum and the energy loss −λ Σ h² F_i F_j |c_i − c_j|^{γ+2} are exact to
+round-off, and for M ≥ 5 the moments ⟨c³⟩, ⟨c⁴⟩ evolve by the same sums as the continuous
+equation's (for γ = 0 the discrete ⟨v⁴⟩ obeys the exact closed moment equation).  The dilation is
+a fourth-order central difference in flux form.  Time: diffrax's ``Tsit5`` with a PID controller.
+
+Order.  For a smooth test function the deposit errs by O(h^M); the pair sums are a trapezoid
+rule whose integrand |g|^γ g² (φ-difference ∝ g²) is smooth (γ = 0) or has its first
+non-smooth derivative at order γ + 2 (γ = 1: O(h⁴)); the dilation is O(h⁴).  The scheme is
+therefore fourth order in h for γ = 1 (measured in benchmarks/README.md, ``hard_rods.py``).
+
+Grid.  The initial law is sampled at the nodes (the derivative of its CDF, sixth order), then
+multiplied by 1 + a + b c + d c² with the three numbers that make the discrete mass 1, mean 0
+and ⟨c²⟩ 1.  A grid whose extent leaves more than :data:`EXTENT_TOLERANCE` of the law's mass
+outside, or whose raw moments are off by more than :data:`RESOLUTION_TOLERANCE`, is refused
+with the size needed.  The grid cannot follow a tail that outgrows it (γ = 0, whose scaling
+state has an |x|⁻⁴ tail): the solution records the largest mass fraction found in the two
+outermost cells (:attr:`BoltzmannSolution.edge_mass`).
+
+Every JAX call runs inside ``jax.enable_x64(True)`` (thread-local; the caller's setting is
+restored).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from particles.initial import InitialLaw, get_law
+from particles.validation import (
+    InvalidArgumentError,
+    check_count,
+    check_positive,
+    check_times,
+)
+
+from .model import RelativeVelocityModel
+
+__all__ = ["VelocityGrid", "default_grid", "solve_boltzmann", "BoltzmannSolution",
+           "scaling_state", "ScalingState",
+           "EXTENT_TOLERANCE", "RESOLUTION_TOLERANCE"]
+
+#: Largest mass fraction of the initial law that may lie outside the grid (its moments of order
+#: ≤ 6 then change by less than ~1e-6; the nodes inside are renormalised).
+EXTENT_TOLERANCE = 1e-8
+#: Largest relative error of the grid's raw mass and variance of the initial law (before the
+#: correction that makes them exact): a larger one means the spacing does not resolve the law.
+RESOLUTION_TOLERANCE = 1e-3
+#: Largest grid spacing h, in units of the initial standard deviation (hard rods, r = 0.99,
+#: t = 400: h = 0.2 errs by 3.6e-4 in the kurtosis, benchmarks/README.md).
+MAX_SPACING = 0.25
+#: Most grid points (the collision tables hold N² M numbers).
+MAX_POINTS = 1601
+
+
+@dataclass(frozen=True)
+class VelocityGrid:
+    """A uniform grid of the rescaled velocity c = (v − u)/s on [−half_width, half_width].
+
+    Attributes
+    ----------
+    points : int
+        Number N of nodes (odd N puts a node at c = 0), 8 ≤ N ≤ ``MAX_POINTS``.
+    half_width : float
+        L > 0: the nodes are c_i = −L + i h, h = 2L/(N − 1), in units of the standard deviation.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``points`` or ``half_width`` for a value out of range.
+    """
+
+    points: int
+    half_width: float
+
+    def __post_init__(self):
+        n = check_count(self.points, "points", 8)
+        if n > MAX_POINTS:
+            raise InvalidArgumentError("points", self.points,
+                                       f"at most {MAX_POINTS} grid points (the collision "
+                                       "tables grow as points squared)")
+        object.__setattr__(self, "points", n)
+        object.__setattr__(self, "half_width", check_positive(self.half_width, "half_width"))
+
+    @property
+    def c(self) -> np.ndarray:
+        """The nodes c_i, shape (N,)."""
+        return np.linspace(-self.half_width, self.half_width, self.points)
+
+    @property
+    def h(self) -> float:
+        """The spacing 2L/(N − 1)."""
+        return 2.0 * self.half_width / (self.points - 1)
+
+
+def default_grid(exponent: float) -> VelocityGrid:
+    """The grid used when none is given: 201 points on [−6, 6] for γ > 0 (hard rods: the
+    kurtosis at t = 400, r = 0.99 converged to ~1e-6, benchmarks/README.md); 401 points on
+    [−40, 40] for γ = 0, whose |x|⁻⁴ tail needs a wide grid.
+
+    Parameters
+    ----------
+    exponent : float
+        γ of the rate.
+
+    Returns
+    -------
+    VelocityGrid
+        The grid.
+    """
+    if exponent == 0.0:
+        return VelocityGrid(401, 40.0)
+    return VelocityGrid(201, 6.0)
+
+
+def _density_at(law: InitialLaw, v: np.ndarray) -> np.ndarray:
+    """The law's density at ``v``: the sixth-order central difference of its CDF, step 0.01."""
+    d = 0.01
+    F = law.cdf
+    diff = [F(v + k * d) - F(v - k * d) for k in (1, 2, 3)]
+    return (45.0 * diff[0] - 9.0 * diff[1] + diff[2]) / (60.0 * d)
+
+
+def _raw_moments(values: np.ndarray, c: np.ndarray, h: float) -> np.ndarray:
+    return np.array([h * np.sum(values * c**k) for k in range(3)])
+
+
+def initial_values(law, grid: VelocityGrid) -> np.ndarray:
+    """The initial law on the grid: unit mass, zero mean and unit ⟨c²⟩ exactly (module
+    docstring).
+
+    Parameters
+    ----------
+    law : str or particles.initial.InitialLaw
+        A built-in law's name or a law with a CDF (zero mean, unit variance).
+    grid : VelocityGrid
+        The grid.
+
+    Returns
+    -------
+    numpy.ndarray
+        F(c_i, 0), shape (N,).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``initial`` for a law without a CDF; ``half_width`` when more than
+        :data:`EXTENT_TOLERANCE` of the mass lies outside the grid, ``points`` when the spacing
+        exceeds :data:`MAX_SPACING` or does not resolve the law (:data:`RESOLUTION_TOLERANCE`);
+        both with the size needed.
+    """
+    law = get_law(law)
+    if law.distribution is None:
+        raise InvalidArgumentError("initial", law.name, "a law with a known CDF (the velocity-"
+                                   "space solver samples its density)")
+    L = grid.half_width
+    outside = float(law.cdf(np.array([-L]))[0] + 1.0 - law.cdf(np.array([L]))[0])
+    if not outside <= EXTENT_TOLERANCE:
+        needed = L
+        while needed < 1e6 and not (law.cdf(np.array([-needed]))[0]
+                                    + 1.0 - law.cdf(np.array([needed]))[0]) <= EXTENT_TOLERANCE:
+            needed *= 1.25
+        raise InvalidArgumentError(
+            "half_width", L, f"a grid that holds the initial law {law.name!r} (a fraction "
+            f"{outside:.3g} of its mass lies outside [-{L:g}, {L:g}]; at most "
+            f"{EXTENT_TOLERANCE:g}: half_width >= {needed:.3g})")
+
+    def defect(points: int) -> float:
+        g = VelocityGrid(points, L) if points <= MAX_POINTS else None
+        c = g.c if g else np.linspace(-L, L, points)
+        h = 2.0 * L / (points - 1)
+        m = _raw_moments(_density_at(law, c), c, h)
+        return max(abs(m[0] - 1.0), abs(m[1]), abs(m[2] - 1.0))
+
+    if grid.h > MAX_SPACING:
+        needed = math.ceil(2.0 * L / MAX_SPACING) + 1
+        raise InvalidArgumentError(
+            "points", grid.points, f"a spacing 2 half_width/(points - 1) <= {MAX_SPACING:g} "
+            f"(it is {grid.h:.3g} on [-{L:g}, {L:g}]): at least {needed} points")
+    found = defect(grid.points)
+    if not found <= RESOLUTION_TOLERANCE:
+        needed = grid.points
+        while needed < 10**6 and not defect(needed) <= RESOLUTION_TOLERANCE:
+            needed = 2 * needed - 1
+        raise InvalidArgumentError(
+            "points", grid.points, f"a grid fine enough for the initial law {law.name!r} (its "
+            f"mass, mean or variance on {grid.points} points on [-{L:g}, {L:g}] is off by "
+            f"{found:.3g}; at most {RESOLUTION_TOLERANCE:g}: about {needed} points)")
+    c, h = grid.c, grid.h
+    values = _density_at(law, c)
+    # F (1 + a + b c + d c²) with unit mass, zero mean and unit second moment
+    basis = np.array([values * c**k for k in range(3)])
+    matrix = h * np.array([[np.sum(basis[j] * c**k) for j in range(3)] for k in range(3)])
+    coefficients = np.linalg.solve(matrix, np.array([1.0, 0.0, 1.0]))
+    return values * (coefficients[0] + coefficients[1] * c + coefficients[2] * c * c)
+
+
+def check_density(density) -> float:
+    """The density n: a finite number > 0.
+
+    Parameters
+    ----------
+    density : float
+        Number of particles per unit length.
+
+    Returns
+    -------
+    float
+        n.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``density`` otherwise.
+    """
+    return check_positive(density, "density")
+
+
+class _Compiled:
+    """The jitted solve and right-hand side for one (points, stencil) (cached)."""
+
+    cache: dict = {}
+
+    def __init__(self):
+        import diffrax
+        import jax
+        import jax.numpy as jnp
+
+        from . import _boltzmann_scheme as scheme
+
+        def rhs(t, y, args):
+            tables, c, h, density, exponent, lam = args
+            F = y[:-1]
+            rate = density * jnp.exp(exponent * y[-1])  # n s^γ
+            dF, sigma = scheme.rescaled_rhs(F, tables, c, h, lam)
+            return jnp.concatenate([rate * dF, (rate * sigma)[None]])
+
+        def solve(y0, times, args, rtol, atol, max_steps):
+            out = diffrax.diffeqsolve(
+                diffrax.ODETerm(rhs), diffrax.Tsit5(), 0.0, times[-1], None, y0, args=args,
+                saveat=diffrax.SaveAt(ts=times),
+                stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol),
+                max_steps=max_steps, throw=False)
+            return out.ys, out.result == diffrax.RESULTS.successful, out.stats["num_steps"]
+
+        self.solve = jax.jit(solve, static_argnums=(5,))
+        self.rhs = jax.jit(jax.vmap(lambda y, args: rhs(0.0, y, args), in_axes=(0, None)))
+        self.steady = jax.jit(
+            lambda F, tables, c, h, lam: scheme.rescaled_rhs(F, tables, c, h, lam)[0])
+        self.jacobian = jax.jit(jax.jacfwd(
+            lambda F, tables, c, h, lam: scheme.rescaled_rhs(F, tables, c, h, lam)[0]))
+
+    @classmethod
+    def get(cls):
+        if "functions" not in cls.cache:
+            cls.cache["functions"] = cls()
+        return cls.cache["functions"]
+
+
+def tables_for(model: RelativeVelocityModel, grid: VelocityGrid):
+    """The collision tables of ``model`` on ``grid`` as JAX float64 arrays (call inside
+    ``jax.enable_x64(True)``).
+
+    Parameters
+    ----------
+    model : RelativeVelocityModel
+        The kernel.
+    grid : VelocityGrid
+        The grid.
+
+    Returns
+    -------
+    dict
+        As :func:`maxwell_kinetics._boltzmann_scheme.collision_tables`, JAX arrays.
+    """
+    import jax.numpy as jnp
+    from scipy.special import zeta
+
+    from . import _boltzmann_scheme as scheme
+
+    gamma = model.exponent
+    kink = 0.0 if gamma in (0.0, 2.0) else -2.0 * float(zeta(-gamma))
+    tables = scheme.collision_tables(grid.c, model.complement, model.p, gamma, kink)
+    return {k: jnp.asarray(v) for k, v in tables.items()}
+
+
+def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gaussian",
+                    grid: VelocityGrid | None = None, rtol: float = 1e-10,
+                    atol: float = 1e-13, max_steps: int = 1_000_000) -> BoltzmannSolution:
+    """Solve the homogeneous 1D inelastic Boltzmann equation with rate n|v − w|^γ from an
+    initial law to the times ``t`` (module docstring).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1].
+    t : array_like
+        Increasing physical times ≥ 0 at which to save the solution.
+    exponent : float, default 1.0
+        γ of the rate (1: hard rods, 0: Maxwell), in
+        :data:`maxwell_kinetics.model.RATE_EXPONENTS`.
+    density : float, default 1.0
+        n > 0, particles per unit length.
+    initial : str or particles.initial.InitialLaw, default "gaussian"
+        The initial law (zero mean, unit variance, with a CDF): ⟨v²⟩ = 1 at t = 0.
+    grid : VelocityGrid, optional
+        The grid of c; default :func:`default_grid`.
+    rtol, atol : float
+        Tolerances of the step-size controller (RMS norm over the grid and ln s).
+    max_steps : int
+        Most time steps.
+
+    Returns
+    -------
+    BoltzmannSolution
+        f on the grid at every time, with its moments.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``restitution``, ``exponent``, ``density``, ``t``, ``initial``, ``points`` or
+        ``half_width`` for bad input (:func:`initial_values`), ``rtol`` or ``atol`` if not
+        positive.
+    RuntimeError
+        If the time integration fails (too many steps).
+    """
+    model = RelativeVelocityModel(restitution, exponent=exponent)
+    n = check_density(density)
+    times = check_times(t, "t", strictly=True)
+    if times.size == 0 or times[0] < 0:
+        raise InvalidArgumentError("t", t, "increasing times t >= 0")
+    check_positive(rtol, "rtol")
+    check_positive(atol, "atol")
+    grid = default_grid(model.exponent) if grid is None else grid
+    law = get_law(initial)
+    F0 = initial_values(law, grid)
+    import jax
+    import jax.numpy as jnp
+
+    start = time.perf_counter()
+    with jax.enable_x64(True):
+        functions = _Compiled.get()
+        args = (tables_for(model, grid), jnp.asarray(grid.c), grid.h, n, model.exponent,
+                model.lam)
+        y0 = jnp.asarray(np.append(F0, 0.0))
+        ys, ok, steps = functions.solve(y0, jnp.asarray(times), args, rtol, atol,
+                                        int(max_steps))
+        ys = np.asarray(ys)
+        if not bool(ok):
+            raise RuntimeError(f"the time integration failed (steps: {int(steps)}, "
+                               f"max_steps={max_steps})")
+        rates = np.asarray(functions.rhs(jnp.asarray(ys), args))
+    seconds = time.perf_counter() - start
+    c, h = grid.c, grid.h
+    F, log_s = ys[:, :-1], ys[:, -1]
+    s2 = np.exp(2.0 * log_s)
+    # dE/dt = d(s² Σ h c² F)/dt = s² (Σ h c² dF/dt + 2 (d ln s/dt) Σ h c² F)
+    energy_rate = s2 * (h * rates[:, :-1] @ (c * c) + 2.0 * rates[:, -1] * (h * F @ (c * c)))
+    edge = h * np.max(np.abs(F[:, [0, 1, -2, -1]]), axis=1)
+    return BoltzmannSolution(model.restitution, model.exponent, n, law.name, grid,
+                             times, F, log_s, 0.0, energy_rate, edge, int(steps), seconds)
+
+
+@dataclass(frozen=True)
+class BoltzmannSolution:
+    """The solution of :func:`solve_boltzmann`: F(c, t) = s f(u + s c, t) on the grid of c at the
+    saved times, with f(v, t), ⟨v²⟩, the kurtosis, the moments and histograms.
+
+    Attributes
+    ----------
+    restitution, exponent, number_density : float
+        r, γ and n (particles per unit length) of the solve.
+    initial : str
+        The initial law's name.
+    grid : VelocityGrid
+        The grid of c.
+    t : numpy.ndarray
+        The saved physical times, shape (T,).
+    F : numpy.ndarray
+        Shape (T, N): F(c_i, t_k).
+    log_scale : numpy.ndarray
+        ln s(t_k), shape (T,) (s(0) = 1: the standard deviation of v).
+    mean : float
+        u, the conserved mean velocity.
+    energy_rate : numpy.ndarray
+        d⟨v²⟩/dt of the discrete equation at each saved time, shape (T,).
+    edge_mass : numpy.ndarray
+        Largest h|F| among the two outermost nodes on each side at each time, shape (T,): a
+        tail that reaches the grid's end shows here.
+    steps : int
+        Time steps taken.
+    seconds : float
+        Wall-clock time of the solve.
+    """
+
+    restitution: float
+    exponent: float
+    number_density: float
+    initial: str
+    grid: VelocityGrid
+    t: np.ndarray
+    F: np.ndarray = field(repr=False)
+    log_scale: np.ndarray = field(repr=False)
+    mean: float = 0.0
+    energy_rate: np.ndarray = field(repr=False, default=None)
+    edge_mass: np.ndarray = field(repr=False, default=None)
+    steps: int = 0
+    seconds: float = 0.0
+
+    @property
+    def model(self) -> RelativeVelocityModel:
+        """The :class:`~maxwell_kinetics.model.RelativeVelocityModel` of the solve."""
+        return RelativeVelocityModel(self.restitution, exponent=self.exponent)
+
+    def time_index(self, t: float | None = None) -> int:
+        """The index of a saved time (to a relative 1e-12); None: the last.
+
+        Parameters
+        ----------
+        t : float, optional
+            One of the saved times.
+
+        Returns
+        -------
+        int
+            Its index.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``t`` when it is not a saved time.
+        """
+        if t is None:
+            return len(self.t) - 1
+        match = np.flatnonzero(np.abs(self.t - float(t)) <= 1e-12 * max(1.0, abs(float(t))))
+        if match.size == 0:
+            shown = ", ".join(f"{x:g}" for x in self.t)[:200]
+            raise InvalidArgumentError("t", t, f"one of the saved times: {shown}")
+        return int(match[0])
+
+    @property
+    def scale(self) -> np.ndarray:
+        """s(t_k), the velocity scale of the grid (shape (T,))."""
+        return np.exp(self.log_scale)
+
+    def velocity_density(self, t: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """f(v, t) on the grid's velocities v_i = u + s c_i.
+
+        Parameters
+        ----------
+        t : float, optional
+            A saved time (default the last).
+
+        Returns
+        -------
+        v, f : numpy.ndarray
+            The velocities and the density there (∫ f dv = 1).
+        """
+        k = self.time_index(t)
+        s = self.scale[k]
+        return self.mean + s * self.grid.c, self.F[k] / s
+
+    def moments(self, orders=(2, 4, 6)) -> np.ndarray:
+        """Central moments ⟨(v − u)^k⟩ at every saved time.
+
+        Parameters
+        ----------
+        orders : sequence of int
+            The k.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (T, len(orders)).
+        """
+        c, h = self.grid.c, self.grid.h
+        out = np.array([[h * (row @ c**k) for k in orders] for row in self.F])
+        return out * self.scale[:, None] ** np.asarray(orders)
+
+    @property
+    def temperature(self) -> np.ndarray:
+        """⟨(v − u)²⟩ at each saved time."""
+        return self.moments((2,))[:, 0]
+
+    @property
+    def energy(self) -> np.ndarray:
+        """⟨v²⟩ = u² + ⟨(v − u)²⟩ at each saved time (1 at t = 0 for the built-in laws)."""
+        return self.mean**2 + self.temperature
+
+    @property
+    def kurtosis(self) -> np.ndarray:
+        """⟨(v − u)⁴⟩/⟨(v − u)²⟩² at each saved time."""
+        m = self.moments((2, 4))
+        return m[:, 1] / m[:, 0] ** 2
+
+    def density(self, x, t: float | None = None) -> np.ndarray:
+        """P(x, t) of x = (v − u)/√T(t), T = ⟨(v − u)²⟩, by sixth-order Lagrange interpolation
+        of the nodes (zero outside the grid).
+
+        Parameters
+        ----------
+        x : array_like
+            Rescaled velocities.
+        t : float, optional
+            A saved time (default the last).
+
+        Returns
+        -------
+        numpy.ndarray
+            P(x), of the shape of ``x``.
+        """
+        k = self.time_index(t)
+        c, h = self.grid.c, self.grid.h
+        scale = math.sqrt(h * (self.F[k] @ (c * c)))
+        x = np.asarray(x, dtype=float)
+        return scale * _interpolate(self.F[k], c, x * scale)
+
+    def histogram(self, edges, t: float | None = None):
+        """The solution's prediction on bins of x = (v − u)/√T as the
+        :class:`particles.observables.Histogram` particle runs return (``density`` = bin
+        probability / width, ``error`` and ``count`` 0, ``samples`` 0, ``v0`` = √T).
+
+        Parameters
+        ----------
+        edges : array_like
+            Increasing finite bin edges in x.
+        t : float, optional
+            A saved time (default the last).
+
+        Returns
+        -------
+        particles.observables.Histogram
+            The predicted histogram.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``edges`` or ``t``.
+        """
+        from particles.observables import Histogram
+
+        from .kinetic_histogram import check_edges
+
+        edges = check_edges(edges)
+        k = self.time_index(t)
+        c, h = self.grid.c, self.grid.h
+        scale = math.sqrt(h * (self.F[k] @ (c * c)))
+        prob = np.diff(_cumulative(self.F[k], c, edges * scale))
+        width = np.diff(edges)
+        return Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), prob / width,
+                         np.zeros(width.size), np.zeros(width.size, dtype=np.int64), 0,
+                         float(self.scale[k] * scale))
+
+
+def _interpolate(values: np.ndarray, c: np.ndarray, x: np.ndarray, order: int = 6):
+    """Lagrange interpolation of order ``order`` of grid ``values`` at ``x`` (0 outside)."""
+    n, h = c.size, c[1] - c[0]
+    pos = (x - c[0]) / h
+    first = np.clip(np.floor(pos) - order // 2 + 1, 0, n - order).astype(int)
+    u = pos - first
+    out = np.zeros(x.shape)
+    for m in range(order):
+        w = np.ones(x.shape)
+        for k in range(order):
+            if k != m:
+                w *= (u - k) / (m - k)
+        out += w * values[np.clip(first + m, 0, n - 1)]
+    return np.where((pos >= 0) & (pos <= n - 1), out, 0.0)
+
+
+def _cumulative(values: np.ndarray, c: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """∫_{−L}^{x} of the cubic spline through the nodes (0 below the grid, the total above)."""
+    from scipy.interpolate import CubicSpline
+
+    spline = CubicSpline(c, values)
+    x = np.clip(x, c[0], c[-1])
+    return np.array([spline.integrate(c[0], b) for b in x])
+
+
+@dataclass(frozen=True)
+class ScalingState:
+    """The scaling (homogeneous cooling) state of the rate |v − w|^γ: the time-independent law
+    F(c) of c = (v − u)/v₀(t), v₀² = ⟨(v − u)²⟩, on the grid (∫F = 1, ⟨c⟩ = 0, ⟨c²⟩ = 1), a
+    zero of Q_h(F) + σ′ ∂_c(c F) (:func:`scaling_state`).
+
+    Attributes
+    ----------
+    restitution, exponent : float
+        r and γ.
+    grid : VelocityGrid
+        The grid of c.
+    F : numpy.ndarray
+        Shape (N,): the state at the nodes.
+    residual : float
+        max_i |Q_h(F) + σ′ ∂_c(c F)| at the end.
+    iterations : int
+        Newton iterations.
+    relaxation_time : float
+        τ′ (collision time units n s^γ t) integrated before Newton.
+    seconds : float
+        Wall-clock time.
+    """
+
+    restitution: float
+    exponent: float
+    grid: VelocityGrid
+    F: np.ndarray = field(repr=False)
+    residual: float = 0.0
+    iterations: int = 0
+    relaxation_time: float = 0.0
+    seconds: float = 0.0
+
+    def moment(self, order: int) -> float:
+        """⟨c^k⟩ of the state.
+
+        Parameters
+        ----------
+        order : int
+            k.
+
+        Returns
+        -------
+        float
+            The moment (⟨c²⟩ = 1).
+        """
+        c = self.grid.c
+        return float(self.grid.h * (self.F @ c**order))
+
+    @property
+    def kurtosis(self) -> float:
+        """⟨c⁴⟩/⟨c²⟩²."""
+        return self.moment(4) / self.moment(2) ** 2
+
+    def density(self, x) -> np.ndarray:
+        """P(x) of the scaling state, x = c/√⟨c²⟩ (sixth-order interpolation, zero outside).
+
+        Parameters
+        ----------
+        x : array_like
+            Rescaled velocities.
+
+        Returns
+        -------
+        numpy.ndarray
+            P(x), of the shape of ``x``.
+        """
+        scale = math.sqrt(self.moment(2))
+        x = np.asarray(x, dtype=float)
+        return scale * _interpolate(self.F, self.grid.c, x * scale)
+
+
+def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None,
+                  tolerance: float = 1e-11, max_iterations: int = 30,
+                  relaxation: float | None = None) -> ScalingState:
+    """The scaling state of the rescaled equation: relaxed in τ′ from the Gaussian, then
+    Newton's method on Q_h(F) + σ′ ∂_c(c F) = 0 with ∫F = 1, ⟨c⟩ = 0 and ⟨c²⟩ = 1 (least
+    squares on the N + 3 equations).
+
+    Parameters
+    ----------
+    restitution : float
+        r ∈ [0, 1).
+    exponent : float, default 1.0
+        γ of the rate.
+    grid : VelocityGrid, optional
+        Default :func:`default_grid` (γ > 0); γ = 0 has no scaling state with finite
+        kurtosis (its tail is |x|⁻⁴) and is refused.
+    tolerance : float, default 1e-11
+        Newton stops when max|residual| ≤ tolerance.
+    max_iterations : int, default 30
+        Most Newton iterations.
+    relaxation : float, optional
+        τ′ integrated before Newton (default min(2000, 5/λ)).
+
+    Returns
+    -------
+    ScalingState
+        The state (check ``residual``).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``restitution`` (r = 1 has no cooling state), ``exponent`` (γ = 0 or out of
+        range), ``points`` or ``half_width``.
+    """
+    model = RelativeVelocityModel(restitution, exponent=exponent)
+    if model.restitution == 1.0:
+        raise InvalidArgumentError("restitution", restitution,
+                                   "r < 1 (an elastic gas does not cool)")
+    if model.exponent == 0.0:
+        raise InvalidArgumentError("exponent", exponent,
+                                   "gamma > 0 (the Maxwell model's scaling state has an x^-4 "
+                                   "tail and no finite kurtosis: use fixed-point --rate "
+                                   "constant)")
+    grid = default_grid(model.exponent) if grid is None else grid
+    F0 = initial_values("gaussian", grid)
+    if relaxation is None:
+        relaxation = min(2000.0, 5.0 / model.lam)
+    import jax
+    import jax.numpy as jnp
+
+    start = time.perf_counter()
+    c, h = grid.c, grid.h
+    with jax.enable_x64(True):
+        functions = _Compiled.get()
+        tables = tables_for(model, grid)
+        cj = jnp.asarray(c)
+        args = (tables, cj, h, 1.0, 0.0, model.lam)  # s^γ ≡ 1: time is τ′
+        ys, ok, _ = functions.solve(jnp.asarray(np.append(F0, 0.0)),
+                                    jnp.asarray([float(relaxation)]), args, 1e-8, 1e-12,
+                                    1_000_000)
+        F = np.asarray(ys[-1, :-1])
+        constraints = h * np.array([np.ones_like(c), c, c * c])
+        iterations = 0
+        residual = np.asarray(functions.steady(jnp.asarray(F), tables, cj, h, model.lam))
+        while np.max(np.abs(residual)) > tolerance and iterations < max_iterations:
+            J = np.asarray(functions.jacobian(jnp.asarray(F), tables, cj, h, model.lam))
+            A = np.vstack([J, constraints])
+            b = -np.concatenate([residual, constraints @ F - np.array([1.0, 0.0, 1.0])])
+            F = F + np.linalg.lstsq(A, b, rcond=None)[0]
+            residual = np.asarray(functions.steady(jnp.asarray(F), tables, cj, h, model.lam))
+            iterations += 1
+    return ScalingState(model.restitution, model.exponent, grid, F,
+                        float(np.max(np.abs(residual))), iterations, float(relaxation),
+                        time.perf_counter() - start)

@@ -1,0 +1,137 @@
+"""The velocity-space solver of the inelastic Boltzmann equation with rate n|v − w|^γ
+(:mod:`maxwell_kinetics.inelastic_boltzmann`): conservation, the energy identity against an
+independent double sum, γ = 0 against the exact moment equation, the hard-rod scaling state, and
+the refusals of the command line.  Small grids keep the file cheap; the convergence in the grid
+and the long runs are in benchmarks/hard_rods.py."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from helpers import run_error
+
+from maxwell_kinetics.app.cli import main
+from maxwell_kinetics.inelastic_boltzmann import (
+    VelocityGrid,
+    scaling_state,
+    solve_boltzmann,
+)
+from particles.initial import InitialLaw
+from particles.validation import InvalidArgumentError
+
+# An asymmetric, smooth law with zero mean and unit variance: 0.7 N(a, s²) + 0.3 N(b, s²)
+_W, _S = 0.7, 0.6
+_A = math.sqrt((1.0 - _S**2) * 0.3 / 0.7)
+_B = -0.7 * _A / 0.3
+
+
+def _mixture_cdf(v):
+    from scipy.special import ndtr
+
+    return _W * ndtr((v - _A) / _S) + (1.0 - _W) * ndtr((v - _B) / _S)
+
+
+ASYMMETRIC = InitialLaw("two_gaussians", lambda k, xp: (
+    _W * xp.exp(1j * _A * k) + (1 - _W) * xp.exp(1j * _B * k)) * xp.exp(-0.5 * _S**2 * k**2),
+    None, 0.0, "asymmetric mixture", distribution=_mixture_cdf)
+
+
+@pytest.fixture(scope="module")
+def rods():
+    # hard rods at density 2 from an asymmetric law: momentum is not zero by symmetry
+    return solve_boltzmann(0.8, [0.5, 2.0, 8.0], density=2.0, initial=ASYMMETRIC,
+                           grid=VelocityGrid(61, 7.0), rtol=1e-9)
+
+
+def test_mass_and_momentum_are_conserved_to_round_off(rods):
+    for k, t in enumerate(rods.t):
+        v, f = rods.velocity_density(t)
+        dv = v[1] - v[0]
+        assert abs(dv * f.sum() - 1.0) <= 1e-12
+        assert abs(dv * (f @ v)) <= 1e-12
+    assert rods.energy[-1] < 0.5 * rods.energy[0]  # it cooled (n = 2 makes it fast)
+
+
+def test_the_energy_loss_is_lambda_n_times_the_mean_cubed_relative_speed(rods):
+    # an independent double sum over the solution's own f(v, t) on its grid
+    lam = (1 - 0.8**2) / 4
+    for t, rate in zip(rods.t, rods.energy_rate, strict=True):
+        v, f = rods.velocity_density(t)
+        dv = v[1] - v[0]
+        g3 = dv * dv * np.sum(f[:, None] * f[None, :] * np.abs(v[:, None] - v[None, :]) ** 3)
+        assert rate == pytest.approx(-lam * 2.0 * g3, rel=1e-8)
+
+
+def test_the_energy_follows_its_rate_in_time():
+    # E(t) itself: a fourth-order difference of saved energies against the saved rate (step
+    # 0.01: the difference errs by ~1e-9, the integration by rtol / step ~ 1e-10)
+    d, t0 = 0.01, 0.3
+    sol = solve_boltzmann(0.5, [t0 - 2 * d, t0 - d, t0, t0 + d, t0 + 2 * d],
+                          grid=VelocityGrid(61, 7.0), rtol=1e-12, atol=1e-15)
+    E = sol.energy
+    slope = (E[0] - 8 * E[1] + 8 * E[3] - E[4]) / (12 * d)
+    assert slope == pytest.approx(sol.energy_rate[2], rel=1e-6)
+
+
+def test_gamma_zero_has_the_maxwell_models_kurtosis():
+    # rate constant: tau = n t, and <v^4>/<v^2>^2 = -3 + 6 e^{9 tau/128} at r = 0.5; at
+    # n t = 1 the tail stays inside +-7.5 (edge mass checked)
+    sol = solve_boltzmann(0.5, [0.5, 1.0], exponent=0.0, density=1.0,
+                          grid=VelocityGrid(61, 7.5), rtol=1e-11)
+    exact = -3 + 6 * np.exp(9 * sol.t / 128)
+    assert np.max(sol.edge_mass) < 1e-9
+    np.testing.assert_allclose(sol.kurtosis, exact, rtol=1e-6)
+    np.testing.assert_allclose(sol.energy, np.exp(-2 * (3 / 16) * sol.t), rtol=1e-10)
+
+
+def test_the_hard_rod_scaling_state_has_two_humps_and_is_stationary():
+    # stationary: the residual of the rescaled equation Q_h(F) + sigma' d(cF)/dc at the state
+    state = scaling_state(0.9, grid=VelocityGrid(61, 6.0), relaxation=20.0)
+    assert state.residual <= 1e-11
+    assert 1.0 < state.kurtosis < 3.0
+    P = state.density([0.0, 1.0])
+    assert P[1] > P[0]  # the humps at |c| ~ 1, a dip at 0
+
+
+def test_the_histogram_integrates_to_one_and_matches_the_density(rods):
+    edges = np.linspace(-7, 7, 29)  # the whole grid
+    hist = rods.histogram(edges, t=2.0)
+    assert float(np.sum(hist.density * np.diff(edges))) == pytest.approx(1.0, abs=1e-6)
+    mid = hist.centres[14]
+    assert hist.density[14] == pytest.approx(float(rods.density([mid], t=2.0)[0]), rel=0.02)
+    with pytest.raises(InvalidArgumentError, match="t=3"):
+        rods.histogram(edges, t=3.0)
+
+
+@pytest.mark.parametrize(("argv", "needle"), [
+    (["--rate", "hard"], "rate='hard'"),
+    (["--rate", "relative_velocity", "--tau", "1"], "tau='1'"),
+    (["--rate", "relative_velocity", "--t", "1", "--exponent", "2.5"], "exponent="),
+    (["--rate", "relative_velocity", "--t", "1", "--density", "0"], "density='0'"),
+    (["--rate", "relative_velocity", "--t", "1", "--density", "inf"], "density='inf'"),
+    (["--rate", "relative_velocity", "--t", "1", "--points", "31"], "at least 49 points"),
+    (["--rate", "relative_velocity", "--t", "1", "--half-width", "4"], "--half-width >= "),
+    (["--rate", "relative_velocity", "--t", "1", "--initial", "uniform"], "about 801 points"),
+])
+def test_bad_input_is_refused_naming_the_argument(capsys, tmp_path, argv, needle):
+    err = run_error(capsys, ["solve", "-r", "0.9", *argv, "--json"])
+    assert needle in err and "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_fixed_point_refuses_an_unknown_rate_and_gamma_zero(capsys):
+    assert "rate='x'" in run_error(capsys, ["fixed-point", "-r", "0.9", "--rate", "x"])
+    err = run_error(capsys, ["fixed-point", "-r", "0.9", "--rate", "relative_velocity",
+                             "--exponent", "0"])
+    assert "exponent=0.0" in err and "x^-4" in err
+
+
+def test_the_commands_print_energy_and_kurtosis(capsys):
+    assert main(["solve", "-r", "0.9", "--rate", "relative_velocity", "--t", "0,1",
+                 "--points", "61", "--half-width", "7", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["t"] == [0.0, 1.0] and out["energy"][0] == pytest.approx(1.0, rel=1e-12)
+    assert out["kurtosis"][0] == pytest.approx(3.0, rel=1e-6) and out["energy"][1] < 1.0
