@@ -28,6 +28,12 @@ __version__ = "0.2.0"
 
 _LAZY = {
     "MaxwellModel": "model",
+    "RelativeVelocityModel": "model",
+    "solve_boltzmann": "inelastic_boltzmann",
+    "BoltzmannSolution": "inelastic_boltzmann",
+    "scaling_state": "inelastic_boltzmann",
+    "ScalingState": "inelastic_boltzmann",
+    "VelocityGrid": "inelastic_boltzmann",
     "Resolution": "grid",
     "RESOLUTIONS": "grid",
     "solve": "solver",

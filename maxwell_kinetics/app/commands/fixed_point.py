@@ -50,10 +50,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("--exponent", default=None,
                    help="--rate relative_velocity: gamma in (0, 2] (default 1: hard rods)")
     p.add_argument("--points", default=None,
-                   help="--rate relative_velocity: velocity grid points (default 201)")
+                   help="--rate relative_velocity: velocity grid points (default 241)")
     p.add_argument("--half-width", default=None,
                    help="--rate relative_velocity: grid half-width in units of the standard "
-                   "deviation (default 6)")
+                   "deviation (default 12)")
     p.add_argument("--n", default=None, help="Chebyshev degree (default 64 in 1D, 128 in 2D/3D; "
                    "at most 256 in 1D, where a larger degree is ill-conditioned)")
     p.add_argument("--dimension", default="1",
@@ -101,7 +101,7 @@ def _run_relative_velocity(args) -> int:
     :func:`maxwell_kinetics.inelastic_boltzmann.scaling_state`."""
     from particles.parsing import parse_int
 
-    from ...inelastic_boltzmann import VelocityGrid, default_grid, initial_values, scaling_state
+    from ...inelastic_boltzmann import SCALING_GRID, VelocityGrid, initial_values, scaling_state
 
     for name in ("n", "angular"):
         if getattr(args, name) is not None:
@@ -112,7 +112,7 @@ def _run_relative_velocity(args) -> int:
                                    "relative_velocity (one dimension)")
     restitution = _number(args.restitution, "restitution")
     exponent = 1.0 if args.exponent is None else _number(args.exponent, "exponent")
-    grid = default_grid(1.0)
+    grid = SCALING_GRID
     points = grid.points if args.points is None else parse_int(args.points, "points")
     half_width = (grid.half_width if args.half_width is None
                   else _number(args.half_width, "half-width"))
