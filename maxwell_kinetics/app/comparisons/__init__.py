@@ -51,6 +51,7 @@ from .analysis import (
     profile_scales,
     velocity_on_grid,
 )
+from ._rate_vs_correlations import collisions_per_particle, kurtosis_split, maxwell_kurtosis
 from .base import SIZES, Comparison, default_size
 from .kinetic_predictions import (
     fft_bin_probabilities,
@@ -103,6 +104,9 @@ __all__ = [
     "ulam_snapshots",
     "ABS_MEAN_F",
     "ABS_MEAN_GAUSSIAN",
+    "collisions_per_particle",
+    "maxwell_kurtosis",
+    "kurtosis_split",
 ]
 
 kinetic_theory = _kinetic_theory.run
