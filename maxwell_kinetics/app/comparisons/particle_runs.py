@@ -552,13 +552,29 @@ def ulam_final(params: dict, tau: float, seeds, progress=None) -> np.ndarray:
     return ParticleRuns().ulam_final(params, tau, seeds, progress)
 
 
+def ulam_runs(params: dict, times, seeds, progress=None) -> dict:
+    """:meth:`ParticleRuns.ulam_runs` of a new serial :class:`ParticleRuns`.
+
+    Parameters
+    ----------
+    params, times, seeds, progress
+        As for :meth:`ParticleRuns.ulam_runs`.
+
+    Returns
+    -------
+    dict
+        Its result (nothing is kept between calls).
+    """
+    return ParticleRuns().ulam_runs(params, times, seeds, progress)
+
+
 def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", progress=None, *,
-                 structure=False, snapshots=False) -> dict:
+                 structure=False, snapshots=False, rate="constant") -> dict:
     """:meth:`ParticleRuns.lattice_runs` of a new serial :class:`ParticleRuns`.
 
     Parameters
     ----------
-    restitution, n, times, seeds, constraint, law, progress, structure, snapshots
+    restitution, n, times, seeds, constraint, law, progress, structure, snapshots, rate
         As for :meth:`ParticleRuns.lattice_runs`.
 
     Returns
@@ -567,7 +583,7 @@ def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", 
         Its result (nothing is kept between calls).
     """
     return ParticleRuns().lattice_runs(restitution, n, times, seeds, constraint, law, progress,
-                                       structure=structure, snapshots=snapshots)
+                                       structure=structure, snapshots=snapshots, rate=rate)
 
 
 def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gaussian",
