@@ -44,6 +44,7 @@ from . import (
     _velocity_distributions,
     _velocity_profiles,
 )
+from ._rate_vs_correlations import collisions_per_particle, kurtosis_split, maxwell_kurtosis
 from .analysis import (
     block_means,
     coarse_increment_skewness,
@@ -51,7 +52,6 @@ from .analysis import (
     profile_scales,
     velocity_on_grid,
 )
-from ._rate_vs_correlations import collisions_per_particle, kurtosis_split, maxwell_kurtosis
 from .base import SIZES, Comparison, default_size
 from .kinetic_predictions import (
     fft_bin_probabilities,

@@ -5,6 +5,7 @@ Boltzmann equation solved deterministically against its DSMC (the Ulam engine wi
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -48,6 +49,12 @@ def test_kurtosis_split_share_error_is_the_derivative():
     assert out["correlation_share_error"][0] == pytest.approx(err * abs(plus - minus) / (2 * h),
                                                               rel=1e-6)
     assert out["rate"][0] + out["correlation"][0] == pytest.approx(k_md - k_m)
+
+
+def test_collisions_per_particle_need_the_solution_from_t_zero():
+    late = SimpleNamespace(t=np.array([1.0, 2.0]))
+    with pytest.raises(ValueError, match="t = 0"):
+        collisions_per_particle(late)
 
 
 def test_collisions_per_particle_start_at_the_gaussian_rate(split):
