@@ -362,9 +362,10 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     Returns
     -------
     maxwell_kinetics.app.comparisons.base.Comparison
-        ``summary``: per restitution and time every model's kurtosis and ⟨v²⟩ (mean ± standard
-        error over seeds), the split, the onset, the scaling state, ``verdicts``, the
-        parameters and the wall-clock ``seconds``; ``data``: the arrays of the figure.
+        ``summary``: ``split_at_last_time`` and ``correlation_onset_t`` per restitution; in
+        ``cases``, per restitution and time, every model's kurtosis and ⟨v²⟩ (mean ± standard
+        error over seeds) and the split, and the scaling state; ``verdicts``; the parameters
+        and the wall-clock ``seconds``; ``data``: the arrays of the figure.
 
     Raises
     ------
@@ -383,7 +384,19 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
                                    "one list of times per restitution")
     cases = [_one_restitution(float(r), ts, params, runner, progress)
              for r, ts in zip(params["restitutions"], params["times"], strict=True)]
+    last = {}
+    for c in cases:
+        j, s = len(c["times"]) - 1, c["split"]
+        err = float(s["correlation_error"][j])
+        last[f"r{c['restitution']:g}_t{float(c['times'][j]):g}"] = {
+            "total": {"value": float(s["total"][j]), "uncertainty": err},
+            "rate": float(s["rate"][j]),
+            "correlation": {"value": float(s["correlation"][j]), "uncertainty": err},
+            "correlation_share": {"value": float(s["correlation_share"][j]),
+                                  "uncertainty": float(s["correlation_share_error"][j])}}
     summary = {"parameters": jsonable(params),
+               "split_at_last_time": last,
+               "correlation_onset_t": {f"r{c['restitution']:g}": c["onset"] for c in cases},
                "cases": [_summary_of(c) for c in cases],
                "verdicts": _verdicts(cases),
                "seconds": time.perf_counter() - start}
