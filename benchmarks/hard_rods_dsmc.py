@@ -7,7 +7,7 @@ The equation (density n, p = (1 + r)/2, any test function φ):
     d/dt ∫φ f dv = (n/2) ∫∫ |v − w| f(v) f(w) [φ(v′) + φ(w′) − φ(v) − φ(w)] dv dw.
 
     python benchmarks/hard_rods_dsmc.py agreement  # r = 0.99, 0.9; t = 10, 100, 400
-    python benchmarks/hard_rods_dsmc.py scaling    # r = 0.5, 0.9: DSMC at t = 1e6, 1e8
+    python benchmarks/hard_rods_dsmc.py scaling    # r = 0.5, 0.9: DSMC at t = 1e6
     python benchmarks/hard_rods_dsmc.py cost       # deterministic error vs grid; DSMC cost
     python benchmarks/hard_rods_dsmc.py all --n 1000000 --seeds 4
 
@@ -17,8 +17,11 @@ Checks (printed as ``agrees`` / ``disagrees``):
 * histogram of x = (v − ⟨v⟩)/√var pooled over the seeds (binomial errors) against the
   deterministic bin probabilities (``BoltzmannSolution.histogram``): χ²/dof within
   1 ± 5 √(2/dof) (:meth:`particles.observables.Histogram.distance`);
-* the scaling state (``scaling_state``) against DSMC run until the deterministic solution is
-  within a tenth of the DSMC error of it: the kurtosis within 3 σ, the histogram's χ²/dof.
+* the scaling state (``scaling_state``) against DSMC at t = 10⁶ (33 collisions per particle at
+  r = 0.5): the kurtosis within 3 σ, the histogram's χ²/dof; the deterministic solution at the
+  same t is reported, its distance from the state says how much of the start is left.  (The
+  DSMC stops every 4/n of t whatever the cooling, so its cost grows like t, not like the
+  collisions: t = 10⁸ is out of reach.)
 
 Cost: the DSMC error of the kurtosis falls as 1/√(N·runs), so the seconds a DSMC needs for an
 error ε are (seconds per run) · (σ_run/ε)², σ_run the scatter of one run's kurtosis over the
@@ -101,7 +104,7 @@ def agreement(n, seeds, restitutions=(0.99, 0.9), times=(10.0, 100.0, 400.0)):
     return rows
 
 
-def scaling(n, seeds, cases=((0.5, 1e6), (0.9, 1e8))):
+def scaling(n, seeds, cases=((0.5, 1e6), (0.9, 1e6))):
     rows = []
     for r, t in cases:
         state = scaling_state(r)
@@ -173,7 +176,7 @@ def main(argv=None):
     ap.add_argument("what", choices=("agreement", "scaling", "cost", "all"))
     ap.add_argument("--n", type=int, default=1_000_000)
     ap.add_argument("--seeds", type=int, default=4)
-    ap.add_argument("--scaling-cases", default="0.5:1e6,0.9:1e8",
+    ap.add_argument("--scaling-cases", default="0.5:1e6,0.9:1e6",
                     help="r:t pairs of the scaling check (rows of other r are kept)")
     args = ap.parse_args(argv)
     seeds = tuple(range(args.seeds))
