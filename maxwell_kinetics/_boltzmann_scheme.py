@@ -98,7 +98,8 @@ def collision_tables(c: np.ndarray, keep: float, transfer: float, exponent: floa
     g = np.abs(c[:, None] - c[None, :])
     kernel = np.ones_like(g) if exponent == 0.0 else g**exponent
     jacobian = transfer ** (-1.0 - exponent)
-    return {"first": first, "weights": weights, "gain_rate": np.where(inside, jacobian * kernel, 0.0),
+    return {"first": first, "weights": weights,
+            "gain_rate": np.where(inside, jacobian * kernel, 0.0),
             "kernel": kernel, "energy_kernel": g ** (exponent + 2.0),
             "node": np.full(n, kink * h ** (exponent + 1.0) * (jacobian - 1.0))}
 
@@ -146,10 +147,10 @@ def dilation_term(F, c, h):
     """∂_c(c F) by the eighth-order central difference in flux form, no flux at the ends.
 
     G_{i+m} − G_{i−m} telescopes over the interfaces between them, so the difference is
-    Φ_{i+1/2} − Φ_{i−1/2} with Φ_{i+1/2} = Σ_m a_m Σ_{l=1−m}^{m} G_{i+l}; closing the two end
-    interfaces makes Σ_i F exact.  The difference is exact for polynomials of degree ≤ 8, so the
-    term changes the moments of order ≤ 8 as the continuous one does while F vanishes near the
-    ends.
+    Φ_{i+1/2} − Φ_{i−1/2} with Φ_{i+1/2} = Σ_m a_m Σ_{l=1−m}^{m} G_{i+l}; the two end
+    interfaces are closed.  The difference is exact for polynomials of degree ≤ 8, so the term
+    changes the moments of order ≤ 8 as the continuous one does while F vanishes near the ends;
+    a last correction F (α + β c + δ c²) makes the moments 0, 1, 2 exact whatever F there.
 
     Parameters
     ----------
@@ -174,7 +175,14 @@ def dilation_term(F, c, h):
         for l in range(1 - m, m + 1):  # node (k − 1) + l, padded index k − 1 + l + K
             flux = flux + a * G[K - 1 + l:K - 1 + l + n + 1]
     flux = flux.at[0].set(0.0).at[-1].set(0.0)
-    return (flux[1:] - flux[:-1]) / h
+    d = (flux[1:] - flux[:-1]) / h
+    # F (α + β c + δ c²), of the size of what reaches the ends: the moments 0, 1, 2 of the
+    # term are exactly those of ∂_c(c F), 0, −Σ c F and −2 Σ c² F, whatever F at the ends
+    basis = jnp.stack([F, F * c, F * c * c])
+    powers = jnp.stack([jnp.ones_like(c), c, c * c])
+    target = -jnp.arange(3.0) * (powers @ F)
+    coefficients = jnp.linalg.solve(powers @ basis.T, target - powers @ d)
+    return d + coefficients @ basis
 
 
 def rescaled_rhs(F, tables, c, h, lam):

@@ -764,7 +764,8 @@ class RelativeVelocityModel(CollisionModel):
 
         d/dt ∫φ f dv = (n/2) ∫∫ |v − w|^γ f(v) f(w) [φ(v′) + φ(w′) − φ(v) − φ(w)] dv dw,
 
-    v′ = v − p(v − w), w′ = w + p(v − w), p = (1 + r)/2 (:func:`particles.collision.transfer_fraction`).
+    v′ = v − p(v − w), w′ = w + p(v − w), p = (1 + r)/2
+    (:func:`particles.collision.transfer_fraction`).
     γ = 1 is hard rods (point particles on a line); γ = 0 is the Maxwell model, whose time τ
     (collisions per particle) is n t.  Mass and momentum are conserved and
     d⟨v²⟩/dt = −λ n ⟨|v − w|^{γ+2}⟩, λ = (1 − r²)/4.

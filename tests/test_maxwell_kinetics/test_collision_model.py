@@ -9,10 +9,10 @@ import pytest
 from maxwell_kinetics.model import (
     ANGULAR_MODELS,
     KINETIC_MODELS,
-    RelativeVelocityModel,
     CollisionModel,
     DrivenMaxwellModel,
     MaxwellModel,
+    RelativeVelocityModel,
 )
 from particles.collision import transfer_fraction
 from particles.ulam_kinematics import ANGULAR_MODELS as PARTICLE_ANGULAR_MODELS

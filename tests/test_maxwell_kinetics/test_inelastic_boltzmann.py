@@ -47,7 +47,7 @@ def rods():
 
 
 def test_mass_and_momentum_are_conserved_to_round_off(rods):
-    for k, t in enumerate(rods.t):
+    for t in rods.t:
         v, f = rods.velocity_density(t)
         dv = v[1] - v[0]
         assert abs(dv * f.sum() - 1.0) <= 1e-12
