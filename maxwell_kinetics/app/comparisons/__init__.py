@@ -42,6 +42,7 @@ from . import (
     _kinetic_theory,
     _kinetic_vs_ulam,
     _late_stage,
+    _rate_vs_correlations,
     _sticky_vs_md,
     _structure_factors,
     _tail_exponents,
@@ -49,6 +50,7 @@ from . import (
     _velocity_distributions,
     _velocity_profiles,
 )
+from ._rate_vs_correlations import collisions_per_particle, kurtosis_split, maxwell_kurtosis
 from .analysis import (
     block_means,
     coarse_increment_skewness,
@@ -88,6 +90,7 @@ __all__ = [
     "late_stage",
     "tail_exponents",
     "driven_steady",
+    "rate_vs_correlations",
     "coarse_increment_skewness",
     "block_means",
     "velocity_on_grid",
@@ -107,6 +110,9 @@ __all__ = [
     "ulam_snapshots",
     "ABS_MEAN_F",
     "ABS_MEAN_GAUSSIAN",
+    "collisions_per_particle",
+    "maxwell_kurtosis",
+    "kurtosis_split",
 ]
 
 kinetic_theory = _kinetic_theory.run
@@ -120,6 +126,7 @@ sticky_vs_md = _sticky_vs_md.run
 late_stage = _late_stage.run
 tail_exponents = _tail_exponents.run
 driven_steady = _driven_steady.run
+rate_vs_correlations = _rate_vs_correlations.run
 
 ABS_MEAN_F = _velocity_distributions.ABS_MEAN_F
 ABS_MEAN_GAUSSIAN = _velocity_distributions.ABS_MEAN_GAUSSIAN
@@ -137,4 +144,5 @@ COMPARISONS = {
     "late_stage": late_stage,
     "tail_exponents": tail_exponents,
     "driven_steady": driven_steady,
+    "rate_vs_correlations": rate_vs_correlations,
 }

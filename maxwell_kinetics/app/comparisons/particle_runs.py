@@ -43,6 +43,7 @@ from particles.workers import check_workers
 __all__ = [
     "ulam_snapshots",
     "ulam_final",
+    "ulam_runs",
     "lattice_runs",
     "lattice_at_energy",
     "md_runs",
@@ -222,8 +223,46 @@ class ParticleRuns:
         runs = self._runs("ulam", dict(params), [float(tau)], seeds, progress)
         return np.array([r.velocities for r in runs])
 
+    def ulam_runs(self, params: dict, times, seeds, progress=None) -> dict:
+        """Ulam runs of any kind (``params``: the keyword arguments of :class:`particles.ulam.Ulam`,
+        e.g. ``rate="relative_velocity"`` and ``density`` for the DSMC of the hard-rod Boltzmann
+        equation, whose time is t) recorded at ``times``: ``energy`` and ``collisions`` (pair
+        collisions per particle) (R, T), ``snapshots`` (R, T, N), ``seconds``.  Cached per
+        arguments (read-only).
+
+        Parameters
+        ----------
+        params : dict
+            Keyword arguments of the Ulam model (``n`` included).
+        times : sequence of float
+            Record times (τ, or t with ``rate="relative_velocity"``), T of them.
+        seeds : sequence of int
+            One run per seed, in order (R runs).
+        progress : bool or None, optional
+            Show progress bars (None, the default: on a terminal or in a notebook only).
+
+        Returns
+        -------
+        dict
+            A new dict of ``times``, ``energy``, ``collisions``, ``snapshots`` (read-only) and
+            ``seconds``.
+        """
+        key = ("ulam", tuple(sorted(params.items())), tuple(times), tuple(seeds))
+
+        def compute():
+            res = self._runs("ulam", dict(params), times, seeds, progress, snapshots=True)
+            n = int(params["n"])
+            return {"times": np.asarray(times, dtype=float),
+                    "energy": np.array([r.energy for r in res]),
+                    "collisions": np.array([r.collisions / n for r in res]),
+                    "snapshots": np.array([r.snapshots for r in res]),
+                    "seconds": float(sum(r.seconds for r in res))}
+
+        return self._cached(key, compute)
+
     def lattice_runs(self, restitution, n, times, seeds, constraint=True, law="gaussian",
-                     progress=None, *, structure=False, snapshots=False) -> dict:
+                     progress=None, *, structure=False, snapshots=False,
+                     rate="constant") -> dict:
         """Lattice runs (one per seed) recorded at ``times`` (τ): ``times`` (T,), ``energy`` (R, T),
         ``seconds``; with ``structure=True`` also ``k`` and ``structure`` (R, T, ⌊N/2⌋+1), S(k) of
         :func:`particles.observables.structure_factor`; with ``snapshots=True`` ``snapshots``
@@ -249,6 +288,9 @@ class ParticleRuns:
             Also record the structure factor S(k) (default false).
         snapshots : bool, optional
             Also record the velocities (default false).
+        rate : str, optional
+            The lattice's collision rate: ``"constant"`` (default; ``times`` are τ) or
+            ``"relative_velocity"`` (``times`` are MD's t at density 1).
 
         Returns
         -------
@@ -256,11 +298,13 @@ class ParticleRuns:
             A new dict of the (read-only) arrays named above.
         """
         key = ("lattice", restitution, n, tuple(times), tuple(seeds), constraint, law,
-               bool(structure), bool(snapshots))
+               bool(structure), bool(snapshots), rate)
 
         def compute():
             params = {"n": int(n), "restitution": restitution, "initial": law,
                       "constraint": bool(constraint)}
+            if rate != "constant":  # the constant-rate runs keep their parameters (and tasks)
+                params["rate"] = rate
             res = self._runs("lattice", params, times, seeds, progress,
                              structure_factor=bool(structure), snapshots=bool(snapshots))
             out = {"times": np.asarray(times, dtype=float),
@@ -508,13 +552,29 @@ def ulam_final(params: dict, tau: float, seeds, progress=None) -> np.ndarray:
     return ParticleRuns().ulam_final(params, tau, seeds, progress)
 
 
+def ulam_runs(params: dict, times, seeds, progress=None) -> dict:
+    """:meth:`ParticleRuns.ulam_runs` of a new serial :class:`ParticleRuns`.
+
+    Parameters
+    ----------
+    params, times, seeds, progress
+        As for :meth:`ParticleRuns.ulam_runs`.
+
+    Returns
+    -------
+    dict
+        Its result (nothing is kept between calls).
+    """
+    return ParticleRuns().ulam_runs(params, times, seeds, progress)
+
+
 def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", progress=None, *,
-                 structure=False, snapshots=False) -> dict:
+                 structure=False, snapshots=False, rate="constant") -> dict:
     """:meth:`ParticleRuns.lattice_runs` of a new serial :class:`ParticleRuns`.
 
     Parameters
     ----------
-    restitution, n, times, seeds, constraint, law, progress, structure, snapshots
+    restitution, n, times, seeds, constraint, law, progress, structure, snapshots, rate
         As for :meth:`ParticleRuns.lattice_runs`.
 
     Returns
@@ -523,7 +583,7 @@ def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", 
         Its result (nothing is kept between calls).
     """
     return ParticleRuns().lattice_runs(restitution, n, times, seeds, constraint, law, progress,
-                                       structure=structure, snapshots=snapshots)
+                                       structure=structure, snapshots=snapshots, rate=rate)
 
 
 def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gaussian",
