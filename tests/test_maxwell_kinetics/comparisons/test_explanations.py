@@ -1,5 +1,5 @@
 """The explanation checks of two comparisons, on synthetic summaries and spectra (no runs, no
-solves): Haff's law of MD against the hard-rod Boltzmann equation's slope
+solves): Haff's law of MD explained by its departure from the hard-rod Boltzmann equation
 (``energy_decay``), and the measured drift of the MD collapse exponent within one run
 (``structure_factors``).  The verdict tests are exact arithmetic on made-up numbers; the drift
 test builds spectra that collapse exactly with a known z on each pair of times."""
@@ -12,7 +12,7 @@ import pytest
 from maxwell_kinetics.app.comparisons import _energy_decay, _structure_factors
 
 
-def _energy_summary(md_slope, md_sigma, boltzmann_slope=-2.025):
+def _energy_summary(md_slope, md_sigma, boltzmann_slope=-2.025, ratio=(1.0, 0.01)):
     """An energy_decay summary with only what its verdicts read; the other three fits agree
     exactly with their expected values."""
     def fit(slope, sigma, expected, window):
@@ -27,6 +27,9 @@ def _energy_summary(md_slope, md_sigma, boltzmann_slope=-2.025):
     if boltzmann_slope is not None:
         s["boltzmann_haff_exponent"] = {"slope": boltzmann_slope, "expected": -2.0,
                                         "window": [0.3, 2.0]}
+    if ratio is not None:  # E of MD over E of the Boltzmann equation, at the window's ends
+        s["md_energy_over_boltzmann"] = {"times": [0.35, 1.6],
+                                         "ratio": [[1.0, 0.01], list(ratio)]}
     return s
 
 
@@ -34,29 +37,32 @@ def _haff_verdict(summary):
     return _energy_decay.verdicts(summary)[0].to_dict()
 
 
-def test_haff_is_explained_when_md_follows_the_boltzmann_equation():
-    """σ = 0.0625 (3σ = 0.1875): −1.775 is 0.225 from −2 (fails) and 0.05 from the Boltzmann
-    slope −1.825 (holds)."""
-    v = _haff_verdict(_energy_summary(-1.775, 0.0625, boltzmann_slope=-1.825))
+def test_haff_is_explained_when_md_has_left_molecular_chaos_in_the_window():
+    """MD slope −1.775 ± 0.0625 (3σ = 0.1875) is 0.225 from −2 (fails); MD's E over the
+    Boltzmann E at the window's end, 1.125 ± 0.0078125, is 16σ above 1 (the explanation
+    holds); the Boltzmann slope is shown in the words."""
+    v = _haff_verdict(_energy_summary(-1.775, 0.0625, ratio=(1.125, 0.0078125)))
     assert v["status"] == "explained"
-    assert v["explanation"]["holds"] and v["explanation"]["expected"] == -1.825
-    assert v["explanation"]["source"].startswith("model:")
+    assert v["explanation"]["holds"] and v["explanation"]["measured"] == 1.125
+    assert v["explanation"]["source"].startswith("model:") and "-2.025" in v["why"]
 
 
-@pytest.mark.parametrize("md_slope", [-1.5, -1.775])
-def test_haff_disagrees_when_md_is_far_from_both(md_slope):
-    """Far from −2 and from the Boltzmann slope −2.025 (3σ = 0.1875): no explanation holds."""
-    v = _haff_verdict(_energy_summary(md_slope, 0.0625))
-    assert v["status"] == "disagrees" and v["explanation"]["holds"] is False
+@pytest.mark.parametrize("ratio", [(1.0, 0.01), (1.0234375, 0.0078125)])
+def test_haff_explanation_needs_a_departure_from_molecular_chaos_of_3_sigma(ratio):
+    """The ratio at 1 (MD still follows molecular chaos: nothing explains the failed slope, it
+    disagrees) and exactly 3σ = 0.0234375 away (binary-exact numbers: the edge explains)."""
+    v = _haff_verdict(_energy_summary(-1.5, 0.0625, ratio=ratio))
+    assert v["status"] == ("disagrees" if ratio[0] == 1.0 else "explained")
+    assert v["explanation"]["holds"] is (ratio[0] != 1.0)
 
 
-def test_haff_agrees_whatever_the_boltzmann_slope():
-    v = _haff_verdict(_energy_summary(-1.9375, 0.0625, boltzmann_slope=-1.5))
+def test_haff_agrees_whatever_the_ratio():
+    v = _haff_verdict(_energy_summary(-1.9375, 0.0625, ratio=(1.5, 0.01)))
     assert v["status"] == "agrees"
 
 
-def test_a_summary_without_the_boltzmann_fit_has_no_explanation():
-    v = _haff_verdict(_energy_summary(-1.5, 0.0625, boltzmann_slope=None))
+def test_a_summary_without_the_ratio_has_no_explanation():
+    v = _haff_verdict(_energy_summary(-1.5, 0.0625, ratio=None))
     assert v["status"] == "disagrees" and v["explanation"] is None
 
 

@@ -23,7 +23,8 @@ from particles.ulam import Ulam
 
 #: The grid of the small comparison (one compiled solver serves both).
 GRID = VelocityGrid(101, 6.0)
-VERDICT_KEYS = {"claim", "measured", "sigma", "expected", "source", "tolerance", "status"}
+VERDICT_KEYS = {"claim", "quantity", "measured", "sigma", "expected", "source", "tolerance",
+                "status", "why", "explanation"}
 
 
 @pytest.fixture(scope="module")
@@ -87,13 +88,17 @@ def test_collision_numbers_agree_with_the_dsmc_and_md(split):
 
 def test_summary_carries_verdicts_judged_from_its_numbers(split):
     verdicts = split.summary["verdicts"]
-    assert verdicts and all(set(v) == VERDICT_KEYS for v in verdicts)
+    assert verdicts and all(VERDICT_KEYS <= set(v) for v in verdicts)
     assert all(v["status"] in ("agrees", "disagrees", "explained") for v in verdicts)
     # the kinetic checks: DSMC against the deterministic solution and the Ulam particles against
     # the exact Maxwell kurtosis, at every time of both r, within 3 sampling errors (delta
     # method over 4 runs of N = 5000 independent particles)
     checks = [v for v in verdicts if "agrees with" in v["claim"]]
     assert len(checks) == 4 and all(v["status"] == "agrees" for v in checks), checks
+    # the paper's attribution: judged from the split's shares, whatever its status
+    (paper,) = [v for v in verdicts if "due to correlations" in v["claim"]]
+    share = split.summary["cases"][0]["rows"][-1]["split"]["correlation_share"][0]
+    assert paper["measured"] == share and paper["explanation"]["measured"] == 1.0 - share
     for case in split.summary["cases"]:
         assert case["rows"][0]["t"] > 0
         for row in case["rows"]:
