@@ -35,6 +35,7 @@ import math
 import numpy as np
 
 from .collision import collide_arrays, collide_scalar, transfer_fraction
+from .driver.engine import next_grid_point
 from .ulam_kinematics import (
     AngularDraws,
     as_complex,
@@ -44,7 +45,6 @@ from .ulam_kinematics import (
     plane_transfer,
     subset_draws,
 )
-from .driver.engine import next_grid_point
 from .validation import InvalidArgumentError, check_count
 
 __all__ = [

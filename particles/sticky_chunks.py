@@ -643,7 +643,8 @@ def simulate_chunks(params: StickyParams, times, seed: int, chunks: int, *, clie
     clusters = np.array(clusters, dtype=np.int64)
     return ChunkedResult(
         params=pd, seed=int(seed), chunks=chunks, times=times, energy=np.array(energy),
-        kurtosis=np.array(kurtosis), momentum=np.array(momentum), clusters=clusters, collisions=n - clusters, masses=m,
+        kurtosis=np.array(kurtosis), momentum=np.array(momentum), clusters=clusters,
+        collisions=n - clusters, masses=m,
         mass_counts=mass_counts, histogram=histogram, edge=edge,
         seconds=_time.perf_counter() - start, **spectrum,
     )

@@ -65,10 +65,10 @@ from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .driver import EngineBase, initial_velocities, next_grid_point
 from .initial import get_law
 from .pair_schedule import (
+    BLOCK_WINDOWS,
     draw_pairs_unchecked,
     fire_rounds,
     fire_rounds_plane,
-    BLOCK_WINDOWS,
     fire_rounds_thinned,
     fire_rounds_with_rows,
     hull_bound,
@@ -86,9 +86,9 @@ from .ulam_kinematics import draw_angles as _draw_angles
 from .ulam_kinematics import plane_transfer as _plane_transfer
 from .validation import (
     InvalidArgumentError,
+    check_choice,
     check_count,
     check_dimension,
-    check_choice,
     check_nonnegative,
     check_positive,
     check_restitution,

@@ -22,8 +22,8 @@ from .drawing import panels
 from .particle_runs import ParticleRuns
 from .verdicts import Check, judge, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts", "collisions_per_particle", "maxwell_kurtosis",
-           "kurtosis_split", "MODELS"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts", "collisions_per_particle",
+           "maxwell_kurtosis", "kurtosis_split", "MODELS"]
 
 NAME = "rate_vs_correlations"
 
