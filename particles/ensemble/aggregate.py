@@ -26,8 +26,9 @@ def aggregate(spec: EnsembleSpec, out, tasks=None, done=None) -> tuple[dict, dic
     ``spec.seeds``, mean and standard error of ``energy``, ``momentum``, ``collisions``,
     ``kurtosis`` (⟨v⁴⟩/⟨v²⟩², when every task file has it), ``collisions_per_particle``
     (2·collisions/N, τ for Ulam; MD: its own τ(t)), the engine's extras, the histogram density
-    at the last time (when every seed has one on the same edges) and S(k) (when requested).  Arrays are named ``set<i>.<observable>.mean`` / ``.sem`` (plus
-    ``set<i>.hist.edges``, ``set<i>.structure.k``).  The summary is JSON-able (S(k) is in the
+    at the last time (when every seed has one on the same edges) and S(k) (when requested).
+    Arrays are named ``set<i>.<observable>.mean`` / ``.sem`` (plus ``set<i>.hist.edges``,
+    ``set<i>.structure.k``).  The summary is JSON-able (S(k) is in the
     arrays only: N/2 + 1 numbers per row).
 
     Parameters
