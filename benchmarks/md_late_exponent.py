@@ -31,12 +31,12 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
 from maxwell_kinetics import statistics as st  # noqa: E402
-from maxwell_kinetics.app.comparisons import _energy_decay  # noqa: E402
+from maxwell_kinetics.app.comparisons import PRESETS  # noqa: E402
 from maxwell_kinetics.app.comparisons.particle_runs import md_record_times, md_runs  # noqa: E402
 
 
 def measure(seeds: int) -> dict:
-    params = _energy_decay.PRESETS["small"]
+    params = PRESETS["energy_decay"]["small"]
     start = time.perf_counter()
     runs = md_runs(params["restitution"], params["md_n"], params["delta"],
                    md_record_times(params["md_t_max"]), tuple(range(seeds)), progress=False)

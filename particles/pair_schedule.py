@@ -430,7 +430,7 @@ def collide_sequential(v, pairs, restitution) -> np.ndarray:
 
 def _check_vector_events(v, pairs, restitution, draws, angular):
     p = transfer_fraction(restitution)
-    v = np.array(v, dtype=float, order="C")  # a C-contiguous copy (_scatter_rows needs it)
+    v = np.array(v, dtype=float, order="C")  # a C-contiguous copy (scatter_rows needs it)
     if v.ndim != 2 or v.shape[1] < 2:
         raise InvalidArgumentError("v", f"array of shape {v.shape}", "shape (N, d), d >= 2")
     angular = check_angular(angular)

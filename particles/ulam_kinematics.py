@@ -43,6 +43,7 @@ import numpy as np
 from .validation import check_choice
 
 __all__ = [
+    "scatter_rows",
     "AngularDraws",
     "ANGULAR_MODELS",
     "draw_angles",
@@ -237,10 +238,20 @@ def collide_vectors(va: np.ndarray, vb: np.ndarray, n: np.ndarray, p: float) -> 
     vb += delta
 
 
-def _scatter_rows(v: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
+def scatter_rows(v: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
     """``v[rows] = values`` for a C-contiguous (N, d) ``v`` and distinct ``rows``, through 1-D
     views: NumPy's row-wise fancy assignment on (N, d) arrays is ~50x slower (measured,
-    N = 1e6, 2e4 rows).  d = 2 moves each row as one 16-byte complex; otherwise per component."""
+    N = 1e6, 2e4 rows).  d = 2 moves each row as one 16-byte complex; otherwise per component.
+
+    Parameters
+    ----------
+    v : numpy.ndarray
+        (N, d) float64 velocities, C-contiguous; written in place.
+    rows : numpy.ndarray
+        Distinct row indices (int).
+    values : numpy.ndarray
+        (len(rows), d) new velocities of those rows.
+    """
     d = v.shape[1]
     if d == 2:
         v.view(np.complex128).reshape(-1)[rows] = values.view(np.complex128).reshape(-1)
@@ -254,12 +265,12 @@ def _scatter_rows(v: np.ndarray, rows: np.ndarray, values: np.ndarray) -> None:
 def collide_pairs_vectors(v, fired, draws: AngularDraws, angular: str, p: float) -> None:
     """Collide the pairs ``fired`` = [a_0, b_0, a_1, b_1, …] (all distinct) with the events'
     ``draws``: one ``np.take`` gather and one scatter (row-wise fancy indexing of (N, d) arrays
-    is slow, see :func:`_scatter_rows`)."""
+    is slow, see :func:`scatter_rows`)."""
     vv = np.take(v, fired, axis=0)
     va, vb = vv[0::2], vv[1::2]
     n = collision_directions(va - vb, draws, angular)
     collide_vectors(va, vb, n, p)
-    _scatter_rows(v, fired, vv)
+    scatter_rows(v, fired, vv)
 
 
 def subset_draws(draws: AngularDraws, rows) -> AngularDraws:

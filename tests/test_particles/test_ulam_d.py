@@ -514,7 +514,7 @@ def test_plane_rounds_count_and_row_scatter_in_the_plane():
     particle (2 rounds), (0, 1) and (2, 3) do not (1 round), no events 0 rounds.  And the row
     scatter of (N, 2) arrays (one complex per row) writes exactly the given rows."""
     from particles.pair_schedule import fire_rounds, fire_rounds_plane, fire_rounds_with_rows
-    from particles.ulam_kinematics import _scatter_rows
+    from particles.ulam_kinematics import scatter_rows
 
     for pairs, rounds in (([[0, 1], [1, 2]], 2), ([[0, 1], [2, 3]], 1), (np.empty((0, 2)), 0)):
         reversed_pairs = np.ascontiguousarray(np.asarray(pairs)[::-1], dtype=np.int32)
@@ -530,7 +530,7 @@ def test_plane_rounds_count_and_row_scatter_in_the_plane():
         assert fire_rounds_with_rows(np.arange(4.0), reversed_pairs, *scratch(),
                                      lambda v, fired, rows: None) == rounds
     v = np.arange(10, dtype=float).reshape(5, 2)
-    _scatter_rows(v, np.array([3, 0]), np.array([[-1.0, -2.0], [-3.0, -4.0]]))
+    scatter_rows(v, np.array([3, 0]), np.array([[-1.0, -2.0], [-3.0, -4.0]]))
     np.testing.assert_array_equal(v, [[-3, -4], [2, 3], [4, 5], [-1, -2], [8, 9]])
 
 

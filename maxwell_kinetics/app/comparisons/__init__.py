@@ -113,6 +113,9 @@ __all__ = [
     "collisions_per_particle",
     "maxwell_kurtosis",
     "kurtosis_split",
+    "PRESETS",
+    "VERDICTS",
+    "z_drift",
 ]
 
 kinetic_theory = _kinetic_theory.run
@@ -127,6 +130,8 @@ late_stage = _late_stage.run
 tail_exponents = _tail_exponents.run
 driven_steady = _driven_steady.run
 rate_vs_correlations = _rate_vs_correlations.run
+
+z_drift = _structure_factors.z_drift
 
 ABS_MEAN_F = _velocity_distributions.ABS_MEAN_F
 ABS_MEAN_GAUSSIAN = _velocity_distributions.ABS_MEAN_GAUSSIAN
@@ -146,3 +151,16 @@ COMPARISONS = {
     "driven_steady": driven_steady,
     "rate_vs_correlations": rate_vs_correlations,
 }
+
+_MODULES = {
+    "kinetic_theory": _kinetic_theory, "kinetic_vs_ulam": _kinetic_vs_ulam,
+    "ulam_collapse": _ulam_collapse, "velocity_distributions": _velocity_distributions,
+    "energy_decay": _energy_decay, "structure_factors": _structure_factors,
+    "velocity_profiles": _velocity_profiles, "sticky_vs_md": _sticky_vs_md,
+    "late_stage": _late_stage, "tail_exponents": _tail_exponents,
+    "driven_steady": _driven_steady, "rate_vs_correlations": _rate_vs_correlations,
+}
+#: Each comparison's size presets: name → {size: parameters}.
+PRESETS = {name: module.PRESETS for name, module in _MODULES.items()}
+#: Each comparison's judge of its claims: name → ``verdicts(summary) -> list of Verdict``.
+VERDICTS = {name: module.verdicts for name, module in _MODULES.items()}

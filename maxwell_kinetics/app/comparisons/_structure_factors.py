@@ -15,7 +15,7 @@ from .drawing import colors, panels
 from .particle_runs import ParticleRuns, md_record_times
 from .verdicts import Check, judge, pair, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts", "z_drift"]
 
 NAME = "structure_factors"
 
@@ -68,7 +68,7 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
       each time (``porod_slope_per_time``, [value, jackknife error]; None where the window holds
       fewer than 3 log bins), and the mean and standard error over seeds of per-seed fits at the
       last time (``porod_slope_last_time``).  Jackknife errors need 3 seeds (None below);
-    * MD only, the drift of the collapse exponent within the run (:func:`_z_drift`):
+    * MD only, the drift of the collapse exponent within the run (:func:`z_drift`):
       ``z_best_early_pair`` and ``z_best_late_pair`` (the first two and the last two of
       ``md_times`` alone) and ``z_drift`` (late − early), [value, jackknife error].
 
@@ -135,7 +135,7 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
     mean = spec.mean(axis=0)
     out["md"] = _structure_numbers(k, spec, mean, times, 2.0 / 3.0, zs, x_range, params,
                                    lattice=False)
-    out["md"].update(_z_drift(k, spec, times, zs, x_range))
+    out["md"].update(z_drift(k, spec, times, zs, x_range))
     data["md"] = {"k": k, "S": mean, "times": times, "z": 2.0 / 3.0}
     summary = {"parameters": jsonable(params), **out, "seconds": time.perf_counter() - start}
     return Comparison(NAME, with_verdicts(summary, verdicts), data)
@@ -216,7 +216,7 @@ def _structure_numbers(k, spec, mean, times, z_theory, zs, x_range, params, *,
     }
 
 
-def _z_drift(k, spec, times, zs, x_range) -> dict:
+def z_drift(k, spec, times, zs, x_range) -> dict:
     """The drift of the collapse exponent within one run: ``z_best_early_pair`` and
     ``z_best_late_pair``, the z of the best collapse (:func:`_z_minimum`) of the first two and
     of the last two ``times`` alone, and ``z_drift`` = late − early, each [value, jackknife
@@ -270,7 +270,7 @@ def verdicts(s: dict) -> list:
     points of its scan, so the scan's step adds nothing).
 
     The MD exponent has no explanation check: the drift measured within the run
-    (``z_drift``, :func:`_z_drift`) is no crossover that settles at 2/3.  The z of pairs of
+    (``z_drift``, :func:`z_drift`) is no crossover that settles at 2/3.  The z of pairs of
     recorded times falls through 2/3 without a plateau (r = 0.5: from about 1 at t ≈ 6 to
     about 0.55 at the last times, N = 1000 and N = 2000 alike), so z over all the times is a
     mean over a drifting exponent, and a resolved fall would not show why it differs from

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from maxwell_kinetics.app.comparisons import _energy_decay, _structure_factors
+from maxwell_kinetics.app.comparisons import VERDICTS, z_drift
 
 
 def _energy_summary(md_slope, md_sigma, boltzmann_slope=-2.025, ratio=(1.0, 0.01)):
@@ -34,7 +34,7 @@ def _energy_summary(md_slope, md_sigma, boltzmann_slope=-2.025, ratio=(1.0, 0.01
 
 
 def _haff_verdict(summary):
-    return _energy_decay.verdicts(summary)[0].to_dict()
+    return VERDICTS["energy_decay"](summary)[0].to_dict()
 
 
 def test_haff_is_explained_when_md_has_left_molecular_chaos_in_the_window():
@@ -81,7 +81,7 @@ def test_the_drift_measures_the_exponent_of_each_pair_of_times():
 
     spec = np.array([[c * f(k * ai) for ai in a] for c in (1.0, 1.5, 2.0)])
     zs = np.round(np.arange(0.0, 1.0001, 0.01), 2)
-    out = _structure_factors._z_drift(k, spec, times, zs, (0.5, 15.0))
+    out = z_drift(k, spec, times, zs, (0.5, 15.0))
     assert out["pair_times"] == [[10.0, 20.0], [20.0, 40.0]]
     assert out["z_best_early_pair"][0] == pytest.approx(0.9, abs=1e-3)
     assert out["z_best_late_pair"][0] == pytest.approx(0.6, abs=1e-3)

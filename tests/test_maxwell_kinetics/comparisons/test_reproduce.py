@@ -14,7 +14,6 @@ import pytest
 from maxwell_kinetics import statistics as st
 from maxwell_kinetics.app import comparisons
 from maxwell_kinetics.app.comparisons import (
-    _energy_decay,
     _kinetic_vs_ulam,
     _velocity_distributions,
     _velocity_profiles,
@@ -184,7 +183,7 @@ def test_md_fits_use_the_preset_windows(energy):
     time inside them and no other: the summary's windows are the preset's, and the per-run
     slopes recomputed here from the recorded energies on those windows are the reported ones."""
     s, d = energy.summary, energy.data
-    params = _energy_decay.PRESETS["small"]
+    params = comparisons.PRESETS["energy_decay"]["small"]
     t, e, t0 = d["md_t"], d["md_energy"], d["t0"]
     for key, window, abscissa in (("md_haff_exponent", "md_haff_window",
                                    lambda c: np.log1p(c / t0)),
