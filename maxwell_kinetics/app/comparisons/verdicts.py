@@ -335,6 +335,11 @@ def _fmt(x) -> str:
     return "—" if x is None else f"{x:.4g}"
 
 
+def _value_text(value, sigma) -> str:
+    """``"value ± σ"`` (``"value"`` without a standard error), 4 significant digits."""
+    return _fmt(value) + (f" ± {_fmt(sigma)}" if sigma else "")
+
+
 def measured_text(record: dict) -> str:
     """``"measured ± σ"`` of a verdict record, 4 significant digits.
 
@@ -348,10 +353,7 @@ def measured_text(record: dict) -> str:
     str
         ``"—"`` when nothing was measured.
     """
-    text = _fmt(record.get("measured"))
-    if record.get("sigma"):
-        text += f" ± {_fmt(record['sigma'])}"
-    return text
+    return _value_text(record.get("measured"), record.get("sigma"))
 
 
 def expected_text(record: dict) -> str:
@@ -367,10 +369,7 @@ def expected_text(record: dict) -> str:
     -------
     str
     """
-    text = _fmt(record.get("expected"))
-    if record.get("expected_sigma"):
-        text += f" ± {_fmt(record['expected_sigma'])}"
-    return text
+    return _value_text(record.get("expected"), record.get("expected_sigma"))
 
 
 def verdict_table(summaries: dict) -> str:
