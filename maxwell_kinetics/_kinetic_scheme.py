@@ -52,9 +52,10 @@ import numpy as np
 
 from particles.initial import InitialLaw
 
+from .angular import angular_law
 from .deviation import source_parts
 from .grid import INFLOW_CUT, Resolution, lagrange_weights
-from .model import MaxwellModel, angular_law
+from .model import MaxwellModel
 
 #: Traces (= compilations) of each jitted function since import: {"advance": n, "output": n}.
 TRACES: collections.Counter = collections.Counter()
@@ -135,7 +136,7 @@ def window_cells(speed: float, grid: Resolution, opts) -> tuple[int, float]:
     return cells, cells * grid.h / speed
 
 
-#: The η rule is :meth:`maxwell_kinetics.model.AngularLaw.quadrature` (Gauss–Jacobi).  Measured
+#: The η rule is :meth:`maxwell_kinetics.angular.AngularLaw.quadrature` (Gauss–Jacobi).  Measured
 #: convergence (r = 0.5, coarse grid, G at τ = 30 and 300 against 32 nodes): 4, 6, 8, 12, 16
 #: nodes differ by 1.4e-5, 3.5e-7, 2.0e-8, 4.5e-9, 3.1e-9 (d = 2) and 2.6e-6, 4.5e-8, 1.1e-8,
 #: 6.6e-9, 2.7e-9 (d = 3).  Gauss–Jacobi in u = √η was worse at these node counts, and so was

@@ -8,8 +8,9 @@ the energy decays as ⟨v²⟩(τ) = e^{−2λτ} (d = 1) and as e^{−Λτ}, Λ
 
 What a kernel holds (and no other kinetic module writes out):
 
-* :class:`MaxwellModel` — the Maxwell kernel in d = 1, 2, 3 with its angular law
-  (:class:`AngularLaw`): p, λ, the complement 1 − p, the factors of the gain
+* :class:`MaxwellModel` — the Maxwell kernel in d = 1, 2, 3 averaged over its angular law
+  (the law of η, :class:`~maxwell_kinetics.angular.AngularLaw`, in its own module
+  :mod:`maxwell_kinetics.angular`): p, λ, the complement 1 − p, the factors of the gain
   G(b q) G(a q) (d = 1: b = p, a = 1 − p; d ≥ 2: b = p √η, a = √(1 − (1 − (1 − p)²) η) averaged
   over η), their logarithms (the solver's stencil shifts), the moment rates 1 − p^s − (1 − p)^s
   for any order s and the rates λ(s) of the |k|^{2s} coefficients, the energy decay rate Λ, the
@@ -47,162 +48,24 @@ from typing import ClassVar
 import numpy as np
 
 from particles.collision import transfer_fraction
-from particles.ulam_kinematics import ANGULAR_MODELS as _ANGULAR_NAMES
 from particles.validation import check_nonnegative, check_real, check_restitution
 
+from . import angular as _angular
+
 __all__ = ["CollisionModel", "MaxwellModel", "DrivenMaxwellModel", "RelativeVelocityModel",
-           "KINETIC_MODELS", "AngularLaw", "angular_law", "ANGULAR_MODELS",
-           "RATE_EXPONENTS"]
+           "KINETIC_MODELS", "RATE_EXPONENTS"]
 
-#: Angular models of the d-dimensional isotropic equation, each with the Beta parameter a of
-#: η ~ Beta(a, (d − 1)/2) (see :func:`angular_law`).  Its names are those of the particle
-#: engines (:data:`particles.ulam_kinematics.ANGULAR_MODELS`), in the same order.
-ANGULAR_MODELS = dict(zip(_ANGULAR_NAMES, (0.5, 1.0), strict=True))
-
-
-@dataclass(frozen=True)
-class AngularLaw:
-    """The law of η = (k̂·n)² of the d-dimensional isotropic Maxwell model.
-
-    k̂ is the wave vector's direction and n the collision direction.  η has the law
-    Beta(a, b) with b = (d − 1)/2 in d = 2, 3, and is the point mass η ≡ 1 in d = 1 (stored as
-    a = 1, b = 0).  ``a, b = law`` unpacks the two parameters.  Build it with
-    :func:`angular_law`, which checks the arguments (Ernst & Brito, J. Stat. Phys. 2002;
-    Krapivsky & Ben-Naim, J. Phys. A 2002).
-
-    Attributes
-    ----------
-    dimension : int
-        Space dimension d ∈ {1, 2, 3}.
-    angular : str
-        Name of the angular model, a key of ``ANGULAR_MODELS`` ("uniform" or "hard").
-    a, b : float
-        The Beta parameters of η (a = 1, b = 0 in d = 1).
-    """
-
-    dimension: int
-    angular: str
-    a: float
-    b: float
-
-    @property
-    def degenerate(self) -> bool:
-        """True in d = 1 (η ≡ 1)."""
-        return self.dimension == 1
-
-    @property
-    def mean(self) -> float:
-        """⟨η⟩ = a / (a + b): 1/d ("uniform"), 2/(d + 1) ("hard"), 1 in d = 1."""
-        return self.a / (self.a + self.b)
-
-    def __iter__(self):
-        yield self.a
-        yield self.b
-
-    def moment(self, s):
-        """⟨η^s⟩ = B(a + s, b)/B(a, b) (1 in d = 1).
-
-        Parameters
-        ----------
-        s : array_like
-            Exponents s ≥ 0.
-
-        Returns
-        -------
-        numpy.ndarray
-            ⟨η^s⟩, of the shape of ``s`` (scipy's ``beta``).
-        """
-        s = np.asarray(s, dtype=float)
-        if self.degenerate:
-            return np.ones_like(s)
-        from scipy.special import beta as beta_function
-
-        return beta_function(self.a + s, self.b) / beta_function(self.a, self.b)
-
-    def mixed_moment(self, c: float, s):
-        """⟨(1 − c η)^s⟩ = ₂F₁(−s, a; a + b; c) for c ∈ [0, 1] ((1 − c)^s in d = 1).
-
-        Parameters
-        ----------
-        c : float
-            Coefficient in [0, 1].
-        s : array_like
-            Exponents s ≥ 0.
-
-        Returns
-        -------
-        numpy.ndarray
-            ⟨(1 − cη)^s⟩, of the shape of ``s`` (scipy's ``hyp2f1``).
-        """
-        s = np.asarray(s, dtype=float)
-        if self.degenerate:
-            return (1.0 - c) ** s
-        from scipy.special import hyp2f1
-
-        return hyp2f1(-s, self.a, self.a + self.b, c)
-
-    def quadrature(self, nodes: int) -> tuple[np.ndarray, np.ndarray]:
-        """Gauss–Jacobi quadrature of this Beta law.
-
-        Returns nodes η_i and weights ω_i (Σ ω_i = 1) of ``nodes`` points: exact for
-        polynomials in η of degree 2 nodes − 1, in particular ⟨η⟩.  d = 1: the single node
-        η = 1 whatever ``nodes``.
-
-        The gain integrand G(q √(1 − (1 − q₁²)η)) G(p q √η) varies with η on a scale ~1/q²,
-        so few nodes suffice at small q; the solver picks the count per range of q
-        (``maxwell_kinetics._kinetic_scheme.angular_tiers``).
-
-        Parameters
-        ----------
-        nodes : int
-            Number of quadrature points (ignored in d = 1).
-
-        Returns
-        -------
-        eta, weights : numpy.ndarray
-            Nodes in (0, 1) and normalised weights, both of shape (nodes,) (shape (1,) in
-            d = 1).  Computed with :func:`scipy.special.roots_jacobi`.
-        """
-        if self.degenerate:
-            return np.ones(1), np.ones(1)
-        from scipy.special import roots_jacobi
-
-        # weight (1 − x)^α (1 + x)^β on [−1, 1]; η = (1 + x)/2 gives η^β (1 − η)^α.
-        x, w = roots_jacobi(int(nodes), self.b - 1.0, self.a - 1.0)
-        return 0.5 * (1.0 + x), w / w.sum()
+# Names moved out of this module, by new home: importing one from here raises an ImportError
+# naming the new home (they are not re-exported: each name has one home).
+_MOVED = {name: "maxwell_kinetics.angular" for name in ("AngularLaw", "angular_law",
+                                                         "ANGULAR_MODELS")}
 
 
-def angular_law(dimension: int, angular: str = "uniform") -> AngularLaw:
-    """The checked :class:`AngularLaw` of η = (k̂·n)² for a dimension and an angular model.
+def __getattr__(name: str):
+    if name in _MOVED:
+        raise ImportError(f"maxwell_kinetics.model.{name} moved to {_MOVED[name]}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
-    "uniform": n uniform on the sphere, η ~ Beta(1/2, (d − 1)/2); "hard": the collision rate
-    weighted by |k̂·n| (uniform impact parameter), η ~ Beta(1, (d − 1)/2); d = 1: η ≡ 1
-    (Ernst & Brito, J. Stat. Phys. 2002).
-
-    Parameters
-    ----------
-    dimension : int
-        Space dimension d ∈ {1, 2, 3} (a bool is refused).
-    angular : str, default "uniform"
-        Angular model, a key of ``ANGULAR_MODELS``.
-
-    Returns
-    -------
-    AngularLaw
-        The law of η (a = 1, b = 0 in d = 1).
-
-    Raises
-    ------
-    particles.validation.InvalidArgumentError
-        If ``dimension`` is not 1, 2 or 3, or ``angular`` is not a known model.
-    """
-    from particles.validation import check_choice, check_dimension
-
-    d = check_dimension(dimension)
-    angular = check_choice(angular, "angular", ANGULAR_MODELS)
-    if d == 1:
-        return AngularLaw(1, angular, 1.0, 0.0)
-    return AngularLaw(d, angular, ANGULAR_MODELS[angular], 0.5 * (d - 1))
 
 
 @dataclass(frozen=True)
@@ -300,12 +163,14 @@ class MaxwellModel(CollisionModel):
     dimension : int, default 1
         Space dimension d ∈ {1, 2, 3}.
     angular : str, default "uniform"
-        Angular model, a key of ``ANGULAR_MODELS`` (irrelevant in d = 1).
+        Angular model, a key of :data:`maxwell_kinetics.angular.ANGULAR_MODELS` (irrelevant
+        in d = 1).
 
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``dimension`` or ``angular`` is invalid (from :func:`angular_law`), or
+        If ``dimension`` or ``angular`` is invalid (from
+        :func:`~maxwell_kinetics.angular.angular_law`), or
         ``restitution`` is not a number in [0, 1] (from
         :func:`particles.validation.check_restitution`).
     """
@@ -317,7 +182,7 @@ class MaxwellModel(CollisionModel):
     angular: str = "uniform"
 
     def __post_init__(self):
-        law = angular_law(self.dimension, self.angular)
+        law = _angular.angular_law(self.dimension, self.angular)
         object.__setattr__(self, "dimension", law.dimension)
         object.__setattr__(self, "angular", law.angular)
         super().__post_init__()
@@ -447,9 +312,9 @@ class MaxwellModel(CollisionModel):
     # -- the model's own numbers --
 
     @property
-    def law(self) -> AngularLaw:
-        """The :class:`AngularLaw` of η = (k̂·n)² (η ≡ 1 in d = 1)."""
-        return angular_law(self.dimension, self.angular)
+    def law(self) -> _angular.AngularLaw:
+        """The :class:`~maxwell_kinetics.angular.AngularLaw` of η = (k̂·n)² (η ≡ 1 in d = 1)."""
+        return _angular.angular_law(self.dimension, self.angular)
 
     def rate(self, v, w, xp=np):
         """1 for every pair (Maxwell molecules).
@@ -647,8 +512,9 @@ class MaxwellModel(CollisionModel):
     def energy_rate(self, dimension: int | None = None, angular: str | None = None) -> float:
         """Λ = 2 p (1 − p) ⟨η⟩ of the d-dimensional isotropic model: ⟨|v|²⟩ ∝ e^{−Λτ}.
 
-        η = (k̂·n)² has the law of :func:`angular_law` (⟨η⟩ = 1/d "uniform", 2/(d + 1)
-        "hard"; η ≡ 1 for d = 1, where Λ = 2λ).  Computed as 2λ⟨η⟩ with λ = (1 − r²)/4.
+        η = (k̂·n)² has the law of :func:`~maxwell_kinetics.angular.angular_law` (⟨η⟩ = 1/d
+        "uniform", 2/(d + 1) "hard"; η ≡ 1 for d = 1, where Λ = 2λ).  Computed as 2λ⟨η⟩ with
+        λ = (1 − r²)/4.
 
         Parameters
         ----------
@@ -665,10 +531,11 @@ class MaxwellModel(CollisionModel):
         Raises
         ------
         particles.validation.InvalidArgumentError
-            If ``dimension`` or ``angular`` is invalid (from :func:`angular_law`).
+            If ``dimension`` or ``angular`` is invalid (from
+            :func:`~maxwell_kinetics.angular.angular_law`).
         """
-        law = angular_law(self.dimension if dimension is None else dimension,
-                          self.angular if angular is None else angular)
+        law = _angular.angular_law(self.dimension if dimension is None else dimension,
+                                   self.angular if angular is None else angular)
         return 2.0 * self.lam * law.mean
 
     def energy(self, tau: float) -> float:

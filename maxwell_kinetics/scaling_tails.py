@@ -42,7 +42,8 @@ from scipy.special import comb
 
 from particles.validation import InvalidArgumentError, check_times
 
-from .model import MaxwellModel, angular_law
+from .angular import angular_law
+from .model import MaxwellModel
 from .solution import Solution, deviation_from_f_hat
 from .tails import eta_moment, growth_rate
 

@@ -272,7 +272,7 @@ angular_rule, force
     model = MaxwellModel(restitution)
     law = get_law(initial)
     taus = check_times(tau, "tau")
-    from .model import angular_law
+    from .angular import angular_law
 
     angular_law(dimension, angular)  # checks both
     if dimension != 1:

@@ -400,7 +400,8 @@ def fixed_point(
 
     ``dimension`` 2 or 3 solves the stationary form of the isotropic equation of
     :func:`maxwell_kinetics.solver.solve` (``angular`` model; the η integral is the solver's own
-    quadrature with ``angular_nodes`` nodes, :meth:`maxwell_kinetics.model.AngularLaw.quadrature`):
+    quadrature with ``angular_nodes`` nodes,
+    :meth:`maxwell_kinetics.angular.AngularLaw.quadrature`):
 
         (Λ/2) q G' − G + Σ_i ω_i G(a_i q) G(b_i q) = 0,   a_i = √(1 − (1 − (1−p)²) η_i),
         b_i = p √η_i,   Λ/2 = p (1 − p) Σ_i ω_i η_i,
@@ -459,7 +460,7 @@ def fixed_point(
     """
     t0 = time.perf_counter()
     model = check_inelastic(restitution)
-    from .model import angular_law
+    from .angular import angular_law
 
     angular_law(dimension, angular)  # checks both
     if dimension != 1:

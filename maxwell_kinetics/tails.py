@@ -61,7 +61,8 @@ from scipy.optimize import brentq, minimize_scalar
 
 from particles.validation import InvalidArgumentError, check_restitution
 
-from .model import AngularLaw, MaxwellModel, angular_law
+from .angular import AngularLaw, angular_law
+from .model import MaxwellModel
 
 __all__ = [
     "TailExponent",
@@ -78,7 +79,7 @@ def eta_moment(law: AngularLaw, s):
 
     Parameters
     ----------
-    law : maxwell_kinetics.model.AngularLaw
+    law : maxwell_kinetics.angular.AngularLaw
         The law Beta(a, b) of η = (k̂·n)².
     s : array_like
         Exponents s ≥ 0.
@@ -96,7 +97,7 @@ def mixed_moment(law: AngularLaw, c: float, s):
 
     Parameters
     ----------
-    law : maxwell_kinetics.model.AngularLaw
+    law : maxwell_kinetics.angular.AngularLaw
         The law Beta(a, b) of η.
     c : float
         Coefficient in [0, 1].
@@ -139,7 +140,7 @@ def growth_rate(dimension, restitution, s, angular="uniform"):
     ------
     particles.validation.InvalidArgumentError
         For a dimension, restitution or angular law out of range (from
-        :func:`maxwell_kinetics.model.angular_law` and ``check_restitution``).
+        :func:`maxwell_kinetics.angular.angular_law` and ``check_restitution``).
     """
     law = angular_law(dimension, angular)
     return MaxwellModel(restitution, law.dimension, law.angular).coefficient_rate(s)

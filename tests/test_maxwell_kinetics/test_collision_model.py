@@ -6,8 +6,8 @@ import math
 import numpy as np
 import pytest
 
+from maxwell_kinetics.angular import ANGULAR_MODELS
 from maxwell_kinetics.model import (
-    ANGULAR_MODELS,
     KINETIC_MODELS,
     CollisionModel,
     DrivenMaxwellModel,

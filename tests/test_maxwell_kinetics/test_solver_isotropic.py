@@ -17,8 +17,9 @@ from scipy.special import beta as beta_function
 
 import maxwell_kinetics._kinetic_scheme as scheme
 from maxwell_kinetics._kinetic_scheme import angular_tiers, transport_speed
+from maxwell_kinetics.angular import angular_law
 from maxwell_kinetics.grid import get_resolution
-from maxwell_kinetics.model import MaxwellModel, angular_law
+from maxwell_kinetics.model import MaxwellModel
 from maxwell_kinetics.solver import solve
 from maxwell_kinetics.stationary import fixed_point
 from particles.validation import InvalidArgumentError

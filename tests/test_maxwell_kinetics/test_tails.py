@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy import integrate, stats
 
-from maxwell_kinetics.model import angular_law
+from maxwell_kinetics.angular import angular_law
 from maxwell_kinetics.tails import (
     decay_rate,
     eta_moment,

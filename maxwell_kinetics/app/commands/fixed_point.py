@@ -172,7 +172,7 @@ def _run_constant(args) -> int:
     )
 
     start = time.perf_counter()
-    from ...model import angular_law
+    from ...angular import angular_law
 
     dimension = parse_count(args.dimension, "dimension", 1)
     angular = "uniform" if args.angular is None else args.angular
