@@ -72,6 +72,17 @@ from pathlib import Path
 __all__ = ["ENV", "MAX_ENTRY_BYTES", "UNUSED_DAYS", "default_path", "configured_path", "enable",
            "disable", "active_path", "current_choice", "restore_choice", "call"]
 
+# The command-line glue moved out of this module: importing a name of it from here raises an
+# ImportError naming its new home (it is not re-exported: each name has one home).
+_MOVED = {name: "maxwell_kinetics.app.cache_options"
+          for name in ("add_option", "from_args", "end_command")}
+
+
+def __getattr__(name: str):
+    if name in _MOVED:
+        raise ImportError(f"maxwell_kinetics.compile_cache.{name} moved to {_MOVED[name]}.{name}")
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 #: The environment variable that names the cache folder (or turns the cache off).
 ENV = "MAXWELL_KINETICS_CACHE"
 #: Entries larger than this (bytes) are damaged by definition: never read, deleted.  The

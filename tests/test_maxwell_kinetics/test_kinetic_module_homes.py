@@ -19,6 +19,8 @@ ROOT = Path(maxwell_kinetics.__file__).resolve().parent
 MOVED = {
     "maxwell_kinetics.model": [(n, "maxwell_kinetics.angular")
                                for n in ("AngularLaw", "angular_law", "ANGULAR_MODELS")],
+    "maxwell_kinetics.compile_cache": [(n, "maxwell_kinetics.app.cache_options")
+                                       for n in ("add_option", "from_args", "end_command")],
 }
 CASES = [(old, name, new) for old, moves in MOVED.items() for name, new in moves]
 
