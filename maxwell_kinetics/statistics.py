@@ -482,3 +482,11 @@ def seed_slope(x, ys, degree: int = 1) -> tuple[float, float, np.ndarray]:
     slopes = np.array([np.polyfit(x, y, degree)[-2] for y in ys])
     mean, err = mean_sem(slopes)
     return mean, err, slopes
+
+
+def __getattr__(name: str):
+    if name == "ks_distance":
+        raise ImportError("maxwell_kinetics.statistics.ks_distance was removed: the "
+                          "Kolmogorov–Smirnov distance is the ks of "
+                          "particles.observables.Histogram.distance")
+    raise AttributeError(f"module 'maxwell_kinetics.statistics' has no attribute {name!r}")

@@ -61,12 +61,11 @@ from .cluster import (
     make_cluster,
 )
 from .run import AGGREGATE, MANIFEST, run_ensemble
-from .spec import FORMAT_VERSION, MAX_SEED, EnsembleSpec, EnsembleTask, parse_seeds
+from .spec import FORMAT_VERSION, EnsembleSpec, EnsembleTask, parse_seeds
 from .tasks import load_task, run_task
 
 __all__ = [
     "FORMAT_VERSION",
-    "MAX_SEED",
     "MANIFEST",
     "AGGREGATE",
     "SCHEDULER_TIMEOUT",
@@ -86,3 +85,10 @@ __all__ = [
     "cluster_job_script",
 ]
 
+
+
+def __getattr__(name: str):
+    if name == "MAX_SEED":
+        raise ImportError("particles.ensemble.MAX_SEED is particles.validation.SEED_MAX, "
+                          "the one seed bound of the library, the command line and the ensembles")
+    raise AttributeError(f"module 'particles.ensemble' has no attribute {name!r}")

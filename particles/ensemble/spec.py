@@ -15,13 +15,10 @@ import numpy as np
 
 from .. import observables as obs
 from ..models import get_model
-from ..validation import SEED_MAX, InvalidArgumentError, check_nonnegative, check_seed, check_times
+from ..validation import InvalidArgumentError, check_nonnegative, check_seed, check_times
 
 #: Format version of the task, manifest and aggregate files (part of every task's key).
 FORMAT_VERSION = 1
-#: Largest seed accepted: :data:`particles.validation.SEED_MAX` (the one bound of the library,
-#: the command line and the ensembles; this name is kept for the callers that import it).
-MAX_SEED = SEED_MAX
 
 
 def parse_seeds(text: str) -> tuple[int, ...]:
@@ -340,3 +337,10 @@ class EnsembleSpec:
         return {"model": self.model, "params": {k: list(v) for k, v in self.params.items()},
                 "seeds": list(self.seeds), "times": list(self.times),
                 "options": dict(self.options)}
+
+
+def __getattr__(name: str):
+    if name == "MAX_SEED":
+        raise ImportError("particles.ensemble.spec.MAX_SEED is particles.validation.SEED_MAX, "
+                          "the one seed bound of the library, the command line and the ensembles")
+    raise AttributeError(f"module 'particles.ensemble.spec' has no attribute {name!r}")

@@ -83,3 +83,19 @@ def test_every_public_name_of_a_library_module_is_defined_there():
         misplaced += [f"{module.__name__}.{name}" for name in getattr(module, "__all__", [])
                       if name not in defined or name in imported]
     assert not misplaced, misplaced
+
+
+@pytest.mark.parametrize(("statement", "says"), [
+    ("from maxwell_kinetics.statistics import ks_distance",
+     r"ks_distance was removed: .* ks of particles\.observables\.Histogram\.distance"),
+    ("from particles.ensemble import MAX_SEED", r"MAX_SEED is particles\.validation\.SEED_MAX"),
+    ("from particles.ensemble.spec import MAX_SEED",
+     r"MAX_SEED is particles\.validation\.SEED_MAX"),
+])
+def test_a_retired_name_says_what_replaces_it(statement, says):
+    """Names retired rather than moved (the histogram distance's one home; the seed's one bound)
+    raise an ImportError saying what replaces them, not a bare 'cannot import name'."""
+    with pytest.raises(ImportError, match=says):
+        exec(statement, {})
+    module = importlib.import_module(statement.split()[1])
+    assert not hasattr(module, "no_such_name")
