@@ -143,6 +143,22 @@ def test_lattice_relative_velocity_rate_thinning_by_hand():
     assert outcomes == {True, False}
 
 
+def test_lattice_relative_velocity_threshold_is_the_mark_times_the_bound():
+    """A tick of bond 0 (Δ = 1.5) with R = 2 collides iff u · 2 < 1.5: marks 1e-4 either side of
+    u = 3/4 (far above round-off) give both outcomes, so u · R is checked to 1e-4."""
+    for u, collides in ((0.75 * (1 - 1e-4), True), (0.75 * (1 + 1e-4), False)):
+        for constraint in (True, False):
+            v = np.array([1.0, -0.5, 0.0, 0.0])
+            clocks = np.array([0.1, 9.0, 9.0, 9.0])
+            attempts, collisions, _ = run_clocks(v, clocks, 1.0, 0.75, constraint,
+                                                 lambda b: np.full(b.size, 5.0),
+                                                 marks=lambda b, u=u: np.full(b.size, u),
+                                                 rate_bound=2.0)
+            a, b = by_hand(1.0, -0.5, 0.5)  # p = 0.75: r = 0.5
+            close(v, [a, b, 0.0, 0.0] if collides else [1.0, -0.5, 0.0, 0.0])
+            assert (attempts, collisions) == (1, int(collides))
+
+
 def test_lattice_vectorized_clocks_one_collision_by_hand():
     v = np.array([2.0, 0.0, 0.0, -1.0, 0.0])
     clocks = np.array([0.1, 9.0, 9.0, 0.2, 9.0])
