@@ -159,6 +159,37 @@ def test_lattice_relative_velocity_threshold_is_the_mark_times_the_bound():
             assert (attempts, collisions) == (1, int(collides))
 
 
+class _UnitWaits:
+    """A Generator whose exponential waits are all 1 and whose uniform marks are all 0.9."""
+
+    def __init__(self):
+        self._rng = np.random.default_rng(0)
+
+    def standard_exponential(self, size):
+        return np.ones(size)
+
+    def random(self, size):
+        return np.full(size, 0.9)
+
+    def __getattr__(self, name):
+        return getattr(self._rng, name)
+
+
+def test_lattice_relative_velocity_clocks_run_at_the_bound_by_hand():
+    """Rate ∝ |Δ|: every bond's clock ticks at the common rate R, so a wait is Exp(1)/R; a state
+    whose clocks ran at another rate R_old has its residual waits (clock − time) rescaled by
+    R_old/R (memoryless).  With unit waits and marks 0.9 (0.9 R ≈ 1.8 > Δ = 1: rejected):
+    R_old = 4, clocks (0.4, 9, 0.1, 9) become 4/R times themselves; bond 2 ticks at 0.4/R < 0.3
+    and waits 1/R more, to 1.4/R; nothing else ticks before 0.3.  Round-off only: 1e-12."""
+    v = [1.0, -1.0, 0.5, -0.5]
+    bound = thinning_bound(np.array(v))
+    out = Lattice(4, 0.7, rate="relative_velocity").advance(
+        _lattice_state(v, [0.4, 9.0, 0.1, 9.0], attempt_rate=4.0), 0.3, _UnitWaits())
+    close(out.clocks, np.array([1.6, 36.0, 1.4, 36.0]) / bound)
+    close(out.velocities, v)
+    assert (out.collisions, out.attempts, out.attempt_rate) == (0, 1, bound)
+
+
 def test_lattice_vectorized_clocks_one_collision_by_hand():
     v = np.array([2.0, 0.0, 0.0, -1.0, 0.0])
     clocks = np.array([0.1, 9.0, 9.0, 0.2, 9.0])
