@@ -403,6 +403,37 @@ def test_relative_velocity_candidates_are_a_poisson_process_of_rate_n_n_minus_1_
             assert mean == pytest.approx(2.5 * 199 * bound * (b - a) / 2, rel=1e-12)
 
 
+class _NoEventsUnitKicks:
+    """A Generator with no event before τ = 10⁹ and standard normals ±1 in turn (mean zero, so a
+    recentring leaves them alone)."""
+
+    def __init__(self):
+        self._rng = np.random.default_rng(0)
+
+    def exponential(self, *args, **kwargs):
+        return 1e9
+
+    def standard_normal(self, shape):
+        return np.resize([1.0, -1.0], shape)
+
+    def __getattr__(self, name):
+        return getattr(self._rng, name)
+
+
+def test_reference_kick_has_variance_two_d_dt_by_hand():
+    """White noise of strength D (Fokker–Planck term D ∂²_v P) moves a velocity by a Gaussian of
+    variance 2DΔτ over Δτ.  The reference engine with no event and unit normals ±1 must move
+    v by ±√(2DΔτ): D = 0.5, Δτ = 0.01 (before the first recentring) gives ±0.1, to round-off."""
+    from particles.ulam import UlamState
+
+    engine = UlamReference(4, 0.5, driving=0.5)
+    assert engine.stop_step > 0.01
+    v0 = np.array([1.0, -1.0, 0.5, -0.5])
+    out = engine.advance(UlamState(0.0, v0, 0), 0.01, _NoEventsUnitKicks())
+    np.testing.assert_allclose(out.velocities, v0 + 0.1 * np.array([1, -1, 1, -1]), rtol=1e-14)
+    assert out.collisions == 0
+
+
 def test_largest_occurrence_of_a_particle_seen_only_at_index_zero():
     """Occurrence 0 is a valid largest occurrence: for flat [0, 1, 1] particle 0 appears only
     at index 0 and particle 1 last at index 2, so both functions return [0, 2, 2], whatever the
