@@ -151,3 +151,22 @@ def test_the_relative_velocity_rate_is_the_power_of_the_relative_speed():
     for bad in (-0.5, 2.5, float("nan"), True):
         with pytest.raises(InvalidArgumentError, match="exponent"):
             RelativeVelocityModel(0.5, exponent=bad)
+
+
+def test_growth_rate_energy_and_maxwell_rod_rate_by_hand():
+    # r = 1/2: p = 3/4, λ = 3/16.  g(s) = λs − 1 + p^s + (1 − p)^s vanishes at s = 2 (energy)
+    # and s = 3: 3/8 − 1 + 9/16 + 1/16 = 0 and 9/16 − 1 + 27/64 + 1/64 = 0; at s = 4:
+    # 3/4 − 1 + 81/256 + 1/256 = 9/128.  Tolerances: round-off of a few operations on O(1) terms.
+    model = MaxwellModel(0.5)
+    assert model.growth_rate(2.0) == pytest.approx(0.0, abs=1e-15)
+    assert model.growth_rate(3.0) == pytest.approx(0.0, abs=1e-15)
+    assert model.growth_rate(4.0) == pytest.approx(9 / 128, rel=1e-14)
+    # γ(s) = −g(s); at s = 5/2: 1 − 15/32 − (3/4)^{5/2} − (1/4)^{5/2} = (16 − 9√3)/32 ≈ 0.0129,
+    # a difference of O(1) terms: round-off 1e-16 of them is ~1e-14 of it
+    assert model.contraction_rate(2.5) == pytest.approx((16 - 9 * math.sqrt(3)) / 32, rel=1e-13)
+    # ⟨v²⟩(τ) = e^{−2λτ}: at τ = 4, e^{−3/2}
+    assert model.energy(4.0) == pytest.approx(math.exp(-1.5), rel=1e-15)
+    # the rate-|v − w|⁰ gas is the Maxwell gas in time n t: its energy decays at 2λ = 3/8
+    assert RelativeVelocityModel(0.5, exponent=0).energy_rate() == pytest.approx(3 / 8, rel=1e-15)
+    with pytest.raises(NotImplementedError, match="gamma > 0"):
+        RelativeVelocityModel(0.5).energy_rate()

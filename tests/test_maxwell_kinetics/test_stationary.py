@@ -136,6 +136,25 @@ def test_decay_rates_approach_max_gamma_from_above():
     assert second == pytest.approx(4.0, rel=0.01)
 
 
+def test_finite_domain_prediction_uses_the_curvature_of_g_at_its_extremum():
+    # r = 1/2: g(s) = (3/16) s − 1 + (3/4)^s + (1/4)^s, written out here.  s* is where g' = 0
+    # and the prediction is γ* + g''(s*) π²/(2ℓ²); g' and g'' by central differences of step
+    # 1e-3 (truncation ~1e-7 of g'', round-off 1e-16/1e-6 = 1e-10), hence 1e-6 relative.  The
+    # top of g is flat: s* is found to ~1e-6 (g changes by less than round-off there), so
+    # g'(s*) ≈ g''(s*) δs ≈ 0.1 δs is checked to 1e-7.
+    def g(s):
+        return 3 / 16 * s - 1 + 0.75**s + 0.25**s
+
+    ell = 20.0
+    lr = linear_decay_rates(0.5, q_min=math.exp(-ell), n=16, count=1)
+    s, h = lr.s_star, 1e-3
+    assert (g(s + h) - g(s - h)) / (2 * h) == pytest.approx(0.0, abs=1e-7)
+    assert lr.gamma_star == pytest.approx(-g(s), rel=1e-9)
+    curvature = (g(s + h) - 2 * g(s) + g(s - h)) / h**2
+    assert (lr.predicted_slowest - lr.gamma_star) * 2 * ell**2 / math.pi**2 == pytest.approx(
+        curvature, rel=1e-6)
+
+
 @pytest.mark.parametrize("r", [0.0, 0.9, 0.99])
 def test_decay_rates_other_restitutions(r):
     lr = linear_decay_rates(r, q_min=math.exp(-80.0), n=128)

@@ -282,6 +282,32 @@ def test_elastic_gas_conserves_energy_exactly():
 # --- exact rates and Haff's law ----------------------------------------------------
 
 
+def test_haff_constants_by_hand():
+    # r = 1/2, n = 2, T0 = 4: 1 − r² = 3/4, t0 = √π / ((3/4) · 2 · 2) = √π/3.  T(t0) = T0/4 and
+    # T(3 t0) = T0/16; dT/dt at 0 = −2 T0/t0 = −24/√π, which is also −(2/√π)(1 − r²) n T0^{3/2}
+    # = −(2/√π)(3/4)(2)(8) (each of the (2/√π) n √T collisions per unit time loses (1 − r²)/4
+    # of ⟨g²⟩ = 2T, shared by two particles).  Round-off only: 1e-14.
+    from particles.md.observables import haff_time
+
+    t0 = math.sqrt(math.pi) / 3
+    assert haff_time(0.5, 2.0, 4.0) == pytest.approx(t0, rel=1e-14)
+    np.testing.assert_allclose(haff_energy(np.array([0.0, t0, 3 * t0]), 0.5, 2.0, 4.0),
+                               [4.0, 1.0, 0.25], rtol=1e-14)
+    assert initial_cooling_rate(0.5, 2.0, 4.0) == pytest.approx(-24 / math.sqrt(math.pi),
+                                                                rel=1e-14)
+    # τ(t) = (2/(1 − r²)) ln(1 + t/t0) collisions per particle (unit T0): 8/3 at t = (e − 1) t0;
+    # r = 1: the rate (2/√π) n
+    t0_unit = math.sqrt(math.pi) / (0.75 * 2.0)
+    params = {"n": 1000, "density": 2.0, "restitution": 0.5}
+    assert md.collisions_per_particle_estimate((math.e - 1) * t0_unit, params) == pytest.approx(
+        8 / 3, rel=1e-14)
+    assert md.collisions_per_particle_estimate(3.0, {**params, "restitution": 1.0}) == (
+        pytest.approx(2 / math.sqrt(math.pi) * 2.0 * 3.0, rel=1e-14))
+    # τ counts each pair collision for both partners: 3 collisions of 4 rods, τ = 3/2
+    state = MDState(0.0, np.arange(4.0), np.zeros(4), np.zeros(4), 3)
+    assert collisions_per_particle(state) == 1.5
+
+
 def test_initial_cooling_rates():
     # Gaussian start, r = 0.5, n = 1, N = 2e5, 6 seeds, window t = 0.05 (t/t0 = 0.02): about
     # 5500 collisions per seed.  The mean slope over [0, t] is compared with the exact t = 0+

@@ -143,6 +143,53 @@ def test_lattice_relative_velocity_rate_thinning_by_hand():
     assert outcomes == {True, False}
 
 
+def test_lattice_relative_velocity_threshold_is_the_mark_times_the_bound():
+    """A tick of bond 0 (Δ = 1.5) with R = 2 collides iff u · 2 < 1.5: marks 1e-4 either side of
+    u = 3/4 (far above round-off) give both outcomes, so u · R is checked to 1e-4."""
+    for u, collides in ((0.75 * (1 - 1e-4), True), (0.75 * (1 + 1e-4), False)):
+        for constraint in (True, False):
+            v = np.array([1.0, -0.5, 0.0, 0.0])
+            clocks = np.array([0.1, 9.0, 9.0, 9.0])
+            attempts, collisions, _ = run_clocks(v, clocks, 1.0, 0.75, constraint,
+                                                 lambda b: np.full(b.size, 5.0),
+                                                 marks=lambda b, u=u: np.full(b.size, u),
+                                                 rate_bound=2.0)
+            a, b = by_hand(1.0, -0.5, 0.5)  # p = 0.75: r = 0.5
+            close(v, [a, b, 0.0, 0.0] if collides else [1.0, -0.5, 0.0, 0.0])
+            assert (attempts, collisions) == (1, int(collides))
+
+
+class _UnitWaits:
+    """A Generator whose exponential waits are all 1 and whose uniform marks are all 0.9."""
+
+    def __init__(self):
+        self._rng = np.random.default_rng(0)
+
+    def standard_exponential(self, size):
+        return np.ones(size)
+
+    def random(self, size):
+        return np.full(size, 0.9)
+
+    def __getattr__(self, name):
+        return getattr(self._rng, name)
+
+
+def test_lattice_relative_velocity_clocks_run_at_the_bound_by_hand():
+    """Rate ∝ |Δ|: every bond's clock ticks at the common rate R, so a wait is Exp(1)/R; a state
+    whose clocks ran at another rate R_old has its residual waits (clock − time) rescaled by
+    R_old/R (memoryless).  With unit waits and marks 0.9 (0.9 R ≈ 1.8 > Δ = 1: rejected):
+    R_old = 4, clocks (0.4, 9, 0.1, 9) become 4/R times themselves; bond 2 ticks at 0.4/R < 0.3
+    and waits 1/R more, to 1.4/R; nothing else ticks before 0.3.  Round-off only: 1e-12."""
+    v = [1.0, -1.0, 0.5, -0.5]
+    bound = thinning_bound(np.array(v))
+    out = Lattice(4, 0.7, rate="relative_velocity").advance(
+        _lattice_state(v, [0.4, 9.0, 0.1, 9.0], attempt_rate=4.0), 0.3, _UnitWaits())
+    close(out.clocks, np.array([1.6, 36.0, 1.4, 36.0]) / bound)
+    close(out.velocities, v)
+    assert (out.collisions, out.attempts, out.attempt_rate) == (0, 1, bound)
+
+
 def test_lattice_vectorized_clocks_one_collision_by_hand():
     v = np.array([2.0, 0.0, 0.0, -1.0, 0.0])
     clocks = np.array([0.1, 9.0, 9.0, 0.2, 9.0])

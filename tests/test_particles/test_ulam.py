@@ -382,6 +382,58 @@ def test_collisions_are_a_poisson_process_of_rate_n_over_two(kwargs):
     assert after.collisions > 0
 
 
+def test_relative_velocity_candidates_are_a_poisson_process_of_rate_n_n_minus_1_b_over_two():
+    """The hard-rod DSMC: pair (i, j) collides at rate n|v_i − v_j|/N, so that a particle collides
+    at rate n⟨|v − w|⟩ over its N − 1 partners; thinned under the bound B ≥ every |v_i − v_j|,
+    the N(N − 1)/2 pairs give candidates at total rate n(N − 1)B/2.  Over the first block (one
+    bound, B = max v − min v with its margin) each window's Poisson mean must be that rate times
+    its length, to round-off (1e-12); a rate off by 0.1 % fails by 1e-3."""
+    from particles.pair_schedule import hull_bound
+
+    for engine in (Ulam(200, 0.6, rate="relative_velocity", density=2.5),
+                   UlamReference(200, 0.6, rate="relative_velocity", density=2.5)):
+        state = engine.initial_state(np.random.default_rng(4))
+        bound = hull_bound(state.velocities)
+        assert bound == pytest.approx(np.ptp(state.velocities), rel=1e-8)
+        windows = engine.thinned_windows(0.0, 50.0, bound)
+        rng = _CountingRng(5)
+        engine.advance(state, windows[-1][1], rng)
+        assert len(rng.means) == len(windows) > 1
+        for mean, (a, b) in zip(rng.means, windows, strict=True):
+            assert mean == pytest.approx(2.5 * 199 * bound * (b - a) / 2, rel=1e-12)
+
+
+class _NoEventsUnitKicks:
+    """A Generator with no event before τ = 10⁹ and standard normals ±1 in turn (mean zero, so a
+    recentring leaves them alone)."""
+
+    def __init__(self):
+        self._rng = np.random.default_rng(0)
+
+    def exponential(self, *args, **kwargs):
+        return 1e9
+
+    def standard_normal(self, shape):
+        return np.resize([1.0, -1.0], shape)
+
+    def __getattr__(self, name):
+        return getattr(self._rng, name)
+
+
+def test_reference_kick_has_variance_two_d_dt_by_hand():
+    """White noise of strength D (Fokker–Planck term D ∂²_v P) moves a velocity by a Gaussian of
+    variance 2DΔτ over Δτ.  The reference engine with no event and unit normals ±1 must move
+    v by ±√(2DΔτ): D = 0.5, Δτ = 0.01 (before the first recentring) gives ±0.1, to round-off."""
+    from particles.ulam import UlamState
+
+    engine = UlamReference(4, 0.5, driving=0.5)
+    assert engine.stop_step > 0.01
+    v0 = np.array([1.0, -1.0, 0.5, -0.5])
+    out = engine.advance(UlamState(0.0, v0, 0), 0.01, _NoEventsUnitKicks())
+    np.testing.assert_allclose(out.velocities, v0 + 0.1 * np.array([1, -1, 1, -1]), rtol=1e-14)
+    assert out.collisions == 0
+
+
 def test_largest_occurrence_of_a_particle_seen_only_at_index_zero():
     """Occurrence 0 is a valid largest occurrence: for flat [0, 1, 1] particle 0 appears only
     at index 0 and particle 1 last at index 2, so both functions return [0, 2, 2], whatever the

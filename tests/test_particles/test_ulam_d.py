@@ -546,6 +546,27 @@ def test_angular_draws_hold_only_what_their_law_uses():
         assert plane.z is None and plane.eta is None and plane.sine.shape == (4,)
 
 
+def test_angular_draws_are_the_quantiles_of_their_laws():
+    """Each draw is the quantile of its law at the engine's own uniform u, so the law's CDF at the
+    draw gives u back (to round-off, 1e-12), a check at every draw with no sampling error.
+
+    d = 3 "hard": η = (ĝ·n)² ~ Beta(1, (d − 1)/2) = Beta(1, 1) (density ∝ |cos θ| sin θ),
+    CDF 1 − (1 − η)^{(d−1)/2} = η (scipy's Beta CDF here); d = 2 "uniform": φ uniform on
+    [−π/2, π/2] with sin φ = cos(π u), i.e. arccos(sin φ)/π = u; d = 2 "hard": density
+    ∝ |cos φ| dφ = |d sin φ|, sin φ = 2u − 1."""
+    k = 1000
+    replay = np.random.default_rng(5)
+    replay.standard_normal((k, 3))  # z is drawn first
+    u = replay.random(k)
+    eta = draw_angles(np.random.default_rng(5), k, 3, "hard").eta
+    np.testing.assert_allclose(stats.beta(1.0, 1.0).cdf(eta), u, rtol=1e-12, atol=1e-14)
+    u = np.random.default_rng(6).random(k)
+    sine = draw_angles(np.random.default_rng(6), k, 2, "uniform").sine
+    np.testing.assert_allclose(np.arccos(sine) / np.pi, u, rtol=1e-12, atol=1e-12)
+    sine = draw_angles(np.random.default_rng(6), k, 2, "hard").sine
+    np.testing.assert_allclose((sine + 1) / 2, u, rtol=1e-12, atol=1e-14)
+
+
 def test_hard_direction_in_three_dimensions_by_hand():
     """g = (2, 0, 0), z = (5, 3, 0), η = 0.36: ĝ = x̂, the part of z across ĝ is ŷ, so
     n = √η x̂ + √(1 − η) ŷ = (0.6, 0.8, 0); its (ĝ·n)² is η."""

@@ -66,6 +66,24 @@ def test_one_window_of_candidates_by_hand():
     assert fast.tolist() == expected
 
 
+def test_acceptance_is_the_mark_times_the_bound_below_the_relative_speed():
+    # One candidate (0, 1), |g| = 1.5, bound B = 2: accepted iff mark · 2 < 1.5, i.e. mark < 3/4.
+    # Marks 1e-4 either side of 3/4 (far above round-off, 1e-16) give both outcomes, so the
+    # threshold mark · B is checked to 1e-4: a bound or a mark scaled by 1.001 flips one of them.
+    # Accepted at r = 0.5 (p = 3/4): d = p g = 1.125, v = (−0.125, 0.625).
+    for mark, expected in ((0.75 * (1 - 1e-4), [-0.125, 0.625]), (0.75 * (1 + 1e-4), [1.0, -0.5])):
+        marks = np.array([mark])
+        pairs = np.array([[0, 1]], dtype=np.int32)
+        slow = np.array([1.0, -0.5])
+        accepted, largest = thin_sequential(slow, pairs, marks, 2.0, 0.75)
+        assert slow.tolist() == expected and accepted == int(expected[0] != 1.0)
+        assert largest == 0.75
+        fast = np.array([1.0, -0.5])
+        first, occurrence = np.empty(2, np.int32), np.arange(2, dtype=np.int32)
+        assert fire_rounds_thinned(fast, pairs, marks, 2.0, 0.75, first, occurrence) == accepted
+        assert fast.tolist() == expected
+
+
 def _engines(cls, **kw):
     return cls(300, 0.4, "laplace", rate="relative_velocity", **kw)
 
