@@ -59,8 +59,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--core-spacing", default=None,
                    help="--rate relative_velocity: a mapped grid c = a sinh(s), fine in the "
                    "core and wide in the tails: its spacing at c = 0 (below the uniform "
-                   "spacing 2 half-width/(points - 1)); for gamma = 0, whose |x|^-4 tail "
-                   "outgrows a uniform grid")
+                   "spacing 2 half-width/(points - 1)); with --exponent 0 only, whose "
+                   "|x|^-4 tail outgrows a uniform grid")
     p.add_argument("--q", default="0.5,1,2,5", help="comma-separated q at which to report G")
     p.add_argument("--speed", default=None,
                    help="comma-separated speeds |v|/v0 >= 0 at which to report the density of "
@@ -301,6 +301,10 @@ def _run_relative_velocity(args, written: list) -> int:
                   else _number(args.half_width, "half-width", check_real))
     core = (None if args.core_spacing is None
             else _number(args.core_spacing, "core-spacing", check_real))
+    if core is not None and model.exponent != 0.0:
+        raise InvalidArgumentError("core-spacing", args.core_spacing,
+                                   "--core-spacing (a mapped grid) with --exponent 0 only "
+                                   f"(here gamma = {model.exponent:g}: use the uniform grid)")
     try:
         grid = (VelocityGrid(points, half_width) if core is None
                 else MappedGrid(points, half_width, core))
