@@ -221,12 +221,34 @@ class MappedGrid:
         return self.scale * np.sinh(self.s)
 
     def spacing(self, x) -> np.ndarray:
-        """The local spacing ω(x) = h_s √(a² + x²) at velocities ``x``."""
+        """The local spacing ω(x) = g′(s(x)) h_s = h_s √(a² + x²).
+
+        Parameters
+        ----------
+        x : array_like
+            Velocities c (units of the standard deviation).
+
+        Returns
+        -------
+        numpy.ndarray
+            ω(x), of the shape of ``x``.
+        """
         x = np.asarray(x, dtype=float)
         return self.step * np.sqrt(self.scale**2 + x * x)
 
     def position(self, x) -> np.ndarray:
-        """Velocities ``x`` in units of node index: (asinh(x/a) + S)/h_s."""
+        """Velocities in units of node index: (asinh(x/a) + S)/h_s (node i at i).
+
+        Parameters
+        ----------
+        x : array_like
+            Velocities c.
+
+        Returns
+        -------
+        numpy.ndarray
+            The fractional index, of the shape of ``x``.
+        """
         return (np.arcsinh(np.asarray(x, dtype=float) / self.scale) + self.s_max) / self.step
 
     @property
@@ -956,13 +978,11 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
         tables = tables_for(model, grid)
         cj = jnp.asarray(c)
         args = (tables, cj, h, 1.0, 0.0, model.lam)  # s^γ ≡ 1: time is τ′
-        unit = _unit(grid)
-        ys, ok, _ = functions.solve(jnp.asarray(np.append(F0 * unit, 0.0)),
+        ys, ok, _ = functions.solve(jnp.asarray(np.append(F0, 0.0)),
                                     jnp.asarray(_padded(np.array([float(relaxation)]))), args,
                                     1e-8, 1e-12, 1_000_000)
-        F = np.asarray(ys[-1, :-1]) / unit
-        constraints = (grid.weights * np.array([np.ones_like(c), c, c * c])
-                       if isinstance(grid, MappedGrid) else h * np.array([np.ones_like(c), c, c * c]))
+        F = np.asarray(ys[-1, :-1])
+        constraints = h * np.array([np.ones_like(c), c, c * c])
         iterations = 0
         residual = np.asarray(functions.steady(jnp.asarray(F), tables, cj, h, model.lam))
         while np.max(np.abs(residual)) > tolerance and iterations < max_iterations:

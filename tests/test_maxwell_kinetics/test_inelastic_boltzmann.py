@@ -182,3 +182,15 @@ def test_the_commands_print_energy_and_kurtosis(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["t"] == [0.0, 1.0] and out["energy"][0] == pytest.approx(1.0, rel=1e-12)
     assert out["kurtosis"][0] == pytest.approx(3.0, rel=1e-6) and out["energy"][1] < 1.0
+
+
+def test_solve_takes_a_mapped_grid_for_gamma_zero(capsys):
+    # the grid of test_a_mapped_grid_conserves_and_keeps_the_energy_identity; gamma = 0 at
+    # density 1: <v^2> = exp(-2 lambda t) exactly, lambda = (1 - r^2)/4
+    assert main(["solve", "-r", "0.8", "--rate", "relative_velocity", "--exponent", "0",
+                 "--t", "0,0.5", "--points", "61", "--half-width", "30", "--core-spacing",
+                 "0.2", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["core_spacing"] == 0.2 and out["points"] == 61
+    np.testing.assert_allclose(out["energy"], np.exp(-2 * 0.09 * np.array([0.0, 0.5])),
+                               rtol=1e-10)
