@@ -150,7 +150,7 @@ class MappedGrid:
     integrand is then smooth in s, the trapezoid rule spectral, the interpolation (10 points)
     O(h_s¹⁰) and the dilation O(h_s⁸).  Measured (benchmarks/README.md, ``hard_rods.py
     mapped``): r = 0.5, 561 points on ±2·10⁵, core spacing 0.07: the kurtosis at τ = 10 and 50
-    within 1.2e-8 and 5.6e-8 (relative) of −3 + 6e^{9τ/128}, P(x) within 1.1e-7 of the Fourier
+    within 1.2e-8 and 5.5e-8 (relative) of −3 + 6e^{9τ/128}, P(x) within 1.1e-7 of the Fourier
     solver.  For hard rods (γ = 1; the kink at v = w corrected with the local spacing) the
     mapped grid converged on some sizes (r = 0.8, t = 2, ±12: the kurtosis within 4.5e-7 at 81
     points, 2.3e-8 at 161 of a fine uniform grid) but grew a grid-scale oscillation at the

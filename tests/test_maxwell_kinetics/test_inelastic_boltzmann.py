@@ -110,7 +110,7 @@ def test_a_mapped_grid_follows_the_maxwell_models_tail():
     # fourth moment beyond |x| = 10 and reaches |x| ~ 100, which 161 uniform points cannot hold
     # at a core spacing of 0.1.  The tolerance is this grid's discretisation error, measured
     # -4.6e-6 (it falls to -7.6e-7 at 201 points, core 0.08; 561 points on +-2e5 reach 1.2e-8
-    # at tau = 10 and 5.6e-8 at tau = 50 in benchmarks/hard_rods.py mapped)
+    # at tau = 10 and 5.5e-8 at tau = 50 in benchmarks/hard_rods.py mapped)
     sol = solve_boltzmann(0.5, [10.0], exponent=0.0, grid=MappedGrid(161, 1000.0, 0.1))
     exact = -3 + 6 * np.exp(9 * sol.t / 128)
     np.testing.assert_allclose(sol.kurtosis, exact, rtol=1e-5)
