@@ -843,6 +843,11 @@ def _cumulative(values: np.ndarray, grid, x: np.ndarray) -> np.ndarray:
 
 #: The default grid of :func:`scaling_state`: the hard-rod state at r = 0.5 has a kurtosis of
 #: 3.4831 and tails that reach past ±6 (121 points on ±12 and 161 on ±16 agree to 6e-8).
+#: Its spacing, 0.1, does not resolve the narrow humps near r = 1: at r = 0.99 the state
+#: undershoots to F ≈ −3e-4 between them and its kurtosis, 1.21439, is 2.5e-4 (relative) low.
+#: Measured at r = 0.99 (benchmarks/README.md): 241 points on ±6 (spacing 0.05): kurtosis
+#: 1.2146782, min F −1.6e-13 (481 on ±12 agree to 1e-11: ±6 is wide enough there); 361 on ±6
+#: (0.033): 1.2146864, min F −3e-18.  Near r = 1 pass ``grid=VelocityGrid(361, 6.0)``.
 SCALING_GRID = VelocityGrid(241, 12.0)
 
 
@@ -932,8 +937,10 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
     exponent : float, default 1.0
         γ of the rate.
     grid : VelocityGrid, optional
-        Default :data:`SCALING_GRID`; γ = 0 has no scaling state with finite kurtosis (its
-        tail is |x|⁻⁴) and is refused.
+        Default :data:`SCALING_GRID` (spacing 0.1: at r = 0.99 its kurtosis is 2.5e-4 low and
+        F undershoots to −3e-4 between the humps; 361 points on ±6 bring both to ~1e-6 and
+        −3e-18); γ = 0 has no scaling state with finite kurtosis (its tail is |x|⁻⁴) and is
+        refused.
     tolerance : float, default 1e-11
         Newton stops when max|residual| ≤ tolerance.
     max_iterations : int, default 30
