@@ -34,6 +34,7 @@ _LAZY = {
     "scaling_state": "inelastic_boltzmann",
     "ScalingState": "inelastic_boltzmann",
     "VelocityGrid": "inelastic_boltzmann",
+    "MappedGrid": "inelastic_boltzmann",
     "Resolution": "grid",
     "RESOLUTIONS": "grid",
     "solve": "solver",

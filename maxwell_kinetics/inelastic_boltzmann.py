@@ -37,7 +37,11 @@ and ⟨c²⟩ 1.  A grid whose extent leaves more than :data:`EXTENT_TOLERANCE` 
 outside, or whose raw moments are off by more than :data:`RESOLUTION_TOLERANCE`, is refused
 with the size needed.  The grid cannot follow a tail that outgrows it (γ = 0, whose scaling
 state has an |x|⁻⁴ tail): the solution records the largest mass fraction found in the two
-outermost cells (:attr:`BoltzmannSolution.edge_mass`).
+outermost cells (:attr:`BoltzmannSolution.edge_mass`).  For such tails a
+:class:`MappedGrid` c = a sinh(s) keeps the core spacing and reaches |c| of thousands with a
+few hundred points (trapezoid weights g′(s) h_s, interpolation in s, the dilation
+(1/g′) ∂_s(c F) in flux form, the same exact corrections with the mapped weights); the uniform
+grid stays the default.
 
 Every JAX call runs inside ``jax.enable_x64(True)`` (thread-local; the caller's setting is
 restored).
@@ -61,7 +65,7 @@ from particles.validation import (
 
 from .model import RelativeVelocityModel
 
-__all__ = ["VelocityGrid", "default_grid", "solve_boltzmann", "BoltzmannSolution",
+__all__ = ["VelocityGrid", "MappedGrid", "default_grid", "solve_boltzmann", "BoltzmannSolution",
            "scaling_state", "ScalingState", "SCALING_GRID",
            "EXTENT_TOLERANCE", "RESOLUTION_TOLERANCE"]
 
@@ -117,6 +121,151 @@ class VelocityGrid:
         """The spacing 2L/(N − 1)."""
         return 2.0 * self.half_width / (self.points - 1)
 
+    @property
+    def step(self) -> float:
+        """The spacing h (the step of the uniform variable of the scheme)."""
+        return self.h
+
+    @property
+    def weights(self) -> np.ndarray:
+        """The trapezoid weights: h at every node, shape (N,)."""
+        return np.full(self.points, self.h)
+
+
+@dataclass(frozen=True)
+class MappedGrid:
+    """A non-uniform grid of the rescaled velocity, fine in the core and wide in the tails:
+    c = a sinh(s) on the uniform grid s_i = −S + i h_s, i = 0 … N − 1, h_s = 2S/(N − 1).
+
+    The map's two numbers follow from the requested extent and core spacing:
+    a sinh(S) = half_width and a h_s = core_spacing (the spacing at c = 0), i.e.
+    sinh(S)/S = 2 half_width/(core_spacing (N − 1)).  The local spacing is
+    ω(c) = h_s √(a² + c²): ≈ core_spacing for |c| ≪ a, ≈ h_s |c| (a fixed relative spacing h_s)
+    for |c| ≫ a, the shape an algebraic tail such as the |x|⁻⁴ of the Maxwell model needs.
+    Integrals are the trapezoid rule in s (weights ω_i = ω(c_i), :attr:`weights`); the
+    solver interpolates in s (:mod:`maxwell_kinetics._boltzmann_scheme`).  All velocities are
+    in units of the standard deviation of c (the grid's ⟨c²⟩ = 1).
+
+    For γ = 0 only (:func:`solve_boltzmann` refuses it otherwise, naming ``grid``): every
+    integrand is then smooth in s, the trapezoid rule spectral, the interpolation (10 points)
+    O(h_s¹⁰) and the dilation O(h_s⁸).  Measured (benchmarks/README.md, ``hard_rods.py
+    mapped``): r = 0.5, 561 points on ±2·10⁵, core spacing 0.07: the kurtosis at τ = 10 and 50
+    within 1.2e-8 and 5.5e-8 (relative) of −3 + 6e^{9τ/128}, P(x) within 1.1e-7 of the Fourier
+    solver.  For hard rods (γ = 1; the kink at v = w corrected with the local spacing) the
+    mapped grid converged on some sizes (r = 0.8, t = 2, ±12: the kurtosis within 4.5e-7 at 81
+    points, 2.3e-8 at 161 of a fine uniform grid) but grew a grid-scale oscillation at the
+    grid's ends on others (41 and 121 points: kurtosis 3.16 and 98.8 instead of 2.85); until
+    that is understood, γ > 0 keeps the uniform grid.  At γ = 0 on the same map (r = 0.8,
+    t = 2) the kurtosis errs by 0.063, 1.7e-5, 2.9e-8, −3.5e-9 and −4.0e-10 at 41, 61, 81, 121
+    and 161 points; the 41-point grid, too coarse in its tails, shows it in
+    :attr:`BoltzmannSolution.edge_mass`.
+
+    Attributes
+    ----------
+    points : int
+        N, odd or even, 8 ≤ N ≤ ``MAX_POINTS``.
+    half_width : float
+        L > 0: the outermost nodes are ±L.
+    core_spacing : float
+        The spacing at c = 0, > 0 and below the uniform spacing 2L/(N − 1) (else the uniform
+        :class:`VelocityGrid` is the right grid).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``points``, ``half_width`` or ``core_spacing`` for a value out of range.
+    """
+
+    points: int
+    half_width: float
+    core_spacing: float
+    scale: float = field(init=False, repr=False)
+    s_max: float = field(init=False, repr=False)
+
+    def __post_init__(self):
+        n = VelocityGrid(self.points, self.half_width).points  # the same checks
+        object.__setattr__(self, "points", n)
+        L = check_positive(self.half_width, "half_width")
+        object.__setattr__(self, "half_width", L)
+        h0 = check_positive(self.core_spacing, "core_spacing")
+        object.__setattr__(self, "core_spacing", h0)
+        ratio = 2.0 * L / (h0 * (n - 1))
+        if not ratio > 1.0 + 1e-9:
+            raise InvalidArgumentError(
+                "core_spacing", self.core_spacing,
+                f"a core spacing below the uniform spacing 2 half_width/(points - 1) = "
+                f"{2.0 * L / (n - 1):.6g} (else use the uniform VelocityGrid)")
+        lo, hi = 0.0, max(1.0, math.log(4.0 * ratio) + math.log(math.log(4.0 * ratio) + 1.0))
+        while math.sinh(hi) / hi < ratio:
+            hi *= 2.0
+        for _ in range(200):  # bisection on sinh(S)/S = ratio (increasing in S)
+            mid = 0.5 * (lo + hi)
+            if mid == 0.0 or math.sinh(mid) / mid < ratio:
+                lo = mid
+            else:
+                hi = mid
+        S = 0.5 * (lo + hi)
+        object.__setattr__(self, "s_max", S)
+        object.__setattr__(self, "scale", L / math.sinh(S))
+
+    @property
+    def step(self) -> float:
+        """h_s = 2S/(N − 1), the step of the uniform variable s."""
+        return 2.0 * self.s_max / (self.points - 1)
+
+    @property
+    def s(self) -> np.ndarray:
+        """The uniform nodes s_i, shape (N,)."""
+        return np.linspace(-self.s_max, self.s_max, self.points)
+
+    @property
+    def c(self) -> np.ndarray:
+        """The nodes c_i = a sinh(s_i), shape (N,)."""
+        return self.scale * np.sinh(self.s)
+
+    def spacing(self, x) -> np.ndarray:
+        """The local spacing ω(x) = g′(s(x)) h_s = h_s √(a² + x²).
+
+        Parameters
+        ----------
+        x : array_like
+            Velocities c (units of the standard deviation).
+
+        Returns
+        -------
+        numpy.ndarray
+            ω(x), of the shape of ``x``.
+        """
+        x = np.asarray(x, dtype=float)
+        return self.step * np.sqrt(self.scale**2 + x * x)
+
+    def position(self, x) -> np.ndarray:
+        """Velocities in units of node index: (asinh(x/a) + S)/h_s (node i at i).
+
+        Parameters
+        ----------
+        x : array_like
+            Velocities c.
+
+        Returns
+        -------
+        numpy.ndarray
+            The fractional index, of the shape of ``x``.
+        """
+        return (np.arcsinh(np.asarray(x, dtype=float) / self.scale) + self.s_max) / self.step
+
+    @property
+    def weights(self) -> np.ndarray:
+        """The trapezoid weights ω_i = g′(s_i) h_s, shape (N,)."""
+        return self.spacing(self.c)
+
+
+def _sum(grid, values: np.ndarray, g: np.ndarray):
+    """Σ ω_i values_i g_i (the trapezoid rule): h (values @ g) on the uniform grid."""
+    if isinstance(grid, MappedGrid):
+        return (values * grid.weights) @ g
+    return grid.h * (values @ g)
+
 
 def default_grid(exponent: float) -> VelocityGrid:
     """The grid used when none is given: 201 points on [−6, 6] for γ > 0 (hard rods: the
@@ -158,7 +307,7 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
     ----------
     law : str or particles.initial.InitialLaw
         A built-in law's name or a law with a CDF (zero mean, unit variance).
-    grid : VelocityGrid
+    grid : VelocityGrid or MappedGrid
         The grid.
 
     Returns
@@ -172,7 +321,8 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
         Naming ``initial`` for a law without a CDF; ``half_width`` when more than
         :data:`EXTENT_TOLERANCE` of the mass lies outside the grid, ``points`` when the spacing
         exceeds :data:`MAX_SPACING` or does not resolve the law (:data:`RESOLUTION_TOLERANCE`);
-        both with the size needed.
+        both with the size needed.  On a :class:`MappedGrid`: ``core_spacing`` above
+        :data:`MAX_SPACING`, ``points`` when the mapped weights do not resolve the law.
     """
     law = get_law(law)
     if law.distribution is None:
@@ -189,6 +339,9 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
             "half_width", L, f"a grid that holds the initial law {law.name!r} (a fraction "
             f"{outside:.3g} of its mass lies outside [-{L:g}, {L:g}]; at most "
             f"{EXTENT_TOLERANCE:g}: half_width >= {needed:.3g})")
+
+    if isinstance(grid, MappedGrid):
+        return _mapped_initial_values(law, grid)
 
     def defect(points: int) -> float:
         g = VelocityGrid(points, L) if points <= MAX_POINTS else None
@@ -216,6 +369,43 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
     # F (1 + a + b c + d c²) with unit mass, zero mean and unit second moment
     basis = np.array([values * c**k for k in range(3)])
     matrix = h * np.array([[np.sum(basis[j] * c**k) for j in range(3)] for k in range(3)])
+    coefficients = np.linalg.solve(matrix, np.array([1.0, 0.0, 1.0]))
+    return values * (coefficients[0] + coefficients[1] * c + coefficients[2] * c * c)
+
+
+def _mapped_initial_values(law: InitialLaw, grid: MappedGrid) -> np.ndarray:
+    """:func:`initial_values` on a mapped grid (the extent already checked)."""
+    if grid.core_spacing > MAX_SPACING:
+        raise InvalidArgumentError(
+            "core_spacing", grid.core_spacing, f"a core spacing <= {MAX_SPACING:g}")
+
+    def raw(g: MappedGrid) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        c, w = g.c, g.weights
+        values = _density_at(law, c)
+        return values, c, np.array([(values * w) @ c**k for k in range(3)])
+
+    values, c, m = raw(grid)
+    found = max(abs(m[0] - 1.0), abs(m[1]), abs(m[2] - 1.0))
+    if not found <= RESOLUTION_TOLERANCE:
+        needed = grid.points
+        while needed <= MAX_POINTS:
+            needed = 2 * needed - 1
+            try:
+                finer = MappedGrid(needed, grid.half_width, grid.core_spacing)
+            except InvalidArgumentError:
+                break
+            m2 = raw(finer)[2]
+            if max(abs(m2[0] - 1.0), abs(m2[1]), abs(m2[2] - 1.0)) <= RESOLUTION_TOLERANCE:
+                break
+        raise InvalidArgumentError(
+            "points", grid.points, f"a grid fine enough for the initial law {law.name!r} (its "
+            f"mass, mean or variance on the mapped grid of {grid.points} points on "
+            f"[-{grid.half_width:g}, {grid.half_width:g}], core spacing "
+            f"{grid.core_spacing:g}, is off by {found:.3g}; at most {RESOLUTION_TOLERANCE:g}: "
+            f"about {needed} points)")
+    w = grid.weights
+    basis = np.array([values * c**k for k in range(3)])
+    matrix = np.array([[np.sum(w * basis[j] * c**k) for j in range(3)] for k in range(3)])
     coefficients = np.linalg.solve(matrix, np.array([1.0, 0.0, 1.0]))
     return values * (coefficients[0] + coefficients[1] * c + coefficients[2] * c * c)
 
@@ -261,9 +451,12 @@ class _Compiled:
 
         def rhs(t, y, args):
             tables, c, h, density, exponent, lam = args
-            F = y[:-1]
             rate = density * jnp.exp(exponent * y[-1])  # n s^γ
-            dF, sigma = scheme.rescaled_rhs(F, tables, c, h, lam)
+            if "unit" in tables:  # a mapped grid: the unknown is unit · F (_unit)
+                dF, sigma = scheme.grid_rhs(y[:-1] / tables["unit"], tables, c, h, lam)
+                return jnp.concatenate([rate * dF * tables["unit"], (rate * sigma)[None]])
+            F = y[:-1]
+            dF, sigma = scheme.grid_rhs(F, tables, c, h, lam)
             return jnp.concatenate([rate * dF, (rate * sigma)[None]])
 
         def solve(y0, times, args, rtol, atol, max_steps):
@@ -277,15 +470,26 @@ class _Compiled:
         self.solve = jax.jit(solve, static_argnums=(5,))
         self.rhs = jax.jit(jax.vmap(lambda y, args: rhs(0.0, y, args), in_axes=(0, None)))
         self.steady = jax.jit(
-            lambda F, tables, c, h, lam: scheme.rescaled_rhs(F, tables, c, h, lam)[0])
+            lambda F, tables, c, h, lam: scheme.grid_rhs(F, tables, c, h, lam)[0])
         self.jacobian = jax.jit(jax.jacfwd(
-            lambda F, tables, c, h, lam: scheme.rescaled_rhs(F, tables, c, h, lam)[0]))
+            lambda F, tables, c, h, lam: scheme.grid_rhs(F, tables, c, h, lam)[0]))
 
     @classmethod
     def get(cls):
         if "functions" not in cls.cache:
             cls.cache["functions"] = cls()
         return cls.cache["functions"]
+
+
+def _unit(grid) -> np.ndarray:
+    """The scale of the time integrator's unknown on a grid: the integrator advances unit · F,
+    so that its absolute tolerance bounds each node's contribution to ⟨c⁴⟩ (ω (1 + c⁴) F in
+    units of the core spacing), not F itself: on a :class:`MappedGrid` a node at |c| ~ 10³
+    weighs ~10¹⁴ times more in ⟨c⁴⟩ than one in the core.  1 on the uniform grid."""
+    if isinstance(grid, MappedGrid):
+        c = grid.c
+        return grid.weights / grid.core_spacing * (1.0 + c**4)
+    return np.ones(grid.points)
 
 
 def tables_for(model: RelativeVelocityModel, grid: VelocityGrid):
@@ -296,7 +500,7 @@ def tables_for(model: RelativeVelocityModel, grid: VelocityGrid):
     ----------
     model : RelativeVelocityModel
         The kernel.
-    grid : VelocityGrid
+    grid : VelocityGrid or MappedGrid
         The grid.
 
     Returns
@@ -311,7 +515,12 @@ def tables_for(model: RelativeVelocityModel, grid: VelocityGrid):
 
     gamma = model.exponent
     kink = 0.0 if gamma in (0.0, 2.0) else -2.0 * float(zeta(-gamma))
-    tables = scheme.collision_tables(grid.c, model.complement, model.p, gamma, kink)
+    if isinstance(grid, MappedGrid):
+        tables = scheme.mapped_collision_tables(grid.c, grid.spacing, grid.position,
+                                                model.complement, model.p, gamma, kink)
+        tables["unit"] = _unit(grid)
+    else:
+        tables = scheme.collision_tables(grid.c, model.complement, model.p, gamma, kink)
     return {k: jnp.asarray(v) for k, v in tables.items()}
 
 
@@ -334,8 +543,9 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         n > 0, particles per unit length.
     initial : str or particles.initial.InitialLaw, default "gaussian"
         The initial law (zero mean, unit variance, with a CDF): ⟨v²⟩ = 1 at t = 0.
-    grid : VelocityGrid, optional
-        The grid of c; default :func:`default_grid`.
+    grid : VelocityGrid or MappedGrid, optional
+        The grid of c; default :func:`default_grid` (uniform).  A :class:`MappedGrid` for
+        γ = 0 only.
     rtol, atol : float
         Tolerances of the step-size controller (RMS norm over the grid and ln s).
     max_steps : int
@@ -349,13 +559,17 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
     Raises
     ------
     particles.validation.InvalidArgumentError
-        Naming ``restitution``, ``exponent``, ``density``, ``t``, ``initial``, ``points`` or
-        ``half_width`` for bad input (:func:`initial_values`), ``rtol`` or ``atol`` if not
-        positive.
+        Naming ``restitution``, ``exponent``, ``density``, ``t``, ``initial``, ``points``,
+        ``half_width`` or ``core_spacing`` for bad input (:func:`initial_values`), ``grid`` for
+        a :class:`MappedGrid` with γ > 0, ``rtol`` or ``atol`` if not positive.
     RuntimeError
         If the time integration fails (too many steps).
     """
     model = RelativeVelocityModel(restitution, exponent=exponent)
+    if isinstance(grid, MappedGrid) and model.exponent != 0.0:
+        raise InvalidArgumentError("grid", grid, "a uniform VelocityGrid for exponent="
+                                   f"{model.exponent:g} (the MappedGrid is for gamma = 0: at "
+                                   "gamma > 0 it can grow an oscillation at its ends)")
     n = check_density(density)
     times = check_times(t, "t", strictly=True)
     if times.size == 0 or times[0] < 0:
@@ -371,9 +585,10 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
     start = time.perf_counter()
     with jax.enable_x64(True):
         functions = _Compiled.get()
-        args = (tables_for(model, grid), jnp.asarray(grid.c), grid.h, n, model.exponent,
+        args = (tables_for(model, grid), jnp.asarray(grid.c), grid.step, n, model.exponent,
                 model.lam)
-        y0 = jnp.asarray(np.append(F0, 0.0))
+        unit = np.append(_unit(grid), 1.0)
+        y0 = jnp.asarray(np.append(F0, 0.0) * unit)
         ys, ok, steps = functions.solve(y0, jnp.asarray(_padded(times)), args, rtol, atol,
                                         int(max_steps))
         ys = np.asarray(ys)[:times.size]
@@ -381,13 +596,22 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
             raise RuntimeError(f"the time integration failed (steps: {int(steps)}, "
                                f"max_steps={max_steps})")
         rates = np.asarray(functions.rhs(jnp.asarray(ys), args))
+        if isinstance(grid, MappedGrid):
+            ys, rates = ys / unit, rates / unit
     seconds = time.perf_counter() - start
-    c, h = grid.c, grid.h
     F, log_s = ys[:, :-1], ys[:, -1]
     s2 = np.exp(2.0 * log_s)
-    # dE/dt = d(s² Σ h c² F)/dt = s² (Σ h c² dF/dt + 2 (d ln s/dt) Σ h c² F)
-    energy_rate = s2 * (h * rates[:, :-1] @ (c * c) + 2.0 * rates[:, -1] * (h * F @ (c * c)))
-    edge = h * np.max(np.abs(F[:, [0, 1, -2, -1]]), axis=1)
+    if isinstance(grid, MappedGrid):
+        c, w = grid.c, grid.weights
+        energy_rate = s2 * (rates[:, :-1] @ (w * c * c) + 2.0 * rates[:, -1] * (F @ (w * c * c)))
+        ends = [0, 1, -2, -1]
+        edge = np.max(np.abs(F[:, ends]) * w[ends], axis=1)
+    else:
+        c, h = grid.c, grid.h
+        # dE/dt = d(s² Σ h c² F)/dt = s² (Σ h c² dF/dt + 2 (d ln s/dt) Σ h c² F)
+        energy_rate = s2 * (h * rates[:, :-1] @ (c * c)
+                            + 2.0 * rates[:, -1] * (h * F @ (c * c)))
+        edge = h * np.max(np.abs(F[:, [0, 1, -2, -1]]), axis=1)
     return BoltzmannSolution(model.restitution, model.exponent, n, law.name, grid,
                              times, F, log_s, 0.0, energy_rate, edge, int(steps), seconds)
 
@@ -403,7 +627,7 @@ class BoltzmannSolution:
         r, γ and n (particles per unit length) of the solve.
     initial : str
         The initial law's name.
-    grid : VelocityGrid
+    grid : VelocityGrid or MappedGrid
         The grid of c.
     t : numpy.ndarray
         The saved physical times, shape (T,).
@@ -416,8 +640,9 @@ class BoltzmannSolution:
     energy_rate : numpy.ndarray
         d⟨v²⟩/dt of the discrete equation at each saved time, shape (T,).
     edge_mass : numpy.ndarray
-        Largest h|F| among the two outermost nodes on each side at each time, shape (T,): a
-        tail that reaches the grid's end shows here.
+        Largest ω|F| (ω = h, or the local spacing of a :class:`MappedGrid`) among the two
+        outermost nodes on each side at each time, shape (T,): a tail that reaches the grid's
+        end shows here.
     steps : int
         Time steps taken.
     seconds : float
@@ -504,8 +729,8 @@ class BoltzmannSolution:
         numpy.ndarray
             Shape (T, len(orders)).
         """
-        c, h = self.grid.c, self.grid.h
-        out = np.array([[h * (row @ c**k) for k in orders] for row in self.F])
+        c = self.grid.c
+        out = np.array([[_sum(self.grid, row, c**k) for k in orders] for row in self.F])
         return out * self.scale[:, None] ** np.asarray(orders)
 
     @property
@@ -541,10 +766,10 @@ class BoltzmannSolution:
             P(x), of the shape of ``x``.
         """
         k = self.time_index(t)
-        c, h = self.grid.c, self.grid.h
-        scale = math.sqrt(h * (self.F[k] @ (c * c)))
+        c = self.grid.c
+        scale = math.sqrt(_sum(self.grid, self.F[k], c * c))
         x = np.asarray(x, dtype=float)
-        return scale * _interpolate(self.F[k], c, x * scale)
+        return scale * _interpolate(self.F[k], self.grid, x * scale)
 
     def histogram(self, edges, t: float | None = None):
         """The solution's prediction on bins of x = (v − u)/√T as the
@@ -574,19 +799,24 @@ class BoltzmannSolution:
 
         edges = check_edges(edges)
         k = self.time_index(t)
-        c, h = self.grid.c, self.grid.h
-        scale = math.sqrt(h * (self.F[k] @ (c * c)))
-        prob = np.diff(_cumulative(self.F[k], c, edges * scale))
+        c = self.grid.c
+        scale = math.sqrt(_sum(self.grid, self.F[k], c * c))
+        prob = np.diff(_cumulative(self.F[k], self.grid, edges * scale))
         width = np.diff(edges)
         return Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), prob / width,
                          np.zeros(width.size), np.zeros(width.size, dtype=np.int64), 0,
                          float(self.scale[k] * scale))
 
 
-def _interpolate(values: np.ndarray, c: np.ndarray, x: np.ndarray, order: int = 6):
-    """Lagrange interpolation of order ``order`` of grid ``values`` at ``x`` (0 outside)."""
-    n, h = c.size, c[1] - c[0]
-    pos = (x - c[0]) / h
+def _interpolate(values: np.ndarray, grid, x: np.ndarray, order: int = 6):
+    """Lagrange interpolation of order ``order`` of grid ``values`` at ``x`` (0 outside), in
+    c on the uniform grid, in s on a mapped one."""
+    c = grid.c
+    n = c.size
+    if isinstance(grid, MappedGrid):
+        pos = grid.position(x)
+    else:
+        pos = (x - c[0]) / (c[1] - c[0])
     first = np.clip(np.floor(pos) - order // 2 + 1, 0, n - order).astype(int)
     u = pos - first
     out = np.zeros(x.shape)
@@ -599,10 +829,16 @@ def _interpolate(values: np.ndarray, c: np.ndarray, x: np.ndarray, order: int = 
     return np.where((pos >= 0) & (pos <= n - 1), out, 0.0)
 
 
-def _cumulative(values: np.ndarray, c: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """∫_{−L}^{x} of the cubic spline through the nodes (0 below the grid, the total above)."""
+def _cumulative(values: np.ndarray, grid, x: np.ndarray) -> np.ndarray:
+    """∫_{−L}^{x} of the cubic spline through the nodes (0 below the grid, the total above);
+    on a mapped grid the spline of F g′(s) in s, integrated in s."""
     from scipy.interpolate import CubicSpline
 
+    c = grid.c
+    if isinstance(grid, MappedGrid):
+        spline = CubicSpline(grid.s, values * grid.weights / grid.step)
+        s = np.clip(np.arcsinh(np.asarray(x, dtype=float) / grid.scale), grid.s[0], grid.s[-1])
+        return np.array([spline.integrate(grid.s[0], b) for b in s])
     spline = CubicSpline(c, values)
     x = np.clip(x, c[0], c[-1])
     return np.array([spline.integrate(c[0], b) for b in x])
@@ -610,6 +846,11 @@ def _cumulative(values: np.ndarray, c: np.ndarray, x: np.ndarray) -> np.ndarray:
 
 #: The default grid of :func:`scaling_state`: the hard-rod state at r = 0.5 has a kurtosis of
 #: 3.4831 and tails that reach past ±6 (121 points on ±12 and 161 on ±16 agree to 6e-8).
+#: Its spacing, 0.1, does not resolve the narrow humps near r = 1: at r = 0.99 the state
+#: undershoots to F ≈ −3e-4 between them and its kurtosis, 1.21439, is 2.5e-4 (relative) low.
+#: Measured at r = 0.99 (benchmarks/README.md): 241 points on ±6 (spacing 0.05): kurtosis
+#: 1.2146782, min F −1.6e-13 (481 on ±12 agree to 1e-11: ±6 is wide enough there); 361 on ±6
+#: (0.033): 1.2146864, min F −3e-18.  Near r = 1 pass ``grid=VelocityGrid(361, 6.0)``.
 SCALING_GRID = VelocityGrid(241, 12.0)
 
 
@@ -623,7 +864,7 @@ class ScalingState:
     ----------
     restitution, exponent : float
         r and γ.
-    grid : VelocityGrid
+    grid : VelocityGrid or MappedGrid
         The grid of c.
     F : numpy.ndarray
         Shape (N,): the state at the nodes.
@@ -660,7 +901,7 @@ class ScalingState:
             The moment (⟨c²⟩ = 1).
         """
         c = self.grid.c
-        return float(self.grid.h * (self.F @ c**order))
+        return float(_sum(self.grid, self.F, c**order))
 
     @property
     def kurtosis(self) -> float:
@@ -682,7 +923,7 @@ class ScalingState:
         """
         scale = math.sqrt(self.moment(2))
         x = np.asarray(x, dtype=float)
-        return scale * _interpolate(self.F, self.grid.c, x * scale)
+        return scale * _interpolate(self.F, self.grid, x * scale)
 
 
 def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None,
@@ -699,8 +940,10 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
     exponent : float, default 1.0
         γ of the rate.
     grid : VelocityGrid, optional
-        Default :data:`SCALING_GRID`; γ = 0 has no scaling state with finite kurtosis (its
-        tail is |x|⁻⁴) and is refused.
+        Default :data:`SCALING_GRID` (spacing 0.1: at r = 0.99 its kurtosis is 2.5e-4 low and
+        F undershoots to −3e-4 between the humps; 361 points on ±6 bring both to ~1e-6 and
+        −3e-18); γ = 0 has no scaling state with finite kurtosis (its tail is |x|⁻⁴) and is
+        refused.
     tolerance : float, default 1e-11
         Newton stops when max|residual| ≤ tolerance.
     max_iterations : int, default 30
@@ -717,7 +960,7 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
     ------
     particles.validation.InvalidArgumentError
         Naming ``restitution`` (r = 1 has no cooling state), ``exponent`` (γ = 0 or out of
-        range), ``points`` or ``half_width``.
+        range), ``points`` or ``half_width``; ``grid`` for a :class:`MappedGrid`.
     """
     model = RelativeVelocityModel(restitution, exponent=exponent)
     if model.restitution == 1.0:
@@ -728,6 +971,9 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
                                    "gamma > 0 (the Maxwell model's scaling state has an x^-4 "
                                    "tail and no finite kurtosis: use fixed-point --rate "
                                    "constant)")
+    if isinstance(grid, MappedGrid):
+        raise InvalidArgumentError("grid", grid, "a uniform VelocityGrid (the MappedGrid is "
+                                   "for gamma = 0, which has no scaling state)")
     grid = SCALING_GRID if grid is None else grid
     F0 = initial_values("gaussian", grid)
     if relaxation is None:
@@ -736,7 +982,7 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
     import jax.numpy as jnp
 
     start = time.perf_counter()
-    c, h = grid.c, grid.h
+    c, h = grid.c, grid.step
     with jax.enable_x64(True):
         functions = _Compiled.get()
         tables = tables_for(model, grid)

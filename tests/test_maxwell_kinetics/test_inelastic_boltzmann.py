@@ -15,6 +15,7 @@ from helpers import run_error
 
 from maxwell_kinetics.app.cli import main
 from maxwell_kinetics.inelastic_boltzmann import (
+    MappedGrid,
     VelocityGrid,
     scaling_state,
     solve_boltzmann,
@@ -125,6 +126,45 @@ def test_gamma_zero_has_the_maxwell_models_kurtosis():
     np.testing.assert_allclose(sol.energy, np.exp(-2 * (3 / 16) * sol.t), rtol=1e-10)
 
 
+def test_a_mapped_grid_conserves_and_keeps_the_energy_identity():
+    # gamma = 0 from the asymmetric law on c = a sinh(s): the same exact identities with the
+    # mapped trapezoid weights (an independent double sum over the solution's own f)
+    grid = MappedGrid(61, 30.0, 0.2)
+    sol = solve_boltzmann(0.8, [0.5, 2.0], exponent=0.0, density=2.0, initial=ASYMMETRIC,
+                          grid=grid, rtol=1e-9)
+    lam = (1 - 0.8**2) / 4
+    for t, rate in zip(sol.t, sol.energy_rate, strict=True):
+        v, f = sol.velocity_density(t)
+        dv = grid.weights * sol.scale[sol.time_index(t)]
+        assert abs(dv @ f - 1.0) <= 1e-12 and abs(dv @ (f * v)) <= 1e-12
+        g2 = np.sum(np.outer(dv * f, dv * f) * (v[:, None] - v[None, :]) ** 2)
+        assert rate == pytest.approx(-lam * 2.0 * g2, rel=1e-8)
+    with pytest.raises(InvalidArgumentError, match="grid=.*exponent=1"):
+        solve_boltzmann(0.8, [0.5], grid=grid)
+
+
+def test_a_mapped_grid_follows_the_maxwell_models_tail():
+    # gamma = 0, r = 1/2 at tau = 10: the kurtosis -3 + 6 e^{9 tau/128} = 9.12 has 6 % of its
+    # fourth moment beyond |x| = 10 and reaches |x| ~ 100, which 161 uniform points cannot hold
+    # at a core spacing of 0.1.  The tolerance is this grid's discretisation error, measured
+    # -4.6e-6 (it falls to -7.6e-7 at 201 points, core 0.08; 561 points on +-2e5 reach 1.2e-8
+    # at tau = 10 and 5.5e-8 at tau = 50 in benchmarks/hard_rods.py mapped)
+    sol = solve_boltzmann(0.5, [10.0], exponent=0.0, grid=MappedGrid(161, 1000.0, 0.1))
+    exact = -3 + 6 * np.exp(9 * sol.t / 128)
+    np.testing.assert_allclose(sol.kurtosis, exact, rtol=1e-5)
+    np.testing.assert_allclose(sol.energy, np.exp(-2 * (3 / 16) * sol.t), rtol=1e-10)
+    assert np.max(sol.edge_mass) < 1e-20
+
+
+def test_the_mapped_grid_refuses_a_core_coarser_than_the_uniform_grid():
+    with pytest.raises(InvalidArgumentError, match="core_spacing=0.5"):
+        MappedGrid(101, 10.0, 0.5)
+    with pytest.raises(InvalidArgumentError, match="core_spacing=0.3"):
+        solve_boltzmann(0.5, [1.0], exponent=0.0, grid=MappedGrid(101, 100.0, 0.3))
+    with pytest.raises(InvalidArgumentError, match="grid="):
+        scaling_state(0.9, grid=MappedGrid(101, 100.0, 0.2))
+
+
 def test_the_hard_rod_scaling_state_has_two_humps_and_is_stationary():
     # stationary: the residual of the rescaled equation Q_h(F) + sigma' d(cF)/dc at the state
     state = scaling_state(0.9, grid=VelocityGrid(61, 6.0), relaxation=20.0)
@@ -153,6 +193,13 @@ def test_the_histogram_integrates_to_one_and_matches_the_density(rods):
     (["--rate", "relative_velocity", "--t", "1", "--points", "31"], "at least 49 points"),
     (["--rate", "relative_velocity", "--t", "1", "--half-width", "4"], "--half-width >= "),
     (["--rate", "relative_velocity", "--t", "1", "--initial", "uniform"], "about 801 points"),
+    (["--rate", "relative_velocity", "--t", "1", "--core-spacing", "x"], "core-spacing='x'"),
+    (["--rate", "relative_velocity", "--t", "1", "--core-spacing", "0.05"], "--exponent 0"),
+    (["--rate", "relative_velocity", "--t", "1", "--exponent", "0", "--core-spacing", "0.3"],
+     "core-spacing=0.3"),  # the default 401 points on +-40 are finer than 0.3
+    (["--rate", "relative_velocity", "--t", "1", "--exponent", "0", "--points", "101",
+      "--half-width", "100", "--core-spacing", "0.5"], "core-spacing=0.5"),
+    (["--core-spacing", "0.1", "--tau", "1"], "core-spacing='0.1'"),
 ])
 def test_bad_input_is_refused_naming_the_argument(capsys, tmp_path, argv, needle):
     err = run_error(capsys, ["solve", "-r", "0.9", *argv, "--json"])
@@ -173,3 +220,15 @@ def test_the_commands_print_energy_and_kurtosis(capsys):
     out = json.loads(capsys.readouterr().out)
     assert out["t"] == [0.0, 1.0] and out["energy"][0] == pytest.approx(1.0, rel=1e-12)
     assert out["kurtosis"][0] == pytest.approx(3.0, rel=1e-6) and out["energy"][1] < 1.0
+
+
+def test_solve_takes_a_mapped_grid_for_gamma_zero(capsys):
+    # the grid of test_a_mapped_grid_conserves_and_keeps_the_energy_identity; gamma = 0 at
+    # density 1: <v^2> = exp(-2 lambda t) exactly, lambda = (1 - r^2)/4
+    assert main(["solve", "-r", "0.8", "--rate", "relative_velocity", "--exponent", "0",
+                 "--t", "0,0.5", "--points", "61", "--half-width", "30", "--core-spacing",
+                 "0.2", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["core_spacing"] == 0.2 and out["points"] == 61
+    np.testing.assert_allclose(out["energy"], np.exp(-2 * 0.09 * np.array([0.0, 0.5])),
+                               rtol=1e-10)

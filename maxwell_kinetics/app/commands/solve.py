@@ -56,6 +56,11 @@ def add_parser(subparsers) -> None:
     p.add_argument("--half-width", default=None,
                    help="--rate relative_velocity: grid half-width in units of the standard "
                    "deviation (default 6, 40 for gamma = 0)")
+    p.add_argument("--core-spacing", default=None,
+                   help="--rate relative_velocity: a mapped grid c = a sinh(s), fine in the "
+                   "core and wide in the tails: its spacing at c = 0 (below the uniform "
+                   "spacing 2 half-width/(points - 1)); with --exponent 0 only, whose "
+                   "|x|^-4 tail outgrows a uniform grid")
     p.add_argument("--q", default="0.5,1,2,5", help="comma-separated q at which to report G")
     p.add_argument("--speed", default=None,
                    help="comma-separated speeds |v|/v0 >= 0 at which to report the density of "
@@ -115,7 +120,8 @@ def _library_error(exc: InvalidArgumentError, typed: dict) -> InvalidArgumentErr
 #: The values of ``--rate``.
 RATES = ("constant", "relative_velocity")
 #: The options of ``--rate relative_velocity`` alone.
-RELATIVE_VELOCITY_OPTIONS = ("t", "density", "exponent", "points", "half_width")
+RELATIVE_VELOCITY_OPTIONS = ("t", "density", "exponent", "points", "half_width",
+                             "core_spacing")
 
 
 def _run(args, written: list) -> int:
@@ -255,7 +261,13 @@ def _run_relative_velocity(args, written: list) -> int:
     from particles.parsing import parse_int
     from particles.validation import check_real
 
-    from ...inelastic_boltzmann import VelocityGrid, default_grid, initial_values, solve_boltzmann
+    from ...inelastic_boltzmann import (
+        MappedGrid,
+        VelocityGrid,
+        default_grid,
+        initial_values,
+        solve_boltzmann,
+    )
     from ...model import RelativeVelocityModel
 
     if args.tau is not None:
@@ -287,11 +299,19 @@ def _run_relative_velocity(args, written: list) -> int:
     points = grid.points if args.points is None else parse_int(args.points, "points")
     half_width = (grid.half_width if args.half_width is None
                   else _number(args.half_width, "half-width", check_real))
+    core = (None if args.core_spacing is None
+            else _number(args.core_spacing, "core-spacing", check_real))
+    if core is not None and model.exponent != 0.0:
+        raise InvalidArgumentError("core-spacing", args.core_spacing,
+                                   "--core-spacing (a mapped grid) with --exponent 0 only "
+                                   f"(here gamma = {model.exponent:g}: use the uniform grid)")
     try:
-        grid = VelocityGrid(points, half_width)
+        grid = (VelocityGrid(points, half_width) if core is None
+                else MappedGrid(points, half_width, core))
         initial_values(args.initial, grid)  # the grid against the law, before the solve
     except InvalidArgumentError as exc:
-        name = {"half_width": "half-width"}.get(exc.name, exc.name)
+        name = {"half_width": "half-width", "core_spacing": "core-spacing"}.get(exc.name,
+                                                                              exc.name)
         raise InvalidArgumentError(name, exc.value, exc.expected.replace(
             "half_width >=", "--half-width >=")) from None
     sol = solve_boltzmann(model.restitution, times, exponent=model.exponent, density=density,
@@ -307,6 +327,7 @@ def _run_relative_velocity(args, written: list) -> int:
             "initial": sol.initial,
             "points": grid.points,
             "half_width": grid.half_width,
+            "core_spacing": None if core is None else grid.core_spacing,
             "t": sol.t.tolist(),
             "energy": sol.energy.tolist(),
             "kurtosis": kurtosis.tolist(),
@@ -317,8 +338,9 @@ def _run_relative_velocity(args, written: list) -> int:
         })
         return 0
     print(f"r = {model.restitution:g}, rate n|v - w|^{model.exponent:g}, n = {density:g}, "
-          f"initial {sol.initial}, grid {grid.points} points on +-{grid.half_width:g}, "
-          f"{sol.seconds:.2f} s")
+          f"initial {sol.initial}, grid {grid.points} points on +-{grid.half_width:g}"
+          + ("" if core is None else f" (mapped, core spacing {grid.core_spacing:g})")
+          + f", {sol.seconds:.2f} s")
     for t, energy, kurt in zip(sol.t, sol.energy, kurtosis, strict=True):
         print(f"  t = {t:<10g} <v^2> = {energy:.10g}   kurtosis {kurt:.10g}")
     return 0
