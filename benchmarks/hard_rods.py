@@ -17,7 +17,8 @@ import math
 import sys
 import time
 
-from maxwell_kinetics.inelastic_boltzmann import MappedGrid, VelocityGrid, solve_boltzmann
+from maxwell_kinetics.inelastic_boltzmann import solve_boltzmann
+from maxwell_kinetics.velocity_grid import MappedGrid, VelocityGrid
 
 
 def convergence(points=(61, 81, 121, 161, 201, 241), half_width=6.0):

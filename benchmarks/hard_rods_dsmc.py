@@ -39,7 +39,8 @@ from pathlib import Path
 
 import numpy as np
 
-from maxwell_kinetics.inelastic_boltzmann import VelocityGrid, scaling_state, solve_boltzmann
+from maxwell_kinetics.inelastic_boltzmann import scaling_state, solve_boltzmann
+from maxwell_kinetics.velocity_grid import VelocityGrid
 from particles.driver import simulate
 from particles.models import get_model
 from particles.observables import Histogram, rescaled_histogram

@@ -228,7 +228,7 @@ def rescaled_rhs(F, tables, c, h, lam):
 
 
 # ---------------------------------------------------------------------------------------------
-# The mapped grid c_i = g(s_i) on a uniform grid s_i of step h_s (inelastic_boltzmann.MappedGrid)
+# The mapped grid c_i = g(s_i) on a uniform grid s_i of step h_s (velocity_grid.MappedGrid)
 #
 # Quadrature: the trapezoid rule in s, weights ω_i = g′(s_i) h_s (the local spacing).  F at the
 # partners' velocities by Lagrange interpolation in s (MAPPED_INTERPOLATION_POINTS).  The gain

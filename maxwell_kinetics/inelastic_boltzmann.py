@@ -12,7 +12,7 @@ d⟨v²⟩/dt = −λ n ⟨|v − w|^{γ+2}⟩, λ = (1 − r²)/4.
 
 Method.  The unknown is F(c, t) = s f(u + s c, t), the law of the rescaled velocity
 c = (v − u)/s(t) about the conserved mean u, on a uniform grid c_i = (i − (N − 1)/2) h of
-half-width L (:class:`VelocityGrid`).  In c the equation reads
+half-width L (:class:`maxwell_kinetics.velocity_grid.VelocityGrid`).  In c the equation reads
 
     ∂_t F = n s^γ [Q_γ(F, F) + σ′ ∂_c(c F)],    d ln s/dt = n s^γ σ′,
 
@@ -33,15 +33,16 @@ correction otherwise (γ = 1: O(h⁴)); dilation O(h⁸).  Measured (benchmarks/
 
 Grid.  The initial law is sampled at the nodes (the derivative of its CDF, sixth order), then
 multiplied by 1 + a + b c + d c² with the three numbers that make the discrete mass 1, mean 0
-and ⟨c²⟩ 1.  A grid whose extent leaves more than :data:`EXTENT_TOLERANCE` of the law's mass
-outside, or whose raw moments are off by more than :data:`RESOLUTION_TOLERANCE`, is refused
-with the size needed.  The grid cannot follow a tail that outgrows it (γ = 0, whose scaling
-state has an |x|⁻⁴ tail): the solution records the largest mass fraction found in the two
-outermost cells (:attr:`BoltzmannSolution.edge_mass`).  For such tails a
-:class:`MappedGrid` c = a sinh(s) keeps the core spacing and reaches |c| of thousands with a
-few hundred points (trapezoid weights g′(s) h_s, interpolation in s, the dilation
-(1/g′) ∂_s(c F) in flux form, the same exact corrections with the mapped weights); the uniform
-grid stays the default.
+and ⟨c²⟩ 1.  A grid whose extent leaves more than
+:data:`~maxwell_kinetics.velocity_grid.EXTENT_TOLERANCE` of the law's mass outside, or whose raw
+moments are off by more than :data:`maxwell_kinetics.velocity_grid.RESOLUTION_TOLERANCE`, is refused
+with the size needed.  The grid cannot follow a tail that outgrows it (γ = 0, whose scaling state
+has an |x|⁻⁴ tail): the solution records the largest mass fraction found in the two outermost cells
+(:attr:`BoltzmannSolution.edge_mass`).  For such tails a
+:class:`maxwell_kinetics.velocity_grid.MappedGrid` c = a sinh(s) keeps the core spacing and reaches
+|c| of thousands with a few hundred points (trapezoid weights g′(s) h_s, interpolation in s, the
+dilation (1/g′) ∂_s(c F) in flux form, the same exact corrections with the mapped weights); the
+uniform grid stays the default.
 
 Every JAX call runs inside ``jax.enable_x64(True)`` (thread-local; the caller's setting is
 restored).
@@ -55,360 +56,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from particles.initial import InitialLaw, get_law
+from particles.initial import get_law
 from particles.validation import (
     InvalidArgumentError,
-    check_count,
     check_positive,
     check_times,
 )
 
+from . import velocity_grid as _grid
 from .model import RelativeVelocityModel
 
-__all__ = ["VelocityGrid", "MappedGrid", "default_grid", "solve_boltzmann", "BoltzmannSolution",
-           "scaling_state", "ScalingState", "SCALING_GRID",
-           "EXTENT_TOLERANCE", "RESOLUTION_TOLERANCE"]
-
-#: Largest mass fraction of the initial law that may lie outside the grid (its moments of order
-#: ≤ 6 then change by less than ~1e-6; the nodes inside are renormalised).
-EXTENT_TOLERANCE = 1e-8
-#: Largest relative error of the grid's raw mass and variance of the initial law (before the
-#: correction that makes them exact): a larger one means the spacing does not resolve the law.
-RESOLUTION_TOLERANCE = 1e-3
-#: Largest grid spacing h, in units of the initial standard deviation (hard rods, r = 0.99,
-#: t = 400: h = 0.2 errs by 3.6e-4 in the kurtosis, benchmarks/README.md).
-MAX_SPACING = 0.25
-#: Most grid points (the collision tables hold N² M numbers).
-MAX_POINTS = 1601
-
-
-@dataclass(frozen=True)
-class VelocityGrid:
-    """A uniform grid of the rescaled velocity c = (v − u)/s on [−half_width, half_width].
-
-    Attributes
-    ----------
-    points : int
-        Number N of nodes (odd N puts a node at c = 0), 8 ≤ N ≤ ``MAX_POINTS``.
-    half_width : float
-        L > 0: the nodes are c_i = −L + i h, h = 2L/(N − 1), in units of the standard deviation.
-
-    Raises
-    ------
-    particles.validation.InvalidArgumentError
-        Naming ``points`` or ``half_width`` for a value out of range.
-    """
-
-    points: int
-    half_width: float
-
-    def __post_init__(self):
-        n = check_count(self.points, "points", 8)
-        if n > MAX_POINTS:
-            raise InvalidArgumentError("points", self.points,
-                                       f"at most {MAX_POINTS} grid points (the collision "
-                                       "tables grow as points squared)")
-        object.__setattr__(self, "points", n)
-        object.__setattr__(self, "half_width", check_positive(self.half_width, "half_width"))
-
-    @property
-    def c(self) -> np.ndarray:
-        """The nodes c_i, shape (N,)."""
-        return np.linspace(-self.half_width, self.half_width, self.points)
-
-    @property
-    def h(self) -> float:
-        """The spacing 2L/(N − 1)."""
-        return 2.0 * self.half_width / (self.points - 1)
-
-    @property
-    def step(self) -> float:
-        """The spacing h (the step of the uniform variable of the scheme)."""
-        return self.h
-
-    @property
-    def weights(self) -> np.ndarray:
-        """The trapezoid weights: h at every node, shape (N,)."""
-        return np.full(self.points, self.h)
-
-
-@dataclass(frozen=True)
-class MappedGrid:
-    """A non-uniform grid of the rescaled velocity, fine in the core and wide in the tails:
-    c = a sinh(s) on the uniform grid s_i = −S + i h_s, i = 0 … N − 1, h_s = 2S/(N − 1).
-
-    The map's two numbers follow from the requested extent and core spacing:
-    a sinh(S) = half_width and a h_s = core_spacing (the spacing at c = 0), i.e.
-    sinh(S)/S = 2 half_width/(core_spacing (N − 1)).  The local spacing is
-    ω(c) = h_s √(a² + c²): ≈ core_spacing for |c| ≪ a, ≈ h_s |c| (a fixed relative spacing h_s)
-    for |c| ≫ a, the shape an algebraic tail such as the |x|⁻⁴ of the Maxwell model needs.
-    Integrals are the trapezoid rule in s (weights ω_i = ω(c_i), :attr:`weights`); the
-    solver interpolates in s (:mod:`maxwell_kinetics._boltzmann_scheme`).  All velocities are
-    in units of the standard deviation of c (the grid's ⟨c²⟩ = 1).
-
-    For γ = 0 only (:func:`solve_boltzmann` refuses it otherwise, naming ``grid``): every
-    integrand is then smooth in s, the trapezoid rule spectral, the interpolation (10 points)
-    O(h_s¹⁰) and the dilation O(h_s⁸).  Measured (benchmarks/README.md, ``hard_rods.py
-    mapped``): r = 0.5, 561 points on ±2·10⁵, core spacing 0.07: the kurtosis at τ = 10 and 50
-    within 1.2e-8 and 5.5e-8 (relative) of −3 + 6e^{9τ/128}, P(x) within 1.1e-7 of the Fourier
-    solver.  For hard rods (γ = 1; the kink at v = w corrected with the local spacing) the
-    mapped grid converged on some sizes (r = 0.8, t = 2, ±12: the kurtosis within 4.5e-7 at 81
-    points, 2.3e-8 at 161 of a fine uniform grid) but grew a grid-scale oscillation at the
-    grid's ends on others (41 and 121 points: kurtosis 3.16 and 98.8 instead of 2.85); until
-    that is understood, γ > 0 keeps the uniform grid.  At γ = 0 on the same map (r = 0.8,
-    t = 2) the kurtosis errs by 0.063, 1.7e-5, 2.9e-8, −3.5e-9 and −4.0e-10 at 41, 61, 81, 121
-    and 161 points; the 41-point grid, too coarse in its tails, shows it in
-    :attr:`BoltzmannSolution.edge_mass`.
-
-    Attributes
-    ----------
-    points : int
-        N, odd or even, 8 ≤ N ≤ ``MAX_POINTS``.
-    half_width : float
-        L > 0: the outermost nodes are ±L.
-    core_spacing : float
-        The spacing at c = 0, > 0 and below the uniform spacing 2L/(N − 1) (else the uniform
-        :class:`VelocityGrid` is the right grid).
-
-    Raises
-    ------
-    particles.validation.InvalidArgumentError
-        Naming ``points``, ``half_width`` or ``core_spacing`` for a value out of range.
-    """
-
-    points: int
-    half_width: float
-    core_spacing: float
-    scale: float = field(init=False, repr=False)
-    s_max: float = field(init=False, repr=False)
-
-    def __post_init__(self):
-        n = VelocityGrid(self.points, self.half_width).points  # the same checks
-        object.__setattr__(self, "points", n)
-        L = check_positive(self.half_width, "half_width")
-        object.__setattr__(self, "half_width", L)
-        h0 = check_positive(self.core_spacing, "core_spacing")
-        object.__setattr__(self, "core_spacing", h0)
-        ratio = 2.0 * L / (h0 * (n - 1))
-        if not ratio > 1.0 + 1e-9:
-            raise InvalidArgumentError(
-                "core_spacing", self.core_spacing,
-                f"a core spacing below the uniform spacing 2 half_width/(points - 1) = "
-                f"{2.0 * L / (n - 1):.6g} (else use the uniform VelocityGrid)")
-        lo, hi = 0.0, max(1.0, math.log(4.0 * ratio) + math.log(math.log(4.0 * ratio) + 1.0))
-        while math.sinh(hi) / hi < ratio:
-            hi *= 2.0
-        for _ in range(200):  # bisection on sinh(S)/S = ratio (increasing in S)
-            mid = 0.5 * (lo + hi)
-            if mid == 0.0 or math.sinh(mid) / mid < ratio:
-                lo = mid
-            else:
-                hi = mid
-        S = 0.5 * (lo + hi)
-        object.__setattr__(self, "s_max", S)
-        object.__setattr__(self, "scale", L / math.sinh(S))
-
-    @property
-    def step(self) -> float:
-        """h_s = 2S/(N − 1), the step of the uniform variable s."""
-        return 2.0 * self.s_max / (self.points - 1)
-
-    @property
-    def s(self) -> np.ndarray:
-        """The uniform nodes s_i, shape (N,)."""
-        return np.linspace(-self.s_max, self.s_max, self.points)
-
-    @property
-    def c(self) -> np.ndarray:
-        """The nodes c_i = a sinh(s_i), shape (N,)."""
-        return self.scale * np.sinh(self.s)
-
-    def spacing(self, x) -> np.ndarray:
-        """The local spacing ω(x) = g′(s(x)) h_s = h_s √(a² + x²).
-
-        Parameters
-        ----------
-        x : array_like
-            Velocities c (units of the standard deviation).
-
-        Returns
-        -------
-        numpy.ndarray
-            ω(x), of the shape of ``x``.
-        """
-        x = np.asarray(x, dtype=float)
-        return self.step * np.sqrt(self.scale**2 + x * x)
-
-    def position(self, x) -> np.ndarray:
-        """Velocities in units of node index: (asinh(x/a) + S)/h_s (node i at i).
-
-        Parameters
-        ----------
-        x : array_like
-            Velocities c.
-
-        Returns
-        -------
-        numpy.ndarray
-            The fractional index, of the shape of ``x``.
-        """
-        return (np.arcsinh(np.asarray(x, dtype=float) / self.scale) + self.s_max) / self.step
-
-    @property
-    def weights(self) -> np.ndarray:
-        """The trapezoid weights ω_i = g′(s_i) h_s, shape (N,)."""
-        return self.spacing(self.c)
-
-
-def _sum(grid, values: np.ndarray, g: np.ndarray):
-    """Σ ω_i values_i g_i (the trapezoid rule): h (values @ g) on the uniform grid."""
-    if isinstance(grid, MappedGrid):
-        return (values * grid.weights) @ g
-    return grid.h * (values @ g)
-
-
-def default_grid(exponent: float) -> VelocityGrid:
-    """The grid used when none is given: 201 points on [−6, 6] for γ > 0 (hard rods: the
-    kurtosis at t = 400, r = 0.99 converged to ~1e-6, benchmarks/README.md); 401 points on
-    [−40, 40] for γ = 0, whose |x|⁻⁴ tail needs a wide grid.
-
-    Parameters
-    ----------
-    exponent : float
-        γ of the rate.
-
-    Returns
-    -------
-    VelocityGrid
-        The grid.
-    """
-    if exponent == 0.0:
-        return VelocityGrid(401, 40.0)
-    return VelocityGrid(201, 6.0)
-
-
-def _density_at(law: InitialLaw, v: np.ndarray) -> np.ndarray:
-    """The law's density at ``v``: the sixth-order central difference of its CDF, step 0.01."""
-    d = 0.01
-    F = law.cdf
-    diff = [F(v + k * d) - F(v - k * d) for k in (1, 2, 3)]
-    return (45.0 * diff[0] - 9.0 * diff[1] + diff[2]) / (60.0 * d)
-
-
-def _raw_moments(values: np.ndarray, c: np.ndarray, h: float) -> np.ndarray:
-    return np.array([h * np.sum(values * c**k) for k in range(3)])
-
-
-def initial_values(law, grid: VelocityGrid) -> np.ndarray:
-    """The initial law on the grid: unit mass, zero mean and unit ⟨c²⟩ exactly (module
-    docstring).
-
-    Parameters
-    ----------
-    law : str or particles.initial.InitialLaw
-        A built-in law's name or a law with a CDF (zero mean, unit variance).
-    grid : VelocityGrid or MappedGrid
-        The grid.
-
-    Returns
-    -------
-    numpy.ndarray
-        F(c_i, 0), shape (N,).
-
-    Raises
-    ------
-    particles.validation.InvalidArgumentError
-        Naming ``initial`` for a law without a CDF; ``half_width`` when more than
-        :data:`EXTENT_TOLERANCE` of the mass lies outside the grid, ``points`` when the spacing
-        exceeds :data:`MAX_SPACING` or does not resolve the law (:data:`RESOLUTION_TOLERANCE`);
-        both with the size needed.  On a :class:`MappedGrid`: ``core_spacing`` above
-        :data:`MAX_SPACING`, ``points`` when the mapped weights do not resolve the law.
-    """
-    law = get_law(law)
-    if law.distribution is None:
-        raise InvalidArgumentError("initial", law.name, "a law with a known CDF (the velocity-"
-                                   "space solver samples its density)")
-    L = grid.half_width
-    outside = float(law.cdf(np.array([-L]))[0] + 1.0 - law.cdf(np.array([L]))[0])
-    if not outside <= EXTENT_TOLERANCE:
-        needed = L
-        while needed < 1e6 and not (law.cdf(np.array([-needed]))[0]
-                                    + 1.0 - law.cdf(np.array([needed]))[0]) <= EXTENT_TOLERANCE:
-            needed *= 1.25
-        raise InvalidArgumentError(
-            "half_width", L, f"a grid that holds the initial law {law.name!r} (a fraction "
-            f"{outside:.3g} of its mass lies outside [-{L:g}, {L:g}]; at most "
-            f"{EXTENT_TOLERANCE:g}: half_width >= {needed:.3g})")
-
-    if isinstance(grid, MappedGrid):
-        return _mapped_initial_values(law, grid)
-
-    def defect(points: int) -> float:
-        g = VelocityGrid(points, L) if points <= MAX_POINTS else None
-        c = g.c if g else np.linspace(-L, L, points)
-        h = 2.0 * L / (points - 1)
-        m = _raw_moments(_density_at(law, c), c, h)
-        return max(abs(m[0] - 1.0), abs(m[1]), abs(m[2] - 1.0))
-
-    if grid.h > MAX_SPACING:
-        needed = math.ceil(2.0 * L / MAX_SPACING) + 1
-        raise InvalidArgumentError(
-            "points", grid.points, f"a spacing 2 half_width/(points - 1) <= {MAX_SPACING:g} "
-            f"(it is {grid.h:.3g} on [-{L:g}, {L:g}]): at least {needed} points")
-    found = defect(grid.points)
-    if not found <= RESOLUTION_TOLERANCE:
-        needed = grid.points
-        while needed < 10**6 and not defect(needed) <= RESOLUTION_TOLERANCE:
-            needed = 2 * needed - 1
-        raise InvalidArgumentError(
-            "points", grid.points, f"a grid fine enough for the initial law {law.name!r} (its "
-            f"mass, mean or variance on {grid.points} points on [-{L:g}, {L:g}] is off by "
-            f"{found:.3g}; at most {RESOLUTION_TOLERANCE:g}: about {needed} points)")
-    c, h = grid.c, grid.h
-    values = _density_at(law, c)
-    # F (1 + a + b c + d c²) with unit mass, zero mean and unit second moment
-    basis = np.array([values * c**k for k in range(3)])
-    matrix = h * np.array([[np.sum(basis[j] * c**k) for j in range(3)] for k in range(3)])
-    coefficients = np.linalg.solve(matrix, np.array([1.0, 0.0, 1.0]))
-    return values * (coefficients[0] + coefficients[1] * c + coefficients[2] * c * c)
-
-
-def _mapped_initial_values(law: InitialLaw, grid: MappedGrid) -> np.ndarray:
-    """:func:`initial_values` on a mapped grid (the extent already checked)."""
-    if grid.core_spacing > MAX_SPACING:
-        raise InvalidArgumentError(
-            "core_spacing", grid.core_spacing, f"a core spacing <= {MAX_SPACING:g}")
-
-    def raw(g: MappedGrid) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        c, w = g.c, g.weights
-        values = _density_at(law, c)
-        return values, c, np.array([(values * w) @ c**k for k in range(3)])
-
-    values, c, m = raw(grid)
-    found = max(abs(m[0] - 1.0), abs(m[1]), abs(m[2] - 1.0))
-    if not found <= RESOLUTION_TOLERANCE:
-        needed = grid.points
-        while needed <= MAX_POINTS:
-            needed = 2 * needed - 1
-            try:
-                finer = MappedGrid(needed, grid.half_width, grid.core_spacing)
-            except InvalidArgumentError:
-                break
-            m2 = raw(finer)[2]
-            if max(abs(m2[0] - 1.0), abs(m2[1]), abs(m2[2] - 1.0)) <= RESOLUTION_TOLERANCE:
-                break
-        raise InvalidArgumentError(
-            "points", grid.points, f"a grid fine enough for the initial law {law.name!r} (its "
-            f"mass, mean or variance on the mapped grid of {grid.points} points on "
-            f"[-{grid.half_width:g}, {grid.half_width:g}], core spacing "
-            f"{grid.core_spacing:g}, is off by {found:.3g}; at most {RESOLUTION_TOLERANCE:g}: "
-            f"about {needed} points)")
-    w = grid.weights
-    basis = np.array([values * c**k for k in range(3)])
-    matrix = np.array([[np.sum(w * basis[j] * c**k) for j in range(3)] for k in range(3)])
-    coefficients = np.linalg.solve(matrix, np.array([1.0, 0.0, 1.0]))
-    return values * (coefficients[0] + coefficients[1] * c + coefficients[2] * c * c)
-
+__all__ = ["solve_boltzmann", "BoltzmannSolution", "scaling_state", "ScalingState",
+           "SCALING_GRID"]
 
 def check_density(density) -> float:
     """The density n: a finite number > 0.
@@ -484,15 +143,16 @@ class _Compiled:
 def _unit(grid) -> np.ndarray:
     """The scale of the time integrator's unknown on a grid: the integrator advances unit · F,
     so that its absolute tolerance bounds each node's contribution to ⟨c⁴⟩ (ω (1 + c⁴) F in
-    units of the core spacing), not F itself: on a :class:`MappedGrid` a node at |c| ~ 10³
-    weighs ~10¹⁴ times more in ⟨c⁴⟩ than one in the core.  1 on the uniform grid."""
-    if isinstance(grid, MappedGrid):
+    units of the core spacing), not F itself: on a
+    :class:`maxwell_kinetics.velocity_grid.MappedGrid` a node at |c| ~ 10³ weighs ~10¹⁴ times more
+    in ⟨c⁴⟩ than one in the core.  1 on the uniform grid."""
+    if isinstance(grid, _grid.MappedGrid):
         c = grid.c
         return grid.weights / grid.core_spacing * (1.0 + c**4)
     return np.ones(grid.points)
 
 
-def tables_for(model: RelativeVelocityModel, grid: VelocityGrid):
+def tables_for(model: RelativeVelocityModel, grid: _grid.VelocityGrid):
     """The collision tables of ``model`` on ``grid`` as JAX float64 arrays (call inside
     ``jax.enable_x64(True)``).
 
@@ -500,7 +160,7 @@ def tables_for(model: RelativeVelocityModel, grid: VelocityGrid):
     ----------
     model : RelativeVelocityModel
         The kernel.
-    grid : VelocityGrid or MappedGrid
+    grid : _grid.VelocityGrid or _grid.MappedGrid
         The grid.
 
     Returns
@@ -515,7 +175,7 @@ def tables_for(model: RelativeVelocityModel, grid: VelocityGrid):
 
     gamma = model.exponent
     kink = 0.0 if gamma in (0.0, 2.0) else -2.0 * float(zeta(-gamma))
-    if isinstance(grid, MappedGrid):
+    if isinstance(grid, _grid.MappedGrid):
         tables = scheme.mapped_collision_tables(grid.c, grid.spacing, grid.position,
                                                 model.complement, model.p, gamma, kink)
         tables["unit"] = _unit(grid)
@@ -525,7 +185,7 @@ def tables_for(model: RelativeVelocityModel, grid: VelocityGrid):
 
 
 def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gaussian",
-                    grid: VelocityGrid | None = None, rtol: float = 1e-10,
+                    grid: _grid.VelocityGrid | None = None, rtol: float = 1e-10,
                     atol: float = 1e-13, max_steps: int = 1_000_000) -> BoltzmannSolution:
     """Solve the homogeneous 1D inelastic Boltzmann equation with rate n|v − w|^γ from an
     initial law to the times ``t`` (module docstring).
@@ -543,9 +203,9 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         n > 0, particles per unit length.
     initial : str or particles.initial.InitialLaw, default "gaussian"
         The initial law (zero mean, unit variance, with a CDF): ⟨v²⟩ = 1 at t = 0.
-    grid : VelocityGrid or MappedGrid, optional
-        The grid of c; default :func:`default_grid` (uniform).  A :class:`MappedGrid` for
-        γ = 0 only.
+    grid : _grid.VelocityGrid or _grid.MappedGrid, optional
+        The grid of c; default :func:`maxwell_kinetics.velocity_grid.default_grid` (uniform).  A
+        :class:`maxwell_kinetics.velocity_grid.MappedGrid` for γ = 0 only.
     rtol, atol : float
         Tolerances of the step-size controller (RMS norm over the grid and ln s).
     max_steps : int
@@ -560,13 +220,15 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
     ------
     particles.validation.InvalidArgumentError
         Naming ``restitution``, ``exponent``, ``density``, ``t``, ``initial``, ``points``,
-        ``half_width`` or ``core_spacing`` for bad input (:func:`initial_values`), ``grid`` for
-        a :class:`MappedGrid` with γ > 0, ``rtol`` or ``atol`` if not positive.
+        ``half_width`` or ``core_spacing`` for bad input
+        (:func:`maxwell_kinetics.velocity_grid.initial_values`), ``grid`` for a
+        :class:`maxwell_kinetics.velocity_grid.MappedGrid` with γ > 0, ``rtol`` or ``atol`` if not
+        positive.
     RuntimeError
         If the time integration fails (too many steps).
     """
     model = RelativeVelocityModel(restitution, exponent=exponent)
-    if isinstance(grid, MappedGrid) and model.exponent != 0.0:
+    if isinstance(grid, _grid.MappedGrid) and model.exponent != 0.0:
         raise InvalidArgumentError("grid", grid, "a uniform VelocityGrid for exponent="
                                    f"{model.exponent:g} (the MappedGrid is for gamma = 0: at "
                                    "gamma > 0 it can grow an oscillation at its ends)")
@@ -576,9 +238,9 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         raise InvalidArgumentError("t", t, "increasing times t >= 0")
     check_positive(rtol, "rtol")
     check_positive(atol, "atol")
-    grid = default_grid(model.exponent) if grid is None else grid
+    grid = _grid.default_grid(model.exponent) if grid is None else grid
     law = get_law(initial)
-    F0 = initial_values(law, grid)
+    F0 = _grid.initial_values(law, grid)
     import jax
     import jax.numpy as jnp
 
@@ -596,12 +258,12 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
             raise RuntimeError(f"the time integration failed (steps: {int(steps)}, "
                                f"max_steps={max_steps})")
         rates = np.asarray(functions.rhs(jnp.asarray(ys), args))
-        if isinstance(grid, MappedGrid):
+        if isinstance(grid, _grid.MappedGrid):
             ys, rates = ys / unit, rates / unit
     seconds = time.perf_counter() - start
     F, log_s = ys[:, :-1], ys[:, -1]
     s2 = np.exp(2.0 * log_s)
-    if isinstance(grid, MappedGrid):
+    if isinstance(grid, _grid.MappedGrid):
         c, w = grid.c, grid.weights
         energy_rate = s2 * (rates[:, :-1] @ (w * c * c) + 2.0 * rates[:, -1] * (F @ (w * c * c)))
         ends = [0, 1, -2, -1]
@@ -627,7 +289,7 @@ class BoltzmannSolution:
         r, γ and n (particles per unit length) of the solve.
     initial : str
         The initial law's name.
-    grid : VelocityGrid or MappedGrid
+    grid : _grid.VelocityGrid or _grid.MappedGrid
         The grid of c.
     t : numpy.ndarray
         The saved physical times, shape (T,).
@@ -640,9 +302,9 @@ class BoltzmannSolution:
     energy_rate : numpy.ndarray
         d⟨v²⟩/dt of the discrete equation at each saved time, shape (T,).
     edge_mass : numpy.ndarray
-        Largest ω|F| (ω = h, or the local spacing of a :class:`MappedGrid`) among the two
-        outermost nodes on each side at each time, shape (T,): a tail that reaches the grid's
-        end shows here.
+        Largest ω|F| (ω = h, or the local spacing of a
+        :class:`maxwell_kinetics.velocity_grid.MappedGrid`) among the two outermost nodes on each
+        side at each time, shape (T,): a tail that reaches the grid's end shows here.
     steps : int
         Time steps taken.
     seconds : float
@@ -653,7 +315,7 @@ class BoltzmannSolution:
     exponent: float
     number_density: float
     initial: str
-    grid: VelocityGrid
+    grid: _grid.VelocityGrid
     t: np.ndarray
     F: np.ndarray = field(repr=False)
     log_scale: np.ndarray = field(repr=False)
@@ -730,7 +392,7 @@ class BoltzmannSolution:
             Shape (T, len(orders)).
         """
         c = self.grid.c
-        out = np.array([[_sum(self.grid, row, c**k) for k in orders] for row in self.F])
+        out = np.array([[_grid.grid_sum(self.grid, row, c**k) for k in orders] for row in self.F])
         return out * self.scale[:, None] ** np.asarray(orders)
 
     @property
@@ -767,7 +429,7 @@ class BoltzmannSolution:
         """
         k = self.time_index(t)
         c = self.grid.c
-        scale = math.sqrt(_sum(self.grid, self.F[k], c * c))
+        scale = math.sqrt(_grid.grid_sum(self.grid, self.F[k], c * c))
         x = np.asarray(x, dtype=float)
         return scale * _interpolate(self.F[k], self.grid, x * scale)
 
@@ -800,7 +462,7 @@ class BoltzmannSolution:
         edges = check_edges(edges)
         k = self.time_index(t)
         c = self.grid.c
-        scale = math.sqrt(_sum(self.grid, self.F[k], c * c))
+        scale = math.sqrt(_grid.grid_sum(self.grid, self.F[k], c * c))
         prob = np.diff(_cumulative(self.F[k], self.grid, edges * scale))
         width = np.diff(edges)
         return Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), prob / width,
@@ -813,7 +475,7 @@ def _interpolate(values: np.ndarray, grid, x: np.ndarray, order: int = 6):
     c on the uniform grid, in s on a mapped one."""
     c = grid.c
     n = c.size
-    if isinstance(grid, MappedGrid):
+    if isinstance(grid, _grid.MappedGrid):
         pos = grid.position(x)
     else:
         pos = (x - c[0]) / (c[1] - c[0])
@@ -835,7 +497,7 @@ def _cumulative(values: np.ndarray, grid, x: np.ndarray) -> np.ndarray:
     from scipy.interpolate import CubicSpline
 
     c = grid.c
-    if isinstance(grid, MappedGrid):
+    if isinstance(grid, _grid.MappedGrid):
         spline = CubicSpline(grid.s, values * grid.weights / grid.step)
         s = np.clip(np.arcsinh(np.asarray(x, dtype=float) / grid.scale), grid.s[0], grid.s[-1])
         return np.array([spline.integrate(grid.s[0], b) for b in s])
@@ -850,8 +512,8 @@ def _cumulative(values: np.ndarray, grid, x: np.ndarray) -> np.ndarray:
 #: undershoots to F ≈ −3e-4 between them and its kurtosis, 1.21439, is 2.5e-4 (relative) low.
 #: Measured at r = 0.99 (benchmarks/README.md): 241 points on ±6 (spacing 0.05): kurtosis
 #: 1.2146782, min F −1.6e-13 (481 on ±12 agree to 1e-11: ±6 is wide enough there); 361 on ±6
-#: (0.033): 1.2146864, min F −3e-18.  Near r = 1 pass ``grid=VelocityGrid(361, 6.0)``.
-SCALING_GRID = VelocityGrid(241, 12.0)
+#: (0.033): 1.2146864, min F −3e-18.  Near r = 1 pass ``grid=_grid.VelocityGrid(361, 6.0)``.
+SCALING_GRID = _grid.VelocityGrid(241, 12.0)
 
 
 @dataclass(frozen=True)
@@ -864,7 +526,7 @@ class ScalingState:
     ----------
     restitution, exponent : float
         r and γ.
-    grid : VelocityGrid or MappedGrid
+    grid : _grid.VelocityGrid or _grid.MappedGrid
         The grid of c.
     F : numpy.ndarray
         Shape (N,): the state at the nodes.
@@ -880,7 +542,7 @@ class ScalingState:
 
     restitution: float
     exponent: float
-    grid: VelocityGrid
+    grid: _grid.VelocityGrid
     F: np.ndarray = field(repr=False)
     residual: float = 0.0
     iterations: int = 0
@@ -901,7 +563,7 @@ class ScalingState:
             The moment (⟨c²⟩ = 1).
         """
         c = self.grid.c
-        return float(_sum(self.grid, self.F, c**order))
+        return float(_grid.grid_sum(self.grid, self.F, c**order))
 
     @property
     def kurtosis(self) -> float:
@@ -926,7 +588,7 @@ class ScalingState:
         return scale * _interpolate(self.F, self.grid, x * scale)
 
 
-def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None,
+def scaling_state(restitution, *, exponent=1.0, grid: _grid.VelocityGrid | None = None,
                   tolerance: float = 1e-11, max_iterations: int = 30,
                   relaxation: float | None = None) -> ScalingState:
     """The scaling state of the rescaled equation: relaxed in τ′ from the Gaussian, then
@@ -939,7 +601,7 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
         r ∈ [0, 1).
     exponent : float, default 1.0
         γ of the rate.
-    grid : VelocityGrid, optional
+    grid : _grid.VelocityGrid, optional
         Default :data:`SCALING_GRID` (spacing 0.1: at r = 0.99 its kurtosis is 2.5e-4 low and
         F undershoots to −3e-4 between the humps; 361 points on ±6 bring both to ~1e-6 and
         −3e-18); γ = 0 has no scaling state with finite kurtosis (its tail is |x|⁻⁴) and is
@@ -960,7 +622,8 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
     ------
     particles.validation.InvalidArgumentError
         Naming ``restitution`` (r = 1 has no cooling state), ``exponent`` (γ = 0 or out of
-        range), ``points`` or ``half_width``; ``grid`` for a :class:`MappedGrid`.
+        range), ``points`` or ``half_width``; ``grid`` for a
+        :class:`maxwell_kinetics.velocity_grid.MappedGrid`.
     """
     model = RelativeVelocityModel(restitution, exponent=exponent)
     if model.restitution == 1.0:
@@ -971,11 +634,11 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
                                    "gamma > 0 (the Maxwell model's scaling state has an x^-4 "
                                    "tail and no finite kurtosis: use fixed-point --rate "
                                    "constant)")
-    if isinstance(grid, MappedGrid):
+    if isinstance(grid, _grid.MappedGrid):
         raise InvalidArgumentError("grid", grid, "a uniform VelocityGrid (the MappedGrid is "
                                    "for gamma = 0, which has no scaling state)")
     grid = SCALING_GRID if grid is None else grid
-    F0 = initial_values("gaussian", grid)
+    F0 = _grid.initial_values("gaussian", grid)
     if relaxation is None:
         relaxation = min(2000.0, 5.0 / model.lam)
     import jax
@@ -1005,3 +668,16 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
     return ScalingState(model.restitution, model.exponent, grid, F,
                         float(np.max(np.abs(residual))), iterations, float(relaxation),
                         time.perf_counter() - start)
+
+
+#: Names that moved to :mod:`maxwell_kinetics.velocity_grid` (an import from here says so).
+_MOVED = ("VelocityGrid", "MappedGrid", "default_grid", "initial_values", "EXTENT_TOLERANCE",
+          "RESOLUTION_TOLERANCE", "MAX_SPACING", "MAX_POINTS")
+
+
+def __getattr__(name: str):
+    if name in _MOVED:
+        raise ImportError(f"maxwell_kinetics.inelastic_boltzmann.{name} moved to "
+                          f"maxwell_kinetics.velocity_grid.{name}")
+    raise AttributeError(f"module 'maxwell_kinetics.inelastic_boltzmann' has no attribute "
+                         f"{name!r}")

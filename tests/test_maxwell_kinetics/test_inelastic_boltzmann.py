@@ -14,12 +14,8 @@ import pytest
 from helpers import run_error
 
 from maxwell_kinetics.app.cli import main
-from maxwell_kinetics.inelastic_boltzmann import (
-    MappedGrid,
-    VelocityGrid,
-    scaling_state,
-    solve_boltzmann,
-)
+from maxwell_kinetics.inelastic_boltzmann import scaling_state, solve_boltzmann
+from maxwell_kinetics.velocity_grid import MappedGrid, VelocityGrid
 from particles.initial import InitialLaw
 from particles.validation import InvalidArgumentError
 

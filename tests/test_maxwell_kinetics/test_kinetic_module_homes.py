@@ -21,6 +21,10 @@ MOVED = {
                                for n in ("AngularLaw", "angular_law", "ANGULAR_MODELS")],
     "maxwell_kinetics.compile_cache": [(n, "maxwell_kinetics.app.cache_options")
                                        for n in ("add_option", "from_args", "end_command")],
+    "maxwell_kinetics.inelastic_boltzmann": [
+        (n, "maxwell_kinetics.velocity_grid")
+        for n in ("VelocityGrid", "MappedGrid", "default_grid", "initial_values",
+                  "EXTENT_TOLERANCE", "RESOLUTION_TOLERANCE", "MAX_SPACING", "MAX_POINTS")],
 }
 CASES = [(old, name, new) for old, moves in MOVED.items() for name, new in moves]
 

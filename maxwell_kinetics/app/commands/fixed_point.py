@@ -101,7 +101,8 @@ def _run_relative_velocity(args) -> int:
     :func:`maxwell_kinetics.inelastic_boltzmann.scaling_state`."""
     from particles.parsing import parse_int
 
-    from ...inelastic_boltzmann import SCALING_GRID, VelocityGrid, initial_values, scaling_state
+    from ...inelastic_boltzmann import SCALING_GRID, scaling_state
+    from ...velocity_grid import VelocityGrid, initial_values
 
     for name in ("n", "angular"):
         if getattr(args, name) is not None:

@@ -261,14 +261,9 @@ def _run_relative_velocity(args, written: list) -> int:
     from particles.parsing import parse_int
     from particles.validation import check_real
 
-    from ...inelastic_boltzmann import (
-        MappedGrid,
-        VelocityGrid,
-        default_grid,
-        initial_values,
-        solve_boltzmann,
-    )
+    from ...inelastic_boltzmann import solve_boltzmann
     from ...model import RelativeVelocityModel
+    from ...velocity_grid import MappedGrid, VelocityGrid, default_grid, initial_values
 
     if args.tau is not None:
         raise InvalidArgumentError("tau", args.tau, "--t T1,T2,... with --rate relative_velocity "

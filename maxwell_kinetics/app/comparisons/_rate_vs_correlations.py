@@ -14,8 +14,9 @@ import numpy as np
 from particles.observables import mean_sem
 
 from ...exact import moment_hierarchy
-from ...inelastic_boltzmann import VelocityGrid, scaling_state, solve_boltzmann
+from ...inelastic_boltzmann import scaling_state, solve_boltzmann
 from ...model import MaxwellModel
+from ...velocity_grid import VelocityGrid
 from .analysis import bin_edges, rescaled
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import panels

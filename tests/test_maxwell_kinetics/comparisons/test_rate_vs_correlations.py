@@ -16,7 +16,8 @@ from maxwell_kinetics.app.comparisons import (
     kurtosis_split,
     maxwell_kurtosis,
 )
-from maxwell_kinetics.inelastic_boltzmann import VelocityGrid, solve_boltzmann
+from maxwell_kinetics.inelastic_boltzmann import solve_boltzmann
+from maxwell_kinetics.velocity_grid import VelocityGrid
 from particles.driver import simulate
 from particles.observables import rescaled_histogram
 from particles.ulam import Ulam
