@@ -1,0 +1,38 @@
+"""Hostile arguments to the Solution methods, the relative-velocity solvers and the bin
+integrals: each is refused by name (InvalidArgumentError), never a TypeError, IndexError,
+ValueError, RuntimeError or MemoryError from deep inside, and never a silent nan."""
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics import solve
+from particles.validation import InvalidArgumentError
+
+
+@pytest.fixture(scope="module")
+def sol():
+    return solve(0.5, "gaussian", tau=[1.0, 2.0], resolution="coarse", progress=False)
+
+
+@pytest.mark.parametrize("tau_index", [True, np.bool_(False), 1.5, "0", 1.0])
+def test_tau_index_must_be_an_integer(sol, tau_index):
+    with pytest.raises(InvalidArgumentError) as err:
+        sol.evaluate([0.0, 1.0], tau_index=tau_index)
+    assert err.value.name == "tau_index"
+
+
+def test_tau_index_of_numpy_integer_is_taken(sol):
+    assert np.array_equal(sol.evaluate([1.0], tau_index=np.int64(0)),
+                          sol.evaluate([1.0], tau_index=0))
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"s": float("nan")}, "s"), ({"s": float("inf")}, "s"), ({"s": True}, "s"),
+    ({"s": 2.5 + 1j}, "s"), ({"s": "a"}, "s"),
+    ({"s": 2.5, "q_low": float("nan")}, "q_low"), ({"s": 2.5, "q_low": 1e9}, "q_low"),
+    ({"s": 2.5, "q_low": "a"}, "q_low"), ({"s": 2.5, "q_low": True}, "q_low"),
+])
+def test_fourier_distance_refuses_by_name(sol, kwargs, name):
+    with pytest.raises(InvalidArgumentError) as err:
+        sol.fourier_distance(tau_index=0, **kwargs)
+    assert err.value.name == name
