@@ -102,10 +102,10 @@ def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
     Raises
     ------
     particles.InvalidArgumentError
-        If ``G`` is not callable, ``edges`` are not finite and strictly increasing, or
-        ``q_max`` is not a finite number > 0, or an edge so far out that the node set of its bin would
-        exceed :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` or the memory available
-        (naming ``edges``, before any work).
+        If ``G`` is not callable, ``edges`` are not finite and strictly increasing,
+        ``q_max`` is not a finite number > 0, or an edge is so far out that the node set of
+        its bin would exceed :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` or the
+        memory available (naming ``edges``, before any work).
     """
     if not callable(G):
         raise InvalidArgumentError("G", G, "a callable G(q)")
