@@ -118,6 +118,12 @@ class VelocityGrid:
         return 2.0 * self.half_width / (self.points - 1)
 
 
+def _check_grid(grid) -> VelocityGrid:
+    if not isinstance(grid, VelocityGrid):
+        raise InvalidArgumentError("grid", grid, "a VelocityGrid(points, half_width) or None")
+    return grid
+
+
 def default_grid(exponent: float) -> VelocityGrid:
     """The grid used when none is given: 201 points on [−6, 6] for γ > 0 (hard rods: the
     kurtosis at t = 400, r = 0.99 converged to ~1e-6, benchmarks/README.md); 401 points on
@@ -351,7 +357,8 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
     particles.validation.InvalidArgumentError
         Naming ``restitution``, ``exponent``, ``density``, ``t``, ``initial``, ``points`` or
         ``half_width`` for bad input (:func:`initial_values`), ``rtol`` or ``atol`` if not
-        positive.
+        positive, ``max_steps`` if not an integer >= 1, ``grid`` if not a
+        :class:`VelocityGrid`.
     RuntimeError
         If the time integration fails (too many steps).
     """
@@ -362,7 +369,8 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         raise InvalidArgumentError("t", t, "increasing times t >= 0")
     check_positive(rtol, "rtol")
     check_positive(atol, "atol")
-    grid = default_grid(model.exponent) if grid is None else grid
+    max_steps = check_count(max_steps, "max_steps", 1)
+    grid = default_grid(model.exponent) if grid is None else _check_grid(grid)
     law = get_law(initial)
     F0 = initial_values(law, grid)
     import jax
@@ -717,7 +725,9 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
     ------
     particles.validation.InvalidArgumentError
         Naming ``restitution`` (r = 1 has no cooling state), ``exponent`` (γ = 0 or out of
-        range), ``points`` or ``half_width``.
+        range), ``points`` or ``half_width``, ``grid`` (not a :class:`VelocityGrid`),
+        ``tolerance`` or ``relaxation`` (not a finite number > 0), ``max_iterations`` (not an
+        integer >= 0).
     """
     model = RelativeVelocityModel(restitution, exponent=exponent)
     if model.restitution == 1.0:
@@ -728,7 +738,11 @@ def scaling_state(restitution, *, exponent=1.0, grid: VelocityGrid | None = None
                                    "gamma > 0 (the Maxwell model's scaling state has an x^-4 "
                                    "tail and no finite kurtosis: use fixed-point --rate "
                                    "constant)")
-    grid = SCALING_GRID if grid is None else grid
+    grid = SCALING_GRID if grid is None else _check_grid(grid)
+    tolerance = check_positive(tolerance, "tolerance")
+    max_iterations = check_count(max_iterations, "max_iterations", 0)
+    if relaxation is not None:
+        relaxation = check_positive(relaxation, "relaxation")
     F0 = initial_values("gaussian", grid)
     if relaxation is None:
         relaxation = min(2000.0, 5.0 / model.lam)

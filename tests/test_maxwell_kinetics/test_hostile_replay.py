@@ -36,3 +36,30 @@ def test_fourier_distance_refuses_by_name(sol, kwargs, name):
     with pytest.raises(InvalidArgumentError) as err:
         sol.fourier_distance(tau_index=0, **kwargs)
     assert err.value.name == name
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"max_steps": 0}, "max_steps"), ({"max_steps": 1.5}, "max_steps"),
+    ({"max_steps": True}, "max_steps"), ({"grid": "fine"}, "grid"),
+])
+def test_solve_boltzmann_refuses_by_name_before_the_work(kwargs, name):
+    from maxwell_kinetics import solve_boltzmann
+
+    with pytest.raises(InvalidArgumentError) as err:
+        solve_boltzmann(0.5, [1.0], **kwargs)
+    assert err.value.name == name
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"tolerance": -1.0}, "tolerance"), ({"tolerance": float("nan")}, "tolerance"),
+    ({"max_iterations": True}, "max_iterations"), ({"max_iterations": -1}, "max_iterations"),
+    ({"max_iterations": 2.5}, "max_iterations"), ({"relaxation": float("nan")}, "relaxation"),
+    ({"relaxation": -5.0}, "relaxation"), ({"grid": (241, 12.0)}, "grid"),
+])
+def test_scaling_state_refuses_by_name_before_the_work(kwargs, name):
+    from maxwell_kinetics import scaling_state
+
+    with pytest.raises(InvalidArgumentError) as err:
+        scaling_state(0.5, **kwargs)
+    assert err.value.name == name
+
