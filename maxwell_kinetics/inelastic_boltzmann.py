@@ -178,7 +178,8 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
         Naming ``initial`` for a law without a CDF; ``half_width`` when more than
         :data:`EXTENT_TOLERANCE` of the mass lies outside the grid, ``points`` when the spacing
         exceeds :data:`MAX_SPACING` or does not resolve the law (:data:`RESOLUTION_TOLERANCE`);
-        both with the size needed.
+        both with the size needed; ``half_width`` again when no grid of at most
+        :data:`MAX_POINTS` points has a spacing below :data:`MAX_SPACING` on it.
     """
     law = get_law(law)
     if law.distribution is None:
@@ -205,6 +206,11 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
 
     if grid.h > MAX_SPACING:
         needed = math.ceil(2.0 * L / MAX_SPACING) + 1
+        if needed > MAX_POINTS:  # no grid of points can do it: the half-width is too large
+            widest = MAX_SPACING * (MAX_POINTS - 1) / 2.0
+            raise InvalidArgumentError(
+                "half_width", L, f"a half-width <= {widest:g} (a spacing 2 half_width/(points - 1)"
+                f" <= {MAX_SPACING:g} with at most {MAX_POINTS} points)")
         raise InvalidArgumentError(
             "points", grid.points, f"a spacing 2 half_width/(points - 1) <= {MAX_SPACING:g} "
             f"(it is {grid.h:.3g} on [-{L:g}, {L:g}]): at least {needed} points")

@@ -63,3 +63,22 @@ def test_scaling_state_refuses_by_name_before_the_work(kwargs, name):
         scaling_state(0.5, **kwargs)
     assert err.value.name == name
 
+
+def test_a_half_width_no_grid_can_cover_is_named_itself():
+    # Before: half_width 1e9 was reported as points=201 "at least 8000000001 points", beyond
+    # the 1601 points allowed: the value to change is the half-width.
+    from maxwell_kinetics.inelastic_boltzmann import (
+        MAX_POINTS,
+        MAX_SPACING,
+        VelocityGrid,
+        initial_values,
+    )
+
+    with pytest.raises(InvalidArgumentError) as err:
+        initial_values("gaussian", VelocityGrid(201, 1e9))
+    widest = MAX_SPACING * (MAX_POINTS - 1) / 2
+    assert err.value.name == "half_width" and f"a half-width <= {widest:g}" in str(err.value)
+    # within reach of the points allowed, the points are still what is named
+    with pytest.raises(InvalidArgumentError) as err:
+        initial_values("gaussian", VelocityGrid(201, 100.0))
+    assert err.value.name == "points"
