@@ -59,6 +59,7 @@ import numpy as np
 from particles.initial import get_law
 from particles.validation import (
     InvalidArgumentError,
+    check_count,
     check_positive,
     check_times,
 )
@@ -222,12 +223,13 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         Naming ``restitution``, ``exponent``, ``density``, ``t``, ``initial``, ``points``,
         ``half_width`` or ``core_spacing`` for bad input
         (:func:`maxwell_kinetics.velocity_grid.initial_values`), ``grid`` for a
-        :class:`maxwell_kinetics.velocity_grid.MappedGrid` with γ > 0, ``rtol`` or ``atol`` if not
-        positive.
+        :class:`maxwell_kinetics.velocity_grid.MappedGrid` with γ > 0 or not a grid, ``rtol`` or
+        ``atol`` if not positive, ``max_steps`` if not an integer >= 1.
     RuntimeError
         If the time integration fails (too many steps).
     """
     model = RelativeVelocityModel(restitution, exponent=exponent)
+    grid = None if grid is None else _grid.check_grid(grid)
     if isinstance(grid, _grid.MappedGrid) and model.exponent != 0.0:
         raise InvalidArgumentError("grid", grid, "a uniform VelocityGrid for exponent="
                                    f"{model.exponent:g} (the MappedGrid is for gamma = 0: at "
@@ -238,6 +240,7 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         raise InvalidArgumentError("t", t, "increasing times t >= 0")
     check_positive(rtol, "rtol")
     check_positive(atol, "atol")
+    max_steps = check_count(max_steps, "max_steps", 1)
     grid = _grid.default_grid(model.exponent) if grid is None else grid
     law = get_law(initial)
     F0 = _grid.initial_values(law, grid)
@@ -623,7 +626,8 @@ def scaling_state(restitution, *, exponent=1.0, grid: _grid.VelocityGrid | None 
     particles.validation.InvalidArgumentError
         Naming ``restitution`` (r = 1 has no cooling state), ``exponent`` (γ = 0 or out of
         range), ``points`` or ``half_width``; ``grid`` for a
-        :class:`maxwell_kinetics.velocity_grid.MappedGrid`.
+        :class:`maxwell_kinetics.velocity_grid.MappedGrid` or not a grid; ``tolerance`` or
+        ``relaxation`` (not a finite number > 0), ``max_iterations`` (not an integer >= 0).
     """
     model = RelativeVelocityModel(restitution, exponent=exponent)
     if model.restitution == 1.0:
@@ -634,10 +638,14 @@ def scaling_state(restitution, *, exponent=1.0, grid: _grid.VelocityGrid | None 
                                    "gamma > 0 (the Maxwell model's scaling state has an x^-4 "
                                    "tail and no finite kurtosis: use fixed-point --rate "
                                    "constant)")
+    grid = SCALING_GRID if grid is None else _grid.check_grid(grid)
     if isinstance(grid, _grid.MappedGrid):
         raise InvalidArgumentError("grid", grid, "a uniform VelocityGrid (the MappedGrid is "
                                    "for gamma = 0, which has no scaling state)")
-    grid = SCALING_GRID if grid is None else grid
+    tolerance = check_positive(tolerance, "tolerance")
+    max_iterations = check_count(max_iterations, "max_iterations", 0)
+    if relaxation is not None:
+        relaxation = check_positive(relaxation, "relaxation")
     F0 = _grid.initial_values("gaussian", grid)
     if relaxation is None:
         relaxation = min(2000.0, 5.0 / model.lam)

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from particles import persistence
-from particles.validation import InvalidArgumentError, check_positive
+from particles.validation import InvalidArgumentError, check_positive, check_real
 
 from .deviation import reference
 from .exact import f_hat
@@ -198,7 +198,8 @@ class Solution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``tau_index`` when it is out of range, ``tau`` when it is not one of the
+            Naming ``tau_index`` when it is not an integer (a bool included) or out of range,
+            ``tau`` when it is not one of the
             saved times (they are listed), and ``tau`` when both are given.
         """
         n = len(self.tau)
@@ -220,6 +221,10 @@ class Solution:
             return int(match[0])
         if tau_index is None:
             return n - 1
+        if (isinstance(tau_index, (bool, np.bool_))
+                or not isinstance(tau_index, (int, np.integer))):
+            raise InvalidArgumentError("tau_index", tau_index,
+                                       f"an integer index into {n} saved times")
         if not -n <= tau_index < n:
             raise InvalidArgumentError("tau_index", tau_index, f"an index into {n} saved times")
         return tau_index % n
@@ -348,9 +353,17 @@ class Solution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``dimension`` when d ≥ 2, or ``tau_index`` when out of range.
+            Naming ``dimension`` when d ≥ 2, ``s`` or ``q_low`` when not a finite real number
+            (a bool or a complex number included), ``q_low`` at or beyond the grid's end
+            q_max, or ``tau_index`` when out of range.
         """
         self._require_one_dimension("fourier_distance")
+        s = check_real(s, "s")
+        if q_low is not None:
+            q_low = check_real(q_low, "q_low")
+            if not q_low < self.resolution.q_max:
+                raise InvalidArgumentError(
+                    "q_low", q_low, f"q_low < q_max={self.resolution.q_max:.6g} (the grid's end)")
         if tau_index is None and tau is None:
             return np.array([self.fourier_distance(s, k, q_low) for k in range(len(self.tau))])
         q_low = self.resolution.q_min if q_low is None else q_low

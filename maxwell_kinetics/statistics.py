@@ -73,6 +73,10 @@ def _gauss_nodes(q_max: float, width: float, nodes_per_panel: int = 16):
     return q, (half[:, None] * w[None, :]).ravel()
 
 
+#: Most kernel elements (bins × nodes) of :func:`interval_probabilities` built at once.
+_KERNEL_ELEMENTS = 2**18
+
+
 def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
     """Pr(edges[i] ≤ x < edges[i+1]) for the law with rescaled characteristic function ``G``.
 
@@ -98,28 +102,37 @@ def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
     Raises
     ------
     particles.InvalidArgumentError
-        If ``G`` is not callable, ``edges`` are not finite and strictly increasing, or
-        ``q_max`` is not a finite number > 0.
+        If ``G`` is not callable, ``edges`` are not finite and strictly increasing,
+        ``q_max`` is not a finite number > 0, or an edge is so far out that the node set of
+        its bin would exceed :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` or the
+        memory available (naming ``edges``, before any work).
     """
     if not callable(G):
         raise InvalidArgumentError("G", G, "a callable G(q)")
     edges = check_edges(edges, "edges")
     q_max = check_positive(q_max, "q_max")
+    from .velocity import check_quadrature
+
     a, b = edges[:-1], edges[1:]
     m, h = 0.5 * (a + b), 0.5 * (b - a)
     out = np.empty(a.size)
-    # Ordinary bins share one node set; very wide bins (|m| + h large) get their own.
-    reach = np.abs(m) + h
-    shared = reach <= 64.0
-    groups = [(shared, float(reach[shared].max(initial=1.0)))]
-    groups += [(np.arange(a.size) == i, float(reach[i])) for i in np.flatnonzero(~shared)]
-    for sel, r in groups:
-        if not np.any(sel):
-            continue
+    reach = np.abs(m) + h  # the largest |x| of each bin
+    check_quadrature(q_max, reach, "edges")  # the widest bin's node set, before any work
+    # Ordinary bins (reach <= 64) share one node set; wider ones share one per factor 2 of reach
+    # (panels at least as narrow as each bin needs).  The kernel is built a block of bins at a
+    # time, so that memory stays bounded whatever the number of bins.
+    level = np.where(reach <= 64.0, 0.0, np.ceil(np.log2(np.maximum(reach, 64.0) / 64.0)))
+    for lv in np.unique(level):
+        sel = np.flatnonzero(level == lv)
+        r = float(reach[sel].max())
         q, w = _gauss_nodes(q_max, min(0.5, math.pi / max(r, 1.0)))
         wg = w * np.asarray(G(q), dtype=complex)
-        kernel = 2.0 * np.sin(np.outer(h[sel], q)) / q[None, :] * np.exp(-1j * np.outer(m[sel], q))
-        out[sel] = (kernel @ wg).real / math.pi
+        rows = max(1, _KERNEL_ELEMENTS // q.size)
+        for start in range(0, sel.size, rows):
+            part = sel[start:start + rows]
+            kernel = (2.0 * np.sin(np.outer(h[part], q)) / q[None, :]
+                      * np.exp(-1j * np.outer(m[part], q)))
+            out[part] = (kernel @ wg).real / math.pi
     return out
 
 

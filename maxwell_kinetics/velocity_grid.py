@@ -28,7 +28,7 @@ from particles.validation import (
     check_positive,
 )
 
-__all__ = ["VelocityGrid", "MappedGrid", "default_grid", "initial_values", "grid_sum",
+__all__ = ["VelocityGrid", "MappedGrid", "check_grid", "default_grid", "initial_values", "grid_sum",
            "EXTENT_TOLERANCE", "RESOLUTION_TOLERANCE", "MAX_SPACING", "MAX_POINTS"]
 
 #: Largest mass fraction of the initial law that may lie outside the grid (its moments of order
@@ -244,6 +244,30 @@ def grid_sum(grid, values: np.ndarray, g: np.ndarray):
     return grid.h * (values @ g)
 
 
+def check_grid(grid) -> VelocityGrid | MappedGrid:
+    """``grid`` if it is a :class:`VelocityGrid` or a :class:`MappedGrid`.
+
+    Parameters
+    ----------
+    grid : object
+        The grid given.
+
+    Returns
+    -------
+    VelocityGrid or MappedGrid
+        ``grid``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``grid`` otherwise.
+    """
+    if not isinstance(grid, (VelocityGrid, MappedGrid)):
+        raise InvalidArgumentError("grid", grid, "a VelocityGrid(points, half_width), a "
+                                   "MappedGrid(points, half_width, core_spacing) or None")
+    return grid
+
+
 def default_grid(exponent: float) -> VelocityGrid:
     """The grid used when none is given: 201 points on [−6, 6] for γ > 0 (hard rods: the
     kurtosis at t = 400, r = 0.99 converged to ~1e-6, benchmarks/README.md); 401 points on
@@ -298,7 +322,9 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
         Naming ``initial`` for a law without a CDF; ``half_width`` when more than
         :data:`EXTENT_TOLERANCE` of the mass lies outside the grid, ``points`` when the spacing
         exceeds :data:`MAX_SPACING` or does not resolve the law (:data:`RESOLUTION_TOLERANCE`);
-        both with the size needed.  On a :class:`MappedGrid`: ``core_spacing`` above
+        both with the size needed; ``half_width`` again when no grid of at most
+        :data:`MAX_POINTS` points has a spacing below :data:`MAX_SPACING` on it.  On a
+        :class:`MappedGrid`: ``core_spacing`` above
         :data:`MAX_SPACING`, ``points`` when the mapped weights do not resolve the law.
     """
     law = get_law(law)
@@ -329,6 +355,11 @@ def initial_values(law, grid: VelocityGrid) -> np.ndarray:
 
     if grid.h > MAX_SPACING:
         needed = math.ceil(2.0 * L / MAX_SPACING) + 1
+        if needed > MAX_POINTS:  # no grid of points can do it: the half-width is too large
+            widest = MAX_SPACING * (MAX_POINTS - 1) / 2.0
+            raise InvalidArgumentError(
+                "half_width", L, f"a half-width <= {widest:g} (a spacing 2 half_width/(points - 1)"
+                f" <= {MAX_SPACING:g} with at most {MAX_POINTS} points)")
         raise InvalidArgumentError(
             "points", grid.points, f"a spacing 2 half_width/(points - 1) <= {MAX_SPACING:g} "
             f"(it is {grid.h:.3g} on [-{L:g}, {L:g}]): at least {needed} points")

@@ -77,6 +77,24 @@ def _mass_is_inside(h) -> bool:
     return abs(float(np.sum(h.density * np.diff(h.edges))) - 1.0) <= 1e-9
 
 
+def _check_values(name: str, h, bins: int) -> None:
+    """Refuse a histogram whose densities or errors are not ``bins`` finite values, or whose
+    errors (or, for a sample, densities) are negative."""
+    for field_name in ("density", "error"):
+        try:
+            values = np.asarray(getattr(h, field_name), dtype=float)
+        except (TypeError, ValueError):
+            values = None
+        # a prediction's density may carry round-off below 0 far out; a sample's cannot
+        negative = field_name == "error" or int(getattr(h, "samples", 0) or 0) > 0
+        if values is None or values.shape != (bins,) or not np.all(np.isfinite(values)) \
+                or (negative and np.any(values < 0)):
+            raise InvalidArgumentError(
+                name, getattr(h, field_name),
+                f"a histogram with {bins} finite {field_name} values (one per bin), >= 0 for an "
+                f"error or a sample's density (this is its {field_name})")
+
+
 def histogram_distance(first, second, *, min_count: int = 5) -> HistogramDistance:
     """χ², its degrees of freedom and χ²/dof with the errors of both sides, and the
     Kolmogorov–Smirnov distance, between two histograms on the same edges (module docstring).
@@ -97,8 +115,10 @@ def histogram_distance(first, second, *, min_count: int = 5) -> HistogramDistanc
     Raises
     ------
     particles.validation.InvalidArgumentError
-        Naming ``other`` if it is not a histogram or has other edges than this one, and
-        ``min_count`` if it is not an integer ≥ 0.
+        Naming ``other`` if it is not a histogram or has other edges than this one,
+        ``histogram`` (``first``) or ``other`` when a density or an error is not finite or has
+        not one value per bin, or when an error or a sampled histogram's density is negative,
+        and ``min_count`` if it is not an integer ≥ 0.
     """
     for name in ("edges", "density", "error", "count", "samples"):
         if not hasattr(second, name):
@@ -111,6 +131,8 @@ def histogram_distance(first, second, *, min_count: int = 5) -> HistogramDistanc
         raise InvalidArgumentError(
             "other", f"a histogram on {b.size} edges [{b[0]:g} … {b[-1]:g}]",
             f"a histogram on the same {a.size} edges [{a[0]:g} … {a[-1]:g}] as this one")
+    for name, h in (("histogram", first), ("other", second)):
+        _check_values(name, h, a.size - 1)
     variance = np.asarray(first.error, float) ** 2 + np.asarray(second.error, float) ** 2
     use = variance > 0
     for h in (first, second):

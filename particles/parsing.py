@@ -92,7 +92,7 @@ def parse_float_list(text: str | Sequence[float], name: str) -> list[float]:
     return out
 
 
-def parse_name_list(text: str, name: str) -> list[str]:
+def parse_name_list(text: str, name: str, *, repeats: bool = False) -> list[str]:
     """Parse a comma-separated list of names (``--only a,b``).
 
     Parameters
@@ -101,6 +101,9 @@ def parse_name_list(text: str, name: str) -> list[str]:
         The list as text; surrounding spaces of each element are stripped.
     name : str
         The option name shown in the error.
+    repeats : bool, default False
+        Let a name repeat (for a caller that refuses repeats itself, once the elements are
+        parsed into values: ``0.3,0.3`` is then a repeated value, not a repeated name).
 
     Returns
     -------
@@ -110,10 +113,11 @@ def parse_name_list(text: str, name: str) -> list[str]:
     Raises
     ------
     particles.InvalidArgumentError
-        If the list is empty, has an empty element, or repeats a name (naming ``name``).
+        If the list is empty, has an empty element, or repeats a name (unless ``repeats``;
+        naming ``name``).
     """
     parts = _split_list(str(text), name, "names")
-    if len(set(parts)) != len(parts):
+    if not repeats and len(set(parts)) != len(parts):
         raise InvalidArgumentError(name, text, "a list of names without repeats")
     return parts
 

@@ -281,7 +281,7 @@ def check_name_length(path, name: str) -> Path:
         size = len(os.fsencode(part))
         if size > limit:
             raise InvalidArgumentError(
-                name, _shown(str(path)),
+                name, str(path),
                 f"file and folder names of at most {limit} bytes (one has {size})",
             )
     try:
@@ -290,7 +290,7 @@ def check_name_length(path, name: str) -> Path:
         path_max = 4096
     size = len(os.fsencode(path))
     if size >= path_max:
-        raise InvalidArgumentError(name, _shown(str(path)),
+        raise InvalidArgumentError(name, str(path),
                                    f"a path of fewer than {path_max} bytes (it has {size})")
     return path
 

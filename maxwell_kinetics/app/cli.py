@@ -69,7 +69,7 @@ finally:
     if _PROGRAM:
         _signal.signal(_signal.SIGINT, _signal.default_int_handler)
 
-__all__ = ["main", "build_parser", "emit_json", "join_negative_values"]
+__all__ = ["main", "build_parser", "emit_json", "join_negative_values", "refuse_repeated_options"]
 
 #: The subcommands in the order of ``--help``.
 COMMANDS = (solve, fixed_point, tails, steady, convergence, reproduce, simulate, ensemble)
@@ -172,6 +172,68 @@ def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> li
     return out
 
 
+def _value_action(parser: argparse.ArgumentParser, option: str):
+    """The action of ``option`` (exact, or an unambiguous ``--`` prefix) when it always takes
+    one value, else None."""
+    actions = parser._option_string_actions
+    if option in actions:
+        found = {actions[option]}
+    elif option.startswith("--") and parser.allow_abbrev:
+        found = {action for name, action in actions.items() if name.startswith(option)}
+    else:
+        return None
+    if len(found) != 1:
+        return None
+    action = found.pop()
+    return action if action.nargs in (None, 1) else None
+
+
+def refuse_repeated_options(parser: argparse.ArgumentParser, argv: list[str]) -> None:
+    """Refuse an option that takes a value given twice (``--restitution 5 --restitution 0.5``,
+    or ``-r`` and ``--restitution``): argparse keeps the last value, so the first would be
+    ignored without being checked.  ``argv`` is :func:`join_negative_values`'s output (each
+    value joined as ``--opt=value`` or following its option).
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The parser.
+    argv : list of str
+        The arguments.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming the option and its first value, with the second.
+    """
+    given: dict = {}
+    i = 0
+    while i < len(argv):
+        token = argv[i]
+        if token == "--":
+            break
+        subcommands = _subcommands(parser)
+        if token in subcommands:
+            parser = subcommands[token]
+        elif token.startswith("-"):
+            option, joined, value = token.partition("=")
+            action = _value_action(parser, option)
+            if action is not None:
+                if not joined:
+                    value = argv[i + 1] if i + 1 < len(argv) else None
+                    i += 1
+                key = (id(parser), action.dest)
+                if key in given:
+                    first_option, first = given[key]
+                    name = action.dest.replace("_", "-")
+                    again = "" if option == first_option else f" as {option}"
+                    raise InvalidArgumentError(
+                        name, first, f"--{name} once (it is given again{again}, as {value!r}: "
+                        "only one value can be used)")
+                given[key] = (option, value)
+        i += 1
+
+
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (0 success, 2 bad input, 3 a failure of
     the physics such as inelastic collapse or a claim that ``reproduce`` finds to disagree, or
@@ -191,7 +253,9 @@ def main(argv=None) -> int:
     try:
         parser = build_parser()
         argv = list(sys.argv[1:] if argv is None else argv)
-        args = parser.parse_args(join_negative_values(parser, argv))
+        argv = join_negative_values(parser, argv)
+        refuse_repeated_options(parser, argv)
+        args = parser.parse_args(argv)
         command = f"maxwell-kinetics {args.command}"
         if getattr(args, "runs_jax", False) and "JAX_PLATFORMS" in os.environ:
             cache_options.check_platforms()  # one line, exit 2, before anything is written

@@ -61,3 +61,24 @@ def test_values_near_the_float_limit_overflow_to_inf_not_nan():
     mean, sem = obs.mean_sem([1e308, 1e308, -1e308])
     assert mean == pytest.approx(1e308 / 3, rel=1e-14)
     assert sem == pytest.approx(np.std([1, 1, -1], ddof=1) / np.sqrt(3) * 1e308, rel=1e-14)
+
+
+@pytest.mark.parametrize(("field", "value"), [
+    ("density", np.nan), ("density", -1.0), ("error", np.inf), ("error", -0.5),
+])
+def test_histogram_distance_refuses_non_finite_or_negative_values(field, value):
+    # Before: a density of nan gave chi2 = nan and ks = nan silently; a negative one a KS
+    # distance of 2.
+    import dataclasses
+
+    from particles.observables import rescaled_histogram
+
+    h = rescaled_histogram(np.random.default_rng(1).normal(size=(1, 2000)))
+    bad = dataclasses.replace(h, **{field: np.where(np.arange(h.density.size) == 3, value,
+                                                    getattr(h, field))})
+    with pytest.raises(InvalidArgumentError) as err:
+        h.distance(bad)
+    assert err.value.name == "other" and field in str(err.value)
+    with pytest.raises(InvalidArgumentError) as err:
+        bad.distance(h)
+    assert err.value.name == "histogram"

@@ -107,3 +107,20 @@ def test_zero_and_small_numbers_are_still_read(text, value):
     from particles.validation import check_real
 
     assert check_real(text, "x") == value
+
+
+def test_a_name_too_long_is_shown_with_its_own_length(tmp_path):
+    # Before, the path was cut to 200 characters and then cut again by the message, which
+    # then gave the length of the cut text ("(205 characters)") for a path of ~300.
+    import re
+
+    from particles.persistence import check_name_length
+
+    path = tmp_path / ("b" * 300 + ".npz")
+    with pytest.raises(InvalidArgumentError) as err:
+        check_name_length(path, "save")
+    message = str(err.value)
+    assert err.value.name == "save" and "at most" in message
+    shown_length = int(re.search(r"\((\d+) characters\)", message).group(1))
+    assert shown_length >= len(str(path))
+    assert message.count("...") == 1

@@ -144,7 +144,7 @@ def model_params(args, model: Model, *, sweep: bool) -> dict:
         if isinstance(text, bool):  # the switch of a flag
             params[p.name] = text
         elif sweep:
-            values = [p.parse(part) for part in parse_name_list(text, p.name)]
+            values = [p.parse(part) for part in parse_name_list(text, p.name, repeats=True)]
             for i, value in enumerate(values):  # "0.5,0.50" or "1e3,1000": one value twice
                 if value in values[:i]:
                     raise InvalidArgumentError(p.name, text, f"distinct values ({value!r} is "

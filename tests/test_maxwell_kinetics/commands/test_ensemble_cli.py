@@ -206,3 +206,19 @@ def test_ensemble_on_a_batch_cluster_from_the_command_line(capsys, tmp_path, mon
         else:
             os.killpg(group, signal.SIGKILL)
             raise AssertionError("the batch job outlived the ensemble by 60 s")
+
+
+@pytest.mark.parametrize(("option", "text", "shown"), [
+    ("--restitution", "0.3,0.3", "0.3"), ("--restitution", "0.3,0.30", "0.3"),
+    ("--n", "100,100", "100"),
+])
+def test_a_swept_value_given_twice_is_a_repeated_value(capsys, tmp_path, option, text, shown):
+    # Before: "0.3,0.3" was "expected a list of names without repeats" (a number is no name),
+    # while "0.3,0.30" was "distinct values": one rule, one message, whatever the spelling.
+    argv = ["ensemble", "ulam", "--n", "100", "--restitution", "0.5", "--tau", "1",
+            "--seeds", "1", "--serial", "--out", str(tmp_path / "o"), "--no-progress"]
+    argv[argv.index(option) + 1] = text
+    err = run_error(capsys, argv)
+    assert f"argument {option[2:]}='{text}'" in err
+    assert f"distinct values ({shown} is given twice)" in err
+    assert not (tmp_path / "o").exists()

@@ -51,3 +51,18 @@ def test_tail_exponent_too_close_to_elastic_is_refused_by_name(capsys, d):
         tail_exponent(d, 0.99999999)
     err = run_error(capsys, ["tail-exponent", "--dimension", str(d), "-r", "0.99999999"])
     assert "argument restitution='0.99999999'" in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize(("argv", "first"), [
+    (["solve", "--restitution", "5", "--restitution", "0.5", "--tau", "1"], "restitution='5'"),
+    (["solve", "-r", "0.5", "--restitution", "0.6", "--tau", "1"], "restitution='0.5'"),
+    (["simulate", "ulam", "--n", "-5", "--n", "100", "--restitution", "0.5", "--tau", "1"],
+     "n='-5'"),
+    (["reproduce", "--only", "driven_steady", "--only", "nope"], "only='driven_steady'"),
+])
+def test_an_option_given_twice_is_refused(capsys, argv, first):
+    # Before: argparse kept the last value, so the first (even an invalid one, r = 5) was
+    # ignored without being checked and the run went on.
+    err = run_error(capsys, argv)
+    assert f"argument {first} is invalid" in err and "once (it is given again" in err
+    assert err.count("\n") == 1

@@ -90,9 +90,11 @@ BAD_SOLVE = [
 @pytest.mark.parametrize("extra, shown", BAD_SOLVE, ids=[" ".join(e) for e, _ in BAD_SOLVE])
 def test_solve_bad_input(extra, shown, capsys, tmp_path):
     plot, save = tmp_path / "p.png", tmp_path / "s.npz"
-    argv = ["solve", "--restitution", "0.5", "--tau", "1,2", "--resolution", "coarse", "--json",
-            "--plot", str(plot), "--save", str(save)]
-    # later occurrences of an option override the defaults above
+    defaults = {"--restitution": "0.5", "--tau": "1,2"}
+    for option in extra:  # the bad value replaces the default (an option given twice is refused)
+        defaults.pop(option.split("=")[0], None)
+    argv = ["solve", *[x for pair in defaults.items() for x in pair], "--resolution", "coarse",
+            "--json", "--plot", str(plot), "--save", str(save)]
     err = run_error(capsys, argv + extra)
     assert shown in err
     assert not plot.exists() and not save.exists()

@@ -137,8 +137,8 @@ def test_chunks_on_dask_workers_equal_the_chunks_run_here(capsys):
     # --chunks K with --workers W (a local cluster of W processes) or --scheduler (a running
     # cluster): the chunks are the same computations, so every number equals the in-process
     # K-chunk run (each chunk draws from its own child seed, wherever it runs).
-    argv = BASE + ["--n", "600", "--t", "1,30,200", "--chunks", "3", "--json",
-                   "--structure-factor"]
+    argv = ["simulate", "sticky", "--n", "600", "--density", "1.5", "--seed", "4", "--t",
+            "1,30,200", "--chunks", "3", "--json", "--structure-factor"]
     here = run_json(capsys, argv)
     on_workers = run_json(capsys, argv + ["--workers", "2"])
     assert _without_timing(on_workers) == _without_timing(here)

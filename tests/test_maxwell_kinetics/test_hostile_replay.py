@@ -1,0 +1,84 @@
+"""Hostile arguments to the Solution methods, the relative-velocity solvers and the bin
+integrals: each is refused by name (InvalidArgumentError), never a TypeError, IndexError,
+ValueError, RuntimeError or MemoryError from deep inside, and never a silent nan."""
+
+import numpy as np
+import pytest
+
+from maxwell_kinetics import solve
+from particles.validation import InvalidArgumentError
+
+
+@pytest.fixture(scope="module")
+def sol():
+    return solve(0.5, "gaussian", tau=[1.0, 2.0], resolution="coarse", progress=False)
+
+
+@pytest.mark.parametrize("tau_index", [True, np.bool_(False), 1.5, "0", 1.0])
+def test_tau_index_must_be_an_integer(sol, tau_index):
+    with pytest.raises(InvalidArgumentError) as err:
+        sol.evaluate([0.0, 1.0], tau_index=tau_index)
+    assert err.value.name == "tau_index"
+
+
+def test_tau_index_of_numpy_integer_is_taken(sol):
+    assert np.array_equal(sol.evaluate([1.0], tau_index=np.int64(0)),
+                          sol.evaluate([1.0], tau_index=0))
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"s": float("nan")}, "s"), ({"s": float("inf")}, "s"), ({"s": True}, "s"),
+    ({"s": 2.5 + 1j}, "s"), ({"s": "a"}, "s"),
+    ({"s": 2.5, "q_low": float("nan")}, "q_low"), ({"s": 2.5, "q_low": 1e9}, "q_low"),
+    ({"s": 2.5, "q_low": "a"}, "q_low"), ({"s": 2.5, "q_low": True}, "q_low"),
+])
+def test_fourier_distance_refuses_by_name(sol, kwargs, name):
+    with pytest.raises(InvalidArgumentError) as err:
+        sol.fourier_distance(tau_index=0, **kwargs)
+    assert err.value.name == name
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"max_steps": 0}, "max_steps"), ({"max_steps": 1.5}, "max_steps"),
+    ({"max_steps": True}, "max_steps"), ({"grid": "fine"}, "grid"),
+])
+def test_solve_boltzmann_refuses_by_name_before_the_work(kwargs, name):
+    from maxwell_kinetics import solve_boltzmann
+
+    with pytest.raises(InvalidArgumentError) as err:
+        solve_boltzmann(0.5, [1.0], **kwargs)
+    assert err.value.name == name
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"tolerance": -1.0}, "tolerance"), ({"tolerance": float("nan")}, "tolerance"),
+    ({"max_iterations": True}, "max_iterations"), ({"max_iterations": -1}, "max_iterations"),
+    ({"max_iterations": 2.5}, "max_iterations"), ({"relaxation": float("nan")}, "relaxation"),
+    ({"relaxation": -5.0}, "relaxation"), ({"grid": (241, 12.0)}, "grid"),
+])
+def test_scaling_state_refuses_by_name_before_the_work(kwargs, name):
+    from maxwell_kinetics import scaling_state
+
+    with pytest.raises(InvalidArgumentError) as err:
+        scaling_state(0.5, **kwargs)
+    assert err.value.name == name
+
+
+def test_a_half_width_no_grid_can_cover_is_named_itself():
+    # Before: half_width 1e9 was reported as points=201 "at least 8000000001 points", beyond
+    # the 1601 points allowed: the value to change is the half-width.
+    from maxwell_kinetics.velocity_grid import (
+        MAX_POINTS,
+        MAX_SPACING,
+        VelocityGrid,
+        initial_values,
+    )
+
+    with pytest.raises(InvalidArgumentError) as err:
+        initial_values("gaussian", VelocityGrid(201, 1e9))
+    widest = MAX_SPACING * (MAX_POINTS - 1) / 2
+    assert err.value.name == "half_width" and f"a half-width <= {widest:g}" in str(err.value)
+    # within reach of the points allowed, the points are still what is named
+    with pytest.raises(InvalidArgumentError) as err:
+        initial_values("gaussian", VelocityGrid(201, 100.0))
+    assert err.value.name == "points"
