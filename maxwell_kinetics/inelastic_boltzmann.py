@@ -161,7 +161,7 @@ def tables_for(model: RelativeVelocityModel, grid: _grid.VelocityGrid):
     ----------
     model : RelativeVelocityModel
         The kernel.
-    grid : _grid.VelocityGrid or _grid.MappedGrid
+    grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`)
         The grid.
 
     Returns
@@ -204,7 +204,7 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         n > 0, particles per unit length.
     initial : str or particles.initial.InitialLaw, default "gaussian"
         The initial law (zero mean, unit variance, with a CDF): ⟨v²⟩ = 1 at t = 0.
-    grid : _grid.VelocityGrid or _grid.MappedGrid, optional
+    grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`), optional
         The grid of c; default :func:`maxwell_kinetics.velocity_grid.default_grid` (uniform).  A
         :class:`maxwell_kinetics.velocity_grid.MappedGrid` for γ = 0 only.
     rtol, atol : float
@@ -292,7 +292,7 @@ class BoltzmannSolution:
         r, γ and n (particles per unit length) of the solve.
     initial : str
         The initial law's name.
-    grid : _grid.VelocityGrid or _grid.MappedGrid
+    grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`)
         The grid of c.
     t : numpy.ndarray
         The saved physical times, shape (T,).
@@ -515,7 +515,8 @@ def _cumulative(values: np.ndarray, grid, x: np.ndarray) -> np.ndarray:
 #: undershoots to F ≈ −3e-4 between them and its kurtosis, 1.21439, is 2.5e-4 (relative) low.
 #: Measured at r = 0.99 (benchmarks/README.md): 241 points on ±6 (spacing 0.05): kurtosis
 #: 1.2146782, min F −1.6e-13 (481 on ±12 agree to 1e-11: ±6 is wide enough there); 361 on ±6
-#: (0.033): 1.2146864, min F −3e-18.  Near r = 1 pass ``grid=_grid.VelocityGrid(361, 6.0)``.
+#: (0.033): 1.2146864, min F −3e-18.  Near r = 1 pass ``grid=VelocityGrid(361, 6.0)``
+#: (:class:`maxwell_kinetics.velocity_grid.VelocityGrid`).
 SCALING_GRID = _grid.VelocityGrid(241, 12.0)
 
 
@@ -529,7 +530,7 @@ class ScalingState:
     ----------
     restitution, exponent : float
         r and γ.
-    grid : _grid.VelocityGrid or _grid.MappedGrid
+    grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`)
         The grid of c.
     F : numpy.ndarray
         Shape (N,): the state at the nodes.
@@ -604,7 +605,7 @@ def scaling_state(restitution, *, exponent=1.0, grid: _grid.VelocityGrid | None 
         r ∈ [0, 1).
     exponent : float, default 1.0
         γ of the rate.
-    grid : _grid.VelocityGrid, optional
+    grid : maxwell_kinetics.velocity_grid.VelocityGrid, optional
         Default :data:`SCALING_GRID` (spacing 0.1: at r = 0.99 its kurtosis is 2.5e-4 low and
         F undershoots to −3e-4 between the humps; 361 points on ±6 bring both to ~1e-6 and
         −3e-18); γ = 0 has no scaling state with finite kurtosis (its tail is |x|⁻⁴) and is
