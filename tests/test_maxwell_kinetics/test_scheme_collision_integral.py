@@ -128,3 +128,56 @@ def test_rhs_is_the_collision_integral_asymmetric_law():
     expected = fine + _transport_of_reference(q[keep], lam, m3)
     assert np.abs(rhs[keep] - expected).max() < 2 * quadrature_error + ROUND_OFF
     assert np.abs(fine.imag).max() > 0.05  # the imaginary part is tested, not only zeros
+
+
+def test_rhs_later_in_a_window_is_the_collision_integral_at_the_moved_nodes():
+    """At local time t of a window the comoving nodes sit at q = e^{s_j − λ t}.  Given the
+    uniform law's deviation there, w = sin(√3 q)/(√3 q) − e^{−q²/2} (exact), the right-hand side
+    is again Q[G](q) + λ q g'(q) at those q (same quadrature and tolerance as above): this pins
+    the motion of the nodes, which τ = 0 alone cannot (e^{−λ·0} = 1)."""
+    t = 0.3
+    model = MaxwellModel(R)
+    stepper = _Stepper(model, get_law("uniform"), GRID, SolverOptions())
+    st = stepper.static
+    q_all = np.exp(GRID.s_min + GRID.h * np.arange(st.n_state) - model.lam * t)
+    w = np.sin(math.sqrt(3.0) * q_all) / (math.sqrt(3.0) * q_all) - np.exp(-0.5 * q_all**2)
+    with jax.enable_x64(True):
+        dw = np.asarray(scheme._rhs(st, t, jnp.asarray(w[None, :]),
+                                    (jnp.float64(0.0), stepper.dynamic)))
+    q, rhs = q_all[:GRID.n], dw[0, :GRID.n]
+    keep = q >= Q_MIN
+    q, rhs = q[keep], rhs[keep]
+    assert math.exp(-model.lam * t) < 0.95  # the nodes moved by more than 5 %: not a no-op
+
+    def integral(n):
+        x, wt = np.polynomial.legendre.leggauss(n)
+        return _collision_integral(q, math.sqrt(3.0) * x, wt / 2.0)
+
+    coarse, fine = integral(64), integral(128)
+    quadrature_error = np.abs(coarse - fine).max()
+    assert quadrature_error < QUADRATURE_TOL
+    expected = fine + _transport_of_reference(q, model.lam, 0.0)
+    assert np.abs(rhs - expected).max() < 2 * quadrature_error + ROUND_OFF
+
+
+def test_inflow_is_the_free_decay_of_the_initial_law_beyond_the_active_nodes():
+    """Beyond the active nodes the state is set, not integrated: at τ = τ_w + t the node at
+    q = e^{s_j − λt} holds e^{−τ} φ(q e^{λτ}) − g(q) (the collisionless decay of the initial
+    law, φ(k) = e^{−ik}/(1 − ik) for the shifted exponential; g(q) = e^{−q²/2}(1 − i m₃ q³/6)),
+    real and imaginary parts.  Evaluated here in closed form; the agreement is to round-off."""
+    tau_w, t = 1.0, 0.2
+    model = MaxwellModel(R)
+    stepper = _Stepper(model, get_law("asymmetric"), GRID, SolverOptions())
+    st, dy = stepper.static, stepper.dynamic
+    with jax.enable_x64(True):
+        inflow = np.asarray(scheme._inflow(st, dy, jnp.float64(t), jnp.float64(tau_w)))
+    j = int(dy.n_active) + np.arange(st.n_right)
+    q = np.exp(GRID.s_min + GRID.h * j - model.lam * t)
+    tau = tau_w + t
+    k = q * math.exp(model.lam * tau)
+    free = math.exp(-tau) * np.exp(-1j * k) / (1.0 - 1j * k)
+    reference = np.exp(-0.5 * q * q) * (1.0 - 1j * stepper.m3 * q**3 / 6.0)
+    expected = free - reference
+    assert inflow.shape == (2, st.n_right)
+    assert np.abs(inflow[0] + 1j * inflow[1] - expected).max() < 1e-14
+    assert np.abs(free).max() > 1e-3 and np.abs(expected.imag).max() > 1e-3  # both terms count
