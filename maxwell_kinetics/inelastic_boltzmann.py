@@ -68,7 +68,7 @@ from . import velocity_grid as _grid
 from .model import RelativeVelocityModel
 
 __all__ = ["solve_boltzmann", "BoltzmannSolution", "scaling_state", "ScalingState",
-           "SCALING_GRID"]
+           "SCALING_GRID", "check_reach", "SMALLEST_SCALE", "STEPS_PER_TAU_AND_STIFFNESS"]
 
 def check_density(density) -> float:
     """The density n: a finite number > 0.
@@ -89,6 +89,69 @@ def check_density(density) -> float:
         Naming ``density`` otherwise.
     """
     return check_positive(density, "density")
+
+
+#: Smallest thermal scale s(t) = √(⟨v²⟩(t)/⟨v²⟩(0)) a solve with γ > 0 may be asked to reach.
+#: Measured (r = 0.5, default grid): the explicit integration stalls once s falls below about
+#: 1e-18 (γ = 1: ran to s = 2.4e-19, stalled by s = 8e-20; γ = 0.5: ran to 1.5e-17, stalled by
+#: 5e-19), long after the gas has reached its cooling state (:func:`scaling_state`).
+SMALLEST_SCALE = 1e-15
+#: Time steps per unit of the collision time τ = n t and per unit of the grid's stiffness
+#: max |c_i|/(spacing at c_i) (the dilation's explicit stability limit).  Measured at γ = 0,
+#: r = 0.5 on the default grid (stiffness 200): 225 steps to τ = 10, 2973 to τ = 100.
+STEPS_PER_TAU_AND_STIFFNESS = 0.15
+
+
+def check_reach(model: RelativeVelocityModel, density: float, t_last: float, grid,
+                max_steps: int) -> None:
+    """Refuse, before any work, a last time the solve cannot reach.
+
+    γ > 0: the thermal scale s(t) predicted by Haff's law for the rate n|v − w|^γ from a
+    Gaussian, s = (1 + γ λ n κ t/2)^{−1/γ} with κ = ⟨|v − w|^{γ+2}⟩/⟨v²⟩^{(γ+2)/2} =
+    2^{γ+2} Γ((γ + 3)/2)/√π, must stay above :data:`SMALLEST_SCALE`.  γ = 0: the estimated
+    number of time steps, :data:`STEPS_PER_TAU_AND_STIFFNESS` · n t · max |c_i|/spacing_i,
+    must not pass ``max_steps`` (the solve would run that many steps and then fail).
+
+    Parameters
+    ----------
+    model : maxwell_kinetics.model.RelativeVelocityModel
+        The kernel (r, γ).
+    density : float
+        n.
+    t_last : float
+        The last time asked for.
+    grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`)
+        The grid.
+    max_steps : int
+        The solve's step limit.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``t``, with the largest time that can be reached.
+    """
+    gamma, lam = model.exponent, model.lam
+    if gamma > 0.0:
+        kappa = 2.0 ** (gamma + 2.0) * math.gamma((gamma + 3.0) / 2.0) / math.sqrt(math.pi)
+        rate = gamma * lam * density * kappa / 2.0
+        # s(t) < SMALLEST_SCALE  <=>  1 + rate t > SMALLEST_SCALE^(−γ)
+        reach = (SMALLEST_SCALE ** (-gamma) - 1.0) / rate if rate > 0.0 else math.inf
+        if t_last > reach:
+            raise InvalidArgumentError(
+                "t", t_last, f"a last time t <= {reach:.3g} here, where the thermal scale "
+                f"sqrt(E(t)/E(0)) is still above {SMALLEST_SCALE:g} (beyond it the integration "
+                "stalls; the gas has long reached its cooling state, which fixed-point --rate "
+                "relative_velocity / scaling_state gives)")
+        return
+    c = grid.c
+    spacing = grid.weights if isinstance(grid, _grid.MappedGrid) else np.full(c.size, grid.h)
+    per_tau = STEPS_PER_TAU_AND_STIFFNESS * float(np.max(np.abs(c) / spacing))
+    steps = per_tau * density * t_last
+    if steps > max_steps:
+        raise InvalidArgumentError(
+            "t", t_last, f"a last time t <= {max_steps / (per_tau * density):.3g} here (about "
+            f"{per_tau:.3g} time steps per unit of n t on this grid, at most max_steps = "
+            f"{max_steps} in all; raise max_steps in Python for longer solves)")
 
 
 def _padded(times: np.ndarray) -> np.ndarray:
@@ -225,6 +288,7 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         (:func:`maxwell_kinetics.velocity_grid.initial_values`), ``grid`` for a
         :class:`maxwell_kinetics.velocity_grid.MappedGrid` with γ > 0 or not a grid, ``rtol`` or
         ``atol`` if not positive, ``max_steps`` if not an integer >= 1.
+        ``t`` for a last time beyond the solver's reach (:func:`check_reach`), before any work.
     RuntimeError
         If the time integration fails (too many steps).
     """
@@ -242,6 +306,7 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
     check_positive(atol, "atol")
     max_steps = check_count(max_steps, "max_steps", 1)
     grid = _grid.default_grid(model.exponent) if grid is None else grid
+    check_reach(model, n, float(times[-1]), grid, max_steps)
     law = get_law(initial)
     F0 = _grid.initial_values(law, grid)
     import jax
