@@ -419,8 +419,9 @@ class Solution:
         particles.validation.InvalidArgumentError
             Naming ``x`` if it is not an array of finite real numbers, or so large that the
             quadrature would exceed :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` nodes
-            or the memory available (panels of width π / max|x|: |x| up to about 9e4; the
-            check runs before any work); naming ``tau_index`` if it is out of range.
+            or the memory available (panels of width π / max|x|: |x| up to about 9e4), or with
+            so many points that it would take more than one day (the checks run before any
+            work); naming ``tau_index`` if it is out of range.
         """
         from .velocity import invert
 

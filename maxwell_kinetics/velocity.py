@@ -101,6 +101,13 @@ def _irfft_plan(m: int) -> pyfftw.FFTW:
 #: is below the round-off of the transform anyway (a relative error growing like 1/P).
 MAX_QUADRATURE_NODES = 2**24
 
+#: Seconds per quadrature node and value asked for of :func:`density_at` and
+#: :func:`radial_density_at` (a complex exponential or a cosine and a product each; measured
+#: for density_at on one core: 4.0e-8 s with 2·10⁵ values and 1072 nodes, and with 2·10⁴ values
+#: and 8448 nodes; about 1e-7 on a loaded machine).
+SECONDS_PER_NODE_VALUE = 4e-8
+#: A density estimated to take longer than this (one day) is refused before any work.
+MAX_QUADRATURE_SECONDS = 86400.0
 #: Peak bytes per quadrature node when G is a :class:`~maxwell_kinetics.solution.Solution`'s
 #: interpolant (measured with tracemalloc: 155 for 3.4e5 and 1.3e6 nodes).
 BYTES_PER_NODE = 160.0
@@ -138,8 +145,10 @@ def quadrature_nodes(q_max: float, v_max: float, nodes_per_panel: int = 16,
 def check_quadrature(q_max: float, values, name: str, nodes_per_panel: int = 16,
                      radial: bool = False, shown=None) -> float:
     """Refuse, before any work, a density whose quadrature would exceed
-    :data:`MAX_QUADRATURE_NODES` nodes or the memory available: InvalidArgumentError naming
-    ``name`` (the caller's argument), with the largest value accepted.  Returns the node count.
+    :data:`MAX_QUADRATURE_NODES` nodes or the memory available, or take more than
+    :data:`MAX_QUADRATURE_SECONDS` for all the values asked for (:data:`SECONDS_PER_NODE_VALUE`
+    per node and value): InvalidArgumentError naming ``name`` (the caller's argument), with the
+    largest value or count accepted.  Returns the node count.
 
     Parameters
     ----------
@@ -180,6 +189,16 @@ def check_quadrature(q_max: float, values, name: str, nodes_per_panel: int = 16,
             f"has panels of width pi/max|{name}| up to q_max = {float(q_max):.4g}, "
             f"{nodes:.3g} nodes here (about {format_bytes(nodes * BYTES_PER_NODE)}), at most "
             f"{limit:.3g}",
+        )
+    count = max(1, int(np.size(values)))
+    seconds = SECONDS_PER_NODE_VALUE * nodes * count
+    if not seconds <= MAX_QUADRATURE_SECONDS:
+        most = MAX_QUADRATURE_SECONDS / (SECONDS_PER_NODE_VALUE * nodes)
+        raise InvalidArgumentError(
+            name, f"{count} values up to |{name}| = {v_max:.3g}",
+            f"at most {most:.3g} values at this largest |{name}|: the quadrature has "
+            f"{nodes:.3g} nodes, about {SECONDS_PER_NODE_VALUE:.2g} s per node and value, "
+            f"{seconds / 3600.0:.3g} h here, at most one day (ask in parts)",
         )
     return nodes
 
@@ -274,8 +293,9 @@ def density_at(G: Callable, x, q_max: float = 50.0, nodes_per_panel: int = 16) -
     ------
     particles.validation.InvalidArgumentError
         If ``q_max`` is not positive, ``nodes_per_panel`` is not a count >= 1, ``x`` is not
-        finite or so large that the quadrature would exceed :data:`MAX_QUADRATURE_NODES` nodes
-        or the memory available (:func:`check_quadrature`, naming ``x``), or ``G`` is not
+        finite or so large (or so many values) that the quadrature would exceed
+        :data:`MAX_QUADRATURE_NODES` nodes, the memory available or one day
+        (:func:`check_quadrature`, naming ``x``), or ``G`` is not
         callable or returns non-finite values.
     """
     q_max = check_positive(q_max, "q_max")
@@ -473,8 +493,9 @@ def radial_density_at(G: Callable, v, dimension: int, q_max: float = 50.0,
     particles.validation.InvalidArgumentError
         If ``dimension`` is not 1, 2 or 3, ``q_max`` is not positive, ``nodes_per_panel`` is
         not a count ≥ 1, ``v`` holds a negative or non-finite speed or one so large that the
-        quadrature would exceed :data:`MAX_QUADRATURE_NODES` nodes or the memory available
-        (:func:`check_quadrature`), or ``G`` is not callable or returns non-finite values.
+        quadrature would exceed :data:`MAX_QUADRATURE_NODES` nodes, the memory available or
+        (with the number of speeds) one day (:func:`check_quadrature`), or ``G`` is not
+        callable or returns non-finite values.
     """
     d = _check_dimension(dimension)
     q_max = check_positive(q_max, "q_max")

@@ -132,3 +132,32 @@ def test_the_reach_estimate_follows_the_solved_cooling():
     s = math.sqrt(solution.energy[-1])
     predicted = 1.0 / (1.0 + 0.5 * (3.0 / 16.0) * 8.0 / math.sqrt(math.pi) * 1000.0)
     assert abs(s / predicted - 1.0) < 0.1, (s, predicted)
+
+
+def test_a_density_at_too_many_points_is_refused_before_the_work():
+    # Before: Solution.density(x=...) had no estimate on the number of points (10⁶ points at
+    # |x| <= 5 took 114 s on a loaded machine; the time is nodes x points).
+    import time
+
+    from maxwell_kinetics.velocity import (
+        MAX_QUADRATURE_SECONDS,
+        SECONDS_PER_NODE_VALUE,
+        check_quadrature,
+        quadrature_nodes,
+    )
+
+    nodes = quadrature_nodes(35.0, 5e4)
+    most = MAX_QUADRATURE_SECONDS / (SECONDS_PER_NODE_VALUE * nodes)
+    start = time.perf_counter()
+    with pytest.raises(InvalidArgumentError, match=r"at most .* values at this largest \|x\|"):
+        check_quadrature(35.0, np.full(int(1.01 * most) + 1, 5e4), "x")
+    assert check_quadrature(35.0, np.full(int(0.99 * most), 5e4), "x") == nodes
+    assert time.perf_counter() - start < 5.0
+    solution = solve(0.5, tau=[1.0], resolution="coarse", progress=False)
+    q_max = solution.resolution.q_max
+    too_many = int(1.01 * MAX_QUADRATURE_SECONDS
+                   / (SECONDS_PER_NODE_VALUE * quadrature_nodes(q_max, 5e4))) + 1
+    start = time.perf_counter()
+    with pytest.raises(InvalidArgumentError) as err:
+        solution.density(x=np.full(too_many, 5e4))
+    assert err.value.name == "x" and time.perf_counter() - start < 5.0
