@@ -109,16 +109,20 @@ def _takes_one_value(parser: argparse.ArgumentParser, option: str, optional: boo
     """True when ``option`` (exact, or an unambiguous ``--`` prefix) takes one value; with
     ``optional=False``, only when the value is required (``nargs="?"`` may take none, so the
     next token is not skipped as its value unless it was joined)."""
+    action = _option_action(parser, option)
+    return action is not None and action.nargs in ((None, 1, "?") if optional else (None, 1))
+
+
+def _option_action(parser: argparse.ArgumentParser, option: str):
+    """The action of ``option`` (exact, or an unambiguous ``--`` prefix), else None."""
     actions = parser._option_string_actions
     if option in actions:
-        found = {actions[option]}
-    elif option.startswith("--") and parser.allow_abbrev:
+        return actions[option]
+    if option.startswith("--") and parser.allow_abbrev:
         found = {action for name, action in actions.items() if name.startswith(option)}
-    else:
-        return False
-    if len(found) != 1:
-        return False
-    return found.pop().nargs in ((None, 1, "?") if optional else (None, 1))
+        if len(found) == 1:
+            return found.pop()
+    return None
 
 
 def _subcommands(parser: argparse.ArgumentParser) -> dict:
@@ -175,17 +179,8 @@ def join_negative_values(parser: argparse.ArgumentParser, argv: list[str]) -> li
 def _value_action(parser: argparse.ArgumentParser, option: str):
     """The action of ``option`` (exact, or an unambiguous ``--`` prefix) when it always takes
     one value, else None."""
-    actions = parser._option_string_actions
-    if option in actions:
-        found = {actions[option]}
-    elif option.startswith("--") and parser.allow_abbrev:
-        found = {action for name, action in actions.items() if name.startswith(option)}
-    else:
-        return None
-    if len(found) != 1:
-        return None
-    action = found.pop()
-    return action if action.nargs in (None, 1) else None
+    action = _option_action(parser, option)
+    return action if action is not None and action.nargs in (None, 1) else None
 
 
 def refuse_repeated_options(parser: argparse.ArgumentParser, argv: list[str]) -> None:
