@@ -121,15 +121,17 @@ def test_long_run_keeps_the_mean_velocity_at_round_off(cls):
     assert np.std(x) > 0.99 and np.unique(x).size == n
 
 
-def test_expected_energy_is_exactly_exp_minus_2_lambda_tau_n_over_n_minus_1():
+@pytest.mark.parametrize("cls", [Ulam, UlamReference])
+def test_expected_energy_is_exactly_exp_minus_2_lambda_tau_n_over_n_minus_1(cls):
     # Exact: E(τ) = exp(-2λτ N/(N-1)) in expectation, N particles at zero momentum.  N = 10
     # makes the finite-N factor 10/9 visible: over 2000 seeds the standard error of the mean is
     # ~0.004, and the infinite-N law exp(-2λτ) is 5-11 standard errors away (asserted too, so
-    # the test can tell the two apart).  Tolerance: 4 standard errors from the seed spread.
+    # the test can tell the two apart).  Tolerance: 4 standard errors from the seed spread.  The
+    # reference's loop too: its partner draw (any j ≠ i, uniformly) sets the factor N/(N−1).
     n, r = 10, 0.5
     lam = (1 - r * r) / 4
     taus = np.array([0.5, 1.0, 2.0, 4.0])
-    energy = np.array([simulate(Ulam(n, r), taus, s, progress=False).energy for s in range(2000)])
+    energy = np.array([simulate(cls(n, r), taus, s, progress=False).energy for s in range(2000)])
     mean = energy.mean(axis=0)
     se = energy.std(axis=0, ddof=1) / np.sqrt(len(energy))
     exact = np.exp(-2 * lam * taus * n / (n - 1))
@@ -493,3 +495,52 @@ def test_draw_pairs_checks_its_arguments():
     two = draw_pairs(rng, 2, 50)
     assert sorted(set(map(tuple, two.tolist()))) == [(0, 1), (1, 0)]
     assert draw_pairs(rng, 5, 0).shape == (0, 2)
+
+
+def test_ulam_state_round_trips_through_its_arrays_as_a_copy():
+    """What a checkpoint stores and reloads: time as a float, the velocities (a copy, as
+    floats), collisions as an integer; the dimension defaults to 1."""
+    from particles.ulam import UlamState
+
+    v = np.array([0.5, -1.0, 0.25, 0.25])
+    arrays = UlamState(1.5, v, 7).to_arrays()
+    assert set(arrays) == {"time", "velocities", "collisions"}
+    back = UlamState.from_arrays(arrays, 4)  # dimension 1 unless told
+    assert (back.time, back.collisions) == (1.5, 7)
+    assert isinstance(back.time, float) and isinstance(back.collisions, int)
+    np.testing.assert_array_equal(back.velocities, v)
+    arrays["velocities"][0] = 99.0
+    assert back.velocities[0] == 0.5  # a copy, not a view of the file's array
+    ints = dict(arrays, velocities=np.arange(4))  # a hand-made file of integers
+    assert UlamState.from_arrays(ints, 4).velocities.dtype == np.float64
+    planar = UlamState(2.0, np.ones((3, 2)), 1).to_arrays()
+    assert UlamState.from_arrays(planar, 3, dimension=2).velocities.shape == (3, 2)
+
+
+@pytest.mark.parametrize("arrays, n, dimension, match", [
+    ({"time": 1.0, "velocities": np.zeros(4)}, 4, 1,
+     r"checkpoint=\"missing \['collisions'\]\".*\ban Ulam state\b"),
+    ({"time": 1.0, "velocities": np.zeros(5), "collisions": 0}, 4, 1,
+     r"checkpoint='velocities of shape \(5,\)'.*an Ulam state, expected \(4,\)"),
+    ({"time": 1.0, "velocities": np.zeros(4), "collisions": 0}, 4, 2,
+     r"checkpoint='velocities of shape \(4,\)'.*expected \(4, 2\)"),
+    ({"time": 1.0, "velocities": np.zeros((4, 2)), "collisions": 0}, 4, 1,
+     r"checkpoint='velocities of shape \(4, 2\)'.*expected \(4,\)"),
+])
+def test_ulam_state_from_arrays_refuses_an_inconsistent_state(arrays, n, dimension, match):
+    from particles.ulam import UlamState
+
+    with pytest.raises(InvalidArgumentError, match=match):
+        UlamState.from_arrays(arrays, n, dimension)
+
+
+def test_names_moved_out_of_the_ulam_module_say_where_they_went():
+    import particles.ulam as ulam
+
+    with pytest.raises(ImportError, match=r"particles\.ulam\.draw_pairs moved to "
+                                          r"particles\.pair_schedule\.draw_pairs"):
+        ulam.draw_pairs  # noqa: B018
+    with pytest.raises(ImportError, match=r"particles\.ulam_kinematics\.draw_angles"):
+        ulam.draw_angles  # noqa: B018
+    with pytest.raises(AttributeError, match=r"'particles\.ulam' has no attribute 'nothing'"):
+        ulam.nothing  # noqa: B018

@@ -227,14 +227,16 @@ def test_driven_engine_applies_kicks_and_events_exactly():
 @pytest.mark.parametrize(
     "dimension, angular", [(2, "uniform"), (2, "hard"), (3, "uniform"), (3, "hard")]
 )
-def test_expected_energy_decays_with_the_finite_n_rate(dimension, angular):
+@pytest.mark.parametrize("cls", [Ulam, UlamReference])
+def test_expected_energy_decays_with_the_finite_n_rate(dimension, angular, cls):
     # ⟨|v|²⟩(τ) = ⟨|v|²⟩(0) e^{−Λτ N/(N−1)}, Λ = 2pq⟨η⟩ (derivation: particles.ulam.Ulam).
     # N = 5, 600 seeds: standard error of the mean ratio ~0.01; tolerance 4 standard errors.
-    # The infinite-N law e^{−Λτ} must be distinguishable at τ = 4 (asserted, > 4 s.e.).
+    # The infinite-N law e^{−Λτ} must be distinguishable at τ = 4 (asserted, > 4 s.e.).  The
+    # reference too: its partner draw (any j ≠ i, uniformly) sets the rate N/(N−1).
     n, r = 5, 0.2
     lam = decay_rate(dimension, r, angular)
     taus = [1.0, 2.0, 4.0]
-    engine = Ulam(n, r, dimension=dimension, angular=angular)
+    engine = cls(n, r, dimension=dimension, angular=angular)
     rows = []
     for seed in range(600):
         rng = np.random.default_rng(seed)
@@ -573,3 +575,109 @@ def test_hard_direction_in_three_dimensions_by_hand():
     draws = AngularDraws(np.array([[5.0, 3.0, 0.0]]), np.array([0.36]))
     n = collision_directions(np.array([[2.0, 0.0, 0.0]]), draws, "hard")
     np.testing.assert_allclose(n, [[0.6, 0.8, 0.0]], rtol=0, atol=1e-15)
+
+
+@pytest.mark.parametrize("cls, kwargs", [
+    (Ulam, {}),
+    (UlamReference, {}),
+    (Ulam, {"dimension": 2}),
+    (Ulam, {"driving": 0.5}),
+    (UlamReference, {"driving": 0.5}),
+    (UlamReference, {"dimension": 2, "angular": "hard"}),
+])
+def test_collisions_are_counted_from_the_state_onwards(cls, kwargs):
+    """The pair collisions of an advance are a Poisson count of mean Nτ/2 (τ: collisions per
+    particle), added to the state's own count.  N = 40 over τ = 30 (through seven stop points):
+    mean 600, tolerance 5 standard deviations (√600 ≈ 24.5) on one draw."""
+    n, tau = 40, 30.0
+    engine = cls(n, 0.5, **kwargs)
+    rng = np.random.default_rng(5)
+    start = dataclasses.replace(engine.initial_state(rng), collisions=10_000)
+    end = engine.advance(start, tau, rng)
+    counted = end.collisions - 10_000
+    assert abs(counted - n * tau / 2) < 5 * math.sqrt(n * tau / 2), counted
+    # the event budget's estimate is that mean (the driver refuses runs beyond the budget)
+    assert engine.expected_events(tau, 1) == (n * tau / 2, "collisions")
+
+
+def test_the_driven_reference_heats_every_particle_and_recentres_at_the_stop_points():
+    """Elastic (r = 1) and driven: collisions keep the energy, the noise adds 2D per unit τ to
+    each particle's ⟨v²⟩, and the recentring at the stop point τ = 4 removes the mean's square,
+    of expectation 2D·4/N.  At τ = 6: E⟨v²⟩ − ⟨v²⟩(0) = 2D·6 − 2D·4/N = 5.9 (D = 1/2, N = 40).
+    300 seeds; the per-seed increments give the standard error (~0.08); tolerance 5 of them.
+    At τ = 8, a stop point, the mean velocity is zero to round-off."""
+    n, drive = 40, 0.5
+    engine = UlamReference(n, 1.0, driving=drive)
+    gains, means = [], []
+    for seed in range(300):
+        rng = np.random.default_rng(seed)
+        s0 = engine.initial_state(rng)
+        s6 = engine.advance(s0, 6.0, rng)
+        gains.append(np.mean(s6.velocities**2) - np.mean(s0.velocities**2))
+        means.append(abs(engine.advance(s6, 8.0, rng).velocities.mean()))
+    mean, se = np.mean(gains), np.std(gains, ddof=1) / math.sqrt(len(gains))
+    exact = 2 * drive * 6.0 - 2 * drive * 4.0 / n
+    assert abs(mean - exact) < 5 * se, (mean, exact, se)
+    assert max(means) < 1e-13, max(means)
+
+
+def test_recentring_removes_each_components_mean():
+    """Recentring subtracts the mean velocity, component by component in d ≥ 2, in place."""
+    rng = np.random.default_rng(2)
+    for shape, shift in [((50,), 3.0), ((50, 2), np.array([3.0, -7.0])),
+                         ((50, 3), np.array([1.0, 2.0, -4.0]))]:
+        base = rng.standard_normal(shape)
+        base -= base.mean(axis=0)
+        v = base + shift
+        recentre(v)
+        np.testing.assert_allclose(v.mean(axis=0), 0.0, atol=1e-14)
+        np.testing.assert_allclose(v, base, atol=1e-14)
+
+
+@pytest.mark.parametrize("kwargs", [{}, {"dimension": 2}, {"dimension": 3, "angular": "hard"},
+                                    {"driving": 0.5}])
+def test_the_engine_recentres_at_its_stop_points(kwargs):
+    """At a stop point (a multiple of ``stop_step``) the mean velocity is zero to round-off in
+    every component, whatever the noise and the collisions added."""
+    engine = Ulam(200, 0.5, **kwargs)
+    rng = np.random.default_rng(8)
+    state = engine.initial_state(rng)
+    state = dataclasses.replace(state, velocities=state.velocities + 0.5)  # a moving gas
+    end = engine.advance(state, 2 * engine.stop_step, rng)
+    assert np.all(np.abs(np.mean(end.velocities, axis=0)) < 1e-13)
+
+
+@pytest.mark.parametrize("cls", [Ulam, UlamReference])
+def test_advance_to_the_state_time_is_a_no_op(cls):
+    engine = cls(30, 0.5)
+    rng = np.random.default_rng(1)
+    state = engine.advance(engine.initial_state(rng), 1.0, rng)
+    same = engine.advance(state, 1.0, rng)
+    assert same.time == 1.0 and same.collisions == state.collisions
+    np.testing.assert_array_equal(same.velocities, state.velocities)
+
+
+def test_memory_estimate_covers_the_two_copies_of_the_velocities():
+    """An advance holds the state it was given and the new one: two arrays of d float64 per
+    particle at least, which the estimate used by the memory budget must cover in every d."""
+    for d in (1, 2, 3):
+        engine = Ulam(100, 0.5, dimension=d)
+        assert engine.memory_per_particle() >= 2 * 8 * d
+
+
+def test_parameters_are_recorded_under_their_documented_names():
+    """``to_dict`` (recorded with every result, compared on resume) names what sets the random
+    stream: the 1D keys, plus dimension and angular law, driving, or the relative-velocity rate's
+    density and sub-window sizes (no fixed window then)."""
+    from particles.pair_schedule import BLOCK_WINDOWS
+
+    base = Ulam(100, 0.5).to_dict()
+    assert set(base) == {"n", "restitution", "initial", "window"}
+    assert Ulam(100, 0.5, dimension=2, angular="hard").to_dict() == {
+        **base, "dimension": 2, "angular": "hard"}
+    assert Ulam(100, 0.5, driving=0.25).to_dict() == {**base, "driving": 0.25}
+    dsmc = Ulam(100, 0.5, rate="relative_velocity", density=2.0).to_dict()
+    assert dsmc == {"n": 100, "restitution": 0.5, "initial": base["initial"],
+                    "rate": "relative_velocity", "density": 2.0, "target_events": 100,
+                    "block_windows": BLOCK_WINDOWS}
+    assert Ulam(50_000, 0.5, rate="relative_velocity").to_dict()["target_events"] == 25_000
