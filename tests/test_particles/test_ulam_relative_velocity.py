@@ -237,6 +237,19 @@ def test_time_convention_and_bad_input():
     assert constant.time_name == "tau" and "rate" not in constant.to_dict()
     dsmc = Ulam(50, 0.5, rate="relative_velocity", density=0.25)
     assert dsmc.time_name == "t" and dsmc.stop_step == 16.0
+    # The event budget counts candidates, and bounds them: the candidates to t have mean at
+    # most n(N − 1)B₀t/2, B₀ the initial hull bound (the hull never grows).  Checked on the
+    # hull of 10⁶ unit-Gaussian velocities (about 10), at two densities and times.
+    from particles.pair_schedule import hull_bound
+
+    big = Ulam(1_000_000, 0.5, rate="relative_velocity")
+    b0 = hull_bound(big.initial_state(np.random.default_rng(4)).velocities)
+    for engine in (big, Ulam(1_000_000, 0.5, rate="relative_velocity", density=3.0)):
+        for t in (0.5, 40.0):
+            estimate, unit = engine.expected_events(t, 1)
+            assert unit == "candidates"
+            assert estimate >= 0.5 * engine.density * (engine.n - 1) * b0 * t
+            assert estimate <= 2.0 * 0.5 * engine.density * (engine.n - 1) * b0 * t  # not loose
     for kwargs, match in [
         ({"rate": "hard"}, "rate='hard'"),
         ({"rate": "relative_velocity", "density": 0.0}, "density=0.0"),
