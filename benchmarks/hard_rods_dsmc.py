@@ -10,6 +10,8 @@ The equation (density n, p = (1 + r)/2, any test function φ):
     python benchmarks/hard_rods_dsmc.py scaling    # r = 0.5, 0.9: DSMC at t = 1e6
     python benchmarks/hard_rods_dsmc.py cost       # deterministic error vs grid; DSMC cost
     python benchmarks/hard_rods_dsmc.py all --n 1000000 --seeds 4
+    python benchmarks/hard_rods_dsmc.py agreement --n 10000000 --seeds 4 --first-seed 4
+    python benchmarks/hard_rods_dsmc.py combined   # the kurtosis over every recorded run
 
 Checks (printed as ``agrees`` / ``disagrees``):
 
@@ -96,6 +98,8 @@ def agreement(n, seeds, restitutions=(0.99, 0.9), times=(10.0, 100.0, 400.0)):
         k, hists, secs, coll = dsmc(r, n, times, seeds)
         for j, t in enumerate(times):
             row = {"restitution": r, "t": t, "n": n, "seeds": len(seeds),
+                   "seed_list": [int(x) for x in seeds],
+                   "kurtosis_runs": [float(x) for x in k[:, j]],
                    "kurtosis": _check_kurtosis(k[:, j], det.kurtosis[j + 1]),
                    "histogram": _check_histogram(hists[j], det.histogram(EDGES, t=t)),
                    "collisions_per_particle": float(2 * coll[:, j].mean()),
@@ -103,6 +107,28 @@ def agreement(n, seeds, restitutions=(0.99, 0.9), times=(10.0, 100.0, 400.0)):
             rows.append(row)
             print(json.dumps(row), flush=True)
     return rows
+
+
+def combined(results):
+    """The kurtosis check over every run recorded for each (r, N, t): rows of the same check
+    run with other seeds (``--first-seed``) pooled; the histogram checks stay per row."""
+    pooled = {}
+    for row in results.get("agreement", []):
+        if "kurtosis_runs" in row:
+            key = (row["restitution"], row["n"], row["t"])
+            entry = pooled.setdefault(key, {"runs": [], "seeds": [],
+                                            "expected": row["kurtosis"]["expected"]})
+            entry["runs"] += row["kurtosis_runs"]
+            entry["seeds"] += row["seed_list"]
+    out = []
+    for (r, n, t), entry in sorted(pooled.items()):
+        if len(set(entry["seeds"])) != len(entry["seeds"]):
+            raise ValueError(f"r={r}, N={n}, t={t}: a seed is recorded twice")
+        row = {"restitution": r, "n": n, "t": t, "seeds": len(entry["seeds"]),
+               "kurtosis": _check_kurtosis(np.array(entry["runs"]), entry["expected"])}
+        out.append(row)
+        print(json.dumps(row), flush=True)
+    return out
 
 
 def scaling(n, seeds, cases=((0.5, 1e6), (0.9, 1e6))):
@@ -174,25 +200,43 @@ def cost(n, seeds, restitution=0.99, t=400.0, points=(61, 81, 101, 151, 201, 301
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("what", choices=("agreement", "scaling", "cost", "all"))
+    ap.add_argument("what", choices=("agreement", "scaling", "cost", "all", "combined"))
     ap.add_argument("--n", type=int, default=1_000_000)
     ap.add_argument("--seeds", type=int, default=4)
+    ap.add_argument("--first-seed", type=int, default=0,
+                    help="seeds FIRST, FIRST + 1, ... (more runs of the same check)")
+    ap.add_argument("--restitutions", default="0.99,0.9",
+                    help="r of the agreement check (rows of other r or N are kept)")
     ap.add_argument("--scaling-cases", default="0.5:1e6,0.9:1e6",
                     help="r:t pairs of the scaling check (rows of other r are kept)")
     args = ap.parse_args(argv)
-    seeds = tuple(range(args.seeds))
+    seeds = tuple(range(args.first_seed, args.first_seed + args.seeds))
     cases = tuple((float(a), float(b)) for a, b in
                   (c.split(":") for c in args.scaling_cases.split(",")))
+    if args.what == "combined":
+        results = json.loads(OUT.read_text())
+        results["combined"] = combined(results)
+        OUT.write_text(json.dumps(results, indent=1) + "\n")
+        return 0
     for what in (("agreement", "scaling", "cost") if args.what == "all" else (args.what,)):
         start = time.perf_counter()
         if what == "scaling":
             out = scaling(args.n, seeds, cases)
+        elif what == "agreement":
+            out = agreement(args.n, seeds,
+                            tuple(float(r) for r in args.restitutions.split(",")))
         else:
-            out = {"agreement": agreement, "cost": cost}[what](args.n, seeds)
+            out = cost(args.n, seeds)
         results = json.loads(OUT.read_text()) if OUT.exists() else {}  # others may have written
         if what == "scaling":
             done = {row["restitution"] for row in out}
             kept = [row for row in results.get("scaling", []) if row["restitution"] not in done]
+            out = kept + out
+        if what == "agreement":
+            def key(row):
+                return row["restitution"], row["n"], row.get("seed_list", [0])[0]
+            done = {key(row) for row in out}
+            kept = [row for row in results.get("agreement", []) if key(row) not in done]
             out = kept + out
         results[what] = out
         results[what + "_seconds"] = time.perf_counter() - start
