@@ -1,6 +1,8 @@
 """The Ulam model: exactness of the round-parallel fast path, exact energy decay, the scaling
 solution f(x) = 2/(π(1+x²)²) with its x⁻⁴ tail, and agreement with a sequential reference."""
 
+import dataclasses
+import math
 import re
 
 import numpy as np
@@ -544,3 +546,25 @@ def test_names_moved_out_of_the_ulam_module_say_where_they_went():
         ulam.draw_angles  # noqa: B018
     with pytest.raises(AttributeError, match=r"'particles\.ulam' has no attribute 'nothing'"):
         ulam.nothing  # noqa: B018
+
+
+def test_the_reference_loop_draws_every_pair_alike():
+    """The reference picks each unordered pair with probability 1/(N(N−1)/2) per collision.
+    N = 3, r = 1 (a collision exchanges the two velocities), velocities 0, 1, 2: a run with
+    exactly one collision shows which pair collided.  3000 seeds to τ = 0.4 (one collision with
+    probability 0.6 e^{−0.6} ≈ 0.33): each pair's count is binomial with p = 1/3 among the
+    single-collision runs; tolerance 5 standard deviations."""
+    engine = UlamReference(3, 1.0)
+    counts = {}
+    for seed in range(3000):
+        rng = np.random.default_rng(seed)
+        start = dataclasses.replace(engine.initial_state(rng), velocities=np.array([0.0, 1.0, 2.0]))
+        end = engine.advance(start, 0.4, rng)
+        if end.collisions == 1:
+            pair = tuple(np.flatnonzero(end.velocities != start.velocities))
+            counts[pair] = counts.get(pair, 0) + 1
+    total = sum(counts.values())
+    assert set(counts) == {(0, 1), (0, 2), (1, 2)}, counts
+    sd = math.sqrt(total * (1 / 3) * (2 / 3))
+    for pair, count in counts.items():
+        assert abs(count - total / 3) < 5 * sd, (pair, counts)
