@@ -568,3 +568,23 @@ def test_the_reference_loop_draws_every_pair_alike():
     sd = math.sqrt(total * (1 / 3) * (2 / 3))
     for pair, count in counts.items():
         assert abs(count - total / 3) < 5 * sd, (pair, counts)
+
+
+def test_parameters_are_checked_and_normalised():
+    """What the constructor stores is the checked value in its plain type (the recorded
+    parameters and the checkpoints compare them); its refusals name the argument and value."""
+    from particles.initial import get_law, law_from_characteristic
+
+    engine = Ulam(np.int64(2), np.float32(0.5), initial=get_law("uniform"),
+                  dimension=np.int64(1))  # N = 2, the smallest gas
+    assert type(engine.n) is int and engine.n == 2
+    assert type(engine.restitution) is float and engine.restitution == 0.5
+    assert engine.initial == "uniform" and type(engine.dimension) is int
+    assert Ulam(2**31 - 1, 0.5).n == 2**31 - 1  # particle ids are int32
+    with pytest.raises(InvalidArgumentError, match=r"n=2147483648.*\ban integer <= 2\*\*31 - 1$"):
+        Ulam(2**31, 0.5)
+    no_sampler = law_from_characteristic(lambda k: np.exp(-0.5 * k * k), 1.0, name="mine")
+    with pytest.raises(InvalidArgumentError, match=r"initial='mine'.*\ba law with a sampler$"):
+        Ulam(10, 0.5, initial=no_sampler)
+    # the window (τ per batch of events) is a power of two clipped to [2⁻¹², 2]
+    assert Ulam(2, 0.5).window == 2.0 and Ulam(10**9, 0.5).window == 2.0**-12
