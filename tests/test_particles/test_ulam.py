@@ -586,5 +586,16 @@ def test_parameters_are_checked_and_normalised():
     no_sampler = law_from_characteristic(lambda k: np.exp(-0.5 * k * k), 1.0, name="mine")
     with pytest.raises(InvalidArgumentError, match=r"initial='mine'.*\ba law with a sampler$"):
         Ulam(10, 0.5, initial=no_sampler)
+    for kwargs, match in [
+        ({"dimension": 2, "driving": 0.1}, r"driving=0\.1.*\b0 when dimension > 1$"),
+        ({"rate": "relative_velocity", "dimension": 2},
+         r"rate='relative_velocity'.*expected 'constant' when dimension > 1$"),
+        ({"rate": "relative_velocity", "driving": 0.1},
+         r"rate='relative_velocity'.*expected 'constant' with driving > 0$"),
+        ({"density": 2.0}, r"density=2\.0.*\b1 with rate 'constant' \(the density sets the rate "
+                           r"\(n/N\)\|v_i - v_j\| of rate 'relative_velocity' only\)$"),
+    ]:
+        with pytest.raises(InvalidArgumentError, match=match):
+            Ulam(10, 0.5, **kwargs)
     # the window (τ per batch of events) is a power of two clipped to [2⁻¹², 2]
     assert Ulam(2, 0.5).window == 2.0 and Ulam(10**9, 0.5).window == 2.0**-12
