@@ -714,7 +714,14 @@ class UlamReference(Ulam):
         -------
         particles.UlamState
             The state at ``until``.
+
+        Raises
+        ------
+        particles.InvalidArgumentError
+            Naming ``until`` if it is before the state's time.
         """
+        if not until >= state.time:
+            raise InvalidArgumentError("until", until, f"a time >= {state.time}")
         if self.relative_velocity_rate:
             return self._advance_thinned(state, until, rng, sequential=True)
         if self.dimension != 1 or self.driving != 0.0:

@@ -580,6 +580,8 @@ def test_parameters_are_checked_and_normalised():
     assert type(engine.n) is int and engine.n == 2
     assert type(engine.restitution) is float and engine.restitution == 0.5
     assert engine.initial == "uniform" and type(engine.dimension) is int
+    driven = Ulam(10, 0.5, driving=np.float32(0.25), density=np.float32(1.0))
+    assert type(driven.driving) is float and type(driven.density) is float
     assert Ulam(2**31 - 1, 0.5).n == 2**31 - 1  # particle ids are int32
     with pytest.raises(InvalidArgumentError, match=r"n=2147483648.*\ban integer <= 2\*\*31 - 1$"):
         Ulam(2**31, 0.5)

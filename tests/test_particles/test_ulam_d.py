@@ -655,6 +655,9 @@ def test_advance_to_the_state_time_is_a_no_op(cls):
     same = engine.advance(state, 1.0, rng)
     assert same.time == 1.0 and same.collisions == state.collisions
     np.testing.assert_array_equal(same.velocities, state.velocities)
+    with pytest.raises(InvalidArgumentError, match=r"^argument until=0\.5 is invalid: expected "
+                                                   r"a time >= 1\.0$"):
+        engine.advance(state, 0.5, rng)
 
 
 def test_memory_estimate_covers_the_two_copies_of_the_velocities():
