@@ -23,6 +23,7 @@ NAN = float("nan")
     (lambda: se.exact_velocity_density([1.0], nodes=True), "nodes"),
     (lambda: se.exact_velocity_survival([1.0], nodes=0), "nodes"),
     (lambda: se.exact_shock_density([1.0], [1j]), "b"),
+    (lambda: se.exact_shock_density([NAN], [1.0]), "a"),
 ])
 def test_hostile_arguments_are_invalid_arguments(call, name):
     with pytest.raises(InvalidArgumentError) as info:
