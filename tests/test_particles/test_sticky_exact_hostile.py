@@ -24,6 +24,8 @@ NAN = float("nan")
     (lambda: se.exact_velocity_survival([1.0], nodes=0), "nodes"),
     (lambda: se.exact_shock_density([1.0], [1j]), "b"),
     (lambda: se.exact_shock_density([NAN], [1.0]), "a"),
+    (lambda: se.displacement_scale(0.0, 1.0), "density"),
+    (lambda: se.displacement_scale(1.0, -1.0), "variance"),
 ])
 def test_hostile_arguments_are_invalid_arguments(call, name):
     with pytest.raises(InvalidArgumentError) as info:
