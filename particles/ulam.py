@@ -19,18 +19,15 @@ the same events (:func:`~particles.pair_schedule.collide_sequential` followed by
 says nothing about conservation; the collisions' own drift shows at times between grid points,
 and the tests bound it there.
 
-Throughput: ``benchmarks/ulam_dimensions.py`` (N = 10⁶, 10⁶ collisions, configurations
-interleaved; the table is in benchmarks/README.md).  With complex arithmetic, 2D uniform runs
-about 2 times slower than 1D and 2D hard about 1.6 (before it: 2.8 and 3.2); the 2D cost is the
-random-access gather and scatter, the round schedule (as in 1D) and, for "uniform", the cosine
-of the draws.  3D (not changed) is about 4-5 times slower than 1D.
+Throughput: ``benchmarks/ulam_dimensions.py`` (table in benchmarks/README.md): 2D uniform runs
+about 2 times slower than 1D, 2D hard about 1.6 and 3D about 4-5 (the 2D cost is the gather and
+scatter, the round schedule and, for "uniform", the cosine of the draws).
 
 Initial velocities in d dimensions: each Cartesian component is an independent draw of the
 initial law, centred and scaled to unit variance (so ⟨|v|²⟩ = d at τ = 0).  Recentring subtracts
 the mean velocity vector.  Expected energy: ⟨|v|²⟩(τ) = ⟨|v|²⟩(0) e^{−Λτ N/(N−1)} with
 Λ = 2pq⟨η⟩, ⟨η⟩ = 1/d (uniform) or 2/(d + 1) (hard) (derivation in :class:`Ulam`).  The run
-driver (:func:`particles.driver.simulate`) records per-particle observables of 1D arrays; for
-d ≥ 2 call ``initial_state`` / ``advance`` directly.
+driver (:func:`particles.driver.simulate`) takes d ≥ 2 too (S(k) only in 1D).
 
 Driven 1D model (``driving`` = D > 0).  Between its collision events every particle feels white
 noise of strength D (Fokker–Planck term D ∂²_v P), i.e. a Gaussian kick of variance 2DΔτ over a
@@ -40,17 +37,16 @@ normals each, drawn in advance; when an event fires, each of its two particles f
 the kick for the time since its previous kick (``last``), then the collision is applied.  At the
 end of ``advance`` and at each recentring point every particle is kicked up to that time (N more
 normals).  Since the noise is additive and independent of the velocities, recentring still
-commutes with the dynamics; it
-removes the random walk of the centre of mass (variance 2Dτ/N), and with zero total momentum the
-steady energy is ⟨v²⟩ = (D/pq)(1 − 1/N)² (derivation in :class:`Ulam`).
+commutes with the dynamics; it removes the random walk of the centre of mass (variance 2Dτ/N),
+and with zero total momentum the steady energy is ⟨v²⟩ = (D/pq)(1 − 1/N)² (derivation in
+:class:`Ulam`).
 
 Rate ∝ |v_i − v_j| (``rate="relative_velocity"``): DSMC of the hard-rod Boltzmann equation in
 time t at density n, by thinning under the velocity-hull bound (:class:`Ulam`).
 
-Modules.  This module holds the engines; the pair scheduler (the events' pairs, the round
-schedule and the fast and reference loops over events) is in :mod:`particles.pair_schedule`,
-the collision kinematics in d = 2 and 3 (angular draws, the complex plane rule, the vector
-rule) in :mod:`particles.ulam_kinematics`.
+Modules.  The engines; the pair scheduler (pairs, round schedule, fast and reference loops over
+events) is in :mod:`particles.pair_schedule`, the kinematics of d = 2, 3 in
+:mod:`particles.ulam_kinematics`.
 """
 
 from __future__ import annotations
