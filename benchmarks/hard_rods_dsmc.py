@@ -198,6 +198,13 @@ def cost(n, seeds, restitution=0.99, t=400.0, points=(61, 81, 101, 151, 201, 301
     return out
 
 
+#: What identifies a recorded row: rows of other checks are kept when a check is rerun.
+MERGE_KEYS = {
+    "scaling": lambda row: row["restitution"],
+    "agreement": lambda row: (row["restitution"], row["n"], row.get("seed_list", [0])[0]),
+}
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("what", choices=("agreement", "scaling", "cost", "all", "combined"))
@@ -228,16 +235,10 @@ def main(argv=None):
         else:
             out = cost(args.n, seeds)
         results = json.loads(OUT.read_text()) if OUT.exists() else {}  # others may have written
-        if what == "scaling":
-            done = {row["restitution"] for row in out}
-            kept = [row for row in results.get("scaling", []) if row["restitution"] not in done]
-            out = kept + out
-        if what == "agreement":
-            def key(row):
-                return row["restitution"], row["n"], row.get("seed_list", [0])[0]
+        if what in MERGE_KEYS:  # keep the recorded rows of other checks
+            key = MERGE_KEYS[what]
             done = {key(row) for row in out}
-            kept = [row for row in results.get("agreement", []) if key(row) not in done]
-            out = kept + out
+            out = [row for row in results.get(what, []) if key(row) not in done] + out
         results[what] = out
         results[what + "_seconds"] = time.perf_counter() - start
         OUT.write_text(json.dumps(results, indent=1) + "\n")

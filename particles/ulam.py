@@ -516,6 +516,10 @@ class Ulam(EngineBase):
         """
         if not until >= state.time:
             raise InvalidArgumentError("until", until, f"a time >= {state.time}")
+        return self._advance(state, until, rng)
+
+    def _advance(self, state: UlamState, until: float, rng) -> UlamState:
+        """The dynamics of :meth:`advance`, after its check of ``until``."""
         if self.relative_velocity_rate:
             return self._advance_thinned(state, until, rng)
         if self.dimension != 1:
@@ -694,30 +698,8 @@ class UlamReference(Ulam):
 
     name: ClassVar[str] = "ulam-reference"
 
-    def advance(self, state: UlamState, until: float, rng: np.random.Generator) -> UlamState:
-        """One collision at a time, at exponential waiting times of rate N/2 (τ units).
-
-        Parameters
-        ----------
-        state : particles.UlamState
-            The state to advance (not modified).
-        until : float
-            The τ to reach.
-        rng : numpy.random.Generator
-            Source of the waiting times and pairs.
-
-        Returns
-        -------
-        particles.UlamState
-            The state at ``until``.
-
-        Raises
-        ------
-        particles.InvalidArgumentError
-            Naming ``until`` if it is before the state's time.
-        """
-        if not until >= state.time:
-            raise InvalidArgumentError("until", until, f"a time >= {state.time}")
+    def _advance(self, state: UlamState, until: float, rng) -> UlamState:
+        """One collision at a time, at exponential waiting times of rate N/2 (τ units)."""
         if self.relative_velocity_rate:
             return self._advance_thinned(state, until, rng, sequential=True)
         if self.dimension != 1 or self.driving != 0.0:
