@@ -509,6 +509,8 @@ def test_lattice_state_from_arrays_round_trip_and_copies():
     arrays["clocks"][0] = 99.0
     assert state.velocities[0] == 0.0 and state.clocks[0] == 1.5  # copies, not views
     assert LatticeState.from_arrays(_lattice_arrays(), 4).attempt_rate is None
+    # a cold rate-|Δ| gas has a bound below 1: any finite R > 0 loads
+    assert LatticeState.from_arrays(_lattice_arrays(rate=0.25), 4).attempt_rate == 0.25
     # a clock exactly at the state's time is pending, not past
     at_time = _lattice_arrays()
     at_time["clocks"][2] = 1.0
@@ -523,7 +525,7 @@ def test_lattice_state_from_arrays_round_trip_and_copies():
 
 
 @pytest.mark.parametrize("change, match", [
-    (lambda a: a.pop("clocks"), r"checkpoint=\"missing \['clocks'\]\".*a lattice state"),
+    (lambda a: a.pop("clocks"), r"checkpoint=\"missing \['clocks'\]\".*expected a lattice state$"),
     (lambda a: a.update(velocities=np.zeros(5)),
      r"checkpoint='velocities \(5,\) / clocks \(4,\)'.*expected \(4,\)"),
     (lambda a: a.update(clocks=np.zeros(3)),
@@ -532,7 +534,7 @@ def test_lattice_state_from_arrays_round_trip_and_copies():
     (lambda a: a["clocks"].__setitem__(1, np.inf), r"checkpoint='clocks'.*finite"),
     (lambda a: a["clocks"].__setitem__(1, np.nan), r"checkpoint='clocks'"),
     (lambda a: a.update(attempt_rate=np.array(0.0)),
-     r"checkpoint='attempt_rate=0\.0'.*a finite number > 0"),
+     r"checkpoint='attempt_rate=0\.0'.*expected a finite number > 0$"),
     (lambda a: a.update(attempt_rate=np.array(-1.0)), r"checkpoint='attempt_rate=-1\.0'"),
     (lambda a: a.update(attempt_rate=np.array(np.inf)), r"checkpoint='attempt_rate=inf'"),
     (lambda a: a.update(attempt_rate=np.array(np.nan)), r"checkpoint='attempt_rate=nan'"),

@@ -31,3 +31,11 @@ def test_hostile_arguments_are_invalid_arguments(call, name):
     with pytest.raises(InvalidArgumentError) as info:
         call()
     assert info.value.name == name
+
+
+def test_a_non_finite_point_is_refused_with_its_value():
+    """The first non-finite entry is named with its value and what was expected."""
+    with pytest.raises(InvalidArgumentError) as info:
+        se.exact_mass_density([1.0, float("inf"), NAN])
+    assert info.value.name == "mu"
+    assert str(info.value) == "argument mu=inf is invalid: expected finite real numbers"
