@@ -52,6 +52,8 @@ def test_parallel_passes_equal_time_ordered_attempts(n, constraint, sparse_ratio
     assert np.array_equal(v1, v2) and np.array_equal(c1, c2)
     assert np.all(c1 >= until)
     assert attempts > 40 * n and passes <= attempts
+    # a pass fires local minima of the clocks, no two on neighbouring bonds: at most n/2 bonds
+    assert passes >= attempts / (n // 2)
     if n > 10:  # on a ring of 3 every bond touches the other two: one attempt per pass
         assert passes < attempts / 10
     assert (collisions < attempts) == constraint
@@ -252,6 +254,7 @@ def test_thinned_passes_equal_time_ordered_attempts(n, constraint, sparse_ratio)
     assert np.array_equal(v1, v2) and np.array_equal(c1, c2)
     assert np.all(c1 >= until)
     assert 0 < collisions < attempts and attempts > 40 * n
+    assert attempts / (n // 2) <= passes <= attempts  # n/2 local minima at most per pass
     assert abs(v1.sum() - v0.sum()) < 1e-13 * n
     # thinning keeps every velocity inside the initial range (what makes the bound valid)
     assert v0.min() <= v1.min() and v1.max() <= v0.max()
@@ -560,3 +563,18 @@ def test_lattice_state_from_arrays_refuses_a_state_of_the_other_rate():
         Lattice(4, 0.5, rate="relative_velocity").state_from_arrays(without)
     with pytest.raises(InvalidArgumentError, match=r"expected \(5,\)"):
         Lattice(5, 0.5).state_from_arrays(without)
+
+
+def test_constrained_attempts_between_equal_velocities_are_not_collisions():
+    """With the constraint a bond collides only if its pair approaches, Δ = v_b − v_{b+1} > 0:
+    in a gas of equal velocities every attempt finds Δ = 0, so none counts as a collision and
+    the velocities stay exactly as they were (without the constraint every attempt counts)."""
+    for constraint, counted in ((True, False), (False, True)):
+        v = np.full(6, 0.7)
+        clocks = np.random.default_rng(3).standard_exponential(6)
+        table = np.random.default_rng(4).standard_exponential((6, 100))
+        attempts, collisions, _ = run_clocks(v, clocks, 5.0, 0.5, constraint,
+                                             per_bond_increments(table))
+        assert attempts > 6
+        assert collisions == (attempts if counted else 0)
+        np.testing.assert_array_equal(v, np.full(6, 0.7))
