@@ -578,3 +578,19 @@ def test_constrained_attempts_between_equal_velocities_are_not_collisions():
         assert attempts > 6
         assert collisions == (attempts if counted else 0)
         np.testing.assert_array_equal(v, np.full(6, 0.7))
+
+
+def test_lattice_parameters_are_checked_and_normalised():
+    """What the constructor stores is the checked value in its plain type (the recorded
+    parameters and the checkpoints compare them); its refusals name the argument and value."""
+    from particles.initial import law_from_characteristic
+
+    engine = Lattice(np.int64(3), np.float32(0.5))  # a ring of 3, the smallest lattice
+    assert type(engine.n) is int and engine.n == 3
+    assert type(engine.restitution) is float and engine.restitution == 0.5
+    with pytest.raises(InvalidArgumentError, match=r"^argument n=2 is invalid"):
+        Lattice(2, 0.5)
+    no_sampler = law_from_characteristic(lambda k: np.exp(-0.5 * k * k), 1.0, name="mine")
+    with pytest.raises(InvalidArgumentError,
+                       match=r"^argument initial='mine' is invalid: expected a law with a sampler$"):
+        Lattice(10, 0.5, initial=no_sampler)
