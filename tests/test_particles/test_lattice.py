@@ -2,10 +2,13 @@
 model, the exact initial cooling rates, E ~ τ^(-1/2), the k⁻² Porod range and the
 reference value."""
 
+import math
+
 import numpy as np
 import pytest
 
 from particles.driver import simulate
+from particles.initial import get_law
 from particles.lattice import (
     Lattice,
     LatticeDiscreteReference,
@@ -594,3 +597,20 @@ def test_lattice_parameters_are_checked_and_normalised():
     with pytest.raises(InvalidArgumentError,
                        match=r"^argument initial='mine' is invalid: expected a law with a sampler$"):
         Lattice(10, 0.5, initial=no_sampler)
+    named = Lattice(10, 0.5, initial=get_law("uniform"), constraint=np.bool_(False))
+    assert named.initial == "uniform" and named.constraint is False
+    with pytest.raises(InvalidArgumentError,
+                       match=r"^argument constraint=1 is invalid: expected True or False$"):
+        Lattice(10, 0.5, constraint=1)
+    with pytest.raises(InvalidArgumentError, match=r"^argument rate='fast' is invalid: "
+                                                   r"expected 'constant' or 'relative_velocity'$"):
+        Lattice(10, 0.5, rate="fast")
+
+
+def test_expected_events_is_the_documented_estimate():
+    """N t attempts at constant rate; with rate |Δ| the clocks tick at the velocity range,
+    about 2√(2 ln N) at t = 0: N t · 2√(2 ln N)."""
+    assert Lattice(1000, 0.5).expected_events(3.0, 5) == (3000.0, "attempts")
+    events, unit = Lattice(1000, 0.5, rate="relative_velocity").expected_events(3.0, 5)
+    assert unit == "attempts"
+    assert events == pytest.approx(3000.0 * 2.0 * math.sqrt(2.0 * math.log(1000.0)), rel=1e-15)
