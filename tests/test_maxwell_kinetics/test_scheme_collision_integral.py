@@ -233,7 +233,8 @@ def test_isotropic_rhs_is_the_collision_integral_by_quadrature_over_the_angle(d,
         cos_theta = np.cos(theta)
         k_minus = np.sqrt(1.0 - 2.0 * P * cos_theta**2 + (P * cos_theta) ** 2)  # |k − p(k·n)n|/k
         k_along = P * cos_theta  # |p(k·n)n|/k
-        return (_two_gaussians(np.outer(q, k_minus)) * _two_gaussians(np.outer(q, k_along))) @ weight
+        pairs = _two_gaussians(np.outer(q, k_minus)) * _two_gaussians(np.outer(q, k_along))
+        return pairs @ weight
 
     coarse, fine = gain(200), gain(400)
     assert np.abs(coarse - fine).max() < 1e-14

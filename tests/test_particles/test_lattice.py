@@ -594,8 +594,8 @@ def test_lattice_parameters_are_checked_and_normalised():
     with pytest.raises(InvalidArgumentError, match=r"^argument n=2 is invalid"):
         Lattice(2, 0.5)
     no_sampler = law_from_characteristic(lambda k: np.exp(-0.5 * k * k), 1.0, name="mine")
-    with pytest.raises(InvalidArgumentError,
-                       match=r"^argument initial='mine' is invalid: expected a law with a sampler$"):
+    with pytest.raises(InvalidArgumentError, match=r"^argument initial='mine' is invalid: "
+                                                   r"expected a law with a sampler$"):
         Lattice(10, 0.5, initial=no_sampler)
     named = Lattice(10, 0.5, initial=get_law("uniform"), constraint=np.bool_(False))
     assert named.initial == "uniform" and named.constraint is False
