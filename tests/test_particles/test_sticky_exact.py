@@ -202,6 +202,21 @@ def test_bad_input():
     assert exact_mass_density(-1.0) == 0.0 and exact_mass_density(0.0) == math.inf
 
 
+def test_the_exact_laws_vanish_outside_their_support():
+    """J(a, b) = 0 where the mass μ = a + b ≤ 0 (a + b = 0 included: no cluster of zero mass);
+    beyond |w| = 30 (P, P_E < 1e-1900 there) the velocity laws are 0 and the survival is 0 or 1,
+    never NaN or infinite."""
+    a = np.array([-1.0, 0.0, -3.0, 2.0])
+    b = np.array([0.5, 0.0, 1.0, -2.0])
+    assert np.all(exact_shock_density(a, b) == 0.0)
+    assert exact_shock_density(1.0, 0.5) > 0.0
+    far = np.array([31.0, 45.0])
+    assert np.all(exact_velocity_survival(far) == 0.0)
+    assert np.all(exact_velocity_survival(-far) == 1.0)
+    assert np.all(exact_velocity_density(far) == 0.0)
+    assert np.all(exact_eulerian_velocity_density(far) == 0.0)
+
+
 # ------------------------------------------------------------------------- the engine
 
 
