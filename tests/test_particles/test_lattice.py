@@ -397,8 +397,20 @@ def test_relative_velocity_checkpoint_resumes_bit_for_bit_and_is_its_own_run(tmp
 def test_relative_velocity_rate_is_validated():
     with pytest.raises(InvalidArgumentError, match="rate='nope'"):
         Lattice(10, 0.5, rate="nope")
-    with pytest.raises(InvalidArgumentError, match="rate='relative_velocity'"):
+    with pytest.raises(InvalidArgumentError, match=r"^argument rate='relative_velocity' is "
+                                                   r"invalid: expected 'constant' \(the discrete "
+                                                   r"reference\)$"):
         LatticeDiscreteReference(10, 0.5, rate="relative_velocity")
+
+
+def test_thinning_bound_of_one_site_and_its_refusals():
+    """One velocity has no pair: R = 0.  Not a non-empty 1-D array: refused, naming ``v``."""
+    assert thinning_bound([0.3]) == 0.0
+    for bad, match in ((np.zeros((2, 2)), r"expected a 1-dimensional array"),
+                       ([], r"expected at least 1 values")):
+        with pytest.raises(InvalidArgumentError, match=r"^argument v=.*" + match) as info:
+            thinning_bound(bad)
+        assert info.value.name == "v"
 
 
 @pytest.mark.parametrize("constraint", [True, False])
