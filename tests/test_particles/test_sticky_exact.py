@@ -143,7 +143,8 @@ def test_mass_law_small_and_large_mu():
     assert np.all(np.abs(rel) < 2 * mu)
     assert np.all(np.abs(rel[1:] / rel[:-1] - 0.1) < 0.02)
     big = np.array([6.0, 12.0, 18.0, 24.0])
-    ref = amp["mass_large"] * big**2.5 * np.exp(-big**3 / 24 - amp["airy_rate"] * big)
+    ref = amp["mass_large"] * big**2.5 * np.exp(-amp["mass_cubic"] * big**3
+                                                 - amp["airy_rate"] * big)
     rel = np.abs(exact_mass_density(big) / ref - 1.0)
     assert np.all(np.diff(rel) < 0) and rel[-1] < 1e-3
 
@@ -151,7 +152,8 @@ def test_mass_law_small_and_large_mu():
 def test_velocity_tail_constant():
     amp = exact_asymptotes()
     w = np.array([4.0, 8.0, 12.0, 16.0])
-    ref = amp["velocity_tail"] * w**-2 * np.exp(-w**3 / 6 - amp["airy_rate"] * w)
+    cubic = amp["velocity_cubic"]
+    ref = amp["velocity_tail"] * w**-2 * np.exp(-cubic * w**3 - amp["airy_rate"] * w)
     rel = np.abs(exact_velocity_density(w) / ref - 1.0)
     assert np.all(np.diff(rel) < 0) and rel[-1] < 0.02
     # c = 1/6 from the data alone: −Δ ln P / Δ(w³) between w = 14 and 16, corrected for the
@@ -159,8 +161,8 @@ def test_velocity_tail_constant():
     w2 = np.array([14.0, 16.0])
     lp = np.log(exact_velocity_density(w2))
     c = -(lp[1] - lp[0] + amp["airy_rate"] * 2 + 2 * math.log(16 / 14)) / (16**3 - 14**3)
-    assert c == pytest.approx(1 / 6, rel=1e-4)
-    amp_e = amp["eulerian_tail"] * w * np.exp(-w**3 / 6 - amp["airy_rate"] * w)
+    assert c == pytest.approx(1 / 6, rel=1e-4) and cubic == pytest.approx(c, rel=1e-4)
+    amp_e = amp["eulerian_tail"] * w * np.exp(-cubic * w**3 - amp["airy_rate"] * w)
     rel_e = np.abs(exact_eulerian_velocity_density(w) / amp_e - 1.0)
     assert np.all(np.diff(rel_e) < 0) and rel_e[-1] < 1e-3
 

@@ -39,3 +39,21 @@ def test_a_non_finite_point_is_refused_with_its_value():
         se.exact_mass_density([1.0, float("inf"), NAN])
     assert info.value.name == "mu"
     assert str(info.value) == "argument mu=inf is invalid: expected finite real numbers"
+
+
+def test_the_tail_exponent_refuses_velocities_outside_zero_to_thirty_with_the_first_one():
+    """β(w) needs w > 0 and a survival that does not underflow (w ≤ 30): the first velocity
+    outside is named, with its value and the range."""
+    with pytest.raises(InvalidArgumentError) as info:
+        se.exact_velocity_tail_exponent([1.0, -0.5, 0.0])
+    assert str(info.value) == "argument w=-0.5 is invalid: expected positive velocities"
+    with pytest.raises(InvalidArgumentError) as info:
+        se.exact_velocity_tail_exponent([2.0, 31.0, 40.0])
+    assert str(info.value) == ("argument w=31.0 is invalid: expected w <= 30.0 (the survival "
+                               "underflows beyond)")
+    assert info.value.name == "w"
+    for f in (se.exact_velocity_survival, se.exact_velocity_tail_exponent,
+              se.exact_velocity_density, se.exact_eulerian_velocity_density):
+        with pytest.raises(InvalidArgumentError) as info:
+            f([1.0, NAN])
+        assert info.value.name == "w"
