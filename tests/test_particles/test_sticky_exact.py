@@ -219,6 +219,24 @@ def test_the_exact_laws_vanish_outside_their_support():
     assert np.all(exact_eulerian_velocity_density(far) == 0.0)
 
 
+
+def test_the_laws_keep_the_shape_of_their_input_and_use_their_node_counts():
+    """A 2-D array of points gives a 2-D array of values, entry by entry (to round-off: the
+    quadratures run batched); ``nodes`` is the quadrature's node count (1 is allowed, and a
+    rule of 1 or 2 nodes gives a coarser value than the default: the argument reaches the
+    quadrature)."""
+    points = np.array([[0.5, 1.0, 2.0], [3.0, 0.25, 1.5]])
+    for law in (chernoff_density, exact_velocity_density, exact_eulerian_velocity_density,
+                exact_velocity_survival, exact_velocity_tail_exponent, exact_mass_density):
+        values = law(points)
+        assert values.shape == (2, 3)
+        np.testing.assert_allclose(values[1], law(points[1]), rtol=1e-12)
+    for law in (chernoff_density, exact_velocity_density, exact_velocity_survival):
+        fine = law(0.5)
+        for coarse in (1, 2):
+            assert abs(law(0.5, nodes=coarse) - fine) > 1e-4 * fine
+
+
 # ------------------------------------------------------------------------- the engine
 
 
