@@ -281,3 +281,41 @@ def test_isotropic_rhs_applies_each_tiers_angular_rule_to_its_own_nodes(d, angul
         expected[mine] = gain - _two_gaussians(qk) + _transport_of_reference(qk, lam, 0.0).real
     assert not np.isnan(expected).any()
     assert np.abs(rhs - expected).max() < 1e-11
+
+
+SMALL_GRID = Resolution("small grid", H, 8, -6.0, 1.0)  # q up to e: the ghosts' g(q) is not 0
+
+
+def test_padded_state_is_continuation_state_and_inflow_and_the_inflow_ends():
+    """The array the gain stencils read: w(q₀) e^{3hj} for the n_left nodes j < 0, the state
+    itself up to the last active node, then the inflow (on a grid ending at q = e, whose first
+    ghosts sit at q ≈ 4, where g(q) = e^{−q²/2} ≈ 1.5e-4 is not 0 in float64).  The inflow is
+    e^{−τ} φ − g before τ = 40 and −g after (the free decay of the initial law is dropped); a
+    law the scheme cannot trace (a user's NumPy characteristic function) gets −g throughout."""
+    from particles.initial import law_from_characteristic
+
+    model = MaxwellModel(R)
+    for law, tau_w in ((get_law("uniform"), 1.0), (get_law("uniform"), 50.0),
+                       (law_from_characteristic(lambda k: np.exp(-0.5 * k * k), 1.0,
+                                                name="mine"), 1.0)):
+        stepper = _Stepper(model, law, SMALL_GRID, SolverOptions())
+        st, dy = stepper.static, stepper.dynamic
+        t = 0.2
+        w = np.linspace(0.5, 1.5, st.n_state)[None, :]
+        with jax.enable_x64(True):
+            padded = np.asarray(scheme._padded(st, dy, jnp.asarray(w), jnp.float64(t),
+                                               jnp.float64(tau_w)))
+        n_left, n_active = st.n_left, int(dy.n_active)
+        j = np.arange(-n_left, 0)
+        np.testing.assert_allclose(padded[0, :n_left], w[0, 0] * np.exp(3.0 * H * j),
+                                   rtol=1e-14)
+        np.testing.assert_array_equal(padded[0, n_left:n_left + n_active], w[0, :n_active])
+        ghosts = padded[0, n_left + n_active:n_left + n_active + st.n_right]
+        q = np.exp(SMALL_GRID.s_min + H * (n_active + np.arange(st.n_right)) - model.lam * t)
+        tau = tau_w + t
+        free = (math.exp(-tau) * np.sin(math.sqrt(3.0) * q * math.exp(model.lam * tau))
+                / (math.sqrt(3.0) * q * math.exp(model.lam * tau))
+                if law.traceable and tau < 40.0 else 0.0)
+        assert padded.shape == (1, n_left + st.n_state + st.n_right)
+        np.testing.assert_allclose(ghosts, free - np.exp(-0.5 * q * q), rtol=1e-12, atol=1e-15)
+        assert np.exp(-0.5 * q[0] * q[0]) > 1e-4  # the first ghosts' g is not 0 here
