@@ -48,7 +48,7 @@ def test_the_tail_exponent_refuses_velocities_outside_zero_to_thirty_with_the_fi
         se.exact_velocity_tail_exponent([1.0, -0.5, 0.0])
     assert str(info.value) == "argument w=-0.5 is invalid: expected positive velocities"
     with pytest.raises(InvalidArgumentError) as info:
-        se.exact_velocity_tail_exponent([2.0, 31.0, 40.0])
+        se.exact_velocity_tail_exponent([2.0, 30.0, 31.0, 40.0])  # 30 itself is allowed
     assert str(info.value) == ("argument w=31.0 is invalid: expected w <= 30.0 (the survival "
                                "underflows beyond)")
     assert info.value.name == "w"
