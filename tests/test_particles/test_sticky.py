@@ -338,3 +338,44 @@ def test_velocity_tail_exponent_on_known_laws():
     beta_l, err_l, _ = velocity_tail_exponent(rng.laplace(size=2_000_000))
     assert abs(beta_g - exact_g) < 5 * 0.029 and err_g < 0.1
     assert abs(beta_l - 1.0) < 5 * 0.011 and err_l < 0.1
+
+
+def test_sticky_state_refusals_word_for_word_and_a_single_particle():
+    """Every refusal of ``sticky_state`` names its argument, the value received and what was
+    expected; a single particle is a gas (one cluster); at t = 0 the positions and velocities
+    returned share memory with the initial data, so they are read-only."""
+    from particles.validation import InvalidArgumentError
+
+    x, v = np.array([1.0, 2.0, 3.0]), np.array([0.1, -0.2, 0.3])
+    cases = [
+        ((x, v[:2], 10.0, 1.0), "argument v0='2 values' is invalid: expected one per position (3)"),
+        ((np.array([1.0, 3.0, 2.0]), v, 10.0, 1.0),
+         "argument x0='positions in [1, 3]' is invalid: expected positions sorted in "
+         "[0, length = 10)"),
+        ((np.array([-1.0, 2.0, 3.0]), v, 10.0, 1.0),
+         "argument x0='positions in [-1, 3]' is invalid: expected positions sorted in "
+         "[0, length = 10)"),
+        ((np.array([1.0, 2.0, 10.0]), v, 10.0, 1.0),
+         "argument x0='positions in [1, 10]' is invalid: expected positions sorted in "
+         "[0, length = 10)"),
+        ((np.zeros((2, 2)), v, 10.0, 1.0),
+         "argument x0=[[0.0, 0.0], [0.0, 0.0]] is invalid: expected a 1-dimensional array "
+         "(got shape (2, 2))"),
+        ((np.array([]), np.array([]), 10.0, 1.0),
+         "argument x0=[] is invalid: expected at least 1 values"),
+        ((x, np.zeros((3, 1)), 10.0, 1.0),
+         "argument v0=[[0.0], [0.0], [0.0]] is invalid: expected a 1-dimensional array "
+         "(got shape (3, 1))"),
+        ((x, v, 0.0, 1.0), "argument length=0.0 is invalid: expected a finite number > 0"),
+        ((x, v, 10.0, -1.0), "argument t=-1.0 is invalid: expected a finite number >= 0"),
+    ]
+    for args, message in cases:
+        with pytest.raises(InvalidArgumentError) as info:
+            sticky_state(*args)
+        assert str(info.value) == message
+    one = sticky_state(np.array([1.0]), np.array([0.5]), 10.0, 2.0)
+    assert one.positions.tolist() == [2.0] and one.starts.tolist() == [0]
+    assert one.starts.dtype == np.int64
+    start = sticky_state(x, v, 10.0, 0.0)
+    for name in ("positions", "velocities"):
+        assert not getattr(start, name).flags.writeable, name
