@@ -376,6 +376,9 @@ def test_sticky_state_refusals_word_for_word_and_a_single_particle():
     one = sticky_state(np.array([1.0]), np.array([0.5]), 10.0, 2.0)
     assert one.positions.tolist() == [2.0] and one.starts.tolist() == [0]
     assert one.starts.dtype == np.int64
+    tied = sticky_state(np.array([1.0, 1.0, 2.0]), v, 10.0, 1.0)  # sorted, ties allowed
+    assert tied.masses.sum() == 3
     start = sticky_state(x, v, 10.0, 0.0)
+    assert start.length == 10.0 and start.time == 0.0 and start.collisions == 0
     for name in ("positions", "velocities"):
         assert not getattr(start, name).flags.writeable, name
