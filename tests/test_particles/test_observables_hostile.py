@@ -82,3 +82,33 @@ def test_histogram_distance_refuses_non_finite_or_negative_values(field, value):
     with pytest.raises(InvalidArgumentError) as err:
         bad.distance(h)
     assert err.value.name == "histogram"
+
+
+def test_refusals_word_for_word_and_the_types_returned():
+    """The histogram's ``bins`` and ``v`` refusals and the velocity arrays' refusal name the
+    argument, the value and what was expected; bins = 1 and 10⁶ are the ends of the range;
+    energy and momentum are floats for one run and one value per run for (R, N)."""
+    v = np.random.default_rng(0).standard_normal(100)
+    for bins in (0, 2.5, True, 10**6 + 1, float("nan"), "x"):
+        with pytest.raises(InvalidArgumentError) as info:
+            obs.rescaled_histogram(v, bins=bins)
+        assert str(info.value) == (f"argument bins={bins!r} is invalid: expected an integer in "
+                                   "[1, 1e6] or an array of edges")
+    assert obs.rescaled_histogram(v, bins=1).density.shape == (1,)
+    assert obs.rescaled_histogram(v, bins=10**6).density.shape == (10**6,)
+    with pytest.raises(InvalidArgumentError) as info:
+        obs.rescaled_histogram(np.zeros(10))
+    assert str(info.value) == ("argument v='energy [0.]' is invalid: expected a finite, "
+                               "non-zero energy per run")
+    for bad, shape in ((np.zeros((2, 2, 2)), "(2, 2, 2)"), (np.array([]), "(0,)")):
+        for observable in (obs.energy, obs.momentum):
+            with pytest.raises(InvalidArgumentError) as info:
+                observable(bad)
+            assert str(info.value) == (f"argument v='array of shape {shape}' is invalid: "
+                                       "expected a 1..2-dimensional velocity array")
+    runs = np.arange(6.0).reshape(2, 3)
+    np.testing.assert_allclose(obs.energy(runs), [5.0 / 3.0, 50.0 / 3.0], rtol=1e-15)
+    np.testing.assert_array_equal(obs.momentum(runs), [1.0, 4.0])
+    for one_run in (obs.energy(runs[0]), obs.momentum(runs[0])):
+        assert type(one_run) is float
+    assert obs.momentum(runs[1]) == 4.0
