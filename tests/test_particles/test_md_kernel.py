@@ -258,3 +258,43 @@ def test_copies_of_collision_time_in_the_scalar_loop_are_the_kernel(seed):
     # measured (seeds 9, 10): 177 and 200 non-approaching pairs, 33 and 23 immediate collisions
     # of 320 predictions
     assert counts["inf"] > 40 and counts["now"] > 10, counts
+
+
+def test_md_observables_refusals_word_for_word():
+    """The MD observables refuse what is not an MD state, parameters that are not MDParams or
+    not this state's, and a bad restitution, density or initial energy, naming the argument,
+    the value received and what was expected."""
+    from particles.md import MDEngine, MDParams
+    from particles.md import observables as mdo
+    from particles.validation import InvalidArgumentError
+
+    params = MDParams(8, 1.0, 0.5)
+    state = MDEngine(params).initial_state(np.random.default_rng(0))
+    other = MDParams(9, 1.0, 0.5)
+    cases = [
+        (lambda: mdo.collisions_per_particle("x"),
+         "argument state='str' is invalid: expected a particles.MDState"),
+        (lambda: mdo.total_momentum(3),
+         "argument state='int' is invalid: expected a particles.MDState"),
+        (lambda: mdo.profile_i(None),
+         "argument state='NoneType' is invalid: expected a particles.MDState"),
+        (lambda: mdo.rod_positions(state, "p"),
+         "argument params='str' is invalid: expected a particles.MDParams"),
+        (lambda: mdo.rod_positions(state, other),
+         "argument params='n = 9' is invalid: expected the parameters of this state (N = 8)"),
+        (lambda: mdo.profile_x(state, other),
+         "argument params='n = 9' is invalid: expected the parameters of this state (N = 8)"),
+        (lambda: mdo.haff_time(0.5, -1.0),
+         "argument density=-1.0 is invalid: expected a finite number > 0"),
+        (lambda: mdo.haff_time(0.5, 1.0, 0.0),
+         "argument t0_energy=0.0 is invalid: expected a finite number > 0"),
+        (lambda: mdo.haff_energy(1.0, 2.0, 1.0),
+         "argument restitution=2.0 is invalid: expected a number in [0, 1]"),
+        (lambda: mdo.initial_cooling_rate(0.5, 1.0, -2.0),
+         "argument t0_energy=-2.0 is invalid: expected a finite number > 0"),
+    ]
+    for call, message in cases:
+        with pytest.raises(InvalidArgumentError) as info:
+            call()
+        assert str(info.value) == message
+    assert mdo.rod_positions(state, params).shape == (8,)  # this state's own parameters pass
