@@ -112,3 +112,21 @@ def test_refusals_word_for_word_and_the_types_returned():
     for one_run in (obs.energy(runs[0]), obs.momentum(runs[0])):
         assert type(one_run) is float
     assert obs.momentum(runs[1]) == 4.0
+
+
+def test_histogram_from_counts_by_hand_and_an_odd_ring_correlation():
+    """Bins [0, 1) and [1, 3) holding 2 and 5 of n = 7 values: centres ½ and 2, densities
+    2/7 and 5/(7·2); a negative count is refused with the counts and what was expected.  The
+    correlation of an odd ring of 7 sites is (1/N) Σ_i v_i v_{i+k}, by direct sums."""
+    hist = obs.histogram_from_counts(np.array([0.0, 1.0, 3.0]), np.array([2.0, 5.0]), 7, 1.0)
+    np.testing.assert_array_equal(hist.centres, [0.5, 2.0])
+    np.testing.assert_allclose(hist.density, [2.0 / 7.0, 5.0 / 14.0], rtol=1e-15)
+    with pytest.raises(InvalidArgumentError) as info:
+        obs.histogram_from_counts(np.array([0.0, 1.0, 3.0]), np.array([2.0, -5.0]), 7, 1.0)
+    assert str(info.value) == ("argument count=[2.0, -5.0] is invalid: expected 2 non-negative "
+                               "counts, one per bin")
+    v = np.random.default_rng(1).standard_normal(7)
+    c = obs.correlation(v)
+    assert c.shape == (7,)
+    direct = [np.mean(v * np.roll(v, -k)) for k in range(7)]  # (1/N) Σ_i v_i v_{i+k}, periodic
+    np.testing.assert_allclose(c, direct, rtol=1e-12, atol=1e-15)
