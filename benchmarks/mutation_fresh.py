@@ -4,6 +4,8 @@ The tests are those the stats run found reaching the mutated function, plus ``EX
 (space-separated test ids written after the stats run).
 
     EXTRA="tests/...::test_new" python mutation_fresh.py STATS_JSON TSV OUT
+
+With ``ONLY_EXTRA=1`` only the ``EXTRA`` tests run (the survivors already passed the others).
 """
 import json
 import os
@@ -25,6 +27,8 @@ with open(out, "a") as fh:
         func = name.partition("__mutmut_")[0]
         tests = sorted((t for t, h in hits.items() if func in h), key=lambda t: dur.get(t, 0))
         tests = os.environ.get("EXTRA", "").split() + tests  # tests written after the stats run
+        if os.environ.get("ONLY_EXTRA"):  # survivors of the stats tests: the new tests alone
+            tests = os.environ["EXTRA"].split()
         # parametrised ids can change with the tests' arguments: run the whole test function
         tests = list(dict.fromkeys(t.split("[")[0] for t in tests))
         env = dict(os.environ, MUTANT_UNDER_TEST=name, PYTHONPATH=os.getcwd())
