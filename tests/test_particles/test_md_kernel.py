@@ -298,3 +298,31 @@ def test_md_observables_refusals_word_for_word():
             call()
         assert str(info.value) == message
     assert mdo.rod_positions(state, params).shape == (8,)  # this state's own parameters pass
+
+
+def test_rod_positions_stream_freely_to_the_time_asked_and_haff_at_r_one():
+    """Between collisions the rods stream freely: at time t the contact points are x_i + v_i t
+    (unwrapped) plus i ℓ for the rod length ℓ, computed here by hand; the profile is ordered
+    by those positions.  Haff's time is infinite for elastic rods (r = 1: no cooling); the
+    refusals name ``t``."""
+    from particles.md import MDEngine, MDParams
+    from particles.md import observables as mdo
+    from particles.validation import InvalidArgumentError
+
+    params = MDParams(8, 1.0, 0.5, rod_length=0.01)
+    state = MDEngine(params).initial_state(np.random.default_rng(0))
+    assert state.time == 0.0
+    by_hand = state.positions + 0.25 * state.velocities + 0.01 * np.arange(8)
+    np.testing.assert_allclose(mdo.rod_positions(state, params, 0.25), by_hand, rtol=1e-15)
+    np.testing.assert_allclose(mdo.rod_positions(state, params),
+                               state.positions + 0.01 * np.arange(8), rtol=1e-15)
+    y, v = mdo.profile_x(state, params, 0.25)
+    order = np.argsort(by_hand)
+    np.testing.assert_allclose(y, by_hand[order], rtol=1e-15)
+    np.testing.assert_array_equal(v, state.velocities[order])
+    assert mdo.haff_time(1.0, 1.0) == math.inf and math.isfinite(mdo.haff_time(0.999, 1.0))
+    for call in (lambda: mdo.rod_positions(state, params, math.nan),
+                 lambda: mdo.haff_energy(math.nan, 0.5, 1.0)):
+        with pytest.raises(InvalidArgumentError) as info:
+            call()
+        assert info.value.name == "t"
