@@ -321,6 +321,15 @@ def test_rod_positions_stream_freely_to_the_time_asked_and_haff_at_r_one():
     np.testing.assert_allclose(y, by_hand[order], rtol=1e-15)
     np.testing.assert_array_equal(v, state.velocities[order])
     assert mdo.haff_time(1.0, 1.0) == math.inf and math.isfinite(mdo.haff_time(0.999, 1.0))
+    with pytest.raises(InvalidArgumentError) as info:
+        mdo.haff_energy([1.0, -0.5], 0.5, 1.0)
+    assert str(info.value) == "argument t=[1.0, -0.5] is invalid: expected times >= 0"
+    with pytest.raises(InvalidArgumentError) as info:  # 40 times are listed, more are a shape
+        mdo.haff_energy(np.linspace(-1.0, 1.0, 40), 0.5, 1.0)
+    assert str(info.value).startswith("argument t=[-1.0, ")
+    with pytest.raises(InvalidArgumentError) as info:
+        mdo.haff_energy(np.linspace(-1.0, 1.0, 41), 0.5, 1.0)
+    assert str(info.value) == "argument t='shape (41,)' is invalid: expected times >= 0"
     for call in (lambda: mdo.rod_positions(state, params, math.nan),
                  lambda: mdo.haff_energy(math.nan, 0.5, 1.0)):
         with pytest.raises(InvalidArgumentError) as info:
