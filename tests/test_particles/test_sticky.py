@@ -382,3 +382,23 @@ def test_sticky_state_refusals_word_for_word_and_a_single_particle():
     assert start.length == 10.0 and start.time == 0.0 and start.collisions == 0
     for name in ("positions", "velocities"):
         assert not getattr(start, name).flags.writeable, name
+
+
+def test_sticky_gas_advance_refusals_word_for_word_and_the_same_time():
+    """``advance`` to the state's own time returns that time; an earlier or negative time and a
+    state of another N are refused with the value and what was expected; ``observe`` reports
+    the total momentum under its documented name."""
+    gas = StickyGas(StickyParams(16, 1.0, "gaussian"))
+    later = gas.advance(gas.initial_state(np.random.default_rng(0)), 2.0)
+    assert gas.advance(later, 2.0).time == 2.0
+    other = StickyGas(StickyParams(8, 1.0, "gaussian")).initial_state(np.random.default_rng(0))
+    for args, message in (
+            ((later, 1.0),
+             "argument until=1.0 is invalid: expected a time >= the state's time 2.0"),
+            ((later, -1.0), "argument until=-1.0 is invalid: expected a finite number >= 0"),
+            ((other, 1.0), "argument state='N=8' is invalid: expected N=16")):
+        with pytest.raises(InvalidArgumentError) as info:
+            gas.advance(*args)
+        assert str(info.value) == message
+    observed = gas.observe(later)
+    assert observed["total_momentum"] == pytest.approx(float(np.sum(later.velocities)), abs=1e-12)
