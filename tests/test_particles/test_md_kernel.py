@@ -321,6 +321,10 @@ def test_rod_positions_stream_freely_to_the_time_asked_and_haff_at_r_one():
     np.testing.assert_allclose(y, by_hand[order], rtol=1e-15)
     np.testing.assert_array_equal(v, state.velocities[order])
     assert mdo.haff_time(1.0, 1.0) == math.inf and math.isfinite(mdo.haff_time(0.999, 1.0))
+    # Haff's law T(t) = T₀/(1 + t/t₀)²: a quarter of T₀ at t₀ (density 2 and T₀ = 9, so that
+    # n and √T₀ cannot stand in for each other)
+    t0 = mdo.haff_time(0.5, 2.0, 9.0)
+    assert mdo.haff_energy(t0, 0.5, 2.0, 9.0) == pytest.approx(9.0 / 4.0, rel=1e-14)
     with pytest.raises(InvalidArgumentError) as info:
         mdo.haff_energy([1.0, -0.5], 0.5, 1.0)
     assert str(info.value) == "argument t=[1.0, -0.5] is invalid: expected times >= 0"
