@@ -130,3 +130,36 @@ def test_histogram_from_counts_by_hand_and_an_odd_ring_correlation():
     assert c.shape == (7,)
     direct = [np.mean(v * np.roll(v, -k)) for k in range(7)]  # (1/N) Σ_i v_i v_{i+k}, periodic
     np.testing.assert_allclose(c, direct, rtol=1e-12, atol=1e-15)
+
+
+def test_mean_sem_axes_refusals_and_warnings():
+    """``mean_sem``: a single number is one value (error NaN); axes run from −ndim to ndim − 1,
+    others (and booleans, floats) are refused word for word, as are no values along the axis;
+    non-finite values give inf or NaN without a warning; near the float limit the rescaling is
+    per column, so a column of ordinary values keeps its exact mean and error."""
+    import warnings
+
+    mean, sem = obs.mean_sem(3.0)
+    assert mean == 3.0 and np.isnan(sem)
+    a = np.arange(6.0).reshape(2, 3)
+    mean, sem = obs.mean_sem(a, axis=-2)
+    np.testing.assert_allclose(mean, [1.5, 2.5, 3.5], rtol=1e-15)
+    np.testing.assert_allclose(sem, [1.5, 1.5, 1.5], rtol=1e-15)
+    for axis in (2, -3, True, 1.0):
+        with pytest.raises(InvalidArgumentError) as info:
+            obs.mean_sem(a, axis=axis)
+        assert str(info.value) == (f"argument axis={axis!r} is invalid: expected an axis of the "
+                                   "2-dimensional values")
+    with pytest.raises(InvalidArgumentError) as info:
+        obs.mean_sem(np.zeros((0, 3)))
+    assert str(info.value) == ("argument values=(0, 3) is invalid: expected at least one value "
+                               "along the axis")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mean, sem = obs.mean_sem([np.inf, 1.0])
+        assert mean == np.inf and np.isnan(sem)
+        mean, sem = obs.mean_sem([np.nan, 1.0])
+        assert np.isnan(mean) and np.isnan(sem)
+        mean, sem = obs.mean_sem(np.array([[1e308, 1.0], [1e308, 3.0]]), axis=0)
+    np.testing.assert_array_equal(mean, [1e308, 2.0])
+    np.testing.assert_array_equal(sem, [0.0, 1.0])
