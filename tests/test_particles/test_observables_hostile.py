@@ -163,3 +163,28 @@ def test_mean_sem_axes_refusals_and_warnings():
         mean, sem = obs.mean_sem(np.array([[1e308, 1.0], [1e308, 3.0]]), axis=0)
     np.testing.assert_array_equal(mean, [1e308, 2.0])
     np.testing.assert_array_equal(sem, [0.0, 1.0])
+
+
+def test_log_bin_by_hand():
+    """Edges 10^(j/b): with b = 2 the bins [1, √10), [√10, 10), [10, 10√10), [10√10, 100) hold
+    1.5 and 2, then 5, 15 and 40 (k = 0 dropped); with the default b = 10 the edge 10^0.1 ≈ 1.259
+    puts 1.24 with 1 and 1.3 above it; b = 1 is allowed; no modes give empty arrays (the counts
+    of integer type); ``k`` and ``s`` of other shapes are refused word for word."""
+    k = np.array([0.0, 1.5, 2.0, 5.0, 15.0, 40.0])
+    s = np.array([9.0, 1.0, 2.0, 3.0, 4.0, 5.0])
+    k_mean, s_mean, count = obs.log_bin(k, s, 2)
+    np.testing.assert_allclose(k_mean, [1.75, 5.0, 15.0, 40.0], rtol=1e-15)
+    np.testing.assert_allclose(s_mean, [1.5, 3.0, 4.0, 5.0], rtol=1e-15)
+    np.testing.assert_array_equal(count, [2, 1, 1, 1])
+    assert obs.log_bin(np.array([1.0, 1.24, 1.3]), np.ones(3))[2].tolist() == [2, 1]
+    assert obs.log_bin(np.array([1.5, 15.0]), np.ones(2), 1)[2].tolist() == [1, 1]
+    empty = obs.log_bin(np.array([]), np.array([]))
+    assert [a.shape for a in empty] == [(0,), (0,), (0,)] and empty[2].dtype.kind == "i"
+    with pytest.raises(InvalidArgumentError) as info:
+        obs.log_bin(np.array([1.0, 2.0]), np.array([1.0]))
+    assert str(info.value) == "argument s='shape (1,)' is invalid: expected the shape of k, (2,)"
+    for bad_k, bad_s, name in ((np.ones((2, 2)), np.ones((2, 2)), "k"),
+                               (np.ones(4), np.ones((2, 2)), "s")):
+        with pytest.raises(InvalidArgumentError) as info:
+            obs.log_bin(bad_k, bad_s)
+        assert info.value.name == name
