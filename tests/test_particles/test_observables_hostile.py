@@ -188,3 +188,27 @@ def test_log_bin_by_hand():
         with pytest.raises(InvalidArgumentError) as info:
             obs.log_bin(bad_k, bad_s)
         assert info.value.name == name
+
+
+def test_log_bin_edges_kurtosis_and_smallest_inputs():
+    """``log_bin``: a k exactly on an edge (100 = 10^(4/2)) opens its bin; k below 1 gets its
+    own bins (0.05 and 0.5 apart, b = 2); the base is 10 (9.9 and 10.5 straddle the edge 10
+    at b = 1).  The kurtosis of no velocities is NaN, of tiny ones their kurtosis without an
+    underflow warning.  One wavenumber, one count of one value, and histograms of several runs
+    (R, N) are allowed."""
+    import warnings
+
+    for k, b in (([1.5, 100.0], 2), ([0.05, 0.5], 2), ([9.9, 10.5], 1)):
+        k_mean, _, count = obs.log_bin(np.array(k), np.ones(2), b)
+        np.testing.assert_array_equal(k_mean, k)
+        np.testing.assert_array_equal(count, [1, 1])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert np.isnan(obs.kurtosis(np.array([])))
+        tiny = obs.kurtosis(np.array([1e-200, 2e-200, -3e-200]))
+    assert tiny == pytest.approx(obs.kurtosis(np.array([1.0, 2.0, -3.0])), rel=1e-12)
+    assert obs.wavenumbers(1).tolist() == [0.0]
+    one = obs.histogram_from_counts(np.array([0.0, 1.0]), np.array([1.0]), 1, 1.0)
+    assert one.density.tolist() == [1.0]
+    runs = obs.rescaled_histogram(np.random.default_rng(0).standard_normal((3, 50)), bins=4)
+    assert runs.count.sum() == 150 and runs.samples == 150
