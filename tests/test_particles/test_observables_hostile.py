@@ -212,3 +212,19 @@ def test_log_bin_edges_kurtosis_and_smallest_inputs():
     assert one.density.tolist() == [1.0]
     runs = obs.rescaled_histogram(np.random.default_rng(0).standard_normal((3, 50)), bins=4)
     assert runs.count.sum() == 150 and runs.samples == 150
+
+
+def test_histogram_from_counts_refusals_word_for_word():
+    """Each argument of ``histogram_from_counts`` is refused by name, with its value and what
+    was expected."""
+    edges, count = np.array([0.0, 1.0]), np.ones(1)
+    for args, message in (
+            ((edges, np.ones((1, 1)), 1, 1.0), "argument count=[[1.0]] is invalid: expected a "
+                                               "1-dimensional array (got shape (1, 1))"),
+            ((np.array([1.0, 0.0]), count, 1, 1.0),
+             "argument edges=[1.0, 0.0] is invalid: expected strictly increasing edges"),
+            ((edges, count, 1, 0.0), "argument v0=0.0 is invalid: expected a finite number > 0"),
+            ((edges, count, 0, 1.0), "argument n=0 is invalid: expected an integer >= 1")):
+        with pytest.raises(InvalidArgumentError) as info:
+            obs.histogram_from_counts(*args)
+        assert str(info.value) == message
