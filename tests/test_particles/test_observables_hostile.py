@@ -193,9 +193,9 @@ def test_log_bin_by_hand():
 def test_log_bin_edges_kurtosis_and_smallest_inputs():
     """``log_bin``: a k exactly on an edge (100 = 10^(4/2)) opens its bin, apart from 50 in the
     bin below; k below 1 gets its own bins (0.05 and 0.5 apart, b = 2); the base is 10 (9.9
-    and 10.5 straddle the edge 10 at b = 1).  The kurtosis of no velocities is NaN, of tiny ones their kurtosis without an
-    underflow warning.  One wavenumber, one count of one value, and histograms of several runs
-    (R, N) are allowed."""
+    and 10.5 straddle the edge 10 at b = 1).  The kurtosis of no velocities is NaN, of tiny
+    ones their kurtosis without an underflow warning.  One wavenumber, one count of one value,
+    and histograms of several runs (R, N) are allowed."""
     import warnings
 
     for k, b in (([1.5, 50.0, 100.0], 2), ([0.05, 0.5], 2), ([9.9, 10.5], 1)):
