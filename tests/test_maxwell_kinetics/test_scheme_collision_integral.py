@@ -189,6 +189,21 @@ def _two_gaussians(q):
     return 0.5 * np.exp(-0.25 * q * q) + 0.5 * np.exp(-0.75 * q * q)
 
 
+def _isotropic_rhs_of_two_gaussians(d, angular, rule, t=0.3):
+    """(q of the first GRID.n nodes moved to local time ``t``, the scheme's right-hand side
+    there, λ) for the two-Gaussian law's deviation given exactly at every state node."""
+    model = MaxwellModel(R)
+    stepper = _Stepper(model, get_law("gaussian"), GRID, SolverOptions(), dimension=d,
+                       angular=angular, angular_nodes=16, angular_rule=rule)
+    st, dy = stepper.static, stepper.dynamic
+    lam = float(dy.lam)
+    q_all = np.exp(GRID.s_min + GRID.h * np.arange(st.n_state) - lam * t)
+    w = _two_gaussians(q_all) - np.exp(-0.5 * q_all**2)
+    with jax.enable_x64(True):
+        dw = np.asarray(scheme._rhs(st, t, jnp.asarray(w[None, :]), (jnp.float64(0.0), dy)))
+    return q_all[:GRID.n], dw[0, :GRID.n], lam
+
+
 @pytest.mark.parametrize("d", [2, 3])
 @pytest.mark.parametrize("angular, cos_power", [("uniform", 0), ("hard", 1)])
 def test_isotropic_rhs_is_the_collision_integral_by_quadrature_over_the_angle(d, angular,
@@ -213,16 +228,7 @@ def test_isotropic_rhs_is_the_collision_integral_by_quadrature_over_the_angle(d,
     0.1 % in the gain or the loss is 5e-5, far above the bound.
     """
     t = 0.3
-    model = MaxwellModel(R)
-    stepper = _Stepper(model, get_law("gaussian"), GRID, SolverOptions(), dimension=d,
-                       angular=angular, angular_nodes=16)
-    st, dy = stepper.static, stepper.dynamic
-    lam = float(dy.lam)
-    q_all = np.exp(GRID.s_min + GRID.h * np.arange(st.n_state) - lam * t)
-    w = _two_gaussians(q_all) - np.exp(-0.5 * q_all**2)
-    with jax.enable_x64(True):
-        dw = np.asarray(scheme._rhs(st, t, jnp.asarray(w[None, :]), (jnp.float64(0.0), dy)))
-    q, rhs = q_all[:GRID.n], dw[0, :GRID.n]  # every node, down to q₀ e^{−λt}
+    q, rhs, lam = _isotropic_rhs_of_two_gaussians(d, angular, "accurate", t)  # every node
     assert math.exp(-lam * t) < 0.98  # the nodes moved: not the window start
 
     def gain(n):
@@ -256,19 +262,9 @@ def test_isotropic_rhs_applies_each_tiers_angular_rule_to_its_own_nodes(d, angul
     angle quadrature itself is tested above; this pins which rule serves which node, the
     source's series and direct branches of every tier, and the tiers' order.  Bound as above
     (the stencils' interpolation, measured at most 1.7e-12 here)."""
-    t = 0.3
-    model = MaxwellModel(R)
-    stepper = _Stepper(model, get_law("gaussian"), GRID, SolverOptions(), dimension=d,
-                       angular=angular, angular_nodes=16, angular_rule="fast")
-    st, dy = stepper.static, stepper.dynamic
     tiers = scheme.angular_tiers(d, angular, 16, GRID, "fast")
     assert len(tiers) >= 5  # several tiers, and the first ones at q where X = p(1 − p) q² < 1/2
-    lam = float(dy.lam)
-    q_all = np.exp(GRID.s_min + GRID.h * np.arange(st.n_state) - lam * t)
-    w = _two_gaussians(q_all) - np.exp(-0.5 * q_all**2)
-    with jax.enable_x64(True):
-        dw = np.asarray(scheme._rhs(st, t, jnp.asarray(w[None, :]), (jnp.float64(0.0), dy)))
-    q, rhs = q_all[:GRID.n], dw[0, :GRID.n]
+    q, rhs, lam = _isotropic_rhs_of_two_gaussians(d, angular, "fast")
     nodes = np.arange(GRID.n)
     bounds = [tier.first for tier in tiers] + [GRID.n]
     expected = np.full(GRID.n, np.nan)
