@@ -331,12 +331,13 @@ def histogram_from_counts(edges, count, n: int, v0: float) -> Histogram:
 
 def _spectrum(arr: np.ndarray) -> tuple[np.ndarray, float]:
     """(P, c) with |v̂(k)|² = P · c² for k = 2πm/N, m = 0..⌊N/2⌋, for every row (pyfftw, one
-    thread).  c = 1 unless some |v| ≥ 2⁵⁰⁰, where |v̂|² would overflow (and its inverse transform
-    give NaN): the velocities are then divided by a power of two c first (exact), and the
-    caller multiplies its result by c twice, which overflows to ±inf only where the true value
-    does."""
+    thread).  c = 1 unless some |v| ≥ 2²⁵⁶; below that |v̂|² ≤ (N max|v|)² < N² 2⁵¹² and the
+    inverse transform's sums of N such terms cannot overflow for any N < 2¹⁶⁰.  Above it the
+    velocities are divided by a power of two c first (exact: the transform of v/c is v̂/c to
+    the last bit), and the caller multiplies its result by c twice, which overflows to ±inf only
+    where the true value does."""
     top = float(np.max(np.abs(arr))) if arr.size else 0.0
-    scale = 2.0 ** (math.frexp(top)[1] - 1) if top >= 2.0**500 else 1.0
+    scale = 2.0 ** (math.frexp(top)[1] - 1) if top >= 2.0**256 else 1.0
     vhat = _fftw().rfft(arr / scale if scale != 1.0 else arr, axis=-1, threads=1)
     return vhat.real**2 + vhat.imag**2, scale
 
@@ -550,9 +551,10 @@ def mean_sem(values, axis: int = 0):
     mean, sem : float or numpy.ndarray
         The mean and its standard error (NaN where fewer than two values).
 
-    Values beyond 2⁵⁰⁰ are summed in units of a power of two near the largest |value| along
-    ``axis``, so values near the float limit (1e308) give their finite mean and error instead
-    of an overflow to inf or NaN.
+    Values beyond 2²⁵⁶ are summed in units of a power of two near the largest |value| along
+    ``axis`` (exact), so values near the float limit (1e308) give their finite mean and error
+    instead of an overflow to inf or NaN; below 2²⁵⁶ no sum of squares can overflow (m < 2⁶³
+    values of |deviation| < 2²⁵⁷ sum to less than 2⁵⁷⁷).
 
     Raises
     ------
@@ -569,18 +571,20 @@ def mean_sem(values, axis: int = 0):
     if m == 0:
         raise InvalidArgumentError("values", a.shape, "at least one value along the axis")
     with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
-        # near the float limit the sums are taken in units of a power of two (exact); below
-        # 2⁵⁰⁰ nothing is rescaled, so ordinary values give NumPy's own mean and std
+        # large values are summed in units of a power of two (exact); below 2²⁵⁶ nothing is
+        # rescaled, so ordinary values give NumPy's own mean and std
         top = np.max(np.abs(a), axis=axis, keepdims=True)
-        big = np.isfinite(top) & (top >= 2.0**500)
+        big = np.isfinite(top) & (top >= 2.0**256)
         scale = np.where(big, np.exp2(np.frexp(np.where(big, top, 1.0))[1] - 1.0), 1.0)
         unit = a / scale
         mean = np.squeeze(scale * unit.mean(axis=axis, keepdims=True), axis=axis)
         if m < 2:
             sem = np.full_like(mean, np.nan, dtype=float)
         else:
-            sem = np.squeeze(scale * unit.std(axis=axis, ddof=1, keepdims=True), axis=axis)
-            sem = sem / np.sqrt(m)
+            # divided by √m before the scale is put back: sem ≤ max|value|, so it stays finite
+            # where the standard deviation itself (up to √2 max|value|) would overflow
+            sem = unit.std(axis=axis, ddof=1, keepdims=True) / np.sqrt(m)
+            sem = np.squeeze(scale * sem, axis=axis)
     if np.ndim(mean) == 0:
         return float(mean), float(sem)
     return mean, sem

@@ -228,3 +228,58 @@ def test_histogram_from_counts_refusals_word_for_word():
         with pytest.raises(InvalidArgumentError) as info:
             obs.histogram_from_counts(*args)
         assert str(info.value) == message
+
+
+def test_mean_sem_over_a_later_axis_and_of_single_rows_and_columns():
+    """``mean_sem`` over the last axis of a non-square array is each row's mean and s/√m; an
+    (m, 1) input keeps one column (arrays of shape (1,), not floats); a single value per column
+    gives NaN errors of the columns' shape; values at the float limit give a finite error
+    (sem ≤ max|value|: [M, −M] has mean 0 and sem exactly M), without a warning."""
+    import warnings
+
+    a = np.array([[1.0, 2.0, 3.0, 4.0, 5.0], [2.0, 3.0, 4.0, 5.0, 7.0], [0.0, 0.0, 0.0, 0.0, 1.0]])
+    for axis in (1, -1):
+        mean, sem = obs.mean_sem(a, axis=axis)
+        np.testing.assert_allclose(mean, [3.0, 4.2, 0.2], rtol=1e-15)
+        # s² by hand: Σ(x − x̄)²/(m − 1) with m = 5
+        s2 = np.array([10.0 / 4, (2.2**2 + 1.2**2 + 0.2**2 + 0.8**2 + 2.8**2) / 4, 0.8 / 4])
+        np.testing.assert_allclose(sem, np.sqrt(s2 / 5), rtol=1e-14)
+    mean, sem = obs.mean_sem(a.T[:, :1])  # the column (1, 2, 0)… as shape (5, 1)
+    assert isinstance(mean, np.ndarray) and mean.shape == (1,) and sem.shape == (1,)
+    np.testing.assert_allclose(mean, [3.0], rtol=1e-15)
+    np.testing.assert_allclose(sem, [np.sqrt(10.0 / 4 / 5)], rtol=1e-15)
+    mean, sem = obs.mean_sem(a[:1])  # one value per column
+    assert mean.shape == (5,) and sem.shape == (5,) and np.all(np.isnan(sem))
+    big = np.finfo(float).max
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert obs.mean_sem([big, -big]) == (0.0, big)
+        # a row of huge values beside ordinary ones, over the last axis: sem = √(4M²/(4·3))
+        mean, sem = obs.mean_sem(np.array([[big, -big, big, -big], [1.0, 2.0, 3.0, 4.0]]), axis=1)
+    np.testing.assert_array_equal(mean, [0.0, 2.5])
+    np.testing.assert_allclose(sem, [big / np.sqrt(3.0), np.sqrt(5.0 / 3.0 / 4.0)],
+                               rtol=1e-15)
+
+
+def test_spectrum_of_many_large_values_does_not_overflow():
+    """The structure factor of N = 8192 alternating ±3e150 is N·(3e150)² = 7.4e304 at k = π and 0
+    elsewhere: finite, although |v̂(π)|² = (N·3e150)² is beyond the float limit (the velocities
+    are rescaled by a power of two before the transform, not only from 2⁵⁰⁰ on)."""
+    n, x = 8192, 3e150
+    v = x * (-1.0) ** np.arange(n)
+    k, s = obs.structure_factor(v)
+    assert s[-1] == pytest.approx(n * x * x, rel=1e-14)
+    assert np.all(np.isfinite(s)) and np.all(np.abs(s[:-1]) <= 1e-12 * s[-1])
+    c = obs.correlation(v)
+    np.testing.assert_allclose(c, x * x * (-1.0) ** np.arange(c.size), rtol=1e-12)
+
+
+def test_distance_keeps_bins_of_five_samples_by_default():
+    """``Histogram.distance``'s default ``min_count`` is 5: a bin that holds exactly 5 samples
+    enters χ², and not with ``min_count=6`` (15 of the 120 samples lie outside the edges, so
+    no normalisation ties the bins: dof is the number of bins used)."""
+    edges = np.array([0.0, 1.0, 2.0])
+    a = obs.histogram_from_counts(edges, np.array([5, 100]), 120, 1.0)
+    b = obs.histogram_from_counts(edges, np.array([7, 98]), 120, 1.0)
+    assert a.distance(b).bins.tolist() == [True, True] and a.distance(b).dof == 2
+    assert a.distance(b, min_count=6).bins.tolist() == [False, True]

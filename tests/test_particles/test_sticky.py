@@ -140,6 +140,23 @@ def test_chunks_joined_at_their_junctions_equal_one_regression(monkeypatch, chun
         np.testing.assert_allclose(state.velocities, per_particle, rtol=0, atol=1e-13)
 
 
+def test_a_chunk_join_that_pools_back_to_the_first_block(monkeypatch):
+    """g = (0, 1, 2 | −10, 5, 6) in chunks of 3: the second chunk's first value pulls every
+    block of the first chunk into one, the first included: labels 0–3 of mean −7/4, then 5 and 6
+    (by hand), as SciPy's regression of the whole."""
+    from scipy.optimize import isotonic_regression
+
+    import particles.sticky as sticky
+
+    monkeypatch.setattr(sticky, "CHUNK", 3)
+    g = np.array([0.0, 1.0, 2.0, -10.0, 5.0, 6.0])
+    starts, means, weights = sticky.period_regression(g, np.zeros(6), 0.0, 0.0)
+    assert starts.tolist() == [0, 4, 5] and weights.tolist() == [4.0, 1.0, 1.0]
+    np.testing.assert_allclose(means, [-1.75, 5.0, 6.0], rtol=1e-15)
+    whole = isotonic_regression(g)
+    assert starts.tolist() == whole.blocks[:-1].tolist()
+
+
 @pytest.mark.parametrize("seed", range(6))
 @pytest.mark.parametrize("n", [5, 17, 60])
 def test_matches_event_driven_reference(seed, n):
