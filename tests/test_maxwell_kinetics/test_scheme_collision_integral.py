@@ -35,7 +35,7 @@ from maxwell_kinetics.grid import Resolution
 from maxwell_kinetics.model import MaxwellModel
 from maxwell_kinetics.solution import SolverOptions
 from maxwell_kinetics.solver import _Stepper
-from particles.initial import get_law
+from particles.initial import InitialLaw, get_law
 
 P = (math.sqrt(5.0) - 1.0) / 2.0  # root of p² + p − 1 = 0: 1 − p = p²
 R = 2.0 * P - 1.0  # p = (1 + r)/2
@@ -54,10 +54,12 @@ ROUND_OFF = 1e-13
 Q_MIN = 0.05
 
 
-def _scheme_rhs(law_name):
-    """(q of the grid nodes, ∂t w at those nodes at τ = 0 as complex numbers, λ, m₃)."""
+def _scheme_rhs(law):
+    """(q of the grid nodes, ∂t w at those nodes at τ = 0 as complex numbers, λ, m₃) for a law
+    or a built-in law's name."""
     model = MaxwellModel(R)
-    stepper = _Stepper(model, get_law(law_name), GRID, SolverOptions())
+    law = get_law(law) if isinstance(law, str) else law
+    stepper = _Stepper(model, law, GRID, SolverOptions())
     with jax.enable_x64(True):
         dw = np.asarray(scheme._rhs(stepper.static, 0.0, stepper.y0,
                                     (jnp.float64(0.0), stepper.dynamic)))
@@ -128,6 +130,39 @@ def test_rhs_is_the_collision_integral_asymmetric_law():
     expected = fine + _transport_of_reference(q[keep], lam, m3)
     assert np.abs(rhs[keep] - expected).max() < 2 * quadrature_error + ROUND_OFF
     assert np.abs(fine.imag).max() > 0.05  # the imaginary part is tested, not only zeros
+
+
+def test_rhs_of_an_asymmetric_law_with_zero_third_moment():
+    """An asymmetric law whose third moment is exactly 0 (so the reference g is real while G is
+    not): ⅓ of the shifted exponential X − 1 (m₃ = 2) and ⅔ of 2 − Y/2, Y ~ Gamma(4) (mean 0,
+    variance 1, m₃ = −1), φ(k) = ⅓ e^{−ik}/(1 − ik) + ⅔ e^{2ik}(1 + ik/2)^{−4}.  Quadrature:
+    Gauss–Laguerre in X and generalised Gauss–Laguerre (weight y³e^{−y}) in Y, 120 and 180
+    nodes each, nodes 0.05 ≤ q ≤ 2, tolerance as above."""
+    from scipy.special import roots_genlaguerre
+
+    def phi(k, xp):
+        return (xp.exp(-1j * k) / (1.0 - 1j * k) / 3.0
+                + 2.0 / 3.0 * xp.exp(2j * k) * (1.0 + 0.5j * k) ** -4)
+
+    law = InitialLaw("skew-free asymmetric mixture", phi, None, 0.0)
+    assert not law.symmetric
+    q, rhs, lam, m3 = _scheme_rhs(law)
+    assert m3 == 0.0
+    keep = (q >= Q_MIN) & (q <= 2.0)
+
+    def integral(n):
+        x, wx = np.polynomial.laguerre.laggauss(n)
+        y, wy = roots_genlaguerre(n, 3.0)
+        v = np.concatenate([x - 1.0, 2.0 - 0.5 * y])
+        weights = np.concatenate([wx / 3.0, 2.0 / 3.0 * wy / 6.0])  # ∫y³e^{−y} = Γ(4) = 6
+        return _collision_integral(q[keep], v, weights)
+
+    coarse, fine = integral(120), integral(180)
+    quadrature_error = np.abs(coarse - fine).max()
+    assert quadrature_error < QUADRATURE_TOL
+    expected = fine + _transport_of_reference(q[keep], lam, 0.0)
+    assert np.abs(rhs[keep] - expected).max() < 2 * quadrature_error + ROUND_OFF
+    assert np.abs(fine.imag).max() > 0.01  # the imaginary part is tested, not only zeros
 
 
 def test_rhs_later_in_a_window_is_the_collision_integral_at_the_moved_nodes():
