@@ -450,6 +450,28 @@ def test_largest_occurrence_of_a_particle_seen_only_at_index_zero():
         assert fn(np.full(4, 7, np.int32), flat, occ).tolist() == [0, 2, 2]
 
 
+def test_largest_occurrence_falls_back_when_repeated_writes_land_out_of_order():
+    """The fast path trusts that a fancy assignment with repeated indices keeps the last write,
+    and checks it: scratch whose writes land in reverse order (the first write wins) must send
+    it to the order-independent fallback, which gives the largest occurrence by hand (particle
+    0 last at 3, 1 at 4, 2 at 2)."""
+    from particles.pair_schedule import largest_occurrence
+
+    class FirstWriteWins(np.ndarray):
+        def __setitem__(self, index, value):
+            if isinstance(index, np.ndarray) and np.ndim(value) == 1:
+                index, value = index[::-1], value[::-1]
+            super().__setitem__(index, value)
+
+    flat = np.array([0, 1, 2, 0, 1], dtype=np.intp)
+    occ = np.arange(5, dtype=np.int32)
+    scratch = np.full(3, 9, np.int32).view(FirstWriteWins)
+    scratch[flat] = occ
+    assert np.asarray(scratch).tolist() == [0, 1, 2]  # the premise: first writes kept
+    out = largest_occurrence(np.full(3, 9, np.int32).view(FirstWriteWins), flat, occ)
+    assert np.asarray(out).tolist() == [3, 4, 2, 3, 4]
+
+
 def test_event_loops_take_integer_velocities_as_floats_and_check_the_pairs():
     """Integer velocities are collided as floats (r = 0: the pair meets at its mean), and a
     ``pairs`` array not of shape (K, 2) is refused naming it and its shape."""
