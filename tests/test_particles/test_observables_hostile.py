@@ -4,6 +4,8 @@ limit (an overflow gives ±inf where the true value overflows, never NaN)."""
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -121,6 +123,13 @@ def test_histogram_from_counts_by_hand_and_an_odd_ring_correlation():
     hist = obs.histogram_from_counts(np.array([0.0, 1.0, 3.0]), np.array([2.0, 5.0]), 7, 1.0)
     np.testing.assert_array_equal(hist.centres, [0.5, 2.0])
     np.testing.assert_allclose(hist.density, [2.0 / 7.0, 5.0 / 14.0], rtol=1e-15)
+    # JSON form: plain lists; error √(n p (1 − p))/(n · width), p = count/n
+    d = hist.to_dict()
+    assert sorted(d) == ["centres", "density", "error"]
+    assert all(type(x) is list for x in d.values()) and d["centres"] == [0.5, 2.0]
+    np.testing.assert_allclose(d["density"], [2.0 / 7.0, 5.0 / 14.0], rtol=1e-15)
+    np.testing.assert_allclose(d["error"], [math.sqrt(2.0 * 5.0 / 7.0) / 7.0,
+                                            math.sqrt(5.0 * 2.0 / 7.0) / 14.0], rtol=1e-15)
     with pytest.raises(InvalidArgumentError) as info:
         obs.histogram_from_counts(np.array([0.0, 1.0, 3.0]), np.array([2.0, -5.0]), 7, 1.0)
     assert str(info.value) == ("argument count=[2.0, -5.0] is invalid: expected 2 non-negative "
@@ -259,6 +268,10 @@ def test_mean_sem_over_a_later_axis_and_of_single_rows_and_columns():
     np.testing.assert_array_equal(mean, [0.0, 2.5])
     np.testing.assert_allclose(sem, [big / np.sqrt(3.0), np.sqrt(5.0 / 3.0 / 4.0)],
                                rtol=1e-15)
+    # ordinary and tiny values are not rescaled: the smallest subnormal keeps its exact mean
+    # (halved it would round to 0) and a zero error
+    tiny = np.nextafter(0.0, 1.0)
+    assert obs.mean_sem([tiny, tiny, tiny]) == (tiny, 0.0)
 
 
 def test_spectrum_of_many_large_values_does_not_overflow():
