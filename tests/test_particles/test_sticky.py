@@ -357,6 +357,22 @@ def test_velocity_tail_exponent_on_known_laws():
     assert abs(beta_l - 1.0) < 5 * 0.011 and err_l < 0.1
 
 
+def test_velocity_tail_exponent_is_exact_on_a_sample_of_exact_quantiles():
+    # N = 2·10⁵ speeds w_j = (−ln S_j)^{1/3} with S_j = (N − 1 − j)/N (the last one beyond):
+    # exactly N − 1 − j of them exceed w_j, so the empirical survival at w_j is S_j and the
+    # points (ln w_j, ln(−ln S_j)) lie on a line of slope 3 (the sticky gas's exp(−c w³)).  The
+    # fit must return 3 to round-off (1e-9) with a zero error; a survival off by a factor 1.001
+    # would bend the line by 0.001/(−ln S), a slope error of ~1e-4.
+    n = 200_000
+    survival = (n - 1 - np.arange(n - 1)) / n
+    w = np.cbrt(-np.log(survival))
+    v = np.append(w, w[-1] + 1.0)
+    beta, err, (lo, hi) = velocity_tail_exponent(v[::-1] * np.where(np.arange(n) % 2, 1, -1))
+    assert beta == pytest.approx(3.0, abs=1e-9) and err < 1e-9
+    e = float(np.mean(v * v))  # the range is in units of √E, here to within one sample (1e-3)
+    assert lo == pytest.approx(np.cbrt(np.log(100.0)) / math.sqrt(e), rel=1e-3)
+
+
 def test_sticky_state_refusals_word_for_word_and_a_single_particle():
     """Every refusal of ``sticky_state`` names its argument, the value received and what was
     expected; a single particle is a gas (one cluster); at t = 0 the positions and velocities
