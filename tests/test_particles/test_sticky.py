@@ -289,6 +289,16 @@ def test_observables():
     assert obs["clusters"] == starts.size and obs["mean_cluster_mass"] == 200 / starts.size
 
 
+
+@pytest.mark.parametrize(("v0", "expected"), [(1.0, [3.0, 6.0, 9.0]), (-1.0, [2.0, 6.0, 9.0])])
+def test_profile_x_reduces_positions_mod_the_ring_length_by_hand(v0, expected):
+    # Three particles at 1, 4, 8 on a ring of length 10, all at one velocity (they never meet).
+    # v = +1, t = 5: unwrapped 6, 9, 13, so the profile holds 13 − 10 = 3, 6, 9; v = −1, t = 2:
+    # −1, 2, 6, so −1 + 10 = 9.  Exact in binary.
+    state = sticky_state(np.array([1.0, 4.0, 8.0]), np.full(3, v0), 10.0, 5.0 if v0 > 0 else 2.0)
+    y, v = profile_x(state)
+    assert y.tolist() == expected and v.tolist() == [v0] * 3
+
 def test_driver_run_and_resume(tmp_path):
     engine = StickyGas(StickyParams(300, 1.0))
     times = [1.0, 10.0, 100.0]
