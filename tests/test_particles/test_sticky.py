@@ -372,7 +372,7 @@ def test_velocity_tail_exponent_is_exact_on_a_sample_of_exact_quantiles():
     # exactly N − 1 − j of them exceed w_j, so the empirical survival at w_j is S_j and the
     # points (ln w_j, ln(−ln S_j)) lie on a line of slope 3 (the sticky gas's exp(−c w³)).  The
     # fit must return 3 to round-off (1e-9) with a zero error; a survival off by a factor 1.001
-    # would bend the line by 0.001/(−ln S), a slope error of ~1e-4.
+    # would bend the line by 0.001/(−ln S), a slope error of 4e-4.
     n = 200_000
     survival = (n - 1 - np.arange(n - 1)) / n
     w = np.cbrt(-np.log(survival))
