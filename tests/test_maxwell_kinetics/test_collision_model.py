@@ -170,3 +170,20 @@ def test_growth_rate_energy_and_maxwell_rod_rate_by_hand():
     assert RelativeVelocityModel(0.5, exponent=0).energy_rate() == pytest.approx(3 / 8, rel=1e-15)
     with pytest.raises(NotImplementedError, match="gamma > 0"):
         RelativeVelocityModel(0.5).energy_rate()
+
+
+@pytest.mark.parametrize(("r", "beta"), [(0.0, 2.0), (0.5, 4 / 3), (1.0, 1.0)])
+def test_beta_is_two_over_one_plus_r_by_hand(r, beta):
+    # the paper's β = 2/(1 + r) = 1/p: 2 (r = 0), 4/3 (r = 1/2), 1 (elastic)
+    assert MaxwellModel(r).beta == pytest.approx(beta, rel=1e-15)
+
+
+def test_one_dimensional_mixed_moment_is_the_power_of_one_minus_c():
+    # d = 1: η ≡ 1, so ⟨(1 − cη)^s⟩ = (1 − c)^s; c = 15/16 (the cross fraction at r = 1/2)
+    # gives 1/16 at s = 1 and 1/256 at s = 2; c = 1/2, s = 1/2: √2/2
+    law = MaxwellModel(0.5).law
+    assert law.mixed_moment(15 / 16, [1.0, 2.0]) == pytest.approx([1 / 16, 1 / 256], rel=1e-15)
+    assert float(law.mixed_moment(0.5, 0.5)) == pytest.approx(math.sqrt(0.5), rel=1e-15)
+    # d = 3 uniform, η ~ Beta(1/2, 1) with ⟨η⟩ = 1/3: ⟨1 − cη⟩ = 1 − c/3 at s = 1
+    law3 = MaxwellModel(0.5, 3).law
+    assert float(law3.mixed_moment(15 / 16, 1.0)) == pytest.approx(1 - 5 / 16, rel=1e-15)

@@ -67,6 +67,35 @@ def test_valid_calls_are_unchanged():
     assert reference([0.0], 0.0).tolist() == [1.0]
 
 
+@pytest.mark.parametrize(("offset", "order"), [(0.25, 4), (-1.5, 6), (2.75, 8)])
+def test_lagrange_weights_reproduce_polynomials_of_degree_order_minus_one(offset, order):
+    # The stencil's weights interpolate every polynomial of degree < order exactly: P(x) =
+    # Σ_k w_k P(first + k) at x = offset, here for P(x) = (x − 1/3)^{order−1} + x² − 2 (the sum
+    # of the weights alone is 1 at any point, so it cannot see a shifted target).  Round-off:
+    # terms up to |x|^7 ~ 1e5, 1e-12.
+    first, w = lagrange_weights(offset, order)
+    nodes = first + np.arange(order, dtype=float)
+
+    def poly(x):
+        return (x - 1 / 3) ** (order - 1) + x * x - 2.0
+
+    assert w @ poly(nodes) == pytest.approx(poly(offset), rel=1e-12, abs=1e-12)
+
+
+def test_chebyshev_operators_are_exact_for_polynomials():
+    # On the n + 1 = 9 Lobatto points of [0, 2], q_j = 1 − cos(jπ/8): the interpolant of a
+    # polynomial of degree ≤ 8 is the polynomial itself, so D differentiates q^7 − 3q² exactly to
+    # 7q^6 − 6q and B evaluates it at any point.  Round-off: 1e-11 of terms up to 2^7 = 128.
+    q = cheb.chebyshev_nodes(8, 2.0)
+    np.testing.assert_allclose(q, 1.0 - np.cos(np.pi * np.arange(9) / 8), rtol=0, atol=1e-15)
+    values = q**7 - 3 * q**2
+    targets = np.array([0.1, 0.77, 1.9])
+    np.testing.assert_allclose(cheb.differentiation_matrix(q) @ values, 7 * q**6 - 6 * q,
+                               rtol=1e-11, atol=1e-10)
+    np.testing.assert_allclose(cheb.barycentric_matrix(q, targets) @ values,
+                               targets**7 - 3 * targets**2, rtol=1e-12, atol=1e-12)
+
+
 @pytest.mark.parametrize("call, name", [
     # n = 1e9: 1e19 bytes of dense matrices; it was a MemoryError (or the process killed)
     (lambda: linear_decay_rates(0.5, n=10**9), "n"),

@@ -44,6 +44,27 @@ def small_q_deviation(sol: Solution, k: int):
     return sol.deviation[k] - deviation_from_f_hat(sol.q, sol.skewness)
 
 
+
+def test_small_q_deviation_from_f_hat_is_the_closed_form_in_forty_digits():
+    # g − f̂ = e^{−q²/2}(1 − i m₃ q³/6) − (1 + q) e^{−q}: the reference through q³ minus the
+    # scaling solution.  Below q = 0.05 it is summed as a Taylor series (the two terms cancel
+    # through q²); here against the closed form in 40-digit decimal arithmetic (m₃ = 0.7), at
+    # round-off of the series' leading term q³/3: 1e-13 relative, real and imaginary parts apart.
+    from decimal import Decimal, localcontext
+
+    q = np.array([1e-3, 0.01, 0.03, 0.0499])
+    m3 = 0.7
+    out = deviation_from_f_hat(q, m3)
+    with localcontext() as ctx:
+        ctx.prec = 40
+        for qi, value in zip(q.tolist(), out, strict=True):
+            x = Decimal(qi)
+            gauss = (-x * x / 2).exp()
+            real = gauss - (1 + x) * (-x).exp()
+            imag = -Decimal(m3) / 6 * x**3 * gauss
+            assert value.real == pytest.approx(float(real), rel=1e-13)
+            assert value.imag == pytest.approx(float(imag), rel=1e-13)
+
 def test_spec_measured_distances(gaussian_half):
     # Reference value (measured by two independent methods, three digits): r = 0.5, unit Gaussian.
     # The target is agreement to 1 %.

@@ -121,6 +121,10 @@ def test_distance_chi2_equals_scipys_pearson_test_against_a_law():
     assert d.chi2 == pytest.approx(expected.statistic, rel=1e-12)
     assert d.dof == 5 and d.chi2_dof == pytest.approx(expected.statistic / 5, rel=1e-12)
     assert stats.chi2.sf(d.chi2, d.dof) == pytest.approx(expected.pvalue, rel=1e-9)
+    # χ² of k degrees of freedom has mean k and variance 2k: χ²/dof has mean 1 and standard
+    # deviation √(2/5) here, as scipy's law of χ² says too
+    mean, sd = d.chi2_dof_expected
+    assert mean == 1.0 and sd == pytest.approx(stats.chi2.std(5) / 5, rel=1e-14)
 
 
 def test_distance_of_two_samples_of_one_law_is_chi2_dof_near_1():

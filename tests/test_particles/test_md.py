@@ -308,6 +308,28 @@ def test_haff_constants_by_hand():
     assert collisions_per_particle(state) == 1.5
 
 
+def test_collision_estimate_floor_rods_and_event_count_by_hand():
+    # r = 1/2, reduced density n = 2, unit T0: t0 = √π / ((3/4) · 2) = 2√π/3.  With δ = 1/2,
+    # Haff's T = (1 + t/t0)^−2 falls to δ² at t_δ = t0 (1/δ − 1) = t0; from there collisions
+    # go on at (2/√π) n δ = 2/√π per unit time.  At t = 3 t0: τ = (8/3) ln 4 + (2/√π) · 2 t0
+    # = (8/3) ln 4 + 8/3.  Round-off only: 1e-14.
+    t0 = 2 * math.sqrt(math.pi) / 3
+    params = {"n": 1000, "density": 2.0, "restitution": 0.5, "delta": 0.5}
+    assert md.collisions_per_particle_estimate(3 * t0, params) == pytest.approx(
+        8 / 3 * math.log(4.0) + 8 / 3, rel=1e-14)
+    assert md.collisions_per_particle_estimate(t0, params) == pytest.approx(
+        8 / 3 * math.log(2.0), rel=1e-14)  # the floor starts at t_δ = t0
+    # rods of length 1/2 at density 1 leave a reduced density 1/(1 − 1/2) = 2: the same τ,
+    # 8/3 at t = (e − 1) t0
+    rods = {"n": 1000, "density": 1.0, "restitution": 0.5, "rod_length": 0.5}
+    assert md.collisions_per_particle_estimate((math.e - 1) * t0, rods) == pytest.approx(
+        8 / 3, rel=1e-14)
+    # the engine's event estimate counts each pair collision once: N τ / 2 = 1000 (8/3) / 2
+    events, unit = MDEngine(n=1000, density=2.0, restitution=0.5).expected_events(
+        (math.e - 1) * t0, 1)
+    assert events == pytest.approx(4000 / 3, rel=1e-14) and unit == "collisions (at least)"
+
+
 def test_initial_cooling_rates():
     # Gaussian start, r = 0.5, n = 1, N = 2e5, 6 seeds, window t = 0.05 (t/t0 = 0.02): about
     # 5500 collisions per seed.  The mean slope over [0, t] is compared with the exact t = 0+

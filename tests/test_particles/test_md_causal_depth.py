@@ -63,3 +63,20 @@ def test_depth_agrees_with_a_brute_force_count_on_a_random_gas(delta):
     else:
         assert 0 < out["inelastic"] < out["collisions"]
         assert 0 < out["ghost_depth"] < out["depth"]
+
+
+def test_cluster_anatomy_by_hand_with_gaps_and_spans_of_exactly_delta():
+    # δ = 1/2, six point rods on a ring of length 6.  Gaps 0.25, 0.5, 1.25, 0.5, 1.5 and 2 (the
+    # wrap): a gap below δ joins two rods, a gap of exactly δ does not, so the clusters are
+    # {0, 1} and four single rods.  Velocities 0, 0.1, 0.2, 0.3, 0.49, 1: the first five span
+    # 0.49 < δ, one soft block of 5; with 0.5 instead of 0.49 the span is exactly δ and the
+    # block stops at 4 rods.
+    params = MDParams(6, 1.0, 0.5, delta=0.5)
+    x = [0.0, 0.25, 0.75, 2.0, 2.5, 4.0]
+    out, block = bench.cluster_anatomy(params, state(x, [0.0, 0.1, 0.2, 0.3, 0.49, 1.0]))
+    assert out["cluster_sizes"] == [2, 1, 1, 1, 1]
+    assert out["soft_blocks"] == [5, 1] and out["particles_in_soft_blocks_of_5_or_more"] == 5
+    assert block.tolist() == [0, 0, 0, 0, 0, -1]
+    out, block = bench.cluster_anatomy(params, state(x, [0.0, 0.1, 0.2, 0.3, 0.5, 1.0]))
+    assert out["soft_blocks"] == [4, 1, 1] and out["particles_in_soft_blocks_of_5_or_more"] == 0
+    assert block.tolist() == [-1] * 6

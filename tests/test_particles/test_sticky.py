@@ -289,6 +289,16 @@ def test_observables():
     assert obs["clusters"] == starts.size and obs["mean_cluster_mass"] == 200 / starts.size
 
 
+
+@pytest.mark.parametrize(("v0", "expected"), [(1.0, [3.0, 6.0, 9.0]), (-1.0, [2.0, 6.0, 9.0])])
+def test_profile_x_reduces_positions_mod_the_ring_length_by_hand(v0, expected):
+    # Three particles at 1, 4, 8 on a ring of length 10, all at one velocity (they never meet).
+    # v = +1, t = 5: unwrapped 6, 9, 13, so the profile holds 13 − 10 = 3, 6, 9; v = −1, t = 2:
+    # −1, 2, 6, so −1 + 10 = 9.  Exact in binary.
+    state = sticky_state(np.array([1.0, 4.0, 8.0]), np.full(3, v0), 10.0, 5.0 if v0 > 0 else 2.0)
+    y, v = profile_x(state)
+    assert y.tolist() == expected and v.tolist() == [v0] * 3
+
 def test_driver_run_and_resume(tmp_path):
     engine = StickyGas(StickyParams(300, 1.0))
     times = [1.0, 10.0, 100.0]
@@ -355,6 +365,22 @@ def test_velocity_tail_exponent_on_known_laws():
     beta_l, err_l, _ = velocity_tail_exponent(rng.laplace(size=2_000_000))
     assert abs(beta_g - exact_g) < 5 * 0.029 and err_g < 0.1
     assert abs(beta_l - 1.0) < 5 * 0.011 and err_l < 0.1
+
+
+def test_velocity_tail_exponent_is_exact_on_a_sample_of_exact_quantiles():
+    # N = 2·10⁵ speeds w_j = (−ln S_j)^{1/3} with S_j = (N − 1 − j)/N (the last one beyond):
+    # exactly N − 1 − j of them exceed w_j, so the empirical survival at w_j is S_j and the
+    # points (ln w_j, ln(−ln S_j)) lie on a line of slope 3 (the sticky gas's exp(−c w³)).  The
+    # fit must return 3 to round-off (1e-9) with a zero error; a survival off by a factor 1.001
+    # would bend the line by 0.001/(−ln S), a slope error of 4e-4.
+    n = 200_000
+    survival = (n - 1 - np.arange(n - 1)) / n
+    w = np.cbrt(-np.log(survival))
+    v = np.append(w, w[-1] + 1.0)
+    beta, err, (lo, hi) = velocity_tail_exponent(v[::-1] * np.where(np.arange(n) % 2, 1, -1))
+    assert beta == pytest.approx(3.0, abs=1e-9) and err < 1e-9
+    e = float(np.mean(v * v))  # the range is in units of √E, here to within one sample (1e-3)
+    assert lo == pytest.approx(np.cbrt(np.log(100.0)) / math.sqrt(e), rel=1e-3)
 
 
 def test_sticky_state_refusals_word_for_word_and_a_single_particle():

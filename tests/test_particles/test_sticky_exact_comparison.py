@@ -53,6 +53,24 @@ def test_counts_on_a_hand_made_state():
     assert tail["deepest"]["w"] == pytest.approx(2.0)
 
 
+
+def test_mass_and_velocity_scales_with_the_initial_variance_by_hand():
+    # density 1, t = 8, T₀ = 1/8: M = (n² T₀ t²)^{1/3} = (64/8)^{1/3} = 2 and w = v (n t/T₀)^{1/3}
+    # = 4 v.  Clusters of masses 1, 2, 3, 40 (N = 46) at v = −1, 0.3, 0.9, 0: the mass bins sit at
+    # μ = m/2, each bin's density is clusters / (N/M × width in μ), the number of clusters × M/N
+    # is 4 · 2/46, and E (n t)^{2/3} T₀^{−2/3} = Σ m w²/N = (16 + 2 · 1.44 + 3 · 12.96)/46.
+    cmp = ExactLawComparison(8.0, variance=0.125, min_clusters=1)
+    cmp.add(_state([1, 2, 3, 40], [-1.0, 0.3, 0.9, 0.0], t=8.0))
+    mass = cmp.mass()
+    lo, hi = mass["lo"], mass["hi"]
+    np.testing.assert_allclose(mass["mu"], (lo + hi) / 4, rtol=1e-15)
+    np.testing.assert_allclose(mass["density"], mass["observed"] / (23 * (hi - lo + 1) / 2),
+                               rtol=1e-15)
+    assert hi[-1] == 16  # masses up to 8 M, the heavier ones in the last bin
+    corr = cmp.corrections()
+    assert corr["clusters"]["value"][0] == pytest.approx(4 / 23, rel=1e-15)
+    assert corr["energy"]["value"][0] == pytest.approx(57.76 / 46, rel=1e-14)
+
 def test_tail_exponent_error_matches_the_scatter_of_repeated_samples():
     # Clusters of masses 1 + Poisson(2) with w Laplace-distributed: the chord β between w = 1
     # and 2 from 400 independent samples of 5000 clusters.  The delta-method error must match
