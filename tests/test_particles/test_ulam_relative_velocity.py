@@ -326,3 +326,33 @@ def test_a_run_in_t_is_labelled_t_with_its_kurtosis():
     assert np.array_equal(ds["kurtosis"].values, run.kurtosis)
     v = run.velocities
     assert run.kurtosis[-1] == pytest.approx(np.mean(v**4) / np.mean(v**2) ** 2, rel=1e-12)
+
+
+def test_thinning_windows_bound_and_powers_of_two_by_hand():
+    """The thinning's window machinery, by hand.
+
+    * The bound is ≥ every |v_i − v_j| (not merely close to the hull's width): a bound below
+      the widest pair's speed would accept that pair with probability > 1.
+    * ``power_of_two_near``: the nearest power of two in log scale (3 → 4, 0.7 → 0.5), the
+      exponent clipped to [−1000, 1000] (1e308 → 2¹⁰⁰⁰, 1e-310 → 2⁻¹⁰⁰⁰), ∞ → 2¹⁰⁰⁰.
+    * ``thinned_windows(start, until, rate, stop_step, target)``: rate 0.5 and 64 candidates
+      aimed at give h = 2⁷; from 0 the block ends at 8h = 1024 (the stop grid and ``until`` are
+      further), cut at the multiples of h: eight windows of 128, none empty.  Rate 0 (equal
+      velocities): one window to the block's end.  A huge rate gives windows of 2⁻⁴⁰ from 0, but
+      from a start s = m·2^e (½ ≤ m < 1) none shorter than 2^(e − 30): from 0.5, 2⁻³⁰."""
+    from particles.pair_schedule import hull_bound, power_of_two_near, thinned_windows
+
+    v = np.random.default_rng(3).standard_normal(50)
+    assert hull_bound(v) >= np.max(np.abs(v[:, None] - v[None, :]))
+    assert hull_bound(v) <= np.ptp(v) * (1.0 + 1e-8)
+    assert hull_bound(np.array([-1.0, 2.0])) >= 3.0
+    assert [power_of_two_near(x) for x in (3.0, 0.7, 1.0, 1e308, 1e-310, math.inf)] == [
+        4.0, 0.5, 1.0, 2.0**1000, 2.0**-1000, 2.0**1000]
+    windows = thinned_windows(0.0, 4096.0, 0.5, 4096.0, 64)
+    assert windows == [(128.0 * k, 128.0 * (k + 1)) for k in range(8)]
+    assert thinned_windows(0.0, 3.0, 0.0, 4.0, 64) == [(0.0, 3.0)]
+    tiny = 2.0**-40
+    windows = thinned_windows(0.0, 1.0, 64 / tiny, 1.0, 64)
+    assert windows == [(tiny * k, tiny * (k + 1)) for k in range(8)]
+    first = thinned_windows(0.5, 1.0, 64 / tiny, 1.0, 64)[0]
+    assert first == (0.5, 0.5 + 2.0**-30)
