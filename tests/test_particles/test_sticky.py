@@ -445,3 +445,92 @@ def test_sticky_gas_advance_refusals_word_for_word_and_the_same_time():
         assert str(info.value) == message
     observed = gas.observe(later)
     assert observed["total_momentum"] == pytest.approx(float(np.sum(later.velocities)), abs=1e-12)
+
+
+def _refusal(call):
+    with pytest.raises(InvalidArgumentError) as info:
+        call()
+    return str(info.value)
+
+
+def test_sticky_parameters_checkpoint_and_estimates_by_hand_and_refusals_word_for_word():
+    """The engine's parameters (normalised and stored), its JSON form, the refusals of its
+    constructor, of ``initial_state`` and of ``check_state``; a checkpoint reloads to the same
+    state (also at t = 0 and with a particle at x = 0) and each corruption is refused naming
+    ``checkpoint``; the cost estimate N log₂N per time, by hand; the moved names' message."""
+    import particles.sticky as sticky
+    from particles.initial import law_from_characteristic
+
+    p = StickyParams(np.int64(2), 0.5, "uniform")
+    assert type(p.n) is int and p.n == 2 and p.length == 4.0 and p.initial == "uniform"
+    assert p.to_dict() == {"n": 2, "density": 0.5, "initial": "uniform"}
+    assert _refusal(lambda: StickyParams(1, 1.0)).startswith("argument n=1 is invalid")
+    user = law_from_characteristic(lambda k: np.exp(-0.5 * k * k), 1.0)
+    assert _refusal(lambda: StickyParams(4, 1.0, user)).endswith(
+        "is invalid: expected a law with a sampler")
+    assert _refusal(lambda: StickyParams(4, 1.0, user)).startswith("argument initial=")
+
+    engine = StickyGas(n=5, density=2.0, initial="laplace", stop_step=0.5)
+    assert engine.to_dict() == {"n": 5, "density": 2.0, "initial": "laplace",
+                                "model": "sticky", "stop_step": 0.5}
+    assert StickyGas(StickyParams(5, 2.0)).to_dict()["stop_step"] is None
+    for keyword in ("n", "density", "initial"):
+        message = _refusal(lambda kw=keyword: StickyGas(StickyParams(5, 2.0), **{kw: 3}))
+        assert message.endswith(f"expected a StickyParams or the keywords ['{keyword}'], not both")
+        assert message.startswith("argument params=")
+    assert _refusal(lambda: StickyGas("p")) == (
+        "argument params='p' is invalid: expected a StickyParams")
+    assert _refusal(lambda: StickyGas(n=5, density=1.0, stop_step=0.0)).startswith(
+        "argument stop_step=0.0 is invalid")
+    assert _refusal(lambda: engine.initial_state("seed")) == (
+        "argument rng='seed' is invalid: expected a numpy.random.Generator")
+    assert _refusal(lambda: sticky.check_state(3)) == (
+        "argument state='int' is invalid: expected a StickyState")
+
+    # N log₂N hull steps per time; N = 2 counts one step per particle
+    assert StickyGas(n=8, density=1.0).expected_events(10.0, 5) == (8 * 3 * 5, "hull steps")
+    assert StickyGas(n=2, density=1.0).expected_events(10.0, 3) == (2 * 1 * 3, "hull steps")
+    assert StickyGas(n=8, density=1.0).memory_per_particle() == 96.0  # the documented bytes
+
+    with pytest.raises(ImportError, match=r"^particles\.sticky\.clusters moved to "
+                                          r"particles\.sticky_observables\.clusters$"):
+        sticky.clusters  # noqa: B018
+
+    # checkpoints: t = 0 and t = 0.5 reload to the same state; a particle may sit at x = 0
+    rng = np.random.default_rng(8)
+    s0 = engine.initial_state(rng)
+    x0 = np.concatenate([[0.0], s0.initial_positions[1:]])
+    for t in (0.0, 0.5):
+        state = sticky_state(x0, s0.initial_velocities, engine.params.length, t)
+        back = engine.rebuild_state(state.to_arrays())
+        assert back.time == t and np.array_equal(back.velocities, state.velocities)
+        assert back.collisions == state.collisions
+    good = sticky_state(x0, s0.initial_velocities, engine.params.length, 0.5).to_arrays()
+    length = engine.params.length
+
+    def corrupt(**changes):
+        return _refusal(lambda: engine.rebuild_state({**good, **changes}))
+
+    bad_data = "argument checkpoint='bad time, length or initial data' is invalid: expected " \
+               "a sticky-gas state"
+    last = good["initial_positions"].copy()
+    last[-1] = length
+    for changes in ({"time": np.array(-1.0)}, {"time": np.array(np.inf)},
+                    {"length": np.array(length * 1.5)},
+                    {"initial_positions": good["initial_positions"] - 0.1},
+                    {"initial_positions": last},
+                    {"initial_positions": good["initial_positions"][::-1].copy()},
+                    {"initial_velocities": np.full(5, np.nan)}):
+        assert corrupt(**changes) == bad_data, changes
+    for key in ("initial_positions", "initial_velocities", "velocities"):
+        shapes = [(5,), (5,), (5,)]
+        shapes[["initial_positions", "initial_velocities", "velocities"].index(key)] = (4,)
+        assert corrupt(**{key: good[key][:4]}) == (
+            f"argument checkpoint='shapes {tuple(shapes)}' is invalid: expected arrays of "
+            "length 5")
+    assert corrupt(time=np.array("soon")).startswith("argument checkpoint=")
+    assert corrupt(time=np.array("soon")).endswith("is invalid: expected a sticky-gas state")
+    differ = ("argument checkpoint='velocities or collisions differ from the exact state' is "
+              "invalid: expected a sticky-gas state")
+    assert corrupt(velocities=good["velocities"] + 1e-9) == differ
+    assert corrupt(collisions=good["collisions"] + 1) == differ
