@@ -456,19 +456,25 @@ def _refusal(call):
 def test_sticky_parameters_checkpoint_and_estimates_by_hand_and_refusals_word_for_word():
     """The engine's parameters (normalised and stored), its JSON form, the refusals of its
     constructor, of ``initial_state`` and of ``check_state``; a checkpoint reloads to the same
-    state (also at t = 0 and with a particle at x = 0) and each corruption is refused naming
-    ``checkpoint``; the cost estimate N log₂N per time, by hand; the moved names' message."""
+    state (also at t = 0, with a particle at x = 0, and with two at one place) and each
+    corruption is refused naming ``checkpoint``; the cost estimate N log₂N per time, by hand;
+    the moved names' message."""
     import particles.sticky as sticky
-    from particles.initial import law_from_characteristic
+    from particles.initial import get_law, law_from_characteristic
 
     p = StickyParams(np.int64(2), 0.5, "uniform")
     assert type(p.n) is int and p.n == 2 and p.length == 4.0 and p.initial == "uniform"
     assert p.to_dict() == {"n": 2, "density": 0.5, "initial": "uniform"}
+    p = StickyParams(4, np.float32(0.5), get_law("laplace"))  # a law object: its name is kept
+    assert type(p.density) is float and p.initial == "laplace"
     assert _refusal(lambda: StickyParams(1, 1.0)).startswith("argument n=1 is invalid")
+    assert _refusal(lambda: StickyParams(4, 0.0)) == (
+        "argument density=0.0 is invalid: expected a finite number > 0")
     user = law_from_characteristic(lambda k: np.exp(-0.5 * k * k), 1.0)
     assert _refusal(lambda: StickyParams(4, 1.0, user)).endswith(
         "is invalid: expected a law with a sampler")
-    assert _refusal(lambda: StickyParams(4, 1.0, user)).startswith("argument initial=")
+    assert _refusal(lambda: StickyParams(4, 1.0, user)).startswith(
+        "argument initial=InitialLaw(name='user'")
 
     engine = StickyGas(n=5, density=2.0, initial="laplace", stop_step=0.5)
     assert engine.to_dict() == {"n": 5, "density": 2.0, "initial": "laplace",
@@ -477,7 +483,7 @@ def test_sticky_parameters_checkpoint_and_estimates_by_hand_and_refusals_word_fo
     for keyword in ("n", "density", "initial"):
         message = _refusal(lambda kw=keyword: StickyGas(StickyParams(5, 2.0), **{kw: 3}))
         assert message.endswith(f"expected a StickyParams or the keywords ['{keyword}'], not both")
-        assert message.startswith("argument params=")
+        assert message.startswith("argument params=StickyParams(n=5, density=2.0, ")
     assert _refusal(lambda: StickyGas("p")) == (
         "argument params='p' is invalid: expected a StickyParams")
     assert _refusal(lambda: StickyGas(n=5, density=1.0, stop_step=0.0)).startswith(
@@ -495,6 +501,8 @@ def test_sticky_parameters_checkpoint_and_estimates_by_hand_and_refusals_word_fo
     with pytest.raises(ImportError, match=r"^particles\.sticky\.clusters moved to "
                                           r"particles\.sticky_observables\.clusters$"):
         sticky.clusters  # noqa: B018
+    with pytest.raises(AttributeError, match="^module 'particles.sticky' has no attribute 'nope'$"):
+        sticky.nope  # noqa: B018
 
     # checkpoints: t = 0 and t = 0.5 reload to the same state; a particle may sit at x = 0
     rng = np.random.default_rng(8)
@@ -505,6 +513,10 @@ def test_sticky_parameters_checkpoint_and_estimates_by_hand_and_refusals_word_fo
         back = engine.rebuild_state(state.to_arrays())
         assert back.time == t and np.array_equal(back.velocities, state.velocities)
         assert back.collisions == state.collisions
+    tied = x0.copy()
+    tied[2] = tied[1]  # two particles at one place: a state the exact solution allows
+    state = sticky_state(tied, s0.initial_velocities, engine.params.length, 0.5)
+    assert engine.rebuild_state(state.to_arrays()).collisions == state.collisions
     good = sticky_state(x0, s0.initial_velocities, engine.params.length, 0.5).to_arrays()
     length = engine.params.length
 
@@ -528,8 +540,9 @@ def test_sticky_parameters_checkpoint_and_estimates_by_hand_and_refusals_word_fo
         assert corrupt(**{key: good[key][:4]}) == (
             f"argument checkpoint='shapes {tuple(shapes)}' is invalid: expected arrays of "
             "length 5")
-    assert corrupt(time=np.array("soon")).startswith("argument checkpoint=")
-    assert corrupt(time=np.array("soon")).endswith("is invalid: expected a sticky-gas state")
+    assert corrupt(time=np.array("soon")) == (
+        "argument checkpoint=\"could not convert string to float: 'soon'\" is invalid: "
+        "expected a sticky-gas state")
     differ = ("argument checkpoint='velocities or collisions differ from the exact state' is "
               "invalid: expected a sticky-gas state")
     assert corrupt(velocities=good["velocities"] + 1e-9) == differ
