@@ -22,7 +22,7 @@ import numpy as np
 
 from maxwell_kinetics.grid import RESOLUTIONS, get_resolution
 from maxwell_kinetics.model import MaxwellModel
-from maxwell_kinetics.solver import SolverOptions, _Stepper, solve
+from maxwell_kinetics.solver import SolverOptions, Stepper, solve
 from particles.initial import LAWS, get_law, law_from_characteristic
 
 HERE = Path(__file__).resolve().parent
@@ -34,7 +34,7 @@ def timing(restitutions=(0.5, 0.0), resolutions=("default", "finest"), tau_end=1
         for name in resolutions:
             grid = get_resolution(name)
             t0 = time.perf_counter()
-            st = _Stepper(MaxwellModel(r), get_law("gaussian"), grid, SolverOptions())
+            st = Stepper(MaxwellModel(r), get_law("gaussian"), grid, SolverOptions())
             t1 = time.perf_counter()
             y = st.advance(st.y0, 0, 1).block_until_ready()
             st.output(y, 1, 1.5 * st.dtau).block_until_ready()

@@ -29,7 +29,8 @@ import numpy as np
 
 from particles.validation import check_edges as _check_edges
 
-__all__ = ["check_edges", "bin_probabilities", "solution_histogram", "solution_to_xarray"]
+__all__ = ["check_edges", "free_part", "bin_probabilities", "solution_histogram",
+           "solution_to_xarray"]
 
 
 def check_edges(edges, name: str = "edges") -> np.ndarray:
@@ -56,10 +57,23 @@ def check_edges(edges, name: str = "edges") -> np.ndarray:
     return _check_edges(edges, name)
 
 
-def _free_part(sol, k: int):
-    """(weight, stretch, law) of the never-collided particles in d = 1 with a built-in law, or
-    None (d ≥ 2, or a user's law: known by its characteristic function only, even under a
-    built-in name)."""
+def free_part(sol, k: int):
+    """The never-collided particles at ``sol.tau[k]`` (d = 1, a built-in law): a fraction
+    e^{−τ} of them, with the initial law stretched by e^{λτ} in x = v/v0.
+
+    Parameters
+    ----------
+    sol : Solution
+        A solution.
+    k : int
+        Index of the time.
+
+    Returns
+    -------
+    tuple or None
+        ``(weight, stretch, law)``, or None in d ≥ 2 (no exact free part) or for a user's law
+        (known by its characteristic function only, even under a built-in name).
+    """
     law = sol.initial_law()  # None for a user's law, whatever its name
     if sol.dimension != 1 or law is None or law.distribution is None:
         return None
@@ -92,7 +106,7 @@ def bin_probabilities(sol, k: int, edges, far: float = 200.0):
     from . import statistics as st
 
     q_max = sol.resolution.q_max
-    free = _free_part(sol, k)
+    free = free_part(sol, k)
     if free is None:
         def H(q):
             return sol.evaluate(np.minimum(q, q_max), k)

@@ -79,7 +79,7 @@ from .grid import INFLOW_CUT, Resolution, check_solve_budget, get_resolution
 from .model import MaxwellModel
 from .solution import Solution, SolverOptions, deviation_from_f_hat
 
-__all__ = ["solve", "check_solve_arguments", "SolveArguments"]
+__all__ = ["solve", "check_solve_arguments", "SolveArguments", "Stepper"]
 
 
 def _check_skewness_finite(law: InitialLaw) -> float:
@@ -141,13 +141,40 @@ def initial_deviation(law: InitialLaw, q: np.ndarray, q_fit: float = 2e-3) -> np
     return w
 
 
-class _Stepper:
-    """The scheme for one (model, law, grid, options): host-side data and the jitted calls.
+class Stepper:
+    """The scheme for one (model, law, grid, options): host-side data and the jitted calls
+    that :func:`solve` drives window by window (also the handle of the benchmarks and of the
+    tests of one right-hand side).
 
     The compiled functions live in :mod:`maxwell_kinetics._kinetic_scheme` and take r, the
     window and the stencils as traced data, so a new r reuses the compilation of the same
     (grid, law, options).  Every JAX call runs inside ``jax.enable_x64(True)``: float64 for
     this computation without changing JAX's global configuration.
+
+    Parameters
+    ----------
+    model : MaxwellModel
+        The collision model (r, λ, the gain's shifts).
+    law : InitialLaw
+        The initial velocity law.
+    grid : Resolution
+        The comoving grid in s = ln q.
+    opts : SolverOptions
+        The solver's options.
+    dimension, angular, angular_nodes, angular_rule : optional
+        As in :func:`solve` (d = 1: the angle plays no part).
+
+    Attributes
+    ----------
+    static, dynamic :
+        The scheme's compile-time and traced data; ``y0`` the initial state; ``m3`` the law's
+        third moment; ``complex`` whether G is carried as (Re, Im).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``characteristic``) when the law's φ is not finite on the inflow's
+        wavenumbers; (argument ``initial``) when its third moment is not finite.
     """
 
     def __init__(self, model: MaxwellModel, law: InitialLaw, grid: Resolution, opts: SolverOptions,
@@ -176,20 +203,57 @@ class _Stepper:
             self.y0 = scheme.initial_state(self.static, w0)
 
     def advance(self, y, i_start: int, count: int):
-        """The state after ``count`` windows from window ``i_start``."""
+        """The state after ``count`` windows from window ``i_start``.
+
+        Parameters
+        ----------
+        y : jax.Array
+            The state (as ``y0``) at the start of window ``i_start``.
+        i_start : int
+            Index of the first window (τ = i_start Δτ).
+        count : int
+            Windows to advance.
+
+        Returns
+        -------
+        jax.Array
+            The state at the start of window ``i_start + count`` (dispatched asynchronously:
+            :meth:`wait` blocks until it is computed).
+        """
         with self._x64(True):
             scheme = self._scheme
             return compile_cache.call("advance", scheme.advance_unjitted, scheme.advance,
                                       self.static, (self.dynamic, y, i_start, count))
 
     def wait(self, y) -> None:
-        """Block until the (asynchronously dispatched) state ``y`` is computed."""
+        """Block until the (asynchronously dispatched) state ``y`` is computed.
+
+        Parameters
+        ----------
+        y : jax.Array
+            A state returned by :meth:`advance`.
+        """
         import jax
 
         jax.block_until_ready(y)
 
     def output(self, y, i_window: int, tau: float):
-        """w on the fixed grid at τ (≥ i_window Δτ) as a (parts, n) array."""
+        """w on the fixed grid at τ.
+
+        Parameters
+        ----------
+        y : jax.Array
+            The state at the start of window ``i_window``.
+        i_window : int
+            Its window index.
+        tau : float
+            The time, ≥ ``i_window`` Δτ (within that window).
+
+        Returns
+        -------
+        jax.Array
+            w = G − g at the grid's nodes, shape (parts, n): parts 2 (Re, Im) for a complex G.
+        """
         with self._x64(True):
             scheme = self._scheme
             return compile_cache.call("output", scheme.output_unjitted, scheme.output,
@@ -420,7 +484,7 @@ def solve(
         return Solution(model.restitution, law.name, grid, taus, saved, deviation, m3, opts,
                         time.perf_counter() - start, builtin_law=builtin)
 
-    stepper = _Stepper(model, law, grid, opts, dimension, angular, angular_nodes, angular_rule)
+    stepper = Stepper(model, law, grid, opts, dimension, angular, angular_nodes, angular_rule)
     interrupt.check()  # a Ctrl-C deferred by the command line while JAX was loading
     y = stepper.y0
     i_window = 0

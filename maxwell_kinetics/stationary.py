@@ -56,6 +56,7 @@ __all__ = [
     "FixedPoint",
     "fixed_point",
     "stationary_residual",
+    "isotropic_fixed_point",
     "check_inelastic",
     "collocation_operators",
 ]
@@ -193,12 +194,42 @@ class FixedPoint:
         return self.evaluate(q)
 
 
-def _isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_iterations):
+def isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_iterations):
     """The collocation of :func:`fixed_point` for the η-averaged gain (d ≥ 2), in NumPy:
     R(G) = (Λ/2) q D G − G + Σ_i ω_i (A_i G) ∘ (B_i G) with A_i, B_i the barycentric
     interpolation matrices to a_i q and b_i q (both in [0, Q]), Jacobian
     (Λ/2) q D − I + Σ_i ω_i [diag(B_i G) A_i + diag(A_i G) B_i], the three condition rows as
-    in d = 1, and the same damped Gauss–Newton.  ``max_error`` is NaN (no closed form)."""
+    in d = 1, and the same damped Gauss–Newton.  ``max_error`` is NaN (no closed form).
+    The arguments are taken as checked: :func:`fixed_point` checks them and calls this.
+
+    Parameters
+    ----------
+    model : MaxwellModel
+        The collision model (p, Λ and the gain's scales per η).
+    eta, weights : array_like
+        The quadrature of the angular law of η (nodes, weights summing to 1).
+    n : int
+        Chebyshev degree.
+    length : float
+        The domain [0, Q] in q.
+    initial : callable or None
+        G at the start (None: e^{−q²/2}).
+    tol : float
+        Stopping tolerance of the Gauss–Newton steps.
+    max_iterations : int
+        At most this many steps.
+
+    Returns
+    -------
+    FixedPoint
+        Its ``dimension``, ``angular``, ``angular_nodes`` and ``seconds`` at their defaults:
+        the caller fills them in.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``initial``) if ``initial`` does not give finite values on the nodes.
+    """
     p = model.p
     eta = np.asarray(eta, dtype=float)
     weights = np.asarray(weights, dtype=float)
@@ -484,7 +515,7 @@ def fixed_point(
     max_iterations = check_count(max_iterations, "max_iterations", 1)
     if dimension != 1:
         eta, weights = angular_law(dimension, angular).quadrature(angular_nodes)
-        fp = _isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_iterations)
+        fp = isotropic_fixed_point(model, eta, weights, n, length, initial, tol, max_iterations)
         return replace(fp, dimension=dimension, angular=angular, angular_nodes=angular_nodes,
                        seconds=time.perf_counter() - t0)
 

@@ -34,7 +34,7 @@ from maxwell_kinetics import _kinetic_scheme as scheme
 from maxwell_kinetics.grid import Resolution
 from maxwell_kinetics.model import MaxwellModel
 from maxwell_kinetics.solution import SolverOptions
-from maxwell_kinetics.solver import _Stepper
+from maxwell_kinetics.solver import Stepper
 from particles.initial import InitialLaw, get_law
 
 P = (math.sqrt(5.0) - 1.0) / 2.0  # root of p² + p − 1 = 0: 1 − p = p²
@@ -59,7 +59,7 @@ def _scheme_rhs(law):
     or a built-in law's name."""
     model = MaxwellModel(R)
     law = get_law(law) if isinstance(law, str) else law
-    stepper = _Stepper(model, law, GRID, SolverOptions())
+    stepper = Stepper(model, law, GRID, SolverOptions())
     with jax.enable_x64(True):
         dw = np.asarray(scheme._rhs(stepper.static, 0.0, stepper.y0,
                                     (jnp.float64(0.0), stepper.dynamic)))
@@ -172,7 +172,7 @@ def test_rhs_later_in_a_window_is_the_collision_integral_at_the_moved_nodes():
     the motion of the nodes, which τ = 0 alone cannot (e^{−λ·0} = 1)."""
     t = 0.3
     model = MaxwellModel(R)
-    stepper = _Stepper(model, get_law("uniform"), GRID, SolverOptions())
+    stepper = Stepper(model, get_law("uniform"), GRID, SolverOptions())
     st = stepper.static
     q_all = np.exp(GRID.s_min + GRID.h * np.arange(st.n_state) - model.lam * t)
     w = np.sin(math.sqrt(3.0) * q_all) / (math.sqrt(3.0) * q_all) - np.exp(-0.5 * q_all**2)
@@ -202,7 +202,7 @@ def test_inflow_is_the_free_decay_of_the_initial_law_beyond_the_active_nodes():
     real and imaginary parts.  Evaluated here in closed form; the agreement is to round-off."""
     tau_w, t = 1.0, 0.2
     model = MaxwellModel(R)
-    stepper = _Stepper(model, get_law("asymmetric"), GRID, SolverOptions())
+    stepper = Stepper(model, get_law("asymmetric"), GRID, SolverOptions())
     st, dy = stepper.static, stepper.dynamic
     with jax.enable_x64(True):
         inflow = np.asarray(scheme._inflow(st, dy, jnp.float64(t), jnp.float64(tau_w)))
@@ -228,7 +228,7 @@ def _isotropic_rhs_of_two_gaussians(d, angular, rule, t=0.3):
     """(q of the first GRID.n nodes moved to local time ``t``, the scheme's right-hand side
     there, λ) for the two-Gaussian law's deviation given exactly at every state node."""
     model = MaxwellModel(R)
-    stepper = _Stepper(model, get_law("gaussian"), GRID, SolverOptions(), dimension=d,
+    stepper = Stepper(model, get_law("gaussian"), GRID, SolverOptions(), dimension=d,
                        angular=angular, angular_nodes=16, angular_rule=rule)
     st, dy = stepper.static, stepper.dynamic
     lam = float(dy.lam)
@@ -329,7 +329,7 @@ def test_padded_state_is_continuation_state_and_inflow_and_the_inflow_ends():
     for law, tau_w in ((get_law("uniform"), 1.0), (get_law("uniform"), 50.0),
                        (law_from_characteristic(lambda k: np.exp(-0.5 * k * k), 1.0,
                                                 name="mine"), 1.0)):
-        stepper = _Stepper(model, law, SMALL_GRID, SolverOptions())
+        stepper = Stepper(model, law, SMALL_GRID, SolverOptions())
         st, dy = stepper.static, stepper.dynamic
         t = 0.2
         w = np.linspace(0.5, 1.5, st.n_state)[None, :]

@@ -146,15 +146,15 @@ def test_never_collided_particles_are_a_fraction_e_minus_tau_stretched_by_e_lamb
     # weight and stretch, so an error in either cancels in the bins except through the cut of G
     # at q_max: checked here directly.  A Solution built from known G (no solve); round-off
     # only, 1e-15.
-    from maxwell_kinetics.kinetic_histogram import _free_part
+    from maxwell_kinetics.kinetic_histogram import free_part
 
     grid = RESOLUTIONS["coarse"]
     G = np.array([np.exp(-grid.q**2 / 2)] * 2, dtype=complex)
     one = Solution(0.5, "uniform", grid, np.array([0.0, 2.0]), G, G - f_hat(grid.q))
-    weight, stretch, law = _free_part(one, 1)
+    weight, stretch, law = free_part(one, 1)
     assert weight == pytest.approx(math.exp(-2.0), rel=1e-15)
     assert stretch == pytest.approx(math.exp(3 / 8), rel=1e-15)
     assert law.name == "uniform"
-    assert _free_part(one, 0)[:2] == (1.0, 1.0)
+    assert free_part(one, 0)[:2] == (1.0, 1.0)
     # d ≥ 2: no exact free part (the histogram is the transform of G alone)
-    assert _free_part(_isotropic_solution(2, "uniform"), 1) is None
+    assert free_part(_isotropic_solution(2, "uniform"), 1) is None

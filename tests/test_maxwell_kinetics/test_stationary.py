@@ -214,10 +214,10 @@ def test_cli_fixed_point_bad_restitution(bad, capsys):
 
 def test_isotropic_path_with_the_single_node_eta_1_is_the_one_dimensional_fixed_point():
     # The NumPy Jacobian of d >= 2 against the JAX one of d = 1 on the same equation (η ≡ 1).
-    from maxwell_kinetics.stationary import _isotropic_fixed_point
+    from maxwell_kinetics.stationary import isotropic_fixed_point
 
     one = fixed_point(0.5, n=64)
-    iso = _isotropic_fixed_point(MaxwellModel(0.5), [1.0], [1.0], 64, 40.0, None, 1e-13, 50)
+    iso = isotropic_fixed_point(MaxwellModel(0.5), [1.0], [1.0], 64, 40.0, None, 1e-13, 50)
     assert iso.converged
     assert np.max(np.abs(iso.G - one.G)) < 1e-12
     assert np.max(np.abs(iso.G - f_hat(iso.q))) < 1e-10

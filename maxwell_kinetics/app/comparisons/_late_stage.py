@@ -15,7 +15,7 @@ import numpy as np
 from particles.models import get_model
 from particles.observables import mean_sem, mean_sem_json, structure_factor
 from particles.progress import progress_bar
-from particles.sticky_comparison import ExactLawComparison, exact_law_runs
+from particles.sticky_comparison import ExactLawComparison
 from particles.sticky_exact import (
     CHERNOFF_VARIANCE,
     chernoff_density,
@@ -23,8 +23,6 @@ from particles.sticky_exact import (
     exact_mass_density,
     exact_moments,
     exact_velocity_density,
-    exact_velocity_survival,
-    exact_velocity_tail_exponent,
 )
 from particles.sticky_observables import cluster_mass_distribution, displacements, profile_x
 from particles.validation import InvalidArgumentError
@@ -42,9 +40,10 @@ from .analysis import (
 )
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors
+from .sticky_tail import deep_tail_runs, exact_tail
 from .verdicts import Check, judge, pair, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "deep_tail_runs", "verdicts"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
 NAME = "late_stage"
 
@@ -325,7 +324,7 @@ def _exact_runs(params, progress) -> dict:
         mass_data.append({"mu": mass["mu"], "density": mass["density"],
                           "error": mass["density_error"], "exact": mass["exact"]})
         tails.append(tail)
-    exact_tail = _exact_tail(params["beta_curve"])
+    beta_law = exact_tail(params["beta_curve"])
     edges = cmps[0].w_edges
     w_fine = np.linspace(-4.0, 4.0, 49)
     mu_fine = np.geomspace(1e-3, 6.0, 80)
@@ -338,7 +337,7 @@ def _exact_runs(params, progress) -> dict:
             "limits": exact_moments(),
         },
         "tail": {"time": times[j_tail], "grid": grid.tolist(), "min_clusters": mc,
-                 "engine": per_time[j_tail]["tail"], "exact": exact_tail["summary"],
+                 "engine": per_time[j_tail]["tail"], "exact": beta_law["summary"],
                  "sticky_gas_limit": 3.0, "gaussian": 2.0},
         "mass": {"secondary_fit": small["summary"], "exponent": small["summary"]["exponent"],
                  "expected": -0.5},
@@ -350,109 +349,9 @@ def _exact_runs(params, progress) -> dict:
         "tail_w": grid, "tail_survival": [t_["survival"] for t_ in tails],
         "tail_error": [t_["survival_error"] for t_ in tails],
         "tail_exact": [t_["exact_survival"] for t_ in tails],
-        "beta_curve_w": exact_tail["w"], "beta_curve": exact_tail["beta"], **small["data"],
+        "beta_curve_w": beta_law["w"], "beta_curve": beta_law["beta"], **small["data"],
     }
     return {"summary": summary, "data": data}
-
-
-def deep_tail_runs(params, progress) -> dict:
-    """The deep tail (:data:`PRESETS`): ``deep_seeds`` gases of ``deep_n`` particles, their
-    survival P(|w| > w) and its chords β per time of ``deep_times``, against the exact law.
-
-    Parameters
-    ----------
-    params : dict
-        A preset of :data:`PRESETS` (with overrides): ``deep_n``, ``deep_seeds``,
-        ``deep_times``, ``deep_tail_w``, ``deep_block``, ``deep_workers``, ``min_clusters``.
-    progress : bool
-        Show progress on stderr.
-
-    Returns
-    -------
-    dict
-        ``summary`` (``{"deep_tail": …}``, empty when ``deep_seeds`` is 0) and ``data``.
-    """
-    count = int(params["deep_seeds"])
-    if count == 0:
-        return {"summary": {}, "data": {}}
-    n, times = int(params["deep_n"]), [float(t) for t in params["deep_times"]]
-    grid = tail_grid(*params["deep_tail_w"])
-    mc = int(params["min_clusters"])
-    block = int(params["deep_block"])
-    seeds = list(range(2000, 2000 + count))
-    tasks = [seeds[i:i + block] for i in range(0, count, block)]
-    workers = min(int(params["deep_workers"]), len(tasks))
-    total = None
-    with progress_bar(len(tasks), f"sticky deep tail N={n} × {count}", "block",
-                      enabled=progress) as bar:
-        def join(parts):
-            nonlocal total
-            if total is None:
-                total = parts
-            else:
-                for a, b in zip(total, parts, strict=True):
-                    a.merge(b)
-            bar.update(1)
-
-        if workers <= 1:
-            for task in tasks:
-                join(exact_law_runs(n, task, times, tail_w=grid, min_clusters=mc))
-        else:
-            import multiprocessing
-            from concurrent.futures import ProcessPoolExecutor
-
-            # spawn: no fork of a process that holds JAX; the workers import particles only
-            ctx = multiprocessing.get_context("spawn")
-            with ProcessPoolExecutor(workers, mp_context=ctx) as pool:
-                futures = [pool.submit(exact_law_runs, n, task, times, tail_w=grid,
-                                       min_clusters=mc) for task in tasks]
-                for future in futures:  # joined in seed order
-                    join(future.result())
-    per_time, data = [], []
-    for c in total:
-        tail = c.tail()
-        z = (tail["beta"] - tail["beta_exact"]) / tail["beta_error"]
-        per_time.append({
-            "t": c.t, "particles": int(c.particles),
-            "beta_w": tail["beta_w"].tolist(), "beta": tail["beta"].tolist(),
-            "beta_error": tail["beta_error"].tolist(), "beta_exact": tail["beta_exact"].tolist(),
-            "z": z.tolist(), "deepest": tail["deepest"],
-        })
-        data.append({key: tail[key] for key in ("w", "survival", "survival_error",
-                                                  "exact_survival", "resolved")})
-    summary = {"deep_tail": {"n": n, "seeds": count, "particles": int(total[0].particles),
-                             "times": times, "grid": grid.tolist(), "min_clusters": mc,
-                             "per_time": per_time}}
-    return {"summary": summary, "data": {"deep_tail": data}}
-
-
-#: Values of w at which the exact β is always reported (up to ``beta_curve``'s last point).
-_BETA_AT = (1.0, 2.0, 3.0, 5.0, 10.0, 20.0, 30.0)
-
-
-def _exact_tail(curve) -> dict:
-    """The exact β(w) on the ``beta_curve`` points (:data:`PRESETS`), its crossings of 2 and
-    2.5 (cubic spline of β in ln w; β increases with w) and the exact P(|w| > w) there."""
-    from scipy.interpolate import CubicSpline
-
-    lo, hi, count = float(curve[0]), float(curve[1]), int(curve[2])
-    w = np.unique(np.concatenate([np.geomspace(lo, hi, count),
-                                  [x for x in _BETA_AT if lo <= x <= hi]]))
-    beta = exact_velocity_tail_exponent(w)
-    spline = CubicSpline(np.log(w), beta)
-    crossings = {}
-    for level in (2.0, 2.5):
-        roots = [r for r in spline.solve(level, extrapolate=False) if np.isfinite(r)]
-        if roots:
-            wc = float(np.exp(roots[0]))
-            crossings[f"{level:g}"] = {"w": wc,
-                                       "survival": float(2.0 * exact_velocity_survival(wc))}
-        else:
-            crossings[f"{level:g}"] = None
-    at = {f"{x:g}": float(beta[np.flatnonzero(w == x)[0]]) for x in _BETA_AT if lo <= x <= hi}
-    return {"w": w, "beta": beta,
-            "summary": {"w": w.tolist(), "beta": beta.tolist(), "crossings": crossings,
-                        "beta_at": at, "limit": 3.0}}
 
 
 def _small_mass_fit(tables, table_times, length, params) -> dict:

@@ -11,12 +11,13 @@ import numpy as np
 
 from particles.observables import mean_sem_json
 
+from .analysis import paired_numbers
 from .base import Comparison, jsonable, preset, register_plot
 from .drawing import colors, panels
 from .particle_runs import ParticleRuns, md_record_times
 from .verdicts import Check, judge, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "paired_numbers", "verdicts"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
 NAME = "sticky_vs_md"
 
@@ -42,18 +43,6 @@ PRESETS = {
              "departure": ((0.1, 10_000), (0.1, 40_000), (0.01, 10_000)),
              "departure_t_max": 5000.0},
 }
-
-
-def paired_numbers(e_md, e_sticky):
-    """Relative differences of MD and sticky energies (R seeds, T times; row i of both from
-    seed i): ``paired`` (R, T) = E_MD,i / E_sticky,i − 1, and ``unpaired`` (R(R − 1), T) =
-    E_MD,i / E_sticky,j − 1 for every i ≠ j (independent initial states)."""
-    e_md, e_sticky = np.asarray(e_md, float), np.asarray(e_sticky, float)
-    r = e_md.shape[0]
-    paired = e_md / e_sticky - 1.0
-    unpaired = np.array([e_md[i] / e_sticky[j] - 1.0 for i in range(r) for j in range(r)
-                         if i != j]).reshape(-1, e_md.shape[1])
-    return paired, unpaired
 
 
 def run(size=None, progress: bool | None = None, checkpoint_dir=None,

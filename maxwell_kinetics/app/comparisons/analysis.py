@@ -28,6 +28,7 @@ __all__ = [
     "tail_grid",
     "mass_density",
     "small_mass_law",
+    "paired_numbers",
     "MASS_MODELS",
     "PROFILE_EXPONENTS",
 ]
@@ -465,3 +466,27 @@ def _corrected_chi2(mu, phi, err, a_) -> float:
     design = np.stack([mu**a_, np.ones_like(mu), np.sqrt(mu)], axis=1) / err[:, None]
     coef = np.linalg.lstsq(design, phi / err, rcond=None)[0]
     return float(np.sum((design @ coef - phi / err) ** 2))
+
+
+def paired_numbers(e_md, e_sticky):
+    """Relative differences of MD and sticky-gas energies from the same and from independent
+    initial states.
+
+    Parameters
+    ----------
+    e_md, e_sticky : array_like
+        Energies, shape (R, T): R seeds, T times; row i of both from seed i.
+
+    Returns
+    -------
+    paired : numpy.ndarray
+        (R, T): E_MD,i / E_sticky,i − 1.
+    unpaired : numpy.ndarray
+        (R(R − 1), T): E_MD,i / E_sticky,j − 1 for every i ≠ j, in the order (i, j) row by row.
+    """
+    e_md, e_sticky = np.asarray(e_md, float), np.asarray(e_sticky, float)
+    r = e_md.shape[0]
+    paired = e_md / e_sticky - 1.0
+    unpaired = np.array([e_md[i] / e_sticky[j] - 1.0 for i in range(r) for j in range(r)
+                         if i != j]).reshape(-1, e_md.shape[1])
+    return paired, unpaired

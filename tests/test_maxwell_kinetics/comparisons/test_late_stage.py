@@ -11,8 +11,7 @@ import pytest
 from scipy.stats import chi2 as chi2_dist
 
 from maxwell_kinetics.app.comparisons import Comparison, sticky_vs_md
-from maxwell_kinetics.app.comparisons._sticky_vs_md import paired_numbers
-from maxwell_kinetics.app.comparisons.analysis import mass_density
+from maxwell_kinetics.app.comparisons.analysis import mass_density, paired_numbers
 from particles.sticky import StickyGas, StickyParams
 from particles.sticky_observables import cluster_mass_distribution
 
@@ -162,9 +161,10 @@ def test_the_deep_tail_ensemble_does_not_depend_on_the_processes():
     # (joined in seed order): the same summary, bit for bit; and it pools all the particles
     import json
 
-    from maxwell_kinetics.app.comparisons._late_stage import PRESETS, deep_tail_runs
+    from maxwell_kinetics.app.comparisons import PRESETS
+    from maxwell_kinetics.app.comparisons.sticky_tail import deep_tail_runs
 
-    params = {**PRESETS["small"], "deep_seeds": 6, "deep_n": 100_000, "deep_block": 2,
+    params = {**PRESETS["late_stage"]["small"], "deep_seeds": 6, "deep_n": 100_000, "deep_block": 2,
               "deep_times": (31.6, 316.0)}
     one = deep_tail_runs({**params, "deep_workers": 1}, False)["summary"]["deep_tail"]
     two = deep_tail_runs({**params, "deep_workers": 2}, False)["summary"]["deep_tail"]
