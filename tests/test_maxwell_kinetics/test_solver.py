@@ -44,7 +44,6 @@ def small_q_deviation(sol: Solution, k: int):
     return sol.deviation[k] - deviation_from_f_hat(sol.q, sol.skewness)
 
 
-
 def test_small_q_deviation_from_f_hat_is_the_closed_form_in_forty_digits():
     # g − f̂ = e^{−q²/2}(1 − i m₃ q³/6) − (1 + q) e^{−q}: the reference through q³ minus the
     # scaling solution.  Below q = 0.05 it is summed as a Taylor series (the two terms cancel
@@ -64,6 +63,7 @@ def test_small_q_deviation_from_f_hat_is_the_closed_form_in_forty_digits():
             imag = -Decimal(m3) / 6 * x**3 * gauss
             assert value.real == pytest.approx(float(real), rel=1e-13)
             assert value.imag == pytest.approx(float(imag), rel=1e-13)
+
 
 def test_spec_measured_distances(gaussian_half):
     # Reference value (measured by two independent methods, three digits): r = 0.5, unit Gaussian.

@@ -219,7 +219,6 @@ def test_the_exact_laws_vanish_outside_their_support():
     assert np.all(exact_eulerian_velocity_density(far) == 0.0)
 
 
-
 def test_the_laws_keep_the_shape_of_their_input_and_use_their_node_counts():
     """A 2-D array of points gives a 2-D array of values, entry by entry (to round-off: the
     quadratures run batched); ``nodes`` is the quadrature's node count (1 is allowed, and a
