@@ -272,6 +272,14 @@ def sticky_state(x0, v0, length: float, t: float) -> StickyState:
     if x0[0] < 0.0 or not x0[-1] < length or np.any(np.diff(x0) < 0):
         raise InvalidArgumentError("x0", f"positions in [{x0.min():g}, {x0.max():g}]",
                                    f"positions sorted in [0, length = {length:g})")
+    return _exact_state(x0, v0, length, t)
+
+
+def _exact_state(x0: np.ndarray, v0: np.ndarray, length: float, t: float) -> StickyState:
+    """:func:`sticky_state` of data already checked: float arrays ``x0`` sorted in
+    [0, ``length``) and ``v0`` of one length, float ``length`` > 0 and ``t`` ≥ 0.  The engine
+    calls it with the initial data of a state, checked once when that state was made, so a run
+    never validates (or copies) its N-particle arrays at each requested time."""
     n = x0.size
     if t == 0.0:
         frozen = [a.view() for a in (x0, v0)]
@@ -512,9 +520,12 @@ class StickyGas(EngineBase):
         if not isinstance(rng, np.random.Generator):
             raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
         p = self.params
-        x = np.sort(rng.uniform(0.0, p.length, p.n))
+        x = rng.uniform(0.0, p.length, p.n)
+        x.sort()  # in place: no second array of N positions
         v = initial_velocities(p.initial, p.n, rng)
-        return sticky_state(x, v, p.length, 0.0)
+        if not x[-1] < p.length:  # uniform(0, L) rounds up to L with probability ~N·2⁻⁵³
+            return sticky_state(x, v, p.length, 0.0)  # refused there, naming x0
+        return _exact_state(x, v, p.length, 0.0)
 
     def advance(self, state: StickyState, until: float, rng: np.random.Generator | None = None):
         """The exact state at ``until`` ≥ ``state.time`` (computed from the initial data).
@@ -543,8 +554,10 @@ class StickyGas(EngineBase):
             raise InvalidArgumentError("until", until, f"a time >= the state's time {state.time}")
         if state.velocities.size != self.params.n:
             raise InvalidArgumentError("state", f"N={state.velocities.size}", f"N={self.params.n}")
-        return sticky_state(state.initial_positions, state.initial_velocities, self.params.length,
-                            until)
+        # the initial data were checked when the state was made (initial_state, sticky_state
+        # or rebuild_state): not again at every requested time
+        return _exact_state(state.initial_positions, state.initial_velocities,
+                            self.params.length, float(until))
 
     def rebuild_state(self, arrays) -> StickyState:
         """Rebuild a state from :meth:`StickyState.to_arrays` (its keys present: checked by
@@ -622,6 +635,23 @@ class StickyGas(EngineBase):
         """
         n = float(self.params.n)
         return n * max(1.0, math.log2(max(n, 2.0))) * n_times, "hull steps"
+
+    def velocity_classes(self, state: StickyState) -> tuple[np.ndarray, np.ndarray]:
+        """The distinct velocities of ``state`` and how many particles hold each: the
+        clusters' velocities and masses (the driver computes the kurtosis and histogram from
+        them, in a pass over the clusters instead of the particles).
+
+        Parameters
+        ----------
+        state : StickyState
+            The state.
+
+        Returns
+        -------
+        tuple of numpy.ndarray
+            ``(state.cluster_velocities, state.masses)``.
+        """
+        return state.cluster_velocities, state.masses
 
     def observe(self, state: StickyState) -> dict[str, float]:
         """The engine's scalars at this state, recorded per time by the driver.

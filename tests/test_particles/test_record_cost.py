@@ -1,0 +1,102 @@
+"""What the driver records at each requested time: the same numbers as the public observables,
+computed without validating or copying the engine's own N-particle arrays again.
+
+The sticky gas gives its velocities as clusters (value, mass): the kurtosis and the rescaled
+histogram are then computed over the clusters, and must equal those of the particles' velocities
+(the histogram's counts and scale bit for bit: each particle's x = v/v0 is the same division).
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+import pytest
+
+from particles import observables as obs
+from particles.driver import simulate
+from particles.sticky import StickyGas, StickyParams
+from particles.ulam import Ulam
+
+N = 4000
+
+
+def test_weighted_kurtosis_by_hand():
+    # values 1 (three particles) and -2 (one): <v^2> = 7/4, <v^4> = 19/4, kurtosis 76/49
+    assert obs.weighted_kurtosis([1.0, -2.0], [3, 1]) == pytest.approx(76 / 49, rel=1e-15)
+    assert obs.kurtosis([1.0, 1.0, 1.0, -2.0]) == pytest.approx(76 / 49, rel=1e-15)
+    # scale-free: 1e200 times the values gives the same (no overflow of v^4)
+    assert obs.weighted_kurtosis([1e200, -2e200], [3, 1]) == pytest.approx(76 / 49, rel=1e-15)
+    assert np.isnan(obs.weighted_kurtosis([0.0, 0.0], [2, 5]))
+    assert np.isnan(obs.weighted_kurtosis([1.0, np.nan], [2, 5]))
+    assert np.isnan(obs.weighted_kurtosis([], []))
+
+
+def test_kurtosis_keeps_its_values_at_the_float_limits():
+    # the largest |v| without an |v| temporary: a negative extreme sets the scale too
+    assert obs.kurtosis([-3.0, 1.0, 1.0, 1.0]) == pytest.approx((81 + 3) / 4 / (12 / 4) ** 2)
+    assert obs.kurtosis([1e300, -1e300]) == 1.0
+    assert obs.kurtosis([1e-300, -1e-300, 0.0, 0.0]) == pytest.approx(2.0, rel=1e-15)
+    assert np.isnan(obs.kurtosis([1.0, np.inf])) and np.isnan(obs.kurtosis([-np.inf, 1.0]))
+    assert np.isnan(obs.kurtosis([1.0, np.nan])) and np.isnan(obs.kurtosis([]))
+
+
+@pytest.mark.parametrize("initial", ["gaussian", "uniform"])
+def test_sticky_records_are_those_of_the_particles(initial):
+    times = [0.5, 3.0, 30.0, 3000.0]  # from most particles alone to a few clusters
+    engine = StickyGas(StickyParams(N, 1.0, initial))
+    run = simulate(engine, times, seed=4, progress=False)
+    state = engine.initial_state(np.random.default_rng(4))
+    for i, t in enumerate(times):
+        v = engine.advance(state, t).velocities
+        h = obs.rescaled_histogram(v, run.histogram_edges)
+        assert np.array_equal(run.histogram_counts[i], h.count)
+        assert run.histogram_scales[i] == h.v0
+        assert run.energy[i] == obs.energy(v) and run.momentum[i] == obs.momentum(v)
+        assert run.kurtosis[i] == pytest.approx(obs.kurtosis(v), rel=1e-13)
+    assert run.extras["clusters"][-1] < N / 10  # the last time has few clusters
+
+
+def test_ulam_records_are_those_of_the_particles():
+    times = [0.5, 2.0]
+    engine = Ulam(n=N, restitution=0.3)
+    run = simulate(engine, times, seed=2, progress=False)
+    again = simulate(engine, times[:1], seed=2, progress=False)
+    v = again.velocities  # the state at times[0] (the engine's stream stops there too)
+    h = obs.rescaled_histogram(v, run.histogram_edges)
+    assert np.array_equal(run.histogram_counts[0], h.count) and run.histogram_scales[0] == h.v0
+    assert run.energy[0] == obs.energy(v) and run.kurtosis[0] == obs.kurtosis(v)
+
+
+def _count_validations(monkeypatch, n: int) -> list[int]:
+    """Count calls of every ``check_real_array`` the particle modules hold that receive an
+    array of ``n`` values or more."""
+    big = []
+    for name, module in list(sys.modules.items()):
+        if not name.startswith("particles") or module is None:
+            continue
+        original = getattr(module, "check_real_array", None)
+        if original is None:
+            continue
+
+        def counting(values, *args, _original=original, **kwargs):
+            if np.size(values) >= n:
+                big.append(np.size(values))
+            return _original(values, *args, **kwargs)
+
+        monkeypatch.setattr(module, "check_real_array", counting)
+    return big
+
+
+@pytest.mark.parametrize("make", [lambda: StickyGas(n=N, density=1.0),
+                                  lambda: Ulam(n=N, restitution=0.5)])
+def test_a_run_validates_its_particle_arrays_a_number_of_times_independent_of_the_outputs(
+        monkeypatch, make):
+    # Validation belongs at the boundary: the number of checks of N-value arrays must not grow
+    # with the number of requested times (each check is a copy and a pass over N values).
+    big = _count_validations(monkeypatch, N)
+    simulate(make(), [1.0, 2.0], seed=1, progress=False)
+    few = len(big)
+    big.clear()
+    simulate(make(), list(np.linspace(1.0, 2.0, 12)), seed=1, progress=False)
+    assert len(big) == few
