@@ -63,7 +63,9 @@ class Engine(Protocol):  # pragma: no cover - typing only
     engine; it calls nothing else.  :class:`particles.Ulam`, :class:`particles.Lattice`,
     :class:`particles.MDEngine` and :class:`particles.StickyGas` derive from
     :class:`EngineBase`, which implements the optional hooks below with neutral defaults; an
-    engine not derived from it must write every member out.
+    engine not derived from it must write every member out.  One member is optional for
+    every engine: ``velocity_classes(state)`` (:meth:`EngineBase.velocity_classes`), read with
+    ``getattr`` and not listed in :data:`ENGINE_MEMBERS`.
 
     A state (what ``initial_state`` and ``advance`` return) has at least ``time: float``,
     ``velocities`` (float64, shape ``(N,)``, or ``(N, d)`` in d > 1), ``collisions: int`` (the
@@ -388,6 +390,25 @@ class EngineBase:
             ``{}``.
         """
         return {}
+
+    def velocity_classes(self, state) -> tuple[np.ndarray, np.ndarray] | None:
+        """Optional hook (default: None): the distinct velocities of a 1D ``state`` and how
+        many particles hold each, ``(values, counts)``, when that is much shorter than the
+        velocities (the sticky gas's clusters).  The driver then computes the per-time
+        kurtosis and histogram over the values; they must expand to ``state.velocities``
+        exactly (as a multiset).
+
+        Parameters
+        ----------
+        state : object
+            The state at a requested time.
+
+        Returns
+        -------
+        None
+            No classes: the driver reads the velocities.
+        """
+        return None
 
     def memory_per_particle(self) -> float:
         """Refuse to guess: an engine must write its own estimate.
