@@ -75,8 +75,9 @@ class Check:
     sigma : float or None
         One standard error of ``measured`` (from the run's seeds or fit); None or 0 for an
         exact or deterministic number.
-    expected : float
-        The expected value.
+    expected : float or None
+        The expected value; None when it is another model's number that could not be measured
+        (never replaced by a stand-in such as 0): the check fails.
     source : str
         Where ``expected`` comes from: ``"exact: ..."``, ``"paper: ..."``, ``"model: ..."``.
     n_sigma : float
@@ -89,7 +90,8 @@ class Check:
         (measured ≤ expected + allowed) or ``"at_least"`` (measured ≥ expected − allowed); a
         resolved difference: ``"below"`` (measured ≤ expected − allowed), ``"above"``
         (measured ≥ expected + allowed) or ``"differs"`` (|measured − expected| ≥ allowed,
-        either side).
+        either side); a resolved difference is never zero, so equal values with nothing
+        allowed (no standard error, no tolerance) are not below, above nor different.
     expected_sigma : float or None
         One standard error of ``expected`` when it is itself measured (another model's number).
 
@@ -98,7 +100,7 @@ class Check:
     particles.validation.InvalidArgumentError
         Naming ``relation``, ``n_sigma``, ``tolerance``, ``sigma`` or ``expected`` for a value
         outside its domain (a negative or non-finite tolerance, an unknown relation, a
-        non-finite expected value).
+        non-finite expected value; None is not measured, not refused).
     """
 
     quantity: str
@@ -122,8 +124,9 @@ class Check:
             value = getattr(self, name)
             if value is not None and (_number(value) is None or value < 0):
                 raise InvalidArgumentError(name, value, "None or a finite number >= 0")
-        if _number(self.expected) is None:
-            raise InvalidArgumentError("expected", self.expected, "a finite number")
+        if self.expected is not None and _number(self.expected) is None:
+            raise InvalidArgumentError("expected", self.expected,
+                                       "a finite number, or None when not measured")
 
     @property
     def combined_sigma(self) -> float:
@@ -137,13 +140,14 @@ class Check:
 
     @property
     def deviation(self) -> float | None:
-        """measured − expected (None when not measured)."""
+        """measured − expected (None when either is not measured)."""
         m = _number(self.measured)
-        return None if m is None else m - float(self.expected)
+        return None if m is None or self.expected is None else m - float(self.expected)
 
     def holds(self) -> bool:
         """Whether the measured value stands to the expected one as ``relation`` says, within
-        ``allowed``; a quantity not measured does not hold.
+        ``allowed``; a quantity (or an expected value) not measured does not hold, and a
+        resolved difference (``below``, ``above``, ``differs``) needs a non-zero deviation.
 
         Returns
         -------
@@ -156,12 +160,13 @@ class Check:
             return d <= self.allowed
         if self.relation == "at_least":
             return d >= -self.allowed
+        # a resolved difference is not zero, even when nothing is allowed
         if self.relation == "below":
-            return d <= -self.allowed
+            return d < 0 and d <= -self.allowed
         if self.relation == "above":
-            return d >= self.allowed
+            return d > 0 and d >= self.allowed
         if self.relation == "differs":
-            return abs(d) >= self.allowed
+            return d != 0 and abs(d) >= self.allowed
         return abs(d) <= self.allowed
 
     def tolerance_text(self) -> str:

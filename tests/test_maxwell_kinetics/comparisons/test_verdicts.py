@@ -80,6 +80,55 @@ def test_bounds_and_resolved_differences():
     assert judge("c", _check(1.25, relation="differs")).status == "disagrees"
 
 
+def test_a_zero_difference_is_not_resolved():
+    """Issue 45, item 3: with no standard error and no tolerance the allowed deviation is 0, and
+    equal values do not differ, lie below or above: a resolved difference needs d != 0."""
+    for relation in ("below", "above", "differs"):
+        for sigma in (None, 0.0):
+            check = _check(1.0, sigma=sigma, relation=relation)
+            assert not check.holds(), relation
+            assert judge("c", check).status == "disagrees", relation
+    # any non-zero difference on the right side is resolved when nothing is allowed
+    assert judge("c", _check(1.0 - 2**-20, sigma=None, relation="below")).status == "agrees"
+    assert judge("c", _check(1.0 + 2**-20, sigma=None, relation="above")).status == "agrees"
+    assert judge("c", _check(1.0 - 2**-20, sigma=None, relation="differs")).status == "agrees"
+    # the bounds and equality still hold at zero difference
+    for relation in ("equal", "at_most", "at_least"):
+        assert judge("c", _check(1.0, sigma=None, relation=relation)).status == "agrees"
+
+
+def test_an_expected_value_not_measured_does_not_hold():
+    """Issue 45, item 3: another model's number that is missing (None) is not replaced by a
+    value: the check does not hold, whatever is measured, and its record shows no expected
+    value."""
+    check = Check("q", 0.0, 0.1, None, "model: another", expected_sigma=None)
+    assert check.deviation is None and not check.holds()
+    v = judge("c", check)
+    assert v.status == "disagrees"
+    record = v.to_dict()
+    assert record["expected"] is None and record["deviation_in_sigma"] is None
+    json.dumps(record, allow_nan=False)
+    assert "vs — (model: another)" in verdict_table({"x": {"verdicts": [record]}})
+
+
+def test_a_missing_md_value_is_not_zero_in_the_velocity_profiles():
+    """Issue 45, item 3: the lattice's v(i) skewness is judged against MD's; an MD value that
+    could not be measured at the shock scale was replaced by 0.0, so a lattice skewness near 0
+    agreed with nothing.  It must not agree (nor be explained by a run too small: the lattice
+    reached the scale)."""
+    scales = [1, 4, 16, 64]
+
+    def field(value, error):
+        return {"scales": scales, "skewness": [[0.0, 0.1]] * 3 + [[value, error]]}
+
+    s = {"coarse_skewness": {"md_vx": field(-1.0, 0.1), "md_vi": field(None, None),
+                             "lattice_vi": field(0.0, 0.1)}}
+    lattice = comparisons.VERDICTS["velocity_profiles"](s)[2].to_dict()
+    assert "lattice" in lattice["claim"]
+    assert lattice["expected"] is None
+    assert lattice["status"] == "disagrees"
+
+
 def test_explained_only_when_the_claim_fails_and_its_explanation_holds():
     fails, holds, also_fails = _check(2.0), _check(1.125), _check(3.0)
     v = judge("c", fails, holds, why="the cause")
