@@ -1,4 +1,4 @@
-"""Tests written to kill wrong constants of 0.1 % that passed the whole suite before (issue 47),
+"""Tests written to kill wrong constants of 0.1 % that passed the whole suite before,
 each derived by hand or exactly, never from a number read off a run:
 
 * ``test_hard_rod_scaling_state_is_normalised``: the hard-rod scaling state's conditions

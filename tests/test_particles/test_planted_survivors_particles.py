@@ -1,4 +1,4 @@
-"""Tests written to kill wrong constants of 0.1 % that passed the whole suite before (issue 47),
+"""Tests written to kill wrong constants of 0.1 % that passed the whole suite before,
 each derived by hand or exactly, never from a number read off a run:
 
 * ``test_md_initial_points_fill_the_whole_reduced_ring``: MD's initial points drawn on 99.9 % of
