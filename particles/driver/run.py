@@ -19,6 +19,7 @@ from ..validation import (
     check_nonnegative,
     check_seed,
     check_times,
+    shown,
 )
 from .checkpoint import (
     CheckpointLock,
@@ -174,7 +175,10 @@ def simulate(
         the members; a ``seed`` that is a ``numpy.random.Generator``; ``structure_factor`` or
         ``snapshots`` in d > 1), or a run refused by its estimates: one that cannot fit in the
         memory available, or one of more than 10¹³ events without ``force=True`` (an engine
-        without the estimates is refused, naming it).
+        without the estimates is refused, naming it); and an engine that breaks the contract of
+        ``advance`` during the run, naming it, before the offending state is recorded or saved:
+        a state past the stop it was asked for, or one whose time does not move forward (or is
+        not a number), refused at the first such step.
     particles.CheckpointError
         For a ``resume`` file written by another run, or a ``checkpoint`` locked by a running
         process.
@@ -273,6 +277,24 @@ def _check_engine(engine) -> None:
         )
 
 
+def _check_step(engine, time, stop, new) -> None:
+    """The contract of ``advance`` (:meth:`particles.driver.Engine.advance`), checked at every
+    step before the new state is kept: its time moves forward (a state whose time does not move
+    would make the run loop forever) and does not pass the stop (a state past a requested time
+    would be recorded as the state at that time).  A time that is not a number is refused too.
+    Raises :class:`~particles.InvalidArgumentError` naming the engine."""
+    got = getattr(new, "time", None)
+    try:
+        ok = time < got <= stop
+    except (TypeError, ValueError):  # not a number, or an array
+        ok = False
+    if not ok:
+        raise InvalidArgumentError(
+            "engine", engine_label(engine),
+            f"an engine whose advance(state, stop, rng) returns the state at the stop, later "
+            f"than the state's time (its time went from {float(time)!r} to {shown(got)}, stop {stop!r})")
+
+
 def _run(engine, times, seed, identity, state, rng, records, progress, checkpoint,
          checkpoint_interval, hist_edges, estimate) -> RunResult:
     """The run loop of :func:`simulate` (arguments checked, lock held)."""
@@ -291,6 +313,7 @@ def _run(engine, times, seed, identity, state, rng, records, progress, checkpoin
             while state.time < target:
                 stop = min(float(engine.next_stop(state.time)), target)
                 new = engine.advance(state, stop, rng)
+                _check_step(engine, state.time, stop, new)
                 new_rng_state = rng.bit_generator.state
                 step = new.time - state.time
                 # One statement: Ctrl-C cannot separate the state from its RNG state.  The old

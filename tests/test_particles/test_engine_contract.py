@@ -166,6 +166,79 @@ def test_an_object_missing_members_of_the_contract_is_refused_naming_them():
         simulate(Duck(), [1.0], 0, progress=False)
 
 
+class _Counted(ToyRotation):
+    """The toy counting its advances and what the driver observes (records)."""
+
+    def __init__(self, n):
+        super().__init__(n)
+        self.advances = 0
+        self.observed = 0
+
+    def observe(self, state):
+        self.observed += 1
+        return super().observe(state)
+
+
+class Overshoot(_Counted):
+    """Breaks the contract: advance returns a state past the stop it was given."""
+
+    name = "toy-overshoot"
+
+    def advance(self, state, until, rng):
+        self.advances += 1
+        new = super().advance(state, until, rng)
+        return dataclasses.replace(new, time=until + 0.5)
+
+
+class Stalled(_Counted):
+    """Breaks the contract: advance returns a state whose time never moves."""
+
+    name = "toy-stalled"
+
+    def advance(self, state, until, rng):
+        self.advances += 1
+        if self.advances > 3:  # the driver looped: stop the test instead of hanging
+            raise RuntimeError("the driver kept advancing a state whose time does not move")
+        return dataclasses.replace(state, velocities=state.velocities.copy())
+
+
+def test_an_engine_whose_advance_overshoots_the_stop_is_refused_before_recording():
+    """Issue 45, item 4: a state past the stop (here, past the requested time 3) was recorded as
+    the state at time 3."""
+    engine = Overshoot(6)
+    with pytest.raises(InvalidArgumentError,
+                       match=r"engine=\"Overshoot \('toy-overshoot'\)\".*2\.5.*stop 2"):
+        simulate(engine, TIMES, 5, progress=False)
+    assert engine.advances == 1 and engine.observed == 0
+
+
+def test_an_engine_whose_time_does_not_move_is_refused_at_the_first_step():
+    """Issue 45, item 4: a state whose time never moves made the run loop forever; it is
+    refused at the first such step, naming the engine (and a time that moves back, or is not a
+    number, too)."""
+    engine = Stalled(6)
+    with pytest.raises(InvalidArgumentError,
+                       match=r"engine=\"Stalled \('toy-stalled'\)\".*from 0\.0 to 0\.0"):
+        simulate(engine, TIMES, 5, progress=False)
+    assert engine.advances == 1 and engine.observed == 0
+
+    class Backwards(_Counted):
+        def advance(self, state, until, rng):
+            self.advances += 1
+            new = super().advance(state, until, rng)
+            return dataclasses.replace(new, time=-1.0 if self.advances > 1 else new.time)
+
+    class NotANumber(_Counted):
+        def advance(self, state, until, rng):
+            self.advances += 1
+            return dataclasses.replace(super().advance(state, until, rng), time=math.nan)
+
+    for broken in (Backwards(6), NotANumber(6)):
+        with pytest.raises(InvalidArgumentError, match=type(broken).__name__):
+            simulate(broken, TIMES, 5, progress=False)
+        assert broken.observed == 0
+
+
 def test_an_engine_without_a_name_or_a_stop_step_gets_no_guess():
     class Nameless(ToyRotation):
         name = ""
