@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from particles.validation import InvalidArgumentError
+from particles.validation import InvalidArgumentError, check_bool
 
 __all__ = ["Resolution", "RESOLUTIONS", "get_resolution", "lagrange_weights", "estimate_solve",
            "check_solve_budget", "format_seconds", "MAX_SOLVE_SECONDS"]
@@ -294,8 +294,10 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
     ------
     particles.validation.InvalidArgumentError
         Naming ``name``, if the estimated memory exceeds the memory available, or the estimated
-        time exceeds ``MAX_SOLVE_SECONDS`` and ``force`` is False.
+        time exceeds ``MAX_SOLVE_SECONDS`` and ``force`` is False; naming ``force`` when it is
+        not a bool (``'no'`` is not True).
     """
+    force = check_bool(force, "force")
     from particles.budget import available_memory, format_bytes
 
     estimate = estimate_solve(grid, tau_max, n_times, dimension=dimension,

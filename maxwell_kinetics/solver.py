@@ -69,6 +69,7 @@ import numpy as np
 from particles.initial import LAWS, InitialLaw, first_non_finite, get_law
 from particles.validation import (
     InvalidArgumentError,
+    check_bool,
     check_count,
     check_times,
 )
@@ -333,6 +334,7 @@ angular_rule, force
     particles.validation.InvalidArgumentError
         As listed under :func:`solve`.
     """
+    force = check_bool(force, "force")
     model = MaxwellModel(restitution)
     law = get_law(initial)
     taus = check_times(tau, "tau")
@@ -449,7 +451,9 @@ def solve(
         the memory available or (unless ``force``) is estimated to take more than one day, the
         estimate in the message; in d ≥ 2 for r = 1 (naming ``restitution``) or
         a law that is not symmetric (naming ``initial``); naming ``initial`` for a law without
-        a finite third moment, ``characteristic`` when φ is not finite where it is sampled.
+        a finite third moment, ``characteristic`` when φ is not finite where it is sampled;
+        naming ``force`` when it is not a bool, ``progress`` when it is neither a bool nor None
+        (``'no'`` is not False).
     FloatingPointError
         If the integration produces a non-finite G.
 
@@ -460,6 +464,7 @@ def solve(
     >>> sol.sup_error().shape  # sup_q |G(q, τ) − f̂(q)| at τ = 1 and 5
     (2,)
     """
+    progress = check_bool(progress, "progress", none=True)
     checked = check_solve_arguments(restitution, initial, tau, resolution, options=options,
                                     dimension=dimension, angular=angular,
                                     angular_nodes=angular_nodes, angular_rule=angular_rule,

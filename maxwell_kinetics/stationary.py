@@ -45,7 +45,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from particles.validation import InvalidArgumentError, check_count, check_positive
+from particles.validation import InvalidArgumentError, check_bool, check_count, check_positive
 
 from .chebyshev import barycentric_matrix, chebyshev_nodes, differentiation_matrix
 from .exact import f_hat
@@ -487,9 +487,11 @@ def fixed_point(
         ``angular_nodes`` is not a count in range, ``q_max`` or ``tol`` is not positive, or
         ``initial`` does not give finite values on the grid; naming ``n`` when the estimated
         time (:func:`estimate_fixed_point_seconds`, ~n³: a day near n = 12500) exceeds
-        :data:`MAX_FIXED_POINT_SECONDS` and ``force`` is False.
+        :data:`MAX_FIXED_POINT_SECONDS` and ``force`` is False; naming ``force`` when it is
+        not a bool (``'no'`` is not True).
     """
     t0 = time.perf_counter()
+    force = check_bool(force, "force")
     model = check_inelastic(restitution)
     from .angular import angular_law
 

@@ -27,7 +27,7 @@ import math
 import os
 from dataclasses import dataclass
 
-from .validation import InvalidArgumentError
+from .validation import InvalidArgumentError, check_bool
 
 __all__ = ["Estimate", "MAX_EVENTS", "available_memory", "estimate_run", "check_budget",
            "format_count", "format_bytes"]
@@ -218,7 +218,9 @@ def check_budget(estimate: Estimate, *, force: bool = False, time_name: str = "t
     particles.InvalidArgumentError
         Naming ``estimate.driver`` when the memory exceeds what is available, or ``time_name``
         when the events exceed ``MAX_EVENTS`` without ``force``; the message shows the estimate.
+        Naming ``force`` when it is not a bool (``'no'`` is not True).
     """
+    force = check_bool(force, "force")
     available = available_memory() if memory_available is None else memory_available
     if not estimate.memory <= available:
         raise InvalidArgumentError(

@@ -19,6 +19,8 @@ from __future__ import annotations
 import sys
 import time
 
+from .validation import check_bool
+
 __all__ = ["progress_bar", "progress_enabled", "PlainProgress", "NoProgress", "in_notebook"]
 
 
@@ -221,7 +223,13 @@ def progress_bar(total, desc: str = "", unit: str = "", *, enabled: bool | None 
     -------
     tqdm.tqdm or tqdm.notebook.tqdm or PlainProgress or NoProgress
         The progress object.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        Naming ``enabled`` when it is neither a bool nor None (``'no'`` is not False).
     """
+    enabled = check_bool(enabled, "enabled", none=True)
     if enabled is False:
         return NoProgress()
     if stream is None and in_notebook():

@@ -25,6 +25,7 @@ __all__ = [
     "check_positive",
     "check_nonnegative",
     "check_choice",
+    "check_bool",
     "shown",
     "SHOWN_CHARACTERS",
     "SEED_MAX",
@@ -580,3 +581,34 @@ def check_choice(value, name: str, choices) -> str:
     if isinstance(value, str) and value in choices:
         return value
     raise InvalidArgumentError(name, value, f"one of {sorted(choices)}")
+
+
+def check_bool(value, name: str, *, none: bool = False) -> bool | None:
+    """Check that ``value`` is a boolean: ``True`` or ``False`` (NumPy's ``np.True_`` and
+    ``np.False_`` too), and, when ``none``, None.  Any other value is refused, truthy or not:
+    ``force='no'`` is not ``force=True``.
+
+    Parameters
+    ----------
+    value : bool
+        The value.
+    name : str
+        The argument name shown in the error.
+    none : bool, optional
+        Accept None too (an argument where None means "auto"; default False).
+
+    Returns
+    -------
+    bool or None
+        ``value`` as a Python ``bool`` (None stays None).
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        If ``value`` is not a boolean (nor None when ``none``), naming ``name``.
+    """
+    if none and value is None:
+        return None
+    if _is_bool(value):
+        return bool(value)
+    raise InvalidArgumentError(name, value, "True, False or None" if none else "True or False")

@@ -8,7 +8,7 @@ import os
 
 import numpy as np
 
-from .validation import InvalidArgumentError
+from .validation import InvalidArgumentError, check_bool
 
 __all__ = [
     "max_workers",
@@ -59,8 +59,9 @@ def check_workers(workers, name: str = "workers", *, tasks: int | None = None,
     ------
     particles.InvalidArgumentError
         If ``workers`` is not an integer ≥ 1 (bools refused), or exceeds :func:`max_workers`
-        without ``force`` (naming ``name``).
+        without ``force`` (naming ``name``); naming ``force`` when it is not a bool.
     """
+    force = check_bool(force, "force")
     if workers is None:
         return None
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:

@@ -15,6 +15,7 @@ from ..paths import check_output_file, check_path
 from ..progress import progress_bar
 from ..validation import (
     InvalidArgumentError,
+    check_bool,
     check_count,
     check_nonnegative,
     check_seed,
@@ -173,7 +174,8 @@ def simulate(
     particles.InvalidArgumentError
         For a bad argument (``engine`` lacking a member of the contract, naming the engine and
         the members; a ``seed`` that is a ``numpy.random.Generator``; ``structure_factor`` or
-        ``snapshots`` in d > 1), or a run refused by its estimates: one that cannot fit in the
+        ``snapshots`` in d > 1; a ``force`` that is not a bool, or a ``progress`` that is
+        neither a bool nor None), or a run refused by its estimates: one that cannot fit in the
         memory available, or one of more than 10¹³ events without ``force=True`` (an engine
         without the estimates is refused, naming it); and an engine that breaks the contract of
         ``advance`` during the run, naming it, before the offending state is recorded or saved:
@@ -193,8 +195,8 @@ def simulate(
     _check_engine(engine)
     times = check_times(times, engine.time_name)
     seed = _run_seed(seed)
-    if progress is not None and not isinstance(progress, (bool, np.bool_)):
-        raise InvalidArgumentError("progress", progress, "True, False or None")
+    progress = check_bool(progress, "progress", none=True)
+    force = check_bool(force, "force")
     hist_edges = obs.rescaled_histogram(np.array([1.0, -1.0]), bins).edges  # validates bins
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
     structure_factor = _structure_mode(structure_factor)

@@ -146,3 +146,36 @@ def test_solve_refuses_a_solve_of_more_than_a_day_unless_forced(monkeypatch):
     refused = r"argument tau=.*windows.*about .* h\).*force=True"
     with pytest.raises(InvalidArgumentError, match=refused):
         solve(0.5, tau=[tau], resolution="finest")
+
+
+@pytest.mark.parametrize("value", ["no", "False", 0, 1, [], np.array([True])])
+@pytest.mark.parametrize("name", ["force", "progress"])
+def test_solve_force_and_progress_are_booleans(name, value):
+    """Issue 45, item 9: ``force='no'`` bypassed the one-day budget and ``progress='no'``
+    showed the bar.  Both are refused by name before any work (r = 1 needs no JAX); so is
+    a non-bool ``force`` of fixed_point and of the solve's budget."""
+    import re
+
+    from maxwell_kinetics import grid, stationary
+    from particles.validation import shown
+
+    match = re.escape(f"argument {name}={shown(value)} ")
+    with pytest.raises(InvalidArgumentError, match=match):
+        solve(1.0, "gaussian", [1.0], "coarse", **{name: value})
+    if name == "force":
+        with pytest.raises(InvalidArgumentError, match=match):
+            stationary.fixed_point(0.5, n=16, force=value)
+        with pytest.raises(InvalidArgumentError, match=match):
+            grid.check_solve_budget(grid.get_resolution("coarse"), 1.0, 1, force=value)
+        from maxwell_kinetics.app.comparisons.particle_runs import ParticleRuns
+
+        with pytest.raises(InvalidArgumentError, match=match):
+            ParticleRuns(force=value)
+
+
+def test_solve_takes_true_false_and_none_as_before():
+    for flag in (True, False, np.True_, np.False_):
+        assert solve(1.0, "gaussian", [1.0], "coarse", force=flag, progress=flag).tau.size == 1
+    assert solve(1.0, "gaussian", [1.0], "coarse", progress=None).tau.size == 1
+    with pytest.raises(InvalidArgumentError, match=r"argument force=None "):
+        solve(1.0, "gaussian", [1.0], "coarse", force=None)

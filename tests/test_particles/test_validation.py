@@ -124,3 +124,84 @@ def test_a_name_too_long_is_shown_with_its_own_length(tmp_path):
     shown_length = int(re.search(r"\((\d+) characters\)", message).group(1))
     assert shown_length >= len(str(path))
     assert message.count("...") == 1
+
+
+# --------------------------------------------------------------------------- booleans
+
+
+def _ulam():
+    import particles
+
+    return particles.Ulam(n=100, restitution=0.5)
+
+
+def _simulate_force(value):
+    import particles
+
+    particles.simulate(_ulam(), [1.0], 0, progress=False, force=value)
+
+
+def _simulate_progress(value):
+    import particles
+
+    particles.simulate(_ulam(), [1.0], 0, progress=value)
+
+
+def _budget_force(value):
+    from particles.budget import check_budget, estimate_run
+
+    check_budget(estimate_run(_ulam(), 1.0), force=value)
+
+
+def _workers_force(value):
+    from particles.workers import check_workers
+
+    check_workers(1, force=value)
+
+
+def _progress_bar_enabled(value):
+    from particles.progress import progress_bar
+
+    progress_bar(1.0, enabled=value).close()
+
+
+@pytest.mark.parametrize("value", ["no", "False", 0, 1, 0.0, [], np.array([True])])
+@pytest.mark.parametrize("name, call", [
+    ("force", _simulate_force), ("progress", _simulate_progress), ("force", _budget_force),
+    ("force", _workers_force), ("enabled", _progress_bar_enabled),
+])
+def test_force_and_progress_are_booleans(name, call, value):
+    """Issue 45, item 9: ``force='no'`` bypassed the budget and ``progress='no'`` showed the
+    bar (any truthy value was taken).  A value that is not a bool is refused naming the
+    argument and showing the value."""
+    import re
+
+    from particles.validation import shown
+
+    with pytest.raises(InvalidArgumentError, match=re.escape(f"argument {name}={shown(value)} ")):
+        call(value)
+
+
+@pytest.mark.parametrize("call", [_simulate_force, _budget_force, _workers_force])
+def test_force_is_never_none(call):
+    with pytest.raises(InvalidArgumentError, match=r"argument force=None .*True or False"):
+        call(None)
+
+
+def test_true_and_false_still_work_as_force_and_progress():
+    from particles.validation import check_bool
+
+    for flag in (True, False, np.True_, np.False_):
+        _simulate_force(flag)
+        _simulate_progress(flag)
+        _budget_force(flag)
+        _workers_force(flag)
+        assert check_bool(flag, "x") is bool(flag)
+    _simulate_progress(None)  # None is "auto"
+    _progress_bar_enabled(None)
+    _progress_bar_enabled(False)
+    assert check_bool(None, "x", none=True) is None
+    with pytest.raises(InvalidArgumentError, match=r"argument x=None .*True or False"):
+        check_bool(None, "x")
+    with pytest.raises(InvalidArgumentError, match=r"argument x='no' .*True, False or None"):
+        check_bool("no", "x", none=True)

@@ -124,13 +124,14 @@ class ParticleRuns:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        From ``check_workers``: too many ``workers`` without ``force``.
+        From ``check_workers``: too many ``workers`` without ``force``, or a ``force`` that
+        is not a bool (naming it).
     """
 
     def __init__(self, out=None, workers: int | None = None, force: bool = False):
         self.workers = check_workers(workers, "workers", force=force)
         self.out = None if out is None else str(out)
-        self.force = bool(force)
+        self.force = bool(force)  # a bool: check_workers refused anything else
         self._done: dict = {}
 
     def __repr__(self) -> str:
