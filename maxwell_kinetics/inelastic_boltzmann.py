@@ -61,6 +61,7 @@ from particles.validation import (
     InvalidArgumentError,
     check_count,
     check_positive,
+    check_real_array,
     check_times,
 )
 
@@ -271,7 +272,8 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         The grid of c; default :func:`maxwell_kinetics.velocity_grid.default_grid` (uniform).  A
         :class:`maxwell_kinetics.velocity_grid.MappedGrid` for γ = 0 only.
     rtol, atol : float
-        Tolerances of the step-size controller (RMS norm over the grid and ln s).
+        Tolerances of the step-size controller (RMS norm over the grid and ln s), > 0;
+        ``rtol`` < 1 too (a relative error of 1 or more controls nothing).
     max_steps : int
         Most time steps.
 
@@ -287,7 +289,8 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         ``half_width`` or ``core_spacing`` for bad input
         (:func:`maxwell_kinetics.velocity_grid.initial_values`), ``grid`` for a
         :class:`maxwell_kinetics.velocity_grid.MappedGrid` with γ > 0 or not a grid, ``rtol`` or
-        ``atol`` if not positive, ``max_steps`` if not an integer >= 1.
+        ``atol`` if not positive (``rtol`` if not below 1), ``max_steps`` if not an integer
+        >= 1.
         ``t`` for a last time beyond the solver's reach (:func:`check_reach`), before any work.
     RuntimeError
         If the time integration fails (too many steps).
@@ -302,7 +305,8 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
     times = check_times(t, "t", strictly=True)
     if times.size == 0 or times[0] < 0:
         raise InvalidArgumentError("t", t, "increasing times t >= 0")
-    check_positive(rtol, "rtol")
+    if not check_positive(rtol, "rtol") < 1.0:
+        raise InvalidArgumentError("rtol", rtol, "a relative tolerance in (0, 1)")
     check_positive(atol, "atol")
     max_steps = check_count(max_steps, "max_steps", 1)
     grid = _grid.default_grid(model.exponent) if grid is None else grid
@@ -404,7 +408,7 @@ class BoltzmannSolution:
         Parameters
         ----------
         t : float, optional
-            One of the saved times.
+            One of the saved times (a real number: not a bool, not a string).
 
         Returns
         -------
@@ -414,13 +418,18 @@ class BoltzmannSolution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``t`` when it is not a saved time.
+            Naming ``t`` when it is not a saved time, or not a finite real number (a bool, a
+            string such as ``'2'``, NaN).
         """
         if t is None:
             return len(self.t) - 1
+        shown = ", ".join(f"{x:g}" for x in self.t)[:200]
+        if (isinstance(t, (bool, np.bool_))
+                or not isinstance(t, (int, float, np.integer, np.floating))
+                or not math.isfinite(float(t))):
+            raise InvalidArgumentError("t", t, f"one of the saved times: {shown}")
         match = np.flatnonzero(np.abs(self.t - float(t)) <= 1e-12 * max(1.0, abs(float(t))))
         if match.size == 0:
-            shown = ", ".join(f"{x:g}" for x in self.t)[:200]
             raise InvalidArgumentError("t", t, f"one of the saved times: {shown}")
         return int(match[0])
 
@@ -441,6 +450,11 @@ class BoltzmannSolution:
         -------
         v, f : numpy.ndarray
             The velocities and the density there (∫ f dv = 1).
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``t`` (:meth:`time_index`).
         """
         k = self.time_index(t)
         s = self.scale[k]
@@ -452,13 +466,20 @@ class BoltzmannSolution:
         Parameters
         ----------
         orders : sequence of int
-            The k.
+            The k, integers >= 0.
 
         Returns
         -------
         numpy.ndarray
             Shape (T, len(orders)).
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``orders`` when it is not a sequence, or holds an order that is not an
+            integer >= 0 (2.5, a bool, a string, NaN: c^2.5 is not real for c < 0).
         """
+        orders = _check_orders(orders, "orders")
         c = self.grid.c
         out = np.array([[_grid.grid_sum(self.grid, row, c**k) for k in orders] for row in self.F])
         return out * self.scale[:, None] ** np.asarray(orders)
@@ -486,7 +507,7 @@ class BoltzmannSolution:
         Parameters
         ----------
         x : array_like
-            Rescaled velocities.
+            Rescaled velocities (finite real numbers).
         t : float, optional
             A saved time (default the last).
 
@@ -494,11 +515,17 @@ class BoltzmannSolution:
         -------
         numpy.ndarray
             P(x), of the shape of ``x``.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``x`` when it is not an array of finite real numbers (NaN, ±inf, booleans,
+            strings), ``t`` (:meth:`time_index`).
         """
+        x = check_real_array(x, "x")
         k = self.time_index(t)
         c = self.grid.c
         scale = math.sqrt(_grid.grid_sum(self.grid, self.F[k], c * c))
-        x = np.asarray(x, dtype=float)
         return scale * _interpolate(self.F[k], self.grid, x * scale)
 
     def histogram(self, edges, t: float | None = None):
@@ -536,6 +563,20 @@ class BoltzmannSolution:
         return Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), prob / width,
                          np.zeros(width.size), np.zeros(width.size, dtype=np.int64), 0,
                          float(self.scale[k] * scale))
+
+
+def _check_orders(orders, name: str) -> list[int]:
+    """The moment orders as ints >= 0 (:func:`particles.validation.check_count` each), naming
+    ``name`` for a value that is not a sequence of them."""
+    if isinstance(orders, (str, bytes)) or np.ndim(orders) != 1:
+        raise InvalidArgumentError(name, orders, "a sequence of integers >= 0")
+    out = []
+    for k in orders:
+        try:
+            out.append(check_count(k, name, 0))
+        except InvalidArgumentError:
+            raise InvalidArgumentError(name, orders, "a sequence of integers >= 0") from None
+    return out
 
 
 def _interpolate(values: np.ndarray, grid, x: np.ndarray, order: int = 6):
@@ -624,13 +665,19 @@ class ScalingState:
         Parameters
         ----------
         order : int
-            k.
+            k, an integer >= 0.
 
         Returns
         -------
         float
             The moment (⟨c²⟩ = 1).
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``order`` when it is not an integer >= 0 (2.5, a bool, a string, NaN).
         """
+        order = check_count(order, "order", 0)
         c = self.grid.c
         return float(_grid.grid_sum(self.grid, self.F, c**order))
 
@@ -645,15 +692,21 @@ class ScalingState:
         Parameters
         ----------
         x : array_like
-            Rescaled velocities.
+            Rescaled velocities (finite real numbers).
 
         Returns
         -------
         numpy.ndarray
             P(x), of the shape of ``x``.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``x`` when it is not an array of finite real numbers (NaN, ±inf, booleans,
+            strings).
         """
+        x = check_real_array(x, "x")
         scale = math.sqrt(self.moment(2))
-        x = np.asarray(x, dtype=float)
         return scale * _interpolate(self.F, self.grid, x * scale)
 
 

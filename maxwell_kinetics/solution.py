@@ -42,7 +42,7 @@ class SolverOptions:
     ----------
     rtol, atol : float, default 1e-11 and 1e-13
         Relative and absolute tolerances of diffrax's PID step-size controller (RMS norm over
-        the grid), > 0.
+        the grid), > 0; ``rtol`` < 1 too (a relative error of 1 or more controls nothing).
     window : float, default 2.0
         Target length in τ of one semi-Lagrangian window (rounded so that the grid moves by a
         whole number of cells), > 0.
@@ -52,7 +52,8 @@ class SolverOptions:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``rtol``, ``atol`` or ``window`` is not a positive number.
+        If ``rtol``, ``atol`` or ``window`` is not a positive number, or ``rtol`` is not
+        below 1.
     """
 
     rtol: float = 1e-11
@@ -61,7 +62,8 @@ class SolverOptions:
     max_steps_per_window: int = 100_000
 
     def __post_init__(self):
-        check_positive(self.rtol, "rtol")
+        if not check_positive(self.rtol, "rtol") < 1.0:
+            raise InvalidArgumentError("rtol", self.rtol, "a relative tolerance in (0, 1)")
         check_positive(self.atol, "atol")
         check_positive(self.window, "window")
 

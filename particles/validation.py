@@ -333,8 +333,9 @@ def check_real_array(values, name: str, *, ndim: int | None = None, min_size: in
                      finite: bool = True) -> np.ndarray:
     """Check an array of real numbers (for the numerical functions' array arguments).
 
-    Booleans, complex numbers, strings and other objects are refused, not converted; a scalar is
-    a 0-dimensional array.
+    Booleans, complex numbers, strings and other objects are refused, not converted (a boolean
+    inside a list of numbers too: ``[True, 2.0]`` is not ``[1.0, 2.0]``); a scalar is a
+    0-dimensional array.
 
     Parameters
     ----------
@@ -366,6 +367,8 @@ def check_real_array(values, name: str, *, ndim: int | None = None, min_size: in
                 isinstance(x, (int, float, np.integer, np.floating)) and not _is_bool(x)
                 for x in raw.ravel())):
             raise TypeError("not real numbers")
+        if not isinstance(values, np.ndarray) and _holds_bool(values):
+            raise TypeError("a boolean among numbers")  # NumPy reads [True, 2.0] as [1.0, 2.0]
         arr = raw.astype(float)
     except (TypeError, ValueError, OverflowError):
         raise InvalidArgumentError(name, _summary(values), "an array of real numbers") from None
@@ -377,6 +380,17 @@ def check_real_array(values, name: str, *, ndim: int | None = None, min_size: in
     if finite and not np.all(np.isfinite(arr)):
         raise InvalidArgumentError(name, _summary(values), "finite values (no NaN or inf)")
     return arr
+
+
+def _holds_bool(values) -> bool:
+    """Whether a (nested) list or tuple holds a boolean, or a boolean array."""
+    if _is_bool(values):
+        return True
+    if isinstance(values, np.ndarray):
+        return values.dtype.kind == "b"
+    if isinstance(values, (list, tuple)):
+        return any(_holds_bool(x) for x in values)
+    return False
 
 
 def check_edges(edges, name: str = "edges") -> np.ndarray:

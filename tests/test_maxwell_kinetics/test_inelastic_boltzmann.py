@@ -228,3 +228,73 @@ def test_solve_takes_a_mapped_grid_for_gamma_zero(capsys):
     assert out["core_spacing"] == 0.2 and out["points"] == 61
     np.testing.assert_allclose(out["energy"], np.exp(-2 * 0.09 * np.array([0.0, 0.5])),
                                rtol=1e-10)
+
+
+# --------------------------------------------------------------------------- hostile inputs
+
+
+def _gaussian_solution():
+    """A BoltzmannSolution and a ScalingState built by hand (no solve): a Gaussian F on a small
+    grid at the saved times 0 and 1."""
+    from maxwell_kinetics.inelastic_boltzmann import BoltzmannSolution, ScalingState
+
+    grid = VelocityGrid(121, 6.0)
+    f = np.exp(-0.5 * grid.c**2) / math.sqrt(2.0 * math.pi)
+    sol = BoltzmannSolution(0.5, 1.0, 1.0, "gaussian", grid, np.array([0.0, 1.0]),
+                            np.array([f, f]), np.zeros(2))
+    return sol, ScalingState(0.5, 1.0, grid, f)
+
+
+@pytest.mark.parametrize("edges", [[True, 2.0], [0.0, True], [False, 1, 2], (False, 0.5),
+                                   [np.True_, 2.0], np.array([False, True])])
+def test_booleans_are_not_histogram_edges(edges):
+    """Issue 45, item 11: booleans mixed into a list of edges were read as 0 and 1."""
+    from particles.validation import check_real_array
+
+    sol, _ = _gaussian_solution()
+    with pytest.raises(InvalidArgumentError, match="argument edges="):
+        sol.histogram(edges)
+    with pytest.raises(InvalidArgumentError, match="argument edges="):
+        check_real_array(edges, "edges")
+    assert sol.histogram([-1.0, 0, 1]).density.size == 2  # ints and floats still taken
+
+
+@pytest.mark.parametrize("rtol", [1.0, 1e300, 2, 0.0, -1e-3, True, float("nan")])
+def test_rtol_is_a_relative_tolerance_below_one(rtol):
+    """Issue 45, item 11: rtol=1e300 was taken (no step-size control at all); a relative
+    tolerance is in (0, 1)."""
+    from maxwell_kinetics.solution import SolverOptions
+
+    with pytest.raises(InvalidArgumentError, match=r"argument rtol="):
+        SolverOptions(rtol=rtol)
+    with pytest.raises(InvalidArgumentError, match=r"argument rtol="):
+        solve_boltzmann(0.5, [1.0], rtol=rtol)
+    assert SolverOptions(rtol=0.5).rtol == 0.5
+
+
+def test_the_solutions_methods_refuse_bad_input_by_name():
+    """Issue 45, item 11: a NaN x gave P = 0, order 2.5 gave NaN, and time_index(True) and
+    time_index('2') were taken.  Each is refused naming the argument."""
+    sol, state = _gaussian_solution()
+    for t in (True, np.True_, "2", "1", float("nan"), [1.0], 1j):
+        with pytest.raises(InvalidArgumentError, match=r"argument t="):
+            sol.time_index(t)
+        with pytest.raises(InvalidArgumentError, match=r"argument t="):
+            sol.density([0.0], t)
+    for x in (float("nan"), [0.0, np.inf], [True, 0.5], "1", 1j):
+        with pytest.raises(InvalidArgumentError, match=r"argument x="):
+            sol.density(x)
+        with pytest.raises(InvalidArgumentError, match=r"argument x="):
+            state.density(x)
+    for order in (2.5, -1, True, "2", float("nan")):
+        with pytest.raises(InvalidArgumentError, match=r"argument order="):
+            state.moment(order)
+        with pytest.raises(InvalidArgumentError, match=r"argument orders="):
+            sol.moments((2, order))
+    # what was right stays right
+    assert sol.time_index(1.0) == 1 and sol.time_index(np.float64(0.0)) == 0
+    assert sol.time_index(1) == 1 and sol.time_index() == 1
+    assert sol.moments((2, 4.0)).shape == (2, 2)
+    assert state.moment(np.int64(2)) == pytest.approx(1.0, rel=1e-6)
+    assert state.moment(2.0) == state.moment(2)
+    assert sol.density(0.0).shape == () and state.density([0.0, 1.0]).shape == (2,)
