@@ -294,7 +294,8 @@ def _check_step(engine, time, stop, new) -> None:
         raise InvalidArgumentError(
             "engine", engine_label(engine),
             f"an engine whose advance(state, stop, rng) returns the state at the stop, later "
-            f"than the state's time (its time went from {float(time)!r} to {shown(got)}, stop {stop!r})")
+            f"than the state's time (its time went from {float(time)!r} to {shown(got)}, "
+            f"stop {stop!r})")
 
 
 def _run(engine, times, seed, identity, state, rng, records, progress, checkpoint,
