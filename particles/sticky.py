@@ -648,9 +648,12 @@ class StickyGas(EngineBase):
 
         Returns
         -------
-        tuple of numpy.ndarray
-            ``(state.cluster_velocities, state.masses)``.
+        tuple of numpy.ndarray or None
+            ``(state.cluster_velocities, state.masses)``; None while more than N/8 clusters
+            remain (a pass over the particles is then as cheap, and needs no masses).
         """
+        if 8 * state.starts.size > state.velocities.size:
+            return None
         return state.cluster_velocities, state.masses
 
     def observe(self, state: StickyState) -> dict[str, float]:

@@ -17,12 +17,27 @@ from ..validation import InvalidArgumentError
 from .result import FORMAT_VERSION, CheckpointError, read_file
 
 
-def _histogram_record(v, energy, classes, edges) -> tuple[np.ndarray | int, float]:
+def _kurtosis_from_squares(squares: np.ndarray, e2: float, v: np.ndarray) -> float:
+    """⟨v⁴⟩/⟨v²⟩² from ``squares`` = v² (squared again in place: the caller's scratch) and its
+    mean ``e2``; :func:`particles.observables.kurtosis` (the same value to round-off) where v⁴
+    could under- or overflow (⟨v²⟩ below 1e-140 or not finite, ⟨v⁴⟩ not finite)."""
+    if not 1e-140 <= e2 < math.inf:
+        return obs.kurtosis(v)
+    with np.errstate(over="ignore", under="ignore"):  # an overflow is caught just below
+        np.multiply(squares, squares, out=squares)
+        e4 = float(np.mean(squares))
+    if not e4 < math.inf:
+        return obs.kurtosis(v)
+    return e4 / (e2 * e2)
+
+
+def _histogram_record(v, energy, classes, edges, scratch=None) -> tuple[np.ndarray | int, float]:
     """The counts of x = v/v0 on ``edges`` and v0 = √⟨v²⟩, as
     :func:`particles.observables.rescaled_histogram` computes them (the same counts and v0, bit
     for bit): v0 from ``energy`` = ⟨v²⟩ when it is a normal float (else recomputed without
     underflow), and the counts from the distinct velocities ``classes = (values, counts)`` when
-    the engine gives them.  ``(0, 0.0)`` when every velocity is 0 (x undefined)."""
+    the engine gives them.  x is written into ``scratch`` (an array like ``v``) when given.
+    ``(0, 0.0)`` when every velocity is 0 (x undefined)."""
     if classes is not None:
         values, counts = classes
         if not np.any(values):
@@ -36,7 +51,8 @@ def _histogram_record(v, energy, classes, edges) -> tuple[np.ndarray | int, floa
     if classes is not None:  # each value counted as often as particles hold it
         count, _ = np.histogram(values / v0, bins=edges, weights=np.asarray(counts, np.int64))
     else:
-        count, _ = np.histogram(v / v0, bins=edges)
+        x = np.divide(v, v0, out=scratch)
+        count, _ = np.histogram(x, bins=edges)
     return count, v0
 
 
@@ -81,26 +97,25 @@ class Records:
         # and histogram are computed from those.
         hook = getattr(engine, "velocity_classes", None)
         classes = hook(state) if hook is not None else None
+        scratch = None  # one temporary of N values serves the energy, kurtosis and histogram
         if v.ndim == 2:  # (N, d) velocities: ⟨|v|²⟩ per particle and |⟨v⟩|
             self.energy[i] = float(np.mean(np.einsum("ij,ij->i", v, v)))
             self.momentum[i] = float(np.linalg.norm(v.mean(axis=0)))
             first = np.ascontiguousarray(v[:, 0])
-            e_first = None
-            if self.hist_edges is not None:
-                with np.errstate(over="ignore"):
-                    e_first = float(np.mean(first * first))
+            scratch = first * first
+            with np.errstate(over="ignore"):
+                e_first = float(np.mean(scratch))
         else:
-            sq = v * v
+            first = v
+            scratch = v * v
             with np.errstate(over="ignore"):  # as observables.energy: inf beyond ~1e154
-                e_first = float(np.mean(sq))
-            del sq
+                e_first = float(np.mean(scratch))
             self.energy[i] = e_first
             self.momentum[i] = float(np.mean(v))
-            first = v
         if classes is not None:
             self.kurtosis[i] = obs.weighted_kurtosis(*classes)
         else:
-            self.kurtosis[i] = obs.kurtosis(first)
+            self.kurtosis[i] = _kurtosis_from_squares(scratch, e_first, first)
         self.collisions[i] = int(state.collisions)
         if self.structure is not None and not (self.structure_last and i < nt - 1):
             self.structure[0 if self.structure_last else i] = obs.structure_factor(v)[1]
@@ -113,7 +128,7 @@ class Records:
             self.extras.setdefault(key, np.full(nt, np.nan))[i] = value
         if self.hist_edges is not None:
             self.hist_count[i], self.hist_v0[i] = _histogram_record(
-                first, e_first, classes, self.hist_edges)
+                first, e_first, classes, self.hist_edges, scratch)
         self.done += 1
 
     def arrays(self) -> dict[str, np.ndarray]:
