@@ -248,7 +248,7 @@ def _gaussian_solution():
 @pytest.mark.parametrize("edges", [[True, 2.0], [0.0, True], [False, 1, 2], (False, 0.5),
                                    [np.True_, 2.0], np.array([False, True])])
 def test_booleans_are_not_histogram_edges(edges):
-    """Issue 45, item 11: booleans mixed into a list of edges were read as 0 and 1."""
+    """Booleans mixed into a list of edges were read as 0 and 1."""
     from particles.validation import check_real_array
 
     sol, _ = _gaussian_solution()
@@ -261,7 +261,7 @@ def test_booleans_are_not_histogram_edges(edges):
 
 @pytest.mark.parametrize("rtol", [1.0, 1e300, 2, 0.0, -1e-3, True, float("nan")])
 def test_rtol_is_a_relative_tolerance_below_one(rtol):
-    """Issue 45, item 11: rtol=1e300 was taken (no step-size control at all); a relative
+    """Rtol=1e300 was taken (no step-size control at all); a relative
     tolerance is in (0, 1)."""
     from maxwell_kinetics.solution import SolverOptions
 
@@ -273,7 +273,7 @@ def test_rtol_is_a_relative_tolerance_below_one(rtol):
 
 
 def test_the_solutions_methods_refuse_bad_input_by_name():
-    """Issue 45, item 11: a NaN x gave P = 0, order 2.5 gave NaN, and time_index(True) and
+    """A NaN x gave P = 0, order 2.5 gave NaN, and time_index(True) and
     time_index('2') were taken.  Each is refused naming the argument."""
     sol, state = _gaussian_solution()
     for t in (True, np.True_, "2", "1", float("nan"), [1.0], 1j):

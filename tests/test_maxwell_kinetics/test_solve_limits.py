@@ -151,7 +151,7 @@ def test_solve_refuses_a_solve_of_more_than_a_day_unless_forced(monkeypatch):
 @pytest.mark.parametrize("value", ["no", "False", 0, 1, [], np.array([True])])
 @pytest.mark.parametrize("name", ["force", "progress"])
 def test_solve_force_and_progress_are_booleans(name, value):
-    """Issue 45, item 9: ``force='no'`` bypassed the one-day budget and ``progress='no'``
+    """``force='no'`` bypassed the one-day budget and ``progress='no'``
     showed the bar.  Both are refused by name before any work (r = 1 needs no JAX); so is
     a non-bool ``force`` of fixed_point and of the solve's budget."""
     import re

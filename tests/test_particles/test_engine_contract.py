@@ -203,7 +203,7 @@ class Stalled(_Counted):
 
 
 def test_an_engine_whose_advance_overshoots_the_stop_is_refused_before_recording():
-    """Issue 45, item 4: a state past the stop (here, past the requested time 3) was recorded as
+    """A state past the stop (here, past the requested time 3) was recorded as
     the state at time 3."""
     engine = Overshoot(6)
     with pytest.raises(InvalidArgumentError,
@@ -213,7 +213,7 @@ def test_an_engine_whose_advance_overshoots_the_stop_is_refused_before_recording
 
 
 def test_an_engine_whose_time_does_not_move_is_refused_at_the_first_step():
-    """Issue 45, item 4: a state whose time never moves made the run loop forever; it is
+    """A state whose time never moves made the run loop forever; it is
     refused at the first such step, naming the engine (and a time that moves back, or is not a
     number, too)."""
     engine = Stalled(6)

@@ -171,7 +171,7 @@ def _progress_bar_enabled(value):
     ("force", _workers_force), ("enabled", _progress_bar_enabled),
 ])
 def test_force_and_progress_are_booleans(name, call, value):
-    """Issue 45, item 9: ``force='no'`` bypassed the budget and ``progress='no'`` showed the
+    """``force='no'`` bypassed the budget and ``progress='no'`` showed the
     bar (any truthy value was taken).  A value that is not a bool is refused naming the
     argument and showing the value."""
     import re

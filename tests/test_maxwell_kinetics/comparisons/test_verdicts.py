@@ -81,7 +81,7 @@ def test_bounds_and_resolved_differences():
 
 
 def test_a_zero_difference_is_not_resolved():
-    """Issue 45, item 3: with no standard error and no tolerance the allowed deviation is 0, and
+    """With no standard error and no tolerance the allowed deviation is 0, and
     equal values do not differ, lie below or above: a resolved difference needs d != 0."""
     for relation in ("below", "above", "differs"):
         for sigma in (None, 0.0):
@@ -98,7 +98,7 @@ def test_a_zero_difference_is_not_resolved():
 
 
 def test_an_expected_value_not_measured_does_not_hold():
-    """Issue 45, item 3: another model's number that is missing (None) is not replaced by a
+    """Another model's number that is missing (None) is not replaced by a
     value: the check does not hold, whatever is measured, and its record shows no expected
     value."""
     check = Check("q", 0.0, 0.1, None, "model: another", expected_sigma=None)
@@ -112,7 +112,7 @@ def test_an_expected_value_not_measured_does_not_hold():
 
 
 def test_a_missing_md_value_is_not_zero_in_the_velocity_profiles():
-    """Issue 45, item 3: the lattice's v(i) skewness is judged against MD's; an MD value that
+    """The lattice's v(i) skewness is judged against MD's; an MD value that
     could not be measured at the shock scale was replaced by 0.0, so a lattice skewness near 0
     agreed with nothing.  It must not agree (nor be explained by a run too small: the lattice
     reached the scale)."""
