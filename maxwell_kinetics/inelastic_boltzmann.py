@@ -69,7 +69,12 @@ from . import velocity_grid as _grid
 from .model import RelativeVelocityModel
 
 __all__ = ["solve_boltzmann", "BoltzmannSolution", "scaling_state", "ScalingState",
-           "SCALING_GRID", "check_reach", "SMALLEST_SCALE", "STEPS_PER_TAU_AND_STIFFNESS"]
+           "SCALING_GRID", "check_reach", "SMALLEST_SCALE", "STEPS_PER_TAU_AND_STIFFNESS",
+           "CARRIED_KERNELS"]
+
+#: The kernels (:mod:`particles.kernels`) this velocity-space solver carries: the power-law
+#: family n|v − w|^γ (its scheme uses the homogeneity of |g|^γ).
+CARRIED_KERNELS = ("relative_velocity",)
 
 def check_density(density) -> float:
     """The density n: a finite number > 0.

@@ -47,6 +47,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from particles import kernels as _kernels
 from particles.collision import transfer_fraction
 from particles.validation import check_nonnegative, check_real, check_restitution
 
@@ -620,7 +621,7 @@ class DrivenMaxwellModel(MaxwellModel):
 #: Maxwell model in physical time) to 2, the range of the velocity-space solver (its collision
 #: sums are exact in moments for any γ ≥ 0; beyond 2 the tails of f grow too fast for a grid of
 #: fixed extent: ``maxwell_kinetics.inelastic_boltzmann``).
-RATE_EXPONENTS = (0.0, 2.0)
+RATE_EXPONENTS = (_kernels.EXPONENT.low, _kernels.EXPONENT.high)
 
 
 @dataclass(frozen=True)
@@ -670,6 +671,12 @@ class RelativeVelocityModel(CollisionModel):
         object.__setattr__(self, "exponent", gamma)
 
     @property
+    def kernel(self) -> _kernels.RelativeVelocity:
+        """The collision kernel of the base layer (:class:`particles.kernels.RelativeVelocity`)
+        whose rate and bound the particle engines read: the same formulas."""
+        return _kernels.RelativeVelocity(self.restitution, self.exponent)
+
+    @property
     def complement(self) -> float:
         """1 − p: the fraction of its own velocity a colliding particle keeps
         (v′ = (1 − p) v + p w)."""
@@ -695,14 +702,10 @@ class RelativeVelocityModel(CollisionModel):
         Returns
         -------
         array
-            The rate of each pair, of the broadcast shape of ``v`` and ``w``.
+            The rate of each pair, of the broadcast shape of ``v`` and ``w``
+            (:meth:`particles.kernels.RelativeVelocity.rate`, the engines' formula).
         """
-        g = xp.abs(v - w)
-        if self.exponent == 0.0:
-            return xp.ones_like(g)
-        if self.exponent == 1.0:
-            return g
-        return g**self.exponent
+        return self.kernel.rate(v, w, xp)
 
     def post_collision(self, v, w):
         """v′ = (1 − p) v + p w: the velocity of the partner that had ``v``, after colliding with

@@ -53,13 +53,13 @@ import numpy as np
 from .collision import collide_scalar, transfer_fraction
 from .driver import EngineBase, initial_velocities
 from .initial import get_law
+from .kernels import kernel_class
 from .validation import InvalidArgumentError, check_count, check_real_array, check_restitution
 
 __all__ = [
     "Lattice",
     "LatticeState",
     "LatticeDiscreteReference",
-    "RATES",
     "thinning_bound",
     "run_clocks",
     "run_clocks_sequential",
@@ -68,8 +68,16 @@ __all__ = [
 #: Clock increments for the bonds ``bonds`` (int array), in the order given.
 IncrementSource = Callable[[np.ndarray], np.ndarray]
 
-#: Collision-rate laws of :class:`Lattice`: every bond at rate 1 per unit τ, or at rate |Δ|.
-RATES = ("constant", "relative_velocity")
+#: The kernels (:mod:`particles.kernels`) that the lattice carries: every bond at rate 1 per
+#: unit τ, or at rate |Δ| (the hard-rod kernel at its default exponent 1).
+CARRIED_KERNELS = ("constant", "relative_velocity")
+
+
+def __getattr__(name: str):
+    if name == "RATES":  # the collision-rate laws are the kernels of the registry now
+        raise ImportError("particles.lattice.RATES is gone: the lattice carries the kernels "
+                          "particles.lattice.CARRIED_KERNELS of particles.kernels.KERNELS")
+    raise AttributeError(f"module 'particles.lattice' has no attribute {name!r}")
 
 #: Relative margin of the thinning bound R over max v − min v (covers ulp-level round-off).
 RATE_BOUND_MARGIN = 1e-9
@@ -399,13 +407,14 @@ class Lattice(EngineBase):
     constraint : bool, optional
         Kinematic constraint: collide only approaching pairs (default True).
     rate : str, optional
-        ``"constant"`` (default) or ``"relative_velocity"`` (``RATES``).
+        A kernel's name (:mod:`particles.kernels`): ``"constant"`` (default) or
+        ``"relative_velocity"`` (:data:`CARRIED_KERNELS`).
 
     Raises
     ------
     particles.InvalidArgumentError
         Naming ``n``, ``restitution``, ``initial`` (unknown, or without a sampler),
-        ``constraint`` (not a bool) or ``rate`` (not one of ``RATES``).
+        ``constraint`` (not a bool) or ``rate`` (not a kernel of :data:`CARRIED_KERNELS`).
     """
 
     n: int
@@ -427,8 +436,7 @@ class Lattice(EngineBase):
         if not isinstance(self.constraint, (bool, np.bool_)):
             raise InvalidArgumentError("constraint", self.constraint, "True or False")
         object.__setattr__(self, "constraint", bool(self.constraint))
-        if not (isinstance(self.rate, str) and self.rate in RATES):
-            raise InvalidArgumentError("rate", self.rate, " or ".join(map(repr, RATES)))
+        kernel_class(self.rate, "rate", among=CARRIED_KERNELS)
 
     @property
     def p(self) -> float:

@@ -36,6 +36,7 @@ import numpy as np
 
 from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .driver.engine import next_grid_point
+from .kernels import defines_rate
 from .ulam_kinematics import (
     AngularDraws,
     as_complex,
@@ -48,6 +49,7 @@ from .ulam_kinematics import (
 from .validation import InvalidArgumentError, check_count
 
 __all__ = [
+    "ulam_carries",
     "draw_pairs",
     "fire_rounds_thinned",
     "thin_sequential",
@@ -197,6 +199,23 @@ HULL_BOUND_MARGIN = 1e-9
 BLOCK_WINDOWS = 8
 
 
+def ulam_carries(kernel) -> bool:
+    """Whether :class:`particles.ulam.Ulam` runs a kernel class: the constant rate (its
+    windows of Poisson pairs), or a kernel defined in d = 1 that writes out its rate and rate
+    bound (the thinned DSMC of :func:`fire_rounds_thinned`).
+
+    Parameters
+    ----------
+    kernel : type
+        A kernel class of :mod:`particles.kernels`.
+
+    Returns
+    -------
+    bool
+    """
+    return kernel.name == "constant" or (1 in kernel.dimensions and defines_rate(kernel))
+
+
 def power_of_two_near(x: float) -> float:
     """The power of two nearest to ``x`` > 0 in log scale, 2^e with e clipped to [−1000, 1000]."""
     if not x < math.inf:
@@ -266,14 +285,15 @@ def thinned_windows(start: float, until: float, rate: float, stop_step: float,
     return list(zip(cuts[:-1], cuts[1:], strict=True))
 
 
-def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence) -> int:
-    """:func:`fire_rounds` for thinned candidates (the collision rate ∝ |v_a − v_b|): candidate
-    row k (``reversed_pairs[k]``, last candidate first) collides iff
-    ``marks[k] * bound < |v_a − v_b|`` at the moment it fires, ``marks`` uniform on [0, 1),
-    ``bound`` ≥ every |v_a − v_b| (so the acceptance probability is |v_a − v_b|/``bound``);
-    a rejected candidate changes nothing.  A candidate fires when it is the earliest pending
-    candidate of both its particles, so it sees the velocities of the sequential loop
-    (:func:`thin_sequential`) and takes the same decision, bit for bit.
+def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence,
+                        rate=None) -> int:
+    """:func:`fire_rounds` for thinned candidates (the collision rate of a pair is
+    ``rate(v_a, v_b)``, by default |v_a − v_b|): candidate row k (``reversed_pairs[k]``, last
+    candidate first) collides iff ``marks[k] * bound < rate(v_a, v_b)`` at the moment it fires,
+    ``marks`` uniform on [0, 1), ``bound`` ≥ the rate of every pair (so the acceptance
+    probability is rate/``bound``); a rejected candidate changes nothing.  A candidate fires
+    when it is the earliest pending candidate of both its particles, so it sees the velocities
+    of the sequential loop (:func:`thin_sequential`) and takes the same decision, bit for bit.
 
     Parameters
     ----------
@@ -289,6 +309,9 @@ def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence) -
         The transfer fraction (1 + r)/2.
     first, occurrence : numpy.ndarray
         Scratch of :func:`_rounds`.
+    rate : callable, optional
+        ``rate(va, vb)`` → the pairs' rates, arrays in and out (a kernel's
+        :meth:`~particles.kernels.Kernel.rate`); None: |v_a − v_b|.
 
     Returns
     -------
@@ -298,8 +321,11 @@ def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence) -
     accepted = 0
     for fired, fire in _rounds(reversed_pairs, first, occurrence):
         vv = np.take(v, fired)
-        g = vv[0::2] - vv[1::2]
-        np.abs(g, out=g)
+        if rate is None:
+            g = vv[0::2] - vv[1::2]
+            np.abs(g, out=g)
+        else:
+            g = rate(vv[0::2], vv[1::2])
         threshold = np.compress(fire, marks)
         marks = np.compress(~fire, marks)  # the marks of the candidates still pending
         threshold *= bound
@@ -314,10 +340,10 @@ def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence) -
     return accepted
 
 
-def thin_sequential(v, reversed_pairs, marks, bound, p) -> tuple[int, float]:
+def thin_sequential(v, reversed_pairs, marks, bound, p, rate=None) -> tuple[int, float]:
     """Reference of :func:`fire_rounds_thinned`: a Python loop over the candidates in time order
     (row K − 1 first, row 0 last), on ``v`` (N,) in place: candidate k collides iff
-    ``marks[k] * bound < |v_a − v_b|`` (:func:`~particles.collision.collide_scalar`).
+    ``marks[k] * bound < rate(v_a, v_b)`` (:func:`~particles.collision.collide_scalar`).
 
     Parameters
     ----------
@@ -331,11 +357,14 @@ def thin_sequential(v, reversed_pairs, marks, bound, p) -> tuple[int, float]:
         The thinning bound.
     p : float
         The transfer fraction (1 + r)/2.
+    rate : callable, optional
+        ``rate(va, vb)`` → the pair's rate, on floats (a kernel's
+        :meth:`~particles.kernels.Kernel.rate`); None: |v_a − v_b|.
 
     Returns
     -------
     tuple of (int, float)
-        The number of accepted candidates, and the largest |v_a − v_b|/``bound`` seen at a
+        The number of accepted candidates, and the largest rate/``bound`` seen at a
         candidate (≤ 1 when the bound holds; 0 without candidates).
     """
     w = v.tolist()
@@ -344,7 +373,7 @@ def thin_sequential(v, reversed_pairs, marks, bound, p) -> tuple[int, float]:
     largest = 0.0
     for k in range(len(reversed_pairs) - 1, -1, -1):
         a, b = int(reversed_pairs[k, 0]), int(reversed_pairs[k, 1])
-        g = abs(w[a] - w[b])
+        g = abs(w[a] - w[b]) if rate is None else float(rate(w[a], w[b]))
         largest = max(largest, g / bound)
         if m[k] * bound < g:
             w[a], w[b] = collide_scalar(w[a], w[b], p)

@@ -60,6 +60,7 @@ import numpy as np
 from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .driver import EngineBase, initial_velocities, next_grid_point
 from .initial import get_law
+from .kernels import Kernel, kernel_class, make_kernel
 from .pair_schedule import (
     BLOCK_WINDOWS,
     draw_pairs_unchecked,
@@ -82,7 +83,6 @@ from .ulam_kinematics import draw_angles as _draw_angles
 from .ulam_kinematics import plane_transfer as _plane_transfer
 from .validation import (
     InvalidArgumentError,
-    check_choice,
     check_count,
     check_dimension,
     check_nonnegative,
@@ -91,7 +91,6 @@ from .validation import (
 )
 
 __all__ = [
-    "RATES",
     "Ulam",
     "UlamReference",
     "UlamState",
@@ -114,6 +113,9 @@ _MOVED = {
 def __getattr__(name: str):
     if name in _MOVED:
         raise ImportError(f"particles.ulam.{name} moved to {_MOVED[name]}.{name}")
+    if name == "RATES":  # the collision-rate laws are the kernels of the registry now
+        raise ImportError("particles.ulam.RATES is gone: the rate laws are the registered "
+                          "kernels, tuple(particles.kernels.KERNELS)")
     raise AttributeError(f"module 'particles.ulam' has no attribute {name!r}")
 
 
@@ -122,10 +124,6 @@ def __getattr__(name: str):
 #: (2.3e7 events/s, against 1.9e7 with 1e5 and 1.1e7 with 2e5).
 TARGET_EVENTS = 25_000
 
-
-#: Collision-rate laws of :class:`Ulam`: every pair at the same rate (time τ), or a pair (i, j)
-#: at rate (n/N)|v_i − v_j| (time t at density n; the hard-rod Boltzmann equation).
-RATES = ("constant", "relative_velocity")
 
 def _window_for(n: int) -> float:
     """Window length in τ: the power of two nearest to 2·TARGET_EVENTS/N, clipped to [2⁻¹², 2]."""
@@ -212,10 +210,7 @@ def recentre(v: np.ndarray) -> None:
     v : numpy.ndarray
         Velocities, modified in place.
     """
-    if v.ndim == 1:
-        v -= v.mean()
-    else:
-        v -= v.mean(axis=0)
+    v -= v.mean() if v.ndim == 1 else v.mean(axis=0)
 
 
 def _is_grid_point(t: float, step: float) -> bool:
@@ -231,8 +226,8 @@ class Ulam(EngineBase):
 
     * ``"constant"`` (default; the pseudo-Maxwell model): every pair collides at the same rate;
       time is τ, collisions per particle (N/2 pair collisions per unit τ).
-    * ``"relative_velocity"`` (DSMC of the homogeneous inelastic Boltzmann equation of hard rods,
-      1D, no driving): time is the physical time t at number density n = ``density``; a given
+    * another kernel of :mod:`particles.kernels` (DSMC by thinning with its ``rate`` and
+      ``rate_bound``; below, hard rods |v − w|): time t at n = ``density``; a given
       particle i collides with a given other particle j at rate (n/N)|v_i − v_j|, so particle i
       collides at rate (n/N)Σ_j |v_i − v_j| → n⟨|v − w|⟩ (2n√(T/π) per particle for a Gaussian
       of temperature T = ⟨v²⟩) and the one-particle law f obeys, as N → ∞,
@@ -280,8 +275,8 @@ class Ulam(EngineBase):
         ``"uniform"`` (default) or ``"hard"``.
     driving : float, optional
         White-noise heating D ≥ 0 (default 0; 1D only).
-    rate : str, optional
-        ``"constant"`` (default, time τ) or ``"relative_velocity"`` (time t; 1D, no driving).
+    rate : str or particles.kernels.Kernel, optional
+        A kernel or its name: ``"constant"`` (default, τ), any other one (t; 1D, no driving).
     density : float, optional
         The number density n > 0 of the rate (n/N)|v_i − v_j| (default 1; a value other than 1
         only with ``rate="relative_velocity"``), in 1/length: t is in length/velocity.
@@ -291,8 +286,8 @@ class Ulam(EngineBase):
     particles.InvalidArgumentError
         Naming ``n``, ``restitution``, ``initial`` (unknown, or without a sampler),
         ``dimension``, ``angular``, ``driving`` (negative, or non-zero with dimension > 1),
-        ``rate`` (not one of ``RATES``, or ``"relative_velocity"`` with dimension > 1 or
-        driving) or ``density`` (not finite, ≤ 0, or not 1 with the constant rate).
+        ``rate`` (not a registered kernel, one of another restitution, or not ``"constant"`` with
+        dimension > 1 or driving) or ``density`` (not finite, ≤ 0, or not 1 with the constant).
     """
 
     n: int
@@ -301,9 +296,11 @@ class Ulam(EngineBase):
     dimension: int = 1
     angular: str = "uniform"
     driving: float = 0.0
-    rate: str = "constant"
+    rate: str | Kernel = "constant"
     density: float = 1.0
     name: ClassVar[str] = "ulam"
+    #: The collision kernel (:mod:`particles.kernels`) that ``rate`` names or is.
+    kernel: Kernel = field(init=False, repr=False)
 
     def __post_init__(self):
         object.__setattr__(self, "n", check_count(self.n, "n", 2))
@@ -320,10 +317,20 @@ class Ulam(EngineBase):
         if driving > 0.0 and self.dimension != 1:
             raise InvalidArgumentError("driving", self.driving, "0 when dimension > 1")
         object.__setattr__(self, "driving", driving)
-        rate = check_choice(self.rate, "rate", RATES)
+        if isinstance(self.rate, Kernel):
+            kernel = self.rate
+            if kernel.restitution != self.restitution:
+                raise InvalidArgumentError(
+                    "rate", kernel, f"a kernel of the engine's restitution {self.restitution}")
+        else:
+            kernel = make_kernel(kernel_class(self.rate, "rate").name, self.restitution, "rate")
+        rate = kernel.name
         object.__setattr__(self, "rate", rate)
+        object.__setattr__(self, "kernel", kernel)
         density = check_positive(self.density, "density")
-        if rate == "relative_velocity":
+        if 1 not in kernel.dimensions:
+            raise InvalidArgumentError("rate", rate, "a kernel defined in d = 1")
+        if rate != "constant":
             if self.dimension != 1:
                 raise InvalidArgumentError("rate", rate, "'constant' when dimension > 1")
             if driving != 0.0:
@@ -340,8 +347,8 @@ class Ulam(EngineBase):
 
     @property
     def relative_velocity_rate(self) -> bool:
-        """True for ``rate="relative_velocity"`` (time t), False for the constant rate (τ)."""
-        return self.rate == "relative_velocity"
+        """True for a velocity-dependent rate (the DSMC by thinning, time t), False for τ."""
+        return self.rate != "constant"
 
     @property
     def time_name(self) -> str:
@@ -393,6 +400,11 @@ class Ulam(EngineBase):
             out.update(rate=self.rate, density=self.density,
                        target_events=min(TARGET_EVENTS, self.n),
                        block_windows=BLOCK_WINDOWS)
+            # the kernel's parameters that differ from their defaults (hard rods: as before)
+            for parameter in self.kernel.parameters:
+                value = getattr(self.kernel, parameter.name)
+                if value != parameter.default:
+                    out[parameter.name] = value
         return out
 
     def initial_state(self, rng: np.random.Generator) -> UlamState:
@@ -465,7 +477,7 @@ class Ulam(EngineBase):
             ``(N t_max / 2, "collisions")``.
         """
         if self.relative_velocity_rate:
-            bound = 12.0 * math.sqrt(2.0)
+            bound = self.kernel.rate_bound(12.0 * math.sqrt(2.0))
             return 0.5 * self.density * (self.n - 1) * bound * t_max, "candidates"
         return float(self.n) * t_max / 2.0, "collisions"
 
@@ -574,13 +586,14 @@ class Ulam(EngineBase):
         v = state.velocities.copy()
         collisions = int(state.collisions)
         p = self.p
+        kernel = self.kernel
         half_rate = 0.5 * self.density * (self.n - 1)
         first = np.empty(self.n, dtype=np.int32)
         occurrence = np.empty(0, dtype=np.int32)
         s = float(state.time)
         target = float(until)
         while s < target:
-            bound = hull_bound(v)
+            bound = kernel.rate_bound(hull_bound(v))  # ≥ the rate of every pair, now and later
             windows = self.thinned_windows(s, target, bound)
             for a, b in windows:
                 k = int(rng.poisson(half_rate * bound * (b - a))) if bound > 0.0 else 0
@@ -588,22 +601,21 @@ class Ulam(EngineBase):
                     pairs = draw_pairs_unchecked(rng, self.n, k)  # row 0: the last candidate
                     marks = rng.random(k)
                     if sequential:
-                        collisions += self._thin_window(v, pairs, marks, bound, p)
+                        collisions += self._thin_window(v, pairs, marks, bound, p, kernel)
                     else:
                         if occurrence.size < 2 * k:
                             occurrence = np.arange(max(2 * k, 4 * TARGET_EVENTS),
                                                    dtype=np.int32)
                         collisions += fire_rounds_thinned(v, pairs, marks, bound, p, first,
-                                                          occurrence)
+                                                          occurrence, kernel.rate)
             s = windows[-1][1]
             if _is_grid_point(s, self.stop_step):
                 recentre(v)
         return UlamState(target, v, collisions)
 
-    def _thin_window(self, v, pairs, marks, bound, p) -> int:
-        """The reference's loop over one sub-window's candidates
-        (:func:`~particles.pair_schedule.thin_sequential`); returns the accepted count."""
-        return thin_sequential(v, pairs, marks, bound, p)[0]
+    def _thin_window(self, v, pairs, marks, bound, p, kernel) -> int:
+        """The reference's loop over one sub-window (:func:`thin_sequential`): accepted count."""
+        return thin_sequential(v, pairs, marks, bound, p, kernel.rate)[0]
 
     def _occurrences(self, occurrence: np.ndarray, k: int) -> np.ndarray:
         if occurrence.size < 2 * k:

@@ -10,6 +10,7 @@ Subcommands:
 ``reproduce``    every comparison with the paper (the main job of ``make demo``)
 ``simulate``     particle models (``ulam``, ``lattice``, ``md``, ``sticky``)
 ``ensemble``     many seeds and parameter sweeps of a particle model, on dask
+``kernels``      the registered collision kernels, their parameters and what carries them
 
 One module per subcommand in :mod:`maxwell_kinetics.app.commands`, each with ``add_parser`` and a
 handler; they share :mod:`maxwell_kinetics.app.output` and never import this module.
@@ -53,6 +54,7 @@ try:
         convergence,
         ensemble,
         fixed_point,
+        kernels,
         reproduce,
         simulate,
         solve,
@@ -72,7 +74,8 @@ finally:
 __all__ = ["main", "build_parser", "emit_json", "join_negative_values", "refuse_repeated_options"]
 
 #: The subcommands in the order of ``--help``.
-COMMANDS = (solve, fixed_point, tails, steady, convergence, reproduce, simulate, ensemble)
+COMMANDS = (solve, fixed_point, tails, steady, convergence, reproduce, simulate, ensemble,
+            kernels)
 
 
 def build_parser() -> argparse.ArgumentParser:

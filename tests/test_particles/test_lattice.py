@@ -615,7 +615,8 @@ def test_lattice_parameters_are_checked_and_normalised():
                        match=r"^argument constraint=1 is invalid: expected True or False$"):
         Lattice(10, 0.5, constraint=1)
     with pytest.raises(InvalidArgumentError, match=r"^argument rate='fast' is invalid: "
-                                                   r"expected 'constant' or 'relative_velocity'$"):
+                                                   r"expected a registered kernel: 'constant', "
+                                                   r"'relative_velocity'$"):
         Lattice(10, 0.5, rate="fast")
 
 

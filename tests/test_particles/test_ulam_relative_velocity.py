@@ -216,8 +216,8 @@ def test_thinning_bound_holds_at_every_candidate(r):
 
     @dataclasses.dataclass(frozen=True)
     class Probe(UlamReference):
-        def _thin_window(self, v, pairs, marks, bound, p):
-            accepted, largest = thin_sequential(v, pairs, marks, bound, p)
+        def _thin_window(self, v, pairs, marks, bound, p, kernel):
+            accepted, largest = thin_sequential(v, pairs, marks, bound, p, kernel.rate)
             seen.append((largest, bound))
             return accepted
 

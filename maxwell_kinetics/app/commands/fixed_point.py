@@ -68,13 +68,14 @@ def add_parser(subparsers) -> None:
     p.set_defaults(handler=run)
 
 
-#: The values of ``--rate``.
-RATES = ("constant", "relative_velocity")
 
 
 def run(args) -> int:
-    if args.rate not in RATES:
-        raise InvalidArgumentError("rate", args.rate, "one of " + ", ".join(RATES))
+    from particles.kernels import kernel_class
+
+    from ...inelastic_boltzmann import CARRIED_KERNELS
+    # the registry's names: the Fourier scheme's kernel and the velocity grid's
+    kernel_class(args.rate, "rate", among=("constant", *CARRIED_KERNELS))
     if args.rate == "relative_velocity":
         return _run_relative_velocity(args)
     for name in ("exponent", "points", "half_width"):

@@ -117,18 +117,18 @@ def _library_error(exc: InvalidArgumentError, typed: dict) -> InvalidArgumentErr
     return InvalidArgumentError(name, value, exc.expected.replace(FORCE, "--force"))
 
 
-#: The values of ``--rate``.
-RATES = ("constant", "relative_velocity")
 #: The options of ``--rate relative_velocity`` alone.
 RELATIVE_VELOCITY_OPTIONS = ("t", "density", "exponent", "points", "half_width",
                              "core_spacing")
 
 
 def _run(args, written: list) -> int:
-    from ...solver import check_solve_arguments, solve  # JAX is imported only when a solve runs
+    from particles.kernels import kernel_class
 
-    if args.rate not in RATES:
-        raise InvalidArgumentError("rate", args.rate, "one of " + ", ".join(RATES))
+    from ...inelastic_boltzmann import CARRIED_KERNELS
+    from ...solver import check_solve_arguments, solve  # JAX is imported only when a solve runs
+    # the registry's names: the Fourier scheme's kernel and the velocity grid's
+    kernel_class(args.rate, "rate", among=("constant", *CARRIED_KERNELS))
     if args.rate == "relative_velocity":
         return _run_relative_velocity(args, written)
     for name in RELATIVE_VELOCITY_OPTIONS:
