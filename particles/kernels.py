@@ -262,7 +262,8 @@ def register(cls: type[Kernel]) -> type[Kernel]:
     TypeError
         For a class that is not a :class:`Kernel` dataclass, or whose declarations do not fit.
     ValueError
-        For a name already registered to another class.
+        For a name already registered to another class (one of the same module and qualified
+        name, a class defined again, replaces it).
     """
     if not (isinstance(cls, type) and issubclass(cls, Kernel) and "__dataclass_fields__" in
             vars(cls)):
@@ -280,7 +281,10 @@ def register(cls: type[Kernel]) -> type[Kernel]:
         if not parameter.low <= parameter.default <= parameter.high:
             raise TypeError(f"{cls.__name__}: the default of {parameter.name!r} is outside "
                             f"[{parameter.low}, {parameter.high}]")
-    if KERNELS.get(cls.name, cls) is not cls:
+    known_cls = KERNELS.get(cls.name, cls)
+    redefined = (known_cls.__module__, known_cls.__qualname__) == (cls.__module__,
+                                                                   cls.__qualname__)
+    if known_cls is not cls and not redefined:  # a class defined again (a rerun cell) replaces
         raise ValueError(f"a kernel named {cls.name!r} is already registered "
                          f"({KERNELS[cls.name].__qualname__})")
     KERNELS[cls.name] = cls

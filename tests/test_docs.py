@@ -88,7 +88,7 @@ def _python_blocks(path: Path) -> list[str]:
 
 
 @pytest.mark.parametrize("page", ["README.md", "docs/index.md", "docs/getting_started.md",
-                                  "docs/guide/sticky.md",
+                                  "docs/guide/sticky.md", "docs/guide/particles.md",
                                   "docs/guide/ensembles.md", "docs/guide/reproducibility.md",
                                   "docs/guide/errors.md"])
 def test_code_examples_run(page, tmp_path, monkeypatch, capsys):

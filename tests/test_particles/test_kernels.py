@@ -227,3 +227,10 @@ def test_solve_and_fixed_point_read_the_rate_from_the_registry(capsys):
         err = run_error(capsys, command)
         assert "argument rate='hard' is invalid: expected a registered kernel: 'constant', " \
                "'relative_velocity'" in err
+
+
+def test_a_kernel_defined_again_replaces_itself(soft_rods):
+    # a notebook cell run twice defines the class twice: the second replaces the first
+    again = dataclasses.make_dataclass("SoftRods", [], bases=(soft_rods,), frozen=True)
+    again.__module__, again.__qualname__ = soft_rods.__module__, soft_rods.__qualname__
+    assert register(again) is again and KERNELS[soft_rods.name] is again
