@@ -14,7 +14,7 @@ NOTEBOOKS_OUT ?= notebooks_executed
 # SMALL=1 runs the notebooks at the tests' size (seconds each) instead of their default size.
 SMALL ?=
 
-.PHONY: demo test install lint bench clean docs notebooks notebooks-open mutants
+.PHONY: demo test test-full install lint bench clean docs notebooks notebooks-open mutants
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -60,8 +60,18 @@ notebooks: $(NB_STAMP)
 notebooks-open: $(NB_STAMP)
 	$(VENV)/bin/jupyter notebook notebooks/
 
+# The tests run on every core (pytest-xdist); --dist loadgroup keeps each test file on one worker
+# and the tests that share the session's comparisons together (tests/conftest.py).  `make test`
+# deselects the tests marked `full` (long variants of checks the default set also makes);
+# `make test-full` runs everything.  TEST_WORKERS=0 runs in one process.
+TEST_WORKERS ?= auto
+PYTEST_XDIST := -n $(TEST_WORKERS) --dist loadgroup
+
 test: install
-	$(PY) -m pytest -q --durations=25
+	$(PY) -m pytest -q --durations=25 $(PYTEST_XDIST) -m "not full"
+
+test-full: install
+	$(PY) -m pytest -q --durations=25 $(PYTEST_XDIST)
 
 lint: install
 	$(VENV)/bin/ruff check maxwell_kinetics particles tests benchmarks

@@ -3,12 +3,33 @@
 * ``comparison(name)``: the comparison ``maxwell_kinetics.app.comparisons.<name>`` at the small
   size, computed once per test session and shared by every test that reads it (the comparison tests
   and the notebooks);
-* the persistent compilation cache is off during the tests (its own tests turn it on).
+* the persistent compilation cache is off during the tests (its own tests turn it on);
+* under pytest-xdist (``make test`` runs ``-n auto --dist loadgroup``) each test file goes to
+  one worker as a whole (its module-scoped fixtures are computed once), and every test that
+  reads the session's ``comparison`` fixture goes to one worker together (the comparisons are
+  computed once per run, as in a plain run): :func:`pytest_collection_modifyitems`.
 """
 
 from __future__ import annotations
 
 import pytest
+
+#: The xdist group of the tests that read the session-scoped ``comparison`` fixture.
+COMPARISONS_GROUP = "comparisons"
+
+
+def pytest_collection_modifyitems(config, items):
+    """Give each test an ``xdist_group``: ``comparisons`` for the tests that read the
+    ``comparison`` fixture (computed once per worker, so all of them share one worker), else
+    its file (module-scoped fixtures such as a built site, executed notebooks or a solved
+    problem are computed once).  With ``--dist loadgroup`` a group runs on one worker; without
+    xdist the marks do nothing."""
+    for item in items:
+        if "comparison" in getattr(item, "fixturenames", ()):
+            group = COMPARISONS_GROUP
+        else:
+            group = item.nodeid.split("::", 1)[0]
+        item.add_marker(pytest.mark.xdist_group(group))
 
 
 @pytest.fixture(scope="session")
