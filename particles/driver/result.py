@@ -28,8 +28,33 @@ def import_xarray(what: str):
     return xarray
 
 
-#: The time coordinate of :meth:`RunResult.to_xarray`, by model (t for MD and the sticky gas).
+#: The time of a result file written before results kept their engine's time name: by model
+#: (t for MD and the sticky gas), else the time its rate kernel counts (:func:`time_name_of`).
 _TIME_NAMES = {"md": "t", "sticky": "t"}
+
+
+def time_name_of(model: str, params: dict) -> str:
+    """The time a result of ``model`` with ``params`` counts, for a file that did not record
+    it: ``"t"`` for MD and the sticky gas, else that of the kernel named by ``params["rate"]``
+    (:mod:`particles.kernels`), else ``"tau"``.
+
+    Parameters
+    ----------
+    model : str
+        The engine's name.
+    params : dict
+        The engine's parameters.
+
+    Returns
+    -------
+    str
+    """
+    from ..kernels import KERNELS
+
+    if model in _TIME_NAMES:
+        return _TIME_NAMES[model]
+    kernel = KERNELS.get(params.get("rate", "constant"))
+    return kernel.time_name if kernel is not None else "tau"
 
 
 class CheckpointError(persistence.FileFormatError):
@@ -170,6 +195,9 @@ class RunResult:
     histogram_scales : numpy.ndarray or None
         v0 = √E of each time's histogram, shape ``(nt,)`` (0 where E = 0, NaN where the time
         was not recorded, e.g. resumed from a checkpoint that kept no per-time histograms).
+    time_name : str
+        The time the engine counts, ``"tau"`` or ``"t"`` (its ``time_name``; for a file
+        written before results kept it, :func:`time_name_of` its model and parameters).
     """
 
     model: str
@@ -192,6 +220,11 @@ class RunResult:
     histogram_counts: np.ndarray | None = field(default=None, repr=False)
     histogram_scales: np.ndarray | None = field(default=None, repr=False)
     kurtosis: np.ndarray | None = field(default=None, repr=False)
+    time_name: str | None = None
+
+    def __post_init__(self):
+        if self.time_name is None:  # a record written before results kept it
+            object.__setattr__(self, "time_name", time_name_of(self.model, self.params))
 
     @property
     def histograms(self) -> tuple:
@@ -237,7 +270,8 @@ class RunResult:
             "velocities": self.velocities,
         }
         meta = {"model": self.model, "params": self.params, "seed": self.seed,
-                "seconds": None if np.isnan(self.seconds) else self.seconds}
+                "seconds": None if np.isnan(self.seconds) else self.seconds,
+                "time_name": self.time_name}
         if self.histogram is not None:
             h = self.histogram
             arrays.update({"hist.edges": h.edges, "hist.density": h.density,
@@ -302,6 +336,7 @@ class RunResult:
             snapshots=a.get("snapshots"),
             extras={k[len("extra."):]: v for k, v in a.items() if k.startswith("extra.")},
             histogram_note=meta.get("histogram_note"),
+            time_name=meta.get("time_name"),
             snapshot_extras={k[len("snapshot."):]: v for k, v in a.items()
                              if k.startswith("snapshot.")},
             histogram_edges=a.get("hists.edges"),
@@ -336,9 +371,7 @@ class RunResult:
         import json
 
         xr = import_xarray("RunResult.to_xarray()")
-        time = _TIME_NAMES.get(self.model, "tau")
-        if self.params.get("rate") == "relative_velocity":  # Ulam DSMC, lattice rate ∝ |Δ|: t
-            time = "t"
+        time = self.time_name  # the engine's (its kernel's) time, never guessed from a name
         data = {"energy": ((time,), self.energy), "momentum": ((time,), self.momentum),
                 "collisions": ((time,), self.collisions)}
         if self.kurtosis is not None:

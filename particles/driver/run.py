@@ -370,4 +370,5 @@ def _run(engine, times, seed, identity, state, rng, records, progress, checkpoin
         histogram_edges=hist_edges,
         histogram_counts=records.hist_count,
         histogram_scales=records.hist_v0,
+        time_name=engine.time_name,
     )

@@ -234,3 +234,18 @@ def test_a_kernel_defined_again_replaces_itself(soft_rods):
     again = dataclasses.make_dataclass("SoftRods", [], bases=(soft_rods,), frozen=True)
     again.__module__, again.__qualname__ = soft_rods.__module__, soft_rods.__qualname__
     assert register(again) is again and KERNELS[soft_rods.name] is again
+
+
+def test_a_result_keeps_the_time_its_engine_counts(soft_rods, tmp_path):
+    from particles.driver import RunResult
+    from particles.driver.result import time_name_of
+
+    run = simulate(Ulam(200, 0.5, rate=soft_rods(0.5)), [0.5], seed=1, progress=False)
+    assert run.time_name == "t"
+    run.save(tmp_path / "run.npz")
+    assert RunResult.load(tmp_path / "run.npz").time_name == "t"
+    assert simulate(Lattice(20, 0.5), [0.5], seed=1, progress=False).time_name == "tau"
+    # a file written before results kept it: from the model, else from its rate's kernel
+    assert time_name_of("md", {}) == "t" and time_name_of("ulam", {}) == "tau"
+    assert time_name_of("ulam", {"rate": "relative_velocity"}) == "t"
+    assert time_name_of("ulam", {"rate": soft_rods.name}) == "t"
