@@ -7,7 +7,7 @@
 * under pytest-xdist (``make test`` runs ``-n auto --dist loadgroup``) each test file goes to
   one worker as a whole (its module-scoped fixtures are computed once), and every test that
   reads the session's ``comparison`` fixture goes to one worker together (the comparisons are
-  computed once per run, as in a plain run): :func:`pytest_collection_modifyitems`.
+  computed once per run, as in a plain run): :func:`pytest_itemcollected`.
 """
 
 from __future__ import annotations
@@ -18,18 +18,18 @@ import pytest
 COMPARISONS_GROUP = "comparisons"
 
 
-def pytest_collection_modifyitems(config, items):
+def pytest_itemcollected(item):
     """Give each test an ``xdist_group``: ``comparisons`` for the tests that read the
     ``comparison`` fixture (computed once per worker, so all of them share one worker), else
     its file (module-scoped fixtures such as a built site, executed notebooks or a solved
     problem are computed once).  With ``--dist loadgroup`` a group runs on one worker; without
-    xdist the marks do nothing."""
-    for item in items:
-        if "comparison" in getattr(item, "fixturenames", ()):
-            group = COMPARISONS_GROUP
-        else:
-            group = item.nodeid.split("::", 1)[0]
-        item.add_marker(pytest.mark.xdist_group(group))
+    xdist the marks do nothing.  Done as each test is collected: xdist reads the marks in its
+    own ``pytest_collection_modifyitems``, which runs before a conftest's."""
+    if "comparison" in getattr(item, "fixturenames", ()):
+        group = COMPARISONS_GROUP
+    else:
+        group = item.nodeid.split("::", 1)[0]
+    item.add_marker(pytest.mark.xdist_group(group))
 
 
 @pytest.fixture(scope="session")
