@@ -139,9 +139,15 @@ def check_reach(model: RelativeVelocityModel, density: float, t_last: float, gri
     gamma, lam = model.exponent, model.lam
     if gamma > 0.0:
         kappa = 2.0 ** (gamma + 2.0) * math.gamma((gamma + 3.0) / 2.0) / math.sqrt(math.pi)
-        rate = gamma * lam * density * kappa / 2.0
-        # s(t) < SMALLEST_SCALE  <=>  1 + rate t > SMALLEST_SCALE^(−γ)
-        reach = (SMALLEST_SCALE ** (-gamma) - 1.0) / rate if rate > 0.0 else math.inf
+        rate = lam * density * kappa / 2.0
+        # s(t) < SMALLEST_SCALE  <=>  1 + γ rate t > SMALLEST_SCALE^(−γ) = e^(γL), L = −ln S:
+        # t > (e^(γL) − 1)/(γ rate) = (L/rate) expm1(γL)/(γL), written without the cancellation
+        # of e^(γL) − 1 (0 in floating point for γ below ~1e-16) and without the product γ rate
+        # (which underflows), so that a tiny γ reaches its limit L/rate (the Maxwell model's
+        # s = e^(−rate t)) instead of t <= 0
+        scaled = -gamma * math.log(SMALLEST_SCALE)
+        reach = (-math.log(SMALLEST_SCALE) / rate * (math.expm1(scaled) / scaled)
+                 if rate > 0.0 else math.inf)
         if t_last > reach:
             raise InvalidArgumentError(
                 "t", t_last, f"a last time t <= {reach:.3g} here, where the thermal scale "

@@ -87,14 +87,12 @@ def run(args) -> int:
 
 
 def _number(text, name: str) -> float:
-    """A finite real number from the command line's text, or an error naming ``name``."""
-    try:
-        value = float(text)
-    except (TypeError, ValueError):
-        raise InvalidArgumentError(name, text, "a finite real number") from None
-    if value != value or value in (float("inf"), float("-inf")):
-        raise InvalidArgumentError(name, text, "a finite real number")
-    return value
+    """A finite real number from the command line's text, read as typed by the rules of every
+    other option (:func:`particles.validation.check_real`: no digit-group underscores, no
+    non-zero number that reads as 0), or an error naming ``name`` and showing the text."""
+    from particles.validation import check_real
+
+    return check_real(text, name)
 
 
 def _run_relative_velocity(args) -> int:
@@ -120,15 +118,22 @@ def _run_relative_velocity(args) -> int:
                   else _number(args.half_width, "half-width"))
     from ...model import RelativeVelocityModel
 
-    RelativeVelocityModel(restitution, exponent=exponent)  # checks r and gamma first
+    # the library's refusals show the text typed, not the value read from it
+    typed = {"restitution": (restitution, args.restitution), "exponent": (exponent, args.exponent),
+             "half_width": (half_width, args.half_width)}
     try:
+        RelativeVelocityModel(restitution, exponent=exponent)  # checks r and gamma first
         grid = VelocityGrid(points, half_width)
         initial_values("gaussian", grid)  # the starting law must fit the grid
+        state = scaling_state(restitution, exponent=exponent, grid=grid)
     except InvalidArgumentError as exc:
+        value = exc.value
+        read, text = typed.get(exc.name, (None, None))
+        if text is not None and isinstance(value, float) and value == read:
+            value = text
         raise InvalidArgumentError({"half_width": "half-width"}.get(exc.name, exc.name),
-                                   exc.value, exc.expected.replace(
+                                   value, exc.expected.replace(
                                        "half_width >=", "--half-width >=")) from None
-    state = scaling_state(restitution, exponent=exponent, grid=grid)
     converged = state.residual <= RESIDUAL_TOLERANCE
     x = [0.0, 0.5, 1.0, 1.5, 2.0, 3.0]
     payload = {

@@ -284,33 +284,44 @@ def _run_relative_velocity(args, written: list) -> int:
     if args.t is None:
         raise InvalidArgumentError("t", None, "--t T1,T2,... with --rate relative_velocity")
     times = parse_float_list(args.t, "t")
-    density = 1.0 if args.density is None else _number(args.density, "density", check_real)
+    # Every number is read from its text as typed, by the rules of every other option
+    # (particles.validation.check_real: no digit-group underscores, no non-zero number that
+    # reads as 0); the library's refusals below show that text, not the value read.
+    typed: dict[str, tuple[float, str]] = {}
+
+    def number(name: str) -> float:
+        text = getattr(args, name)
+        value = check_real(text, name.replace("_", "-"))
+        typed[name] = (value, text)
+        return value
+
+    density = 1.0 if args.density is None else number("density")
     if not density > 0:
         raise InvalidArgumentError("density", args.density, "a finite density n > 0")
-    exponent = 1.0 if args.exponent is None else _number(args.exponent, "exponent", check_real)
-    model = RelativeVelocityModel(_number(args.restitution, "restitution", check_real),
-                                  exponent=exponent)
-    grid = default_grid(model.exponent)
-    points = grid.points if args.points is None else parse_int(args.points, "points")
-    half_width = (grid.half_width if args.half_width is None
-                  else _number(args.half_width, "half-width", check_real))
-    core = (None if args.core_spacing is None
-            else _number(args.core_spacing, "core-spacing", check_real))
-    if core is not None and model.exponent != 0.0:
-        raise InvalidArgumentError("core-spacing", args.core_spacing,
-                                   "--core-spacing (a mapped grid) with --exponent 0 only "
-                                   f"(here gamma = {model.exponent:g}: use the uniform grid)")
+    exponent = 1.0 if args.exponent is None else number("exponent")
+    restitution = number("restitution")
     try:
+        model = RelativeVelocityModel(restitution, exponent=exponent)
+        grid = default_grid(model.exponent)
+        points = grid.points if args.points is None else parse_int(args.points, "points")
+        half_width = grid.half_width if args.half_width is None else number("half_width")
+        core = None if args.core_spacing is None else number("core_spacing")
+        if core is not None and model.exponent != 0.0:
+            raise InvalidArgumentError("core-spacing", args.core_spacing,
+                                       "--core-spacing (a mapped grid) with --exponent 0 only "
+                                       f"(here gamma = {model.exponent:g}: use the uniform "
+                                       "grid)")
         grid = (VelocityGrid(points, half_width) if core is None
                 else MappedGrid(points, half_width, core))
         initial_values(args.initial, grid)  # the grid against the law, before the solve
     except InvalidArgumentError as exc:
-        name = {"half_width": "half-width", "core_spacing": "core-spacing"}.get(exc.name,
-                                                                              exc.name)
-        raise InvalidArgumentError(name, exc.value, exc.expected.replace(
-            "half_width >=", "--half-width >=")) from None
-    sol = solve_boltzmann(model.restitution, times, exponent=model.exponent, density=density,
-                          initial=args.initial, grid=grid)
+        raise _typed_error(exc, typed) from None
+    typed["t"] = (times[-1], args.t)  # the reach check names the last time
+    try:
+        sol = solve_boltzmann(model.restitution, times, exponent=model.exponent,
+                              density=density, initial=args.initial, grid=grid)
+    except InvalidArgumentError as exc:
+        raise _typed_error(exc, typed) from None
     interrupt.check()
     kurtosis = sol.kurtosis
     if args.json:
@@ -341,12 +352,14 @@ def _run_relative_velocity(args, written: list) -> int:
     return 0
 
 
-def _number(text, name: str, check):
-    """A finite real number from the command line's text, or an error naming ``name``."""
-    try:
-        value = float(text)
-    except (TypeError, ValueError):
-        raise InvalidArgumentError(name, text, "a finite real number") from None
-    if not np.isfinite(value):
-        raise InvalidArgumentError(name, text, "a finite real number")
-    return check(value, name)
+def _typed_error(exc: InvalidArgumentError, typed: dict) -> InvalidArgumentError:
+    """The library's refusal of ``--rate relative_velocity``'s input, naming the option as
+    typed (``half-width``, not ``half_width``) and showing the text typed when the library saw
+    the value read from it (``typed``: name -> (value read, text))."""
+    name = {"half_width": "half-width", "core_spacing": "core-spacing"}.get(exc.name, exc.name)
+    value = exc.value
+    read = typed.get(exc.name, typed.get(name.replace("-", "_")))
+    if read is not None and isinstance(value, float) and value == read[0]:
+        value = read[1]
+    return InvalidArgumentError(name, value,
+                                exc.expected.replace("half_width >=", "--half-width >="))
