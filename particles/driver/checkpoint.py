@@ -66,6 +66,7 @@ class Records:
         # and its scale v0 = sqrt(E) (0 where E = 0 and x is undefined; NaN: not recorded),
         # nt * (B + 1) numbers in all.
         self.hist_edges = None if edges is None else np.asarray(edges, dtype=float)
+        self.hist_count = self.hist_v0 = None  # none recorded (edges None)
         if self.hist_edges is not None:
             self.hist_count = np.zeros((nt, self.hist_edges.size - 1), dtype=np.int64)
             self.hist_v0 = np.full(nt, np.nan)
@@ -102,13 +103,13 @@ class Records:
             self.energy[i] = float(np.mean(np.einsum("ij,ij->i", v, v)))
             self.momentum[i] = float(np.linalg.norm(v.mean(axis=0)))
             first = np.ascontiguousarray(v[:, 0])
-            scratch = first * first
             with np.errstate(over="ignore"):
+                scratch = first * first
                 e_first = float(np.mean(scratch))
         else:
             first = v
-            scratch = v * v
             with np.errstate(over="ignore"):  # as observables.energy: inf beyond ~1e154
+                scratch = v * v
                 e_first = float(np.mean(scratch))
             self.energy[i] = e_first
             self.momentum[i] = float(np.mean(v))
@@ -214,7 +215,7 @@ def seed_source(record):
     return int(record)
 
 
-def run_identity(engine, times, seed, edges, structure, snapshots) -> dict:
+def run_identity(engine, times, seed, edges, structure, snapshots, histograms=True) -> dict:
     identity = {
         "model": engine.name,
         "params": engine.to_dict(),
@@ -227,6 +228,8 @@ def run_identity(engine, times, seed, edges, structure, snapshots) -> dict:
             "snapshots": bool(snapshots),
         },
     }
+    if not histograms:  # only where off: the runs before the option keep their identity
+        identity["options"]["histograms"] = False
     return json.loads(json.dumps(identity))  # normalise tuples, numpy scalars
 
 

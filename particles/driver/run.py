@@ -112,6 +112,7 @@ def simulate(
     snapshots: bool = False,
     checkpoint_interval: float = 60.0,
     force: bool = False,
+    histograms: bool = True,
 ) -> RunResult:
     """Run ``engine`` from its initial state through the requested ``times`` and record it.
 
@@ -159,6 +160,11 @@ def simulate(
         only (one row of N/2 + 1 floats), False (default) not at all.
     snapshots : bool, optional
         Record the velocities at every time (d = 1 only).  Default False.
+    histograms : bool, optional
+        Record the rescaled histogram at every time (``RunResult.histograms``; default True);
+        False records only the last time's (``RunResult.histogram``), which saves a pass
+        over the velocities at each time (the command line asks for them only when the
+        result is saved or checkpointed).
     checkpoint_interval : float, optional
         Seconds of wall-clock time between checkpoint writes (≥ 0; default 60).
     force : bool, optional
@@ -201,6 +207,7 @@ def simulate(
     checkpoint_interval = check_nonnegative(checkpoint_interval, "checkpoint_interval")
     structure_factor = _structure_mode(structure_factor)
     snapshots = bool(snapshots)
+    histograms = check_bool(histograms, "histograms")
     if checkpoint is not None:
         checkpoint = check_output_file(checkpoint, "checkpoint")
     if int(engine.to_dict().get("dimension", 1)) != 1 and (structure_factor or snapshots):
@@ -208,7 +215,8 @@ def simulate(
             "structure_factor" if structure_factor else "snapshots", True,
             "a one-dimensional model (S(k) and snapshots are recorded in d = 1 only)",
         )
-    identity = run_identity(engine, times, seed, hist_edges, structure_factor, snapshots)
+    identity = run_identity(engine, times, seed, hist_edges, structure_factor, snapshots,
+                            histograms)
     estimate = budget.check_budget(
         budget.estimate_run(engine, float(times[-1]), n_times=len(times),
                             structure=structure_factor, snapshots=snapshots),
@@ -217,7 +225,8 @@ def simulate(
     n = int(engine.to_dict()["n"])
     with CheckpointLock(checkpoint):
         fields = tuple(engine.snapshot_fields) if snapshots else ()
-        records = Records(len(times), n, structure_factor, snapshots, fields, hist_edges)
+        records = Records(len(times), n, structure_factor, snapshots, fields,
+                          hist_edges if histograms else None)
         if resume is not None:
             state, rng = load_checkpoint(check_path(resume, "resume"), engine, identity,
                                           records)

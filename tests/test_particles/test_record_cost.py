@@ -132,3 +132,44 @@ def test_recorded_kurtosis_and_histogram_at_the_float_limits(scale):
     h = obs.rescaled_histogram(v, obs.DEFAULT_EDGES)
     assert np.array_equal(records.hist_count[0], h.count)
     assert records.hist_v0[0] == pytest.approx(h.v0, rel=1e-15)
+
+
+def test_per_time_histograms_only_when_asked(tmp_path):
+    # histograms=False records the same numbers but no per-time histograms; the last time's
+    # histogram is there either way, and the option is part of a checkpoint's identity only
+    # where it is off (the runs before it keep theirs)
+    engine = StickyGas(n=N, density=1.0)
+    times = [1.0, 10.0]
+    both = simulate(engine, times, seed=3, progress=False)
+    last = simulate(engine, times, seed=3, progress=False, histograms=False)
+    assert last.histograms == () and len(both.histograms) == 2
+    assert np.array_equal(last.histogram.count, both.histogram.count)
+    assert np.array_equal(last.energy, both.energy) and np.array_equal(last.kurtosis,
+                                                                       both.kurtosis)
+    with pytest.raises(Exception, match="histograms"):
+        simulate(engine, times, seed=3, progress=False, histograms="no")
+    simulate(engine, times, seed=3, progress=False, histograms=False,
+             checkpoint=tmp_path / "c.npz")
+    again = simulate(engine, times, seed=3, progress=False, histograms=False,
+                     resume=tmp_path / "c.npz")
+    assert np.array_equal(again.energy, last.energy)
+    with pytest.raises(Exception, match="checkpoint|resume"):
+        simulate(engine, times, seed=3, progress=False, resume=tmp_path / "c.npz")
+
+
+def test_the_command_line_records_per_time_histograms_only_for_a_file(tmp_path, capsys):
+    import json
+
+    from maxwell_kinetics.app.cli import main
+    from particles.driver import RunResult
+
+    args = ["simulate", "sticky", "--n", "500", "--density", "1", "--t", "1,10", "--seed", "2"]
+    assert main([*args, "--json"]) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert main([*args, "--json", "--save", str(tmp_path / "r.npz")]) == 0
+    with_file = json.loads(capsys.readouterr().out)
+    with_file.pop("seconds"), printed.pop("seconds")
+    assert with_file == printed  # the same printed numbers, with or without the file
+    saved = RunResult.load(tmp_path / "r.npz")
+    assert len(saved.histograms) == 2
+    assert saved.energy.tolist() == printed["energy"]

@@ -127,6 +127,8 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
             structure_factor="last" if args.structure_factor else False,  # only S(τ_last) printed
             checkpoint_interval=interval,
             force=args.force,
+            # the per-time histograms are printed nowhere: recorded only for a file
+            histograms=bool(args.save or args.checkpoint or args.resume),
         )
     except KeyboardInterrupt as exc:
         saved = getattr(exc, "checkpoint_saved", None)  # set by simulate once the file is saved
