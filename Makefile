@@ -60,10 +60,10 @@ notebooks: $(NB_STAMP)
 notebooks-open: $(NB_STAMP)
 	$(VENV)/bin/jupyter notebook notebooks/
 
-# The tests run on every core (pytest-xdist); --dist loadfile keeps each test file on one worker
-# and the tests that share the session's comparisons together (tests/conftest.py).  `make test`
-# deselects the tests marked `full` (long variants of checks the default set also makes);
-# `make test-full` runs everything.  TEST_WORKERS=0 runs in one process.
+# The tests run on every core (pytest-xdist), dealt to the workers by file, the files that
+# read the session's comparisons as one unit (tests/conftest.py).  `make test` deselects the
+# tests marked `full` (long variants of checks the default set also makes); `make test-full`
+# runs everything.  TEST_WORKERS=0 runs in one process.
 TEST_WORKERS ?= auto
 PYTEST_XDIST := -n $(TEST_WORKERS) --dist loadfile
 

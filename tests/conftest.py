@@ -4,32 +4,54 @@
   size, computed once per test session and shared by every test that reads it (the comparison tests
   and the notebooks);
 * the persistent compilation cache is off during the tests (its own tests turn it on);
-* under pytest-xdist (``make test`` runs ``-n auto --dist loadgroup``) each test file goes to
-  one worker as a whole (its module-scoped fixtures are computed once), and every test that
-  reads the session's ``comparison`` fixture goes to one worker together (the comparisons are
-  computed once per run, as in a plain run): :func:`pytest_itemcollected`.
+* under pytest-xdist (``make test`` runs ``-n auto``) the tests are dealt to the workers by
+  file (module-scoped fixtures such as a built site, executed notebooks or a solved problem
+  are computed once), and every file that reads the session's ``comparison`` fixture goes to
+  one worker together (the comparisons are computed once per run, as in a plain run):
+  :func:`pytest_xdist_make_scheduler`.
 """
 
 from __future__ import annotations
 
 import pytest
 
-#: The xdist group of the tests that read the session-scoped ``comparison`` fixture.
+#: The work unit of the test files that read the session-scoped ``comparison`` fixture.
 COMPARISONS_GROUP = "comparisons"
 
 
-def pytest_itemcollected(item):
-    """Give each test an ``xdist_group``: ``comparisons`` for the tests that read the
-    ``comparison`` fixture (computed once per worker, so all of them share one worker), else
-    its file (module-scoped fixtures such as a built site, executed notebooks or a solved
-    problem are computed once).  With ``--dist loadgroup`` a group runs on one worker; without
-    xdist the marks do nothing.  Done as each test is collected: xdist reads the marks in its
-    own ``pytest_collection_modifyitems``, which runs before a conftest's."""
-    if "comparison" in getattr(item, "fixturenames", ()):
-        group = COMPARISONS_GROUP
-    else:
-        group = item.nodeid.split("::", 1)[0]
-    item.add_marker(pytest.mark.xdist_group(group))
+def comparison_files(root) -> set[str]:
+    """The test files (paths relative to ``root``, as in node ids) with a test or fixture
+    that takes the ``comparison`` fixture: read from their source, since the scheduler of
+    pytest-xdist sees node ids only."""
+    import ast
+    from pathlib import Path
+
+    found = set()
+    for path in Path(root, "tests").rglob("test_*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.FunctionDef) and any(
+                    a.arg == "comparison" for a in node.args.args):
+                found.add(path.relative_to(root).as_posix())
+                break
+    return found
+
+
+def pytest_xdist_make_scheduler(config, log):
+    """Deal the tests to the xdist workers by file, the files that read the ``comparison``
+    fixture as one unit (xdist's own ``loadgroup`` relies on a suffix of the node id that
+    pytest 9 no longer carries from its hook, so the units are made here)."""
+    if config.getvalue("dist") not in ("loadfile", "loadgroup"):
+        return None  # another mode asked for by name: xdist's own
+    from xdist.scheduler import LoadScopeScheduling
+
+    shared = comparison_files(config.rootpath)
+
+    class ByFile(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            path = nodeid.split("::", 1)[0]
+            return COMPARISONS_GROUP if path in shared else path
+
+    return ByFile(config, log)
 
 
 @pytest.fixture(scope="session")
