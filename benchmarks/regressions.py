@@ -26,8 +26,9 @@ Workloads (:data:`WORKLOADS`): the Fourier solve, the hard-rod solve, Ulam, latt
 N = 10⁶, the sticky gas at N = 10⁷ with 20 output times, and ``reproduce --small`` of the
 comparisons both trees have (``--only``; a comparison added since the baseline is new work, not
 a regression).  Its time is judged on the comparisons whose summaries have the same keys in
-both trees (a comparison that gained outputs does more work: shown, not judged); each
-comparison's own time comes from ``summary.json``.  The solves run with ``--no-cache`` (each
+both trees, verdicts and timings aside (a comparison that gained outputs does more work: shown,
+not judged; with none alike, the whole run's time); each comparison's own time comes from
+``summary.json``.  The solves run with ``--no-cache`` (each
 call compiles: the baseline's compile store is not this tree's).
 """
 
@@ -145,7 +146,10 @@ def measure(tree: Path, args: list[str], common: str) -> tuple[int, float, float
         summary = Path(cwd) / "out" / "summary.json"
         if summary.is_file():
             for key, entry in json.loads(summary.read_text())["comparisons"].items():
-                parts[key] = (float(entry["seconds"]), sorted(entry))
+                # its outputs, less the verdicts (judged from the others, in microseconds;
+                # every comparison gained them since 0.2.0) and the timing
+                parts[key] = (float(entry["seconds"]),
+                              sorted(set(entry) - {"verdicts", "seconds", "solver_seconds"}))
     return child.returncode, seconds, usage.ru_maxrss * 1024 / 1e9, "\n".join(tail), parts
 
 
@@ -222,9 +226,11 @@ def main(argv: list[str] | None = None) -> int:
                     k: {"seconds": new["parts"][k][0], "baseline_seconds": old["parts"][k][0],
                         "same_outputs": k in same} for k in new["parts"] if k in old["parts"]}
                 base_sum = sum(old["parts"][k][0] for k in same)
-                judged = (sum(new["parts"][k][0] for k in same) / base_sum if base_sum > 0
-                          else 1.0)
-                row["same_output_time_ratio"] = judged
+                if base_sum > 0:
+                    judged = sum(new["parts"][k][0] for k in same) / base_sum
+                    row["same_output_time_ratio"] = judged
+                else:  # nothing comparable: judged on the whole run's time
+                    row["same_output_time_ratio"] = None
             worst = max(worst, judged, row["memory_ratio"])
         else:
             row["baseline_refused"] = missing.get(name, "")
@@ -254,9 +260,11 @@ def main(argv: list[str] | None = None) -> int:
                     note = "" if part["same_outputs"] else "   (outputs changed: not judged)"
                     print(f"  {key:14.14s} {part['seconds']:8.2f} {part['baseline_seconds']:8.2f} "
                           f"{part['seconds'] / part['baseline_seconds']:6.3f}{note}")
-                if "same_output_time_ratio" in r:
+                if r.get("same_output_time_ratio") is not None:
                     print(f"  {'judged':14s} {'':17s} {r['same_output_time_ratio']:6.3f}   "
                           "(the comparisons with the same outputs)")
+                elif "same_output_time_ratio" in r:
+                    print("  no comparison has the same outputs: judged on the whole time")
         print("passed" if result["passed"] else f"FAILED: a ratio passes {opts.limit}")
     return 0 if result["passed"] else 1
 
