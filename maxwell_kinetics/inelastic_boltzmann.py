@@ -76,35 +76,14 @@ __all__ = ["solve_boltzmann", "BoltzmannSolution", "scaling_state", "ScalingStat
 #: family n|v − w|^γ (its scheme uses the homogeneity of |g|^γ).
 CARRIED_KERNELS = ("relative_velocity",)
 
-def check_density(density) -> float:
-    """The density n: a finite number > 0.
-
-    Parameters
-    ----------
-    density : float
-        Number of particles per unit length.
-
-    Returns
-    -------
-    float
-        n.
-
-    Raises
-    ------
-    particles.validation.InvalidArgumentError
-        Naming ``density`` otherwise.
-    """
-    return check_positive(density, "density")
-
 
 #: Smallest thermal scale s(t) = √(⟨v²⟩(t)/⟨v²⟩(0)) a solve with γ > 0 may be asked to reach.
 #: Measured (r = 0.5, default grid): the explicit integration stalls once s falls below about
 #: 1e-18 (γ = 1: ran to s = 2.4e-19, stalled by s = 8e-20; γ = 0.5: ran to 1.5e-17, stalled by
 #: 5e-19), long after the gas has reached its cooling state (:func:`scaling_state`).
 SMALLEST_SCALE = 1e-15
-#: Time steps per unit of the collision time τ = n t and per unit of the grid's stiffness
-#: max |c_i|/(spacing at c_i) (the dilation's explicit stability limit).  Measured at γ = 0,
-#: r = 0.5 on the default grid (stiffness 200): 225 steps to τ = 10, 2973 to τ = 100.
+#: Time steps per unit of τ = n t and of the grid's stiffness max |c_i|/(spacing at c_i) (the
+#: dilation's stability limit); at γ = 0, r = 0.5, stiffness 200: 225 steps to τ = 10.
 STEPS_PER_TAU_AND_STIFFNESS = 0.15
 
 
@@ -312,7 +291,7 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         raise InvalidArgumentError("grid", grid, "a uniform VelocityGrid for exponent="
                                    f"{model.exponent:g} (the MappedGrid is for gamma = 0: at "
                                    "gamma > 0 it can grow an oscillation at its ends)")
-    n = check_density(density)
+    n = check_positive(density, "density")
     times = check_times(t, "t", strictly=True)
     if times.size == 0 or times[0] < 0:
         raise InvalidArgumentError("t", t, "increasing times t >= 0")
