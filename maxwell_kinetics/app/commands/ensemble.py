@@ -22,7 +22,8 @@ Exit status: 0 all tasks finished; 3 some task failed (listed with its parameter
 
 from __future__ import annotations
 
-from particles.ensemble import EnsembleSpec, parse_seeds, run_ensemble
+from particles.ensemble import EnsembleSpec, run_ensemble
+from particles.ensemble.spec import MAX_TASKS
 from particles.models import get_model
 from particles.parsing import parse_count, parse_float_list
 from particles.validation import InvalidArgumentError, check_times
@@ -64,7 +65,9 @@ def add_parser(subparsers) -> None:
                               description=model.description or model.help)
         add_model_options(p, model, sweep=True)
         add_time_option(p, model)
-        p.add_argument("--seeds", required=True, help="seeds: ranges and lists, e.g. 1-16,20")
+        p.add_argument("--seeds", required=True,
+                       help="seeds: ranges and lists, e.g. 1-16,20 (at most "
+                       f"{MAX_TASKS} tasks, seeds x parameter sets, in one ensemble)")
         add_run_options(p)
         where = p.add_mutually_exclusive_group()
         where.add_argument("--workers", default=None,
@@ -111,7 +114,9 @@ def spec_from_args(args) -> EnsembleSpec:
     options = {"checkpoint_interval": args.checkpoint_interval}
     if args.structure_factor:
         options["structure_factor"] = "last"
-    spec = EnsembleSpec(args.model, params, parse_seeds(args.seeds), tuple(times), options)
+    # the seeds as typed: the spec counts its tasks (seeds x parameter sets) from the ranges'
+    # bounds and refuses more than particles.ensemble.spec.MAX_TASKS before listing any seed
+    spec = EnsembleSpec(args.model, params, args.seeds, tuple(times), options)
     time_option(args, model, spec.time_name)  # the option given names the engines' time
     return spec
 
@@ -162,7 +167,7 @@ def run(args) -> int:
     if args.json:
         emit_json(payload)
     else:
-        print(f"ensemble {spec.model}: {len(spec.expand())} tasks, ran {len(report.ran)}, "
+        print(f"ensemble {spec.model}: {report.tasks} tasks, ran {len(report.ran)}, "
               f"skipped {len(report.skipped)} (finished before), "
               f"recomputed {len(report.recomputed)}, failed {len(report.failed)}; "
               f"aggregate in {report.aggregate_path}")
