@@ -78,14 +78,18 @@ def _is_figure_cell(cell) -> bool:
     return bool(re.search(r"(\bfig\b|figure\(.*\)|\bplot_\w+\(.*\))$", last))
 
 
-def execute(path, timeout=600):
+def execute(path, timeout=600, compile_store=None):
     """Run ``path`` headless in a fresh Jupyter kernel as plain Jupyter would (no backend and no
     display hook set for it) at the small size, the checkout on the path; the executed notebook.
+    ``compile_store``: the folder of the project's compile store for the kernel (a user's
+    default is a store of their own; None: the tests' setting, off).
     """
     import nbformat
     from nbclient import NotebookClient
 
     env = dict(os.environ)
+    if compile_store is not None:
+        env["MAXWELL_KINETICS_CACHE"] = str(compile_store)
     env.pop("MPLBACKEND", None)
     env["MAXWELL_KINETICS_SMALL"] = "1"
     paths = [str(ROOT)] + [p for p in env.get("PYTHONPATH", "").split(os.pathsep) if p]
@@ -111,7 +115,7 @@ import nbformat
 sys.path.insert(0, sys.argv[1])
 from test_notebooks import execute
 
-nbformat.write(execute(Path(sys.argv[2])), sys.argv[3])
+nbformat.write(execute(Path(sys.argv[2]), compile_store=sys.argv[4]), sys.argv[3])
 """
 
 
@@ -119,20 +123,23 @@ nbformat.write(execute(Path(sys.argv[2])), sys.argv[3])
 def executed_notebooks(tmp_path_factory):
     """Every notebook executed headless (``execute``), as many at once as there are cores (at
     most 4; each kernel computes on one core for most of its run, so on 2 cores this halves the
-    wall time of the whole set): ``{path: (returncode, executed file, log)}``."""
+    wall time of the whole set): ``{path: (returncode, executed file, log)}``.  The kernels
+    share one compile store in a folder of this run (as a user's kernels share theirs), so a
+    solver compiled by one notebook is loaded by the next."""
     import subprocess
     import sys
     from concurrent.futures import ThreadPoolExecutor
 
     folder = tmp_path_factory.mktemp("executed_notebooks")
+    store = tmp_path_factory.mktemp("compile_store")
 
     def run(path):
         out, log = folder / path.name, folder / f"{path.stem}.log"
         with open(log, "w") as f:
             try:
                 rc = subprocess.run([sys.executable, "-c", _RUNNER, str(Path(__file__).parent),
-                                     str(path), str(out)], stdout=f, stderr=subprocess.STDOUT,
-                                    timeout=900).returncode
+                                     str(path), str(out), str(store)], stdout=f,
+                                    stderr=subprocess.STDOUT, timeout=900).returncode
             except subprocess.TimeoutExpired:
                 rc = "timeout (900 s)"
         return path, (rc, out, log)
