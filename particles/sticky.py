@@ -291,7 +291,7 @@ def _exact_state(x0: np.ndarray, v0: np.ndarray, length: float, t: float) -> Sti
     i, j, junction = pool_junction(means, weights, length)
     # Clusters in label order: the blocks j .. i − 1 of one period, then the junction block
     # (labels blocks[i] … N − 1 and, when j > 0, 0 … blocks[j] − 1: it wraps across the seam).
-    starts = blocks[j: i + 1].copy()
+    starts = blocks[j: i + 1].astype(np.int64)  # a copy (the scratch may be int32)
     positions = np.empty(starts.size)
     np.add(means[j:i], length, out=positions[:-1])  # undo the constant
     positions[-1] = junction + length
@@ -333,7 +333,8 @@ def period_regression(x0, v0, length, t):
     from scipy.optimize import isotonic_regression  # ~1 s to import: on first use only
 
     n = x0.size
-    starts = np.empty(n, dtype=np.int64)
+    # block starts are labels < N: int32 below 2³¹ (4 bytes a block less at the peak)
+    starts = np.empty(n, dtype=np.int32 if n < 2**31 else np.int64)
     means = np.empty(n)
     weights = np.empty(n)
     top = 0

@@ -252,7 +252,8 @@ def _chunk_blocks(params: StickyParams, seed, k, chunks, norm, t):
                 float(np.add.reduce(v)))
     blocks, means, weights = period_regression(x, v, params.length, t)
     vsums = np.add.reduceat(v, blocks)
-    return blocks.copy(), means.copy(), weights.copy(), vsums, first, float(np.add.reduce(v))
+    return (blocks.astype(np.int64), means.copy(), weights.copy(), vsums, first,
+            float(np.add.reduce(v)))  # labels as int64: a chunk's first label is added to them
 
 
 def _interior(nb: int, edge: int):
