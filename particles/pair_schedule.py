@@ -50,6 +50,7 @@ from .validation import InvalidArgumentError, check_count
 
 __all__ = [
     "ulam_carries",
+    "kernel_bound",
     "draw_pairs",
     "fire_rounds_thinned",
     "thin_sequential",
@@ -216,6 +217,33 @@ def ulam_carries(kernel) -> bool:
     return kernel.name == "constant" or (1 in kernel.dimensions and defines_rate(kernel))
 
 
+def kernel_bound(kernel, spread: float) -> float:
+    """``kernel.rate_bound(spread)``, refused unless a finite number ≥ 0 (a kernel of the
+    user's is never trusted blindly: NaN would draw no candidates, silently).
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel
+        The kernel.
+    spread : float
+        The largest |v − w| concerned.
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``rate`` (the engines' argument for the kernel), with the bound received.
+    """
+    bound = kernel.rate_bound(spread)
+    if not 0.0 <= bound < math.inf:
+        raise InvalidArgumentError("rate", kernel, f"a kernel whose rate_bound is a finite "
+                                   f"number >= 0 (got {bound!r} at spread {spread!r})")
+    return bound
+
+
 def power_of_two_near(x: float) -> float:
     """The power of two nearest to ``x`` > 0 in log scale, 2^e with e clipped to [−1000, 1000]."""
     if not x < math.inf:
@@ -317,6 +345,12 @@ def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence,
     -------
     int
         The number of accepted candidates (collisions).
+
+    Raises
+    ------
+    InvalidArgumentError
+        Naming ``rate``, when a fired pair's ``rate`` passes ``bound`` (its acceptance
+        probability would pass 1: the kernel's bound does not hold).
     """
     accepted = 0
     for fired, fire in _rounds(reversed_pairs, first, occurrence):
@@ -326,6 +360,9 @@ def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence,
             np.abs(g, out=g)
         else:
             g = rate(vv[0::2], vv[1::2])
+            if g.size and not g.max() <= bound:  # the acceptance rate/bound would pass 1
+                raise InvalidArgumentError("rate", f"a pair's rate {g.max()!r}",
+                                           f"a kernel whose rate stays <= its bound {bound!r}")
         threshold = np.compress(fire, marks)
         marks = np.compress(~fire, marks)  # the marks of the candidates still pending
         threshold *= bound

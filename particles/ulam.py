@@ -69,6 +69,7 @@ from .pair_schedule import (
     fire_rounds_thinned,
     fire_rounds_with_rows,
     hull_bound,
+    kernel_bound,
     power_of_two_near,
     thin_sequential,
     thinned_windows,
@@ -477,7 +478,7 @@ class Ulam(EngineBase):
             ``(N t_max / 2, "collisions")``.
         """
         if self.relative_velocity_rate:
-            bound = self.kernel.rate_bound(12.0 * math.sqrt(2.0))
+            bound = kernel_bound(self.kernel, 12.0 * math.sqrt(2.0))
             return 0.5 * self.density * (self.n - 1) * bound * t_max, "candidates"
         return float(self.n) * t_max / 2.0, "collisions"
 
@@ -593,7 +594,7 @@ class Ulam(EngineBase):
         s = float(state.time)
         target = float(until)
         while s < target:
-            bound = kernel.rate_bound(hull_bound(v))  # ≥ the rate of every pair, now and later
+            bound = kernel_bound(kernel, hull_bound(v))  # ≥ every pair's rate, now and later
             windows = self.thinned_windows(s, target, bound)
             for a, b in windows:
                 k = int(rng.poisson(half_rate * bound * (b - a))) if bound > 0.0 else 0

@@ -249,3 +249,29 @@ def test_a_result_keeps_the_time_its_engine_counts(soft_rods, tmp_path):
     assert time_name_of("md", {}) == "t" and time_name_of("ulam", {}) == "tau"
     assert time_name_of("ulam", {"rate": "relative_velocity"}) == "t"
     assert time_name_of("ulam", {"rate": soft_rods.name}) == "t"
+
+
+def test_a_kernel_whose_bound_does_not_hold_is_refused_not_run():
+    @dataclasses.dataclass(frozen=True)
+    class Loose(Kernel):
+        name: ClassVar[str] = "loose_for_a_test"
+        time_name: ClassVar[str] = "t"
+
+        def rate(self, v, w, xp=np):
+            return xp.abs(v - w)
+
+        def rate_bound(self, spread):
+            return 0.5 * spread  # below the largest rate: acceptance would pass 1
+
+    @dataclasses.dataclass(frozen=True)
+    class NoBound(Loose):
+        name: ClassVar[str] = "no_bound_for_a_test"
+
+        def rate_bound(self, spread):
+            return math.nan
+
+    engine = Ulam(400, 0.5, rate=Loose(0.5))
+    with pytest.raises(InvalidArgumentError, match="rate stays <= its bound"):
+        simulate(engine, [2.0], seed=1, progress=False)
+    with pytest.raises(InvalidArgumentError, match="rate_bound is a finite number"):
+        simulate(Ulam(400, 0.5, rate=NoBound(0.5)), [2.0], seed=1, progress=False)
