@@ -39,7 +39,7 @@ def test_the_count_is_seeds_times_parameter_sets(capsys, tmp_path):
                              "--out", str(out)])
     assert time.perf_counter() - start < 5.0
     assert "argument seeds='1-10000,10001-20000' is invalid" in err
-    assert f"got 20000 seeds x 6 parameter sets = 120000); " in err
+    assert "got 20000 seeds x 6 parameter sets = 120000); " in err
     assert f"at most {MAX_TASKS} tasks" in err
     assert not out.exists()
 
