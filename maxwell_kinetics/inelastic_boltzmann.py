@@ -56,6 +56,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from particles import kernels as _kernels
 from particles.initial import get_law
 from particles.validation import (
     InvalidArgumentError,
@@ -72,9 +73,8 @@ __all__ = ["solve_boltzmann", "BoltzmannSolution", "scaling_state", "ScalingStat
            "SCALING_GRID", "check_reach", "SMALLEST_SCALE", "STEPS_PER_TAU_AND_STIFFNESS",
            "CARRIED_KERNELS"]
 
-#: The kernels (:mod:`particles.kernels`) this velocity-space solver carries: the power-law
-#: family n|v − w|^γ (its scheme uses the homogeneity of |g|^γ).
-CARRIED_KERNELS = ("relative_velocity",)
+#: The kernels this velocity-space solver carries: n|v − w|^γ (its scheme uses its homogeneity).
+CARRIED_KERNELS = (_kernels.RelativeVelocity.name,)
 
 
 #: Smallest thermal scale s(t) = √(⟨v²⟩(t)/⟨v²⟩(0)) a solve with γ > 0 may be asked to reach.

@@ -53,7 +53,7 @@ import numpy as np
 from .collision import collide_scalar, transfer_fraction
 from .driver import EngineBase, initial_velocities
 from .initial import get_law
-from .kernels import kernel_class
+from .kernels import ConstantRate, RelativeVelocity, kernel_class
 from .validation import InvalidArgumentError, check_count, check_real_array, check_restitution
 
 __all__ = [
@@ -70,7 +70,7 @@ IncrementSource = Callable[[np.ndarray], np.ndarray]
 
 #: The kernels (:mod:`particles.kernels`) that the lattice carries: every bond at rate 1 per
 #: unit τ, or at rate |Δ| (the hard-rod kernel at its default exponent 1).
-CARRIED_KERNELS = ("constant", "relative_velocity")
+CARRIED_KERNELS = (ConstantRate.name, RelativeVelocity.name)
 
 
 def __getattr__(name: str):

@@ -36,7 +36,7 @@ import numpy as np
 
 from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .driver.engine import next_grid_point
-from .kernels import defines_rate
+from .kernels import ConstantRate, defines_rate
 from .ulam_kinematics import (
     AngularDraws,
     as_complex,
@@ -214,7 +214,7 @@ def ulam_carries(kernel) -> bool:
     -------
     bool
     """
-    return kernel.name == "constant" or (1 in kernel.dimensions and defines_rate(kernel))
+    return kernel.name == ConstantRate.name or (1 in kernel.dimensions and defines_rate(kernel))
 
 
 def kernel_bound(kernel, spread: float) -> float:

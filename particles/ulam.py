@@ -60,7 +60,7 @@ import numpy as np
 from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .driver import EngineBase, initial_velocities, next_grid_point
 from .initial import get_law
-from .kernels import Kernel, kernel_class, make_kernel
+from .kernels import ConstantRate, Kernel, kernel_class, make_kernel
 from .pair_schedule import (
     BLOCK_WINDOWS,
     draw_pairs_unchecked,
@@ -331,7 +331,7 @@ class Ulam(EngineBase):
         density = check_positive(self.density, "density")
         if 1 not in kernel.dimensions:
             raise InvalidArgumentError("rate", rate, "a kernel defined in d = 1")
-        if rate != "constant":
+        if rate != ConstantRate.name:
             if self.dimension != 1:
                 raise InvalidArgumentError("rate", rate, "'constant' when dimension > 1")
             if driving != 0.0:
@@ -349,7 +349,7 @@ class Ulam(EngineBase):
     @property
     def relative_velocity_rate(self) -> bool:
         """True for a velocity-dependent rate (the DSMC by thinning, time t), False for τ."""
-        return self.rate != "constant"
+        return self.rate != ConstantRate.name
 
     @property
     def time_name(self) -> str:

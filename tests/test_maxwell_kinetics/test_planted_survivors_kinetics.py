@@ -13,8 +13,8 @@ each derived by hand or exactly, never from a number read off a run:
   comparison's kurtosis) with its mean or its variance 0.1 % off (or the variance with N − 1);
   checked exactly: ⟨x⟩ = 0, ⟨x²⟩ = 1 per row to round-off, x = ±1 for two particles, affine
   invariance.
-* ``test_kurtosis_sampling_error_*``: the delta-method σ of the sample kurtosis
-  (``_kurtosis_sampling_error``, comparisons/_rate_vs_correlations.py) 0.1 % off; checked on a
+* ``testkurtosis_sampling_error_*``: the delta-method σ of the sample kurtosis
+  (``kurtosis_sampling_error``, comparisons/_rate_vs_correlations.py) 0.1 % off; checked on a
   sample with the Gaussian moments 3, 15, 105 (var ψ = 24, σ = √(24/(NR)) exactly) and on
   integer samples against var ψ = m₈ − 4m₄m₆ + 4m₄³ − m₄² in exact rationals (the Gaussian is
   blind to the coefficient 2 of ψ: Cov(ψ, x²) = 0 there).
@@ -34,8 +34,7 @@ import numpy as np
 import pytest
 from scipy import optimize, special
 
-from maxwell_kinetics.app.comparisons import collisions_per_particle
-from maxwell_kinetics.app.comparisons._rate_vs_correlations import _kurtosis_sampling_error
+from maxwell_kinetics.app.comparisons import collisions_per_particle, kurtosis_sampling_error
 from maxwell_kinetics.app.comparisons.analysis import rescaled
 from maxwell_kinetics.inelastic_boltzmann import scaling_state, solve_boltzmann
 from maxwell_kinetics.velocity_grid import VelocityGrid
@@ -167,7 +166,7 @@ def _exact_psi_variance(sample) -> Fraction:
     return m8 - 4 * m4 * m6 + 4 * m4**3 - m4**2
 
 
-def test_kurtosis_sampling_error_is_24_over_n_for_gaussian_moments():
+def testkurtosis_sampling_error_is_24_over_n_for_gaussian_moments():
     """For a law with the Gaussian moments, var ψ = 105 − 4·3·15 + 4·27 − 9 = 24, so the
     delta-method error of the mean kurtosis of R runs of N particles is √(R·24/N)/R = √(24/(NR)),
     the textbook 24/N.  A sample whose own moments are Gaussian (to round-off) makes this exact;
@@ -182,12 +181,12 @@ def test_kurtosis_sampling_error_is_24_over_n_for_gaussian_moments():
     for r in range(runs):
         for j in range(2):
             snapshots[r, j] = 5.0 + 3.0 * np.roll(sample, 17 * r + j)  # same moments
-    sigma = _kurtosis_sampling_error(snapshots)
+    sigma = kurtosis_sampling_error(snapshots)
     assert sigma.shape == (2,)
     np.testing.assert_allclose(sigma, math.sqrt(24.0 / (n * runs)), rtol=1e-10)
 
 
-def test_kurtosis_sampling_error_on_integer_samples_in_exact_arithmetic():
+def testkurtosis_sampling_error_on_integer_samples_in_exact_arithmetic():
     """Symmetric integer samples (non-Gaussian: there the coefficient 2 of ψ matters) against
     var ψ in exact rationals (:func:`_exact_psi_variance`); R = 2 runs of unequal var ψ:
     σ = √((var ψ₁ + var ψ₂)/N)/2."""
@@ -199,8 +198,8 @@ def test_kurtosis_sampling_error_on_integer_samples_in_exact_arithmetic():
     variances = [_exact_psi_variance(row) for row in rows]
     assert variances[0] != variances[1]
     for row, var in zip(rows, variances, strict=True):
-        sigma = _kurtosis_sampling_error(row.astype(float)[None, None, :])
+        sigma = kurtosis_sampling_error(row.astype(float)[None, None, :])
         assert sigma[0] == pytest.approx(math.sqrt(float(var / n)), rel=1e-12)
     both = np.stack([rows[0], rows[1]]).astype(float)[:, None, :]
     expected = math.sqrt(float((variances[0] + variances[1]) / n)) / 2.0
-    assert _kurtosis_sampling_error(both)[0] == pytest.approx(expected, rel=1e-12)
+    assert kurtosis_sampling_error(both)[0] == pytest.approx(expected, rel=1e-12)

@@ -71,11 +71,11 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from particles.kernels import kernel_class
+    from particles.kernels import ConstantRate, kernel_class
 
     from ...inelastic_boltzmann import CARRIED_KERNELS
     # the registry's names: the Fourier scheme's kernel and the velocity grid's
-    kernel_class(args.rate, "rate", among=("constant", *CARRIED_KERNELS))
+    kernel_class(args.rate, "rate", among=(ConstantRate.name, *CARRIED_KERNELS))
     if args.rate == "relative_velocity":
         return _run_relative_velocity(args)
     for name in ("exponent", "points", "half_width"):

@@ -123,12 +123,12 @@ RELATIVE_VELOCITY_OPTIONS = ("t", "density", "exponent", "points", "half_width",
 
 
 def _run(args, written: list) -> int:
-    from particles.kernels import kernel_class
+    from particles.kernels import ConstantRate, kernel_class
 
     from ...inelastic_boltzmann import CARRIED_KERNELS
     from ...solver import check_solve_arguments, solve  # JAX is imported only when a solve runs
     # the registry's names: the Fourier scheme's kernel and the velocity grid's
-    kernel_class(args.rate, "rate", among=("constant", *CARRIED_KERNELS))
+    kernel_class(args.rate, "rate", among=(ConstantRate.name, *CARRIED_KERNELS))
     if args.rate == "relative_velocity":
         return _run_relative_velocity(args, written)
     for name in RELATIVE_VELOCITY_OPTIONS:

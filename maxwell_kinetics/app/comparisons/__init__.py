@@ -50,7 +50,12 @@ from . import (
     _velocity_distributions,
     _velocity_profiles,
 )
-from ._rate_vs_correlations import collisions_per_particle, kurtosis_split, maxwell_kurtosis
+from ._rate_vs_correlations import (
+    collisions_per_particle,
+    kurtosis_sampling_error,
+    kurtosis_split,
+    maxwell_kurtosis,
+)
 from .analysis import (
     block_means,
     coarse_increment_skewness,
@@ -113,6 +118,7 @@ __all__ = [
     "collisions_per_particle",
     "maxwell_kurtosis",
     "kurtosis_split",
+    "kurtosis_sampling_error",
     "PRESETS",
     "VERDICTS",
     "z_drift",

@@ -150,12 +150,23 @@ def _kurtosis_runs(snapshots: np.ndarray) -> np.ndarray:
     return np.array([[np.mean(rescaled(row[None])[0] ** 4) for row in run] for run in snapshots])
 
 
-def _kurtosis_sampling_error(snapshots: np.ndarray) -> np.ndarray:
+def kurtosis_sampling_error(snapshots: np.ndarray) -> np.ndarray:
     """Standard error of the runs' mean kurtosis at each time from the particles themselves (the
     delta method for independent particles: K̂ − K ≈ mean of ψ(x) = (x⁴ − μ₄) − 2μ₄(x² − 1),
     x rescaled to unit variance), combined over the R runs: √(Σ var ψ/N)/R.  Exact for N → ∞ in
     the kinetic models (DSMC, Ulam), whose particles are independent up to O(1/N); it misses
-    the correlations of MD and the lattice, whose errors come from the run scatter."""
+    the correlations of MD and the lattice, whose errors come from the run scatter.
+
+    Parameters
+    ----------
+    snapshots : numpy.ndarray
+        Velocities, shape ``(R, T, N)``: R runs, T times, N particles.
+
+    Returns
+    -------
+    numpy.ndarray
+        The standard error at each of the T times.
+    """
     out = np.empty(snapshots.shape[1])
     for j in range(snapshots.shape[1]):
         x = rescaled(snapshots[:, j, :])
@@ -177,7 +188,7 @@ def _model_record(snapshots: np.ndarray, edges) -> dict:
     width = np.diff(edges)
     dens = np.array([np.histogram(row, edges)[0] / (row.size * width) for row in x])
     return {"kurtosis": k_mean, "kurtosis_error": k_err, "per_run_kurtosis": k,
-            "kurtosis_sampling_error": _kurtosis_sampling_error(snapshots),
+            "kurtosis_sampling_error": kurtosis_sampling_error(snapshots),
             "energy": e_mean, "energy_error": e_err, "density": dens.mean(axis=0),
             "density_error": mean_sem(dens, axis=0)[1]}
 
