@@ -16,8 +16,30 @@ Statistical conventions: see :mod:`maxwell_kinetics.statistics`.  Uncertainties 
 standard error; where several independent runs (seeds) exist, they come from the scatter
 between runs, which includes the correlations between the particles of one run.
 
+The protocol and the registry (:mod:`.registry`): a comparison is a :class:`ComparisonSpec`,
+its ``name``, ``presets`` (size → parameters), ``run(size=None, progress=None, **overrides) ->
+Comparison``, ``plot(comparison, ax=None)`` (draws only), ``verdicts(summary) -> list of
+Verdict`` (the claims it tests, each a :func:`.verdicts.judge` of a :class:`.verdicts.Check`
+read from the summary) and ``order`` (``reproduce`` runs the comparisons by increasing order),
+registered once with :func:`register`.  Everything that lists the comparisons is read from that
+registry: :data:`COMPARISONS` (name → run function, in reproduce's order), :data:`PRESETS`,
+:data:`VERDICTS`, the ``plot`` that ``Comparison.figure()`` draws with, and this package's
+functions ``kinetic_theory`` … (made from :data:`COMPARISONS` when the package is imported).
+:func:`registered` registers a comparison for the duration of a ``with`` block only.
+
+Adding a comparison: a new module ``_<name>.py`` here, with ``NAME``, ``PRESETS``, ``run``
+(ending with ``return Comparison(NAME, with_verdicts(summary, verdicts), data)``, which puts
+the verdicts' records in ``summary["verdicts"]``), ``plot`` and ``verdicts``, whose last line
+registers it::
+
+    COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=13))
+
+plus its name in the ``from . import (...)`` below, which imports (and so registers) every
+comparison.  Nothing else lists the comparisons.
+
 Layout (imports run downwards only; no module of the package imports this one):
 
+* :mod:`.registry` — the protocol (:class:`ComparisonSpec`) and the registry;
 * :mod:`.base` — the :class:`Comparison` record, its file format, sizes and presets;
 * :mod:`.particle_runs` — Ulam, lattice and MD runs through the run driver, cached read-only;
 * :mod:`.kinetic_predictions` — the solver's solutions and predicted bin probabilities;
@@ -25,18 +47,13 @@ Layout (imports run downwards only; no module of the package imports this one):
 * :mod:`.drawing` — array-level drawing helpers;
 * :mod:`.verdicts` — a claim's measured value against its expected one, judged ``agrees``,
   ``disagrees`` or ``explained``;
-* one private module per comparison (``_kinetic_theory`` …), each with ``PRESETS``,
-  ``run(size=None, progress=None, **overrides) -> Comparison``, ``plot(comparison, ax=None)``
-  (draws only; registered so that ``Comparison.figure()`` finds it) and
-  ``verdicts(summary) -> list of Verdict`` (the claims it tests, each a
-  :func:`.verdicts.judge` of a :class:`.verdicts.Check` read from the summary); ``run`` ends
-  with ``return Comparison(NAME, with_verdicts(summary, verdicts), data)``, which puts the
-  verdicts' records in ``summary["verdicts"]``.
+* one private module per comparison (``_kinetic_theory`` …), registered as above.
 """
 
 from __future__ import annotations
 
-from . import (
+# Importing a comparison's module registers it: one name here per comparison.
+from . import (  # noqa: F401
     _driven_steady,
     _energy_decay,
     _kinetic_theory,
@@ -79,23 +96,26 @@ from .particle_runs import (
     sticky_runs,
     ulam_snapshots,
 )
+from .registry import (
+    COMPARISONS,
+    PRESETS,
+    REGISTRY,
+    VERDICTS,
+    ComparisonSpec,
+    comparison_spec,
+    register,
+    registered,
+    unregister,
+)
+
+# The package's function of each comparison (``kinetic_theory`` …): its registered ``run``.
+globals().update(COMPARISONS)
 
 __all__ = [
     "SIZES",
     "Comparison",
     "default_size",
-    "kinetic_theory",
-    "kinetic_vs_ulam",
-    "ulam_collapse",
-    "energy_decay",
-    "structure_factors",
-    "velocity_distributions",
-    "velocity_profiles",
-    "sticky_vs_md",
-    "late_stage",
-    "tail_exponents",
-    "driven_steady",
-    "rate_vs_correlations",
+    *COMPARISONS,
     "coarse_increment_skewness",
     "block_means",
     "velocity_on_grid",
@@ -122,51 +142,15 @@ __all__ = [
     "PRESETS",
     "VERDICTS",
     "z_drift",
+    "ComparisonSpec",
+    "REGISTRY",
+    "register",
+    "unregister",
+    "registered",
+    "comparison_spec",
 ]
-
-kinetic_theory = _kinetic_theory.run
-kinetic_vs_ulam = _kinetic_vs_ulam.run
-ulam_collapse = _ulam_collapse.run
-velocity_distributions = _velocity_distributions.run
-energy_decay = _energy_decay.run
-structure_factors = _structure_factors.run
-velocity_profiles = _velocity_profiles.run
-sticky_vs_md = _sticky_vs_md.run
-late_stage = _late_stage.run
-tail_exponents = _tail_exponents.run
-driven_steady = _driven_steady.run
-rate_vs_correlations = _rate_vs_correlations.run
 
 z_drift = _structure_factors.z_drift
 
 ABS_MEAN_F = _velocity_distributions.ABS_MEAN_F
 ABS_MEAN_GAUSSIAN = _velocity_distributions.ABS_MEAN_GAUSSIAN
-
-#: The comparisons of ``reproduce``, in the order it runs them: name → run function.
-COMPARISONS = {
-    "kinetic_theory": kinetic_theory,
-    "kinetic_vs_ulam": kinetic_vs_ulam,
-    "ulam_collapse": ulam_collapse,
-    "velocity_distributions": velocity_distributions,
-    "energy_decay": energy_decay,
-    "structure_factors": structure_factors,
-    "velocity_profiles": velocity_profiles,
-    "sticky_vs_md": sticky_vs_md,
-    "late_stage": late_stage,
-    "tail_exponents": tail_exponents,
-    "driven_steady": driven_steady,
-    "rate_vs_correlations": rate_vs_correlations,
-}
-
-_MODULES = {
-    "kinetic_theory": _kinetic_theory, "kinetic_vs_ulam": _kinetic_vs_ulam,
-    "ulam_collapse": _ulam_collapse, "velocity_distributions": _velocity_distributions,
-    "energy_decay": _energy_decay, "structure_factors": _structure_factors,
-    "velocity_profiles": _velocity_profiles, "sticky_vs_md": _sticky_vs_md,
-    "late_stage": _late_stage, "tail_exponents": _tail_exponents,
-    "driven_steady": _driven_steady, "rate_vs_correlations": _rate_vs_correlations,
-}
-#: Each comparison's size presets: name → {size: parameters}.
-PRESETS = {name: module.PRESETS for name, module in _MODULES.items()}
-#: Each comparison's judge of its claims: name → ``verdicts(summary) -> list of Verdict``.
-VERDICTS = {name: module.verdicts for name, module in _MODULES.items()}

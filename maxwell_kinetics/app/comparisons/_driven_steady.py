@@ -16,9 +16,10 @@ import numpy as np
 from particles.observables import Histogram, histogram_from_counts, mean_sem_json
 
 from ...driven import steady_state
-from .base import Comparison, jsonable, preset, register_plot
+from .base import Comparison, jsonable, preset
 from .drawing import panels
 from .particle_runs import ParticleRuns
+from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pair, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
@@ -171,4 +172,4 @@ def plot(c, ax=None):
     return fig
 
 
-register_plot(NAME, plot)
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=11))

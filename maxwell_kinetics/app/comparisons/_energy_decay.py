@@ -13,9 +13,10 @@ from particles.observables import mean_sem_json
 
 from ... import statistics as st
 from ...inelastic_boltzmann import solve_boltzmann
-from .base import Comparison, jsonable, preset, register_plot
+from .base import Comparison, jsonable, preset
 from .drawing import panels
 from .particle_runs import ParticleRuns, md_record_times
+from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "lattice_times", "verdicts"]
@@ -343,4 +344,4 @@ def plot(c, ax=None):
     return fig
 
 
-register_plot(NAME, plot)
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=5))

@@ -11,9 +11,10 @@ from particles.validation import InvalidArgumentError
 
 from ...exact import f_density, f_hat, rescaled_moments
 from ...model import MaxwellModel
-from .base import Comparison, jsonable, preset, register_plot
+from .base import Comparison, jsonable, preset
 from .drawing import colors, panels
 from .kinetic_predictions import kinetic_solution
+from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
@@ -233,4 +234,4 @@ def plot(c, ax=None):
     return fig
 
 
-register_plot(NAME, plot)
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=1))

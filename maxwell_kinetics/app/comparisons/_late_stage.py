@@ -38,8 +38,9 @@ from .analysis import (
     tail_grid,
     velocity_on_grid,
 )
-from .base import Comparison, jsonable, preset, register_plot
+from .base import Comparison, jsonable, preset
 from .drawing import colors
+from .registry import ComparisonSpec, register
 from .sticky_tail import deep_tail_runs, exact_tail
 from .verdicts import Check, judge, pair, with_verdicts
 
@@ -663,4 +664,4 @@ def _draw_window(ax, win, skew) -> None:
     ax.legend(fontsize=6, loc="center right")
 
 
-register_plot(NAME, plot)
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=9))

@@ -18,9 +18,10 @@ from ...inelastic_boltzmann import scaling_state, solve_boltzmann
 from ...model import MaxwellModel
 from ...velocity_grid import VelocityGrid
 from .analysis import bin_edges, rescaled
-from .base import Comparison, jsonable, preset, register_plot
+from .base import Comparison, jsonable, preset
 from .drawing import panels
 from .particle_runs import ParticleRuns
+from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts", "collisions_per_particle",
@@ -476,4 +477,4 @@ def plot(c, ax=None):
     return fig
 
 
-register_plot(NAME, plot)
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=12))

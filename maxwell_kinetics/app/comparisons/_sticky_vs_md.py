@@ -12,9 +12,10 @@ import numpy as np
 from particles.observables import mean_sem_json
 
 from .analysis import paired_numbers
-from .base import Comparison, jsonable, preset, register_plot
+from .base import Comparison, jsonable, preset
 from .drawing import colors, panels
 from .particle_runs import ParticleRuns, md_record_times
+from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
@@ -221,4 +222,4 @@ def plot(c, ax=None):
     return fig
 
 
-register_plot(NAME, plot)
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=8))

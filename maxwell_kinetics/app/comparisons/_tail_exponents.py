@@ -16,9 +16,10 @@ import numpy as np
 from particles.observables import mean_sem
 
 from ...tails import tail_exponent
-from .base import Comparison, jsonable, preset, register_plot
+from .base import Comparison, jsonable, preset
 from .drawing import panels
 from .particle_runs import ParticleRuns
+from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pair, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "hill_exponent", "verdicts"]
@@ -154,4 +155,4 @@ def plot(c, ax=None):
     return fig
 
 
-register_plot(NAME, plot)
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=10))

@@ -12,10 +12,11 @@ from particles.observables import mean_sem
 from ... import statistics as st
 from ...exact import f_density
 from .analysis import bin_edges, rescaled
-from .base import Comparison, jsonable, preset, register_plot
+from .base import Comparison, jsonable, preset
 from .drawing import panels
 from .kinetic_predictions import kinetic_solution, solution_bin_probabilities
 from .particle_runs import ParticleRuns
+from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pooled_ratio, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
@@ -199,4 +200,4 @@ def plot(c, ax=None):
     return fig
 
 
-register_plot(NAME, plot)
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=3))

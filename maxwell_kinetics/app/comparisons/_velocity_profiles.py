@@ -11,9 +11,10 @@ import numpy as np
 from particles.observables import mean_sem_json
 
 from .analysis import block_means, coarse_increment_skewness, profile_scales, velocity_on_grid
-from .base import Comparison, jsonable, preset, register_plot
+from .base import Comparison, jsonable, preset
 from .drawing import panels
 from .particle_runs import ParticleRuns
+from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pair, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
@@ -232,4 +233,4 @@ def plot(c, ax=None):
     return fig
 
 
-register_plot(NAME, plot)
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=7))

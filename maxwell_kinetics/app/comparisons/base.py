@@ -3,14 +3,14 @@
 A comparison's result is ``name``, a JSON-able ``summary`` and the figure ``data``.
 :meth:`Comparison.save` writes it through :mod:`particles.persistence` (kind ``"comparison"``)
 as the arrays of ``data`` plus a JSON skeleton of everything else; :meth:`Comparison.load` reads
-it back, and :meth:`Comparison.figure` redraws the figure with the ``plot`` that the comparison's
-module registered under its name (:func:`register_plot`).
+it back, and :meth:`Comparison.figure` redraws the figure with the ``plot`` of the comparison
+registered under its name (:mod:`.registry`).
 
 Sizes (:data:`SIZES`): ``small`` (seconds; the tests and notebooks), ``default`` (what
 ``maxwell-kinetics reproduce`` runs), ``full`` (the paper's sizes where affordable).  Each
 comparison has one preset per size; :func:`preset` applies keyword overrides to it.
 
-This module imports nothing from the rest of the package.
+This module imports nothing from the rest of the package but :mod:`.registry`.
 """
 
 from __future__ import annotations
@@ -19,7 +19,6 @@ import dataclasses
 import io
 import math
 import os
-from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -28,6 +27,7 @@ from particles import persistence
 from particles.validation import InvalidArgumentError
 
 from ... import statistics as st
+from .registry import SIZES, comparison_spec
 
 __all__ = [
     "SIZES",
@@ -35,11 +35,7 @@ __all__ = [
     "default_size",
     "preset",
     "jsonable",
-    "register_plot",
 ]
-
-
-SIZES = ("small", "default", "full")
 
 
 def default_size() -> str:
@@ -59,28 +55,6 @@ def default_size() -> str:
 _COMPARISON_VERSION = 3
 
 
-#: ``plot(comparison, ax=None) -> Figure`` of each comparison, by name (see :func:`register_plot`).
-_PLOTS: dict[str, Callable] = {}
-
-
-def register_plot(name: str, plot: Callable) -> None:
-    """Make ``plot(comparison, ax=None)`` the figure of the comparisons called ``name``.
-
-    Each comparison module registers its own ``plot`` when it is imported (the package imports
-    all of them), so that a :class:`Comparison` read from a file can draw itself without this
-    module importing the comparisons.
-
-    Parameters
-    ----------
-    name : str
-        The comparison's name (its key in ``COMPARISONS``).
-    plot : callable
-        ``plot(comparison, ax=None) -> matplotlib.figure.Figure``; a later registration under
-        the same name replaces an earlier one.
-    """
-    _PLOTS[name] = plot
-
-
 @dataclass
 class Comparison:
     """Result of one comparison: ``name``, JSON-able ``summary``, figure ``data``.
@@ -92,7 +66,7 @@ class Comparison:
     Attributes
     ----------
     name : str
-        The comparison's name; it selects the registered ``plot``.
+        The comparison's name; it selects the ``plot`` of the comparison registered under it.
     summary : dict
         The numbers the comparison reports (JSON-able after
         :func:`maxwell_kinetics.app.output.clean_json`): the tested quantities, the sizes used and
@@ -123,11 +97,9 @@ class Comparison:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            If no ``plot`` is registered under ``name``.
+            Naming ``name``, if no comparison is registered under it.
         """
-        if self.name not in _PLOTS:
-            raise InvalidArgumentError("name", self.name, "one of " + ", ".join(_PLOTS))
-        return _PLOTS[self.name](self, ax)
+        return comparison_spec(self.name).plot(self, ax)
 
     def save(self, path) -> None:
         """Save to ``path`` through :mod:`particles.persistence` (kind ``"comparison"``): the
