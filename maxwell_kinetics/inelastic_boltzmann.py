@@ -67,14 +67,99 @@ from particles.validation import (
 )
 
 from . import velocity_grid as _grid
+from .boltzmann_solution import BoltzmannSolution
+from .boltzmann_solution import interpolate_nodes as _interpolate
 from .model import RelativeVelocityModel
 
-__all__ = ["solve_boltzmann", "BoltzmannSolution", "scaling_state", "ScalingState",
+__all__ = ["solve_boltzmann", "scaling_state", "ScalingState",
            "SCALING_GRID", "check_reach", "SMALLEST_SCALE", "STEPS_PER_TAU_AND_STIFFNESS",
-           "CARRIED_KERNELS"]
+           "carries", "grid_kernel", "kernel_of"]
 
-#: The kernels this velocity-space solver carries: n|v − w|^γ (its scheme uses its homogeneity).
-CARRIED_KERNELS = (_kernels.RelativeVelocity.name,)
+
+def carries(kernel) -> bool:
+    """Whether this velocity-space solver carries a kernel (a class or an instance): one of
+    physical time t, defined in d = 1, with its rate written out, whose rate depends on
+    |v − w| alone and is homogeneous in it (it declares
+    :attr:`particles.kernels.Kernel.homogeneity`).
+
+    Parameters
+    ----------
+    kernel : type or particles.kernels.Kernel
+        A kernel class or instance.
+
+    Returns
+    -------
+    bool
+    """
+    cls = kernel if isinstance(kernel, type) else type(kernel)
+    return (issubclass(cls, _kernels.Kernel) and cls.time_name == "t" and 1 in cls.dimensions
+            and _kernels.defines_rate(cls)
+            and cls.homogeneity is not _kernels.Kernel.homogeneity)
+
+
+#: Speeds at which :func:`grid_kernel` checks that a rate is homogeneous of its declared degree.
+_PROBES = np.array([0.25, 0.5, 2.0, 3.0])
+
+
+def grid_kernel(kernel, argument: str = "kernel") -> _kernels.Kernel:
+    """The kernel as this solver carries it, checked before any work: a
+    :class:`particles.kernels.Kernel` (or a model that holds one, such as
+    :class:`maxwell_kinetics.model.RelativeVelocityModel`) that :func:`carries` accepts, whose
+    degree γ lies in [0, 2] and whose rate is homogeneous of that degree,
+    R(v, w) = R(1, 0) |v − w|^γ with R(1, 0) > 0, at |v − w| = 0.25, 0.5, 2 and 3 (to 1e-12,
+    both signs of v − w).
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel or RelativeVelocityModel
+        The kernel.
+    argument : str, optional
+        The argument's name in errors.
+
+    Returns
+    -------
+    particles.kernels.Kernel
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``argument`` for anything else, with the reason.
+    """
+    value = getattr(kernel, "kernel", kernel)
+    if not isinstance(value, _kernels.Kernel):
+        raise InvalidArgumentError(argument, kernel, "a collision kernel "
+                                   "(particles.kernels.Kernel)")
+    if not carries(value):
+        raise InvalidArgumentError(argument, kernel, "a kernel of physical time t in d = 1 whose "
+                                   "rate is a power of |v - w| (it declares its homogeneity): "
+                                   "the velocity-space solver follows the cooling by rescaling "
+                                   "velocities")
+    gamma = value.homogeneity
+    if (isinstance(gamma, bool) or not isinstance(gamma, (int, float))
+            or not 0.0 <= gamma <= 2.0):
+        raise InvalidArgumentError(argument, kernel, f"a homogeneity in [0, 2], not {gamma!r}")
+    unit = _unit_rate(value)
+    for sign in (1.0, -1.0):
+        got = np.asarray(value.rate(sign * _PROBES, np.zeros_like(_PROBES), np), dtype=float)
+        if not (unit > 0.0 and np.all(np.isfinite(got))
+                and np.allclose(got, unit * _PROBES**gamma, rtol=1e-12, atol=0.0)):
+            raise InvalidArgumentError(argument, kernel, f"a rate R(1, 0) |v - w|^{gamma:g} "
+                                       f"with R(1, 0) > 0, as its homogeneity {gamma:g} "
+                                       f"declares (got R = {got.tolist()} at |v - w| = "
+                                       f"{_PROBES.tolist()})")
+    return value
+
+
+def _coefficients(kernel: _kernels.Kernel) -> tuple[float, float, float]:
+    """1 − p, p and λ = (1 − r²)/4 of a kernel, computed as
+    :class:`~maxwell_kinetics.model.RelativeVelocityModel` computes them."""
+    model = RelativeVelocityModel(kernel.restitution, exponent=0.0)
+    return model.complement, model.p, model.lam
+
+
+def _unit_rate(kernel: _kernels.Kernel) -> float:
+    """R(1, 0): the kernel's rate at |v − w| = 1."""
+    return float(kernel.rate(np.float64(1.0), np.float64(0.0), np))
 
 
 #: Smallest thermal scale s(t) = √(⟨v²⟩(t)/⟨v²⟩(0)) a solve with γ > 0 may be asked to reach.
@@ -115,10 +200,11 @@ def check_reach(model: RelativeVelocityModel, density: float, t_last: float, gri
     particles.validation.InvalidArgumentError
         Naming ``t``, with the largest time that can be reached.
     """
-    gamma, lam = model.exponent, model.lam
+    kernel = grid_kernel(model, "model")
+    gamma, lam = kernel.homogeneity, _coefficients(kernel)[2]
     if gamma > 0.0:
         kappa = 2.0 ** (gamma + 2.0) * math.gamma((gamma + 3.0) / 2.0) / math.sqrt(math.pi)
-        rate = lam * density * kappa / 2.0
+        rate = lam * density * kappa * _unit_rate(kernel) / 2.0
         # s(t) < SMALLEST_SCALE  <=>  1 + γ rate t > SMALLEST_SCALE^(−γ) = e^(γL), L = −ln S:
         # t > (e^(γL) − 1)/(γ rate) = (L/rate) expm1(γL)/(γL), written without the cancellation
         # of e^(γL) − 1 (0 in floating point for γ below ~1e-16) and without the product γ rate
@@ -136,7 +222,8 @@ def check_reach(model: RelativeVelocityModel, density: float, t_last: float, gri
         return
     c = grid.c
     spacing = grid.weights if isinstance(grid, _grid.MappedGrid) else np.full(c.size, grid.h)
-    per_tau = STEPS_PER_TAU_AND_STIFFNESS * float(np.max(np.abs(c) / spacing))
+    per_tau = (STEPS_PER_TAU_AND_STIFFNESS * _unit_rate(kernel)
+               * float(np.max(np.abs(c) / spacing)))
     steps = per_tau * density * t_last
     if steps > max_steps:
         raise InvalidArgumentError(
@@ -207,14 +294,16 @@ def _unit(grid) -> np.ndarray:
     return np.ones(grid.points)
 
 
-def tables_for(model: RelativeVelocityModel, grid: _grid.VelocityGrid):
-    """The collision tables of ``model`` on ``grid`` as JAX float64 arrays (call inside
-    ``jax.enable_x64(True)``).
+def tables_for(model, grid: _grid.VelocityGrid):
+    """The collision tables of a kernel on ``grid`` as JAX float64 arrays (call inside
+    ``jax.enable_x64(True)``): its rate at every pair of nodes (:meth:`Kernel.rate
+    <particles.kernels.Kernel.rate>`), its degree γ and the coefficient R(1, 0)·(−2ζ(−γ)) of the
+    correction of the node v = w.
 
     Parameters
     ----------
-    model : RelativeVelocityModel
-        The kernel.
+    model : particles.kernels.Kernel or RelativeVelocityModel
+        The kernel (:func:`grid_kernel`).
     grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`)
         The grid.
 
@@ -228,32 +317,82 @@ def tables_for(model: RelativeVelocityModel, grid: _grid.VelocityGrid):
 
     from . import _boltzmann_scheme as scheme
 
-    gamma = model.exponent
-    kink = 0.0 if gamma in (0.0, 2.0) else -2.0 * float(zeta(-gamma))
+    kernel = grid_kernel(model, "model")
+    gamma = float(kernel.homogeneity)
+    keep, p, _ = _coefficients(kernel)
+    kink = 0.0 if gamma in (0.0, 2.0) else -2.0 * float(zeta(-gamma)) * _unit_rate(kernel)
+    c = np.asarray(grid.c, dtype=float)
+    rate = np.array(np.broadcast_to(kernel.rate(c[:, None], c[None, :], np),
+                                    (c.size, c.size)), dtype=float)
     if isinstance(grid, _grid.MappedGrid):
-        tables = scheme.mapped_collision_tables(grid.c, grid.spacing, grid.position,
-                                                model.complement, model.p, gamma, kink)
+        tables = scheme.mapped_collision_tables(c, grid.spacing, grid.position, keep, p, rate,
+                                                gamma, kink)
         tables["unit"] = _unit(grid)
     else:
-        tables = scheme.collision_tables(grid.c, model.complement, model.p, gamma, kink)
+        tables = scheme.collision_tables(c, keep, p, rate, gamma, kink)
     return {k: jnp.asarray(v) for k, v in tables.items()}
 
 
-def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gaussian",
-                    grid: _grid.VelocityGrid | None = None, rtol: float = 1e-10,
-                    atol: float = 1e-13, max_steps: int = 1_000_000) -> BoltzmannSolution:
-    """Solve the homogeneous 1D inelastic Boltzmann equation with rate n|v − w|^γ from an
-    initial law to the times ``t`` (module docstring).
+def kernel_of(kernel, exponent=None, restitution=None, argument: str = "kernel"):
+    """The kernel of a velocity-space solve from its arguments (:func:`grid_kernel`): a kernel
+    as it is, or a restitution r, the shorthand for
+    ``particles.kernels.RelativeVelocity(r, exponent)`` (γ = 1 by default).
 
     Parameters
     ----------
-    restitution : float
-        r ∈ [0, 1].
+    kernel : particles.kernels.Kernel, RelativeVelocityModel or float
+        The kernel, or r.
+    exponent : float, optional
+        γ, with a restitution only.
+    restitution : float, optional
+        r by its former keyword (instead of ``kernel``).
+    argument : str, optional
+        The first argument's name in errors.
+
+    Returns
+    -------
+    particles.kernels.Kernel
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``restitution`` or ``exponent`` when out of range, ``exponent`` when given with a
+        kernel, ``argument`` for a kernel this solver does not carry, ``restitution`` when
+        given together with ``kernel``.
+    """
+    if restitution is not None:
+        if kernel is not None:
+            raise InvalidArgumentError("restitution", restitution, f"no restitution with "
+                                       f"{argument}= (the kernel holds it)")
+        kernel = restitution
+    if isinstance(getattr(kernel, "kernel", kernel), _kernels.Kernel):
+        if exponent is not None:
+            raise InvalidArgumentError("exponent", exponent, "no exponent with a kernel (the "
+                                       "kernel holds its own parameters)")
+        return grid_kernel(kernel, argument)
+    return grid_kernel(_kernels.RelativeVelocity(kernel, 1.0 if exponent is None
+                                                 else exponent), argument)
+
+
+def solve_boltzmann(kernel=None, t=None, *, exponent=None, density=1.0, initial="gaussian",
+                    grid: _grid.VelocityGrid | None = None, rtol: float = 1e-10,
+                    atol: float = 1e-13, max_steps: int = 1_000_000,
+                    restitution=None) -> BoltzmannSolution:
+    """Solve the homogeneous 1D inelastic Boltzmann equation of a kernel whose rate is
+    R(1, 0) n|v − w|^γ from an initial law to the times ``t`` (module docstring).
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel or float
+        A kernel this solver carries (:func:`grid_kernel`), or a restitution r ∈ [0, 1]: the
+        shorthand for ``particles.kernels.RelativeVelocity(r, exponent)``.
     t : array_like
         Increasing physical times ≥ 0 at which to save the solution.
-    exponent : float, default 1.0
-        γ of the rate (1: hard rods, 0: Maxwell), in
+    exponent : float, optional
+        With a restitution only: γ of the rate (default 1: hard rods; 0: Maxwell), in
         :data:`maxwell_kinetics.model.RATE_EXPONENTS`.
+    restitution : float, optional
+        The former name of the first argument, still accepted by keyword.
     density : float, default 1.0
         n > 0, particles per unit length.
     initial : str or particles.initial.InitialLaw, default "gaussian"
@@ -275,7 +414,8 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
     Raises
     ------
     particles.validation.InvalidArgumentError
-        Naming ``restitution``, ``exponent``, ``density``, ``t``, ``initial``, ``points``,
+        Naming ``kernel`` (not a kernel this solver carries), ``restitution``, ``exponent``
+        (also when given with a kernel), ``density``, ``t``, ``initial``, ``points``,
         ``half_width`` or ``core_spacing`` for bad input
         (:func:`maxwell_kinetics.velocity_grid.initial_values`), ``grid`` for a
         :class:`maxwell_kinetics.velocity_grid.MappedGrid` with γ > 0 or not a grid, ``rtol`` or
@@ -285,11 +425,14 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
     RuntimeError
         If the time integration fails (too many steps).
     """
-    model = RelativeVelocityModel(restitution, exponent=exponent)
+    kernel = kernel_of(kernel, exponent, restitution)
+    gamma = float(kernel.homogeneity)
+    if t is None:
+        raise InvalidArgumentError("t", t, "increasing times t >= 0")
     grid = None if grid is None else _grid.check_grid(grid)
-    if isinstance(grid, _grid.MappedGrid) and model.exponent != 0.0:
+    if isinstance(grid, _grid.MappedGrid) and gamma != 0.0:
         raise InvalidArgumentError("grid", grid, "a uniform VelocityGrid for exponent="
-                                   f"{model.exponent:g} (the MappedGrid is for gamma = 0: at "
+                                   f"{gamma:g} (the MappedGrid is for gamma = 0: at "
                                    "gamma > 0 it can grow an oscillation at its ends)")
     n = check_positive(density, "density")
     times = check_times(t, "t", strictly=True)
@@ -299,8 +442,8 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         raise InvalidArgumentError("rtol", rtol, "a relative tolerance in (0, 1)")
     check_positive(atol, "atol")
     max_steps = check_count(max_steps, "max_steps", 1)
-    grid = _grid.default_grid(model.exponent) if grid is None else grid
-    check_reach(model, n, float(times[-1]), grid, max_steps)
+    grid = _grid.default_grid(gamma) if grid is None else grid
+    check_reach(kernel, n, float(times[-1]), grid, max_steps)
     law = get_law(initial)
     F0 = _grid.initial_values(law, grid)
     import jax
@@ -309,8 +452,8 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
     start = time.perf_counter()
     with jax.enable_x64(True):
         functions = _Compiled.get()
-        args = (tables_for(model, grid), jnp.asarray(grid.c), grid.step, n, model.exponent,
-                model.lam)
+        args = (tables_for(kernel, grid), jnp.asarray(grid.c), grid.step, n, gamma,
+                _coefficients(kernel)[2])
         unit = np.append(_unit(grid), 1.0)
         y0 = jnp.asarray(np.append(F0, 0.0) * unit)
         ys, ok, steps = functions.solve(y0, jnp.asarray(_padded(times)), args, rtol, atol,
@@ -336,273 +479,8 @@ def solve_boltzmann(restitution, t, *, exponent=1.0, density=1.0, initial="gauss
         energy_rate = s2 * (h * rates[:, :-1] @ (c * c)
                             + 2.0 * rates[:, -1] * (h * F @ (c * c)))
         edge = h * np.max(np.abs(F[:, [0, 1, -2, -1]]), axis=1)
-    return BoltzmannSolution(model.restitution, model.exponent, n, law.name, grid,
+    return BoltzmannSolution(kernel.restitution, gamma, n, law.name, grid,
                              times, F, log_s, 0.0, energy_rate, edge, int(steps), seconds)
-
-
-@dataclass(frozen=True)
-class BoltzmannSolution:
-    """The solution of :func:`solve_boltzmann`: F(c, t) = s f(u + s c, t) on the grid of c at the
-    saved times, with f(v, t), ⟨v²⟩, the kurtosis, the moments and histograms.
-
-    Attributes
-    ----------
-    restitution, exponent, number_density : float
-        r, γ and n (particles per unit length) of the solve.
-    initial : str
-        The initial law's name.
-    grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`)
-        The grid of c.
-    t : numpy.ndarray
-        The saved physical times, shape (T,).
-    F : numpy.ndarray
-        Shape (T, N): F(c_i, t_k).
-    log_scale : numpy.ndarray
-        ln s(t_k), shape (T,) (s(0) = 1: the standard deviation of v).
-    mean : float
-        u, the conserved mean velocity.
-    energy_rate : numpy.ndarray
-        d⟨v²⟩/dt of the discrete equation at each saved time, shape (T,).
-    edge_mass : numpy.ndarray
-        Largest ω|F| (ω = h, or the local spacing of a
-        :class:`maxwell_kinetics.velocity_grid.MappedGrid`) among the two outermost nodes on each
-        side at each time, shape (T,): a tail that reaches the grid's end shows here.
-    steps : int
-        Time steps taken.
-    seconds : float
-        Wall-clock time of the solve.
-    """
-
-    restitution: float
-    exponent: float
-    number_density: float
-    initial: str
-    grid: _grid.VelocityGrid
-    t: np.ndarray
-    F: np.ndarray = field(repr=False)
-    log_scale: np.ndarray = field(repr=False)
-    mean: float = 0.0
-    energy_rate: np.ndarray = field(repr=False, default=None)
-    edge_mass: np.ndarray = field(repr=False, default=None)
-    steps: int = 0
-    seconds: float = 0.0
-
-    @property
-    def model(self) -> RelativeVelocityModel:
-        """The :class:`~maxwell_kinetics.model.RelativeVelocityModel` of the solve."""
-        return RelativeVelocityModel(self.restitution, exponent=self.exponent)
-
-    def time_index(self, t: float | None = None) -> int:
-        """The index of a saved time (to a relative 1e-12); None: the last.
-
-        Parameters
-        ----------
-        t : float, optional
-            One of the saved times (a real number: not a bool, not a string).
-
-        Returns
-        -------
-        int
-            Its index.
-
-        Raises
-        ------
-        particles.validation.InvalidArgumentError
-            Naming ``t`` when it is not a saved time, or not a finite real number (a bool, a
-            string such as ``'2'``, NaN).
-        """
-        if t is None:
-            return len(self.t) - 1
-        shown = ", ".join(f"{x:g}" for x in self.t)[:200]
-        if (isinstance(t, (bool, np.bool_))
-                or not isinstance(t, (int, float, np.integer, np.floating))
-                or not math.isfinite(float(t))):
-            raise InvalidArgumentError("t", t, f"one of the saved times: {shown}")
-        match = np.flatnonzero(np.abs(self.t - float(t)) <= 1e-12 * max(1.0, abs(float(t))))
-        if match.size == 0:
-            raise InvalidArgumentError("t", t, f"one of the saved times: {shown}")
-        return int(match[0])
-
-    @property
-    def scale(self) -> np.ndarray:
-        """s(t_k), the velocity scale of the grid (shape (T,))."""
-        return np.exp(self.log_scale)
-
-    def velocity_density(self, t: float | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """f(v, t) on the grid's velocities v_i = u + s c_i.
-
-        Parameters
-        ----------
-        t : float, optional
-            A saved time (default the last).
-
-        Returns
-        -------
-        v, f : numpy.ndarray
-            The velocities and the density there (∫ f dv = 1).
-
-        Raises
-        ------
-        particles.validation.InvalidArgumentError
-            Naming ``t`` (:meth:`time_index`).
-        """
-        k = self.time_index(t)
-        s = self.scale[k]
-        return self.mean + s * self.grid.c, self.F[k] / s
-
-    def moments(self, orders=(2, 4, 6)) -> np.ndarray:
-        """Central moments ⟨(v − u)^k⟩ at every saved time.
-
-        Parameters
-        ----------
-        orders : sequence of int
-            The k, integers >= 0.
-
-        Returns
-        -------
-        numpy.ndarray
-            Shape (T, len(orders)).
-
-        Raises
-        ------
-        particles.validation.InvalidArgumentError
-            Naming ``orders`` when it is not a sequence, or holds an order that is not an
-            integer >= 0 (2.5, a bool, a string, NaN: c^2.5 is not real for c < 0).
-        """
-        orders = _check_orders(orders, "orders")
-        c = self.grid.c
-        out = np.array([[_grid.grid_sum(self.grid, row, c**k) for k in orders] for row in self.F])
-        return out * self.scale[:, None] ** np.asarray(orders)
-
-    @property
-    def temperature(self) -> np.ndarray:
-        """⟨(v − u)²⟩ at each saved time."""
-        return self.moments((2,))[:, 0]
-
-    @property
-    def energy(self) -> np.ndarray:
-        """⟨v²⟩ = u² + ⟨(v − u)²⟩ at each saved time (1 at t = 0 for the built-in laws)."""
-        return self.mean**2 + self.temperature
-
-    @property
-    def kurtosis(self) -> np.ndarray:
-        """⟨(v − u)⁴⟩/⟨(v − u)²⟩² at each saved time."""
-        m = self.moments((2, 4))
-        return m[:, 1] / m[:, 0] ** 2
-
-    def density(self, x, t: float | None = None) -> np.ndarray:
-        """P(x, t) of x = (v − u)/√T(t), T = ⟨(v − u)²⟩, by sixth-order Lagrange interpolation
-        of the nodes (zero outside the grid).
-
-        Parameters
-        ----------
-        x : array_like
-            Rescaled velocities (finite real numbers).
-        t : float, optional
-            A saved time (default the last).
-
-        Returns
-        -------
-        numpy.ndarray
-            P(x), of the shape of ``x``.
-
-        Raises
-        ------
-        particles.validation.InvalidArgumentError
-            Naming ``x`` when it is not an array of finite real numbers (NaN, ±inf, booleans,
-            strings), ``t`` (:meth:`time_index`).
-        """
-        x = check_real_array(x, "x")
-        k = self.time_index(t)
-        c = self.grid.c
-        scale = math.sqrt(_grid.grid_sum(self.grid, self.F[k], c * c))
-        return scale * _interpolate(self.F[k], self.grid, x * scale)
-
-    def histogram(self, edges, t: float | None = None):
-        """The solution's prediction on bins of x = (v − u)/√T as the
-        :class:`particles.observables.Histogram` particle runs return (``density`` = bin
-        probability / width, ``error`` and ``count`` 0, ``samples`` 0, ``v0`` = √T).
-
-        Parameters
-        ----------
-        edges : array_like
-            Increasing finite bin edges in x.
-        t : float, optional
-            A saved time (default the last).
-
-        Returns
-        -------
-        particles.observables.Histogram
-            The predicted histogram.
-
-        Raises
-        ------
-        particles.validation.InvalidArgumentError
-            Naming ``edges`` or ``t``.
-        """
-        from particles.observables import Histogram
-
-        from .kinetic_histogram import check_edges
-
-        edges = check_edges(edges)
-        k = self.time_index(t)
-        c = self.grid.c
-        scale = math.sqrt(_grid.grid_sum(self.grid, self.F[k], c * c))
-        prob = np.diff(_cumulative(self.F[k], self.grid, edges * scale))
-        width = np.diff(edges)
-        return Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), prob / width,
-                         np.zeros(width.size), np.zeros(width.size, dtype=np.int64), 0,
-                         float(self.scale[k] * scale))
-
-
-def _check_orders(orders, name: str) -> list[int]:
-    """The moment orders as ints >= 0 (:func:`particles.validation.check_count` each), naming
-    ``name`` for a value that is not a sequence of them."""
-    if isinstance(orders, (str, bytes)) or np.ndim(orders) != 1:
-        raise InvalidArgumentError(name, orders, "a sequence of integers >= 0")
-    out = []
-    for k in orders:
-        try:
-            out.append(check_count(k, name, 0))
-        except InvalidArgumentError:
-            raise InvalidArgumentError(name, orders, "a sequence of integers >= 0") from None
-    return out
-
-
-def _interpolate(values: np.ndarray, grid, x: np.ndarray, order: int = 6):
-    """Lagrange interpolation of order ``order`` of grid ``values`` at ``x`` (0 outside), in
-    c on the uniform grid, in s on a mapped one."""
-    c = grid.c
-    n = c.size
-    if isinstance(grid, _grid.MappedGrid):
-        pos = grid.position(x)
-    else:
-        pos = (x - c[0]) / (c[1] - c[0])
-    first = np.clip(np.floor(pos) - order // 2 + 1, 0, n - order).astype(int)
-    u = pos - first
-    out = np.zeros(x.shape)
-    for m in range(order):
-        w = np.ones(x.shape)
-        for k in range(order):
-            if k != m:
-                w *= (u - k) / (m - k)
-        out += w * values[np.clip(first + m, 0, n - 1)]
-    return np.where((pos >= 0) & (pos <= n - 1), out, 0.0)
-
-
-def _cumulative(values: np.ndarray, grid, x: np.ndarray) -> np.ndarray:
-    """∫_{−L}^{x} of the cubic spline through the nodes (0 below the grid, the total above);
-    on a mapped grid the spline of F g′(s) in s, integrated in s."""
-    from scipy.interpolate import CubicSpline
-
-    c = grid.c
-    if isinstance(grid, _grid.MappedGrid):
-        spline = CubicSpline(grid.s, values * grid.weights / grid.step)
-        s = np.clip(np.arcsinh(np.asarray(x, dtype=float) / grid.scale), grid.s[0], grid.s[-1])
-        return np.array([spline.integrate(grid.s[0], b) for b in s])
-    spline = CubicSpline(c, values)
-    x = np.clip(x, c[0], c[-1])
-    return np.array([spline.integrate(c[0], b) for b in x])
 
 
 #: The default grid of :func:`scaling_state`: the hard-rod state at r = 0.5 has a kurtosis of
@@ -700,19 +578,20 @@ class ScalingState:
         return scale * _interpolate(self.F, self.grid, x * scale)
 
 
-def scaling_state(restitution, *, exponent=1.0, grid: _grid.VelocityGrid | None = None,
+def scaling_state(kernel=None, *, exponent=None, grid: _grid.VelocityGrid | None = None,
                   tolerance: float = 1e-11, max_iterations: int = 30,
-                  relaxation: float | None = None) -> ScalingState:
+                  relaxation: float | None = None, restitution=None) -> ScalingState:
     """The scaling state of the rescaled equation: relaxed in τ′ from the Gaussian, then
     Newton's method on Q_h(F) + σ′ ∂_c(c F) = 0 with ∫F = 1, ⟨c⟩ = 0 and ⟨c²⟩ = 1 (least
     squares on the N + 3 equations).
 
     Parameters
     ----------
-    restitution : float
-        r ∈ [0, 1).
-    exponent : float, default 1.0
-        γ of the rate.
+    kernel : particles.kernels.Kernel or float
+        A kernel this solver carries (:func:`grid_kernel`) with r < 1 and γ > 0, or r ∈ [0, 1):
+        the shorthand for ``particles.kernels.RelativeVelocity(r, exponent)``.
+    exponent : float, optional
+        With a restitution only: γ of the rate (default 1).
     grid : maxwell_kinetics.velocity_grid.VelocityGrid, optional
         Default :data:`SCALING_GRID` (spacing 0.1: at r = 0.99 its kurtosis is 2.5e-4 low and
         F undershoots to −3e-4 between the humps; 361 points on ±6 bring both to ~1e-6 and
@@ -724,6 +603,8 @@ def scaling_state(restitution, *, exponent=1.0, grid: _grid.VelocityGrid | None 
         Most Newton iterations.
     relaxation : float, optional
         τ′ integrated before Newton (default min(2000, 5/λ)).
+    restitution : float, optional
+        The former name of the first argument, still accepted by keyword.
 
     Returns
     -------
@@ -733,17 +614,19 @@ def scaling_state(restitution, *, exponent=1.0, grid: _grid.VelocityGrid | None 
     Raises
     ------
     particles.validation.InvalidArgumentError
-        Naming ``restitution`` (r = 1 has no cooling state), ``exponent`` (γ = 0 or out of
-        range), ``points`` or ``half_width``; ``grid`` for a
+        Naming ``kernel`` (:func:`kernel_of`), ``restitution`` (r = 1 has no cooling state),
+        ``exponent`` (γ = 0 or out of range), ``points`` or ``half_width``; ``grid`` for a
         :class:`maxwell_kinetics.velocity_grid.MappedGrid` or not a grid; ``tolerance`` or
         ``relaxation`` (not a finite number > 0), ``max_iterations`` (not an integer >= 0).
     """
-    model = RelativeVelocityModel(restitution, exponent=exponent)
-    if model.restitution == 1.0:
-        raise InvalidArgumentError("restitution", restitution,
+    given = kernel if restitution is None else restitution
+    kernel = kernel_of(kernel, exponent, restitution)
+    lam = _coefficients(kernel)[2]
+    if kernel.restitution == 1.0:
+        raise InvalidArgumentError("restitution", getattr(given, "restitution", given),
                                    "r < 1 (an elastic gas does not cool)")
-    if model.exponent == 0.0:
-        raise InvalidArgumentError("exponent", exponent,
+    if kernel.homogeneity == 0.0:
+        raise InvalidArgumentError("exponent", 0.0 if exponent is None else exponent,
                                    "gamma > 0 (the Maxwell model's scaling state has an x^-4 "
                                    "tail and no finite kurtosis: use fixed-point --rate "
                                    "constant)")
@@ -757,7 +640,7 @@ def scaling_state(restitution, *, exponent=1.0, grid: _grid.VelocityGrid | None 
         relaxation = check_positive(relaxation, "relaxation")
     F0 = _grid.initial_values("gaussian", grid)
     if relaxation is None:
-        relaxation = min(2000.0, 5.0 / model.lam)
+        relaxation = min(2000.0, 5.0 / lam)
     import jax
     import jax.numpy as jnp
 
@@ -765,24 +648,24 @@ def scaling_state(restitution, *, exponent=1.0, grid: _grid.VelocityGrid | None 
     c, h = grid.c, grid.step
     with jax.enable_x64(True):
         functions = _Compiled.get()
-        tables = tables_for(model, grid)
+        tables = tables_for(kernel, grid)
         cj = jnp.asarray(c)
-        args = (tables, cj, h, 1.0, 0.0, model.lam)  # s^γ ≡ 1: time is τ′
+        args = (tables, cj, h, 1.0, 0.0, lam)  # s^γ ≡ 1: time is τ′
         ys, ok, _ = functions.solve(jnp.asarray(np.append(F0, 0.0)),
                                     jnp.asarray(_padded(np.array([float(relaxation)]))), args,
                                     1e-8, 1e-12, 1_000_000)
         F = np.asarray(ys[-1, :-1])
         constraints = h * np.array([np.ones_like(c), c, c * c])
         iterations = 0
-        residual = np.asarray(functions.steady(jnp.asarray(F), tables, cj, h, model.lam))
+        residual = np.asarray(functions.steady(jnp.asarray(F), tables, cj, h, lam))
         while np.max(np.abs(residual)) > tolerance and iterations < max_iterations:
-            J = np.asarray(functions.jacobian(jnp.asarray(F), tables, cj, h, model.lam))
+            J = np.asarray(functions.jacobian(jnp.asarray(F), tables, cj, h, lam))
             A = np.vstack([J, constraints])
             b = -np.concatenate([residual, constraints @ F - np.array([1.0, 0.0, 1.0])])
             F = F + np.linalg.lstsq(A, b, rcond=None)[0]
-            residual = np.asarray(functions.steady(jnp.asarray(F), tables, cj, h, model.lam))
+            residual = np.asarray(functions.steady(jnp.asarray(F), tables, cj, h, lam))
             iterations += 1
-    return ScalingState(model.restitution, model.exponent, grid, F,
+    return ScalingState(kernel.restitution, float(kernel.homogeneity), grid, F,
                         float(np.max(np.abs(residual))), iterations, float(relaxation),
                         time.perf_counter() - start)
 

@@ -1,0 +1,301 @@
+"""The result of :func:`maxwell_kinetics.inelastic_boltzmann.solve_boltzmann`: F(c, t) on the
+velocity grid at the saved times, with f(v, t), the moments, P(x, t) and histograms
+(:class:`BoltzmannSolution`).  Moved here from :mod:`maxwell_kinetics.inelastic_boltzmann`, which
+still exports it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from particles.validation import InvalidArgumentError, check_count, check_real_array
+
+from . import velocity_grid as _grid
+from .model import RelativeVelocityModel
+
+__all__ = ["BoltzmannSolution", "interpolate_nodes"]
+
+
+@dataclass(frozen=True)
+class BoltzmannSolution:
+    """The solution of :func:`solve_boltzmann`: F(c, t) = s f(u + s c, t) on the grid of c at the
+    saved times, with f(v, t), ⟨v²⟩, the kurtosis, the moments and histograms.
+
+    Attributes
+    ----------
+    restitution, exponent, number_density : float
+        r, γ and n (particles per unit length) of the solve.
+    initial : str
+        The initial law's name.
+    grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`)
+        The grid of c.
+    t : numpy.ndarray
+        The saved physical times, shape (T,).
+    F : numpy.ndarray
+        Shape (T, N): F(c_i, t_k).
+    log_scale : numpy.ndarray
+        ln s(t_k), shape (T,) (s(0) = 1: the standard deviation of v).
+    mean : float
+        u, the conserved mean velocity.
+    energy_rate : numpy.ndarray
+        d⟨v²⟩/dt of the discrete equation at each saved time, shape (T,).
+    edge_mass : numpy.ndarray
+        Largest ω|F| (ω = h, or the local spacing of a
+        :class:`maxwell_kinetics.velocity_grid.MappedGrid`) among the two outermost nodes on each
+        side at each time, shape (T,): a tail that reaches the grid's end shows here.
+    steps : int
+        Time steps taken.
+    seconds : float
+        Wall-clock time of the solve.
+    """
+
+    restitution: float
+    exponent: float
+    number_density: float
+    initial: str
+    grid: _grid.VelocityGrid
+    t: np.ndarray
+    F: np.ndarray = field(repr=False)
+    log_scale: np.ndarray = field(repr=False)
+    mean: float = 0.0
+    energy_rate: np.ndarray = field(repr=False, default=None)
+    edge_mass: np.ndarray = field(repr=False, default=None)
+    steps: int = 0
+    seconds: float = 0.0
+
+    @property
+    def model(self) -> RelativeVelocityModel:
+        """The :class:`~maxwell_kinetics.model.RelativeVelocityModel` of the solve."""
+        return RelativeVelocityModel(self.restitution, exponent=self.exponent)
+
+    def time_index(self, t: float | None = None) -> int:
+        """The index of a saved time (to a relative 1e-12); None: the last.
+
+        Parameters
+        ----------
+        t : float, optional
+            One of the saved times (a real number: not a bool, not a string).
+
+        Returns
+        -------
+        int
+            Its index.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``t`` when it is not a saved time, or not a finite real number (a bool, a
+            string such as ``'2'``, NaN).
+        """
+        if t is None:
+            return len(self.t) - 1
+        shown = ", ".join(f"{x:g}" for x in self.t)[:200]
+        if (isinstance(t, (bool, np.bool_))
+                or not isinstance(t, (int, float, np.integer, np.floating))
+                or not math.isfinite(float(t))):
+            raise InvalidArgumentError("t", t, f"one of the saved times: {shown}")
+        match = np.flatnonzero(np.abs(self.t - float(t)) <= 1e-12 * max(1.0, abs(float(t))))
+        if match.size == 0:
+            raise InvalidArgumentError("t", t, f"one of the saved times: {shown}")
+        return int(match[0])
+
+    @property
+    def scale(self) -> np.ndarray:
+        """s(t_k), the velocity scale of the grid (shape (T,))."""
+        return np.exp(self.log_scale)
+
+    def velocity_density(self, t: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """f(v, t) on the grid's velocities v_i = u + s c_i.
+
+        Parameters
+        ----------
+        t : float, optional
+            A saved time (default the last).
+
+        Returns
+        -------
+        v, f : numpy.ndarray
+            The velocities and the density there (∫ f dv = 1).
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``t`` (:meth:`time_index`).
+        """
+        k = self.time_index(t)
+        s = self.scale[k]
+        return self.mean + s * self.grid.c, self.F[k] / s
+
+    def moments(self, orders=(2, 4, 6)) -> np.ndarray:
+        """Central moments ⟨(v − u)^k⟩ at every saved time.
+
+        Parameters
+        ----------
+        orders : sequence of int
+            The k, integers >= 0.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (T, len(orders)).
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``orders`` when it is not a sequence, or holds an order that is not an
+            integer >= 0 (2.5, a bool, a string, NaN: c^2.5 is not real for c < 0).
+        """
+        orders = _check_orders(orders, "orders")
+        c = self.grid.c
+        out = np.array([[_grid.grid_sum(self.grid, row, c**k) for k in orders] for row in self.F])
+        return out * self.scale[:, None] ** np.asarray(orders)
+
+    @property
+    def temperature(self) -> np.ndarray:
+        """⟨(v − u)²⟩ at each saved time."""
+        return self.moments((2,))[:, 0]
+
+    @property
+    def energy(self) -> np.ndarray:
+        """⟨v²⟩ = u² + ⟨(v − u)²⟩ at each saved time (1 at t = 0 for the built-in laws)."""
+        return self.mean**2 + self.temperature
+
+    @property
+    def kurtosis(self) -> np.ndarray:
+        """⟨(v − u)⁴⟩/⟨(v − u)²⟩² at each saved time."""
+        m = self.moments((2, 4))
+        return m[:, 1] / m[:, 0] ** 2
+
+    def density(self, x, t: float | None = None) -> np.ndarray:
+        """P(x, t) of x = (v − u)/√T(t), T = ⟨(v − u)²⟩, by sixth-order Lagrange interpolation
+        of the nodes (zero outside the grid).
+
+        Parameters
+        ----------
+        x : array_like
+            Rescaled velocities (finite real numbers).
+        t : float, optional
+            A saved time (default the last).
+
+        Returns
+        -------
+        numpy.ndarray
+            P(x), of the shape of ``x``.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``x`` when it is not an array of finite real numbers (NaN, ±inf, booleans,
+            strings), ``t`` (:meth:`time_index`).
+        """
+        x = check_real_array(x, "x")
+        k = self.time_index(t)
+        c = self.grid.c
+        scale = math.sqrt(_grid.grid_sum(self.grid, self.F[k], c * c))
+        return scale * interpolate_nodes(self.F[k], self.grid, x * scale)
+
+    def histogram(self, edges, t: float | None = None):
+        """The solution's prediction on bins of x = (v − u)/√T as the
+        :class:`particles.observables.Histogram` particle runs return (``density`` = bin
+        probability / width, ``error`` and ``count`` 0, ``samples`` 0, ``v0`` = √T).
+
+        Parameters
+        ----------
+        edges : array_like
+            Increasing finite bin edges in x.
+        t : float, optional
+            A saved time (default the last).
+
+        Returns
+        -------
+        particles.observables.Histogram
+            The predicted histogram.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``edges`` or ``t``.
+        """
+        from particles.observables import Histogram
+
+        from .kinetic_histogram import check_edges
+
+        edges = check_edges(edges)
+        k = self.time_index(t)
+        c = self.grid.c
+        scale = math.sqrt(_grid.grid_sum(self.grid, self.F[k], c * c))
+        prob = np.diff(_cumulative(self.F[k], self.grid, edges * scale))
+        width = np.diff(edges)
+        return Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), prob / width,
+                         np.zeros(width.size), np.zeros(width.size, dtype=np.int64), 0,
+                         float(self.scale[k] * scale))
+
+
+def _check_orders(orders, name: str) -> list[int]:
+    """The moment orders as ints >= 0 (:func:`particles.validation.check_count` each), naming
+    ``name`` for a value that is not a sequence of them."""
+    if isinstance(orders, (str, bytes)) or np.ndim(orders) != 1:
+        raise InvalidArgumentError(name, orders, "a sequence of integers >= 0")
+    out = []
+    for k in orders:
+        try:
+            out.append(check_count(k, name, 0))
+        except InvalidArgumentError:
+            raise InvalidArgumentError(name, orders, "a sequence of integers >= 0") from None
+    return out
+
+
+def interpolate_nodes(values: np.ndarray, grid, x: np.ndarray, order: int = 6):
+    """Lagrange interpolation of order ``order`` of grid ``values`` at ``x`` (0 outside), in
+    c on the uniform grid, in s on a mapped one.
+
+    Parameters
+    ----------
+    values : numpy.ndarray
+        The values at the grid's nodes, shape (N,).
+    grid : VelocityGrid or MappedGrid
+        The grid (:mod:`maxwell_kinetics.velocity_grid`).
+    x : numpy.ndarray
+        Where to interpolate (values of c).
+    order : int
+        Points of the Lagrange stencil.
+
+    Returns
+    -------
+    numpy.ndarray
+        The interpolated values, of the shape of ``x`` (0 outside the grid).
+    """
+    c = grid.c
+    n = c.size
+    if isinstance(grid, _grid.MappedGrid):
+        pos = grid.position(x)
+    else:
+        pos = (x - c[0]) / (c[1] - c[0])
+    first = np.clip(np.floor(pos) - order // 2 + 1, 0, n - order).astype(int)
+    u = pos - first
+    out = np.zeros(x.shape)
+    for m in range(order):
+        w = np.ones(x.shape)
+        for k in range(order):
+            if k != m:
+                w *= (u - k) / (m - k)
+        out += w * values[np.clip(first + m, 0, n - 1)]
+    return np.where((pos >= 0) & (pos <= n - 1), out, 0.0)
+
+
+def _cumulative(values: np.ndarray, grid, x: np.ndarray) -> np.ndarray:
+    """∫_{−L}^{x} of the cubic spline through the nodes (0 below the grid, the total above);
+    on a mapped grid the spline of F g′(s) in s, integrated in s."""
+    from scipy.interpolate import CubicSpline
+
+    c = grid.c
+    if isinstance(grid, _grid.MappedGrid):
+        spline = CubicSpline(grid.s, values * grid.weights / grid.step)
+        s = np.clip(np.arcsinh(np.asarray(x, dtype=float) / grid.scale), grid.s[0], grid.s[-1])
+        return np.array([spline.integrate(grid.s[0], b) for b in s])
+    spline = CubicSpline(c, values)
+    x = np.clip(x, c[0], c[-1])
+    return np.array([spline.integrate(c[0], b) for b in x])
