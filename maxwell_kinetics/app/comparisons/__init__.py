@@ -16,7 +16,7 @@ Statistical conventions: see :mod:`maxwell_kinetics.statistics`.  Uncertainties 
 standard error; where several independent runs (seeds) exist, they come from the scatter
 between runs, which includes the correlations between the particles of one run.
 
-The protocol and the registry (:mod:`.registry`): a comparison is a :class:`ComparisonSpec`,
+The protocol and the registry (:mod:`.base`): a comparison is a :class:`ComparisonSpec`,
 its ``name``, ``presets`` (size → parameters), ``run(size=None, progress=None, **overrides) ->
 Comparison``, ``plot(comparison, ax=None)`` (draws only), ``verdicts(summary) -> list of
 Verdict`` (the claims it tests, each a :func:`.verdicts.judge` of a :class:`.verdicts.Check`
@@ -39,8 +39,8 @@ comparison.  Nothing else lists the comparisons.
 
 Layout (imports run downwards only; no module of the package imports this one):
 
-* :mod:`.registry` — the protocol (:class:`ComparisonSpec`) and the registry;
-* :mod:`.base` — the :class:`Comparison` record, its file format, sizes and presets;
+* :mod:`.base` — the :class:`Comparison` record, its file format, sizes and presets, and the
+  protocol (:class:`ComparisonSpec`) with the registry;
 * :mod:`.particle_runs` — Ulam, lattice and MD runs through the run driver, cached read-only;
 * :mod:`.kinetic_predictions` — the solver's solutions and predicted bin probabilities;
 * :mod:`.analysis` — estimators on arrays (profiles, S(k) fits, jackknife);
@@ -80,7 +80,20 @@ from .analysis import (
     profile_scales,
     velocity_on_grid,
 )
-from .base import SIZES, Comparison, default_size
+from .base import (
+    COMPARISONS,
+    PRESETS,
+    REGISTRY,
+    SIZES,
+    VERDICTS,
+    Comparison,
+    ComparisonSpec,
+    comparison_spec,
+    default_size,
+    register,
+    registered,
+    unregister,
+)
 from .kinetic_predictions import (
     fft_bin_probabilities,
     kinetic_solution,
@@ -95,17 +108,6 @@ from .particle_runs import (
     md_runs,
     sticky_runs,
     ulam_snapshots,
-)
-from .registry import (
-    COMPARISONS,
-    PRESETS,
-    REGISTRY,
-    VERDICTS,
-    ComparisonSpec,
-    comparison_spec,
-    register,
-    registered,
-    unregister,
 )
 
 # The package's function of each comparison (``kinetic_theory`` …): its registered ``run``.

@@ -16,10 +16,9 @@ import numpy as np
 from particles.observables import Histogram, histogram_from_counts, mean_sem_json
 
 from ...driven import steady_state
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .particle_runs import ParticleRuns
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pair, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]

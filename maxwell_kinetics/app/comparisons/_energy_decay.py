@@ -13,10 +13,9 @@ from particles.observables import mean_sem_json
 
 from ... import statistics as st
 from ...inelastic_boltzmann import solve_boltzmann
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .particle_runs import ParticleRuns, md_record_times
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "lattice_times", "verdicts"]

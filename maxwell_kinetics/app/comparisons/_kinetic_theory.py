@@ -11,10 +11,9 @@ from particles.validation import InvalidArgumentError
 
 from ...exact import f_density, f_hat, rescaled_moments
 from ...model import MaxwellModel
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import colors, panels
 from .kinetic_predictions import kinetic_solution
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]

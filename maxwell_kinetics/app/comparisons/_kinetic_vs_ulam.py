@@ -13,7 +13,7 @@ from particles.observables import mean_sem, rescaled_histogram
 from ... import statistics as st
 from ...model import MaxwellModel
 from .analysis import bin_edges
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import colors, panels
 from .kinetic_predictions import (
     fft_bin_probabilities,
@@ -22,7 +22,6 @@ from .kinetic_predictions import (
     solution_bin_probabilities,
 )
 from .particle_runs import ParticleRuns
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pair, pooled_ratio, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]

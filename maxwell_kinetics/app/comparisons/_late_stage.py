@@ -38,9 +38,8 @@ from .analysis import (
     tail_grid,
     velocity_on_grid,
 )
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import colors
-from .registry import ComparisonSpec, register
 from .sticky_tail import deep_tail_runs, exact_tail
 from .verdicts import Check, judge, pair, with_verdicts
 

@@ -18,10 +18,9 @@ from ...inelastic_boltzmann import scaling_state, solve_boltzmann
 from ...model import MaxwellModel
 from ...velocity_grid import VelocityGrid
 from .analysis import bin_edges, rescaled
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .particle_runs import ParticleRuns
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts", "collisions_per_particle",

@@ -12,10 +12,9 @@ import numpy as np
 from particles.observables import mean_sem_json
 
 from .analysis import paired_numbers
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import colors, panels
 from .particle_runs import ParticleRuns, md_record_times
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]

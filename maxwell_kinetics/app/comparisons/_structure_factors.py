@@ -10,10 +10,9 @@ import numpy as np
 from particles.observables import log_bin, mean_sem_json, structure_factor
 
 from .analysis import jackknife, log_binned, porod_fit, porod_slope
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import colors, panels
 from .particle_runs import ParticleRuns, md_record_times
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pair, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts", "z_drift"]

@@ -16,10 +16,9 @@ import numpy as np
 from particles.observables import mean_sem
 
 from ...tails import tail_exponent
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .particle_runs import ParticleRuns
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pair, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "hill_exponent", "verdicts"]

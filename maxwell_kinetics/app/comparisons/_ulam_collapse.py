@@ -12,11 +12,10 @@ from particles.observables import mean_sem
 from ... import statistics as st
 from ...exact import f_density
 from .analysis import bin_edges, rescaled
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .kinetic_predictions import kinetic_solution, solution_bin_probabilities
 from .particle_runs import ParticleRuns
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pooled_ratio, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]

@@ -14,10 +14,9 @@ from particles.observables import mean_sem, mean_sem_json
 from ...exact import f_density
 from ...model import MaxwellModel
 from .analysis import bin_edges, rescaled
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .particle_runs import ParticleRuns
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pair, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "ABS_MEAN_F", "ABS_MEAN_GAUSSIAN", "verdicts"]

@@ -11,10 +11,9 @@ import numpy as np
 from particles.observables import mean_sem_json
 
 from .analysis import block_means, coarse_increment_skewness, profile_scales, velocity_on_grid
-from .base import Comparison, jsonable, preset
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .particle_runs import ParticleRuns
-from .registry import ComparisonSpec, register
 from .verdicts import Check, judge, pair, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
