@@ -78,8 +78,8 @@ def lagrange(x: np.ndarray, n: int, points: int) -> tuple[np.ndarray, np.ndarray
     return first, weights
 
 
-def collision_tables(c: np.ndarray, keep: float, transfer: float, exponent: float,
-                     kink: float) -> dict[str, np.ndarray]:
+def collision_tables(c: np.ndarray, keep: float, transfer: float, rate: np.ndarray,
+                     exponent: float, kink: float) -> dict[str, np.ndarray]:
     """The precomputed tables of the collision term on the grid ``c`` (module docstring).
 
     Parameters
@@ -88,18 +88,24 @@ def collision_tables(c: np.ndarray, keep: float, transfer: float, exponent: floa
         The uniform grid, shape (N,).
     keep, transfer : float
         1 − p and p.
+    rate : numpy.ndarray
+        Shape (N, N): the kernel's collision rate of the pair (c_i, c_j)
+        (:meth:`particles.kernels.Kernel.rate`), a function of |c_i − c_j| homogeneous of
+        degree γ (R(|g|) = R(1) |g|^γ; this module never writes a rate itself).
     exponent : float
-        γ of the rate |v − w|^γ.
+        γ, the degree of the rate (the Jacobian p^{−1−γ} of the gain).
     kink : float
-        −2ζ(−γ) (0 for γ = 0 and 2): the coefficient of the correction of the node v = c_k.
+        R(1) · (−2ζ(−γ)) (0 for γ = 0 and 2): the coefficient of the correction of the node
+        v = c_k.
 
     Returns
     -------
     dict
         ``first`` (N, N) int32 and ``weights`` (N, N, M): interpolation of F at
-        w_ki = (c_k − keep c_i)/transfer; ``gain_rate`` (N, N): p^{−1−γ}|c_i − c_k|^γ, zero
-        where w_ki is off the grid; ``kernel`` (N, N): |c_i − c_j|^γ; ``energy_kernel`` (N, N):
-        |c_i − c_j|^{γ+2}; ``node`` (N,): the correction coefficient h^{γ+1} kink (p^{−1−γ} − 1).
+        w_ki = (c_k − keep c_i)/transfer; ``gain_rate`` (N, N): p^{−1−γ} R(c_i, c_k), zero
+        where w_ki is off the grid; ``kernel`` (N, N): R(c_i, c_j); ``energy_kernel`` (N, N):
+        R(c_i, c_j) |c_i − c_j|²; ``node`` (N,): the correction coefficient
+        h^{γ+1} kink (p^{−1−γ} − 1).
     """
     n = c.size
     h = c[1] - c[0]
@@ -107,12 +113,12 @@ def collision_tables(c: np.ndarray, keep: float, transfer: float, exponent: floa
     position = (w - c[0]) / h
     first, weights = lagrange(position, n, INTERPOLATION_POINTS)
     inside = (position >= -1e-9) & (position <= n - 1 + 1e-9)
-    g = np.abs(c[:, None] - c[None, :])
-    kernel = np.ones_like(g) if exponent == 0.0 else g**exponent
+    g = c[:, None] - c[None, :]
+    kernel = np.asarray(rate, dtype=float)
     jacobian = transfer ** (-1.0 - exponent)
     return {"first": first, "weights": weights,
             "gain_rate": np.where(inside, jacobian * kernel, 0.0),
-            "kernel": kernel, "energy_kernel": g ** (exponent + 2.0),
+            "kernel": kernel, "energy_kernel": kernel * (g * g),
             "node": np.full(n, kink * h ** (exponent + 1.0) * (jacobian - 1.0))}
 
 
@@ -265,7 +271,8 @@ def rescaled_rhs(F, tables, c, h, lam):
 
 
 def mapped_collision_tables(c: np.ndarray, spacing, position, keep: float, transfer: float,
-                            exponent: float, kink: float) -> dict[str, np.ndarray]:
+                            rate: np.ndarray, exponent: float,
+                            kink: float) -> dict[str, np.ndarray]:
     """The collision tables on a mapped grid (the comment block above).
 
     Parameters
@@ -278,10 +285,13 @@ def mapped_collision_tables(c: np.ndarray, spacing, position, keep: float, trans
         Velocity → fractional node index (s(x) − s_0)/h_s.
     keep, transfer : float
         1 − p and p.
+    rate : numpy.ndarray
+        Shape (N, N): the kernel's rate of the pair (c_i, c_j), homogeneous of degree γ in
+        |c_i − c_j| (:func:`collision_tables`).
     exponent : float
         γ.
     kink : float
-        −2ζ(−γ) (0 for γ = 0 and 2).
+        R(1) · (−2ζ(−γ)) (0 for γ = 0 and 2).
 
     Returns
     -------
@@ -289,8 +299,8 @@ def mapped_collision_tables(c: np.ndarray, spacing, position, keep: float, trans
         ``first``/``weights`` and ``first2``/``weights2``: the interpolation stencils of the
         partner in the integral over v and over w; ``gain_rate``, ``gain_rate2`` (N, N): the
         quadrature weight times the rate and χ₁ or χ₂, zero where the partner is off the grid;
-        ``kernel`` (N, N): |c_k − c_j|^γ ω_j; ``energy_kernel`` (N, N):
-        ω_i ω_j |c_i − c_j|^{γ+2}; ``node`` (N,); ``quadrature`` (N,): the ω_i; ``taper``
+        ``kernel`` (N, N): R(c_k, c_j) ω_j; ``energy_kernel`` (N, N):
+        ω_i ω_j R(c_i, c_j) |c_i − c_j|²; ``node`` (N,); ``quadrature`` (N,): the ω_i; ``taper``
         (N,): θ_i = a²/(a² + c_i²), a² = ω(0)² c²/(ω(c)² − ω(0)²) at c = c_{N−1} (the map's
         scale, from ``spacing``).
     """
@@ -304,8 +314,8 @@ def mapped_collision_tables(c: np.ndarray, spacing, position, keep: float, trans
 
     ratio = math.log(transfer / keep) if keep > 0.0 else math.inf  # ln(p/(1 − p)) ≥ 0
 
-    g = np.abs(c[:, None] - c[None, :])
-    kernel = np.ones_like(g) if exponent == 0.0 else g**exponent
+    g = c[:, None] - c[None, :]
+    kernel = np.asarray(rate, dtype=float)
     out = {}
     w = (c[:, None] - keep * c[None, :]) / transfer  # [k, i]: the partner of v = c_i
     pos = position(w)
@@ -331,7 +341,7 @@ def mapped_collision_tables(c: np.ndarray, spacing, position, keep: float, trans
         out["gain_rate2"] = np.zeros_like(kernel)
         both = 1.0
     out["kernel"] = kernel * weights[None, :]
-    out["energy_kernel"] = weights[:, None] * weights[None, :] * g ** (exponent + 2.0)
+    out["energy_kernel"] = weights[:, None] * weights[None, :] * (kernel * (g * g))
     out["node"] = kink * weights ** (exponent + 1.0) * (both - 1.0)
     out["quadrature"] = np.asarray(weights, dtype=float)
     a2 = spacing(0.0) ** 2 * c[-1] ** 2 / (spacing(c[-1]) ** 2 - spacing(0.0) ** 2)

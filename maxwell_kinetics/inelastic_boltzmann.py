@@ -217,7 +217,7 @@ def check_reach(model: RelativeVelocityModel, density: float, t_last: float, gri
             raise InvalidArgumentError(
                 "t", t_last, f"a last time t <= {reach:.3g} here, where the thermal scale "
                 f"sqrt(E(t)/E(0)) is still above {SMALLEST_SCALE:g} (beyond it the integration "
-                "stalls; the gas has long reached its cooling state, which fixed-point --rate "
+                "stalls; the gas has long reached its cooling state, which fixed-point --kernel "
                 "relative_velocity / scaling_state gives)")
         return
     c = grid.c
@@ -628,7 +628,7 @@ def scaling_state(kernel=None, *, exponent=None, grid: _grid.VelocityGrid | None
     if kernel.homogeneity == 0.0:
         raise InvalidArgumentError("exponent", 0.0 if exponent is None else exponent,
                                    "gamma > 0 (the Maxwell model's scaling state has an x^-4 "
-                                   "tail and no finite kurtosis: use fixed-point --rate "
+                                   "tail and no finite kurtosis: use fixed-point --kernel "
                                    "constant)")
     grid = SCALING_GRID if grid is None else _grid.check_grid(grid)
     if isinstance(grid, _grid.MappedGrid):

@@ -80,7 +80,7 @@ from .grid import INFLOW_CUT, Resolution, check_solve_budget, get_resolution
 from .model import MaxwellModel
 from .solution import Solution, SolverOptions, deviation_from_f_hat
 
-__all__ = ["solve", "check_solve_arguments", "SolveArguments", "Stepper"]
+__all__ = ["solve", "solve_fourier", "check_solve_arguments", "SolveArguments", "Stepper"]
 
 
 def _check_skewness_finite(law: InitialLaw) -> float:
@@ -363,7 +363,7 @@ angular_rule, force
                           angular_rule, estimate)
 
 
-def solve(
+def solve_fourier(
     restitution: float,
     initial="gaussian",
     tau=(1.0, 10.0, 100.0),
@@ -377,7 +377,9 @@ def solve(
     angular_rule: str = "fast",
     force: bool = False,
 ) -> Solution:
-    """Integrate the rescaled equation from G(q, 0) = φ(q) and save G at the requested τ.
+    """The Fourier scheme of :func:`solve` (:class:`maxwell_kinetics.methods.FourierScheme`)
+    for the Maxwell kernel of restitution r: integrate the rescaled equation from
+    G(q, 0) = φ(q) and save G at the requested τ.
 
     G(q, τ) is the characteristic function of one Cartesian component of the rescaled velocity
     v / v₀(τ), with v₀² = ⟨v_x²⟩ = e^{−Λτ} (unit initial variance per component); τ counts
@@ -459,8 +461,8 @@ def solve(
 
     Examples
     --------
-    >>> from maxwell_kinetics import solve
-    >>> sol = solve(0.5, "gaussian", tau=[1, 5], resolution="coarse", progress=False)
+    >>> from maxwell_kinetics.solver import solve_fourier
+    >>> sol = solve_fourier(0.5, "gaussian", tau=[1, 5], resolution="coarse", progress=False)
     >>> sol.sup_error().shape  # sup_q |G(q, τ) − f̂(q)| at τ = 1 and 5
     (2,)
     """
@@ -533,3 +535,173 @@ def solve(
     return Solution(model.restitution, law.name, grid, taus, saved, deviation, m3, opts,
                     time.perf_counter() - start, dimension, angular, angular_rule, angular_nodes,
                     builtin)
+
+
+#: The keywords of :func:`solve` that configure the Fourier scheme (shorthand for the fields of
+#: :class:`maxwell_kinetics.methods.FourierScheme`).
+FOURIER_KEYWORDS = ("resolution", "options", "dimension", "angular", "angular_nodes",
+                    "angular_rule")
+
+
+def _kernel_value(kernel):
+    """The kernel of :func:`solve`: a kernel as it is (or the one a model holds); a number r is
+    the shorthand for the Maxwell kernel :class:`particles.kernels.ConstantRate` (its errors
+    name ``restitution``, as before)."""
+    from particles.kernels import ConstantRate, Kernel
+
+    value = getattr(kernel, "kernel", kernel)
+    if isinstance(value, Kernel):
+        return value
+    if isinstance(kernel, type) and issubclass(kernel, Kernel):
+        raise InvalidArgumentError("kernel", kernel, f"a kernel value such as "
+                                   f"{kernel.__name__}(restitution, ...), not the class")
+    return ConstantRate(kernel)
+
+
+def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None, t=None,
+          density=None, progress: bool | None = None, force: bool = False, **fourier):
+    """Solve the homogeneous kinetic equation of a collision kernel from an initial law, and
+    save the solution at the requested times.
+
+    The physics is the ``kernel`` (:mod:`particles.kernels`: its post-collision map, its rate
+    and the time it counts), the numerics the ``method`` (:mod:`maxwell_kinetics.methods`):
+
+    * :class:`~maxwell_kinetics.methods.FourierScheme` (the default for kernels whose
+      Fourier-space equation closes, such as the Maxwell kernel ``ConstantRate``): the rescaled
+      characteristic function G(q, τ) in τ, collisions per particle, in d = 1, 2, 3
+      (:func:`solve_fourier`, whose docstring states the equation and the method).  A number r
+      as ``kernel`` is the shorthand for ``ConstantRate(r)``, and the keywords ``resolution``,
+      ``options``, ``dimension``, ``angular``, ``angular_nodes`` and ``angular_rule`` for the
+      fields of a FourierScheme, so ``solve(0.5, "gaussian", tau=[1, 5],
+      resolution="coarse")`` works as it always did; a resolution as the fourth argument is
+      the same as ``FourierScheme(resolution)``.
+    * :class:`~maxwell_kinetics.methods.VelocitySpace` (the default for kernels of physical
+      time t whose rate is homogeneous in |v − w|, such as ``RelativeVelocity``): f(v, t) on a
+      velocity grid in d = 1 at density n
+      (:func:`maxwell_kinetics.inelastic_boltzmann.solve_boltzmann`).
+
+    Every result satisfies one contract (:mod:`maxwell_kinetics.kinetic_result`): its time axis
+    and the time's name come from the kernel.
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel or float
+        The collision kernel, or r ∈ [0, 1] for the Maxwell kernel.
+    initial : str or particles.initial.InitialLaw, default "gaussian"
+        The initial law (zero mean, unit variance).
+    times : array_like, optional
+        Increasing times ≥ 0 in the kernel's time (τ or t) at which to save the solution;
+        for the Fourier scheme, default (1, 10, 100).
+    method : FourierScheme or VelocitySpace or str, optional
+        The method (default: :func:`maxwell_kinetics.methods.method_for`); a resolution name
+        or :class:`maxwell_kinetics.grid.Resolution` means ``FourierScheme(resolution)``.
+    tau, t : array_like, optional
+        The times by the name of the kernel's time (instead of ``times``).
+    density : float, optional
+        n > 0 (default 1), for a kernel of time t: particles per unit length.
+    progress : bool or None, optional
+        The Fourier scheme's progress bar (:func:`solve_fourier`); the velocity-space scheme,
+        one call of diffrax, shows none.
+    force : bool, default False
+        Run a Fourier solve estimated to take more than a day anyway (:func:`solve_fourier`);
+        the velocity-space scheme's budget is its grid's size limit and its reach
+        (:func:`maxwell_kinetics.inelastic_boltzmann.check_reach`), which ``force`` does not
+        lift.
+    **fourier
+        ``resolution``, ``options``, ``dimension``, ``angular``, ``angular_nodes``,
+        ``angular_rule``: shorthand for a :class:`~maxwell_kinetics.methods.FourierScheme`.
+
+    Returns
+    -------
+    maxwell_kinetics.solution.Solution or maxwell_kinetics.boltzmann_solution.BoltzmannSolution
+        The solution of the method.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Before any work: naming ``kernel`` for a value that is not a kernel (``restitution``
+        for a number out of [0, 1]), ``method`` for a method that does not carry the kernel
+        (with the reason) or that is not a method, ``times``/``tau``/``t`` for times given twice
+        or under the other time's name, ``density`` for a kernel of time τ, a Fourier keyword
+        given with a method object or with a kernel the Fourier scheme does not carry; and
+        everything :func:`solve_fourier` and
+        :func:`~maxwell_kinetics.inelastic_boltzmann.solve_boltzmann` refuse.
+    TypeError
+        For a keyword that is none of the above.
+    KeyboardInterrupt
+        On Ctrl-C (:func:`solve_fourier`).
+    FloatingPointError, RuntimeError
+        If the integration fails (non-finite values, too many steps).
+
+    Examples
+    --------
+    >>> from maxwell_kinetics import solve
+    >>> from particles.kernels import ConstantRate
+    >>> sol = solve(ConstantRate(0.5), "gaussian", [1, 5], "coarse", progress=False)
+    >>> sol.time_name, sol.sup_error().shape
+    ('tau', (2,))
+    """
+    from .methods import FourierScheme, VelocitySpace, method_for
+
+    if "restitution" in fourier:
+        raise TypeError("solve() takes the kernel first, solve(kernel, initial, times, method): "
+                        "a kernel of particles.kernels or a restitution r for the Maxwell "
+                        "kernel ('restitution=' was the first argument's former name)")
+    unknown = sorted(set(fourier) - set(FOURIER_KEYWORDS))
+    if unknown:
+        raise TypeError(f"solve() got an unexpected keyword argument {unknown[0]!r}")
+    value = _kernel_value(kernel)
+    given = {name: v for name, v in (("times", times), ("tau", tau), ("t", t)) if v is not None}
+    if len(given) > 1:
+        name = sorted(given)[1]
+        raise InvalidArgumentError(name, given[name], f"the times once (given as "
+                                   f"{' and '.join(sorted(given))})")
+    if "tau" in given and value.time_name != "tau" or "t" in given and value.time_name != "t":
+        name = next(iter(given))
+        raise InvalidArgumentError(name, given[name], f"times named {value.time_name!r}: the "
+                                   f"kernel {value.name!r} counts "
+                                   + ("collisions per particle tau" if value.time_name == "tau"
+                                      else "physical time t"))
+    chosen = next(iter(given.values()), None)
+    if method is None or isinstance(method, str) or type(method).__name__ == "Resolution":
+        if method is not None:
+            if "resolution" in fourier:
+                raise InvalidArgumentError("resolution", fourier["resolution"], "the "
+                                           "resolution once (the fourth argument is one)")
+            fourier = {**fourier, "resolution": method}
+        elif not fourier:
+            method = method_for(value)
+        if fourier or method is None:
+            method = FourierScheme(**fourier)
+    elif fourier:
+        name = sorted(fourier)[0]
+        raise InvalidArgumentError(name, fourier[name], "no Fourier-scheme keyword with a "
+                                   "method object (set it on the method)")
+    if not isinstance(method, (FourierScheme, VelocitySpace)):
+        raise InvalidArgumentError("method", method, "a method of maxwell_kinetics.methods "
+                                   "(FourierScheme or VelocitySpace) or a resolution name")
+    reason = method.refusal(value)
+    if reason is not None:
+        raise InvalidArgumentError("method", method, f"a method that carries the kernel: "
+                                   f"{reason}")
+    if isinstance(method, FourierScheme):
+        if density is not None:
+            raise InvalidArgumentError("density", density, f"no density with the kernel "
+                                       f"{value.name!r} (its time tau counts collisions per "
+                                       f"particle, whatever the density)")
+        return solve_fourier(value.restitution, initial,
+                             (1.0, 10.0, 100.0) if chosen is None else chosen,
+                             method.resolution, options=method.options, progress=progress,
+                             dimension=method.dimension, angular=method.angular,
+                             angular_nodes=method.angular_nodes,
+                             angular_rule=method.angular_rule, force=force)
+    from .inelastic_boltzmann import solve_boltzmann
+
+    check_bool(progress, "progress", none=True)
+    check_bool(force, "force")
+    if chosen is None:
+        raise InvalidArgumentError("t", None, "increasing times t >= 0 (the kernel "
+                                   f"{value.name!r} has no default times)")
+    return solve_boltzmann(value, chosen, density=1.0 if density is None else density,
+                           initial=initial, grid=method.grid, rtol=method.rtol,
+                           atol=method.atol, max_steps=method.max_steps)

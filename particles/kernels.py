@@ -158,6 +158,14 @@ class Kernel:
         """The transfer fraction p = (1 + r)/2 (:func:`particles.collision.transfer_fraction`)."""
         return transfer_fraction(self.restitution)
 
+    @property
+    def homogeneity(self) -> float | None:
+        """γ when the rate depends on |v − w| alone and is homogeneous of degree γ in it,
+        rate = rate(1, 0) |v − w|^γ (what the velocity-space solver needs: it follows the
+        cooling by rescaling velocities, and rescales the rate with them); None otherwise (the
+        default)."""
+        return None
+
     def post_collision(self, v, w, xp=np):
         """The velocities after a collision of a pair (v, w) along the line of the pair: with
         d = (v − w) p, ``(v − d, w + d)``, the operations (and their order) of
@@ -512,6 +520,11 @@ class RelativeVelocity(Kernel):
         if self.exponent == 1.0:
             return g
         return g**self.exponent
+
+    @property
+    def homogeneity(self) -> float:
+        """γ: the rate |v − w|^γ is homogeneous of degree γ."""
+        return self.exponent
 
     def rate_bound(self, spread: float) -> float:
         """``spread``^γ (``spread`` itself for γ = 1; 1 for γ = 0): the rate is increasing in

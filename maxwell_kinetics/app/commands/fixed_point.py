@@ -6,11 +6,14 @@ from __future__ import annotations
 import sys
 import time
 
+from particles.kernels import ConstantRate
 from particles.parsing import parse_count
 from particles.validation import InvalidArgumentError
 
 from .. import cache_options
 from ..output import emit_json
+from .kernel_options import add_kernel_options, chosen_kernel, kernel_from_args
+from .solve import _solvable
 
 #: Dense matrices of the Chebyshev collocation: about 12 of (n + 1)² doubles at once.
 _MATRICES = 12
@@ -43,16 +46,13 @@ def add_parser(subparsers) -> None:
         "form and no decay rates there.",
     )
     p.add_argument("--restitution", "-r", required=True, help="restitution r in [0, 1)")
-    p.add_argument("--rate", default="constant",
-                   help="collision rate: 'constant' (the Maxwell model's Fourier-space fixed "
-                   "point; the default) or 'relative_velocity' (the scaling state of the rate "
-                   "|v - w|^gamma in velocity space: its kurtosis, <c^6> and P(c))")
-    p.add_argument("--exponent", default=None,
-                   help="--rate relative_velocity: gamma in (0, 2] (default 1: hard rods)")
+    add_kernel_options(p, _solvable, ConstantRate.name,
+                       "a kernel of time tau: the Fourier-space fixed point; one of time t: "
+                       "the scaling state in velocity space, its kurtosis, <c^6> and P(c)")
     p.add_argument("--points", default=None,
-                   help="--rate relative_velocity: velocity grid points (default 241)")
+                   help="a kernel of time t: velocity grid points (default 241)")
     p.add_argument("--half-width", default=None,
-                   help="--rate relative_velocity: grid half-width in units of the standard "
+                   help="a kernel of time t: grid half-width in units of the standard "
                    "deviation (default 12)")
     p.add_argument("--n", default=None, help="Chebyshev degree (default 64 in 1D, 128 in 2D/3D; "
                    "at most 256 in 1D, where a larger degree is ill-conditioned)")
@@ -71,18 +71,17 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from particles.kernels import ConstantRate, kernel_class
-
-    from ...inelastic_boltzmann import CARRIED_KERNELS
-    # the registry's names: the Fourier scheme's kernel and the velocity grid's
-    kernel_class(args.rate, "rate", among=(ConstantRate.name, *CARRIED_KERNELS))
-    if args.rate == "relative_velocity":
+    cls = chosen_kernel(args, _solvable)
+    if not cls.fourier_closed:
         return _run_relative_velocity(args)
-    for name in ("exponent", "points", "half_width"):
+    kernel_from_args(args, _solvable, 0.0)  # a parameter of another kernel, refused by name
+    for name in ("points", "half_width"):
         if getattr(args, name) is not None:
             option = name.replace("_", "-")
             raise InvalidArgumentError(option, getattr(args, name), f"no --{option} with "
-                                       "--rate constant (it belongs to --rate relative_velocity)")
+                                       f"--kernel {cls.name} (it belongs to the kernels of "
+                                       "time t, whose scaling state is solved on a velocity "
+                                       "grid)")
     return _run_constant(args)
 
 
@@ -96,7 +95,7 @@ def _number(text, name: str) -> float:
 
 
 def _run_relative_velocity(args) -> int:
-    """``fixed-point --rate relative_velocity``: the scaling state of
+    """``fixed-point --kernel NAME`` for a kernel of time t: the scaling state of
     :func:`maxwell_kinetics.inelastic_boltzmann.scaling_state`."""
     from particles.parsing import parse_int
 
@@ -105,27 +104,24 @@ def _run_relative_velocity(args) -> int:
 
     for name in ("n", "angular"):
         if getattr(args, name) is not None:
-            raise InvalidArgumentError(name, getattr(args, name), f"no --{name} with --rate "
-                                       "relative_velocity (a Fourier fixed-point option)")
+            raise InvalidArgumentError(name, getattr(args, name), f"no --{name} with --kernel "
+                                       f"{args.kernel} (a Fourier fixed-point option)")
     if args.dimension != "1":
-        raise InvalidArgumentError("dimension", args.dimension, "no --dimension with --rate "
-                                   "relative_velocity (one dimension)")
+        raise InvalidArgumentError("dimension", args.dimension, "no --dimension with --kernel "
+                                   f"{args.kernel} (one dimension)")
     restitution = _number(args.restitution, "restitution")
-    exponent = 1.0 if args.exponent is None else _number(args.exponent, "exponent")
     grid = SCALING_GRID
     points = grid.points if args.points is None else parse_int(args.points, "points")
     half_width = (grid.half_width if args.half_width is None
                   else _number(args.half_width, "half-width"))
-    from ...model import RelativeVelocityModel
-
     # the library's refusals show the text typed, not the value read from it
-    typed = {"restitution": (restitution, args.restitution), "exponent": (exponent, args.exponent),
+    typed = {"restitution": (restitution, args.restitution),
              "half_width": (half_width, args.half_width)}
     try:
-        RelativeVelocityModel(restitution, exponent=exponent)  # checks r and gamma first
+        kernel = kernel_from_args(args, _solvable, restitution, typed)  # r and its parameters
         grid = VelocityGrid(points, half_width)
         initial_values("gaussian", grid)  # the starting law must fit the grid
-        state = scaling_state(restitution, exponent=exponent, grid=grid)
+        state = scaling_state(kernel, grid=grid)
     except InvalidArgumentError as exc:
         value = exc.value
         read, text = typed.get(exc.name, (None, None))
@@ -137,7 +133,8 @@ def _run_relative_velocity(args) -> int:
     converged = state.residual <= RESIDUAL_TOLERANCE
     x = [0.0, 0.5, 1.0, 1.5, 2.0, 3.0]
     payload = {
-        "rate": "relative_velocity",
+        "rate": kernel.name,
+        "kernel": kernel.to_dict(),
         "restitution": state.restitution,
         "exponent": state.exponent,
         "points": grid.points,
@@ -160,7 +157,8 @@ def _run_relative_velocity(args) -> int:
     if args.json:
         emit_json(payload)
         return status
-    print(f"scaling state, r = {state.restitution:g}, rate |v - w|^{state.exponent:g}: grid "
+    print(f"scaling state, r = {state.restitution:g}, kernel {kernel.name}, rate of degree "
+          f"{state.exponent:g} in |v - w|: grid "
           f"{grid.points} points on +-{grid.half_width:g}")
     print(f"  kurtosis = {state.kurtosis:.10g}   <c^6> = {state.moment(6):.10g}   "
           f"residual = {state.residual:.3e}   Newton iterations = {state.iterations}")

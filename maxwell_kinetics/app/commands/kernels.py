@@ -6,7 +6,8 @@ One row per kernel of :data:`particles.kernels.KERNELS`: its name, the time it c
 collisions per particle, or ``t``, physical time at density n), its parameters with their
 ranges and defaults, and what carries it: the kinetic solvers (``fourier``: the Fourier-space
 scheme of ``solve``, for kernels whose Fourier equation closes; ``velocity_grid``: the
-velocity-space solver of the rate n|v − w|^γ) and the particle engines (``ulam``,
+velocity-space solver, for kernels of time t whose rate is a power of |v − w|; see
+:mod:`maxwell_kinetics.methods`) and the particle engines (``ulam``,
 ``lattice``), each asked whether it carries the kernel.  A kernel registered by the user's own
 code before the command runs is listed the same way.
 """
@@ -45,14 +46,12 @@ def kernel_rows() -> list[dict]:
     from particles.lattice import CARRIED_KERNELS as LATTICE_KERNELS
     from particles.pair_schedule import ulam_carries
 
-    from ...inelastic_boltzmann import CARRIED_KERNELS as GRID_KERNELS
+    from ...methods import carrying_methods
 
     rows = []
     for row in describe_kernels():
         cls = KERNELS[row["name"]]
-        methods = [name for name, carried in (("fourier", cls.fourier_closed),
-                                              ("velocity_grid", cls.name in GRID_KERNELS))
-                   if carried]
+        methods = carrying_methods(cls)
         engines = [name for name, carried in (("ulam", ulam_carries(cls)),
                                               ("lattice", cls.name in LATTICE_KERNELS))
                    if carried]

@@ -13,6 +13,7 @@ import os
 import numpy as np
 
 from particles import persistence
+from particles.kernels import ConstantRate
 from particles.parsing import parse_float_list, parse_int
 from particles.validation import InvalidArgumentError
 
@@ -20,6 +21,7 @@ from ... import interrupt
 from ...grid import FORCE, MAX_SOLVE_SECONDS, RESOLUTIONS, format_seconds
 from .. import cache_options
 from ..output import check_outputs, emit_json, progress_enabled
+from .kernel_options import add_kernel_options, chosen_kernel, kernel_from_args
 
 #: Seconds per quadrature node of the speed density at one τ (G interpolated there; measured:
 #: 36 s for 1.7e7 nodes, 5 speeds, d = 3), and per node and speed (the kernel).
@@ -37,27 +39,23 @@ def add_parser(subparsers) -> None:
     )
     p.add_argument("--restitution", "-r", required=True, help="restitution coefficient r in [0, 1]")
     p.add_argument("--initial", default="gaussian", help="initial law (gaussian, uniform, ...)")
-    p.add_argument("--rate", default="constant",
-                   help="collision rate: 'constant' (the Maxwell model in Fourier space, time "
-                   "--tau; the default) or 'relative_velocity' (rate n|v - w|^gamma, solved in "
-                   "velocity space in physical time --t at --density)")
+    add_kernel_options(p, _solvable, ConstantRate.name,
+                       "a kernel of time tau is solved in Fourier space, one of time t on a "
+                       "velocity grid")
     p.add_argument("--tau", default=None,
-                   help="--rate constant: comma-separated increasing times, e.g. 10,50,100")
+                   help="a kernel of time tau: comma-separated increasing times, e.g. 10,50,100")
     p.add_argument("--t", default=None,
-                   help="--rate relative_velocity: comma-separated increasing physical times")
+                   help="a kernel of time t: comma-separated increasing physical times")
     p.add_argument("--density", default=None,
-                   help="--rate relative_velocity: particles per unit length n > 0 (default 1)")
-    p.add_argument("--exponent", default=None,
-                   help="--rate relative_velocity: gamma of the rate |v - w|^gamma in [0, 2] "
-                   "(default 1: hard rods)")
+                   help="a kernel of time t: particles per unit length n > 0 (default 1)")
     p.add_argument("--points", default=None,
-                   help="--rate relative_velocity: velocity grid points (default 201, 401 for "
+                   help="a kernel of time t: velocity grid points (default 201, 401 for "
                    "gamma = 0)")
     p.add_argument("--half-width", default=None,
-                   help="--rate relative_velocity: grid half-width in units of the standard "
+                   help="a kernel of time t: grid half-width in units of the standard "
                    "deviation (default 6, 40 for gamma = 0)")
     p.add_argument("--core-spacing", default=None,
-                   help="--rate relative_velocity: a mapped grid c = a sinh(s), fine in the "
+                   help="a kernel of time t: a mapped grid c = a sinh(s), fine in the "
                    "core and wide in the tails: its spacing at c = 0 (below the uniform "
                    "spacing 2 half-width/(points - 1)); with --exponent 0 only, whose "
                    "|x|^-4 tail outgrows a uniform grid")
@@ -117,28 +115,31 @@ def _library_error(exc: InvalidArgumentError, typed: dict) -> InvalidArgumentErr
     return InvalidArgumentError(name, value, exc.expected.replace(FORCE, "--force"))
 
 
-#: The options of ``--rate relative_velocity`` alone.
-RELATIVE_VELOCITY_OPTIONS = ("t", "density", "exponent", "points", "half_width",
-                             "core_spacing")
+#: The options of the velocity-space method alone (a kernel of time t).
+RELATIVE_VELOCITY_OPTIONS = ("t", "density", "points", "half_width", "core_spacing")
+
+
+def _solvable(cls) -> bool:
+    """Whether some method of :mod:`maxwell_kinetics.methods` carries a kernel class."""
+    from ...methods import carrying_methods
+
+    return bool(carrying_methods(cls))
 
 
 def _run(args, written: list) -> int:
-    from particles.kernels import ConstantRate, kernel_class
-
-    from ...inelastic_boltzmann import CARRIED_KERNELS
-    from ...solver import check_solve_arguments, solve  # JAX is imported only when a solve runs
-    # the registry's names: the Fourier scheme's kernel and the velocity grid's
-    kernel_class(args.rate, "rate", among=(ConstantRate.name, *CARRIED_KERNELS))
-    if args.rate == "relative_velocity":
+    from ...solver import check_solve_arguments, solve_fourier  # JAX: only when a solve runs
+    cls = chosen_kernel(args, _solvable)
+    if not cls.fourier_closed:
         return _run_relative_velocity(args, written)
+    kernel_from_args(args, _solvable, 0.0)  # a parameter of another kernel, refused by name
     for name in RELATIVE_VELOCITY_OPTIONS:
         if getattr(args, name) is not None:
             option = name.replace("_", "-")
             raise InvalidArgumentError(option, getattr(args, name),
-                                       f"no --{option} with --rate constant (it belongs to "
-                                       "--rate relative_velocity)")
+                                       f"no --{option} with --kernel {cls.name} (it belongs "
+                                       "to the kernels of time t, solved on a velocity grid)")
     if args.tau is None:
-        raise InvalidArgumentError("tau", None, "--tau T1,T2,... with --rate constant")
+        raise InvalidArgumentError("tau", None, f"--tau T1,T2,... with --kernel {cls.name}")
     tau = parse_float_list(args.tau, "tau")
     dimension = parse_int(args.dimension, "dimension")
     for option, value in (("angular", args.angular), ("angular-rule", args.angular_rule)):
@@ -189,7 +190,7 @@ def _run(args, written: list) -> int:
     cache_options.from_args(args)
     try:
         arguments["tau"] = taus
-        sol = solve(**arguments, progress=progress_enabled(args))
+        sol = solve_fourier(**arguments, progress=progress_enabled(args))
     except InvalidArgumentError as exc:  # checked above: kept for the option names
         raise _library_error(exc, typed) from None
     seconds = sol.seconds
@@ -256,17 +257,18 @@ def _run(args, written: list) -> int:
 
 
 def _run_relative_velocity(args, written: list) -> int:
-    """``solve --rate relative_velocity``: the velocity-space solver of
-    :mod:`maxwell_kinetics.inelastic_boltzmann`, every input checked before the solve."""
+    """``solve --kernel NAME`` for a kernel of time t: the velocity-space method
+    (:class:`maxwell_kinetics.methods.VelocitySpace`), every input checked before the solve."""
     from particles.parsing import parse_int
     from particles.validation import check_real
 
-    from ...inelastic_boltzmann import solve_boltzmann
-    from ...model import RelativeVelocityModel
+    from ...methods import VelocitySpace
+    from ...solver import solve
     from ...velocity_grid import MappedGrid, VelocityGrid, default_grid, initial_values
 
+    name = args.kernel
     if args.tau is not None:
-        raise InvalidArgumentError("tau", args.tau, "--t T1,T2,... with --rate relative_velocity "
+        raise InvalidArgumentError("tau", args.tau, f"--t T1,T2,... with --kernel {name} "
                                    "(its time is the physical time t, not collisions per "
                                    "particle)")
     for name in ("q", "speed", "plot", "save", "angular", "angular_rule"):
@@ -274,15 +276,15 @@ def _run_relative_velocity(args, written: list) -> int:
         default = {"q": "0.5,1,2,5"}.get(name)
         if value is not None and value != default:
             option = name.replace("_", "-")
-            raise InvalidArgumentError(option, value, f"no --{option} with --rate "
-                                       "relative_velocity (a Fourier-solver option)")
+            raise InvalidArgumentError(option, value, f"no --{option} with --kernel "
+                                       f"{name} (a Fourier-solver option)")
     if args.resolution != "default" or args.dimension != "1":
-        name, value = (("resolution", args.resolution) if args.resolution != "default"
-                       else ("dimension", args.dimension))
-        raise InvalidArgumentError(name, value, f"no --{name} with --rate relative_velocity "
+        option, value = (("resolution", args.resolution) if args.resolution != "default"
+                         else ("dimension", args.dimension))
+        raise InvalidArgumentError(option, value, f"no --{option} with --kernel {name} "
                                    "(one dimension; the grid is --points and --half-width)")
     if args.t is None:
-        raise InvalidArgumentError("t", None, "--t T1,T2,... with --rate relative_velocity")
+        raise InvalidArgumentError("t", None, f"--t T1,T2,... with --kernel {name}")
     times = parse_float_list(args.t, "t")
     # Every number is read from its text as typed, by the rules of every other option
     # (particles.validation.check_real: no digit-group underscores, no non-zero number that
@@ -298,19 +300,19 @@ def _run_relative_velocity(args, written: list) -> int:
     density = 1.0 if args.density is None else number("density")
     if not density > 0:
         raise InvalidArgumentError("density", args.density, "a finite density n > 0")
-    exponent = 1.0 if args.exponent is None else number("exponent")
     restitution = number("restitution")
     try:
-        model = RelativeVelocityModel(restitution, exponent=exponent)
-        grid = default_grid(model.exponent)
+        kernel = kernel_from_args(args, _solvable, restitution, typed)
+        gamma = float(kernel.homogeneity)
+        grid = default_grid(gamma)
         points = grid.points if args.points is None else parse_int(args.points, "points")
         half_width = grid.half_width if args.half_width is None else number("half_width")
         core = None if args.core_spacing is None else number("core_spacing")
-        if core is not None and model.exponent != 0.0:
+        if core is not None and gamma != 0.0:
             raise InvalidArgumentError("core-spacing", args.core_spacing,
-                                       "--core-spacing (a mapped grid) with --exponent 0 only "
-                                       f"(here gamma = {model.exponent:g}: use the uniform "
-                                       "grid)")
+                                       "--core-spacing (a mapped grid) with a rate of degree "
+                                       f"gamma = 0 only (here gamma = {gamma:g}: use the "
+                                       "uniform grid)")
         grid = (VelocityGrid(points, half_width) if core is None
                 else MappedGrid(points, half_width, core))
         initial_values(args.initial, grid)  # the grid against the law, before the solve
@@ -318,17 +320,17 @@ def _run_relative_velocity(args, written: list) -> int:
         raise _typed_error(exc, typed) from None
     typed["t"] = (times[-1], args.t)  # the reach check names the last time
     try:
-        sol = solve_boltzmann(model.restitution, times, exponent=model.exponent,
-                              density=density, initial=args.initial, grid=grid)
+        sol = solve(kernel, args.initial, times, VelocitySpace(grid=grid), density=density)
     except InvalidArgumentError as exc:
         raise _typed_error(exc, typed) from None
     interrupt.check()
     kurtosis = sol.kurtosis
     if args.json:
         emit_json({
-            "rate": "relative_velocity",
-            "restitution": model.restitution,
-            "exponent": model.exponent,
+            "rate": kernel.name,
+            "kernel": kernel.to_dict(),
+            "restitution": kernel.restitution,
+            "exponent": gamma,
             "density": density,
             "initial": sol.initial,
             "points": grid.points,
@@ -343,7 +345,8 @@ def _run_relative_velocity(args, written: list) -> int:
             "seconds": sol.seconds,
         })
         return 0
-    print(f"r = {model.restitution:g}, rate n|v - w|^{model.exponent:g}, n = {density:g}, "
+    print(f"r = {kernel.restitution:g}, kernel {kernel.name}, rate of degree {gamma:g} in "
+          f"|v - w|, n = {density:g}, "
           f"initial {sol.initial}, grid {grid.points} points on +-{grid.half_width:g}"
           + ("" if core is None else f" (mapped, core spacing {grid.core_spacing:g})")
           + f", {sol.seconds:.2f} s")
@@ -353,7 +356,7 @@ def _run_relative_velocity(args, written: list) -> int:
 
 
 def _typed_error(exc: InvalidArgumentError, typed: dict) -> InvalidArgumentError:
-    """The library's refusal of ``--rate relative_velocity``'s input, naming the option as
+    """The library's refusal of a velocity-space solve's input, naming the option as
     typed (``half-width``, not ``half_width``) and showing the text typed when the library saw
     the value read from it (``typed``: name -> (value read, text))."""
     name = {"half_width": "half-width", "core_spacing": "core-spacing"}.get(exc.name, exc.name)
