@@ -313,10 +313,9 @@ def thinned_windows(start: float, until: float, rate: float, stop_step: float,
     return list(zip(cuts[:-1], cuts[1:], strict=True))
 
 
-def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence,
-                        rate=None) -> int:
+def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence, rate) -> int:
     """:func:`fire_rounds` for thinned candidates (the collision rate of a pair is
-    ``rate(v_a, v_b)``, by default |v_a − v_b|): candidate row k (``reversed_pairs[k]``, last
+    ``rate(v_a, v_b)``, the kernel's): candidate row k (``reversed_pairs[k]``, last
     candidate first) collides iff ``marks[k] * bound < rate(v_a, v_b)`` at the moment it fires,
     ``marks`` uniform on [0, 1), ``bound`` ≥ the rate of every pair (so the acceptance
     probability is rate/``bound``); a rejected candidate changes nothing.  A candidate fires
@@ -339,7 +338,7 @@ def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence,
         Scratch of :func:`_rounds`.
     rate : callable, optional
         ``rate(va, vb)`` → the pairs' rates, arrays in and out (a kernel's
-        :meth:`~particles.kernels.Kernel.rate`); None: |v_a − v_b|.
+        :meth:`~particles.kernels.Kernel.rate`; this module writes no rate itself).
 
     Returns
     -------
@@ -355,14 +354,10 @@ def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence,
     accepted = 0
     for fired, fire in _rounds(reversed_pairs, first, occurrence):
         vv = np.take(v, fired)
-        if rate is None:
-            g = vv[0::2] - vv[1::2]
-            np.abs(g, out=g)
-        else:
-            g = rate(vv[0::2], vv[1::2])
-            if g.size and not g.max() <= bound:  # the acceptance rate/bound would pass 1
-                raise InvalidArgumentError("rate", f"a pair's rate {g.max()!r}",
-                                           f"a kernel whose rate stays <= its bound {bound!r}")
+        g = rate(vv[0::2], vv[1::2])
+        if g.size and not g.max() <= bound:  # the acceptance rate/bound would pass 1
+            raise InvalidArgumentError("rate", f"a pair's rate {g.max()!r}",
+                                       f"a kernel whose rate stays <= its bound {bound!r}")
         threshold = np.compress(fire, marks)
         marks = np.compress(~fire, marks)  # the marks of the candidates still pending
         threshold *= bound
@@ -377,7 +372,7 @@ def fire_rounds_thinned(v, reversed_pairs, marks, bound, p, first, occurrence,
     return accepted
 
 
-def thin_sequential(v, reversed_pairs, marks, bound, p, rate=None) -> tuple[int, float]:
+def thin_sequential(v, reversed_pairs, marks, bound, p, rate) -> tuple[int, float]:
     """Reference of :func:`fire_rounds_thinned`: a Python loop over the candidates in time order
     (row K − 1 first, row 0 last), on ``v`` (N,) in place: candidate k collides iff
     ``marks[k] * bound < rate(v_a, v_b)`` (:func:`~particles.collision.collide_scalar`).
@@ -396,7 +391,7 @@ def thin_sequential(v, reversed_pairs, marks, bound, p, rate=None) -> tuple[int,
         The transfer fraction (1 + r)/2.
     rate : callable, optional
         ``rate(va, vb)`` → the pair's rate, on floats (a kernel's
-        :meth:`~particles.kernels.Kernel.rate`); None: |v_a − v_b|.
+        :meth:`~particles.kernels.Kernel.rate`).
 
     Returns
     -------
@@ -410,7 +405,7 @@ def thin_sequential(v, reversed_pairs, marks, bound, p, rate=None) -> tuple[int,
     largest = 0.0
     for k in range(len(reversed_pairs) - 1, -1, -1):
         a, b = int(reversed_pairs[k, 0]), int(reversed_pairs[k, 1])
-        g = abs(w[a] - w[b]) if rate is None else float(rate(w[a], w[b]))
+        g = float(rate(w[a], w[b]))
         largest = max(largest, g / bound)
         if m[k] * bound < g:
             w[a], w[b] = collide_scalar(w[a], w[b], p)

@@ -383,6 +383,86 @@ def test_only_the_collision_model_writes_out_the_kernel():
     assert kernel_rederiving_modules(sources) == {}
 
 
+#: The modules that hold the collision kernels, the only ones that may write out a collision
+#: rate: the registry of kernels, the collision arithmetic and the kinetic models.
+KERNEL_MODULES = {"particles.kernels", "particles.collision", COLLISION_MODEL}
+
+#: A collision rate written out, as ``ast.unparse`` spells it (strings blanked): a relative
+#: speed raised to a power (|v - w|^gamma, the variable ``g`` to any power but 2), and a
+#: relative speed used as a thinning rate (over a bound, or compared with a mark times one).
+RATE_PATTERNS = {
+    "a power of a relative speed": re.compile(r"abs\([^()]*? - [^()]*?\) \*\* "
+                                              r"|(?<![\w.])g \*\* (?!2\b)"),
+    "a relative speed as a rate": re.compile(r"abs\([^()]*? - [^()]*?\) / "
+                                             r"|\* [\w.]+ < (?:np\.)?abs\("),
+    "the relative speed g of a pair": re.compile(r"(?<![\w.])g = (?:np\.)?abs\([^()]*? - "
+                                                 r"|abs\(g, out=g\)"),
+}
+
+#: Look-alikes of a written-out rate, by module and exactly as :func:`rate_rederivations`
+#: reports them: the drift of a fit between two halves of a sample, over the fit's value.
+RATE_LOOKALIKES = {
+    "maxwell_kinetics.scaling_tails": {
+        "a relative speed as a rate: abs(halves[0] - halves[1]) / "},
+}
+
+
+def rate_rederivations(source: str) -> list[str]:
+    """The rates (:data:`RATE_PATTERNS`) written out in ``source``'s code."""
+    tree = ast.parse(source)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Constant) and isinstance(node.value, str):
+            node.value = ""
+    code = ast.unparse(tree)
+    return sorted({f"{kind}: {match.group(0)}" for kind, pattern in RATE_PATTERNS.items()
+                   for match in pattern.finditer(code)})
+
+
+def rate_rederiving_modules(sources: dict[str, str]) -> dict[str, list[str]]:
+    """Library modules of both packages outside :data:`KERNEL_MODULES` that write out a
+    collision rate, or (in ``particles``) the transfer of a collision, with what they write."""
+    out = {}
+    for name, source in sources.items():
+        if _is_application(name) or name in KERNEL_MODULES:
+            continue
+        found = [f for f in rate_rederivations(source)
+                 if f not in RATE_LOOKALIKES.get(name, set())]
+        if name.startswith("particles"):
+            found += [f for f in kernel_rederivations(source)
+                      if f != "lambda: prob * (1.0 - prob)"]  # a binomial variance
+        if found:
+            out[name] = sorted(found)
+    return out
+
+
+def test_the_rate_checker_finds_each_form():
+    assert rate_rederivations("k = np.abs(c[:, None] - c[None, :]) ** gamma\n"
+                              "e = g ** (exponent + 2.0)\ne2 = g ** 2") == [
+        "a power of a relative speed: abs(c[:, None] - c[None, :]) ** ",
+        "a power of a relative speed: g ** "]
+    assert rate_rederivations("a = abs(w[a] - w[b]) / bound\nhit = m * bound < np.abs(g)") == [
+        "a relative speed as a rate: * bound < np.abs(",
+        "a relative speed as a rate: abs(w[a] - w[b]) / "]
+    assert rate_rederivations("g = abs(w[a] - w[b]) if rate is None else 1\n"
+                              "np.abs(g, out=g)") == [
+        "the relative speed g of a pair: abs(g, out=g)",
+        "the relative speed g of a pair: g = abs(w[a] - "]
+    assert rate_rederivations('"""g ** gamma"""\nx = "abs(v - w) / b"  # g ** 0.5') == []
+    sources = {"particles.pair_schedule": "g = abs(w[a] - w[b]) / bound",
+               "particles.kernels": "g = abs(v - w) ** 0.5",
+               "particles.ulam": "p = (1 + r) / 2",
+               "maxwell_kinetics.app.cli": "g ** gamma"}
+    assert rate_rederiving_modules(sources) == {
+        "particles.pair_schedule": ["a relative speed as a rate: abs(w[a] - w[b]) / ",
+                                    "the relative speed g of a pair: g = abs(w[a] - "],
+        "particles.ulam": ["transfer fraction: (1 + r) / 2"]}
+
+
+def test_no_module_outside_the_kernels_writes_a_rate_or_a_transfer_out():
+    sources = {name: path.read_text() for name, path in project_modules().items()}
+    assert rate_rederiving_modules(sources) == {}
+
+
 def private_library_imports(path: Path) -> list[str]:
     """Imports of a library's private modules (a dotted name with a part starting with ``_``,
     such as ``jax._src.config``), the project's own modules aside."""

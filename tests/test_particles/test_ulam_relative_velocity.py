@@ -13,10 +13,14 @@ import numpy as np
 import pytest
 
 from particles.driver import simulate
+from particles.kernels import RelativeVelocity
 from particles.models import get_model
 from particles.pair_schedule import fire_rounds_thinned, thin_sequential
 from particles.ulam import Ulam, UlamReference
 from particles.validation import InvalidArgumentError
+
+#: The hard-rod rate |v - w| of the thinning, as the engine passes it (the kernel's own).
+HARD_RODS = RelativeVelocity(0.5).rate
 
 
 def _pair_sums(v: np.ndarray) -> tuple[float, float, np.ndarray]:
@@ -58,11 +62,12 @@ def test_one_window_of_candidates_by_hand():
     marks = np.array([0.05, 0.9, 0.5])
     expected = [0.15625, 0.625, -0.03125]
     slow = v.copy()
-    accepted, largest = thin_sequential(slow, reversed_pairs, marks, 2.0, 0.75)
+    accepted, largest = thin_sequential(slow, reversed_pairs, marks, 2.0, 0.75, HARD_RODS)
     assert slow.tolist() == expected and accepted == 2 and largest == 0.75
     fast = v.copy()
     first, occurrence = np.empty(3, np.int32), np.arange(6, dtype=np.int32)
-    assert fire_rounds_thinned(fast, reversed_pairs, marks, 2.0, 0.75, first, occurrence) == 2
+    assert fire_rounds_thinned(fast, reversed_pairs, marks, 2.0, 0.75, first, occurrence,
+                               HARD_RODS) == 2
     assert fast.tolist() == expected
 
 
@@ -75,12 +80,13 @@ def test_acceptance_is_the_mark_times_the_bound_below_the_relative_speed():
         marks = np.array([mark])
         pairs = np.array([[0, 1]], dtype=np.int32)
         slow = np.array([1.0, -0.5])
-        accepted, largest = thin_sequential(slow, pairs, marks, 2.0, 0.75)
+        accepted, largest = thin_sequential(slow, pairs, marks, 2.0, 0.75, HARD_RODS)
         assert slow.tolist() == expected and accepted == int(expected[0] != 1.0)
         assert largest == 0.75
         fast = np.array([1.0, -0.5])
         first, occurrence = np.empty(2, np.int32), np.arange(2, dtype=np.int32)
-        assert fire_rounds_thinned(fast, pairs, marks, 2.0, 0.75, first, occurrence) == accepted
+        assert fire_rounds_thinned(fast, pairs, marks, 2.0, 0.75, first, occurrence,
+                                   HARD_RODS) == accepted
         assert fast.tolist() == expected
 
 

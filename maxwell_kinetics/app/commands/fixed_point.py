@@ -13,7 +13,7 @@ from particles.validation import InvalidArgumentError
 from .. import cache_options
 from ..output import emit_json
 from .kernel_options import add_kernel_options, chosen_kernel, kernel_from_args
-from .solve import _solvable
+from .kernel_options import solvable as _solvable
 
 #: Dense matrices of the Chebyshev collocation: about 12 of (n + 1)² doubles at once.
 _MATRICES = 12

@@ -9,9 +9,30 @@ the user's code before :func:`maxwell_kinetics.app.cli.main` runs is offered lik
 
 from __future__ import annotations
 
+import argparse
+
 from particles.validation import InvalidArgumentError, check_real
 
-__all__ = ["add_kernel_options", "chosen_kernel", "kernel_from_args", "declared_parameters"]
+__all__ = ["solvable", "add_kernel_options", "chosen_kernel", "kernel_from_args",
+           "declared_parameters"]
+
+
+def solvable(cls) -> bool:
+    """Whether some method of :mod:`maxwell_kinetics.methods` carries a kernel class (what
+    ``solve`` and ``fixed-point`` accept).
+
+    Parameters
+    ----------
+    cls : type
+        A kernel class.
+
+    Returns
+    -------
+    bool
+    """
+    from ...methods import carrying_methods
+
+    return bool(carrying_methods(cls))
 
 
 def declared_parameters(carried) -> dict[str, tuple]:
@@ -64,15 +85,15 @@ def add_kernel_options(p, carried, default: str, what: str) -> None:
     p.add_argument("--rate", default=None,
                    help="alias of --kernel, kept for one release")
     p.set_defaults(default_kernel=default)
-    taken = {option for action in p._actions for option in action.option_strings}
     for name, (parameter, owners) in declared_parameters(carried).items():
         option = "--" + name.replace("_", "-")
-        if option in taken:
-            continue
-        p.add_argument(option, dest=name, default=None,
-                       help=f"--kernel {' or '.join(owners)}: {parameter.doc}, in "
-                       f"[{parameter.low:g}, {parameter.high:g}] (default "
-                       f"{parameter.default:g})")
+        try:
+            p.add_argument(option, dest=name, default=None,
+                           help=f"--kernel {' or '.join(owners)}: {parameter.doc}, in "
+                           f"[{parameter.low:g}, {parameter.high:g}] (default "
+                           f"{parameter.default:g})")
+        except argparse.ArgumentError:  # the command has an option of that name: it is read
+            pass
 
 
 def chosen_kernel(args, carried):

@@ -22,6 +22,7 @@ from ...grid import FORCE, MAX_SOLVE_SECONDS, RESOLUTIONS, format_seconds
 from .. import cache_options
 from ..output import check_outputs, emit_json, progress_enabled
 from .kernel_options import add_kernel_options, chosen_kernel, kernel_from_args
+from .kernel_options import solvable as _solvable
 
 #: Seconds per quadrature node of the speed density at one τ (G interpolated there; measured:
 #: 36 s for 1.7e7 nodes, 5 speeds, d = 3), and per node and speed (the kernel).
@@ -117,13 +118,6 @@ def _library_error(exc: InvalidArgumentError, typed: dict) -> InvalidArgumentErr
 
 #: The options of the velocity-space method alone (a kernel of time t).
 RELATIVE_VELOCITY_OPTIONS = ("t", "density", "points", "half_width", "core_spacing")
-
-
-def _solvable(cls) -> bool:
-    """Whether some method of :mod:`maxwell_kinetics.methods` carries a kernel class."""
-    from ...methods import carrying_methods
-
-    return bool(carrying_methods(cls))
 
 
 def _run(args, written: list) -> int:
