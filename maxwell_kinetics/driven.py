@@ -54,7 +54,7 @@ import numpy as np
 from particles.collision import transfer_fraction
 from particles.validation import InvalidArgumentError, check_restitution
 
-from .model import DrivenMaxwellModel, MaxwellModel
+from .model import DrivenMaxwellModel, MaxwellModel, maxwell_restitution
 
 __all__ = [
     "DrivenSteadyState",
@@ -84,7 +84,7 @@ MAX_DRIVING = 1e60
 
 
 def _check_driving(driving, restitution, *, allow_zero=False) -> tuple[float, float]:
-    r = check_restitution(restitution)
+    r = check_restitution(maxwell_restitution(restitution))
     try:
         d = float(driving)
     except (TypeError, ValueError):
@@ -420,8 +420,8 @@ def steady_state(restitution, driving, count: int = 4) -> DrivenSteadyState:
 
     Parameters
     ----------
-    restitution : float
-        r ∈ [0, 1).
+    restitution : float or particles.kernels.Kernel
+        r ∈ [0, 1), or the Maxwell kernel of r (:func:`maxwell_kinetics.model.maxwell_restitution`).
     driving : float
         D > 0, the strength of the white noise (Fokker–Planck term D ∂²_v P).
     count : int
@@ -436,7 +436,8 @@ def steady_state(restitution, driving, count: int = 4) -> DrivenSteadyState:
     Raises
     ------
     particles.InvalidArgumentError
-        For r or D out of range.
+        For r or D out of range; naming ``kernel`` for a kernel whose Fourier-space equation does
+        not close.
     """
     r, d = _check_driving(driving, restitution)
     x, dens = _density_unit(transfer_fraction(r))

@@ -260,8 +260,8 @@ def linear_decay_rates(
 
     Parameters
     ----------
-    restitution : float
-        r ∈ [0, 1).
+    restitution : float or particles.kernels.Kernel
+        r ∈ [0, 1), or the Maxwell kernel of r (:func:`maxwell_kinetics.model.maxwell_restitution`).
     sigma : float, optional
         Weight exponent in (2, 3); None for s*.
     q_min : float, default e^{−80}

@@ -53,7 +53,8 @@ from particles.validation import check_nonnegative, check_real, check_restitutio
 
 from . import angular as _angular
 
-__all__ = ["CollisionModel", "MaxwellModel", "DrivenMaxwellModel", "RelativeVelocityModel",
+__all__ = ["maxwell_restitution", "CollisionModel", "MaxwellModel", "DrivenMaxwellModel",
+           "RelativeVelocityModel",
            "KINETIC_MODELS", "RATE_EXPONENTS"]
 
 # Names moved out of this module, by new home: importing one from here raises an ImportError
@@ -67,6 +68,42 @@ def __getattr__(name: str):
         raise ImportError(f"maxwell_kinetics.model.{name} moved to {_MOVED[name]}.{name}")
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
+
+
+def maxwell_restitution(value, argument: str = "kernel"):
+    """The restitution r of the Maxwell kernel, from r itself (returned as given, checked by its
+    reader) or a kernel whose Fourier-space equation closes
+    (:class:`particles.kernels.ConstantRate`, or a model holding one): what the Fourier-space
+    fixed point, linear rates and driven steady state take.
+
+    Parameters
+    ----------
+    value : float or particles.kernels.Kernel
+        r, or the kernel.
+    argument : str, optional
+        The argument's name in errors.
+
+    Returns
+    -------
+    float or object
+        r (a kernel's, or ``value`` unchanged).
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``argument`` for a kernel whose Fourier-space equation does not close (its
+        scaling state is :func:`maxwell_kinetics.inelastic_boltzmann.scaling_state`).
+    """
+    kernel = getattr(value, "kernel", value)
+    if not isinstance(kernel, _kernels.Kernel):
+        return value
+    if not kernel.fourier_closed:
+        from particles.validation import InvalidArgumentError
+
+        raise InvalidArgumentError(argument, value, "a restitution or a kernel whose "
+                                   "Fourier-space equation closes (the scaling state of "
+                                   f"{kernel.name!r} is inelastic_boltzmann.scaling_state)")
+    return kernel.restitution
 
 
 @dataclass(frozen=True)
@@ -653,7 +690,7 @@ class RelativeVelocityModel(CollisionModel):
         finite real number in :data:`RATE_EXPONENTS`.
     """
 
-    name: ClassVar[str] = "relative_velocity"
+    name: ClassVar[str] = _kernels.RelativeVelocity.name
     fourier_closed: ClassVar[bool] = False
 
     exponent: float = 1.0

@@ -653,7 +653,7 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
     value = _kernel_value(kernel)
     given = {name: v for name, v in (("times", times), ("tau", tau), ("t", t)) if v is not None}
     if len(given) > 1:
-        name = sorted(given)[1]
+        name = "tau" if "tau" in given else "t"
         raise InvalidArgumentError(name, given[name], f"the times once (given as "
                                    f"{' and '.join(sorted(given))})")
     if "tau" in given and value.time_name != "tau" or "t" in given and value.time_name != "t":

@@ -49,7 +49,7 @@ from particles.validation import InvalidArgumentError, check_bool, check_count, 
 
 from .chebyshev import barycentric_matrix, chebyshev_nodes, differentiation_matrix
 from .exact import f_hat
-from .model import MaxwellModel
+from .model import MaxwellModel, maxwell_restitution
 
 __all__ = [
     "MAX_DEGREE_1D",
@@ -80,8 +80,8 @@ def check_inelastic(restitution) -> MaxwellModel:
 
     Parameters
     ----------
-    restitution : float
-        r ∈ [0, 1).
+    restitution : float or particles.kernels.Kernel
+        r ∈ [0, 1), or the Maxwell kernel of r (:func:`maxwell_kinetics.model.maxwell_restitution`).
 
     Returns
     -------
@@ -91,8 +91,10 @@ def check_inelastic(restitution) -> MaxwellModel:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        Naming ``restitution``, if it is not a finite number in [0, 1) (r = 1 included).
+        Naming ``restitution``, if it is not a finite number in [0, 1) (r = 1 included);
+        ``kernel`` for a kernel whose Fourier-space equation does not close.
     """
+    restitution = maxwell_restitution(restitution)
     model = MaxwellModel(restitution)  # checks finite and in [0, 1]
     if model.restitution >= 1.0:
         raise InvalidArgumentError(
@@ -448,8 +450,8 @@ def fixed_point(
 
     Parameters
     ----------
-    restitution : float
-        r ∈ [0, 1).
+    restitution : float or particles.kernels.Kernel
+        r ∈ [0, 1), or the Maxwell kernel of r (:func:`maxwell_kinetics.model.maxwell_restitution`).
     n : int, optional
         Polynomial degree N ≥ 8 (default 64 in d = 1, 128 in d ≥ 2); at most
         :data:`MAX_DEGREE_1D` = 256 in d = 1 (larger N is worse conditioned and less accurate).
