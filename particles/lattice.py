@@ -53,7 +53,7 @@ import numpy as np
 from .collision import collide_scalar, transfer_fraction
 from .driver import EngineBase, initial_velocities
 from .initial import get_law
-from .kernels import ConstantRate, RelativeVelocity, kernel_class
+from .kernels import KERNELS, ConstantRate, Kernel, RelativeVelocity, kernel_class, make_kernel
 from .validation import InvalidArgumentError, check_count, check_real_array, check_restitution
 
 __all__ = [
@@ -444,11 +444,19 @@ class Lattice(EngineBase):
 
     @property
     def relative_velocity_rate(self) -> bool:
-        return self.rate == "relative_velocity"
+        return self.rate == RelativeVelocity.name
+
+    @property
+    def kernel(self) -> Kernel:
+        """The collision kernel that ``rate`` names (:mod:`particles.kernels`), at this
+        restitution."""
+        return make_kernel(self.rate, self.restitution, "rate")
 
     @property
     def time_name(self) -> str:
-        return "t" if self.relative_velocity_rate else "tau"
+        """The lattice's time, its kernel's ``time_name``: ``"tau"`` (attempts per site) or
+        ``"t"`` (MD's time at density 1)."""
+        return KERNELS[self.rate].time_name
 
     def to_dict(self) -> dict:
         """JSON-able parameters; ``"rate"`` appears only for the rate-|Δ| variant, so the

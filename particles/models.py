@@ -5,8 +5,19 @@ A :class:`Model` is a name, a factory that builds the model's engine (the engine
 keywords: kind (``"int"``, ``"float"``, ``"choice"``, ``"flag"``; ``"any"`` for models added
 with :func:`register_model` without declarations), default (or :data:`REQUIRED`), validator
 (from :mod:`particles.validation`), unit, help text and command-line option.  The model's time
-(``"tau"`` or ``"t"``) is not declared here: it is the engine's ``time_name`` (the lattice with
-``rate="relative_velocity"`` runs in MD's t, the constant-rate one in τ).
+(``"tau"`` or ``"t"``) is not declared here: it is the engine's ``time_name``, that of its
+collision kernel (:mod:`particles.kernels`: the lattice with the relative-velocity kernel runs in
+MD's t, the constant-rate one in τ).
+
+The kernels of ``ulam`` and ``lattice`` are read from the registry
+:data:`particles.kernels.KERNELS` whenever the parameters are read (:attr:`Model.parameters`),
+not written here: the parameter ``rate`` (option ``--kernel``; ``--rate``, its alias, is kept for
+one release) chooses among the registered kernels the engine carries
+(:func:`particles.pair_schedule.ulam_carries`; the lattice's
+``particles.lattice.CARRIED_KERNELS``), and the parameters those kernels declare
+(:class:`particles.kernels.KernelParameter`, e.g. ``exponent``) are parameters of ``ulam`` too,
+each only with a kernel that declares it.  A kernel registered before the command line is built
+is one of its choices.
 
 What is generated from :data:`MODELS`: the ``simulate MODEL`` and ``ensemble MODEL`` commands of
 the command line (every parameter an option; in ``ensemble`` every option takes a comma list,
@@ -23,6 +34,7 @@ when it is built.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import inspect
 from collections.abc import Callable, Mapping
@@ -30,6 +42,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .initial import LAWS
+from .kernels import KERNELS, ConstantRate, RelativeVelocity, make_kernel
 from .parsing import parse_int
 from .validation import (
     InvalidArgumentError,
@@ -78,6 +91,8 @@ class Parameter:
     run).  ``needs`` is ``(other, values, words)`` for a parameter that means something only
     when the parameter ``other`` is one of ``values`` (``angular`` only when ``dimension`` is 2
     or 3): giving it otherwise is refused by :meth:`Model.build`, whatever its value.
+    ``choices`` and the ``values`` of ``needs`` may be callables, read each time the model's
+    parameters are read (:meth:`resolved`): the kernels of the registry.
 
     Attributes
     ----------
@@ -98,14 +113,19 @@ class Parameter:
         The command-line option; default ``--`` and the name with ``-`` for ``_``.
     switch : str
         For a ``"flag"``: an option without value that sets ``not default``.
-    choices : tuple
-        The allowed values of a ``"choice"``.
+    choices : tuple or callable
+        The allowed values of a ``"choice"``, or a function without arguments that returns
+        them (read when asked: the registered kernels).
     example : object
         A valid non-default value (help and generated tests).
     needs : tuple
         ``(other, values, words)``: the parameter may be given only when ``other`` (given or
         defaulted) is in ``values``; ``words`` says so in the error (e.g. ``"--dimension 2 or
-        3"``).  Empty (default): no condition.
+        3"``).  Empty (default): no condition.  ``values`` may be a function without arguments
+        that returns them (the kernels whose time is t).
+    aliases : tuple of str
+        Further options with the same meaning, kept for one release (``--rate`` of
+        ``--kernel``); the help of each says so.
 
     Raises
     ------
@@ -124,6 +144,7 @@ class Parameter:
     choices: tuple = ()
     example: Any = None
     needs: tuple = ()
+    aliases: tuple = ()
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -136,6 +157,25 @@ class Parameter:
     @property
     def required(self) -> bool:
         return self.default is REQUIRED
+
+    def resolved(self) -> Parameter:
+        """The parameter with its ``choices`` and the values of its ``needs`` read now (they
+        may be functions of the registry of kernels); itself when neither is a function.
+
+        Returns
+        -------
+        Parameter
+            A parameter whose ``choices`` and ``needs`` are tuples.
+        """
+        changes = {}
+        if callable(self.choices):
+            changes["choices"] = tuple(self.choices())
+            if isinstance(self.check, functools.partial) and self.check.func is _choice:
+                changes["check"] = None  # the membership check of the choices read now
+        if self.needs and callable(self.needs[1]):
+            other, values, words = self.needs
+            changes["needs"] = (other, tuple(values()), words)
+        return dataclasses.replace(self, **changes) if changes else self
 
     @property
     def label(self) -> str:
@@ -213,15 +253,16 @@ class Parameter:
         parts = [self.help]
         if self.unit:
             parts.append(f"[{self.unit}]")
-        if self.choices:
-            parts.append("(" + " | ".join(map(str, self.choices)) + ")")
+        choices = self.choices() if callable(self.choices) else self.choices
+        if choices:
+            parts.append("(" + " | ".join(map(str, choices)) + ")")
         default = str(self.default).lower() if isinstance(self.default, bool) else self.default
         parts.append("(required)" if self.required else f"(default {default})")
         return " ".join(p for p in parts if p)
 
 
 def _choice(value, name, choices):
-    return check_choice(value, name, choices)
+    return check_choice(value, name, choices() if callable(choices) else choices)
 
 
 def _count(minimum: int) -> Callable[[Any, str], int]:
@@ -242,8 +283,9 @@ def _restitution(value, name):
 
 @dataclass(frozen=True)
 class Model:
-    """A particle model: ``factory(**params)`` builds its engine; ``parameters`` declares the
-    keywords it takes; ``help`` and ``description`` are its command-line texts.
+    """A particle model: ``factory(**params)`` builds its engine; ``declared`` and ``extra``
+    give the keywords it takes (:attr:`parameters`); ``help`` and ``description`` are its
+    command-line texts.
 
     Parameters
     ----------
@@ -251,7 +293,7 @@ class Model:
         The model's name (the command ``simulate NAME``).
     factory : callable
         ``factory(**params)`` returns the engine.
-    parameters : tuple of Parameter
+    declared : tuple of Parameter
         The declared keywords (distinct names).
     help : str
         One-line command-line help.
@@ -260,28 +302,43 @@ class Model:
     default_time_name : str
         Time name (``"tau"`` or ``"t"``) of the command line's time option when no engine can
         be built from the parameters' examples.
+    extra : callable, optional
+        A function without arguments that returns more parameters, read whenever the
+        parameters are (the parameters the carried kernels declare); those whose name a
+        declared parameter has are left out.  The factory takes them as keywords (``**``).
 
     Raises
     ------
     particles.InvalidArgumentError
-        (argument ``parameters``) if two parameters share a name.
+        (argument ``parameters``) if two declared parameters share a name.
     """
 
     name: str
     factory: Callable[..., Any]
-    parameters: tuple[Parameter, ...]
+    declared: tuple[Parameter, ...]
     help: str = ""
     description: str = ""
     #: the time option's name when no engine can be built from the examples
     default_time_name: str = "tau"
-    _by_name: dict = field(init=False, repr=False, compare=False)
+    extra: Callable[[], tuple[Parameter, ...]] | None = None
+    _time_names: dict = field(init=False, repr=False, compare=False)
 
     def __post_init__(self):
-        object.__setattr__(self, "parameters", tuple(self.parameters))
-        names = [p.name for p in self.parameters]
+        object.__setattr__(self, "declared", tuple(self.declared))
+        names = [p.name for p in self.declared]
         if len(set(names)) != len(names):
             raise InvalidArgumentError("parameters", names, "distinct names")
-        object.__setattr__(self, "_by_name", {p.name: p for p in self.parameters})
+        object.__setattr__(self, "_time_names", {})
+
+    @property
+    def parameters(self) -> tuple[Parameter, ...]:
+        """Every parameter, read now: the declared ones (their choices and needs read from the
+        registry of kernels, :meth:`Parameter.resolved`), then those of ``extra``."""
+        params = tuple(p.resolved() for p in self.declared)
+        if self.extra is not None:
+            names = {p.name for p in params}
+            params += tuple(p for p in self.extra() if p.name not in names)
+        return params
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -309,12 +366,11 @@ class Model:
         particles.InvalidArgumentError
             (argument ``params``) if the model has no such parameter.
         """
-        try:
-            return self._by_name[name]
-        except KeyError:
-            raise InvalidArgumentError(
-                "params", name, f"a parameter of {self.name}: one of {list(self.names)}"
-            ) from None
+        for p in self.parameters:
+            if p.name == name:
+                return p
+        raise InvalidArgumentError(
+            "params", name, f"a parameter of {self.name}: one of {list(self.names)}")
 
     def build(self, params: Mapping[str, Any]):
         """The engine of ``params`` (unknown or missing parameters are refused).
@@ -338,24 +394,26 @@ class Model:
             ``InvalidArgumentError`` passes through, renamed to the option's :attr:`label`
             (``rod-length``) when it names a declared parameter.
         """
+        by_name = {p.name: p for p in self.parameters}
         for name in params:
-            self.parameter(name)
+            if name not in by_name:
+                self.parameter(name)  # the error naming it
         missing = [p for p in self.required if p not in params]
         if missing:
             raise InvalidArgumentError("params", sorted(params), f"values for {missing}")
         for name, value in params.items():
-            needs = self.parameter(name).needs
+            needs = by_name[name].needs
             if needs:
                 other, values, words = needs
-                given = params.get(other, self.parameter(other).default)
+                given = params.get(other, by_name[other].default)
                 if isinstance(given, bool) or given not in values:
                     raise InvalidArgumentError(
-                        name, value, f"no {self.parameter(name).option} without {words} (it "
-                        f"means nothing at {other} = {given!r})")
+                        name, value, f"no {by_name[name].option} without {words} (it "
+                        f"means nothing at {by_name[other].label} = {given!r})")
         try:
             return self.factory(**params)
         except InvalidArgumentError as exc:
-            declared = self._by_name.get(exc.name)
+            declared = by_name.get(exc.name)
             if declared is not None and declared.label != exc.name:  # rod_length: --rod-length
                 raise InvalidArgumentError(declared.label, exc.value, exc.expected) from None
             raise
@@ -380,15 +438,23 @@ class Model:
         """
         return str(getattr(engine, "time_name", self.default_time_name))
 
-    @functools.cached_property
+    @property
     def time_names(self) -> tuple[str, ...]:
         """Every time name an engine of this model may have (the time options of the command
-        line): the engines built from the examples, once per value of each choice and flag."""
-        base = {p.name: p.example for p in self.parameters if p.required}
+        line): the engines built from the examples, once per value of each choice and flag
+        (the choices read now: a kernel registered later counts)."""
+        parameters = self.parameters
+        key = tuple((p.name, p.choices) for p in parameters)
+        if key not in self._time_names:
+            self._time_names[key] = self._find_time_names(parameters)
+        return self._time_names[key]
+
+    def _find_time_names(self, parameters) -> tuple[str, ...]:
+        base = {p.name: p.example for p in parameters if p.required}
         if any(v is None for v in base.values()):
             return (self.default_time_name,)
         variants = [{}]
-        for p in self.parameters:
+        for p in parameters:
             values = p.choices if p.kind == "choice" else (True, False) if p.kind == "flag" else ()
             variants += [{p.name: v} for v in values]
         names = []
@@ -407,14 +473,17 @@ class Model:
 
 
 def _ulam(n, restitution, initial="gaussian", dimension=1, angular="uniform", driving=0.0,
-          rate="constant", density=1.0):
+          rate=ConstantRate.name, density=1.0, **kernel_parameters):
     from .ulam import Ulam
 
+    # the kernel's declared parameters, if any is given, build it (refusing those it lacks)
+    kernel = make_kernel(rate, restitution, "rate", **kernel_parameters) \
+        if kernel_parameters else rate
     return Ulam(n, restitution, initial, dimension=dimension, angular=angular, driving=driving,
-                rate=rate, density=density)
+                rate=kernel, density=density)
 
 
-def _lattice(n, restitution, initial="gaussian", constraint=True, rate="constant"):
+def _lattice(n, restitution, initial="gaussian", constraint=True, rate=ConstantRate.name):
     from .lattice import Lattice
 
     return Lattice(n, restitution, initial, constraint, rate=rate)
@@ -458,6 +527,76 @@ def _density() -> Parameter:
                      help="number density N/L > 0 (L, the ring length, must stay finite)")
 
 
+# --------------------------------------------------------------------------- kernels
+# Read from the registry particles.kernels.KERNELS each time the parameters are read.
+
+
+def _ulam_kernels() -> tuple[str, ...]:
+    """The registered kernels Ulam carries (:func:`particles.pair_schedule.ulam_carries`)."""
+    from .pair_schedule import ulam_carries
+
+    return tuple(name for name, cls in KERNELS.items() if ulam_carries(cls))
+
+
+def _lattice_kernels() -> tuple[str, ...]:
+    """The registered kernels the lattice carries (its rule:
+    ``particles.lattice.CARRIED_KERNELS``)."""
+    from .lattice import CARRIED_KERNELS
+
+    return tuple(name for name in KERNELS if name in CARRIED_KERNELS)
+
+
+def _kernels_of_time(carried, time_name: str) -> tuple[str, ...]:
+    return tuple(name for name in carried() if KERNELS[name].time_name == time_name)
+
+
+def _kernel_parameter_check(value, name, declared):
+    return declared.check(value)
+
+
+def _kernel_parameter_example(declared) -> float:
+    """A value in the declared range other than the default (halfway to an end)."""
+    end = declared.low if declared.default > declared.low else declared.high
+    return declared.default + (end - declared.default) / 2.0
+
+
+def _kernel_rate(carried, what: str) -> Parameter:
+    """The choice of the kernel (``--kernel``, alias ``--rate``) among ``carried()``."""
+    return Parameter(
+        "rate", "choice", default=ConstantRate.name, choices=carried,
+        example=RelativeVelocity.name, option="--kernel", aliases=("--rate",),
+        help=f"collision kernel of the {what}: a registered kernel it carries (the command "
+        f"'kernels' lists them); {ConstantRate.name}: time τ")
+
+
+def _kernel_parameters(carried) -> tuple[Parameter, ...]:
+    """The parameters the kernels ``carried()`` declare, one option each; a parameter declared
+    by kernels that disagree on its range is checked by the chosen kernel when it is built."""
+    owners: dict[str, list] = {}
+    for name in carried():
+        for declared in KERNELS[name].parameters:
+            owners.setdefault(declared.name, []).append((name, declared))
+    params = []
+    for pname, found in owners.items():
+        names = tuple(name for name, _ in found)
+        declared = found[0][1]
+        same = all(d == declared for _, d in found)
+        check = functools.partial(_kernel_parameter_check, declared=declared) if same \
+            else _real
+        shown = " or ".join(names)
+        params.append(Parameter(
+            pname, "float", default=declared.default, check=check,
+            example=_kernel_parameter_example(declared),
+            help=f"{declared.doc}, in [{declared.low:g}, {declared.high:g}] (only with "
+            f"--kernel {shown})",
+            needs=("rate", names, f"--kernel {shown}")))
+    return tuple(params)
+
+
+def _real(value, name):
+    return check_real(value, name)
+
+
 MODELS: dict[str, Model] = {}
 
 
@@ -482,19 +621,18 @@ _declare(Model(
                   unit="energy per unit time", example=0.1,
                   help="white-noise heating strength D >= 0 (d = 1 only; 0: free cooling)",
                   needs=("dimension", (1,), "--dimension 1")),
-        Parameter("rate", "choice", default="constant",
-                  choices=("constant", "relative_velocity"), example="relative_velocity",
-                  help="pair collision rate: constant (the pseudo-Maxwell model, time τ = "
-                  "collisions per particle) or (n/N)|v_i - v_j| (DSMC of the hard-rod "
-                  "Boltzmann equation, 1D, time t at density n)"),
+        _kernel_rate(_ulam_kernels, "pairs (a rate that depends on the velocities: 1D DSMC "
+                     "in the kernel's time, t at density n)"),
         Parameter("density", "float", default=1.0, check=check_positive, unit="1/length",
                   example=2.0,
-                  help="number density n > 0 of the rate (n/N)|v_i - v_j| (only with --rate "
-                  "relative_velocity)",
-                  needs=("rate", ("relative_velocity",), "--rate relative_velocity")),
+                  help="number density n > 0 of the pair rate (n/N) rate(v_i, v_j) (only with a "
+                  "kernel whose time is t)",
+                  needs=("rate", functools.partial(_kernels_of_time, _ulam_kernels, "t"),
+                         "a kernel whose time is t")),
     ),
-    help="mean-field Ulam model: pseudo-Maxwell in τ, or hard-rod Boltzmann DSMC in t "
-    "(--rate relative_velocity)",
+    help="mean-field Ulam model: pseudo-Maxwell in τ, or the Boltzmann DSMC of a kernel in t "
+    f"(--kernel {RelativeVelocity.name}: hard rods)",
+    extra=functools.partial(_kernel_parameters, _ulam_kernels),
 ))
 
 _declare(Model(
@@ -506,13 +644,11 @@ _declare(Model(
         Parameter("constraint", "flag", default=True, switch="--no-constraint", example=False,
                   help="collide only approaching pairs, v_i > v_{i+1} (false: every chosen "
                   "bond)"),
-        Parameter("rate", "choice", default="constant",
-                  choices=("constant", "relative_velocity"), example="relative_velocity",
-                  help="bond collision rate: constant (the paper's lattice, time τ = "
-                  "attempts/N) or proportional to |v_i - v_{i+1}| as for MD pairs (time t of "
-                  "MD at density 1)"),
+        _kernel_rate(_lattice_kernels, "bonds (τ = attempts/N; a rate |v_i - v_{i+1}| as for "
+                     "MD pairs: MD's t at density 1)"),
     ),
-    help="ring lattice model (time τ = attempts / N; t with --rate relative_velocity)",
+    help="ring lattice model (time τ = attempts / N; t with --kernel "
+    f"{RelativeVelocity.name})",
 ))
 
 _declare(Model(

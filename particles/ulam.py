@@ -353,9 +353,9 @@ class Ulam(EngineBase):
 
     @property
     def time_name(self) -> str:
-        """The model's time: ``"tau"`` (collisions per particle, constant rate) or ``"t"``
-        (physical time at density n, ``rate="relative_velocity"``)."""
-        return "t" if self.relative_velocity_rate else "tau"
+        """The model's time, its kernel's ``time_name``: ``"tau"`` (collisions per particle,
+        constant rate) or ``"t"`` (physical time at density n, e.g. the relative velocity)."""
+        return self.kernel.time_name
 
     @property
     def window(self) -> float:

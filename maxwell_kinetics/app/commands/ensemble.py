@@ -14,7 +14,10 @@ ranges and lists (``1-16,20``).
 Each task writes its result to its own file in ``--out`` (named by a hash of the model, the
 parameters, the seed, the times and the format version); a rerun skips the finished tasks, so an
 interrupted ensemble resumes where it stopped.  The aggregate (mean and standard error over
-seeds per parameter set) is saved as ``<out>/ensemble.npz`` and printed with ``--json``.
+seeds per parameter set) is saved as ``<out>/ensemble.npz`` and printed with ``--json``;
+printed, each parameter set of an engine with a collision kernel (``ulam``, ``lattice``: chosen
+with ``--kernel``, or ``--rate``, its alias kept for one release) also has ``kernel``
+(:meth:`particles.kernels.Kernel.to_dict`).
 
 Exit status: 0 all tasks finished; 3 some task failed (listed with its parameters); 2 bad input
 (nothing written; an unreachable ``--scheduler`` fails after 10 s); 130 interrupted.
@@ -24,6 +27,7 @@ from __future__ import annotations
 
 from particles.ensemble import EnsembleSpec, run_ensemble
 from particles.ensemble.spec import MAX_TASKS
+from particles.kernels import Kernel
 from particles.models import get_model
 from particles.parsing import parse_count, parse_float_list
 from particles.validation import InvalidArgumentError, check_times
@@ -121,6 +125,21 @@ def spec_from_args(args) -> EnsembleSpec:
     return spec
 
 
+def _with_kernels(payload: dict, model) -> dict:
+    """``payload`` with ``kernel`` (the kernel's ``to_dict()``) added to each parameter set of
+    its aggregate whose engine has a collision kernel (the engines are built again: cheap, the
+    specification built them all)."""
+    aggregate = payload.get("aggregate")
+    if not isinstance(aggregate, dict) or not aggregate.get("sets"):
+        return payload
+    sets = []
+    for entry in aggregate["sets"]:
+        kernel = getattr(model.build(entry["params"]), "kernel", None)
+        sets.append({**entry, "kernel": kernel.to_dict()} if isinstance(kernel, Kernel)
+                    else entry)
+    return {**payload, "aggregate": {**aggregate, "sets": sets}}
+
+
 def _progress(args) -> bool:
     """``--progress/--no-progress`` as given; by default on unless ``--json``."""
     return (not args.json) if args.progress is None else args.progress
@@ -163,7 +182,7 @@ def run(args) -> int:
         config=args.config, progress=_progress(args),
         executor="serial" if args.serial else "dask", force=args.force,
     )
-    payload = report.to_json()
+    payload = _with_kernels(report.to_json(), get_model(spec.model))
     if args.json:
         emit_json(payload)
     else:

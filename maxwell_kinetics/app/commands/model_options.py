@@ -8,6 +8,13 @@ from both commands.  The time option is ``--tau`` or ``--t``, as the engine name
 (``engine.time_name``; the lattice takes either, and the one given must be its engine's).  The
 run options that mean the same in both commands (``--json``, ``--structure-factor``,
 ``--checkpoint-interval``, ``--progress/--no-progress``) are added by :func:`add_run_options`.
+
+The options are read from the catalogue when the parser is built, and the catalogue reads the
+registry of kernels :data:`particles.kernels.KERNELS` then: ``--kernel`` (of ``ulam`` and
+``lattice``) accepts every registered kernel the engine carries, and each parameter those kernels
+declare is an option (``--exponent``), refused with any other kernel.  An alias of an option
+(``--rate`` of ``--kernel``, kept for one release) means the same; an error names the option as
+it was typed.
 """
 
 from __future__ import annotations
@@ -60,13 +67,33 @@ def add_model_options(parser: argparse.ArgumentParser, model: Model, *, sweep: b
         if sweep:
             text += "; a comma list is swept"
         target = parser
-        if p.kind == "flag" and p.switch:
+        metavar = "VALUE" if not sweep else "V1,V2,..."
+        if (p.kind == "flag" and p.switch) or p.aliases:
             target = parser.add_mutually_exclusive_group()
+        if p.kind == "flag" and p.switch:
             target.add_argument(p.switch, dest=p.name, action="store_const",
                                 const=not p.default, default=None,
                                 help=f"same as {p.option} {_shown(not p.default)}")
         target.add_argument(p.option, dest=p.name, required=p.required, default=None,
-                            metavar="VALUE" if not sweep else "V1,V2,...", help=text)
+                            metavar=metavar, help=text)
+        for alias in p.aliases:
+            target.add_argument(alias, dest=_alias_dest(p, alias), default=None, metavar=metavar,
+                                help=f"alias of {p.option} (kept for one release)")
+
+
+def _alias_dest(p, alias: str) -> str:
+    """Where argparse keeps the text given to the alias ``alias`` of the option of ``p``."""
+    return f"{p.name}__alias__{alias.lstrip('-').replace('-', '_')}"
+
+
+def _given(args, p) -> tuple[object, str]:
+    """(text, label) of parameter ``p`` on the command line: the text given to its option or
+    to one of its aliases (None if neither), and the name errors show, the option as typed."""
+    for alias in p.aliases:
+        text = getattr(args, _alias_dest(p, alias), None)
+        if text is not None:
+            return text, alias.lstrip("-")
+    return getattr(args, p.name, None), p.label
 
 
 def _shown(value) -> str:
@@ -138,21 +165,30 @@ def model_params(args, model: Model, *, sweep: bool) -> dict:
     """
     params = {}
     for p in model.parameters:
-        text = getattr(args, p.name, None)
+        text, label = _given(args, p)
         if text is None:
             continue
-        if isinstance(text, bool):  # the switch of a flag
-            params[p.name] = text
-        elif sweep:
-            values = [p.parse(part) for part in parse_name_list(text, p.name, repeats=True)]
-            for i, value in enumerate(values):  # "0.5,0.50" or "1e3,1000": one value twice
-                if value in values[:i]:
-                    raise InvalidArgumentError(p.name, text, f"distinct values ({value!r} is "
-                                               "given twice)")
-            params[p.name] = values if len(values) > 1 else values[0]
-        else:
-            params[p.name] = p.parse(text)
+        try:
+            params[p.name] = _parsed(p, text, sweep)
+        except InvalidArgumentError as exc:
+            if label == p.label or exc.name not in (p.name, p.label):
+                raise
+            raise InvalidArgumentError(label, exc.value, exc.expected) from None  # --rate
     return params
+
+
+def _parsed(p, text, sweep: bool):
+    """The value (``sweep``: the values) of parameter ``p`` given as ``text``."""
+    if isinstance(text, bool):  # the switch of a flag
+        return text
+    if not sweep:
+        return p.parse(text)
+    values = [p.parse(part) for part in parse_name_list(text, p.name, repeats=True)]
+    for i, value in enumerate(values):  # "0.5,0.50" or "1e3,1000": one value twice
+        if value in values[:i]:
+            raise InvalidArgumentError(p.label, text, f"distinct values ({value!r} is "
+                                       "given twice)")
+    return values if len(values) > 1 else values[0]
 
 
 def time_option(args, model: Model, time_name: str) -> tuple[str, str]:

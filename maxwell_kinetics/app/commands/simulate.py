@@ -9,14 +9,17 @@ the model's factory and hands it to :func:`run_engine`, which runs it and prints
 new model or parameter is an entry of the catalogue, not an edit here; only what a model adds
 to the output (``--profile`` of MD and the sticky gas) is written here.
 
-``--json`` prints one object with keys ``tau`` (the requested times; ``t`` for the models whose
-engine runs in t: MD, the sticky gas, ``--rate relative_velocity``), ``energy`` (⟨v²⟩ at each
+``--json`` prints one object with keys ``tau`` (the requested times; ``t`` for the engines that
+run in t: MD, the sticky gas, a kernel whose time is t), ``energy`` (⟨v²⟩ at each
 time), ``kurtosis`` (⟨v⁴⟩/⟨v²⟩² at each time, of one Cartesian component in d > 1; null where
 every velocity is 0), ``collisions`` (the total), ``seconds``
 (wall clock), ``histogram`` (``centres``, ``density``, ``error`` of x = v/√E at the last time)
 and, with ``--structure-factor``, ``k`` and ``S`` (S(k) = |v̂(k)|²/N at the last time); also
-``model``, ``params`` and ``seed``.  A run that ends with every velocity 0 (possible at r = 0) is
-valid: ``histogram`` is then ``null`` and ``histogram_note`` says why.
+``model``, ``params`` and ``seed``, and, for ``ulam`` and ``lattice``, ``kernel`` (the collision
+kernel run, :meth:`particles.kernels.Kernel.to_dict`: its name, restitution and parameters;
+chosen with ``--kernel``, or ``--rate``, its alias kept for one release).  A run that ends
+with every velocity 0 (possible at r = 0) is valid: ``histogram`` is then ``null`` and
+``histogram_note`` says why.
 
 ``simulate md`` (time ``--t``) adds, one entry per requested time, ``collisions_per_particle``
 (τ(t) = 2 · collisions / N), ``momentum`` (the total momentum Σ_i v_i) and ``collisions`` (a list:
@@ -41,6 +44,7 @@ import numpy as np
 
 from particles import driver
 from particles import observables as obs
+from particles.kernels import Kernel
 from particles.md import InelasticCollapseError, profile_x
 from particles.models import get_model
 from particles.parsing import parse_float_list, parse_seed
@@ -144,6 +148,9 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
     payload = result.summary()
     payload[time_key] = payload.pop("tau")
     payload.update({"params": result.params, "seed": result.seed})
+    kernel = getattr(engine, "kernel", None)
+    if isinstance(kernel, Kernel):  # the collision kernel run (its time is the run's)
+        payload["kernel"] = kernel.to_dict()
     for key, values in result.extras.items():  # e.g. lattice attempts, MD τ(t)
         payload.setdefault(key, values.tolist())
     if args.structure_factor:
