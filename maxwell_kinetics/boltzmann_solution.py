@@ -1,7 +1,8 @@
 """The result of :func:`maxwell_kinetics.inelastic_boltzmann.solve_boltzmann`: F(c, t) on the
-velocity grid at the saved times, with f(v, t), the moments, P(x, t) and histograms
-(:class:`BoltzmannSolution`).  Moved here from :mod:`maxwell_kinetics.inelastic_boltzmann`, which
-still exports it.
+velocity grid at the saved times, with f(v, t), the moments, P(x, t), histograms, its saved form,
+an ``xarray`` view and a plot (:class:`BoltzmannSolution`, a
+:class:`~maxwell_kinetics.kinetic_result.KineticResult`).  Moved here from
+:mod:`maxwell_kinetics.inelastic_boltzmann`, which still imports it.
 """
 
 from __future__ import annotations
@@ -11,9 +12,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from particles import persistence
 from particles.validation import InvalidArgumentError, check_count, check_real_array
 
 from . import velocity_grid as _grid
+from .kinetic_result import pick_time, plot_densities
 from .model import RelativeVelocityModel
 
 __all__ = ["BoltzmannSolution", "interpolate_nodes"]
@@ -21,8 +24,11 @@ __all__ = ["BoltzmannSolution", "interpolate_nodes"]
 
 @dataclass(frozen=True)
 class BoltzmannSolution:
-    """The solution of :func:`solve_boltzmann`: F(c, t) = s f(u + s c, t) on the grid of c at the
-    saved times, with f(v, t), ⟨v²⟩, the kurtosis, the moments and histograms.
+    """The solution of :func:`~maxwell_kinetics.inelastic_boltzmann.solve_boltzmann`:
+    F(c, t) = s f(u + s c, t) on the grid of c at the saved times, with f(v, t), ⟨v²⟩, the
+    kurtosis, the moments and histograms, saved with :meth:`save` and read with :meth:`load`.
+    It meets the contract of :class:`~maxwell_kinetics.kinetic_result.KineticResult` (time
+    name ``"t"``, velocities in units of the initial ⟨v²⟩ = 1).
 
     Attributes
     ----------
@@ -65,6 +71,16 @@ class BoltzmannSolution:
     edge_mass: np.ndarray = field(repr=False, default=None)
     steps: int = 0
     seconds: float = 0.0
+
+    @property
+    def times(self) -> np.ndarray:
+        """The saved physical times ``t`` as a float array."""
+        return np.asarray(self.t, dtype=float)
+
+    @property
+    def time_name(self) -> str:
+        """``"t"``: the times are physical times."""
+        return "t"
 
     @property
     def model(self) -> RelativeVelocityModel:
@@ -129,18 +145,29 @@ class BoltzmannSolution:
         s = self.scale[k]
         return self.mean + s * self.grid.c, self.F[k] / s
 
-    def moments(self, orders=(2, 4, 6)) -> np.ndarray:
-        """Central moments ⟨(v − u)^k⟩ at every saved time.
+    def _raw_moments(self, orders) -> np.ndarray:
+        """⟨(v − u)^k⟩ for k in ``orders`` (checked), shape (T, len(orders))."""
+        orders = _check_orders(orders, "orders")
+        c = self.grid.c
+        out = np.array([[_grid.grid_sum(self.grid, row, c**k) for k in orders] for row in self.F])
+        return out * self.scale[:, None] ** np.asarray(orders)
+
+    def moments(self, orders=(2, 4, 6)):
+        """Central moments at every saved time, as a :class:`~maxwell_kinetics.moments.Moments`
+        rescaled by v₀(t) = √⟨(v − u)²⟩: ``values[k, j]`` = ⟨(v − u)^n⟩/v₀^n (order 2: 1),
+        ``raw()`` = ⟨(v − u)^n⟩ (the array this method returned before, to round-off),
+        ``errors`` 0 (grid sums, exact for the discrete law; the discretisation error is not
+        estimated), ``windows`` NaN, ``scale`` = v₀, ``time_name`` ``"t"``.
 
         Parameters
         ----------
         orders : sequence of int
-            The k, integers >= 0.
+            The n, integers >= 0.
 
         Returns
         -------
-        numpy.ndarray
-            Shape (T, len(orders)).
+        maxwell_kinetics.moments.Moments
+            One row per saved time.
 
         Raises
         ------
@@ -148,15 +175,24 @@ class BoltzmannSolution:
             Naming ``orders`` when it is not a sequence, or holds an order that is not an
             integer >= 0 (2.5, a bool, a string, NaN: c^2.5 is not real for c < 0).
         """
-        orders = _check_orders(orders, "orders")
+        from .moments import Moments
+
+        orders = tuple(_check_orders(orders, "orders"))
         c = self.grid.c
-        out = np.array([[_grid.grid_sum(self.grid, row, c**k) for k in orders] for row in self.F])
-        return out * self.scale[:, None] ** np.asarray(orders)
+        sums = np.array([[_grid.grid_sum(self.grid, row, c**k) for k in orders]
+                         for row in self.F])
+        second = np.array([_grid.grid_sum(self.grid, row, c * c) for row in self.F])
+        values = sums / second[:, None] ** (0.5 * np.asarray(orders, dtype=float))
+        shape = values.shape
+        return Moments(orders, self.times.copy(), 1, values, values.copy(), np.zeros(shape),
+                       np.full(shape + (2,), np.nan),
+                       tuple(("",) * len(orders) for _ in range(shape[0])), "t",
+                       self.scale * np.sqrt(second))
 
     @property
     def temperature(self) -> np.ndarray:
         """⟨(v − u)²⟩ at each saved time."""
-        return self.moments((2,))[:, 0]
+        return self._raw_moments((2,))[:, 0]
 
     @property
     def energy(self) -> np.ndarray:
@@ -166,38 +202,44 @@ class BoltzmannSolution:
     @property
     def kurtosis(self) -> np.ndarray:
         """⟨(v − u)⁴⟩/⟨(v − u)²⟩² at each saved time."""
-        m = self.moments((2, 4))
+        m = self._raw_moments((2, 4))
         return m[:, 1] / m[:, 0] ** 2
 
-    def density(self, x, t: float | None = None) -> np.ndarray:
+    def density(self, x=None, t: float | None = None, *, time: float | None = None):
         """P(x, t) of x = (v − u)/√T(t), T = ⟨(v − u)²⟩, by sixth-order Lagrange interpolation
-        of the nodes (zero outside the grid).
+        of the nodes (zero outside the grid): returns ``(x, P)`` as
+        :meth:`maxwell_kinetics.solution.Solution.density` does (it returned P alone before).
 
         Parameters
         ----------
-        x : array_like
-            Rescaled velocities (finite real numbers).
+        x : array_like, optional
+            Rescaled velocities (finite real numbers); None: the grid's nodes, c_i/√⟨c²⟩.
         t : float, optional
             A saved time (default the last).
+        time : float, optional
+            The same as ``t`` (the keyword every kinetic result takes).
 
         Returns
         -------
-        numpy.ndarray
-            P(x), of the shape of ``x``.
+        x, P : numpy.ndarray
+            The velocities (as a float array) and P there, of the shape of ``x``.
 
         Raises
         ------
         particles.validation.InvalidArgumentError
             Naming ``x`` when it is not an array of finite real numbers (NaN, ±inf, booleans,
-            strings), ``t`` (:meth:`time_index`).
+            strings), ``t`` (:meth:`time_index`), ``time`` when ``t`` is given too.
         """
-        x = check_real_array(x, "x")
-        k = self.time_index(t)
+        if x is not None:
+            x = check_real_array(x, "x")
+        k = self.time_index(pick_time("t", t, time))
         c = self.grid.c
         scale = math.sqrt(_grid.grid_sum(self.grid, self.F[k], c * c))
-        return scale * interpolate_nodes(self.F[k], self.grid, x * scale)
+        if x is None:
+            return c / scale, scale * self.F[k]
+        return x, scale * interpolate_nodes(self.F[k], self.grid, x * scale)
 
-    def histogram(self, edges, t: float | None = None):
+    def histogram(self, edges, t: float | None = None, *, time: float | None = None):
         """The solution's prediction on bins of x = (v − u)/√T as the
         :class:`particles.observables.Histogram` particle runs return (``density`` = bin
         probability / width, ``error`` and ``count`` 0, ``samples`` 0, ``v0`` = √T).
@@ -208,6 +250,8 @@ class BoltzmannSolution:
             Increasing finite bin edges in x.
         t : float, optional
             A saved time (default the last).
+        time : float, optional
+            The same as ``t``.
 
         Returns
         -------
@@ -217,12 +261,13 @@ class BoltzmannSolution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``edges`` or ``t``.
+            Naming ``edges``, ``t``, or ``time`` when ``t`` is given too.
         """
         from particles.observables import Histogram
 
         from .kinetic_histogram import check_edges
 
+        t = pick_time("t", t, time)
         edges = check_edges(edges)
         k = self.time_index(t)
         c = self.grid.c
@@ -232,6 +277,173 @@ class BoltzmannSolution:
         return Histogram(edges, 0.5 * (edges[1:] + edges[:-1]), prob / width,
                          np.zeros(width.size), np.zeros(width.size, dtype=np.int64), 0,
                          float(self.scale[k] * scale))
+
+    def to_xarray(self):
+        """The solution as an ``xarray.Dataset`` (needs the optional ``xarray`` extra): ``F``
+        over (``t``, ``c``), ``log_scale``, ``energy``, ``kurtosis`` and, when recorded,
+        ``energy_rate`` and ``edge_mass`` over ``t``; attributes ``restitution``,
+        ``exponent``, ``number_density``, ``initial``, ``mean`` and ``grid`` (JSON).
+
+        Returns
+        -------
+        xarray.Dataset
+            The labelled arrays, the time coordinate named :attr:`time_name`.
+
+        Raises
+        ------
+        ImportError
+            When xarray is not installed, naming the extra to install.
+        """
+        import json
+
+        from particles.driver.result import import_xarray
+
+        xr = import_xarray("BoltzmannSolution.to_xarray()")
+        name = self.time_name
+        data = {"F": ((name, "c"), np.asarray(self.F)),
+                "log_scale": ((name,), np.asarray(self.log_scale)),
+                "energy": ((name,), self.energy), "kurtosis": ((name,), self.kurtosis)}
+        for key in ("energy_rate", "edge_mass"):
+            if getattr(self, key) is not None:
+                data[key] = ((name,), np.asarray(getattr(self, key)))
+        attrs = {"restitution": float(self.restitution), "exponent": float(self.exponent),
+                 "number_density": float(self.number_density), "initial": str(self.initial),
+                 "mean": float(self.mean), "grid": json.dumps(_grid_record(self.grid))}
+        return xr.Dataset(data, coords={name: self.times, "c": np.asarray(self.grid.c)},
+                          attrs=attrs)
+
+    def plot(self, ax=None):
+        """P(x, t) on a log scale at every saved t on the grid's nodes
+        (:func:`maxwell_kinetics.kinetic_result.plot_densities`).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            The panel; default the one panel of a new figure (made without pyplot).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The panel, one line per saved t.
+        """
+        return plot_densities(self, ax)
+
+    # -- persistence --------------------------------------------------------------------
+    def to_record(self) -> tuple[dict, dict[str, np.ndarray]]:
+        """(meta, arrays): the JSON-able parameters and the arrays (what :meth:`save` writes).
+
+        Returns
+        -------
+        meta : dict
+            restitution, exponent, number_density, initial, grid (kind, points, half_width,
+            core_spacing), mean, steps, seconds.
+        arrays : dict of str to numpy.ndarray
+            ``t``, ``F``, ``log_scale`` and, when recorded, ``energy_rate`` and ``edge_mass``.
+        """
+        meta = {"restitution": float(self.restitution), "exponent": float(self.exponent),
+                "number_density": float(self.number_density), "initial": str(self.initial),
+                "grid": _grid_record(self.grid), "mean": float(self.mean),
+                "steps": int(self.steps), "seconds": float(self.seconds)}
+        arrays = {"t": np.asarray(self.t), "F": np.asarray(self.F),
+                  "log_scale": np.asarray(self.log_scale)}
+        for key in ("energy_rate", "edge_mass"):
+            if getattr(self, key) is not None:
+                arrays[key] = np.asarray(getattr(self, key))
+        return meta, arrays
+
+    @classmethod
+    def from_record(cls, meta: dict, arrays: dict, path="solution") -> BoltzmannSolution:
+        """Inverse of :meth:`to_record`.
+
+        Parameters
+        ----------
+        meta : dict
+            The parameters, as :meth:`to_record` writes them.
+        arrays : dict
+            ``t``, ``F``, ``log_scale`` and optionally ``energy_rate`` and ``edge_mass``.
+        path : str or os.PathLike, default "solution"
+            Name of the source, for the error message.
+
+        Returns
+        -------
+        BoltzmannSolution
+            The rebuilt solution.
+
+        Raises
+        ------
+        particles.persistence.FileFormatError
+            If a key is missing or a value has the wrong type, naming ``path``.
+        """
+        try:
+            grid = dict(meta["grid"])
+            kind = grid.pop("kind")
+            if kind == "uniform":
+                grid = _grid.VelocityGrid(int(grid["points"]), float(grid["half_width"]))
+            elif kind == "mapped":
+                grid = _grid.MappedGrid(int(grid["points"]), float(grid["half_width"]),
+                                        float(grid["core_spacing"]))
+            else:
+                raise ValueError(f"unknown grid kind {kind!r}")
+            optional = {key: np.asarray(arrays[key]) if key in arrays else None
+                        for key in ("energy_rate", "edge_mass")}
+            return cls(float(meta["restitution"]), float(meta["exponent"]),
+                       float(meta["number_density"]), str(meta["initial"]), grid,
+                       np.asarray(arrays["t"]), np.asarray(arrays["F"]),
+                       np.asarray(arrays["log_scale"]), float(meta["mean"]),
+                       optional["energy_rate"], optional["edge_mass"], int(meta["steps"]),
+                       float(meta["seconds"]))
+        except (KeyError, ValueError, TypeError, InvalidArgumentError) as exc:
+            raise persistence.FileFormatError(
+                path, f"{type(exc).__name__}: {exc}", "path", "a saved BoltzmannSolution"
+            ) from None
+
+    def save(self, path) -> None:
+        """Save to ``path`` through :mod:`particles.persistence` (kind
+        ``"boltzmann_solution"``, hashed); :meth:`load` reads it back bit for bit, the grid
+        included.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file to write.
+        """
+        meta, arrays = self.to_record()
+        persistence.save(path, "boltzmann_solution", _SAVED_VERSION, arrays, meta)
+
+    @classmethod
+    def load(cls, path) -> BoltzmannSolution:
+        """Read a file written by :meth:`save`.
+
+        Parameters
+        ----------
+        path : str or os.PathLike
+            The file to read.
+
+        Returns
+        -------
+        BoltzmannSolution
+            The saved solution.
+
+        Raises
+        ------
+        particles.persistence.FileFormatError
+            If the file is not a saved BoltzmannSolution of a known version.
+        """
+        loaded = persistence.load(path, "boltzmann_solution", (_SAVED_VERSION,),
+                                  expected="a saved BoltzmannSolution")
+        return cls.from_record(loaded.meta, loaded.arrays, path)
+
+
+#: Version of the saved BoltzmannSolution format.
+_SAVED_VERSION = 1
+
+
+def _grid_record(grid) -> dict:
+    """The JSON-able parameters of a VelocityGrid or MappedGrid."""
+    if isinstance(grid, _grid.MappedGrid):
+        return {"kind": "mapped", "points": int(grid.points),
+                "half_width": float(grid.half_width), "core_spacing": float(grid.core_spacing)}
+    return {"kind": "uniform", "points": int(grid.points), "half_width": float(grid.half_width)}
 
 
 def _check_orders(orders, name: str) -> list[int]:

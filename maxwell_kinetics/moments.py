@@ -247,45 +247,115 @@ def _residual_exponent(q, w, lo, hi, lower) -> float:
 
 @dataclass(frozen=True)
 class Moments:
-    """Even moments of a solution at its saved τ, read from G near q = 0.
+    """Moments of a kinetic result at its saved times, rescaled by the velocity scale of each
+    time (the one moment type of :class:`maxwell_kinetics.kinetic_result.KineticResult`).
 
     Rescaled: v₀² is the per-component variance, so ⟨x²⟩ = 1 for x = v/v₀ and in d dimensions
-    ⟨|v|²⟩/v₀² = d.  Produced by :meth:`maxwell_kinetics.solution.Solution.moments`.
+    ⟨|v|²⟩/v₀² = d.  Produced by :meth:`maxwell_kinetics.solution.Solution.moments` (even
+    orders read from G near q = 0, time τ, v₀ = e^{−Λτ/2}) and by
+    :meth:`maxwell_kinetics.boltzmann_solution.BoltzmannSolution.moments` (central moments of
+    any order k ≥ 0 summed on the velocity grid, time t, v₀ = √⟨(v − u)²⟩, ``errors`` 0).
+    :meth:`raw` gives the moments in the result's own velocity units (``values`` × v₀^k).
+
+    A ``Moments`` is not an array: indexing it, ``len``, iteration and ``numpy.asarray`` raise
+    a TypeError that names ``values`` and :meth:`raw` (``BoltzmannSolution.moments`` returned
+    an array of raw central moments before it returned a ``Moments``).
 
     Attributes
     ----------
     orders : tuple of int
-        The even orders n.
-    tau : numpy.ndarray
-        Collisions per particle τ of the rows, shape (T,).
+        The orders n.
+    times : numpy.ndarray
+        The saved times of the rows, shape (T,), in the unit ``time_name`` names (the attribute
+        ``tau`` reads them for a result in τ).
     dimension : int
         Space dimension d.
     values : numpy.ndarray
         Shape (T, len(orders)): ``values[k, j]`` = ⟨|v|^n⟩ / v₀^n for n = ``orders[j]`` at
-        ``tau[k]`` (d = 1: ⟨x^n⟩); NaN where not resolved.
+        ``times[k]`` (d = 1: ⟨x^n⟩); NaN where not resolved.
     component : numpy.ndarray
         Same shape: ⟨v_x^n⟩/v₀^n of one Cartesian component (equal to ``values`` in d = 1).
     errors : numpy.ndarray
         Same shape: absolute error estimates of ``values`` (from the choice of window only; see
-        the module docstring).
+        the module docstring; 0 for a velocity-grid result, whose sums are exact on its grid).
     windows : numpy.ndarray
         Shape (T, len(orders), 2): the q window read for each value (NaN for order 2, which
-        is exact).
+        is exact, and for a velocity-grid result).
     reasons : tuple of tuple of str
         ``reasons[k][j]``: "" for a number, else why the value is NaN.
+    time_name : str, default "tau"
+        ``"tau"`` (collisions per particle) or ``"t"`` (physical time).
+    scale : numpy.ndarray, optional
+        v₀ at each row, shape (T,): the velocity scale the values are rescaled by (None when
+        not known: :meth:`raw` then raises).
     """
 
     orders: tuple[int, ...]
-    tau: np.ndarray
+    times: np.ndarray
     dimension: int
     values: np.ndarray
     component: np.ndarray
     errors: np.ndarray
     windows: np.ndarray
     reasons: tuple[tuple[str, ...], ...]
+    time_name: str = "tau"
+    scale: np.ndarray | None = None
+
+    @property
+    def tau(self) -> np.ndarray:
+        """The saved τ of the rows (``times``), for moments of a result in τ.
+
+        Raises
+        ------
+        AttributeError
+            For moments of a result in physical time t (read ``times``).
+        """
+        if self.time_name != "tau":
+            raise AttributeError(f"these moments are at physical times {self.time_name}, not "
+                                 "collisions per particle tau: read .times")
+        return self.times
+
+    def raw(self) -> np.ndarray:
+        """The moments in the result's velocity units: ``values[k, j]`` × ``scale[k]``^n.
+
+        Returns
+        -------
+        numpy.ndarray
+            Shape (T, len(orders)); for a :class:`BoltzmannSolution
+            <maxwell_kinetics.boltzmann_solution.BoltzmannSolution>` the central moments
+            ⟨(v − u)^n⟩ (initial ⟨v²⟩ = 1).
+
+        Raises
+        ------
+        ValueError
+            When ``scale`` is not known.
+        """
+        if self.scale is None:
+            raise ValueError("these moments carry no velocity scale: no raw moments")
+        return self.values * np.asarray(self.scale, dtype=float)[:, None] ** np.asarray(
+            self.orders, dtype=float)
+
+    @property
+    def T(self) -> np.ndarray:  # noqa: N802 (the transpose of raw(), numpy's name)
+        """``raw().T``, shape (len(orders), T): kept for the command line's
+        ``solve --rate relative_velocity --json``, which reads the columns of the raw central
+        moments (call :meth:`raw` in new code)."""
+        return self.raw().T
+
+    def _not_an_array(self, *args):
+        raise TypeError("Moments is not an array: read .values (rescaled by v0) or .raw() "
+                        "(in the result's velocity units), shape (times, orders)")
+
+    __getitem__ = __iter__ = __len__ = _not_an_array
+
+    def __bool__(self) -> bool:
+        return True
+
+    def __array__(self, *args, **kwargs):
+        self._not_an_array()
 
     def kurtosis(self) -> np.ndarray:
-        """⟨|v|⁴⟩/⟨|v|²⟩² at each τ (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian; d = 2: 2).
+        """⟨|v|⁴⟩/⟨|v|²⟩² at each saved time (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian; d = 2: 2).
 
         Returns
         -------
@@ -308,8 +378,8 @@ class Moments:
         Returns
         -------
         dict
-            Keys ``orders``, ``tau``, ``dimension``, ``values``, ``component``, ``errors``,
-            ``windows`` and ``reasons``, as nested lists.
+            Keys ``orders``, the time name (``tau`` or ``t``), ``dimension``, ``values``,
+            ``component``, ``errors``, ``windows`` and ``reasons``, as nested lists.
         """
         def clean(a):
             return [None if not np.isfinite(x) else float(x) for x in np.ravel(a)]
@@ -317,7 +387,7 @@ class Moments:
         shape = self.values.shape
         return {
             "orders": list(self.orders),
-            "tau": [float(t) for t in self.tau],
+            self.time_name: [float(t) for t in self.times],
             "dimension": self.dimension,
             "values": np.reshape(np.array(clean(self.values), dtype=object), shape).tolist(),
             "component": np.reshape(np.array(clean(self.component), dtype=object),
@@ -329,8 +399,9 @@ class Moments:
         }
 
 
-def moments_of(q, w_rows, tau, dimension: int, orders) -> Moments:
-    """:class:`Moments` of the rows ``w_rows[k]`` = Re G − e^{−q²/2} at ``tau[k]``.
+def moments_of(q, w_rows, tau, dimension: int, orders, v0=None) -> Moments:
+    """:class:`Moments` of the rows ``w_rows[k]`` = Re G − e^{−q²/2} at ``tau[k]`` (``v0``: the
+    velocity scale at each, or None; the ``scale`` of the result).
 
     Raises
     ------
@@ -372,4 +443,5 @@ def moments_of(q, w_rows, tau, dimension: int, orders) -> Moments:
             row.append(why)
         reasons.append(tuple(row))
     return Moments(orders, np.asarray(tau, dtype=float).copy(), d, values, component, errors,
-                   windows, tuple(reasons))
+                   windows, tuple(reasons), "tau",
+                   None if v0 is None else np.asarray(v0, dtype=float))

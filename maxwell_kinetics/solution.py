@@ -21,6 +21,7 @@ from particles.validation import InvalidArgumentError, check_positive, check_rea
 from .deviation import reference
 from .exact import f_hat
 from .grid import Resolution
+from .kinetic_result import pick_time, plot_densities
 from .model import MaxwellModel
 
 __all__ = ["Solution", "SolverOptions"]
@@ -168,6 +169,29 @@ class Solution:
         from particles.initial import LAWS
 
         return LAWS.get(self.initial) if self.builtin_law else None
+
+    @property
+    def times(self) -> np.ndarray:
+        """The saved times (``tau``, collisions per particle) as a float array
+        (:class:`~maxwell_kinetics.kinetic_result.KineticResult`)."""
+        return np.asarray(self.tau, dtype=float)
+
+    @property
+    def time_name(self) -> str:
+        """``"tau"``: the times are collisions per particle τ."""
+        return "tau"
+
+    @property
+    def velocity_scale(self) -> np.ndarray:
+        """v₀(τ) = e^{−Λτ/2} at each saved τ, the standard deviation of one component (unit
+        initial variance; Λ = :meth:`~maxwell_kinetics.model.MaxwellModel.energy_rate`)."""
+        rate = self.model.energy_rate(self.dimension, self.angular)
+        return np.exp(-0.5 * rate * self.times)
+
+    @property
+    def energy(self) -> np.ndarray:
+        """⟨|v|²⟩ = d v₀² = d e^{−Λτ} at each saved τ (unit initial variance per component)."""
+        return self.dimension * self.velocity_scale**2
 
     @property
     def q(self) -> np.ndarray:
@@ -382,7 +406,8 @@ class Solution:
         fine_diff = np.abs(self._interpolate(self.deviation[k], fine)) / fine**s
         return float(max(diff[j], fine_diff.max()))
 
-    def density(self, x=None, tau_index: int | None = None, *, tau: float | None = None):
+    def density(self, x=None, tau_index: int | None = None, *, tau: float | None = None,
+                time: float | None = None):
         """Velocity-space density P(x, τ) of the rescaled velocity x = v / v0: returns ``(x, P)``.
 
         Units: x = v / v0(τ) with v0² = ⟨v²⟩ = e^{−2λτ} (unit initial variance), so P has unit
@@ -410,6 +435,8 @@ class Solution:
             Index of the saved τ (negative counts from the end); default the last.
         tau : float, optional
             The saved τ itself, instead of ``tau_index`` (:meth:`time_index`).
+        time : float, optional
+            The same as ``tau`` (the keyword every kinetic result takes).
 
         Returns
         -------
@@ -423,10 +450,12 @@ class Solution:
             quadrature would exceed :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` nodes
             or the memory available (panels of width π / max|x|: |x| up to about 9e4), or with
             so many points that it would take more than one day (the checks run before any
-            work); naming ``tau_index`` if it is out of range.
+            work); naming ``tau_index`` if it is out of range; naming ``time`` when ``tau`` is
+            given too.
         """
         from .velocity import invert
 
+        tau = pick_time("tau", tau, time)
         return invert(self._truncated(self.time_index(tau_index, tau)), q_max=self.resolution.q_max,
                       x=x)
 
@@ -487,7 +516,7 @@ class Solution:
         return s, speed_density_at(G, s, self.dimension, q_max=self.resolution.q_max)
 
     def moments(self, orders=(2, 4, 6), tau_index: int | None = None, *,
-                tau: float | None = None):
+                tau: float | None = None, time: float | None = None):
         """Even moments at the saved τ, read from G near q = 0: a
         :class:`~maxwell_kinetics.moments.Moments`.
 
@@ -508,27 +537,32 @@ class Solution:
             One saved time; None (and no ``tau``) for all.
         tau : float, optional
             One saved time by value (:meth:`time_index`).
+        time : float, optional
+            The same as ``tau``.
 
         Returns
         -------
         maxwell_kinetics.moments.Moments
-            One row per selected time.
+            One row per selected time (``scale`` = v₀(τ), :attr:`velocity_scale`).
 
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``orders`` or ``tau_index`` when invalid.
+            Naming ``orders`` or ``tau_index`` when invalid, ``time`` with ``tau``.
         """
         from .moments import moments_of
 
+        tau = pick_time("tau", tau, time)
         idx = (range(len(self.tau)) if tau_index is None and tau is None
                else [self.time_index(tau_index, tau)])
         q = self.q
         ref = deviation_from_f_hat(q, self.skewness)
         rows = [(self.deviation[k] - ref).real for k in idx]
-        return moments_of(q, rows, self.tau[list(idx)], self.dimension, orders)
+        return moments_of(q, rows, self.tau[list(idx)], self.dimension, orders,
+                          self.velocity_scale[list(idx)])
 
-    def histogram(self, edges, tau_index: int | None = None, *, tau: float | None = None):
+    def histogram(self, edges, tau_index: int | None = None, *, tau: float | None = None,
+                  time: float | None = None):
         """The kinetic prediction on the bins ``edges`` at one saved time, as the
         :class:`particles.observables.Histogram` that particle runs return: ``density`` = the
         exact bin probability ∫_a^b P(x, τ) dx divided by the width (G cut at the grid's end
@@ -550,6 +584,8 @@ class Solution:
             Index of the saved τ (negative counts from the end); default the last.
         tau : float, optional
             The saved τ itself, instead of ``tau_index`` (:meth:`time_index`).
+        time : float, optional
+            The same as ``tau``.
 
         Returns
         -------
@@ -560,10 +596,11 @@ class Solution:
         ------
         particles.validation.InvalidArgumentError
             Naming ``edges`` (not increasing, not finite, fewer than 2), ``tau`` (not a saved
-            time) or ``tau_index`` (out of range).
+            time), ``tau_index`` (out of range) or ``time`` (given with ``tau``).
         """
         from .kinetic_histogram import check_edges, solution_histogram
 
+        tau = pick_time("tau", tau, time)
         edges = check_edges(edges)
         return solution_histogram(self, self.time_index(tau_index, tau), edges)
 
@@ -588,16 +625,28 @@ class Solution:
 
         return solution_to_xarray(self)
 
+    @property
     def kurtosis(self) -> np.ndarray:
-        """⟨|v|⁴⟩/⟨|v|²⟩² at each saved τ (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian; d = 2: 2;
-        d = 3: 5/3), from :meth:`moments`; NaN where the fourth moment is not resolved.
+        """⟨|v|⁴⟩/⟨|v|²⟩² at each saved τ, shape (T,) (d = 1: ⟨x⁴⟩/⟨x²⟩², 3 for a Gaussian;
+        d = 2: 2; d = 3: 5/3), from :meth:`moments`; NaN where the fourth moment is not
+        resolved.  A property (an array, as on every kinetic result): it was a method."""
+        return self.moments(orders=(2, 4)).kurtosis()
+
+    def plot(self, ax=None):
+        """P(x, τ) on a log scale at every saved τ
+        (:func:`maxwell_kinetics.kinetic_result.plot_densities`).
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            The panel; default the one panel of a new figure (made without pyplot).
 
         Returns
         -------
-        numpy.ndarray
-            Shape (T,).
+        matplotlib.axes.Axes
+            The panel, one line per saved τ.
         """
-        return self.moments(orders=(2, 4)).kurtosis()
+        return plot_densities(self, ax)
 
     # -- persistence --------------------------------------------------------------------
     def to_record(self) -> tuple[dict, dict[str, np.ndarray]]:

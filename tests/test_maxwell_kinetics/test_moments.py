@@ -46,7 +46,7 @@ def test_one_dimensional_kurtosis_is_the_closed_form():
     sol = solve(0.5, "gaussian", taus)
     closed = -3 + 6 * np.exp(0.0703125 * np.array(taus))
     np.testing.assert_allclose(exact_kurtosis(1, 0.5, 1.0, 1.0, taus), closed, rtol=1e-13)
-    np.testing.assert_allclose(sol.kurtosis(), closed, rtol=1e-7)
+    np.testing.assert_allclose(sol.kurtosis, closed, rtol=1e-7)
     m = sol.moments()
     assert m.orders == (2, 4, 6) and m.values.shape == (2, 3)
     np.testing.assert_array_equal(m.values[:, 0], 1.0)  # ⟨x²⟩ = 1: the rescaling's unit
@@ -65,7 +65,7 @@ def test_one_dimensional_kurtosis_is_the_closed_form():
 def test_kurtosis_in_two_and_three_dimensions_follows_the_moment_equation(
         d, angular, r, eta1, eta2, taus):
     sol = solve(r, "gaussian", taus, dimension=d, angular=angular)
-    np.testing.assert_allclose(sol.kurtosis(), exact_kurtosis(d, r, eta1, eta2, taus), rtol=1e-7)
+    np.testing.assert_allclose(sol.kurtosis, exact_kurtosis(d, r, eta1, eta2, taus), rtol=1e-7)
     m = sol.moments(orders=(2, 4))
     np.testing.assert_allclose(m.values[:, 0], d, rtol=1e-15)  # ⟨|v|²⟩/v₀² = d
     np.testing.assert_allclose(m.component[:, 1], m.values[:, 1] * COS4[d], rtol=1e-14)
@@ -93,7 +93,7 @@ def test_a_divergent_moment_is_nan_with_its_reason():
     sol = solve(0.5, law, [1.0, 5.0])
     m = sol.moments()
     assert np.all(m.values[:, 0] == 1.0)
-    assert np.all(np.isnan(m.values[:, 1:])) and np.all(np.isnan(sol.kurtosis()))
+    assert np.all(np.isnan(m.values[:, 1:])) and np.all(np.isnan(sol.kurtosis))
     for row in m.reasons:
         assert row[0] == "" and "not analytic to order 4" in row[1]
         beta = float(re.search(r"\|q\|\^([0-9.]+)", row[1]).group(1))

@@ -70,7 +70,7 @@ def collisions_per_particle(solution) -> np.ndarray:
 
     Parameters
     ----------
-    solution : maxwell_kinetics.inelastic_boltzmann.BoltzmannSolution
+    solution : maxwell_kinetics.BoltzmannSolution
         A solution with γ = 1 whose first saved time is 0.
 
     Returns
@@ -236,7 +236,7 @@ def _one_restitution(r, times, params, runner, progress) -> dict:
             "boltzmann_kurtosis": hr.kurtosis, "boltzmann_energy": hr.energy,
             "maxwell_kurtosis": k_max_dense, "maxwell_energy": np.exp(-2.0 * lam * tau),
             "models": models, "split": split, "onset": onset,
-            "boltzmann_density": hr.density(x_fine), "scaling_density": state.density(x_fine),
+            "boltzmann_density": hr.density(x_fine)[1], "scaling_density": state.density(x_fine),
             "x_fine": x_fine, "edges": edges, "scaling_kurtosis": state.kurtosis,
             "scaling_c6": state.moment(6), "scaling_residual": state.residual,
             "boltzmann_seconds": hr.seconds, "boltzmann_steps": hr.steps,
