@@ -335,13 +335,6 @@ class Moments:
         return self.values * np.asarray(self.scale, dtype=float)[:, None] ** np.asarray(
             self.orders, dtype=float)
 
-    @property
-    def T(self) -> np.ndarray:  # noqa: N802 (the transpose of raw(), numpy's name)
-        """``raw().T``, shape (len(orders), T): kept for the command line's
-        ``solve --rate relative_velocity --json``, which reads the columns of the raw central
-        moments (call :meth:`raw` in new code)."""
-        return self.raw().T
-
     def _not_an_array(self, *args):
         raise TypeError("Moments is not an array: read .values (rescaled by v0) or .raw() "
                         "(in the result's velocity units), shape (times, orders)")

@@ -421,7 +421,7 @@ class Lattice(EngineBase):
     restitution: float
     initial: str = "gaussian"
     constraint: bool = True
-    rate: str = "constant"
+    rate: str = ConstantRate.name
     name: ClassVar[str] = "lattice"
     stop_step: ClassVar[float] = 4.0
     state_keys: ClassVar[tuple[str, ...]] = _STATE_KEYS

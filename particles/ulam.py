@@ -297,7 +297,7 @@ class Ulam(EngineBase):
     dimension: int = 1
     angular: str = "uniform"
     driving: float = 0.0
-    rate: str | Kernel = "constant"
+    rate: str | Kernel = ConstantRate.name
     density: float = 1.0
     name: ClassVar[str] = "ulam"
     #: The collision kernel (:mod:`particles.kernels`) that ``rate`` names or is.

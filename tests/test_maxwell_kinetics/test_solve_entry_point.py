@@ -109,3 +109,22 @@ def test_the_stationary_solvers_take_the_maxwell_kernel():
     grid = VelocityGrid(81, 8.0)
     assert (scaling_state(RelativeVelocity(0.5), grid=grid, relaxation=20.0).kurtosis
             == scaling_state(0.5, grid=grid, relaxation=20.0).kurtosis)
+
+
+def test_a_velocity_space_solve_on_the_command_line_saves_and_plots(tmp_path, capsys):
+    import json
+
+    from maxwell_kinetics.app.cli import main
+    from maxwell_kinetics.boltzmann_solution import BoltzmannSolution
+
+    save, plot = tmp_path / "rods.npz", tmp_path / "rods.png"
+    assert main(["solve", "--kernel", "relative_velocity", "-r", "0.5", "--t", "0,0.5",
+                 "--points", "81", "--half-width", "6", "--save", str(save), "--plot",
+                 str(plot), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    loaded = BoltzmannSolution.load(save)
+    direct = solve_boltzmann(0.5, [0.0, 0.5], grid=GRID)
+    np.testing.assert_array_equal(loaded.F, direct.F)
+    assert out["energy"] == direct.energy.tolist()
+    assert out["moments"]["4"] == direct.moments((2, 4, 6)).raw()[:, 1].tolist()
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

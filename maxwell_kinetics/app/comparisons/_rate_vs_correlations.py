@@ -11,6 +11,7 @@ import time
 
 import numpy as np
 
+from particles.kernels import RelativeVelocity
 from particles.observables import mean_sem
 
 from ...exact import moment_hierarchy
@@ -211,10 +212,10 @@ def _one_restitution(r, times, params, runner, progress) -> dict:
     md = runner.md_runs(r, params["md_n"], params["delta"], tuple(times), seeds("md_seeds"),
                         progress=progress)
     dsmc = runner.ulam_runs({"n": int(params["dsmc_n"]), "restitution": r,
-                             "rate": "relative_velocity", "density": 1.0},
+                             "rate": RelativeVelocity.name, "density": 1.0},
                             tuple(times), seeds("dsmc_seeds"), progress=progress)
     lat = runner.lattice_runs(r, params["lattice_n"], tuple(times), seeds("lattice_seeds"),
-                              progress=progress, snapshots=True, rate="relative_velocity")
+                              progress=progress, snapshots=True, rate=RelativeVelocity.name)
     n_u = int(params["ulam_n"])
     taus = [float(x) for x in tau[at]]
     ulam = runner.ulam_snapshots(r, "gaussian", n_u, taus, list(seeds("ulam_seeds")),

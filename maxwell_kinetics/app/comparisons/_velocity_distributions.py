@@ -8,6 +8,7 @@ import time
 
 import numpy as np
 
+from particles.kernels import ConstantRate, RelativeVelocity
 from particles.md import haff_energy
 from particles.observables import mean_sem, mean_sem_json
 
@@ -138,14 +139,16 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
                 "energy_over_haff": target / float(haff_energy(t, r, 1.0)),
                 "md_collisions_per_particle": md["tau"][:, j].tolist()}
         lat_rs = [r] if stage == "early" else [r, params["lattice_late_restitution"]]
-        lattices = [(rl, "constant") for rl in lat_rs] + [(r, "relative_velocity")]
+        lattices = ([(rl, ConstantRate.name) for rl in lat_rs]
+                    + [(r, RelativeVelocity.name)])
         for rl, rate in lattices:
             lat = runner.lattice_at_energy(rl, params["lattice_n"], target,
                                            tuple(range(params["lattice_seeds"])), progress=progress,
                                            rate=rate)
-            lab = f"lattice_r{rl:g}" if rate == "constant" else f"lattice_rv_r{rl:g}"
+            lab = (f"lattice_r{rl:g}" if rate == ConstantRate.name
+                   else f"lattice_rv_r{rl:g}")
             models[lab] = _shape_numbers(lat["snapshots"], edges)
-            info[lab + ("_tau" if rate == "constant" else "_t")] = lat["tau"].tolist()
+            info[lab + ("_tau" if rate == ConstantRate.name else "_t")] = lat["tau"].tolist()
             info[lab + "_energy"] = lat["energy"].tolist()
         lam = MaxwellModel(r).lam
         n_u = int(params["ulam_n"])

@@ -36,6 +36,7 @@ import numpy as np
 
 from particles.driver import simulate
 from particles.ensemble import EnsembleSpec, load_task, run_ensemble
+from particles.kernels import ConstantRate
 from particles.models import get_model
 from particles.progress import progress_bar
 from particles.workers import check_workers
@@ -263,7 +264,7 @@ class ParticleRuns:
 
     def lattice_runs(self, restitution, n, times, seeds, constraint=True, law="gaussian",
                      progress=None, *, structure=False, snapshots=False,
-                     rate="constant") -> dict:
+                     rate=ConstantRate.name) -> dict:
         """Lattice runs (one per seed) recorded at ``times`` (τ): ``times`` (T,), ``energy`` (R, T),
         ``seconds``; with ``structure=True`` also ``k`` and ``structure`` (R, T, ⌊N/2⌋+1), S(k) of
         :func:`particles.observables.structure_factor`; with ``snapshots=True`` ``snapshots``
@@ -304,7 +305,7 @@ class ParticleRuns:
         def compute():
             params = {"n": int(n), "restitution": restitution, "initial": law,
                       "constraint": bool(constraint)}
-            if rate != "constant":  # the constant-rate runs keep their parameters (and tasks)
+            if rate != ConstantRate.name:  # the constant-rate runs keep their parameters, tasks
                 params["rate"] = rate
             res = self._runs("lattice", params, times, seeds, progress,
                              structure_factor=bool(structure), snapshots=bool(snapshots))
@@ -439,7 +440,7 @@ class ParticleRuns:
         return self._cached(key, compute)
 
     def lattice_at_energy(self, restitution, n, target, seeds, constraint=True, law="gaussian",
-                          progress=None, rate="constant") -> dict:
+                          progress=None, rate=ConstantRate.name) -> dict:
         """Lattice runs (one per seed) stopped at the τ where each run's energy equals ``target``
         (``rate="relative_velocity"``: the lattice whose bonds collide at a rate ∝ |Δ|, whose time
         is MD's t; "τ" below is then t).
@@ -570,7 +571,7 @@ def ulam_runs(params: dict, times, seeds, progress=None) -> dict:
 
 
 def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", progress=None, *,
-                 structure=False, snapshots=False, rate="constant") -> dict:
+                 structure=False, snapshots=False, rate=ConstantRate.name) -> dict:
     """:meth:`ParticleRuns.lattice_runs` of a new serial :class:`ParticleRuns`.
 
     Parameters
@@ -588,7 +589,7 @@ def lattice_runs(restitution, n, times, seeds, constraint=True, law="gaussian", 
 
 
 def lattice_at_energy(restitution, n, target, seeds, constraint=True, law="gaussian",
-                      progress=None, rate="constant") -> dict:
+                      progress=None, rate=ConstantRate.name) -> dict:
     """:meth:`ParticleRuns.lattice_at_energy` of a new serial :class:`ParticleRuns`.
 
     Parameters
