@@ -130,7 +130,9 @@ def _run_relative_velocity(args) -> int:
         raise InvalidArgumentError({"half_width": "half-width"}.get(exc.name, exc.name),
                                    value, exc.expected.replace(
                                        "half_width >=", "--half-width >=")) from None
-    converged = state.residual <= RESIDUAL_TOLERANCE
+    from ...inelastic_boltzmann import EDGE_TOLERANCE
+
+    converged = state.residual <= RESIDUAL_TOLERANCE and not state.reaches_edges
     x = [0.0, 0.5, 1.0, 1.5, 2.0, 3.0]
     payload = {
         "rate": kernel.name,
@@ -145,14 +147,21 @@ def _run_relative_velocity(args) -> int:
         "density": state.density(x).tolist(),
         "residual": state.residual,
         "iterations": state.iterations,
+        "edge_moment": state.edge_moment,
         "converged": converged,
         "seconds": state.seconds,
     }
     status = 0
-    if not converged:
+    if state.residual > RESIDUAL_TOLERANCE:
         print(f"maxwell-kinetics fixed-point: warning: Newton did not converge (residual "
               f"{state.residual:.3e} against {RESIDUAL_TOLERANCE:g}); the result is not a "
               "scaling state", file=sys.stderr)
+        status = 3
+    if state.reaches_edges:
+        print(f"maxwell-kinetics fixed-point: warning: the state's tail reaches the grid's ends "
+              f"(they hold {state.edge_moment:.2e} of <c^4>, above {EDGE_TOLERANCE:g}): its "
+              f"kurtosis depends on the grid; widen --half-width (now {grid.half_width:g}) and "
+              "raise --points with it", file=sys.stderr)
         status = 3
     if args.json:
         emit_json(payload)
