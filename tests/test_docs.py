@@ -89,14 +89,22 @@ def _python_blocks(path: Path) -> list[str]:
 
 @pytest.mark.parametrize("page", ["README.md", "docs/index.md", "docs/getting_started.md",
                                   "docs/guide/sticky.md", "docs/guide/particles.md",
+                                  "docs/guide/kernels.md",
                                   "docs/guide/ensembles.md", "docs/guide/reproducibility.md",
                                   "docs/guide/errors.md"])
 def test_code_examples_run(page, tmp_path, monkeypatch, capsys):
+    from particles.kernels import KERNELS
+
     blocks = _python_blocks(ROOT / page)
     assert blocks, f"no ```python block in {page}"
     monkeypatch.chdir(tmp_path)
-    for block in blocks:  # as a script (the ensemble example runs under its __main__ guard)
-        exec(compile(block, page, "exec"), {"__name__": "__main__"})
+    registered = dict(KERNELS)
+    try:
+        for block in blocks:  # as a script (the ensemble example runs under its __main__ guard)
+            exec(compile(block, page, "exec"), {"__name__": "__main__"})
+    finally:  # a kernel an example registers is not left for the tests that list the registry
+        KERNELS.clear()
+        KERNELS.update(registered)
     assert capsys.readouterr().out.strip()  # the examples print their results
 
 
