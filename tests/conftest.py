@@ -7,7 +7,8 @@
 * under pytest-xdist (``make test`` runs ``-n auto``) the tests are dealt to the workers by
   file (module-scoped fixtures such as a built site, executed notebooks or a solved problem
   are computed once), and every file that reads the session's ``comparison`` fixture goes to
-  one worker together (the comparisons are computed once per run, as in a plain run):
+  one worker together (the comparisons are computed once per run, as in a plain run), and so
+  do the files that solve with the same compiled d = 2, 3 scheme (:data:`SHARED_COMPILATIONS`):
   :func:`pytest_xdist_make_scheduler`.
 """
 
@@ -17,6 +18,20 @@ import pytest
 
 #: The work unit of the test files that read the session-scoped ``comparison`` fixture.
 COMPARISONS_GROUP = "comparisons"
+
+#: Test files that solve with the same static scheme of the d = 2, 3 solver (the compilation,
+#: 10-25 s each, is the bulk of their time; r and the output times are data and do not
+#: compile again): each group is one work unit, so one worker compiles each scheme once
+#: instead of each worker compiling it for its file.  The names are the units' names.
+SHARED_COMPILATIONS = {
+    # d = 2 and 3, "uniform", default grid, 16 η nodes (kurtosis, speed density, the CLI)
+    "tests/test_maxwell_kinetics/test_moments.py": "kinetic default grid, d = 2 and 3",
+    "tests/test_maxwell_kinetics/test_speed_density.py": "kinetic default grid, d = 2 and 3",
+    # d = 2, "hard", coarse grid, 16 η nodes (the default η rule, the CLI's solve)
+    "tests/test_maxwell_kinetics/test_solver_isotropic.py": "kinetic coarse grid, d = 2 hard",
+    "tests/test_maxwell_kinetics/commands/test_tails_steady_cli.py":
+        "kinetic coarse grid, d = 2 hard",
+}
 
 
 def comparison_files(root) -> set[str]:
@@ -38,8 +53,9 @@ def comparison_files(root) -> set[str]:
 
 def pytest_xdist_make_scheduler(config, log):
     """Deal the tests to the xdist workers by file, the files that read the ``comparison``
-    fixture as one unit (xdist's own ``loadgroup`` relies on a suffix of the node id that
-    pytest 9 no longer carries from its hook, so the units are made here)."""
+    fixture as one unit and each group of :data:`SHARED_COMPILATIONS` as one unit (xdist's own
+    ``loadgroup`` relies on a suffix of the node id that pytest 9 no longer carries from its
+    hook, so the units are made here)."""
     if config.getvalue("dist") not in ("loadfile", "loadgroup"):
         return None  # another mode asked for by name: xdist's own
     from xdist.scheduler import LoadScopeScheduling
@@ -49,7 +65,9 @@ def pytest_xdist_make_scheduler(config, log):
     class ByFile(LoadScopeScheduling):
         def _split_scope(self, nodeid: str) -> str:
             path = nodeid.split("::", 1)[0]
-            return COMPARISONS_GROUP if path in shared else path
+            if path in shared:
+                return COMPARISONS_GROUP
+            return SHARED_COMPILATIONS.get(path, path)
 
     return ByFile(config, log)
 
