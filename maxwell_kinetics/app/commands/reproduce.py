@@ -12,10 +12,13 @@ already there.  A write that fails after the work (a full disk) exits with statu
 line naming the file; no partial file is left and an existing file stays as it was.
 
 The run ends with the verdict table of the comparisons it ran, one line per claim of the
-paper (or of this project) with its status ``agrees``, ``disagrees`` or ``explained``
-(:mod:`maxwell_kinetics.app.comparisons.verdicts`); ``--json`` carries the verdicts instead.
-When a claim that should hold does not (a ``disagrees``), the exit status is 3, after every
-file is written.
+paper (or of this project) with its status ``agrees``, ``disagrees``, ``explained`` (holds once
+a named measurement artefact is removed, shown by an independent check), ``refuted`` (the
+paper's claim is false and the run shows its cause) or ``not measured`` (this size does not
+resolve it; the table names the size that does) (:mod:`maxwell_kinetics.app.comparisons.verdicts`);
+``--json`` carries the verdicts instead.  When a claim that this size resolves fails (a
+``disagrees``), the exit status is 3, after every file is written; ``not measured`` and
+``refuted`` (a documented finding about the paper, not a failure of the code) exit 0.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ from particles.workers import check_workers
 from .. import cache_options
 from ..output import emit_json, progress_enabled
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "exit_status"]
 
 
 def add_parser(subparsers) -> None:
@@ -43,11 +46,13 @@ def add_parser(subparsers) -> None:
         "reproduce", help="reproduce the paper's figures and the kinetic-vs-particle comparisons",
         description="Run every comparison and write <out>/<name>.png, <out>/<name>.npz (data for "
         "Comparison.load) and <out>/summary.json, then print the verdict table: one line per "
-        "claim tested, agrees, disagrees or explained (the claim fails and the comparison "
-        "shows why).",
-        epilog="Exit status: 0 every claim agrees or is explained; 2 bad input (nothing "
-        "written); 3 a claim disagrees (every file is written; see the table or --json), or a "
-        "write failed after the work (one line naming the file).",
+        "claim tested, agrees, disagrees, explained (holds once a named measurement artefact "
+        "is removed), refuted (the paper's claim is false; the run shows the cause) or not "
+        "measured (this size does not resolve it; the table names the size that does).",
+        epilog="Exit status: 0 no claim disagrees (agrees, explained, refuted or not measured); "
+        "2 bad input (nothing written); 3 a claim that this size resolves disagrees (every "
+        "file is written; see the table or --json), or a write failed after the work (one "
+        "line naming the file).",
     )
     p.add_argument("--out", default="results", help="output folder (default results/)")
     size = p.add_mutually_exclusive_group()
@@ -76,7 +81,8 @@ def run(args) -> int:
     summary and the verdict table of the comparisons run now (or one JSON object: ``out``,
     ``size``, ``seconds``, ``comparisons`` the names run now, ``in_summary`` every name
     ``summary.json`` holds, ``verdicts`` ``{name: [verdict record]}`` of the comparisons run
-    now and ``disagrees`` the number of verdicts with that status).
+    now, ``disagrees`` the number of verdicts with that status and ``statuses`` the count of
+    each status).
 
     Parameters
     ----------
@@ -86,8 +92,8 @@ def run(args) -> int:
     Returns
     -------
     int
-        The exit status: 0 on success, 3 when a verdict of the comparisons run is
-        ``disagrees``.
+        The exit status: 0 on success (every verdict ``agrees``, ``explained``, ``refuted``
+        or ``not measured``), 3 when a verdict of the comparisons run is ``disagrees``.
 
     Raises
     ------
@@ -99,7 +105,7 @@ def run(args) -> int:
         a write that fails after the work.
     """
     from ..comparisons import COMPARISONS
-    from ..comparisons.verdicts import disagreeing, verdict_table
+    from ..comparisons.verdicts import disagreeing, status_counts, verdict_table
     from ..reproduce import plan_outputs, run_all
 
     only = None
@@ -123,7 +129,7 @@ def run(args) -> int:
         emit_json({"out": str(out), "size": size, "seconds": summary["seconds"],
                    "comparisons": sorted(names), "in_summary": sorted(summary["comparisons"]),
                    "verdicts": {n: s.get("verdicts", []) for n, s in ran.items()},
-                   "disagrees": len(failed)})
+                   "disagrees": len(failed), "statuses": status_counts(ran)})
     else:
         held = len(summary["comparisons"])
         print(f"wrote {len(names)} comparison{'s' * (len(names) != 1)} (figure and .npz) and "
@@ -131,4 +137,24 @@ def run(args) -> int:
               f"{size}, in {summary['seconds']:.0f} s")
         print()
         print(verdict_table(ran))
-    return 3 if failed else 0
+    return exit_status(ran)
+
+
+def exit_status(summaries: dict) -> int:
+    """The exit status of ``reproduce`` for the summaries of the comparisons run: 3 when a
+    verdict disagrees (a claim that this size resolves failed), else 0 (``not measured`` and
+    ``refuted`` verdicts do not fail).
+
+    Parameters
+    ----------
+    summaries : dict
+        ``{comparison name: summary}`` with their ``verdicts``.
+
+    Returns
+    -------
+    int
+        0 or 3.
+    """
+    from ..comparisons.verdicts import disagreeing
+
+    return 3 if disagreeing(summaries) else 0

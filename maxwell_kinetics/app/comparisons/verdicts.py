@@ -4,21 +4,39 @@ A :class:`Check` is one measured quantity with its standard error against an exp
 with its source (an exact result, the paper's number, another model) and a tolerance: a number
 of standard errors, a stated absolute tolerance, or both (allowed deviation
 ``n_sigma · σ + tolerance``, with σ the measured and the expected standard errors added in
-quadrature).  :func:`judge` turns a claim and its check into a :class:`Verdict`:
+quadrature).  :func:`judge` turns a claim and its check into a :class:`Verdict` with one of five
+statuses, in this order:
 
+``not measured``
+    the run is too small to resolve the claim: its ``resolution`` check (a number of the run
+    itself, e.g. its coarsest scale or its first time against what the claim needs) fails.
+    The verdict names the size that measures the claim (``measured_at``).  It never counts as
+    passing, and never fails the exit status;
 ``agrees``
     the check holds;
 ``explained``
-    the check fails, and a second check, the explanation (the number that shows why it fails,
-    e.g. the same quantity once the known cause is removed), holds;
+    the check fails, and the claim holds once a named measurement artefact is removed: every
+    check of its ``explanation`` holds.  An explanation is an INDEPENDENT measurement (the same
+    quantity with the artefact removed, or a precondition such as molecular chaos at the
+    window's start), never the complement or a restatement of the check;
+``refuted``
+    the check fails, the claim (as the paper states it) is false, and the run shows its cause:
+    every check of its ``refutation`` holds (e.g. the model with the cause removed agrees).
+    A documented finding about the paper, not a failure of the code;
 ``disagrees``
-    the check fails and no explanation holds (or the quantity could not be measured).
+    the check fails and neither an explanation nor a refutation holds (or the quantity could
+    not be measured).
 
 No status is ever written by hand: it always comes from :func:`judge`.  Every comparison module
 has ``verdicts(summary) -> list[Verdict]`` reading only its own summary, and its ``run`` ends
 with ``return Comparison(NAME, with_verdicts(summary, verdicts), data)``; ``reproduce`` prints
 :func:`verdict_table` and exits with status 3 when :func:`disagreeing` finds a verdict that
-disagrees.
+disagrees: a claim failed that this size resolves (``not measured`` and ``refuted`` do not
+fail it).
+
+Where a standard error comes from few seeds (3 or 4), its own uncertainty is large: the checks
+that say so allow :func:`student_sigmas` standard errors (Student's t with seeds − 1 degrees of
+freedom at the two-sided coverage of 3 normal σ) instead of 3.
 
 This module imports nothing from the rest of the package.
 """
@@ -33,6 +51,7 @@ from particles.validation import InvalidArgumentError
 
 __all__ = [
     "STATUSES",
+    "FAILING",
     "Check",
     "Verdict",
     "judge",
@@ -43,10 +62,14 @@ __all__ = [
     "expected_text",
     "pooled_ratio",
     "pair",
+    "student_sigmas",
+    "status_counts",
 ]
 
 #: The statuses a verdict can have.
-STATUSES = ("agrees", "disagrees", "explained")
+STATUSES = ("agrees", "disagrees", "explained", "refuted", "not measured")
+#: The statuses that fail ``reproduce`` (exit status 3): a claim this size resolves failed.
+FAILING = ("disagrees",)
 
 _RELATIONS = ("equal", "at_most", "at_least", "below", "above", "differs")
 
@@ -192,6 +215,19 @@ class Check:
                 "above": "above by ", "differs": "differs by "}[self.relation] + text
 
 
+def _checks(x) -> tuple:
+    """``x`` (None, a Check or a sequence of Checks) as a tuple of Checks."""
+    if x is None:
+        return ()
+    return (x,) if isinstance(x, Check) else tuple(x)
+
+
+def _all_hold(checks) -> bool:
+    """Whether there is at least one check and every one holds."""
+    checks = _checks(checks)
+    return bool(checks) and all(c.holds() for c in checks)
+
+
 @dataclass(frozen=True)
 class Verdict:
     """The judgement of one claim (made by :func:`judge`; :meth:`to_dict` is what the summary
@@ -204,36 +240,64 @@ class Verdict:
     check : Check
         The measured quantity against its expected value.
     status : str
-        ``"agrees"``, ``"disagrees"`` or ``"explained"`` (:data:`STATUSES`).
-    explanation : Check or None
-        The check that explains a failure (given to :func:`judge`; kept whatever the status).
+        One of :data:`STATUSES`.
+    explanation : Check, tuple of Check or None
+        The checks that explain a failure (given to :func:`judge`; kept whatever the status).
     why : str
-        The explanation in words ("" when none).
+        The explanation, refutation or reason it is not measured, in words ("" when none).
+    refutation : Check, tuple of Check or None
+        The checks that show the claim false and its cause.
+    resolution : Check or None
+        The check that the run resolves the claim (fails: ``not measured``).
+    measured_at : str
+        The size that measures the claim when this one does not ("" when not needed).
+    short : str
+        The claim in a few words, for the table ("" when none: the claim is shortened).
     """
 
     claim: str
     check: Check
     status: str
-    explanation: Check | None = None
+    explanation: Check | tuple | None = None
     why: str = ""
+    refutation: Check | tuple | None = None
+    resolution: Check | None = None
+    measured_at: str = ""
+    short: str = ""
 
     def to_dict(self) -> dict:
-        """The JSON-able record of the summary: ``claim``, ``quantity``, ``measured``,
-        ``sigma``, ``expected``, ``expected_sigma``, ``source``, ``n_sigma``, ``tolerance``,
-        ``relation``, ``allowed``, ``tolerance_text``, ``deviation_in_sigma`` (None without a
-        standard error), ``status``, ``why`` and ``explanation`` (the same fields for the
-        explaining check, with ``holds``; None when none).
+        """The JSON-able record of the summary: ``claim``, ``short``, ``quantity``,
+        ``measured``, ``sigma``, ``expected``, ``expected_sigma``, ``source``, ``n_sigma``,
+        ``tolerance``, ``relation``, ``allowed``, ``tolerance_text``, ``deviation_in_sigma``
+        (None without a standard error), ``status``, ``why``, ``measured_at``,
+        ``explanation`` (the same fields for the explaining check, with ``holds``, and
+        ``requires``: the records of the checks before it that must hold too; None when none),
+        ``refutation`` (the same for the refuting checks) and ``resolution`` (the record of the
+        check that the run resolves the claim, with ``holds``; None when none).
 
         Returns
         -------
         dict
             JSON-able (non-finite measured values become None).
         """
-        return {"claim": self.claim, **_check_dict(self.check), "status": self.status,
-                "why": self.why,
-                "explanation": (None if self.explanation is None
-                                else {**_check_dict(self.explanation),
-                                      "holds": self.explanation.holds()})}
+        return {"claim": self.claim, "short": self.short, **_check_dict(self.check),
+                "status": self.status, "why": self.why, "measured_at": self.measured_at,
+                "explanation": _chain_dict(self.explanation),
+                "refutation": _chain_dict(self.refutation),
+                "resolution": (None if self.resolution is None
+                               else {**_check_dict(self.resolution),
+                                     "holds": self.resolution.holds()})}
+
+
+def _chain_dict(checks) -> dict | None:
+    """The record of a chain of checks: the last one's fields with ``holds``, and ``requires``
+    the records of the others (each with ``holds``)."""
+    checks = _checks(checks)
+    if not checks:
+        return None
+    *first, last = checks
+    return {**_check_dict(last), "holds": last.holds(),
+            "requires": [{**_check_dict(c), "holds": c.holds()} for c in first]}
 
 
 def _check_dict(c: Check) -> dict:
@@ -247,9 +311,24 @@ def _check_dict(c: Check) -> dict:
     return d
 
 
-def judge(claim: str, check: Check, explanation: Check | None = None, why: str = "") -> Verdict:
-    """The verdict on ``claim``: ``agrees`` when ``check`` holds; else ``explained`` when an
-    ``explanation`` is given and holds; else ``disagrees``.
+def _check_list(value, name: str) -> tuple:
+    """``value`` as a tuple of Checks, refused naming ``name`` when it is not None, a Check or
+    a non-empty sequence of Checks."""
+    if value is None:
+        return ()
+    if isinstance(value, Check):
+        return (value,)
+    if isinstance(value, (list, tuple)) and value and all(isinstance(c, Check) for c in value):
+        return tuple(value)
+    raise InvalidArgumentError(name, value, "a Check, a non-empty sequence of Check, or None")
+
+
+def judge(claim: str, check: Check, explanation=None, why: str = "", *, refutation=None,
+          resolution: Check | None = None, measured_at: str = "", short: str = "") -> Verdict:
+    """The verdict on ``claim``: ``not measured`` when a ``resolution`` is given and fails;
+    else ``agrees`` when ``check`` holds; else ``explained`` when an ``explanation`` is given
+    and all its checks hold; else ``refuted`` when a ``refutation`` is given and all its checks
+    hold; else ``disagrees``.
 
     Parameters
     ----------
@@ -257,12 +336,24 @@ def judge(claim: str, check: Check, explanation: Check | None = None, why: str =
         The claim in one line, with the paper's figure or equation (non-empty).
     check : Check
         The measured quantity the claim stands on.
-    explanation : Check, optional
-        Why the claim may fail: a check that holds when the known cause is what makes ``check``
-        fail (e.g. the same quantity once the cause is removed, or the number that shows the
-        regime is not reached).
+    explanation : Check or sequence of Check, optional
+        The claim holds once a named measurement artefact is removed: independent checks that
+        all hold when the artefact is what makes ``check`` fail (the same quantity once the
+        artefact is removed; a precondition first, e.g. molecular chaos at the window's start).
+        Never the check's complement or a restatement of it (the judge cannot tell: each
+        comparison's tests feed it a failure that no artefact explains).
     why : str, optional
-        The explanation in words, shown with an ``explained`` status.
+        The explanation, refutation or reason for ``not measured``, in words.
+    refutation : Check or sequence of Check, optional
+        The claim is false and the run shows its cause: independent checks that all hold when
+        the cause is what makes ``check`` fail (e.g. the model with the cause removed agrees).
+    resolution : Check, optional
+        Holds when the run resolves the claim (its size, times, scales); when it fails the
+        status is ``not measured`` whatever ``check`` says.
+    measured_at : str, optional
+        The size that measures the claim (required with ``resolution``), e.g. ``"default"``.
+    short : str, optional
+        The claim in a few words for the table (default: the claim, shortened).
 
     Returns
     -------
@@ -271,21 +362,66 @@ def judge(claim: str, check: Check, explanation: Check | None = None, why: str =
     Raises
     ------
     particles.validation.InvalidArgumentError
-        Naming ``claim`` if it is empty, ``check`` or ``explanation`` if not a :class:`Check`.
+        Naming ``claim`` if it is empty, ``check``, ``explanation``, ``refutation`` or
+        ``resolution`` if not a :class:`Check` (or a sequence of them), and ``measured_at``
+        when a ``resolution`` comes without it.
     """
     if not isinstance(claim, str) or not claim.strip():
         raise InvalidArgumentError("claim", claim, "a non-empty line of text")
     if not isinstance(check, Check):
         raise InvalidArgumentError("check", check, "a Check")
-    if explanation is not None and not isinstance(explanation, Check):
-        raise InvalidArgumentError("explanation", explanation, "a Check or None")
-    if check.holds():
+    explained_by = _check_list(explanation, "explanation")
+    refuted_by = _check_list(refutation, "refutation")
+    if resolution is not None and not isinstance(resolution, Check):
+        raise InvalidArgumentError("resolution", resolution, "a Check or None")
+    if resolution is not None and not (isinstance(measured_at, str) and measured_at.strip()):
+        raise InvalidArgumentError("measured_at", measured_at,
+                                   "the size that measures the claim, with a resolution")
+    if resolution is not None and not resolution.holds():
+        status = "not measured"
+    elif check.holds():
         status = "agrees"
-    elif explanation is not None and explanation.holds():
+    elif _all_hold(explained_by):
         status = "explained"
+    elif _all_hold(refuted_by):
+        status = "refuted"
     else:
         status = "disagrees"
-    return Verdict(claim, check, status, explanation, why)
+    return Verdict(claim, check, status,
+                   explained_by[0] if len(explained_by) == 1 else (explained_by or None), why,
+                   refuted_by[0] if len(refuted_by) == 1 else (refuted_by or None), resolution,
+                   measured_at, short)
+
+
+def student_sigmas(seeds: int, n_sigma: float = 3.0) -> float:
+    """The number of standard errors to allow for a mean over ``seeds`` runs whose standard
+    error is estimated from those runs: the quantile of Student's t with ``seeds − 1``
+    degrees of freedom at the two-sided coverage of ``n_sigma`` normal standard errors
+    (3: 99.73 %).  19.2 for 3 seeds, 9.22 for 4, 6.62 for 5; ``n_sigma`` for many seeds.
+
+    Parameters
+    ----------
+    seeds : int
+        The number of runs (at least 2).
+    n_sigma : float, optional
+        The normal standard errors whose coverage is kept (default 3).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``seeds`` below 2 or ``n_sigma`` not positive.
+    """
+    from scipy import stats
+
+    if isinstance(seeds, bool) or not isinstance(seeds, (int,)) or seeds < 2:
+        raise InvalidArgumentError("seeds", seeds, "an integer >= 2")
+    if _number(n_sigma) is None or n_sigma <= 0:
+        raise InvalidArgumentError("n_sigma", n_sigma, "a finite number > 0")
+    return float(stats.t.ppf(stats.norm.cdf(n_sigma), seeds - 1))
 
 
 def with_verdicts(summary: dict, verdicts: Callable[[dict], Iterable[Verdict]]) -> dict:
@@ -319,7 +455,9 @@ def with_verdicts(summary: dict, verdicts: Callable[[dict], Iterable[Verdict]]) 
 
 
 def disagreeing(summaries: dict) -> list[tuple[str, dict]]:
-    """The verdicts with status ``disagrees`` in ``{name: summary}``, as ``(name, record)``.
+    """The verdicts that fail the run (status in :data:`FAILING`: ``disagrees``, a claim this
+    size resolves failed) in ``{name: summary}``, as ``(name, record)``; ``not measured`` and
+    ``refuted`` are not among them.
 
     Parameters
     ----------
@@ -332,7 +470,28 @@ def disagreeing(summaries: dict) -> list[tuple[str, dict]]:
     list of (str, dict)
     """
     return [(name, v) for name, s in summaries.items()
-            for v in s.get("verdicts", []) if v.get("status") == "disagrees"]
+            for v in s.get("verdicts", []) if v.get("status") in FAILING]
+
+
+def status_counts(summaries: dict) -> dict:
+    """The number of verdicts of each status in ``{name: summary}``, every status of
+    :data:`STATUSES` present (0 when none), in that order.
+
+    Parameters
+    ----------
+    summaries : dict
+        ``{comparison name: summary}``.
+
+    Returns
+    -------
+    dict
+        ``{status: count}``.
+    """
+    counts = dict.fromkeys(STATUSES, 0)
+    for s in summaries.values():
+        for v in s.get("verdicts", []):
+            counts[v["status"]] = counts.get(v["status"], 0) + 1
+    return counts
 
 
 def _fmt(x) -> str:
@@ -377,9 +536,36 @@ def expected_text(record: dict) -> str:
     return _value_text(record.get("expected"), record.get("expected_sigma"))
 
 
+#: The width of the verdict table's columns: claim, measured ± σ, expected, z, status.
+_WIDTHS = (36, 19, 17, 6, 17)
+#: The widest line of the table.
+TABLE_WIDTH = 100
+
+
+def _cut(text: str, width: int) -> str:
+    """``text`` in at most ``width`` characters (cut with "…")."""
+    text = " ".join(str(text).split())
+    return text if len(text) <= width else text[: width - 1] + "…"
+
+
+def _short_claim(v: dict) -> str:
+    return v.get("short") or v["claim"]
+
+
+def _z_text(v: dict) -> str:
+    z = _number(v.get("deviation_in_sigma"))
+    if z is None:
+        return "—"
+    return f"{z:+.1f}" if abs(z) < 999.5 else ("> +999" if z > 0 else "< −999")
+
+
 def verdict_table(summaries: dict) -> str:
-    """The verdict table, one line per claim: comparison, status, claim, measured ± σ,
-    expected and its source, tolerance; an ``explained`` line is followed by its explanation.
+    """The verdict table for a terminal, no line wider than :data:`TABLE_WIDTH` (100): a
+    header, then per comparison its name and one row per claim (the claim in a few words,
+    measured ± σ, expected (± σ when measured), z = deviation / combined σ, status); a status
+    other than ``agrees`` carries a note number, and the notes below the table say why
+    (explanation, refutation, the size that measures a claim not measured here).  Every
+    detail stays in ``summary.json``.
 
     Parameters
     ----------
@@ -389,28 +575,44 @@ def verdict_table(summaries: dict) -> str:
     Returns
     -------
     str
-        The table (no trailing newline), ending with the count of each status.
+        The table (no trailing newline), ending with the count of each status and what exit
+        status 3 means; ``"no verdicts"`` when there are none.
     """
-    rows = []
-    counts = dict.fromkeys(STATUSES, 0)
+    wc, wm, we, wz, _ = _WIDTHS  # the status: up to "not measured [99]"
+    head = f"{'claim':<{wc}} {'measured ± σ':>{wm}} {'expected':>{we}} {'z':>{wz}}  status"
+    lines, notes = [head, "─" * len(head)], []
     for name, s in summaries.items():
-        for v in s.get("verdicts", []):
-            counts[v["status"]] = counts.get(v["status"], 0) + 1
-            rows.append((name, v["status"], v["claim"],
-                         f"{measured_text(v)} vs {expected_text(v)} ({v['source']}), "
-                         f"{v['tolerance_text']}"))
-            e = v.get("explanation")
-            if v["status"] == "explained" and e is not None:
-                rows.append(("", "", f"  why: {v['why']}",
-                             f"{e['quantity']}: {measured_text(e)} vs {expected_text(e)}, "
-                             f"{e['tolerance_text']}"))
-    if not rows:
+        records = s.get("verdicts", [])
+        if not records:
+            continue
+        lines.append(f"{name}:")
+        for v in records:
+            status = v["status"]
+            if status != "agrees":
+                notes.append((len(notes) + 1, v))
+                status = f"{status} [{len(notes)}]"
+            if v["status"] == "not measured":
+                measured, z = "—", "—"
+            else:
+                measured, z = _cut(measured_text(v), wm), _z_text(v)
+            lines.append(f"  {_cut(_short_claim(v), wc - 2):<{wc - 2}} {measured:>{wm}} "
+                         f"{_cut(expected_text(v), we):>{we}} {z:>{wz}}  {status}")
+    if len(lines) == 2:
         return "no verdicts"
-    w0 = max(len(r[0]) for r in rows)
-    w1 = max(len(r[1]) for r in rows)
-    w2 = max(len(r[2]) for r in rows)
-    lines = [f"{r[0]:<{w0}}  {r[1]:<{w1}}  {r[2]:<{w2}}  {r[3]}" for r in rows]
+    lines.append("─" * len(head))
+    for number, v in notes:
+        if v["status"] == "not measured":
+            text = f"measured at --{v['measured_at']}, not at this size: {v['why']}"
+        elif v["status"] == "disagrees":
+            text = f"{measured_text(v)} vs {expected_text(v)} ({v['source']}), " \
+                   f"{v['tolerance_text']}: {v['quantity']}"
+        else:
+            text = v["why"] or v["quantity"]
+        lines.append(_cut(f"[{number}] {v['status']}: {text}", TABLE_WIDTH))
+    counts = status_counts(summaries)
     lines.append(", ".join(f"{n} {k}" for k, n in counts.items()))
+    lines.append("exit 3 when a claim this size resolves disagrees; not measured and refuted "
+                 "do not fail")
     return "\n".join(lines)
 
 

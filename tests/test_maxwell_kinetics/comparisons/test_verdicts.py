@@ -196,18 +196,24 @@ def test_pooled_ratio_of_histogram_comparisons():
 
 
 def test_the_table_has_one_line_per_claim_and_the_counts():
-    ok = judge("claim one", _check(1.0)).to_dict()
+    ok = judge("claim one", _check(1.0), short="one").to_dict()
     bad = judge("claim two", _check(5.0)).to_dict()
     why = judge("claim three", _check(5.0), _check(1.0), why="the reason").to_dict()
     table = verdict_table({"first": {"verdicts": [ok, bad]}, "second": {"verdicts": [why]},
                            "none": {}})
     lines = table.splitlines()
-    assert len(lines) == 5  # three claims, one explanation, the counts
-    assert lines[0].split()[:2] == ["first", "agrees"] and "claim one" in lines[0]
-    assert lines[1].split()[:2] == ["first", "disagrees"] and "5 ± 0.125 vs 1" in lines[1]
-    assert lines[2].split()[:2] == ["second", "explained"]
-    assert "why: the reason" in lines[3] and "1 ± 0.125 vs 1" in lines[3]
-    assert lines[4] == "1 agrees, 1 disagrees, 1 explained"
+    # header, rule, two groups of claims, rule, two notes, the counts, the exit status
+    assert len(lines) == 12 and lines[0].split() == ["claim", "measured", "±", "σ", "expected",
+                                                     "z", "status"]
+    assert max(len(line) for line in lines) <= 100
+    assert lines[2] == "first:" and lines[5] == "second:"
+    assert lines[3].split()[0] == "one" and lines[3].endswith("+0.0  agrees")
+    assert "claim two" in lines[4] and "5 ± 0.125" in lines[4] and "+32.0" in lines[4] \
+        and lines[4].endswith("disagrees [1]")
+    assert "claim three" in lines[6] and lines[6].endswith("explained [2]")
+    assert lines[8].startswith("[1] disagrees: 5 ± 0.125 vs 1 (exact: test)")
+    assert lines[9] == "[2] explained: the reason"
+    assert lines[10] == "1 agrees, 1 disagrees, 1 explained, 0 refuted, 0 not measured"
     assert disagreeing({"first": {"verdicts": [ok, bad]}}) == [("first", bad)]
 
 
@@ -254,12 +260,15 @@ def test_a_measured_value_moved_outside_its_tolerance_disagrees_and_exits_3(
     argv = ["reproduce", "--small", "--only", "tail_exponents", "--no-progress", "--out", str(out)]
     assert main(argv) == 3
     printed = capsys.readouterr().out
-    rows = [line for line in printed.splitlines() if line.startswith("tail_exponents")]
+    lines = printed.splitlines()
+    start = lines.index("tail_exponents:") + 1
+    rows = lines[start:start + len(lines[start:]) - len(
+        [x for x in lines[start:] if not x.startswith("  ")])]
     written = json.loads((out / "summary.json").read_text())
     verdicts = written["comparisons"]["tail_exponents"]["verdicts"]
     assert len(rows) == len(verdicts) >= 2
     assert [v["status"] for v in verdicts] == ["agrees"] + ["disagrees"] * (len(verdicts) - 1)
-    assert all(" disagrees " in row for row in rows[1:])
+    assert all("disagrees [" in row for row in rows[1:])
     assert (out / "tail_exponents.png").is_file() and (out / "tail_exponents.npz").is_file()
     # --json: the same summary (run_all is not run again: its result is what was written)
     from maxwell_kinetics.app import reproduce
