@@ -221,14 +221,11 @@ def _fit_check(rec: dict, quantity: str, source: str):
                  rec["slope"][0], rec["uncertainty"], rec["expected"], source)
 
 
-def molecular_chaos_check(s: dict):
-    """The explanation of a failed Haff check: MD has left molecular chaos within the fit's
-    window.  Haff's law is the law of the homogeneous gas under molecular chaos, whose E(t) the
-    hard-rod Boltzmann equation gives exactly (its non-Gaussian cooling included); the check
-    holds when MD's E over the Boltzmann equation's E at the window's end
-    (``md_energy_over_boltzmann``, mean ± standard error over the seeds) differs from 1 by at
-    least 3σ, i.e. when correlations the Boltzmann equation lacks already change the cooling
-    there.  None for a summary without that ratio.
+def early_chaos_check(s: dict):
+    """MD's E over the hard-rod Boltzmann equation's E at the Haff window's FIRST time equals 1
+    within 3σ (σ: standard error over the seeds): there molecular chaos must still hold, so a
+    departure is an engine that does not make the Boltzmann equation's collisions (a wrong
+    restitution, a wrong rate), not correlations.  None for a summary without that ratio.
 
     Parameters
     ----------
@@ -242,12 +239,41 @@ def molecular_chaos_check(s: dict):
     ratio = s.get("md_energy_over_boltzmann")
     if ratio is None:
         return None
+    value, sigma = ratio["ratio"][0]
+    return Check(f"E of MD over E of the hard-rod Boltzmann equation at t = "
+                 f"{ratio['times'][0]:g} (the window's first time)", value, sigma, 1.0,
+                 "exact: molecular chaos at the start (independent Gaussian velocities)")
+
+
+def molecular_chaos_check(s: dict):
+    """The explanation of a failed Haff check: MD has left molecular chaos within the fit's
+    window.  Haff's law is the law of the homogeneous gas under molecular chaos, whose E(t) the
+    hard-rod Boltzmann equation gives exactly (its non-Gaussian cooling included).  Two checks,
+    both needed: MD's E over the Boltzmann equation's E equals 1 at the window's first time
+    (:func:`early_chaos_check`: the engine makes the right collisions while molecular chaos
+    holds), and differs from 1 by at least 3σ at its last time (correlations the Boltzmann
+    equation lacks change the cooling there).  A broken engine departs from the Boltzmann
+    equation from the start and is never explained.  None for a summary without that ratio.
+
+    Parameters
+    ----------
+    s : dict
+        The comparison's summary.
+
+    Returns
+    -------
+    tuple of Check, or None
+    """
+    ratio = s.get("md_energy_over_boltzmann")
+    if ratio is None:
+        return None
     t_end = ratio["times"][-1]
     value, sigma = ratio["ratio"][-1]
-    return Check(f"E of MD over E of the hard-rod Boltzmann equation at t = {t_end:g} (the "
-                 f"window's last time)", value, sigma, 1.0,
-                 "model: hard-rod Boltzmann equation (molecular chaos), same initial law",
-                 relation="differs")
+    return (early_chaos_check(s),
+            Check(f"E of MD over E of the hard-rod Boltzmann equation at t = {t_end:g} (the "
+                  f"window's last time)", value, sigma, 1.0,
+                  "model: hard-rod Boltzmann equation (molecular chaos), same initial law",
+                  relation="differs"))
 
 
 def _boltzmann_slope_text(s: dict) -> str:
@@ -261,30 +287,39 @@ def verdicts(s: dict) -> list:
 
     Haff's law is judged against the paper's −2 (the exponent of every homogeneous scaling
     state).  Its explanation, when it fails, is :func:`molecular_chaos_check`: MD's E over the
-    hard-rod Boltzmann equation's E at the window's last time differs from 1 by 3σ or more, so
-    the window is no longer MD's homogeneous stage under molecular chaos.  The Boltzmann
-    equation's own slope on the same times (``boltzmann_haff_exponent``) is printed with it:
+    hard-rod Boltzmann equation's E equals 1 at the window's first time (the engine is right
+    while molecular chaos holds) and differs from 1 by 3σ or more at its last time, so the
+    window is no longer MD's homogeneous stage under molecular chaos.  The first of these is
+    also a verdict of its own (the last one): MD follows the Boltzmann equation at the start.
+    The Boltzmann equation's own slope on the same times (``boltzmann_haff_exponent``) is printed with it:
     at r = 0.5 it is close to −2, so the departure is not the non-Gaussian cooling of the
     homogeneous gas but MD's correlations."""
     r = s["parameters"]["restitution"]
-    return [
+    out = [
         judge(f"Haff's law E ∝ t⁻² in the homogeneous regime of MD, r = {r:g}",
               _fit_check(s["md_haff_exponent"], "slope of ln E against ln(1 + t/t₀)",
                          "paper: Haff's law (exact for the homogeneous gas)"),
               molecular_chaos_check(s),
               why="MD leaves molecular chaos inside the window: its E departs from the hard-rod "
                   "Boltzmann equation's (whose own slope on the same times is "
-                  f"{_boltzmann_slope_text(s)}), so the window is not MD's homogeneous stage"),
+                  f"{_boltzmann_slope_text(s)}), so the window is not MD's homogeneous stage",
+              short="MD Haff's law E ∝ t⁻²"),
         judge(f"late MD energy E ∝ t^(−2/3) for any r < 1 (Ben-Naim et al.), r = {r:g}",
               _fit_check(s["md_late_exponent"], "slope of ln E against ln t",
-                         "paper: t^(−2/3)")),
+                         "paper: t^(−2/3)"), short="MD late E ∝ t^(−2/3)"),
         judge(f"lattice: E(τ) first decays exponentially, rate (1 − r²)/2, r = {r:g}",
               _fit_check(s["lattice_initial_rate"], "d ln E/dτ at τ = 0⁺",
-                         "exact: −(1 − r²)/2")),
+                         "exact: −(1 − r²)/2"), short="lattice: initial rate (1 − r²)/2"),
         judge(f"lattice: then E ∝ τ^(−1/2), r = {r:g}",
               _fit_check(s["lattice_late_exponent"], "slope of ln E against ln τ",
-                         "paper: τ^(−1/2)")),
+                         "paper: τ^(−1/2)"), short="lattice: late E ∝ τ^(−1/2)"),
     ]
+    early = early_chaos_check(s)
+    if early is not None:
+        out.append(judge(f"MD's E equals the hard-rod Boltzmann equation's at the Haff window's "
+                         f"start (molecular chaos), r = {r:g}", early,
+                         short="MD E = Boltzmann E at window start"))
+    return out
 
 
 def plot(c, ax=None):

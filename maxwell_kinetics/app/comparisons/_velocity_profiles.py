@@ -143,20 +143,23 @@ def verdicts(s: dict) -> list:
     """The verdicts of comparison 7 (Fig. 4) from its summary ``s``: the sign of the skewness of
     the increments at the coarse-graining :data:`_SHOCK_SCALE` (MD v(x): negative, MD v(i):
     positive, 3σ), and the lattice's v(i) against MD's (3σ, combined errors; an MD value not
-    measured is not replaced: that check fails).  Explained when the run is too small to
-    coarse-grain that far (its coarsest scale below :data:`_SHOCK_SCALE`)."""
+    measured is not replaced: that check fails).  ``not measured`` when the run is too small to
+    coarse-grain that far (its coarsest scale below :data:`_SHOCK_SCALE`: the small size,
+    N = 2000), measured at the default size (N = 2·10⁴)."""
     def at_scale(field):
         c = s["coarse_skewness"][field]
         if _SHOCK_SCALE in c["scales"]:
             return pair(c["skewness"][c["scales"].index(_SHOCK_SCALE)])
         return None, None
 
-    def too_small(field):
+    def resolves(field):
         return Check(f"coarsest coarse-graining m of {field}", max(s["coarse_skewness"][field]
                                                                       ["scales"]),
-                     None, _SHOCK_SCALE, "the scale where shocks are judged", relation="below")
+                     None, _SHOCK_SCALE, "the scale where shocks are judged",
+                     relation="at_least")
 
     why = f"the run has too few particles to coarse-grain over m = {_SHOCK_SCALE}"
+    where = "default"
     vx, vx_err = at_scale("md_vx")
     vi, vi_err = at_scale("md_vi")
     lat, lat_err = at_scale("lattice_vi")
@@ -164,14 +167,17 @@ def verdicts(s: dict) -> list:
     return [
         judge("Fig. 4: MD v(x, t) has large negative gradients (shocks)",
               Check(f"{label}, MD v(x)", vx, vx_err, 0.0, "paper: sign of the shocks",
-                    relation="below"), too_small("md_vx"), why),
+                    relation="below"), why=why, resolution=resolves("md_vx"),
+              measured_at=where, short="4: MD v(x) negative gradients"),
         judge("Fig. 4: MD v(i, t) has large positive gradients",
               Check(f"{label}, MD v(i)", vi, vi_err, 0.0, "paper: sign in the label frame",
-                    relation="above"), too_small("md_vi"), why),
+                    relation="above"), why=why, resolution=resolves("md_vi"),
+              measured_at=where, short="4: MD v(i) positive gradients"),
         judge("Fig. 4: the lattice's v(i, τ) compares with MD's v(i, t) at equal energy",
               # an MD value not measured stays None (the check fails), never 0
               Check(f"{label}, lattice v(i)", lat, lat_err, vi, "model: MD v(i)",
-                    expected_sigma=vi_err), too_small("lattice_vi"), why),
+                    expected_sigma=vi_err), why=why, resolution=resolves("lattice_vi"),
+              measured_at=where, short="4: lattice v(i) = MD v(i)"),
     ]
 
 
