@@ -9,6 +9,7 @@ Modules, one job each:
 * :mod:`.workers` — worker limits of parallel runs;
 * :mod:`.initial` — the initial velocity laws with their characteristic functions;
 * :mod:`.collision` — the collision rule;
+* :mod:`.kernels` — the collision kernels (:mod:`.sphere_kernels`: hard spheres in d = 2, 3);
 * :mod:`.observables` — energy, histograms, C(r), S(k);
 * :mod:`.persistence` — the one way every file is saved and loaded (atomic, hashed, bounded);
 * :mod:`.budget` — memory and work estimated before a run starts;
@@ -39,6 +40,8 @@ from .observables import log_bin as log_bin
 from .observables import rescaled_histogram as rescaled_histogram
 from .observables import structure_factor as structure_factor
 from .persistence import FileFormatError as FileFormatError
+from .sphere_kernels import HardSpheres as HardSpheres  # registers the sphere kernels
+from .sphere_kernels import VariableHardSpheres as VariableHardSpheres
 from .sticky import StickyGas as StickyGas
 from .sticky import StickyParams as StickyParams
 from .sticky import StickyState as StickyState
@@ -65,6 +68,8 @@ __all__ = [
     "rescaled_histogram",
     "structure_factor",
     "FileFormatError",
+    "HardSpheres",
+    "VariableHardSpheres",
     "StickyGas",
     "StickyParams",
     "StickyState",

@@ -42,7 +42,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from .initial import LAWS
-from .kernels import KERNELS, ConstantRate, RelativeVelocity, make_kernel
+from .kernels import KERNELS, ConstantRate, Kernel, RelativeVelocity, make_kernel
 from .parsing import parse_int
 from .validation import (
     InvalidArgumentError,
@@ -479,6 +479,12 @@ def _ulam(n, restitution, initial="gaussian", dimension=1, angular="uniform", dr
     # the kernel's declared parameters, if any is given, build it (refusing those it lacks)
     kernel = make_kernel(rate, restitution, "rate", **kernel_parameters) \
         if kernel_parameters else rate
+    cls = type(kernel) if isinstance(kernel, Kernel) else KERNELS.get(kernel)
+    if cls is not None and 1 not in cls.dimensions and getattr(cls, "direction_law", None):
+        from .hard_sphere_dsmc import ulam_sphere_dsmc  # hard spheres: the DSMC of d = 2, 3
+
+        return ulam_sphere_dsmc(n, restitution, initial, dimension, angular, driving, kernel,
+                                density)
     return Ulam(n, restitution, initial, dimension=dimension, angular=angular, driving=driving,
                 rate=kernel, density=density)
 
@@ -631,7 +637,8 @@ _declare(Model(
                          "a kernel whose time is t")),
     ),
     help="mean-field Ulam model: pseudo-Maxwell in τ, or the Boltzmann DSMC of a kernel in t "
-    f"(--kernel {RelativeVelocity.name}: hard rods)",
+    f"(--kernel {RelativeVelocity.name}: hard rods; --kernel hard_spheres --dimension 2 or 3: "
+    "hard disks or spheres)",
     extra=functools.partial(_kernel_parameters, _ulam_kernels),
 ))
 

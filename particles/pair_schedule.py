@@ -37,6 +37,7 @@ import numpy as np
 from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .driver.engine import next_grid_point
 from .kernels import ConstantRate, defines_rate
+from .sphere_kernels import DIRECTION_LAWS
 from .ulam_kinematics import (
     AngularDraws,
     as_complex,
@@ -201,9 +202,11 @@ BLOCK_WINDOWS = 8
 
 
 def ulam_carries(kernel) -> bool:
-    """Whether :class:`particles.ulam.Ulam` runs a kernel class: the constant rate (its
-    windows of Poisson pairs), or a kernel defined in d = 1 that writes out its rate and rate
-    bound (the thinned DSMC of :func:`fire_rounds_thinned`).
+    """Whether the ``ulam`` model runs a kernel class: the constant rate (its windows of
+    Poisson pairs), a kernel defined in d = 1 that writes out its rate and rate bound (the
+    thinned DSMC of :func:`fire_rounds_thinned`), or one with its rate, bound and a direction
+    law (:data:`particles.sphere_kernels.DIRECTION_LAWS`: the DSMC of d = 2, 3,
+    :class:`particles.hard_sphere_dsmc.SphereDSMC`).
 
     Parameters
     ----------
@@ -214,7 +217,10 @@ def ulam_carries(kernel) -> bool:
     -------
     bool
     """
-    return kernel.name == ConstantRate.name or (1 in kernel.dimensions and defines_rate(kernel))
+    if kernel.name == ConstantRate.name:
+        return True
+    spheres = getattr(kernel, "direction_law", None) in DIRECTION_LAWS
+    return defines_rate(kernel) and (1 in kernel.dimensions or spheres)
 
 
 def kernel_bound(kernel, spread: float) -> float:
