@@ -31,6 +31,9 @@ SHARED_COMPILATIONS = {
     "tests/test_maxwell_kinetics/test_solver_isotropic.py": "kinetic coarse grid, d = 2 hard",
     "tests/test_maxwell_kinetics/commands/test_tails_steady_cli.py":
         "kinetic coarse grid, d = 2 hard",
+    # d = 2, "uniform", coarse grid, 8 η nodes, "accurate" rule (the tails' fits, a record)
+    "tests/test_maxwell_kinetics/test_scaling_tails.py": "kinetic coarse grid, d = 2 accurate",
+    "tests/test_maxwell_kinetics/test_solution_drift.py": "kinetic coarse grid, d = 2 accurate",
 }
 
 

@@ -15,7 +15,10 @@ from maxwell_kinetics.solver import Solution, solve
 
 
 def test_solution_records_angular_nodes_and_keeps_them_on_disk(tmp_path):
-    sol = solve(0.5, tau=[0.5], resolution="coarse", dimension=2, angular_nodes=8)
+    # the "accurate" η rule: the scheme test_scaling_tails.py's planar fixture compiles (the
+    # same worker runs both files: tests/conftest.py, SHARED_COMPILATIONS)
+    sol = solve(0.5, tau=[0.5], resolution="coarse", dimension=2, angular_nodes=8,
+                angular_rule="accurate")
     assert sol.angular_nodes == 8
     sol.save(tmp_path / "s.npz")
     assert Solution.load(tmp_path / "s.npz").angular_nodes == 8
