@@ -60,6 +60,7 @@ from particles import kernels as _kernels
 from particles.initial import get_law
 from particles.validation import (
     InvalidArgumentError,
+    check_bool,
     check_count,
     check_positive,
     check_real_array,
@@ -69,11 +70,13 @@ from particles.validation import (
 from . import velocity_grid as _grid
 from .boltzmann_solution import BoltzmannSolution
 from .boltzmann_solution import interpolate_nodes as _interpolate
+from .grid import FORCE, MAX_SOLVE_SECONDS
 from .model import RelativeVelocityModel
 
 __all__ = ["solve_boltzmann", "scaling_state", "ScalingState",
            "SCALING_GRID", "check_reach", "SMALLEST_SCALE", "STEPS_PER_TAU_AND_STIFFNESS",
-           "carries", "grid_kernel", "kernel_of", "EDGE_TOLERANCE"]
+           "carries", "grid_kernel", "kernel_of", "EDGE_TOLERANCE", "estimate_seconds",
+           "SECONDS_PER_STEP_AND_PAIR"]
 
 
 def carries(kernel) -> bool:
@@ -232,6 +235,72 @@ def check_reach(model: RelativeVelocityModel, density: float, t_last: float, gri
             f"{max_steps} in all; raise max_steps in Python for longer solves)")
 
 
+#: Seconds per time step and per pair of grid nodes (N² per step: the gain's gather and the
+#: loss's matrix product, over the integrator's stages).  Measured on 401 points at γ = 0,
+#: r = 0.5 (load about 5 on 2 cores): 1.7e-7 to t = 10 (225 steps, 6.1 s), 1.9e-7 to t = 40
+#: (1134 steps, 34 s).
+SECONDS_PER_STEP_AND_PAIR = 2e-7
+
+
+def estimate_seconds(kernel, grid, density: float, t_last: float) -> float | None:
+    """The estimated wall time of a velocity-space solve, before any work: for γ = 0 the
+    steps of :func:`check_reach` times N² :data:`SECONDS_PER_STEP_AND_PAIR`; None for γ > 0,
+    whose steps grow only slowly with t (the rescaled time n s^γ t of a cooling gas grows like
+    ln t) and whose reach :func:`check_reach` bounds.
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel
+        The kernel (:func:`grid_kernel`).
+    grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`)
+        The grid.
+    density : float
+        n.
+    t_last : float
+        The last time.
+
+    Returns
+    -------
+    float or None
+        Seconds.
+    """
+    kernel = grid_kernel(kernel)
+    if kernel.homogeneity > 0.0:
+        return None
+    c = grid.c
+    spacing = grid.weights if isinstance(grid, _grid.MappedGrid) else np.full(c.size, grid.h)
+    steps = (STEPS_PER_TAU_AND_STIFFNESS * _unit_rate(kernel) * float(np.max(np.abs(c) / spacing))
+             * density * t_last)
+    return steps * c.size**2 * SECONDS_PER_STEP_AND_PAIR
+
+
+def _interruptible(work):
+    """``work()`` in a daemon thread while this thread waits in steps of 0.1 s, raising a
+    KeyboardInterrupt as soon as one arrives (Python's handler, or
+    :func:`maxwell_kinetics.interrupt.check` under the command line's deferral); the result, or
+    the exception ``work`` raised."""
+    import threading
+
+    from . import interrupt
+
+    out: dict = {}
+
+    def run():
+        try:
+            out["value"] = work()
+        except BaseException as exc:  # re-raised in the caller
+            out["error"] = exc
+
+    worker = threading.Thread(target=run, name="velocity-space solve", daemon=True)
+    worker.start()
+    while worker.is_alive():
+        worker.join(0.1)
+        interrupt.check()
+    if "error" in out:
+        raise out["error"]
+    return out["value"]
+
+
 def _padded(times: np.ndarray) -> np.ndarray:
     """The times, the last repeated up to a multiple of 8 (one compilation for up to 8 times)."""
     size = 8 * math.ceil(times.size / 8)
@@ -377,7 +446,7 @@ def kernel_of(kernel, exponent=None, restitution=None, argument: str = "kernel")
 def solve_boltzmann(kernel=None, t=None, *, exponent=None, density=1.0, initial="gaussian",
                     grid: _grid.VelocityGrid | None = None, rtol: float = 1e-10,
                     atol: float = 1e-13, max_steps: int = 1_000_000,
-                    restitution=None) -> BoltzmannSolution:
+                    restitution=None, force: bool = False) -> BoltzmannSolution:
     """Solve the homogeneous 1D inelastic Boltzmann equation of a kernel whose rate is
     R(1, 0) n|v − w|^γ from an initial law to the times ``t`` (module docstring).
 
@@ -405,6 +474,13 @@ def solve_boltzmann(kernel=None, t=None, *, exponent=None, density=1.0, initial=
         ``rtol`` < 1 too (a relative error of 1 or more controls nothing).
     max_steps : int
         Most time steps.
+    force : bool, default False
+        Run a solve estimated (:func:`estimate_seconds`) to take more than
+        :data:`maxwell_kinetics.grid.MAX_SOLVE_SECONDS` (one day) anyway.
+
+    Ctrl-C: the integration runs in a worker thread while the calling thread waits, so that a
+    KeyboardInterrupt (or the command line's deferred Ctrl-C, :mod:`maxwell_kinetics.interrupt`)
+    is raised within 0.1 s; the abandoned integration finishes in the background.
 
     Returns
     -------
@@ -421,9 +497,12 @@ def solve_boltzmann(kernel=None, t=None, *, exponent=None, density=1.0, initial=
         :class:`maxwell_kinetics.velocity_grid.MappedGrid` with γ > 0 or not a grid, ``rtol`` or
         ``atol`` if not positive (``rtol`` if not below 1), ``max_steps`` if not an integer
         >= 1.
-        ``t`` for a last time beyond the solver's reach (:func:`check_reach`), before any work.
+        ``t`` for a last time beyond the solver's reach (:func:`check_reach`) or, unless
+        ``force``, estimated to take more than a day, before any work; ``force`` if not a bool.
     RuntimeError
         If the time integration fails (too many steps).
+    KeyboardInterrupt
+        On Ctrl-C (above).
     """
     kernel = kernel_of(kernel, exponent, restitution)
     gamma = float(kernel.homogeneity)
@@ -446,25 +525,36 @@ def solve_boltzmann(kernel=None, t=None, *, exponent=None, density=1.0, initial=
     check_reach(kernel, n, float(times[-1]), grid, max_steps)
     law = get_law(initial)
     F0 = _grid.initial_values(law, grid)
-    import jax
+    force = check_bool(force, "force")
+    cost = estimate_seconds(kernel, grid, n, float(times[-1]))
+    if cost is not None and cost > MAX_SOLVE_SECONDS and not force:
+        raise InvalidArgumentError("t", t, f"a solve estimated to take at most "
+                                   f"{MAX_SOLVE_SECONDS:g} s (this one: about {cost:.3g} s); "
+                                   f"fewer points or an earlier last time, or {FORCE}")
     import jax.numpy as jnp
 
     start = time.perf_counter()
-    with jax.enable_x64(True):
-        functions = _Compiled.get()
-        args = (tables_for(kernel, grid), jnp.asarray(grid.c), grid.step, n, gamma,
-                _coefficients(kernel)[2])
-        unit = np.append(_unit(grid), 1.0)
-        y0 = jnp.asarray(np.append(F0, 0.0) * unit)
-        ys, ok, steps = functions.solve(y0, jnp.asarray(_padded(times)), args, rtol, atol,
-                                        int(max_steps))
-        ys = np.asarray(ys)[:times.size]
-        if not bool(ok):
-            raise RuntimeError(f"the time integration failed (steps: {int(steps)}, "
-                               f"max_steps={max_steps})")
-        rates = np.asarray(functions.rhs(jnp.asarray(ys), args))
-        if isinstance(grid, _grid.MappedGrid):
-            ys, rates = ys / unit, rates / unit
+    unit = np.append(_unit(grid), 1.0)
+
+    def integrate():  # in a worker thread: the caller stays free to take Ctrl-C
+        import jax
+
+        with jax.enable_x64(True):
+            functions = _Compiled.get()
+            args = (tables_for(kernel, grid), jnp.asarray(grid.c), grid.step, n, gamma,
+                    _coefficients(kernel)[2])
+            y0 = jnp.asarray(np.append(F0, 0.0) * unit)
+            ys, ok, steps = functions.solve(y0, jnp.asarray(_padded(times)), args, rtol, atol,
+                                            int(max_steps))
+            ys = np.asarray(ys)[:times.size]
+            if not bool(ok):
+                raise RuntimeError(f"the time integration failed (steps: {int(steps)}, "
+                                   f"max_steps={max_steps})")
+            return ys, np.asarray(functions.rhs(jnp.asarray(ys), args)), int(steps)
+
+    ys, rates, steps = _interruptible(integrate)
+    if isinstance(grid, _grid.MappedGrid):
+        ys, rates = ys / unit, rates / unit
     seconds = time.perf_counter() - start
     F, log_s = ys[:, :-1], ys[:, -1]
     s2 = np.exp(2.0 * log_s)

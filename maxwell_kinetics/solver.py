@@ -601,12 +601,12 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
         n > 0 (default 1), for a kernel of time t: particles per unit length.
     progress : bool or None, optional
         The Fourier scheme's progress bar (:func:`solve_fourier`); the velocity-space scheme,
-        one call of diffrax, shows none.
+        one call of diffrax, shows none (Ctrl-C still stops it within 0.1 s).
     force : bool, default False
-        Run a Fourier solve estimated to take more than a day anyway (:func:`solve_fourier`);
-        the velocity-space scheme's budget is its grid's size limit and its reach
-        (:func:`maxwell_kinetics.inelastic_boltzmann.check_reach`), which ``force`` does not
-        lift.
+        Run a solve estimated to take more than a day anyway (:func:`solve_fourier`,
+        :func:`maxwell_kinetics.inelastic_boltzmann.estimate_seconds`); the velocity-space
+        scheme's reach (:func:`maxwell_kinetics.inelastic_boltzmann.check_reach`) is a limit
+        of the method, which ``force`` does not lift.
     **fourier
         ``resolution``, ``options``, ``dimension``, ``angular``, ``angular_nodes``,
         ``angular_rule``: shorthand for a :class:`~maxwell_kinetics.methods.FourierScheme`.
@@ -698,10 +698,9 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
     from .inelastic_boltzmann import solve_boltzmann
 
     check_bool(progress, "progress", none=True)
-    check_bool(force, "force")
     if chosen is None:
         raise InvalidArgumentError("t", None, "increasing times t >= 0 (the kernel "
                                    f"{value.name!r} has no default times)")
     return solve_boltzmann(value, chosen, density=1.0 if density is None else density,
                            initial=initial, grid=method.grid, rtol=method.rtol,
-                           atol=method.atol, max_steps=method.max_steps)
+                           atol=method.atol, max_steps=method.max_steps, force=force)

@@ -9,6 +9,7 @@ prints "interrupted" and exits with status 130.
 from __future__ import annotations
 
 import os
+import sys
 
 import numpy as np
 
@@ -259,6 +260,7 @@ def _run_relative_velocity(args, written: list) -> int:
     from particles.parsing import parse_int
     from particles.validation import check_real
 
+    from ...inelastic_boltzmann import estimate_seconds
     from ...methods import VelocitySpace
     from ...solver import solve
     from ...velocity_grid import MappedGrid, VelocityGrid, default_grid, initial_values
@@ -317,8 +319,13 @@ def _run_relative_velocity(args, written: list) -> int:
         raise _typed_error(exc, typed) from None
     typed["t"] = (times[-1], args.t)  # the reach check names the last time
     check_outputs(save=args.save, images={"plot": args.plot})
+    cost = estimate_seconds(kernel, grid, density, float(times[-1]))
+    if cost is not None and cost > 60.0 and not args.json:
+        print(f"maxwell-kinetics solve: estimated ~{format_seconds(cost)} (Ctrl-C stops it)",
+              file=sys.stderr)
     try:
-        sol = solve(kernel, args.initial, times, VelocitySpace(grid=grid), density=density)
+        sol = solve(kernel, args.initial, times, VelocitySpace(grid=grid), density=density,
+                    force=args.force)
     except InvalidArgumentError as exc:
         raise _typed_error(exc, typed) from None
     interrupt.check()
@@ -375,5 +382,5 @@ def _typed_error(exc: InvalidArgumentError, typed: dict) -> InvalidArgumentError
     read = typed.get(exc.name, typed.get(name.replace("-", "_")))
     if read is not None and isinstance(value, float) and value == read[0]:
         value = read[1]
-    return InvalidArgumentError(name, value,
-                                exc.expected.replace("half_width >=", "--half-width >="))
+    return InvalidArgumentError(name, value, exc.expected.replace(
+        "half_width >=", "--half-width >=").replace(FORCE, "--force"))
