@@ -112,14 +112,16 @@ def test_the_table_fits_100_columns_and_names_where_a_claim_is_measured():
 
 
 def _rate_summary(share, k_md=1.9, k_dsmc=1.845, dsmc_energy=(0.0366, 0.0001),
-                  md_energy=(0.899, 0.0006)):
+                  md_energy=(0.899, 0.0006), ulam_energy=1.0):
     """A rate_vs_correlations summary with what its verdicts read: at the last time MD's
     kurtosis departs from the Maxwell model's 3.05 by −1.15, the DSMC's by −1.205."""
     def row(t, share_value, kurtosis_md, kurtosis_dsmc, e_md, e_dsmc, e_b):
         return {"t": t,
                 "kurtosis": {"md": [kurtosis_md, 0.01], "dsmc": [kurtosis_dsmc, 0.006],
                              "boltzmann": 1.86, "maxwell_exact": 3.05},
-                "energy": {"md": list(e_md), "dsmc": list(e_dsmc), "boltzmann": e_b},
+                "energy": {"md": list(e_md), "dsmc": list(e_dsmc), "boltzmann": e_b,
+                           "maxwell": [e_b * ulam_energy, 0.0004], "maxwell_exact": e_b},
+                "collisions_per_particle": 2.0 * t,
                 "split": {"correlation_share": [share_value, 0.009],
                           "correlation": [0.0, 0.07]},
                 "dsmc_minus_boltzmann_in_sigma": 1.0,
@@ -152,6 +154,15 @@ def test_the_dsmc_energy_is_read_against_its_deterministic_solution():
     v = _by_short(_records("rate_vs_correlations", off), "DSMC E")
     assert v["status"] == "disagrees" and v["deviation_in_sigma"] == pytest.approx(3.6)
     ok = _by_short(_records("rate_vs_correlations", _rate_summary(-0.03)), "DSMC E")
+    assert ok["status"] == "agrees"
+
+
+def test_the_ulam_particles_energy_is_read_against_the_exact_one():
+    """The Ulam rate × 1.01 moved E at the last τ by 11σ and no verdict read it."""
+    off = _by_short(_records("rate_vs_correlations", _rate_summary(-0.03, ulam_energy=1.5)),
+                    "Ulam E")
+    assert off["status"] == "disagrees"
+    ok = _by_short(_records("rate_vs_correlations", _rate_summary(-0.03)), "Ulam E")
     assert ok["status"] == "agrees"
 
 

@@ -310,11 +310,13 @@ def dsmc_share(row: dict) -> tuple[float | None, float | None]:
     return (md - ds) / total, err
 
 
-def _energy_ratio(row: dict, name: str) -> tuple[float | None, float | None]:
-    """E of model ``name`` over the deterministic hard-rod Boltzmann E at one time's row, with
-    its standard error (the seeds')."""
+def _energy_ratio(row: dict, name: str, exact: str = "boltzmann") -> tuple[float | None,
+                                                                         float | None]:
+    """E of model ``name`` over the deterministic E ``exact`` (the hard-rod Boltzmann
+    equation's, or ``maxwell_exact``) at one time's row, with its standard error (the
+    seeds')."""
     e, sigma = pair(row["energy"][name])
-    b = row["energy"]["boltzmann"]
+    b = row["energy"][exact]
     if e is None or not b:
         return None, None
     return e / b, None if sigma is None else sigma / b
@@ -337,8 +339,9 @@ def verdicts(s: dict) -> list:
     * The DSMC equals its deterministic solution, and the constant-rate Ulam particles equal the
       exact moment hierarchy, in the kurtosis at every time: the largest |z| over the times is
       at most 3 (z in units of the sampling error of the kurtosis for independent particles);
-      and the DSMC's E over the deterministic E equals 1 at the last time (where an error of
-      the collision rate has accumulated most), 3σ of the seeds.
+      and the DSMC's E over the deterministic E, and the Ulam particles' E over the exact
+      e^(−2λτ), equal 1 at the last time (where an error of the collision rate has accumulated
+      most), 3σ of the seeds.
     """
     cases = s["cases"]
     quasi = cases[0]
@@ -402,6 +405,14 @@ def verdicts(s: dict) -> list:
                   f"{row['t']:g} (the last time)", ratio, sigma, 1.0,
                   "exact: the same kinetic equation (N → ∞)"),
             short=f"DSMC E = Boltzmann E, t = {row['t']:g}, r = {r:g}"))
+        ratio, sigma = _energy_ratio(row, "maxwell", "maxwell_exact")
+        out.append(judge(
+            f"the constant-rate Ulam particles' energy equals the exact e^(−2λτ), r = {r:g}, "
+            f"τ = {row['collisions_per_particle']:.4g}",
+            Check(f"E of the Ulam particles over e^(−2λτ) at τ = "
+                  f"{row['collisions_per_particle']:.4g} (the last time)", ratio, sigma, 1.0,
+                  "exact: the Maxwell model's energy"),
+            short=f"Ulam E = e^(−2λτ), last τ, r = {r:g}"))
     return out
 
 
