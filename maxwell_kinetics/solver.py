@@ -643,10 +643,10 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
     """
     from .methods import FourierScheme, VelocitySpace, method_for
 
-    if "restitution" in fourier:
+    if "restitution" in fourier or "r" in fourier:
         raise TypeError("solve() takes the kernel first, solve(kernel, initial, times, method): "
                         "a kernel of particles.kernels or a restitution r for the Maxwell "
-                        "kernel ('restitution=' was the first argument's former name)")
+                        "kernel, as the first argument (not restitution= or r=)")
     unknown = sorted(set(fourier) - set(FOURIER_KEYWORDS))
     if unknown:
         raise TypeError(f"solve() got an unexpected keyword argument {unknown[0]!r}")

@@ -94,8 +94,9 @@ def test_what_a_method_cannot_carry_is_refused_by_name_before_any_work(call, nam
 
 
 def test_the_old_keyword_of_the_first_argument_names_the_new_form():
-    with pytest.raises(TypeError, match=r"solve\(kernel, initial, times, method\)"):
-        solve(restitution=0.5)
+    for keyword in ("restitution", "r"):
+        with pytest.raises(TypeError, match=r"solve\(kernel, initial, times, method\)"):
+            solve(**{keyword: 0.5})
     with pytest.raises(TypeError, match="unexpected keyword argument 'q_max'"):
         solve(0.5, q_max=3)
 
@@ -128,3 +129,13 @@ def test_a_velocity_space_solve_on_the_command_line_saves_and_plots(tmp_path, ca
     assert out["energy"] == direct.energy.tolist()
     assert out["moments"]["4"] == direct.moments((2, 4, 6)).raw()[:, 1].tolist()
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_one_dimensional_solve_reports_no_angular_model(capsys):
+    import json
+
+    from maxwell_kinetics.app.cli import main
+
+    assert main(["solve", "-r", "0.5", "--tau", "1", "--resolution", "coarse", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["dimension"] == 1 and out["angular"] is None and out["angular_rule"] is None

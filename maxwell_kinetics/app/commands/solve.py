@@ -219,8 +219,8 @@ def _run(args, written: list) -> int:
         emit_json({
             "restitution": model.restitution,
             "dimension": dimension,
-            "angular": angular,
-            "angular_rule": sol.angular_rule,
+            "angular": angular if dimension > 1 else None,  # d = 1 has no angles (η ≡ 1)
+            "angular_rule": sol.angular_rule if dimension > 1 else None,
             "initial": law.name,
             "resolution": grid.name,
             "tau": taus.tolist(),
