@@ -30,7 +30,7 @@ and stop grid as the 1D DSMC (:func:`~particles.pair_schedule.thinned_windows`);
 (:func:`particles.ulam.recentre`) at the multiples of ``stop_step``.
 
 Fast path and reference.  :class:`SphereDSMC` fires a window's candidates in rounds of
-non-overlapping pairs (:func:`~particles.pair_schedule.fire_rounds_with_rows`), each candidate
+non-overlapping pairs (``particles.pair_schedule.fire_rounds_with_rows``), each candidate
 when it is the earliest pending one of both its particles, so it sees the velocities of a
 sequential loop; it fires the whole window, then, if a velocity left the ball, restores the
 velocities the window touched and replays the candidates up to the earliest one (in time) that

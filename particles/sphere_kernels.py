@@ -260,7 +260,7 @@ class VariableHardSpheres(Kernel):
         return speed if self.exponent == 1.0 else speed**self.exponent
 
     def rate_bound(self, spread: float, dimension: int | None = None) -> float:
-        """``spread``^γ (the rate increases with |v − w|; the same in every d).
+        """The spread to the power γ (the rate increases with |v − w|; the same in every d).
 
         Parameters
         ----------
