@@ -16,6 +16,7 @@ from maxwell_kinetics.app.comparisons import (
     kurtosis_split,
     maxwell_kurtosis,
 )
+from maxwell_kinetics.app.comparisons.verdicts import STATUSES
 from maxwell_kinetics.inelastic_boltzmann import solve_boltzmann
 from maxwell_kinetics.velocity_grid import VelocityGrid
 from particles.driver import simulate
@@ -90,7 +91,7 @@ def test_collision_numbers_agree_with_the_dsmc_and_md(split):
 def test_summary_carries_verdicts_judged_from_its_numbers(split):
     verdicts = split.summary["verdicts"]
     assert verdicts and all(VERDICT_KEYS <= set(v) for v in verdicts)
-    assert all(v["status"] in ("agrees", "disagrees", "explained") for v in verdicts)
+    assert all(v["status"] in STATUSES for v in verdicts)
     # the kinetic checks: DSMC against the deterministic solution and the Ulam particles against
     # the exact Maxwell kurtosis, at every time of both r, within 3 sampling errors (delta
     # method over 4 runs of N = 5000 independent particles)
@@ -99,7 +100,11 @@ def test_summary_carries_verdicts_judged_from_its_numbers(split):
     # the paper's attribution: judged from the split's shares, whatever its status
     (paper,) = [v for v in verdicts if "due to correlations" in v["claim"]]
     share = split.summary["cases"][0]["rows"][-1]["split"]["correlation_share"][0]
-    assert paper["measured"] == share and paper["explanation"]["measured"] == 1.0 - share
+    assert paper["measured"] == share and paper["explanation"] is None
+    # its refutation is the DSMC's own estimate of the share, against the split's
+    assert paper["refutation"]["expected"] == share
+    # a claim this size resolves: every verdict of this comparison agrees or refutes the paper
+    assert all(v["status"] in ("agrees", "refuted") for v in verdicts), verdicts
     for case in split.summary["cases"]:
         assert case["rows"][0]["t"] > 0
         for row in case["rows"]:
