@@ -61,8 +61,10 @@ def _fftw():
     return fft
 
 def _as_velocities(v, *, min_dims=1, max_dims=2) -> np.ndarray:
-    """``v`` as a float array of finite real velocities, 1- or 2-dimensional and non-empty."""
-    arr = check_real_array(v, "v")
+    """``v`` as a float array of finite real velocities, 1- or 2-dimensional and non-empty: the
+    caller's array itself when it is float64 (the observables only read it; a copy would be
+    one more array of N values at the peak of a run's last record)."""
+    arr = check_real_array(v, "v", copy=False)
     if not min_dims <= arr.ndim <= max_dims or arr.shape[-1] < 1:
         raise InvalidArgumentError(
             "v",
@@ -374,9 +376,11 @@ def _spectrum(arr: np.ndarray) -> tuple[np.ndarray, float]:
     velocities are divided by a power of two c first (exact: the transform of v/c is v̂/c to
     the last bit), and the caller multiplies its result by c twice, which overflows to ±inf only
     where the true value does."""
-    top = float(np.max(np.abs(arr))) if arr.size else 0.0
+    # max |v| without a temporary of N values (|v| would be one more array at a run's peak)
+    top = max(float(arr.max()), -float(arr.min())) if arr.size else 0.0
     scale = 2.0 ** (math.frexp(top)[1] - 1) if top >= 2.0**256 else 1.0
-    vhat = _fftw().rfft(arr / scale if scale != 1.0 else arr, axis=-1, threads=1)
+    vhat = _fftw().rfft(arr / scale if scale != 1.0 else arr, axis=-1, threads=1,
+                        auto_align_input=False)  # no aligned copy of N values
     return vhat.real**2 + vhat.imag**2, scale
 
 

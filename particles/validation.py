@@ -330,7 +330,7 @@ def check_dimension(value, name: str = "dimension") -> int:
 
 
 def check_real_array(values, name: str, *, ndim: int | None = None, min_size: int = 0,
-                     finite: bool = True) -> np.ndarray:
+                     finite: bool = True, copy: bool = True) -> np.ndarray:
     """Check an array of real numbers (for the numerical functions' array arguments).
 
     Booleans, complex numbers, strings and other objects are refused, not converted (a boolean
@@ -349,6 +349,9 @@ def check_real_array(values, name: str, *, ndim: int | None = None, min_size: in
         The fewest elements accepted (default 0).
     finite : bool, optional
         If True (default), NaN and ±inf are refused.
+    copy : bool, optional
+        If True (default) the result is a new array; False returns ``values`` itself when it
+        already is a float64 array (for read-only callers of large arrays: no N-value copy).
 
     Returns
     -------
@@ -369,7 +372,7 @@ def check_real_array(values, name: str, *, ndim: int | None = None, min_size: in
             raise TypeError("not real numbers")
         if not isinstance(values, np.ndarray) and _holds_bool(values):
             raise TypeError("a boolean among numbers")  # NumPy reads [True, 2.0] as [1.0, 2.0]
-        arr = raw.astype(float)
+        arr = raw.astype(float, copy=copy)
     except (TypeError, ValueError, OverflowError):
         raise InvalidArgumentError(name, _summary(values), "an array of real numbers") from None
     if ndim is not None and arr.ndim != ndim:

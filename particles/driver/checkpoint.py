@@ -118,6 +118,10 @@ class Records:
         else:
             self.kurtosis[i] = _kurtosis_from_squares(scratch, e_first, first)
         self.collisions[i] = int(state.collisions)
+        if self.hist_edges is not None:
+            self.hist_count[i], self.hist_v0[i] = _histogram_record(
+                first, e_first, classes, self.hist_edges, scratch)
+        del scratch  # freed before the structure factor's own arrays of N values
         if self.structure is not None and not (self.structure_last and i < nt - 1):
             self.structure[0 if self.structure_last else i] = obs.structure_factor(v)[1]
         if self.snapshots is not None:
@@ -127,9 +131,6 @@ class Records:
                 self.snapshot_extras[key][i] = value
         for key, value in engine.observe(state).items():
             self.extras.setdefault(key, np.full(nt, np.nan))[i] = value
-        if self.hist_edges is not None:
-            self.hist_count[i], self.hist_v0[i] = _histogram_record(
-                first, e_first, classes, self.hist_edges, scratch)
         self.done += 1
 
     def arrays(self) -> dict[str, np.ndarray]:
