@@ -291,9 +291,9 @@ def verdicts(s: dict) -> list:
     while molecular chaos holds) and differs from 1 by 3σ or more at its last time, so the
     window is no longer MD's homogeneous stage under molecular chaos.  The first of these is
     also a verdict of its own (the last one): MD follows the Boltzmann equation at the start.
-    The Boltzmann equation's own slope on the same times (``boltzmann_haff_exponent``) is printed with it:
-    at r = 0.5 it is close to −2, so the departure is not the non-Gaussian cooling of the
-    homogeneous gas but MD's correlations."""
+    The Boltzmann equation's own slope on the same times (``boltzmann_haff_exponent``) is
+    printed with it: at r = 0.5 it is close to −2, so the departure is not the non-Gaussian
+    cooling of the homogeneous gas but MD's correlations."""
     r = s["parameters"]["restitution"]
     out = [
         judge(f"Haff's law E ∝ t⁻² in the homogeneous regime of MD, r = {r:g}",
