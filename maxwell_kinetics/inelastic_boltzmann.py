@@ -450,6 +450,10 @@ def solve_boltzmann(kernel=None, t=None, *, exponent=None, density=1.0, initial=
     """Solve the homogeneous 1D inelastic Boltzmann equation of a kernel whose rate is
     R(1, 0) n|v − w|^γ from an initial law to the times ``t`` (module docstring).
 
+    Ctrl-C: the integration runs in a worker thread while the calling thread waits, so that a
+    KeyboardInterrupt (or the command line's deferred Ctrl-C, :mod:`maxwell_kinetics.interrupt`)
+    is raised within 0.1 s; the abandoned integration finishes in the background.
+
     Parameters
     ----------
     kernel : particles.kernels.Kernel or float
@@ -477,10 +481,6 @@ def solve_boltzmann(kernel=None, t=None, *, exponent=None, density=1.0, initial=
     force : bool, default False
         Run a solve estimated (:func:`estimate_seconds`) to take more than
         :data:`maxwell_kinetics.grid.MAX_SOLVE_SECONDS` (one day) anyway.
-
-    Ctrl-C: the integration runs in a worker thread while the calling thread waits, so that a
-    KeyboardInterrupt (or the command line's deferred Ctrl-C, :mod:`maxwell_kinetics.interrupt`)
-    is raised within 0.1 s; the abandoned integration finishes in the background.
 
     Returns
     -------

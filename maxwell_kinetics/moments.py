@@ -316,7 +316,7 @@ class Moments:
         return self.times
 
     def raw(self) -> np.ndarray:
-        """The moments in the result's velocity units: ``values[k, j]`` × ``scale[k]``^n.
+        """The moments in the result's velocity units: ``values[k, j] * scale[k]**n``.
 
         Returns
         -------
