@@ -72,7 +72,8 @@ def _rows(key: str, value, depth: int) -> list[str]:
     return []
 
 
-_STATUS = {"agrees": "agrees", "disagrees": "**disagrees**", "explained": "*explained*"}
+_STATUS = {"agrees": "agrees", "disagrees": "**disagrees**", "explained": "*explained*",
+           "refuted": "**refuted**", "not measured": "*not measured*"}
 
 
 def _cell(text: str) -> str:
@@ -98,11 +99,15 @@ def _verdict_rows(records: list[dict]) -> list[str]:
     for v in records:
         status = _STATUS.get(v["status"], v["status"])
         claim = _cell(v["claim"])
-        e = v.get("explanation")
-        if v["status"] == "explained" and e is not None:
+        key = {"explained": "explanation", "refuted": "refutation",
+               "not measured": "resolution"}.get(v["status"])
+        e = v.get(key) if key else None
+        if e is not None and "quantity" in e:
             claim += (f"<br>*why:* {_cell(v['why'])}: {_cell(e['quantity'])} = "
                       f"{measured_text(e)} against {expected_text(e)} ({_cell(e['source'])}), "
                       f"{_cell(e['tolerance_text'])}")
+        elif v.get("why"):
+            claim += f"<br>*why:* {_cell(v['why'])}"
         rows.append(f"| {status} | {claim} | {_cell(v['quantity'])}: {measured_text(v)} | "
                     f"{expected_text(v)} ({_cell(v['source'])}) | {_cell(v['tolerance_text'])} |")
     return rows
@@ -127,8 +132,10 @@ def render(results: Path, figures_out: Path) -> str:
              "one row per claim, the quantity measured with its standard error (over seeds or "
              "of a fit), the expected value and where it comes from (an exact result, the "
              "paper's number, another model), the tolerance, and the status: **agrees** "
-             "(within the tolerance), **disagrees**, or **explained** (the claim fails, and "
-             "the comparison shows why, with the number that shows it). Its figure follows "
+             "(within the tolerance), **disagrees**, *explained* (the claim holds once a named "
+             "measurement artefact is removed, shown by an independent check), **refuted** (the "
+             "claim is false, and the run shows its cause) or *not measured* (this size cannot "
+             "resolve it; the row names the size that does). Its figure follows "
              "(click it for the full-size image), then, folded, every fitted number of the "
              "summary with its uncertainty and the expected value where the summary records "
              "one (4 significant digits here; the full values are in the summary).", ""]
@@ -153,7 +160,8 @@ def render(results: Path, figures_out: Path) -> str:
             counts[v["status"]] = counts.get(v["status"], 0) + 1
     if counts:
         lines += ["Verdicts of this run: " + ", ".join(
-            f"{counts.get(s, 0)} {s}" for s in ("agrees", "explained", "disagrees")) + ".", ""]
+            f"{counts.get(s, 0)} {s}" for s in ("agrees", "explained", "refuted",
+                                                 "not measured", "disagrees")) + ".", ""]
     for i, (name, entry) in enumerate(comparisons.items(), 1):
         lines += [f"## {i}. {name.replace('_', ' ').capitalize()}", ""]
         claim = _claim(name)
