@@ -523,14 +523,14 @@ def solve_boltzmann(kernel=None, t=None, *, exponent=None, density=1.0, initial=
     max_steps = check_count(max_steps, "max_steps", 1)
     grid = _grid.default_grid(gamma) if grid is None else grid
     check_reach(kernel, n, float(times[-1]), grid, max_steps)
-    law = get_law(initial)
-    F0 = _grid.initial_values(law, grid)
     force = check_bool(force, "force")
     cost = estimate_seconds(kernel, grid, n, float(times[-1]))
     if cost is not None and cost > MAX_SOLVE_SECONDS and not force:
         raise InvalidArgumentError("t", t, f"a solve estimated to take at most "
                                    f"{MAX_SOLVE_SECONDS:g} s (this one: about {cost:.3g} s); "
                                    f"fewer points or an earlier last time, or {FORCE}")
+    law = get_law(initial)
+    F0 = _grid.initial_values(law, grid)
     import jax.numpy as jnp
 
     start = time.perf_counter()

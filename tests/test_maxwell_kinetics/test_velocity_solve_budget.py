@@ -45,9 +45,16 @@ def test_a_solve_of_more_than_a_day_is_refused_before_any_work_unless_forced(cap
 def test_ctrl_c_stops_a_velocity_space_solve_within_a_second():
     # a solve of several seconds (401 points, gamma = 0, t = 20: ~450 steps), interrupted
     # 1 s in by a KeyboardInterrupt in the main thread, as Ctrl-C delivers it
-    timer = threading.Timer(1.0, _thread.interrupt_main)
-    start = time.perf_counter()
+    fired = []
+
+    def interrupt():
+        fired.append(time.perf_counter())
+        _thread.interrupt_main()
+
+    timer = threading.Timer(1.0, interrupt)
     timer.start()
     with pytest.raises(KeyboardInterrupt):
         solve_boltzmann(0.5, [20.0], exponent=0.0, grid=default_grid(0.0))
-    assert time.perf_counter() - start < 2.0
+    # within a second of the interrupt (the wait polls every 0.1 s); the solve alone takes
+    # 6 s or more (225 steps to t = 10 took 6.1 s), so a run to the end would fail this
+    assert fired and time.perf_counter() - fired[0] < 1.0
