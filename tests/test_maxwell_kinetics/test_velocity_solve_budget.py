@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import _thread
+import signal
 import threading
 import time
 
@@ -54,10 +55,17 @@ def test_ctrl_c_stops_a_velocity_space_solve_within_a_second():
         fired.append(time.perf_counter())
         _thread.interrupt_main()
 
+    # Python's own SIGINT handler, whatever an earlier test of this process installed (dask's
+    # job runner installs one that exits): interrupt_main calls the handler, as Ctrl-C does
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(1.0, interrupt)
-    timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        solve_boltzmann(0.5, [20.0], exponent=0.0, grid=default_grid(0.0))
+    try:
+        timer.start()
+        with pytest.raises(KeyboardInterrupt):
+            solve_boltzmann(0.5, [20.0], exponent=0.0, grid=default_grid(0.0))
+    finally:
+        timer.cancel()
+        signal.signal(signal.SIGINT, previous)
     # within a second of the interrupt (the wait polls every 0.1 s); the solve alone takes
     # 6 s or more (225 steps to t = 10 took 6.1 s), so a run to the end would fail this
     assert fired and time.perf_counter() - fired[0] < 1.0

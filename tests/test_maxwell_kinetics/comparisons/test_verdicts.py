@@ -301,4 +301,4 @@ def test_the_results_page_leads_with_the_verdicts_and_folds_the_numbers(tmp_path
         < section.index("</details>")
     assert "| *explained* | the other claim<br>*why:* the reason" in section
     assert ":width: 100%" in section  # scaled: Sphinx links it to the full-size image
-    assert "1 agrees, 1 explained, 0 disagrees" in page
+    assert "1 agrees, 1 explained, 0 refuted, 0 not measured, 0 disagrees" in page
