@@ -406,9 +406,10 @@ class Lattice(EngineBase):
         Name of the initial velocity law (default ``"gaussian"``; one with a sampler).
     constraint : bool, optional
         Kinematic constraint: collide only approaching pairs (default True).
-    rate : str, optional
+    rate : str or particles.kernels.Kernel, optional
         A kernel's name (:mod:`particles.kernels`): ``"constant"`` (default) or
-        ``"relative_velocity"`` (:data:`CARRIED_KERNELS`).
+        ``"relative_velocity"`` (:data:`CARRIED_KERNELS`), or such a kernel at this lattice's
+        restitution with its default parameters (stored by its name).
 
     Raises
     ------
@@ -436,6 +437,16 @@ class Lattice(EngineBase):
         if not isinstance(self.constraint, (bool, np.bool_)):
             raise InvalidArgumentError("constraint", self.constraint, "True or False")
         object.__setattr__(self, "constraint", bool(self.constraint))
+        if isinstance(self.rate, Kernel):  # a kernel value: the lattice keeps its name
+            kernel = self.rate
+            kernel_class(kernel.name, "rate", among=CARRIED_KERNELS)
+            if kernel.restitution != self.restitution or kernel != make_kernel(
+                    kernel.name, self.restitution, "rate"):
+                raise InvalidArgumentError("rate", kernel, f"the kernel {kernel.name!r} with "
+                                           f"this lattice's restitution {self.restitution!r} "
+                                           "and its default parameters (the lattice's bonds "
+                                           "collide at rate 1 or |Δ|)")
+            object.__setattr__(self, "rate", kernel.name)
         kernel_class(self.rate, "rate", among=CARRIED_KERNELS)
 
     @property

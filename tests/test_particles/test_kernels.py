@@ -275,3 +275,15 @@ def test_a_kernel_whose_bound_does_not_hold_is_refused_not_run():
         simulate(engine, [2.0], seed=1, progress=False)
     with pytest.raises(InvalidArgumentError, match="rate_bound is a finite number"):
         simulate(Ulam(400, 0.5, rate=NoBound(0.5)), [2.0], seed=1, progress=False)
+
+
+def test_the_lattice_takes_a_kernel_value_it_carries():
+    by_value = simulate(Lattice(200, 0.5, rate=RelativeVelocity(0.5)), [1.0], seed=3,
+                        progress=False)
+    by_name = simulate(Lattice(200, 0.5, rate="relative_velocity"), [1.0], seed=3,
+                       progress=False)
+    assert by_value.time_name == "t" and np.array_equal(by_value.energy, by_name.energy)
+    assert Lattice(50, 0.5, rate=ConstantRate(0.5)).rate == "constant"
+    for wrong in (RelativeVelocity(0.4), RelativeVelocity(0.5, 0.5)):
+        with pytest.raises(InvalidArgumentError, match="this lattice's restitution"):
+            Lattice(50, 0.5, rate=wrong)
