@@ -27,7 +27,11 @@ from particles.workers import check_workers
 
 from .output import check_files_in, check_output_dir, clean_json, is_png, read_json_file
 
-__all__ = ["prepare_output", "plan_outputs", "read_summary", "run_all", "SUMMARY"]
+#: The PNG text chunk that marks a figure written by :func:`run_all` (``Source``).
+FIGURE_SOURCE = "maxwell-kinetics reproduce"
+
+__all__ = ["prepare_output", "plan_outputs", "read_summary", "run_all", "SUMMARY",
+           "is_our_figure", "FIGURE_SOURCE"]
 
 #: The name of the summary file in the output folder.
 SUMMARY = "summary.json"
@@ -137,16 +141,72 @@ def _is_comparison_file(path) -> str | None:
     return None
 
 
-def plan_outputs(out, names, size: str, argument: str = "out") -> dict | None:
+def _png_text(path) -> dict[str, str]:
+    """The tEXt chunks of a PNG (keyword → text), read up to the image data."""
+    import struct
+
+    out = {}
+    with open(path, "rb") as fh:
+        fh.read(8)
+        while True:
+            head = fh.read(8)
+            if len(head) < 8:
+                return out
+            length, kind = struct.unpack(">I4s", head)
+            if kind in (b"IDAT", b"IEND") or length > 1 << 20:
+                return out
+            data = fh.read(length)
+            fh.read(4)  # CRC
+            if kind == b"tEXt" and b"\0" in data:
+                key, _, text = data.partition(b"\0")
+                out[key.decode("latin-1")] = text.decode("latin-1")
+
+
+def is_our_figure(path) -> str | None:
+    """Why ``path`` is not a figure this program wrote (``None`` when it is): a PNG that carries
+    the text chunk ``Source`` = :data:`FIGURE_SOURCE`, or, as figures written before that
+    chunk did, one made by Matplotlib beside a comparison file of the same name.  A photo or any
+    other PNG of that name is never replaced.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        An existing file.
+
+    Returns
+    -------
+    str or None
+        The reason, or ``None``.
+    """
+    reason = is_png(path)
+    if reason is not None:
+        return reason
+    try:
+        text = _png_text(path)
+    except OSError as exc:
+        return f"it cannot be read: {exc.strerror or exc}"
+    if text.get("Source") == FIGURE_SOURCE:
+        return None
+    sibling = Path(path).with_suffix(".npz")
+    if (text.get("Software", "").startswith("Matplotlib") and sibling.is_file()
+            and _is_comparison_file(sibling) is None):
+        return None
+    return "it is a PNG image this program did not write"
+
+
+def plan_outputs(out, names, size: str, argument: str = "out",
+                 force: bool = False) -> dict | None:
     """Check every file a run of the comparisons ``names`` at ``size`` writes into ``out``,
     before any work and without writing anything; return the summary already there (to be
     merged into) or ``None``.
 
     The folder must be usable (:func:`maxwell_kinetics.app.output.check_output_dir`); each
     ``<name>.png``, ``<name>.npz`` and ``summary.json`` must have a name the file system takes
-    and be a regular file or nothing, an existing one written by this program (a PNG, a file
-    of ``Comparison.save``, a summary read by :func:`read_summary`); a summary made at another
-    size is refused unless this run replaces every comparison it holds.
+    and be a regular file or nothing, an existing one written by this program (a figure of
+    :func:`is_our_figure`, a file of ``Comparison.save``, a summary read by
+    :func:`read_summary`); a summary made at another size is refused unless ``force`` (the
+    default-size results of ``make demo`` are never replaced by a ``--small`` run by
+    accident), and even then when this run would keep some of its comparisons.
 
     Parameters
     ----------
@@ -158,6 +218,8 @@ def plan_outputs(out, names, size: str, argument: str = "out") -> dict | None:
         ``"small"``, ``"default"`` or ``"full"``.
     argument : str, optional
         The folder's argument name for error messages (default ``"out"``).
+    force : bool, optional
+        Replace a summary made at another size (every comparison it holds is run again).
 
     Returns
     -------
@@ -172,12 +234,20 @@ def plan_outputs(out, names, size: str, argument: str = "out") -> dict | None:
     out = check_output_dir(out, argument)
     files = {}
     for name in names:
-        files[f"{name}.png"] = is_png
+        files[f"{name}.png"] = is_our_figure
         files[f"{name}.npz"] = _is_comparison_file
     files[SUMMARY] = None  # read and checked below
     paths = check_files_in(out, files, argument)
     existing = read_summary(paths[SUMMARY], argument)
     if existing is not None and existing["size"] != size:
+        if not force:
+            raise InvalidArgumentError(
+                argument, str(paths[SUMMARY]),
+                f"a folder without results of another size: its {SUMMARY} holds "
+                f"{len(existing['comparisons'])} comparisons at size {existing['size']!r}, "
+                f"which this run at size {size!r} would replace (choose another --{argument}, "
+                "or pass --force to replace them)",
+            )
         kept = sorted(set(existing["comparisons"]) - set(names))
         if kept:
             shown = ", ".join(kept)
@@ -201,17 +271,27 @@ def _merged(existing: dict | None, size: str, done: dict, order) -> dict:
     return {**base, "size": size, "comparisons": ordered}
 
 
-def _write_summary(out: Path, size: str, done: dict, order, seconds: float) -> dict:
+def _write_summary(out: Path, size: str, done: dict, order, seconds: float,
+                   replacing: str | None = None) -> dict:
     """Merge ``done`` into the ``summary.json`` of ``out`` as it is now and write it, under an
     ``flock`` on the folder: two runs of other comparisons into one folder at once (``--only a``
-    and ``--only b`` in two terminals) both keep their entries.  Returns what was written."""
+    and ``--only b`` in two terminals) both keep their entries.  A summary of another size than
+    ``size`` found there (one that ``replacing`` does not name: a run of another size into the
+    same folder wrote it meanwhile) is refused, not replaced.  Returns what was written."""
     import fcntl
     import os
 
     fd = os.open(out, os.O_RDONLY)
     try:
         fcntl.flock(fd, fcntl.LOCK_EX)  # released when fd is closed
-        summary = _merged(read_summary(out / SUMMARY), size, done, order)
+        current = read_summary(out / SUMMARY)
+        if current is not None and current["size"] not in (size, replacing):
+            raise InvalidArgumentError(
+                "out", str(out / SUMMARY),
+                f"a folder that no run of another size writes at the same time: a run at size "
+                f"{current['size']!r} wrote its {SUMMARY} while this one at size {size!r} ran "
+                f"(its summary is kept; the figures and .npz of this run are in the folder)")
+        summary = _merged(current, size, done, order)
         summary["seconds"] = seconds
         summary = clean_json(summary)
         persistence.write_text(out / SUMMARY, json.dumps(summary, indent=1, allow_nan=False),
@@ -254,7 +334,8 @@ def run_all(out="results", size="default", only=None, progress=None, workers=Non
         Number of dask processes for the particle runs through the ensemble engine; default
         serial (except at ``size="full"``).
     force : bool, optional
-        Allow more workers than :func:`particles.workers.max_workers`.
+        Allow more workers than :func:`particles.workers.max_workers`, and replace a summary
+        made at another size (:func:`plan_outputs`).
 
     Returns
     -------
@@ -282,7 +363,8 @@ def run_all(out="results", size="default", only=None, progress=None, workers=Non
     if size not in _SIZES:
         raise InvalidArgumentError("size", size, f"one of {list(_SIZES)}")
     check_workers(workers, "workers", force=force)
-    existing = plan_outputs(out, names, size)
+    existing = plan_outputs(out, names, size, force=force)
+    replacing = None if existing is None else existing["size"]
     out = prepare_output(out)
     persistence.name_outputs({out / f: "out" for n in names for f in (f"{n}.png", f"{n}.npz")})
     ensemble = workers is not None or size == "full"
@@ -299,12 +381,15 @@ def run_all(out="results", size="default", only=None, progress=None, workers=Non
         result = COMPARISONS[name](size, progress=progress, runner=runner)
         fig = result.figure()
         try:
-            persistence.save_figure(fig, out / f"{name}.png", "out", dpi=110)
+            persistence.save_figure(fig, out / f"{name}.png", "out", dpi=110,
+                                    metadata={"Source": FIGURE_SOURCE})
         finally:
             plt.close(fig)
         result.save(out / f"{name}.npz")
         done[name] = clean_json(result.summary)
-        summary = _write_summary(out, size, done, COMPARISONS, time.perf_counter() - start)
+        summary = _write_summary(out, size, done, COMPARISONS, time.perf_counter() - start,
+                                 replacing)
+        replacing = None  # replaced now: from here on only this size is ours
         if announce:
             seconds = result.summary.get("seconds", 0)
             seconds = seconds if isinstance(seconds, (int, float)) and math.isfinite(seconds) \

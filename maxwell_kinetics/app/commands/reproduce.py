@@ -67,7 +67,8 @@ def add_parser(subparsers) -> None:
                    "(task files in <out>/runs; --full does this with one process per core); "
                    "at most 4 x the CPUs unless --force")
     p.add_argument("--force", action="store_true",
-                   help="allow more than 4 x the CPUs as --workers")
+                   help="allow more than 4 x the CPUs as --workers, and replace the results "
+                   "of another size in --out (refused without it)")
     cache_options.add_option(p)
     p.set_defaults(handler=run)
 
@@ -118,7 +119,7 @@ def run(args) -> int:
     check_workers(workers, "workers", force=args.force)
     size = "full" if args.full else "small" if args.small else "default"
     names = list(COMPARISONS) if only is None else only
-    plan_outputs(args.out, names, size, "out")  # every output, before anything is written
+    plan_outputs(args.out, names, size, "out", force=args.force)  # every output, before any work
     out = args.out
     cache_options.from_args(args)
     summary = run_all(out, size, only, progress=progress_enabled(args), workers=workers,

@@ -386,9 +386,13 @@ def test_ensemble_folder_name_too_long_is_one_line(capsys, tmp_path):
 
 
 def test_a_summary_of_another_size_is_replaced_when_every_entry_is_run_again(capsys, tmp_path):
-    """No mixing of sizes can happen when the run replaces every entry the summary holds."""
-    (tmp_path / "summary.json").write_bytes(_summary(size="full", names=("tail_exponents",)))
-    run_json(capsys, REPRODUCE + ["--out", str(tmp_path)])
+    """No mixing of sizes can happen when the run replaces every entry the summary holds; it
+    still takes --force (results of another size are never replaced by accident)."""
+    old = _summary(size="full", names=("tail_exponents",))
+    (tmp_path / "summary.json").write_bytes(old)
+    assert "--force" in run_error(capsys, REPRODUCE + ["--out", str(tmp_path)])
+    assert (tmp_path / "summary.json").read_bytes() == old
+    run_json(capsys, REPRODUCE + ["--force", "--out", str(tmp_path)])
     new = json.loads((tmp_path / "summary.json").read_text())
     assert new["size"] == "small" and list(new["comparisons"]) == ["tail_exponents"]
     assert new["comparisons"]["tail_exponents"] != {"x": 1.5}
