@@ -113,6 +113,46 @@ def _verdict_rows(records: list[dict]) -> list[str]:
     return rows
 
 
+def _calibration(records: dict) -> list[str]:
+    """The section "Calibration of the verdicts": how many statistical checks (those with a
+    z = deviation / σ) lie beyond 1, 2 and 3σ against a standard normal's counts, for all of
+    them and for the two-sided checks that agree, with the p-value of the count beyond 2σ and
+    the two-sided agreeing checks beyond 2σ; empty when no check has a z."""
+    from maxwell_kinetics.app.comparisons.verdicts import z_calibration
+
+    summaries = {name: {"verdicts": recs or []} for name, recs in records.items()}
+    sets = [("every check with a z", z_calibration(summaries)),
+            ("agreeing, two-sided (=)",
+             z_calibration(summaries, statuses=["agrees"], relations=["equal"]))]
+    if not sets[0][1]["n"]:
+        return []
+
+    def p_text(p):
+        return "—" if p is None else f"{p:.2g}"
+
+    lines = ["## Calibration of the verdicts", "",
+             "If the standard errors σ are right, z = (measured − expected)/σ of a two-sided "
+             "check is close to a standard normal: about 31.7 %, 4.6 % and 0.27 % of the checks "
+             "lie beyond 1, 2 and 3σ. Observed (expected) counts, and the two-sided binomial "
+             "p-value of the count beyond 2σ. Explained and refuted verdicts, and resolved "
+             "differences (below, above, differs), are far from their value by design: the "
+             "second row leaves them out.", "",
+             "| checks | number | beyond 1σ | beyond 2σ | beyond 3σ | p-value (2σ) |",
+             "|---|---|---|---|---|---|"]
+    for label, c in sets:
+        lines.append(f"| {label} | {c['n']} | " + " | ".join(
+            f"{c['observed'][k]} ({c['expected'][k]:.2f})" for k in (1, 2, 3))
+            + f" | {p_text(c['p_value'])} |")
+    lines.append("")
+    beyond = sets[1][1]["beyond_2sigma"]
+    if beyond:
+        lines += ["Agreeing two-sided checks beyond 2σ:", ""]
+        lines += [f"- {b['comparison'].replace('_', ' ')}: {_cell(b['claim'])} "
+                  f"(z = {b['z']:+.2f})" for b in beyond]
+        lines.append("")
+    return lines
+
+
 def _claim(name: str) -> str:
     try:
         module = importlib.import_module(f"maxwell_kinetics.app.comparisons._{name}")
@@ -162,6 +202,7 @@ def render(results: Path, figures_out: Path) -> str:
         lines += ["Verdicts of this run: " + ", ".join(
             f"{counts.get(s, 0)} {s}" for s in ("agrees", "explained", "refuted",
                                                  "not measured", "disagrees")) + ".", ""]
+        lines += _calibration(records)
     for i, (name, entry) in enumerate(comparisons.items(), 1):
         lines += [f"## {i}. {name.replace('_', ' ').capitalize()}", ""]
         claim = _claim(name)

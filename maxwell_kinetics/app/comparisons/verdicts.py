@@ -64,6 +64,7 @@ __all__ = [
     "pair",
     "student_sigmas",
     "status_counts",
+    "z_calibration",
 ]
 
 #: The statuses a verdict can have.
@@ -661,3 +662,86 @@ def pair(entry) -> tuple[float | None, float | None]:
     if isinstance(entry, (list, tuple)) and len(entry) == 2:
         return _number(entry[0]), _number(entry[1])
     return _number(entry), None
+
+
+#: The |z| thresholds of :func:`z_calibration`, in standard errors.
+Z_THRESHOLDS = (1, 2, 3)
+
+
+def _comparison_summaries(summary: dict) -> dict:
+    """``{name: comparison summary}`` of a ``reproduce`` summary (with ``comparisons``), or of
+    a mapping that already is one."""
+    comparisons = summary.get("comparisons")
+    return comparisons if isinstance(comparisons, dict) else summary
+
+
+def z_calibration(summary: dict, *, statuses: Iterable[str] | None = None,
+                  relations: Iterable[str] | None = None) -> dict:
+    """Whether the standard errors of the verdicts are calibrated: how many of the statistical
+    checks (the verdict records with a finite ``deviation_in_sigma`` z) lie beyond 1, 2 and 3
+    σ, against the counts a standard normal z gives (fractions 0.3173, 0.0455, 0.0027).
+
+    Only the top-level check of each verdict counts (not its explanation, refutation or
+    resolution).  A check whose claim is a resolved difference (relation ``below``, ``above``,
+    ``differs``), or a verdict that is explained or refuted, is expected to lie far from its
+    value: ``statuses`` and ``relations`` select a subset.
+
+    Parameters
+    ----------
+    summary : dict
+        The summary of ``reproduce`` (``{"comparisons": {name: summary}}``) or
+        ``{name: summary}``; each comparison's ``verdicts`` is a list of records
+        (:meth:`Verdict.to_dict`).
+    statuses : iterable of str, optional
+        Count only the verdicts with one of these statuses (all when None).
+    relations : iterable of str, optional
+        Count only the checks with one of these relations (all when None).
+
+    Returns
+    -------
+    dict
+        ``n`` (the number of checks with a finite z), ``observed`` and ``expected``
+        (``{k: count}`` of |z| > k for k = 1, 2, 3; expected ``n`` times the normal two-sided
+        fraction), ``fractions`` (those fractions), ``p_value`` (two-sided binomial p-value of
+        the count beyond 2σ, :func:`scipy.stats.binomtest`; None when ``n`` is 0) and
+        ``beyond_2sigma`` (a list of ``{"comparison", "claim", "z", "status", "relation"}``,
+        largest |z| first; ``claim`` is the short claim).
+
+    Raises
+    ------
+    InvalidArgumentError
+        If ``summary`` is not a dict, or a comparison's ``verdicts`` is not a list.
+    """
+    if not isinstance(summary, dict):
+        raise InvalidArgumentError("summary", summary, "a dict (the summary of reproduce)")
+    statuses = None if statuses is None else set(statuses)
+    relations = None if relations is None else set(relations)
+    zs, beyond = [], []
+    for name, entry in _comparison_summaries(summary).items():
+        records = entry.get("verdicts", []) if isinstance(entry, dict) else []
+        if not isinstance(records, list):
+            raise InvalidArgumentError(f"{name}.verdicts", records, "a list of verdict records")
+        for v in records:
+            z = _number(v.get("deviation_in_sigma"))
+            if z is None:
+                continue
+            if statuses is not None and v.get("status") not in statuses:
+                continue
+            if relations is not None and v.get("relation") not in relations:
+                continue
+            zs.append(z)
+            if abs(z) > 2:
+                beyond.append({"comparison": name, "claim": _short_claim(v), "z": z,
+                               "status": v.get("status"), "relation": v.get("relation")})
+    n = len(zs)
+    fractions = {k: math.erfc(k / math.sqrt(2.0)) for k in Z_THRESHOLDS}
+    observed = {k: sum(abs(z) > k for z in zs) for k in Z_THRESHOLDS}
+    p_value = None
+    if n:
+        from scipy.stats import binomtest
+
+        p_value = float(binomtest(observed[2], n, fractions[2]).pvalue)
+    beyond.sort(key=lambda r: -abs(r["z"]))
+    return {"n": n, "observed": observed,
+            "expected": {k: n * f for k, f in fractions.items()},
+            "fractions": fractions, "p_value": p_value, "beyond_2sigma": beyond}
