@@ -321,11 +321,15 @@ def kernel_class(name, argument: str = "kernel",
     ------
     InvalidArgumentError
         Naming ``argument``, listing the accepted names, for anything else (a non-string
-        included).
+        included; a registered kernel outside ``among`` is said to be registered but not
+        carried).
     """
     accepted = tuple(KERNELS) if among is None else tuple(n for n in among if n in KERNELS)
     if not (isinstance(name, str) and name in accepted):
         shown = ", ".join(repr(n) for n in accepted)
+        if isinstance(name, str) and name in KERNELS:  # registered, but not carried here
+            raise InvalidArgumentError(argument, name, f"a kernel carried here: {shown} "
+                                       f"({name!r} is registered, but not carried here)")
         raise InvalidArgumentError(argument, name, f"a registered kernel: {shown}")
     return KERNELS[name]
 

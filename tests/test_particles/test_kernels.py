@@ -287,3 +287,10 @@ def test_the_lattice_takes_a_kernel_value_it_carries():
     for wrong in (RelativeVelocity(0.4), RelativeVelocity(0.5, 0.5)):
         with pytest.raises(InvalidArgumentError, match="this lattice's restitution"):
             Lattice(50, 0.5, rate=wrong)
+
+
+def test_a_registered_kernel_that_is_not_carried_is_named_as_such():
+    with pytest.raises(InvalidArgumentError, match="'relative_velocity' is registered, but not "
+                       "carried here") as info:
+        kernel_class("relative_velocity", "kernel", among=("constant",))
+    assert info.value.name == "kernel" and "a registered kernel" not in str(info.value)
