@@ -162,8 +162,8 @@ def verdicts(s: dict) -> list:
     r = s["parameters"]["restitution"]
     tau_last = s["tau"][-1]
     out = [judge(
-        f"Eq. (exact_v): G(q, τ) of the kinetic equation tends to f̂(q) = (1 + |q|) e^(−|q|), "
-        f"r = {r:g}",
+        f"the exact scaling solution: G(q, τ) of the kinetic equation tends to "
+        f"f̂(q) = (1 + |q|) e^(−|q|), r = {r:g}",
         Check(f"sup_q |G − f̂| at τ = {tau_last:g}", s["sup_error"][-1], None, 0.0,
               "exact: f̂ is the scaling solution", tolerance=_SUP_TOLERANCE,
               relation="at_most"))]
@@ -181,7 +181,7 @@ def verdicts(s: dict) -> list:
                   g["predicted"], "exact: moment equations",
                   tolerance=_GROWTH_RELATIVE_TOLERANCE * abs(g["predicted"]))))
     out.append(judge(
-        f"P(x, τ) develops the x⁻⁴ tail of f (Eq. exact_v), r = {r:g}",
+        f"P(x, τ) develops the x⁻⁴ tail of f (the exact scaling solution), r = {r:g}",
         Check(f"log-log slope of P(x, τ = {tau_last:g}) on x in "
               f"[{s['parameters']['tail_window'][0]:g}, {s['parameters']['tail_window'][1]:g}]",
               s["tail_slope"][-1], None, s["tail_slope_of_f"],

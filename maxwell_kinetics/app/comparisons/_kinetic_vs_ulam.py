@@ -233,7 +233,7 @@ def verdicts(s: dict) -> list:
         smooth, smooth_err = pooled_ratio([row["smoothed"] for row in c["rows"]])
         taus = ", ".join(f"{row['tau']:g}" for row in c["rows"])
         out.append(judge(
-            f"Eq. (ulam1d_v) is the Ulam model's master equation: particles' P(x, τ) = the "
+            f"the kinetic equation is the Ulam model's master equation: particles' P(x, τ) = the "
             f"solver's, r = {c['restitution']:g}, {c['initial']} law",
             Check(f"χ²/(dof·φ) pooled over τ = {taus}", raw, raw_err, 1.0,
                   "exact: χ² null expectation"),

@@ -123,7 +123,7 @@ def verdicts(s: dict) -> list:
         ratio, err = pooled_ratio([row["v0_scaled"]])
         shape, shape_err = pooled_ratio([row["median_scaled"]])
         out.append(judge(
-            f"Fig. 2: Ulam P(v, τ) collapses on f(x) = 2/(π(1 + x²)²), Eq. (exact_v), "
+            f"Fig. 2: Ulam P(v, τ) collapses on f(x) = 2/(π(1 + x²)²), the exact scaling solution, "
             f"r = {row['restitution']:g}",
             Check(f"χ²/(dof·φ) of v/v0 against f at τ = {row['tau']:g}", ratio, err, 1.0,
                   "exact: χ² null expectation"),
