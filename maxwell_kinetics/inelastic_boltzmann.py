@@ -175,6 +175,15 @@ SMALLEST_SCALE = 1e-15
 STEPS_PER_TAU_AND_STIFFNESS = 0.15
 
 
+def _steps_per_unit_time(kernel: _kernels.Kernel, grid) -> float:
+    """Time steps per unit of n t at γ = 0: :data:`STEPS_PER_TAU_AND_STIFFNESS` · R(1, 0) times
+    the grid's stiffness max |c_i|/(spacing at c_i) (the dilation's stability limit)."""
+    c = grid.c
+    spacing = grid.weights if isinstance(grid, _grid.MappedGrid) else np.full(c.size, grid.h)
+    return (STEPS_PER_TAU_AND_STIFFNESS * _unit_rate(kernel)
+            * float(np.max(np.abs(c) / spacing)))
+
+
 def check_reach(model: RelativeVelocityModel, density: float, t_last: float, grid,
                 max_steps: int) -> None:
     """Refuse, before any work, a last time the solve cannot reach.
@@ -223,10 +232,7 @@ def check_reach(model: RelativeVelocityModel, density: float, t_last: float, gri
                 "stalls; the gas has long reached its cooling state, which fixed-point --kernel "
                 "relative_velocity / scaling_state gives)")
         return
-    c = grid.c
-    spacing = grid.weights if isinstance(grid, _grid.MappedGrid) else np.full(c.size, grid.h)
-    per_tau = (STEPS_PER_TAU_AND_STIFFNESS * _unit_rate(kernel)
-               * float(np.max(np.abs(c) / spacing)))
+    per_tau = _steps_per_unit_time(kernel, grid)
     steps = per_tau * density * t_last
     if steps > max_steps:
         raise InvalidArgumentError(
@@ -267,11 +273,8 @@ def estimate_seconds(kernel, grid, density: float, t_last: float) -> float | Non
     kernel = grid_kernel(kernel)
     if kernel.homogeneity > 0.0:
         return None
-    c = grid.c
-    spacing = grid.weights if isinstance(grid, _grid.MappedGrid) else np.full(c.size, grid.h)
-    steps = (STEPS_PER_TAU_AND_STIFFNESS * _unit_rate(kernel) * float(np.max(np.abs(c) / spacing))
-             * density * t_last)
-    return steps * c.size**2 * SECONDS_PER_STEP_AND_PAIR
+    steps = _steps_per_unit_time(kernel, grid) * density * t_last
+    return steps * grid.c.size**2 * SECONDS_PER_STEP_AND_PAIR
 
 
 def _interruptible(work):

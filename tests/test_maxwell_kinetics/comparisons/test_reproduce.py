@@ -13,12 +13,7 @@ import pytest
 
 from maxwell_kinetics import statistics as st
 from maxwell_kinetics.app import comparisons
-from maxwell_kinetics.app.comparisons import (
-    _kinetic_vs_ulam,
-    _velocity_distributions,
-    _velocity_profiles,
-    analysis,
-)
+from maxwell_kinetics.app.comparisons import _kinetic_vs_ulam, analysis
 from maxwell_kinetics.exact import f_hat
 from particles.validation import InvalidArgumentError
 
@@ -459,7 +454,7 @@ def test_md_shock_asymmetry_in_the_coarse_grained_profiles():
     all 24 < 0): the 4-seed means sit 4.2 and 4.4 standard errors from zero; raw −0.011 (sd
     0.007) and −0.019 (sd 0.017), far inside the bound 0.1.  The test can fail: at t = 400, in
     the homogeneous stage, the same seeds give m = 256 means of +0.15 (v(i)) and +0.12 (v(x))."""
-    params = _velocity_profiles.PRESETS["default"]
+    params = comparisons.PRESETS["velocity_profiles"]["default"]
     md = comparisons.md_runs(params["restitution"], params["md_n"], params["delta"],
                      (params["md_t_early"], params["md_t_late"]), tuple(range(params["md_seeds"])))
     vi, vx = [], []
@@ -476,14 +471,15 @@ def test_velocity_profiles_preset():
     """Fig. 4 at the paper's size at ``--full`` (the paper's: r = 0.99, N = 2·10⁴ for MD and the
     lattice), with more seeds than the default; at small and default size the run parameters
     equal comparison 4's, so that one process shares the MD and lattice runs of the two."""
-    full = _velocity_profiles.PRESETS["full"]
+    full = comparisons.PRESETS["velocity_profiles"]["full"]
     assert full["restitution"] == 0.99
     assert full["md_n"] == full["lattice_n"] == 20_000
-    assert full["md_seeds"] > _velocity_profiles.PRESETS["default"]["md_seeds"]
-    assert full["lattice_seeds"] > _velocity_profiles.PRESETS["default"]["lattice_seeds"]
+    default = comparisons.PRESETS["velocity_profiles"]["default"]
+    assert full["md_seeds"] > default["md_seeds"]
+    assert full["lattice_seeds"] > default["lattice_seeds"]
     for size in ("small", "default"):
-        for key, value in _velocity_profiles.PRESETS[size].items():
-            assert _velocity_distributions.PRESETS[size][key] == value, (size, key)
+        for key, value in comparisons.PRESETS["velocity_profiles"][size].items():
+            assert comparisons.PRESETS["velocity_distributions"][size][key] == value, (size, key)
 
 
 def test_fft_density_agrees_with_quadrature_bins(vs_ulam):
