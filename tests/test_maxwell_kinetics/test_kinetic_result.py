@@ -93,7 +93,9 @@ def test_density_and_histogram_take_the_time_by_value_under_one_keyword(result):
     xf = np.linspace(-3.0, 3.0, 601)
     mass = np.trapezoid(result.density(xf, time=last)[1], xf)
     assert float(np.sum(hist.density * np.diff(edges))) == pytest.approx(mass, abs=1e-4)
-    assert np.all(hist.error == 0)
+    # a prediction's error is its numerical error: 0 on the velocity grid, the Fourier
+    # solution's own estimate (below 1e-6 per bin here) for Solution
+    assert np.all(hist.error >= 0) and np.max(hist.error * np.diff(edges)) < 1e-6
     scale = result.moments((2,)).scale[-1]
     assert hist.v0 == pytest.approx(scale, rel=1e-9)
 
