@@ -17,6 +17,7 @@ Conventions
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +32,7 @@ from .validation import (
 
 __all__ = [
     "Histogram",
+    "NumericalErrorWarning",
     "energy",
     "momentum",
     "kurtosis",
@@ -178,6 +180,12 @@ def momentum(v) -> np.ndarray | float:
     return float(out) if out.ndim == 0 else out
 
 
+class NumericalErrorWarning(UserWarning):
+    """A prediction's numerical error exceeds the sampling error of the histogram it is compared
+    with (:meth:`Histogram.distance`): the comparison stays valid, but it tests the numerics
+    more than the sample; a finer solve removes it."""
+
+
 @dataclass(frozen=True)
 class Histogram:
     """A density estimate of x = v / v0 on fixed bins, with its statistical error.
@@ -186,7 +194,10 @@ class Histogram:
     edges.  ``error[b] = sqrt(n p (1 − p)) / (n · width[b])`` with ``p = count[b] / n`` is the
     binomial (≈ Poisson for small p) standard error of one bin for n independent samples.  For a
     correlated field (lattice, MD late times) the velocities are not independent and the true
-    error is larger; averaging over independent runs is then the honest estimate.
+    error is larger; averaging over independent runs is then the honest estimate.  A prediction
+    (``samples`` 0) has no sampling error: its ``error`` is its numerical error (0 for an exact
+    law; the solver's estimate for a kinetic solution,
+    :meth:`maxwell_kinetics.solution.Solution.histogram`).
 
     Attributes
     ----------
@@ -231,9 +242,14 @@ class Histogram:
     def distance(self, other, *, min_count: int = 5):
         """χ², degrees of freedom and χ²/dof (with the errors of both histograms) and the
         Kolmogorov–Smirnov distance to ``other``, a histogram on the same edges (a particle run's,
-        or a prediction with zero error such as
-        :meth:`maxwell_kinetics.solution.Solution.histogram`); conventions in
-        :mod:`particles.distance`.
+        or a prediction such as :meth:`maxwell_kinetics.solution.Solution.histogram`); conventions
+        in :mod:`particles.distance`.  The errors of the two sides add in quadrature, so a
+        prediction's numerical error (its ``error``; ``samples`` 0) widens each bin's tolerance
+        together with the sample's statistical error.  Where, in a bin used in χ², the
+        prediction's numerical error exceeds the sample's statistical error, a
+        :class:`NumericalErrorWarning` says so (the χ² is still right, but it tests the numerics
+        rather than the sample: solve on a finer grid).  A warning rather than a refusal: the
+        result stays valid and scripts that compare many runs keep going.
 
         Parameters
         ----------
@@ -251,10 +267,37 @@ class Histogram:
         ------
         particles.validation.InvalidArgumentError
             Naming ``other`` if it is not a histogram on the same edges.
+
+        Warns
+        -----
+        NumericalErrorWarning
+            When one side is a prediction whose numerical error exceeds the other side's
+            sampling error in a bin used in χ².
         """
         from .distance import histogram_distance
 
-        return histogram_distance(self, other, min_count=min_count)
+        result = histogram_distance(self, other, min_count=min_count)
+        _warn_numerical_error(self, other, result.bins)
+        return result
+
+
+def _warn_numerical_error(first, second, bins: np.ndarray) -> None:
+    """Warn (:class:`NumericalErrorWarning`) when one of the two histograms is a prediction
+    (``samples`` 0) whose error exceeds the other's sampling error in a bin of ``bins``."""
+    prediction, sample = sorted((first, second), key=lambda h: int(h.samples) > 0)
+    if int(prediction.samples) > 0 or int(sample.samples) == 0 or not np.any(bins):
+        return
+    numeric = np.asarray(prediction.error, dtype=float)[bins]
+    sampling = np.asarray(sample.error, dtype=float)[bins]
+    over = numeric > sampling
+    if np.any(over):
+        worst = float(np.max(numeric[over] / np.maximum(sampling[over], np.finfo(float).tiny)))
+        warnings.warn(NumericalErrorWarning(
+            f"the prediction's numerical error exceeds the sampling error in {int(over.sum())} "
+            f"of {int(bins.sum())} bins (up to {worst:.3g} times): chi2 includes it in "
+            "quadrature, so this comparison tests the numerics more than the sample of "
+            f"{int(sample.samples)}; raise the resolution of the solve (e.g. "
+            "resolution='fine') to compare at the sample's precision"), stacklevel=3)
 
 
 def _rms(rows: np.ndarray) -> np.ndarray:
