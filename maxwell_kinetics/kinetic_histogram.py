@@ -16,9 +16,36 @@ Bin probabilities (exact up to the cut of G at the grid's end q_max):
 by composite Gauss–Legendre quadrature
 (:func:`maxwell_kinetics.statistics.interval_probabilities`).  In d = 1 with a built-in
 initial law, the particles that never collided (a fraction e^{−τ}, distributed as the initial
-law stretched by e^{λτ}: G_free(q) = e^{−τ} φ(q e^{λτ})) are counted exactly from the law's CDF
-and only G − G_free is transformed, so a law with a jump (whose 1/q Fourier tail the cut would
-misrepresent) is exact too.
+law stretched by e^{λτ}: G_free(q) = e^{−τ} φ(q e^{λτ}), the solution of ∂τ G = λ q ∂q G − G)
+are counted exactly from the law's CDF and only the collided part H = G − G_free is
+transformed (:func:`collided_part`).  G_free is subtracted on the grid's nodes, where it is
+known exactly, and never interpolated: a law with a jump has a 1/q oscillating φ that a coarse
+grid cannot follow (on "coarse" the uniform law's φ(q) has a period of 3.6 in q, the node
+spacing near q_max), and interpolating it made the density ring (Gibbs) and go negative.  At
+τ = 0, H = 0 on the nodes and the histogram is the law's own, to round-off.  A negative
+probability (round-off, or a grid that does not resolve H) is replaced by 0, which is nearer
+the truth.
+
+Numerical error (:func:`bin_errors`), the ``error`` of :func:`solution_histogram`: the sum of
+
+* a grid term: the bin probabilities read from every node, every second and every fourth
+  (spacings h, 2h, 4h) differ by d₁ = |P_h − P_2h| and d₂ = |P_2h − P_4h|; with ρ = max d₂ /
+  max d₁ (≈ 2^order where H is resolved, ≈ 1 where it is not) the term is d₁/√max(ρ, 1), its
+  envelope over two bins on each side (d₁ changes sign from bin to bin).  Richardson's d₁/(ρ −
+  1) would be the read-out's interpolation error alone; the solver's nodes carry the same
+  interpolation error accumulated in the gain term, measured at 2–10 times that, which the
+  square root covers;
+* a cut term: the transform of |H| over the top octave [q_max/2, q_max] (the largest change
+  of the bin that an error of that modulus can make,
+  :func:`maxwell_kinetics.statistics.interval_bound`), extrapolated beyond q_max as a power
+  law: divided by half the ratio ρ_c of the octave below to it (at least 1); ρ_c = 2^β for
+  |H| ~ q^{−β}, whose tail beyond q_max is the octave's divided by 2^β − 1.
+
+Measured against a solve with h = 0.0125 and q_max = 398 (r = 0.3; laws uniform, asymmetric,
+Gaussian, Laplace, bimodal; τ = 0.5, 1, 3; 120 bins of width 0.1 on [−6, 6]): on "coarse",
+"default" and "fine" the largest estimate is 1.0–17 times the largest actual error, and the
+estimate bounds the actual error bin by bin except in a few bins of the smooth laws at the
+1e-8 level and below.
 """
 
 from __future__ import annotations

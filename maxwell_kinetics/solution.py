@@ -565,9 +565,15 @@ class Solution:
                   time: float | None = None):
         """The kinetic prediction on the bins ``edges`` at one saved time, as the
         :class:`particles.observables.Histogram` that particle runs return: ``density`` = the
-        exact bin probability ∫_a^b P(x, τ) dx divided by the width (G cut at the grid's end
-        q_max, as in :meth:`density`; in d = 1 the never-collided particles of a built-in law
-        exactly), ``error`` and ``count`` 0, ``samples`` 0, ``v0`` = v0(τ).
+        bin probability ∫_a^b P(x, τ) dx divided by the width (G cut at the grid's end q_max, as
+        in :meth:`density`; in d = 1 the never-collided particles of a built-in law exactly,
+        from its CDF, so at τ = 0 it is the initial law's to round-off), ``error`` = the
+        solver's estimate of the numerical error of that bin probability (grid and cut at
+        q_max), divided by the width, ``count`` 0, ``samples`` 0, ``v0`` = v0(τ).
+        :meth:`~particles.observables.Histogram.distance` adds ``error`` in quadrature to the
+        sample's statistical error, and warns
+        (:class:`~particles.observables.NumericalErrorWarning`) where it is the larger: then
+        solve on a finer ``resolution``.
 
         x = v/v0(τ) with v0² the variance of one component (e^{−2λτ} in d = 1): in the kinetic
         theory the energy per component itself, so this is the particle runs' convention
@@ -590,7 +596,7 @@ class Solution:
         Returns
         -------
         particles.observables.Histogram
-            The predicted histogram (zero error).
+            The predicted histogram, ``error`` its numerical error.
 
         Raises
         ------
