@@ -118,7 +118,7 @@ def _calibration(records: dict) -> list[str]:
     z = deviation / σ) lie beyond 1, 2 and 3σ against a standard normal's counts, for all of
     them and for the two-sided checks that agree, with the p-value of the count beyond 2σ and
     the two-sided agreeing checks beyond 2σ; empty when no check has a z."""
-    from maxwell_kinetics.app.comparisons.verdicts import z_calibration
+    from maxwell_kinetics.app.comparisons.calibration import z_calibration
 
     summaries = {name: {"verdicts": recs or []} for name, recs in records.items()}
     sets = [("every check with a z", z_calibration(summaries)),

@@ -16,7 +16,7 @@ from ...inelastic_boltzmann import solve_boltzmann
 from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .particle_runs import ParticleRuns, md_record_times
-from .verdicts import Check, judge, with_verdicts
+from .verdicts import Check, judge, welch_dof, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "lattice_times", "verdicts"]
 
@@ -217,8 +217,17 @@ def _boltzmann_haff(r, t0, clock, md_energy, window):
 def _fit_check(rec: dict, quantity: str, source: str):
     """The check of one fit record: slope ± its stated uncertainty (seeds, and the window
     drift for the late exponents) against its expected value, 3σ."""
+    runs = len(rec.get("per_run", []))
+    seeds = rec["slope"][1]
+    dof = welch_dof((seeds or 0.0, runs - 1 if runs > 1 else None),
+                    (rec.get("window_drift") or 0.0, None))
+    where = f"seeds: standard error over {runs} runs' fits"
+    if rec.get("window_drift"):
+        where += (", and the window drift (half the slopes' difference on its halves, a "
+                  "measured systematic) in quadrature")
     return Check(f"{quantity}, fit on [{rec['window'][0]:g}, {rec['window'][1]:g}]",
-                 rec["slope"][0], rec["uncertainty"], rec["expected"], source)
+                 rec["slope"][0], rec["uncertainty"], rec["expected"], source, dof=dof,
+                 sigma_source=where)
 
 
 def early_chaos_check(s: dict):
@@ -240,9 +249,12 @@ def early_chaos_check(s: dict):
     if ratio is None:
         return None
     value, sigma = ratio["ratio"][0]
+    runs = int(s.get("parameters", {}).get("md_seeds", 0))  # 0: not recorded
     return Check(f"E of MD over E of the hard-rod Boltzmann equation at t = "
                  f"{ratio['times'][0]:g} (the window's first time)", value, sigma, 1.0,
-                 "exact: molecular chaos at the start (independent Gaussian velocities)")
+                 "exact: molecular chaos at the start (independent Gaussian velocities)",
+                 dof=runs - 1 if runs > 1 else None,
+                 sigma_source=f"seeds: standard error over {runs} MD runs")
 
 
 def molecular_chaos_check(s: dict):

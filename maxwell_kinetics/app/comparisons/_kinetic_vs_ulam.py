@@ -236,9 +236,9 @@ def verdicts(s: dict) -> list:
             f"the kinetic equation is the Ulam model's master equation: particles' P(x, τ) = the "
             f"solver's, r = {c['restitution']:g}, {c['initial']} law",
             Check(f"χ²/(dof·φ) pooled over τ = {taus}", raw, raw_err, 1.0,
-                  "exact: χ² null expectation"),
+                  "exact: χ² null expectation", sigma_source="χ² law: √(2/Σ dof) of the pooled bins under the null, and the overdispersion φ's own error (seed scatter)"),
             Check("the same, both laws smoothed by N(0, σ²) (no cut of G at q_max)", smooth,
-                  smooth_err, 1.0, "exact: χ² null expectation"),
+                  smooth_err, 1.0, "exact: χ² null expectation", sigma_source="χ² law: √(2/Σ dof) of the pooled bins under the null, and the overdispersion φ's own error (seed scatter)"),
             why="the solver's bin probabilities cut G at q_max; a sharp-edged law's prediction "
                 "errs next to its edge"))
     n_scan = s["n_scan"]
@@ -246,7 +246,9 @@ def verdicts(s: dict) -> list:
     out.append(judge(
         "the distance between particles and kinetic theory is finite-N noise only",
         Check("slope of log KS distance against log N", slope, err, n_scan["slope_expected"],
-              "exact: KS ~ N^(−1/2)")))
+              "exact: KS ~ N^(−1/2)",
+              sigma_source=f"weighted fit over {len(n_scan['n'])} N, each KS distance's error "
+                           f"from {s['parameters'].get('scan_seeds', '?')} seeds")))
     return out
 
 

@@ -423,6 +423,12 @@ def _shown_times(times) -> list[int]:
     return sorted({0, k // 2, k - 1})
 
 
+def _seed_dof(values) -> int | None:
+    """seeds − 1 for a standard error over the runs ``values`` (None: fewer than 2, or none)."""
+    n = 0 if values is None else len([v for v in values if v is not None])
+    return n - 1 if n > 1 else None
+
+
 def verdicts(s: dict) -> list:
     """The verdicts of comparison 9 from its summary ``s``: E ∝ t^{−2/3} (3σ plus the window
     drift), the Porod tail (3σ), the cluster-mass exponent (3σ), Chernoff's displacement
@@ -430,16 +436,21 @@ def verdicts(s: dict) -> list:
     exp(−w³) tail: the local exponent at the deepest w against 3, explained when it equals the
     exact law's β(w) at that w (3σ)."""
     e = s["energy"]
+    seeds = int(s.get("parameters", {}).get("seeds", 0))  # 0: not recorded
     slope, err = pair(e["exponent"])
     out = [judge("late stage E ∝ t^(−2/3) (sticky gas)",
                  Check(f"slope of ln E against ln t on [{e['fit_range'][0]:g}, "
                        f"{e['fit_range'][1]:g}]", slope, err, e["expected"], "paper: t^(−2/3)",
-                       tolerance=e.get("drift") or 0.0))]
+                       tolerance=e.get("drift") or 0.0, dof=_seed_dof(e.get("per_seed")),
+                       sigma_source="seeds: standard error of the per-seed slopes; tolerance: "
+                                    "the window drift (half the slopes' difference on its "
+                                    "halves)"))]
     st = s["structure"]
     slope, err = pair(st["porod_slope_last_fitted_time"])
     out.append(judge("Porod's law S(k) ∼ k⁻² of the sticky gas",
                      Check("slope of log S(k), last fitted time", slope, err, st["expected"],
-                           "paper: Porod's law")))
+                           "paper: Porod's law", dof=_seed_dof(range(seeds)),
+                           sigma_source="seeds: standard error of the per-seed fits")))
     tail = s["tail"]["engine"]
     if tail["beta"]:
         beta, beta_err = tail["beta"][-1], tail["beta_error"][-1]
@@ -455,17 +466,21 @@ def verdicts(s: dict) -> list:
     m, m_err = pair(s["mass"]["exponent"])
     out.append(judge("cluster masses: P(m) ∼ m^(−1/2) at small m/⟨m⟩ (exact sticky gas)",
                      Check("fitted exponent of the mass law", m, m_err, s["mass"]["expected"],
-                           "exact: Frachebourg's mass law")))
+                           "exact: Frachebourg's mass law",
+                           sigma_source="fit: weighted least squares, the counts' errors")))
     d = s["displacement"]
     var, var_err = pair(d["variance"])
     out.append(judge("displacements follow Chernoff's law (exact sticky gas)",
                      Check(f"variance of D/t^(2/3) at t = {d['time']:g}", var, var_err,
-                           d["chernoff_variance"], "exact: Chernoff's distribution")))
+                           d["chernoff_variance"], "exact: Chernoff's distribution",
+                           dof=_seed_dof(d.get("per_seed")),
+                           sigma_source="seeds: standard error over the runs")))
     last = s["exact"]["per_time"][-1]
     vel = last["velocity"]
     out.append(judge("the sticky gas reaches its exact late-time velocity law",
                      Check(f"χ²/dof of the velocity law at t = {last['t']:g}", vel["chi2_dof"],
-                           math.sqrt(2.0 / vel["dof"]), 1.0, "exact: χ² null expectation")))
+                           math.sqrt(2.0 / vel["dof"]), 1.0, "exact: χ² null expectation",
+                           sigma_source="χ² law: √(2/dof) under the null")))
     return out
 
 

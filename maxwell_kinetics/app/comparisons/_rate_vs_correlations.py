@@ -344,6 +344,15 @@ def verdicts(s: dict) -> list:
       most), 3σ of the seeds.
     """
     cases = s["cases"]
+    par = s.get("parameters", {})
+
+    def seeds(name):
+        """(dof, sigma_source) of a standard error over the runs of ``name``."""
+        n = int(par.get(f"{name}_seeds", 0))  # 0: not recorded (dof unknown)
+        return {"dof": n - 1 if n > 1 else None,
+                "sigma_source": f"seeds: standard error over {n or 'the'} runs of "
+                                f"{ {'md': 'MD', 'dsmc': 'the DSMC'}.get(name, 'the Ulam model')}"}
+
     quasi = cases[0]
     r0 = quasi["restitution"]
     last, first = quasi["rows"][-1], quasi["rows"][0]
@@ -369,7 +378,8 @@ def verdicts(s: dict) -> list:
         f"MD follows the hard-rod Boltzmann equation at first (molecular chaos), r = {r0:g}, "
         f"t = {first['t']:g}",
         Check("MD − hard-rod Boltzmann kurtosis", c0, e0, 0.0,
-              "exact: molecular chaos for independent initial velocities and positions"),
+              "exact: molecular chaos for independent initial velocities and positions",
+              **seeds("md")),
         short=f"MD K = Boltzmann K at t = {first['t']:g}"))
     for case in cases:
         r = case["restitution"]
@@ -379,7 +389,7 @@ def verdicts(s: dict) -> list:
             f"MD's E equals the hard-rod Boltzmann equation's at the first time (molecular "
             f"chaos), r = {r:g}, t = {row['t']:g}",
             Check(f"E of MD over E of the hard-rod Boltzmann equation at t = {row['t']:g}",
-                  ratio, sigma, 1.0, "exact: molecular chaos at the start"),
+                  ratio, sigma, 1.0, "exact: molecular chaos at the start", **seeds("md")),
             short=f"MD E = Boltzmann E at t = {row['t']:g}, r = {r:g}"))
     for case in cases:
         r = case["restitution"]
@@ -403,7 +413,7 @@ def verdicts(s: dict) -> list:
             f"t = {row['t']:g}",
             Check(f"E of the DSMC over E of the hard-rod Boltzmann equation at t = "
                   f"{row['t']:g} (the last time)", ratio, sigma, 1.0,
-                  "exact: the same kinetic equation (N → ∞)"),
+                  "exact: the same kinetic equation (N → ∞)", **seeds("dsmc")),
             short=f"DSMC E = Boltzmann E, t = {row['t']:g}, r = {r:g}"))
         ratio, sigma = _energy_ratio(row, "maxwell", "maxwell_exact")
         out.append(judge(
@@ -411,7 +421,7 @@ def verdicts(s: dict) -> list:
             f"τ = {row['collisions_per_particle']:.4g}",
             Check(f"E of the Ulam particles over e^(−2λτ) at τ = "
                   f"{row['collisions_per_particle']:.4g} (the last time)", ratio, sigma, 1.0,
-                  "exact: the Maxwell model's energy"),
+                  "exact: the Maxwell model's energy", **seeds("ulam")),
             short=f"Ulam E = e^(−2λτ), last τ, r = {r:g}"))
     return out
 

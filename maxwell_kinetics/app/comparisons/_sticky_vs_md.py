@@ -168,7 +168,10 @@ def verdicts(s: dict) -> list:
     seeds; the check is the time of the largest |mean/σ|, against 0 within
     :func:`.verdicts.student_sigmas` standard errors (σ from ``seeds`` runs only: Student's t
     with ``seeds − 1`` degrees of freedom at the coverage of 3σ, 19.2σ for 3 seeds).  No stated
-    tolerance: the pairing removes the seed-to-seed scatter, so the paired σ is what is left."""
+    tolerance: the pairing removes the seed-to-seed scatter, so the paired σ is what is left.
+    The check is the largest of the window's |z|, one per time: its record says so
+    (``trials``, the number of times), and the calibration of the verdicts judges its z as the
+    largest of that many Student's t values, not as one."""
     p = s["paired"]
     seeds = int(s["parameters"]["seeds"])
     rows = [(t, *pair(entry)) for t, entry in zip(p["times"], p["relative_difference"],
@@ -181,7 +184,9 @@ def verdicts(s: dict) -> list:
         Check(f"E_MD/E_sticky − 1 of paired seeds at t = {t:g} (the window's largest |z|)",
               value, sigma, 0.0,
               f"model: the sticky gas; Student's t, {seeds - 1} degrees of freedom",
-              n_sigma=student_sigmas(seeds)),
+              n_sigma=student_sigmas(seeds), dof=seeds - 1, trials=max(len(rows), 1),
+              sigma_source=f"seeds: standard error over {seeds} paired runs, at the time of "
+                           f"the largest |z| of {len(rows)}"),
         short="late MD = sticky gas, paired")]
 
 

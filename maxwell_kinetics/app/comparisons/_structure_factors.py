@@ -286,6 +286,12 @@ def verdicts(s: dict) -> list:
     r = 0.5, where S(k, t) has not reached its late scaling; z of its pairs of times runs from
     about 1 down); the default size (from t = 25, 10.6 t₀) measures it."""
     out = []
+    par = s["parameters"]
+
+    def seeds(part, how):
+        n = int(par.get(f"{part}_seeds", 0))  # 0: not recorded (degrees of freedom unknown)
+        return {"dof": n - 1 if n > 1 else None,
+                "sigma_source": f"seeds: {how} over {n or 'the'} runs"}
 
     def z_check(part, label):
         p = s[part]
@@ -294,11 +300,11 @@ def verdicts(s: dict) -> list:
             z = None  # the scan's edge is no measurement
         return Check(f"z of the best collapse of S(k, t) against k t^z ({label})", z, err,
                      p["z_theory"], "paper: " + ("τ^(1/2), diffusive" if part == "lattice"
-                                                 else "t^(2/3)"))
+                                                 else "t^(2/3)"),
+                     **seeds(part, "jackknife (leave one run out)"))
 
     out.append(judge("Fig. 3: lattice S(k, τ) = f₁(k τ^(1/2))", z_check("lattice", "lattice"),
                      short="3: lattice collapse z = 1/2"))
-    par = s["parameters"]
     t0 = haff_time(par["restitution"], 1.0)  # the presets' MD runs are at density 1
     out.append(judge("Fig. 3: MD S(k, t) = f₂(k t^(2/3))", z_check("md", "MD"),
                      why=f"the first collapse time is {min(par['md_times']) / t0:.2g} Haff times, "
@@ -311,12 +317,14 @@ def verdicts(s: dict) -> list:
         slope, err = pair(s[part]["porod_slope_last_time"])
         out.append(judge(f"Porod's law S(k) ∼ k⁻² (shocks) in the {label}",
                          Check(f"slope of log S(k) at large k t^z, {label}, last time", slope,
-                               err, -2.0, "paper: Porod's law")))
+                               err, -2.0, "paper: Porod's law",
+                               **seeds(part, "standard error of the per-run fits"))))
     slope, err = pair(s["lattice_no_constraint"]["porod_slope_last_time"])
     out.append(judge("without the kinematic constraint the Porod tail disappears",
                      Check("slope of log S(k), lattice without the constraint", slope, err,
                            -2.0, "paper: no shocks without the constraint",
-                           relation="above")))
+                           relation="above",
+                           **seeds("lattice", "standard error of the per-run fits"))))
     return out
 
 

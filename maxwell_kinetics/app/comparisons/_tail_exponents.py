@@ -128,7 +128,10 @@ def verdicts(s: dict) -> list:
             f"{p['dimension']}D {p['angular']} particles, r = {p['restitution']:g}: power-law "
             f"tail of the scaling solution",
             Check("Hill exponent of the speeds", alpha, err, p["alpha_exact"],
-                  "exact: transcendental equation")))
+                  "exact: transcendental equation",
+                  dof=len(p["per_run"]) - 1 if len(p.get("per_run", [])) > 1 else None,
+                  sigma_source=f"seeds: standard error over {len(p.get('per_run', []))} runs' "
+                               f"Hill exponents")))
     return out
 
 

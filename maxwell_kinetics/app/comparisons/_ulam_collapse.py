@@ -126,9 +126,9 @@ def verdicts(s: dict) -> list:
             f"Fig. 2: Ulam P(v, τ) collapses on f(x) = 2/(π(1 + x²)²), the exact scaling solution, "
             f"r = {row['restitution']:g}",
             Check(f"χ²/(dof·φ) of v/v0 against f at τ = {row['tau']:g}", ratio, err, 1.0,
-                  "exact: χ² null expectation"),
+                  "exact: χ² null expectation", sigma_source="χ² law: √(2/Σ dof) of the pooled bins under the null, and the overdispersion φ's own error (seed scatter)"),
             Check("χ²/(dof·φ) of the shape (median |x| rescaled to f's)", shape, shape_err,
-                  1.0, "exact: χ² null expectation"),
+                  1.0, "exact: χ² null expectation", sigma_source="χ² law: √(2/Σ dof) of the pooled bins under the null, and the overdispersion φ's own error (seed scatter)"),
             why="a finite sample of an x⁻⁴ law misses part of its variance: v0 is biased "
                 "low and stretches v/v0; the shape alone collapses"))
     return out

@@ -186,6 +186,12 @@ def run(size=None, progress: bool | None = None, checkpoint_dir=None,
     return Comparison(NAME, with_verdicts(summary, verdicts), data)
 
 
+def _dof(seeds: int) -> int | None:
+    """Degrees of freedom of a standard error over ``seeds`` runs (None for fewer than 2, or
+    0: not recorded)."""
+    return seeds - 1 if seeds > 1 else None
+
+
 def verdicts(s: dict) -> list:
     """The verdicts of comparison 4 (Figs. 1a/1b) from its summary ``s``: early, MD against
     the lattice at equal energy (refuted when the lattice with MD's collision rate agrees: the
@@ -199,11 +205,20 @@ def verdicts(s: dict) -> list:
     def model(stage, name, q):
         return pair(s["stages"][stage]["models"][name][q])
 
+    par = s["parameters"]
+
+    def seeds_of(name):
+        return int(par.get("md_seeds" if name == "md" else
+                           "ulam_seeds" if name == "ulam" else "lattice_seeds", 0))
+
     def versus(stage, a, b, q, relation="equal"):
         (va, ea), (vb, eb) = model(stage, a, q), model(stage, b, q)
         label = {"kurtosis": "kurtosis ⟨x⁴⟩", "abs_mean": "⟨|x|⟩"}[q]
+        na, nb = seeds_of(a), seeds_of(b)
         return Check(f"{label} of {a}, {stage}", va, ea, vb, f"model: {b} at equal energy",
-                     expected_sigma=eb, relation=relation)
+                     expected_sigma=eb, relation=relation, dof=_dof(na), expected_dof=_dof(nb),
+                     sigma_source=f"seeds: standard errors over {na} ({a}) and {nb} ({b}) "
+                                  f"runs, in quadrature")
 
     r = s["parameters"]["restitution"]
     r_late = s["parameters"]["lattice_late_restitution"]
@@ -230,7 +245,8 @@ def verdicts(s: dict) -> list:
         "Fig. 1b: the late MD bulk does not deviate appreciably from a Gaussian",
         Check("⟨|x|⟩ of MD, late", md, md_err, ABS_MEAN_GAUSSIAN,
               f"exact: Gaussian √(2/π); Student's t, {seeds - 1} degrees of freedom",
-              n_sigma=student_sigmas(seeds)),
+              n_sigma=student_sigmas(seeds), dof=_dof(seeds),
+              sigma_source=f"seeds: standard error over {seeds} MD runs"),
         short="1b: late MD bulk is Gaussian"))
     return out
 

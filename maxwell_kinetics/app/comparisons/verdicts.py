@@ -36,7 +36,10 @@ fail it).
 
 Where a standard error comes from few seeds (3 or 4), its own uncertainty is large: the checks
 that say so allow :func:`student_sigmas` standard errors (Student's t with seeds − 1 degrees of
-freedom at the two-sided coverage of 3 normal σ) instead of 3.
+freedom at the two-sided coverage of 3 normal σ) instead of 3.  Every check records its
+standard error's degrees of freedom (``dof``: seeds − 1, None where σ is not a scatter of a
+few seeds) and where σ comes from (``sigma_source``); :mod:`.calibration` judges the z of
+the agreeing checks each under its own law.
 
 This module imports nothing from the rest of the package.
 """
@@ -64,7 +67,7 @@ __all__ = [
     "pair",
     "student_sigmas",
     "status_counts",
-    "z_calibration",
+    "welch_dof",
 ]
 
 #: The statuses a verdict can have.
@@ -118,6 +121,16 @@ class Check:
         allowed (no standard error, no tolerance) are not below, above nor different.
     expected_sigma : float or None
         One standard error of ``expected`` when it is itself measured (another model's number).
+    dof, expected_dof : float or None
+        Degrees of freedom of ``sigma`` and of ``expected_sigma``: R − 1 for a standard error
+        from the scatter of R seeds (or a jackknife over them); None (infinite) for one from a
+        law (χ² null, binomial counts), a solver's error estimate, or many runs.
+    sigma_source : str
+        Where ``sigma`` comes from, in words (seeds, jackknife, fit, χ² law, solver's
+        estimate, a measured systematic); "" when there is none.
+    trials : int
+        The number of values ``measured`` is the largest |z| of (a scan over times; default
+        1): its p-value is that of a maximum (:func:`.calibration.p_value`).
 
     Raises
     ------
@@ -136,6 +149,10 @@ class Check:
     tolerance: float = 0.0
     relation: str = "equal"
     expected_sigma: float | None = None
+    dof: float | None = None
+    expected_dof: float | None = None
+    sigma_source: str = ""
+    trials: int = 1
 
     def __post_init__(self):
         if self.relation not in _RELATIONS:
@@ -151,6 +168,19 @@ class Check:
         if self.expected is not None and _number(self.expected) is None:
             raise InvalidArgumentError("expected", self.expected,
                                        "a finite number, or None when not measured")
+        for name in ("dof", "expected_dof"):
+            value = getattr(self, name)
+            if value is not None and (_number(value) is None or value <= 0):
+                raise InvalidArgumentError(name, value, "None (infinite) or a finite number > 0")
+        if isinstance(self.trials, bool) or not isinstance(self.trials, int) or self.trials < 1:
+            raise InvalidArgumentError("trials", self.trials, "an integer >= 1")
+
+    @property
+    def combined_dof(self) -> float | None:
+        """Degrees of freedom of :attr:`combined_sigma`: :func:`welch_dof` of σ and the
+        expected σ with their own (None: infinite)."""
+        return welch_dof((self.sigma or 0.0, self.dof),
+                         (self.expected_sigma or 0.0, self.expected_dof))
 
     @property
     def combined_sigma(self) -> float:
@@ -269,7 +299,8 @@ class Verdict:
     def to_dict(self) -> dict:
         """The JSON-able record of the summary: ``claim``, ``short``, ``quantity``,
         ``measured``, ``sigma``, ``expected``, ``expected_sigma``, ``source``, ``n_sigma``,
-        ``tolerance``, ``relation``, ``allowed``, ``tolerance_text``, ``deviation_in_sigma``
+        ``tolerance``, ``relation``, ``dof``, ``expected_dof``, ``combined_dof``,
+        ``sigma_source``, ``trials``, ``allowed``, ``tolerance_text``, ``deviation_in_sigma``
         (None without a standard error), ``status``, ``why``, ``measured_at``,
         ``explanation`` (the same fields for the explaining check, with ``holds``, and
         ``requires``: the records of the checks before it that must hold too; None when none),
@@ -309,6 +340,7 @@ def _check_dict(c: Check) -> dict:
     d["allowed"] = c.allowed
     d["tolerance_text"] = c.tolerance_text()
     d["deviation_in_sigma"] = None if dev is None or sigma == 0 else dev / sigma
+    d["combined_dof"] = c.combined_dof
     return d
 
 
@@ -423,6 +455,32 @@ def student_sigmas(seeds: int, n_sigma: float = 3.0) -> float:
     if _number(n_sigma) is None or n_sigma <= 0:
         raise InvalidArgumentError("n_sigma", n_sigma, "a finite number > 0")
     return float(stats.t.ppf(stats.norm.cdf(n_sigma), seeds - 1))
+
+
+def welch_dof(*parts) -> float | None:
+    """The Welch–Satterthwaite degrees of freedom of a sum in quadrature of standard errors:
+    (Σ σᵢ²)² / Σ σᵢ⁴/νᵢ over the parts ``(σᵢ, νᵢ)`` with σᵢ > 0 (νᵢ None: infinite, it adds
+    nothing to the denominator).
+
+    Parameters
+    ----------
+    *parts : (float, float or None)
+        Each standard error with its degrees of freedom.
+
+    Returns
+    -------
+    float or None
+        None (infinite) when every part with σ > 0 has infinite degrees of freedom, or none
+        has σ > 0.
+    """
+    parts = [(float(s), nu) for s, nu in parts if _number(s) is not None and s > 0]
+    finite = [(s, nu) for s, nu in parts if nu is not None]
+    if not finite:
+        return None
+    if len(parts) == 1:
+        return float(parts[0][1])  # one part: its own degrees of freedom, exactly
+    total = sum(s * s for s, _ in parts)
+    return total * total / sum(s**4 / nu for s, nu in finite)
 
 
 def with_verdicts(summary: dict, verdicts: Callable[[dict], Iterable[Verdict]]) -> dict:
@@ -662,86 +720,3 @@ def pair(entry) -> tuple[float | None, float | None]:
     if isinstance(entry, (list, tuple)) and len(entry) == 2:
         return _number(entry[0]), _number(entry[1])
     return _number(entry), None
-
-
-#: The |z| thresholds of :func:`z_calibration`, in standard errors.
-Z_THRESHOLDS = (1, 2, 3)
-
-
-def _comparison_summaries(summary: dict) -> dict:
-    """``{name: comparison summary}`` of a ``reproduce`` summary (with ``comparisons``), or of
-    a mapping that already is one."""
-    comparisons = summary.get("comparisons")
-    return comparisons if isinstance(comparisons, dict) else summary
-
-
-def z_calibration(summary: dict, *, statuses: Iterable[str] | None = None,
-                  relations: Iterable[str] | None = None) -> dict:
-    """Whether the standard errors of the verdicts are calibrated: how many of the statistical
-    checks (the verdict records with a finite ``deviation_in_sigma`` z) lie beyond 1, 2 and 3
-    σ, against the counts a standard normal z gives (fractions 0.3173, 0.0455, 0.0027).
-
-    Only the top-level check of each verdict counts (not its explanation, refutation or
-    resolution).  A check whose claim is a resolved difference (relation ``below``, ``above``,
-    ``differs``), or a verdict that is explained or refuted, is expected to lie far from its
-    value: ``statuses`` and ``relations`` select a subset.
-
-    Parameters
-    ----------
-    summary : dict
-        The summary of ``reproduce`` (``{"comparisons": {name: summary}}``) or
-        ``{name: summary}``; each comparison's ``verdicts`` is a list of records
-        (:meth:`Verdict.to_dict`).
-    statuses : iterable of str, optional
-        Count only the verdicts with one of these statuses (all when None).
-    relations : iterable of str, optional
-        Count only the checks with one of these relations (all when None).
-
-    Returns
-    -------
-    dict
-        ``n`` (the number of checks with a finite z), ``observed`` and ``expected``
-        (``{k: count}`` of |z| > k for k = 1, 2, 3; expected ``n`` times the normal two-sided
-        fraction), ``fractions`` (those fractions), ``p_value`` (two-sided binomial p-value of
-        the count beyond 2σ, :func:`scipy.stats.binomtest`; None when ``n`` is 0) and
-        ``beyond_2sigma`` (a list of ``{"comparison", "claim", "z", "status", "relation"}``,
-        largest |z| first; ``claim`` is the short claim).
-
-    Raises
-    ------
-    InvalidArgumentError
-        If ``summary`` is not a dict, or a comparison's ``verdicts`` is not a list.
-    """
-    if not isinstance(summary, dict):
-        raise InvalidArgumentError("summary", summary, "a dict (the summary of reproduce)")
-    statuses = None if statuses is None else set(statuses)
-    relations = None if relations is None else set(relations)
-    zs, beyond = [], []
-    for name, entry in _comparison_summaries(summary).items():
-        records = entry.get("verdicts", []) if isinstance(entry, dict) else []
-        if not isinstance(records, list):
-            raise InvalidArgumentError(f"{name}.verdicts", records, "a list of verdict records")
-        for v in records:
-            z = _number(v.get("deviation_in_sigma"))
-            if z is None:
-                continue
-            if statuses is not None and v.get("status") not in statuses:
-                continue
-            if relations is not None and v.get("relation") not in relations:
-                continue
-            zs.append(z)
-            if abs(z) > 2:
-                beyond.append({"comparison": name, "claim": _short_claim(v), "z": z,
-                               "status": v.get("status"), "relation": v.get("relation")})
-    n = len(zs)
-    fractions = {k: math.erfc(k / math.sqrt(2.0)) for k in Z_THRESHOLDS}
-    observed = {k: sum(abs(z) > k for z in zs) for k in Z_THRESHOLDS}
-    p_value = None
-    if n:
-        from scipy.stats import binomtest
-
-        p_value = float(binomtest(observed[2], n, fractions[2]).pvalue)
-    beyond.sort(key=lambda r: -abs(r["z"]))
-    return {"n": n, "observed": observed,
-            "expected": {k: n * f for k, f in fractions.items()},
-            "fractions": fractions, "p_value": p_value, "beyond_2sigma": beyond}
