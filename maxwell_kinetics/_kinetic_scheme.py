@@ -53,6 +53,7 @@ import numpy as np
 from particles.initial import InitialLaw
 
 from .angular import angular_law
+from .angular_tiers import ANGULAR_RULES, tier_counts  # noqa: F401  (the rules' old home)
 from .deviation import source_parts
 from .grid import INFLOW_CUT, Resolution, lagrange_weights
 from .model import MaxwellModel
@@ -136,25 +137,6 @@ def window_cells(speed: float, grid: Resolution, opts) -> tuple[int, float]:
     return cells, cells * grid.h / speed
 
 
-#: The η rule is :meth:`maxwell_kinetics.angular.AngularLaw.quadrature` (Gauss–Jacobi).  Measured
-#: convergence (r = 0.5, coarse grid, G at τ = 30 and 300 against 32 nodes): 4, 6, 8, 12, 16
-#: nodes differ by 1.4e-5, 3.5e-7, 2.0e-8, 4.5e-9, 3.1e-9 (d = 2) and 2.6e-6, 4.5e-8, 1.1e-8,
-#: 6.6e-9, 2.7e-9 (d = 3).  Gauss–Jacobi in u = √η was worse at these node counts, and so was
-#: Gauss in u = η^{1/m} (m = 2, 3, 4): the error at few nodes comes from the scale ~1/q² in η on
-#: which G(p √η q) varies at q ≳ 1, hence a node count that grows with q.
-#: Per angular rule: (q from which the tier applies, its Gauss–Jacobi nodes at
-#: ``angular_nodes`` = 16; None: all ``angular_nodes``), by increasing q; see
-#: :func:`angular_tiers`.  "fast" (the default of :func:`maxwell_kinetics.solver.solve`):
-#: 4.76 nodes per state node on average, G within 1.0e-8 of 32 nodes at every q; "accurate":
-#: 10.7 nodes per state node, also exact enough at small q for the fits of the non-analytic
-#: |q|^{2s*} term in :mod:`maxwell_kinetics.scaling_tails`, which refuse "fast".
-ANGULAR_RULES: dict[str, tuple[tuple[float, int | None], ...]] = {
-    "fast": ((0.0, 2), (1e-3, 3), (1e-2, 4), (0.05, 6), (0.15, 8), (0.35, 12), (0.6, None),
-             (10.0, 12)),
-    "accurate": ((0.0, 2), (1e-6, None), (10.0, 12)),
-}
-
-
 @dataclass(frozen=True)
 class AngularTier:
     """The η rule (:meth:`.AngularLaw.quadrature`) of the state nodes j ≥ ``first`` (up to the
@@ -203,20 +185,8 @@ def angular_tiers(dimension: int, angular: str, nodes: int, grid: Resolution,
     law = angular_law(dimension, angular)
     if dimension == 1:
         return (AngularTier(0, *law.quadrature(1)),)
-    tiers: list[AngularTier] = []
-    for q_from, tier_nodes in ANGULAR_RULES[rule]:
-        count = nodes if tier_nodes is None else min(max(math.ceil(tier_nodes * nodes / 16), 2),
-                                                     nodes)
-        first = 0 if q_from == 0.0 else max(0, math.ceil((math.log(q_from) - grid.s_min)
-                                                         / grid.h - 1e-9))
-        if first >= grid.n:
-            break
-        if tiers and tiers[-1].eta.size == count:
-            continue  # the same rule as the tier below: extend that one
-        if tiers and tiers[-1].first == first:
-            tiers.pop()
-        tiers.append(AngularTier(first, *law.quadrature(count)))
-    return tuple(tiers)
+    return tuple(AngularTier(first, *law.quadrature(count))
+                 for first, count in tier_counts(nodes, grid, rule))
 
 
 def transport_speed(model: MaxwellModel, eta: np.ndarray, weights: np.ndarray) -> float:

@@ -188,11 +188,10 @@ def lagrange_weights(offset: float, order: int) -> tuple[int, np.ndarray]:
 
 
 #: Seconds per grid node and window of a solve after compilation, by dimension (d ≥ 2 with the
-#: "fast" η rule; "accurate" costs :data:`ACCURATE_RULE_FACTOR` times more).  Measured on the
-#: 2-core development machine, r = 0.5, coarse and default grids, one core: 1.3–1.6 µs in 1D,
-#: 5.6–6.1 µs in 2D (3D within 10 % of 2D); rounded up.
+#: "fast" η rule at 16 η nodes; other rules and node counts scale it, :func:`estimate_solve`).
+#: Measured on the 2-core development machine, r = 0.5, coarse and default grids, one core:
+#: 1.3–1.6 µs in 1D, 5.6–6.1 µs in 2D (3D within 10 % of 2D); rounded up.
 SECONDS_PER_NODE_WINDOW = {1: 1.7e-6, 2: 6.5e-6, 3: 6.5e-6}
-ACCURATE_RULE_FACTOR = 2.3
 #: A solve estimated to take longer than this (one day) is refused unless forced (``--force``).
 MAX_SOLVE_SECONDS = 86400.0
 #: How the refusal of a long solve tells the user to force it (the command line shows --force).
@@ -200,7 +199,8 @@ FORCE = "force=True (--force on the command line)"
 
 
 def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension: int = 1,
-                   angular_rule: str = "fast", window: float = 2.0) -> dict:
+                   angular_rule: str = "fast", window: float = 2.0,
+                   angular_nodes: int = 16) -> dict:
     """What a solve will cost, before it starts: ``windows`` (τ_max / ``window``: each is one
     integration over the grid), ``seconds`` (windows × grid nodes ×
     :data:`SECONDS_PER_NODE_WINDOW`, after compilation, which adds a few seconds to the first
@@ -218,21 +218,37 @@ def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension:
     dimension : int, default 1
         Space dimension (d ≥ 2 costs more per node).
     angular_rule : str, default "fast"
-        The η quadrature rule in d ≥ 2 ("accurate" costs ``ACCURATE_RULE_FACTOR`` times more).
+        The η quadrature rule in d ≥ 2.
     window : float, default 2.0
         Length in τ of one integration window.
+    angular_nodes : int, default 16
+        The η nodes of the gain in d ≥ 2 (``solve``'s ``angular_nodes``).
 
     Returns
     -------
     dict
         ``{"windows": float, "seconds": float, "memory": float}`` (memory in bytes).
+
+    Notes
+    -----
+    In d ≥ 2 the cost per node is that of the "fast" rule at 16 η nodes
+    (:data:`SECONDS_PER_NODE_WINDOW`) scaled by the η nodes per state node of the chosen rule
+    and ``angular_nodes``
+    (:func:`maxwell_kinetics.angular_tiers.angular_nodes_per_state_node`) over those of that
+    reference:
+    the gain's sum over η is the bulk of a step, so the time is proportional to that count
+    (measured: "accurate" at 16 nodes, 2.25 times the count, took 2.3 times the time).
     """
     windows = float(tau_max) / float(window)
     per = SECONDS_PER_NODE_WINDOW.get(int(dimension), SECONDS_PER_NODE_WINDOW[3])
-    if int(dimension) > 1 and angular_rule == "accurate":
-        per *= ACCURATE_RULE_FACTOR
-    return {"windows": windows, "seconds": windows * grid.n * per,
-            "memory": 24.0 * grid.n * (n_times + 64)}
+    memory = 24.0 * grid.n * (n_times + 64)
+    if int(dimension) > 1:
+        from .angular_tiers import angular_nodes_per_state_node as _per_state_node
+
+        count = _per_state_node(grid, angular_rule, angular_nodes)
+        per *= count / _per_state_node(grid, "fast", 16)
+        memory += 16.0 * grid.n * count  # the gain's shifts and weights per η node
+    return {"windows": windows, "seconds": windows * grid.n * per, "memory": memory}
 
 
 def format_seconds(seconds: float) -> str:
@@ -261,7 +277,7 @@ def format_seconds(seconds: float) -> str:
 
 def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window: float = 2.0,
                        force: bool = False, name: str = "tau", dimension: int = 1,
-                       angular_rule: str = "fast") -> dict:
+                       angular_rule: str = "fast", angular_nodes: int = 16) -> dict:
     """:func:`estimate_solve`, then refuse (:class:`InvalidArgumentError` naming ``name``) a
     solve that cannot fit in the memory available, and one estimated to take more than
     :data:`MAX_SOLVE_SECONDS` unless ``force``.  Returns the estimate.
@@ -284,6 +300,8 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
         Space dimension.
     angular_rule : str, default "fast"
         The η quadrature rule in d ≥ 2.
+    angular_nodes : int, default 16
+        The η nodes of the gain in d ≥ 2.
 
     Returns
     -------
@@ -300,21 +318,31 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
     force = check_bool(force, "force")
     from particles.budget import available_memory, format_bytes
 
+    from .angular_tiers import angular_nodes_per_state_node as _per_state_node
+
     estimate = estimate_solve(grid, tau_max, n_times, dimension=dimension,
-                              angular_rule=angular_rule, window=window)
+                              angular_rule=angular_rule, window=window,
+                              angular_nodes=angular_nodes)
     memory, seconds = estimate["memory"], estimate["seconds"]
     available = available_memory()
     if not memory <= available:
+        many_nodes = int(dimension) > 1 and 16.0 * grid.n * _per_state_node(
+            grid, angular_rule, angular_nodes) > 24.0 * grid.n * n_times
         raise InvalidArgumentError(
-            name, f"{n_times} output times",
+            *(("angular_nodes", angular_nodes) if many_nodes
+              else (name, f"{n_times} output times")),
             f"a solve that fits in the {format_bytes(available)} of memory available "
             f"(estimate {format_bytes(memory)})",
         )
     if not force and not seconds <= MAX_SOLVE_SECONDS:
+        eta = "" if int(dimension) == 1 else (
+            f" with {_per_state_node(grid, angular_rule, angular_nodes):.3g} η "
+            f"nodes each ({angular_rule!r} rule, angular_nodes={angular_nodes})")
         raise InvalidArgumentError(
             name, tau_max,
             f"a solve estimated to take at most {format_seconds(MAX_SOLVE_SECONDS)} (this one: "
-            f"{estimate['windows']:.3g} windows of {window:g} in τ on {grid.n} nodes, about "
+            f"{estimate['windows']:.3g} windows of {window:g} in τ on {grid.n} nodes"
+            f"{eta}, about "
             f"{format_seconds(seconds)}); pass {FORCE} to run it anyway",
         )
     return estimate

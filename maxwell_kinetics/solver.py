@@ -343,7 +343,7 @@ angular_rule, force
     angular_law(dimension, angular)  # checks both
     if dimension != 1:
         angular_nodes = check_count(angular_nodes, "angular_nodes", 1)
-        from ._kinetic_scheme import ANGULAR_RULES
+        from .angular_tiers import ANGULAR_RULES
 
         if angular_rule not in ANGULAR_RULES:
             raise InvalidArgumentError("angular_rule", angular_rule,
@@ -358,7 +358,8 @@ angular_rule, force
     grid = get_resolution(resolution)
     opts = options or SolverOptions()
     estimate = check_solve_budget(grid, float(taus[-1]), len(taus), window=opts.window,
-                                  force=force, dimension=dimension, angular_rule=angular_rule)
+                                  force=force, dimension=dimension, angular_rule=angular_rule,
+                                  angular_nodes=angular_nodes)
     return SolveArguments(model, law, taus, grid, opts, dimension, angular, angular_nodes,
                           angular_rule, estimate)
 
@@ -499,10 +500,9 @@ def solve_fourier(
     if progress is not False:  # the bar shows grid.estimate_solve until its own ETA is known
         from particles.progress import progress_bar
 
-        from .grid import estimate_solve, format_seconds
+        from .grid import format_seconds
 
-        cost = estimate_solve(grid, float(taus[-1]), len(taus), dimension=dimension,
-                              angular_rule=angular_rule, window=opts.window)
+        cost = checked.estimate
         bar = progress_bar(float(taus[-1]), f"solve r={model.restitution:g}", "τ",
                            enabled=progress,
                            postfix=f"estimate ~{format_seconds(cost['seconds'])} after compile")

@@ -68,3 +68,28 @@ def test_solve_json_reports_the_estimate_and_it_grows_with_the_work(capsys):
                                   rel=1e-12)
     longer = estimate("8", "coarse")
     assert longer == pytest.approx(4 * short, rel=1e-12)
+
+
+def test_estimate_scales_with_the_eta_nodes_of_the_gain():
+    # The ladder of the "fast" rule is 2, 3, 4, 6, 8, 12, 16, 12 nodes at 16 (angular_tiers):
+    # at 64 every tier is exactly four times as large, so the gain's cost is 4 times as large.
+    from maxwell_kinetics.angular_tiers import angular_nodes_per_state_node
+
+    coarse = get_resolution("coarse")
+    base = estimate_solve(coarse, 100.0, 1, dimension=2)
+    four = estimate_solve(coarse, 100.0, 1, dimension=2, angular_nodes=64)
+    assert four["seconds"] == pytest.approx(4 * base["seconds"], rel=1e-12)
+    assert angular_nodes_per_state_node(coarse, "fast", 64) == pytest.approx(
+        4 * angular_nodes_per_state_node(coarse, "fast", 16), rel=1e-12)
+    # every state node has at least 2 η nodes and at most angular_nodes
+    assert 2 <= angular_nodes_per_state_node(coarse, "accurate", 16) <= 16
+    assert estimate_solve(coarse, 100.0, 1, dimension=1, angular_nodes=64) == estimate_solve(
+        coarse, 100.0, 1)  # d = 1 has no η quadrature
+
+
+def test_a_solve_with_too_many_eta_nodes_is_refused_by_name_before_any_quadrature():
+    coarse = get_resolution("coarse")
+    with pytest.raises(InvalidArgumentError, match=r"angular_nodes=1000000000.*memory"):
+        check_solve_budget(coarse, 10.0, 2, dimension=2, angular_nodes=10**9)
+    with pytest.raises(InvalidArgumentError, match=r"tau=.*angular_nodes=100000.*--force"):
+        check_solve_budget(coarse, 1e6, 2, dimension=2, angular_nodes=10**5)
