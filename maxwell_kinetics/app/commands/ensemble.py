@@ -165,13 +165,17 @@ def run(args) -> int:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``--config`` is given without ``--cluster`` or ``--force`` without ``--workers``;
+        If ``--config`` is given without ``--cluster`` (or ``--cluster`` without
+        ``--config``), or ``--force`` without ``--workers``;
         also, from the validators it calls, a
         bad specification (see :func:`spec_from_args`) or ``--workers``.
     """
     spec = spec_from_args(args)
     if args.config is not None and args.cluster is None:
         raise InvalidArgumentError("config", args.config, "--cluster slurm|pbs with it")
+    if args.cluster is not None and args.config is None:  # the option, not the library's None
+        raise InvalidArgumentError("cluster", args.cluster,
+                                   "--config FILE with it (the batch cluster's TOML file)")
     if args.force and args.workers is None:  # it only lifts the bound on --workers
         raise InvalidArgumentError("force", True, "--workers N with it (--force allows more "
                                    "than 4 x the CPUs as --workers)")

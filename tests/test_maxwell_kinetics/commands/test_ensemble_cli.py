@@ -109,6 +109,16 @@ def test_force_without_workers_exits_2(capsys, tmp_path):
         assert "force=" in err and "workers" in err and not out.exists()
 
 
+def test_cluster_without_config_names_the_options_not_a_none(capsys, tmp_path):
+    # the library's own refusal reads "config=None"; a command-line user never typed a None
+    out = tmp_path / "e"
+    err = run_error(capsys, ["ensemble", "ulam", "--n", "300", "--restitution", "0.5",
+                             "--tau", "1", "--seeds", "1", "--cluster", "slurm",
+                             "--out", str(out)])
+    assert "cluster='slurm'" in err and "--config FILE" in err and "None" not in err
+    assert not out.exists()
+
+
 # ------------------------------------------------------------- a batch cluster, end to end
 
 _FAKE_SUBMIT = """#!/bin/sh
