@@ -291,3 +291,35 @@ def test_sticky_vs_md_is_judged_from_the_paired_sigma_with_students_t():
     assert ok["n_sigma"] == pytest.approx(student_sigmas(3)) and ok["measured"] == -0.03
     off = _records("sticky_vs_md", _sticky_summary([(0.0, 0.01), (0.3, 0.01)]))[0]
     assert off["status"] == "disagrees" and off["measured"] == 0.3
+
+
+# ------------------------------------------------ G → f̂ within the solver's error floor
+
+def _kinetic_theory(taus, sups):
+    return {"parameters": {"restitution": 0.5, "tail_window": [5.0, 15.0]}, "tau": taus,
+            "sup_error": sups,
+            "max_distance_over_bound": {"2.5": 0.9},
+            "moment_growth_rates": {"4": {"fitted": 0.07, "predicted": 0.07}},
+            "tail_slope": [-4.0], "tail_slope_of_f": -4.0}
+
+
+def test_g_tends_to_f_hat_within_twice_the_coarse_floor():
+    # r = 0.5, coarse grid: floor 7.35e-8 (the solver started at f̂), allowed twice that
+    taus = [0.0, 200.0, 500.0, 1000.0]
+    at_floor = _records("kinetic_theory", _kinetic_theory(taus, [0.27, 4e-4, 2.4e-6, 7.3e-8]))[0]
+    assert at_floor["status"] == "agrees"
+    assert at_floor["tolerance"] == pytest.approx(2 * 7.35e-8)
+    assert "floor" in at_floor["sigma_source"]
+    # 3e-7 is 30 000 times under the old 1e-2, and twice the allowed floor: it disagrees
+    above = _records("kinetic_theory", _kinetic_theory(taus, [0.27, 4e-4, 2.4e-6, 3e-7]))[0]
+    assert above["status"] == "disagrees"
+    # the transient left at the last τ: 2.4e-6 · (2.4e-6/4e-4)^(500/300), by hand
+    expected = 2.4e-6 * math.exp(-math.log(4e-4 / 2.4e-6) / 300.0 * 500.0)
+    assert at_floor["resolution"]["measured"] == pytest.approx(expected, rel=1e-12)
+
+
+def test_g_tends_to_f_hat_is_not_measured_before_the_floor():
+    # the small size's last τ = 100: the approach to f̂ is still at 1e-3
+    taus = [0.0, 20.0, 50.0, 100.0]
+    v = _records("kinetic_theory", _kinetic_theory(taus, [0.27, 0.0465, 0.0137, 3.37e-3]))[0]
+    assert v["status"] == "not measured" and v["measured_at"] == "default"

@@ -3,6 +3,7 @@ hierarchy and the x⁻⁴ tail of P(x, τ).  ``run`` computes, ``plot`` draws.""
 
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -147,8 +148,33 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     return Comparison(NAME, with_verdicts(summary, verdicts), data)
 
 
-#: How close G(q, τ) must come to f̂ at the last τ (sup over q): 1 % of f̂(0) = 1.
-_SUP_TOLERANCE = 0.01
+#: The coarse grid's error floor of sup_q |G − f̂|, by r: the solver started at the fixed point
+#: (f̂ to 1e-12), the largest sup_q |G − f̂| over τ ∈ {10, 100, 1000} (benchmarks/README.md,
+#: "error floor" table; benchmarks/solver_floor.json).  The floor grows with r; an r between
+#: two entries takes the larger one's floor, an r above 0.99 the largest.
+_COARSE_FLOORS = {0.0: 1.93e-8, 0.5: 7.35e-8, 0.9: 4.15e-6, 0.99: 3.72e-5}
+#: The solver's floor moves with where an output falls on the comoving grid: up to 1.58 times
+#: its value at τ = 10³ over τ ∈ [10³, 10⁴] (the convergence table's last column).  Allowed:
+#: twice the floor.
+_FLOOR_FACTOR = 2.0
+
+
+def sup_floor(restitution: float) -> float:
+    """The coarse grid's error floor of sup_q |G − f̂| at ``restitution`` (see
+    :data:`_COARSE_FLOORS`)."""
+    above = [f for r, f in _COARSE_FLOORS.items() if r >= restitution]
+    return min(above) if above else max(_COARSE_FLOORS.values())
+
+
+def _transient_at_last(s: dict) -> float | None:
+    """sup|G − f̂| of the previous saved τ decayed to the last τ at the rate measured between
+    the two before it: what remains of the approach to f̂ at the last τ (None with fewer than
+    three saved τ > 0)."""
+    taus, sup = s["tau"], s["sup_error"]
+    if len(taus) < 4 or min(sup[-3:-1]) <= 0:
+        return None
+    rate = math.log(sup[-3] / sup[-2]) / (taus[-2] - taus[-3])
+    return sup[-2] * math.exp(-max(rate, 0.0) * (taus[-1] - taus[-2]))
 #: Relative tolerance of a fitted moment growth rate: the fit over τ ≥ τ_max/2 still carries
 #: the subleading exponentials (measured 3.5e-3 for n = 4 at τ_max = 100, 4e-5 at 200).
 _GROWTH_RELATIVE_TOLERANCE = 0.01
@@ -157,16 +183,27 @@ _TAIL_SLOPE_TOLERANCE = 0.05
 
 
 def verdicts(s: dict) -> list:
-    """The verdicts of comparison 1 from its summary ``s``: G → f̂ (sup error at the last τ),
+    """The verdicts of comparison 1 from its summary ``s``: G → f̂ (sup error at the last τ
+    within twice the coarse grid's error floor, :func:`sup_floor`; ``not measured`` where the
+    approach to f̂ is still above that floor at the last τ: the small size, τ ≤ 100),
     the contraction bound, the multiscaling of the moments, and the x⁻⁴ tail."""
     r = s["parameters"]["restitution"]
     tau_last = s["tau"][-1]
+    allowed = _FLOOR_FACTOR * sup_floor(r)
+    floor_text = (f"the solver's error floor ({_FLOOR_FACTOR:g} × {sup_floor(r):.3g}, coarse "
+                  f"grid, r = {r:g}: the solver started at f̂)")
     out = [judge(
         f"the exact scaling solution: G(q, τ) of the kinetic equation tends to "
         f"f̂(q) = (1 + |q|) e^(−|q|), r = {r:g}",
         Check(f"sup_q |G − f̂| at τ = {tau_last:g}", s["sup_error"][-1], None, 0.0,
-              "exact: f̂ is the scaling solution", tolerance=_SUP_TOLERANCE,
-              relation="at_most"))]
+              "exact: f̂ is the scaling solution", tolerance=allowed, relation="at_most",
+              sigma_source="none (deterministic); tolerance: " + floor_text),
+        why="the approach to f̂ is still above the solver's floor at the last τ",
+        resolution=Check("sup|G − f̂| left of the approach at the last τ (the previous τ's, "
+                         "decayed at the rate between the two before)",
+                         _transient_at_last(s), None, 0.0, "exact: the floor " + floor_text,
+                         tolerance=allowed, relation="at_most"),
+        measured_at="default")]
     ratios = [v for v in s["max_distance_over_bound"].values() if v is not None]
     out.append(judge(
         "the Fourier distance contracts: d_s(τ) ≤ e^(−γ(s)τ) d_s(0) for s = "
