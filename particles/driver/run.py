@@ -168,7 +168,8 @@ def simulate(
     checkpoint_interval : float, optional
         Seconds of wall-clock time between checkpoint writes (≥ 0; default 60).
     force : bool, optional
-        Run even when the estimated work exceeds 10¹³ events.  Default False.
+        Run even when the estimated work exceeds 10¹³ events, or the engine's stop grid
+        (``stop_step``) makes more than :data:`MAX_STOPS` stops.  Default False.
 
     Returns
     -------
@@ -183,10 +184,11 @@ def simulate(
         ``snapshots`` in d > 1; a ``force`` that is not a bool, or a ``progress`` that is
         neither a bool nor None), or a run refused by its estimates: one that cannot fit in the
         memory available, or one of more than 10¹³ events without ``force=True`` (an engine
-        without the estimates is refused, naming it); and an engine that breaks the contract of
-        ``advance`` during the run, naming it, before the offending state is recorded or saved:
-        a state past the stop it was asked for, or one whose time does not move forward (or is
-        not a number), refused at the first such step.
+        without the estimates is refused, naming it), or one whose ``stop_step`` makes more
+        than :data:`MAX_STOPS` stops up to the last time (naming ``stop_step``); and an
+        engine that breaks the contract of ``advance`` during the run, naming it, before the
+        offending state is recorded or saved: a state past the stop it was asked for, or one
+        whose time does not move forward (or is not a number), refused at the first such step.
     particles.CheckpointError
         For a ``resume`` file written by another run, or a ``checkpoint`` locked by a running
         process.
@@ -222,6 +224,7 @@ def simulate(
                             structure=structure_factor, snapshots=snapshots),
         force=force, time_name=engine.time_name,
     )
+    _check_stops(engine, float(times[-1]), force)
     n = int(engine.to_dict()["n"])
     with CheckpointLock(checkpoint):
         fields = tuple(engine.snapshot_fields) if snapshots else ()
@@ -235,6 +238,25 @@ def simulate(
             state = engine.initial_state(rng)
         return _run(engine, times, seed, identity, state, rng, records, progress, checkpoint,
                     checkpoint_interval, hist_edges, estimate)
+
+
+#: The most stops of an engine's stop grid (``stop_step · m``) that a run makes without
+#: ``force``: each is one call of ``advance`` with its Python overhead (tens of µs at least),
+#: so 10⁷ stops are minutes before any physics; a step so small that a stop does not move the
+#: time would never end.
+MAX_STOPS = 1e7
+
+
+def _check_stops(engine, last: float, force: bool) -> None:
+    """Refuse, naming ``stop_step``, a stop grid of more than :data:`MAX_STOPS` stops up to
+    ``last`` (unless ``force``)."""
+    step = float(engine.stop_step)
+    stops = last / step if math.isfinite(step) else 0.0
+    if not force and not stops <= MAX_STOPS:
+        raise InvalidArgumentError(
+            "stop_step", engine.stop_step,
+            f"a step that makes at most {MAX_STOPS:.0e} stops up to {engine.time_name} = "
+            f"{last:g} (this one: {stops:.3g}); pass force=True (--force) to run it anyway")
 
 
 _SEED_EXPECTED = "an integer in [0, 2**64 - 1] or a numpy.random.SeedSequence"

@@ -239,6 +239,22 @@ def test_an_engine_whose_time_does_not_move_is_refused_at_the_first_step():
         assert broken.observed == 0
 
 
+def test_a_stop_grid_of_more_than_ten_million_stops_is_refused_naming_stop_step(capsys):
+    """``simulate md --stop-step 1e-300`` looped for ever (each stop is an ``advance``, and
+    t + 1e-300 is t); more than 10⁷ stops up to the last time is refused before any work,
+    naming ``stop_step`` (1.01·10⁷ stops already: the bound is that close)."""
+    from particles.driver.run import MAX_STOPS
+
+    assert MAX_STOPS == 1e7
+    for step in (1e-300, 0.99e-7):
+        engine = MDEngine(MDParams(50, 1.0, 0.9), stop_step=step)
+        with pytest.raises(InvalidArgumentError, match=r"stop_step=.*at most 1e\+07 stops"):
+            simulate(engine, [0.0, 1.0], 1, progress=False)
+    err = run_error(capsys, ["simulate", "md", "--n", "50", "--density", "1",
+                             "--restitution", "0.9", "--t", "1", "--stop-step", "1e-300"])
+    assert "stop_step=1e-300" in err and "--force" in err
+
+
 def test_an_engine_without_a_name_or_a_stop_step_gets_no_guess():
     class Nameless(ToyRotation):
         name = ""
