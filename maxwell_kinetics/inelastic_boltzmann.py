@@ -31,21 +31,20 @@ correction otherwise (γ = 1: O(h⁴)); dilation O(h⁸).  Measured (benchmarks/
 ``hard_rods.py``): γ = 0, r = 0.5, τ = 2, P(x) against the Fourier solver: 6.6e-6 at h = 0.25,
 1.6e-7 at h = 0.125 (a factor 43, order ≈ 5.4).
 
-Grid.  The initial law is sampled at the nodes (the derivative of its CDF, sixth order), then
-multiplied by 1 + a + b c + d c² with the three numbers that make the discrete mass 1, mean 0
-and ⟨c²⟩ 1.  A grid whose extent leaves more than
+Grid. The initial law is sampled at the nodes (the derivative of its CDF, sixth order), then
+multiplied by 1 + a + b c + d c² with the three numbers that make the discrete mass 1, mean 0 and
+⟨c²⟩ 1. A grid whose extent leaves more than
 :data:`~maxwell_kinetics.velocity_grid.EXTENT_TOLERANCE` of the law's mass outside, or whose raw
-moments are off by more than :data:`maxwell_kinetics.velocity_grid.RESOLUTION_TOLERANCE`, is refused
-with the size needed.  The grid cannot follow a tail that outgrows it (γ = 0, whose scaling state
-has an |x|⁻⁴ tail): the solution records the largest mass fraction found in the two outermost cells
-(:attr:`BoltzmannSolution.edge_mass`).  For such tails a
+moments are off by more than :data:`maxwell_kinetics.velocity_grid.RESOLUTION_TOLERANCE`, is
+refused with the size needed. The grid cannot follow a tail that outgrows it (γ = 0, whose scaling
+state has an |x|⁻⁴ tail): the solution records the largest mass fraction found in the two outermost
+cells (:attr:`BoltzmannSolution.edge_mass`). For such tails a
 :class:`maxwell_kinetics.velocity_grid.MappedGrid` c = a sinh(s) keeps the core spacing and reaches
 |c| of thousands with a few hundred points (trapezoid weights g′(s) h_s, interpolation in s, the
 dilation (1/g′) ∂_s(c F) in flux form, the same exact corrections with the mapped weights); the
 uniform grid stays the default.
 
-Every JAX call runs inside ``jax.enable_x64(True)`` (thread-local; the caller's setting is
-restored).
+Every JAX call runs inside ``jax.enable_x64(True)`` (the caller's setting is restored).
 """
 
 from __future__ import annotations
@@ -723,6 +722,8 @@ def scaling_state(kernel=None, *, exponent=None, grid: _grid.VelocityGrid | None
 
     Raises
     ------
+    RuntimeError
+        If the relaxation before Newton fails (its integrator's steps run out).
     particles.validation.InvalidArgumentError
         Naming ``kernel`` (:func:`kernel_of`), ``restitution`` (r = 1 has no cooling state),
         ``exponent`` (γ = 0 or out of range), ``points`` or ``half_width``; ``grid`` for a
@@ -761,9 +762,12 @@ def scaling_state(kernel=None, *, exponent=None, grid: _grid.VelocityGrid | None
         tables = tables_for(kernel, grid)
         cj = jnp.asarray(c)
         args = (tables, cj, h, 1.0, 0.0, lam)  # s^γ ≡ 1: time is τ′
-        ys, ok, _ = functions.solve(jnp.asarray(np.append(F0, 0.0)),
-                                    jnp.asarray(_padded(np.array([float(relaxation)]))), args,
-                                    1e-8, 1e-12, 1_000_000)
+        ys, ok, steps = functions.solve(jnp.asarray(np.append(F0, 0.0)),
+                                        jnp.asarray(_padded(np.array([float(relaxation)]))),
+                                        args, 1e-8, 1e-12, 1_000_000)
+        if not bool(ok):  # Newton from a half-relaxed state could "converge" elsewhere
+            raise RuntimeError(f"the relaxation to tau' = {relaxation:g} failed (steps: "
+                               f"{int(steps)} of at most 1000000); pass a shorter relaxation")
         F = np.asarray(ys[-1, :-1])
         constraints = h * np.array([np.ones_like(c), c, c * c])
         iterations = 0

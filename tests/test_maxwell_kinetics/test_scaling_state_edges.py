@@ -32,3 +32,23 @@ def test_fixed_point_exits_3_and_names_the_half_width_when_the_tail_reaches_the_
                  "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["converged"] is True and out["edge_moment"] == pytest.approx(2.4e-8, rel=0.1)
+
+
+def test_a_relaxation_that_runs_out_of_steps_is_an_error_not_a_start_for_newton(monkeypatch):
+    # The integrator's success flag was never read: Newton then started from wherever the
+    # relaxation stopped.  Here the compiled solve reports a failure (as diffrax does when its
+    # 10⁶ steps run out) and the call must say so instead of returning a state.
+    import maxwell_kinetics.inelastic_boltzmann as ib
+
+    functions = ib._Compiled.get()
+    real = functions.solve
+
+    def failing(*args):
+        ys, _, steps = real(*args)
+        return ys, False, steps
+
+    monkeypatch.setattr(functions, "solve", failing)
+    with pytest.raises(RuntimeError, match=r"relaxation to tau' = 3 failed.*shorter relaxation"):
+        scaling_state(0.5, grid=VelocityGrid(61, 6.0), relaxation=3.0)
+    monkeypatch.setattr(functions, "solve", real)
+    assert scaling_state(0.5, grid=VelocityGrid(61, 6.0), relaxation=3.0).residual < 1e-10
