@@ -54,8 +54,15 @@ def aggregate(spec: EnsembleSpec, out, tasks=None, done=None) -> tuple[dict, dic
     ------
     particles.persistence.FileFormatError
         (through :func:`load_task`) if a task file used is not that task's readable file.
+    particles.validation.InvalidArgumentError
+        Naming ``out`` when it is not an existing folder (a mistyped path would give an empty
+        aggregate, as if no task had finished).
     """
     out = Path(out)
+    if not out.is_dir():
+        from ..validation import InvalidArgumentError
+
+        raise InvalidArgumentError("out", str(out), "an existing folder of task files")
     tasks = spec.expand() if tasks is None else tasks
     arrays: dict[str, np.ndarray] = {"times": np.asarray(spec.times)}
     sets = []

@@ -598,3 +598,14 @@ def test_a_shared_folder_holds_many_ensembles_and_is_no_ensembles_own(tmp_path):
     with pytest.raises(InvalidArgumentError) as err:
         run_ensemble(one, tmp_path / "own", executor="serial", progress=False, shared=True)
     assert err.value.name == "out"
+
+
+def test_the_aggregate_of_a_folder_that_does_not_exist_is_refused(tmp_path):
+    # a mistyped folder gave an aggregate with no seeds, as if no task had finished
+    from particles.ensemble import EnsembleSpec, aggregate
+
+    spec = EnsembleSpec("ulam", {"n": 100, "restitution": 0.5}, [1.0, 2.0], [1, 2])
+    with pytest.raises(InvalidArgumentError, match=r"out=.*no_such_folder.*existing folder"):
+        aggregate(spec, tmp_path / "no_such_folder")
+    arrays, summary = aggregate(spec, tmp_path)  # an existing folder with no task yet: empty
+    assert summary["sets"][0]["n_seeds"] == 0
