@@ -296,9 +296,42 @@ def test_the_results_page_leads_with_the_verdicts_and_folds_the_numbers(tmp_path
     (tmp_path / "kinetic_theory.png").write_bytes(b"\x89PNG\r\n\x1a\n")
     page = results.render(tmp_path, tmp_path / "gen")
     section = page[page.index("## 1."):]
-    assert section.index("| agrees | the claim") < section.index("```{figure}") \
-        < section.index("<details>") < section.index("| `fit` | 1 ± 0.1 |") \
-        < section.index("</details>")
-    assert "| *explained* | the other claim<br>*why:* the reason" in section
+    # one expandable row per claim (short claim, measured ± σ, expected, z, status), before
+    # the figure and the folded numbers
+    assert section.index('<span class="v-claim">the claim</span>') \
+        < section.index("```{figure}") < section.index("<details>\n") \
+        < section.index("| `fit` | 1 ± 0.1 |") < section.index("\n</details>\n")
+    row = section[section.index('<details class="verdict status-explained">'):]
+    row = row[:row.index("</details>")]
+    assert '<span class="v-claim">the other claim</span>' in row
+    assert '<span class="v-num">5 ± 0.125</span><span class="v-num">1</span>' in row
+    assert '<span class="v-num">+32.0</span><span class="v-status">explained</span>' in row
+    assert "<dt>why</dt><dd>the reason</dd>" in row
+    # opened: where σ comes from, its degrees of freedom, what this size resolves (3 · 0.125)
+    assert "<dt>σ from</dt><dd>not recorded</dd>" in row
+    assert "<dt>degrees of freedom</dt><dd>∞ (normal)</dd>" in row
+    assert "<dd>deviations beyond 0.375 (38 % of the expected value)</dd>" in row
     assert ":width: 100%" in section  # scaled: Sphinx links it to the full-size image
     assert "1 agrees, 1 explained, 0 refuted, 0 not measured, 0 disagrees" in page
+
+
+def test_the_results_page_calibrates_each_z_under_its_own_law(tmp_path, monkeypatch):
+    monkeypatch.syspath_prepend(str(Path(__file__).resolve().parents[3] / "docs" / "_ext"))
+    sys.modules.pop("results", None)
+    results = importlib.import_module("results")
+    # z = 4.93 from 3 seeds (t, 2 dof), the largest of 11 times: p = 1 − (1 − p₁)^11 with
+    # p₁ = 1 − z/√(2 + z²) (t₂ exactly), 0.35, so its normal z is 0.93: beyond 2σ only under
+    # the normal law
+    sticky = judge("paired", _check(1.0 - 4.93 * 0.125, dof=2, trials=11, n_sigma=19.2,
+                                    sigma_source="seeds: 3 runs")).to_dict()
+    far = judge("far", _check(1.0 + 2.5 * 0.125)).to_dict()
+    summary = {"size": "small", "comparisons": {"sticky_vs_md": {"verdicts": [sticky, far]}}}
+    (tmp_path / "summary.json").write_text(json.dumps(summary))
+    page = results.render(tmp_path, tmp_path / "gen")
+    calibration = page[page.index("## Calibration"):page.index("## 1.")]
+    assert "| normal law (σ exact) | 2 | 2 (0.63) | 2 (0.09) | 1 (0.01) |" in calibration
+    assert "| each z under its own law | 2 | 1 (0.63) | 1 (0.09) | 0 (0.01) |" in calibration
+    assert "- sticky vs md: far (z = +2.50; normal law)" in calibration
+    assert "paired (z" not in calibration
+    assert "<dd>2 (Student's t), the largest |z| of 11</dd>" in page
+    assert "<dt>σ from</dt><dd>seeds: 3 runs</dd>" in page
