@@ -108,8 +108,16 @@ def kurtosis(v) -> float:
     -------
     float
         The kurtosis; NaN when every velocity is 0 (undefined) or one is not finite.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        Naming ``v`` when it is not an array of real numbers (a scalar, complex values,
+        booleans, strings).
     """
-    arr = np.asarray(v, dtype=float)
+    arr = check_real_array(v, "v", finite=False, copy=False)  # float64: no copy
+    if arr.ndim == 0:
+        raise InvalidArgumentError("v", v, "an array of velocities, not one number")
     if not arr.size:
         return math.nan
     # the largest |v| without an |v| temporary: max(max v, −min v) (negation is exact)
@@ -140,9 +148,18 @@ def weighted_kurtosis(values, counts) -> float:
     -------
     float
         The kurtosis; NaN when every velocity is 0 or one is not finite.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        Naming ``values`` or ``counts`` when it is not a one-dimensional array of real numbers,
+        or when the two differ in length.
     """
-    values = np.asarray(values, dtype=float)
-    counts = np.asarray(counts, dtype=float)
+    values = check_real_array(values, "values", ndim=1, finite=False, copy=False)
+    counts = check_real_array(counts, "counts", ndim=1, copy=False)
+    if counts.shape != values.shape:
+        raise InvalidArgumentError("counts", f"array of shape {counts.shape}",
+                                   f"one count per value (shape {values.shape})")
     if not values.size:
         return math.nan
     scale = max(float(np.max(values)), -float(np.min(values)))

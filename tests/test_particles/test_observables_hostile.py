@@ -296,3 +296,19 @@ def test_distance_keeps_bins_of_five_samples_by_default():
     b = obs.histogram_from_counts(edges, np.array([7, 98]), 120, 1.0)
     assert a.distance(b).bins.tolist() == [True, True] and a.distance(b).dof == 2
     assert a.distance(b, min_count=6).bins.tolist() == [False, True]
+
+
+def test_kurtosis_refuses_what_is_not_an_array_of_real_velocities_by_name():
+    """Complex velocities raised a raw TypeError from ``float()``; one number raised NumPy's
+    "return arrays must be of ArrayType".  Each is refused naming the argument; non-finite
+    velocities still give NaN, as documented."""
+    for bad in (np.array([1 + 1j, 2.0]), 1e308, 2.0, [True, 2.0], "1,2"):
+        with pytest.raises(InvalidArgumentError, match=r"argument v="):
+            obs.kurtosis(bad)
+    assert math.isnan(obs.kurtosis(np.array([1.0, math.inf])))
+    assert obs.kurtosis([1.0, -1.0]) == 1.0  # a list of real numbers is an array
+    for values, counts, name in (([1 + 1j], [1.0], "values"), ([1.0, 2.0], [1.0], "counts"),
+                                 ([1.0], [math.nan], "counts"), (2.0, [1.0], "values")):
+        with pytest.raises(InvalidArgumentError, match=rf"argument {name}="):
+            obs.weighted_kurtosis(values, counts)
+    assert obs.weighted_kurtosis([1.0, -1.0], [2, 2]) == 1.0

@@ -57,3 +57,24 @@ def test_the_tail_exponent_refuses_velocities_outside_zero_to_thirty_with_the_fi
         with pytest.raises(InvalidArgumentError) as info:
             f([1.0, NAN])
         assert info.value.name == "w"
+
+
+def test_extreme_but_valid_points_give_the_law_not_inf_or_nan():
+    """F(μ) overflowed to inf at μ = 1e-300 (its asymptote μ^{−1/2}/√(2π) is 4e149); the tail
+    exponent was −inf at w = 1e-20 (1 − S cancelled; β → 1 as w → 0, since −ln S ≈ 2 P(0) w);
+    Chernoff's density was NaN at |z| = 1e308 (it is below 1e-280 beyond |z| = 10)."""
+    import math
+
+    import numpy as np
+
+    mu = np.array([1e-300, 1e-200, 1e-12])
+    np.testing.assert_allclose(se.exact_mass_density(mu), mu**-0.5 / math.sqrt(2 * math.pi),
+                               rtol=1e-5)  # the next term is O(μ^{3/2}) relative
+    w = np.array([1e-300, 1e-20, 1e-12, 1e-8])
+    np.testing.assert_allclose(se.exact_velocity_tail_exponent(w), 1.0, atol=1e-7)
+    # the two ways of −ln S agree where both are accurate (either side of the switch at 0.5)
+    beta = se.exact_velocity_tail_exponent(np.array([0.49999, 0.5, 0.50001]))
+    assert abs(beta[1] - beta[0]) < 1e-5 and abs(beta[2] - beta[1]) < 1e-5
+    f = se.chernoff_density(np.array([1e308, -1e308, 10.5, 0.0]))
+    assert f.tolist()[:3] == [0.0, 0.0, 0.0] and 0.75 < f[3] < 0.77
+    assert se.CHERNOFF_REACH == 10.0
