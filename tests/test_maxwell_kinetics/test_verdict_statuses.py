@@ -323,3 +323,29 @@ def test_g_tends_to_f_hat_is_not_measured_before_the_floor():
     taus = [0.0, 20.0, 50.0, 100.0]
     v = _records("kinetic_theory", _kinetic_theory(taus, [0.27, 0.0465, 0.0137, 3.37e-3]))[0]
     assert v["status"] == "not measured" and v["measured_at"] == "default"
+
+
+# ------------------------------------- the degrees of freedom and source of each σ
+
+def test_the_records_carry_the_law_of_their_z():
+    # sticky_vs_md: 3 seeds (2 dof), the largest |z| of the window's 2 times
+    v = _records("sticky_vs_md", _sticky_summary([(-0.03, 0.008), (0.002, 0.004)]))[0]
+    assert (v["dof"], v["combined_dof"], v["trials"]) == (2, 2.0, 2)
+    assert v["sigma_source"].startswith("seeds: standard error over 3 paired runs")
+    # the Gaussian bulk: 4 MD seeds, 3 dof, one value
+    g = _by_short(_records("velocity_distributions", _distributions_summary((1.94, 0.024))),
+                  "Gaussian")
+    assert (g["dof"], g["trials"]) == (3, 1) and "4 MD runs" in g["sigma_source"]
+
+
+def test_the_driven_variance_is_normal_when_its_sigma_is_the_pooled_particles():
+    row = {"restitution": 0.0, "variance": [1.0, 0.01], "variance_exact": 1.0,
+           "kurtosis": [3.6, 0.05], "kurtosis_exact": 3.6}
+    seeds = _records("driven_steady", {"parameters": {"seeds": 8},
+                                       "rows": [{**row, "variance_error_from": "seeds"}]})
+    pooled = _records("driven_steady", {"parameters": {"seeds": 8},
+                                        "rows": [{**row,
+                                                  "variance_error_from": "pooled particles"}]})
+    assert [v["dof"] for v in seeds] == [7, 7]
+    assert [v["dof"] for v in pooled] == [None, 7]  # the kurtosis's σ is the seeds' still
+    assert pooled[0]["sigma_source"].startswith("pooled particles")

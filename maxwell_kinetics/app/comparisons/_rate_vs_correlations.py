@@ -364,12 +364,16 @@ def verdicts(s: dict) -> list:
         Check("correlation share (MD − hard-rod Boltzmann)/(MD − Maxwell) of the kurtosis "
               "departure", share, share_err, 0.5,
               "paper: the failure of the pseudo-Maxwell model attributed to correlations",
-              relation="at_least"),
+              relation="at_least", dof=seeds("md")["dof"],
+              sigma_source="seeds: MD's standard error of the kurtosis over its runs, "
+                           "propagated to the share (the Boltzmann and Maxwell values exact)"),
         refutation=Check("correlation share measured with the DSMC particles, (MD − DSMC)/(MD "
                          "− Maxwell)", independent, independent_err,
                          None if share is None or not math.isfinite(share) else share,
                          "model: the split's share (hard-rod Boltzmann equation)",
-                         expected_sigma=share_err),
+                         expected_sigma=share_err,
+                         sigma_source="seeds: MD's and the DSMC's standard errors of the "
+                                      "kurtosis, propagated to the share"),
         why="the DSMC (no correlations, rate n|v − w|) measures the same small share: the "
             "collision rate, not correlations, makes the departure",
         short="MD departure due to correlations")]

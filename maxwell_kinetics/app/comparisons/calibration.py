@@ -155,14 +155,14 @@ def z_calibration(summary: dict, *, statuses: Iterable[str] | None = None,
     -------
     dict
         ``n`` (the number of checks with a finite z); ``observed`` and ``expected``
-        (``{k: count}`` of |normal z| > k for k = 1, 2, 3; expected ``n`` times the normal
+        (``{k: count}`` of normal z beyond ±k for k = 1, 2, 3; expected ``n`` times the normal
         two-sided fraction); ``fractions`` (those fractions); ``p_value`` (two-sided binomial
         p-value of the count beyond 2σ, :func:`scipy.stats.binomtest`) and ``tail_p`` (its
         upper tail, P(count ≥ observed)); ``ks`` and ``ks_p`` (Kolmogorov–Smirnov distance of
         the checks' p-values from the uniform law, and its p-value); ``rms_z`` (rms of the
         normal z; 1 when calibrated) (all None when ``n`` is 0); ``beyond_2sigma`` (a list of
         ``{"comparison", "claim", "z", "z_normal", "p", "dof", "trials", "status",
-        "relation"}`` for |normal z| > 2, largest first; ``claim`` is the short claim).
+        "relation"}`` for normal z beyond ±2, largest first; ``claim`` is the short claim).
 
     Raises
     ------
