@@ -27,7 +27,9 @@ Conventions.
 * ``density(x=None, *, time=None)`` returns ``(x, P)``: P(x) at the given x, or on the result's
   own grid when x is None (``Solution``: the FFT grid; ``BoltzmannSolution``: its nodes).
 * ``histogram(edges, *, time=None)`` returns a :class:`particles.observables.Histogram` with
-  zero errors and ``v0`` = v₀ of that time.
+  ``v0`` = v₀ of that time; its ``error`` is the prediction's numerical error, estimated by the
+  result itself where it can (``Solution``: grid and cut at q_max,
+  :func:`maxwell_kinetics.kinetic_histogram.bin_errors`), else 0 (``BoltzmannSolution``).
 * ``save(path)`` and the class method ``load(path)`` round-trip every array bit for bit
   (:mod:`particles.persistence`); ``to_xarray()`` labels the time coordinate ``time_name``;
   ``plot(ax=None)`` draws the density at every saved time (:func:`plot_densities`) and returns
@@ -116,7 +118,7 @@ class KineticResult(Protocol):
         Returns
         -------
         particles.observables.Histogram
-            Bin probabilities / width, zero errors.
+            Bin probabilities / width; ``error``: the numerical error (module docstring).
         """
 
     def save(self, path) -> None:
