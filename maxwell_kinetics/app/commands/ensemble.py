@@ -196,4 +196,34 @@ def run(args) -> int:
               f"aggregate in {report.aggregate_path}")
         for failure in report.failed:
             print(f"  failed: {failure['params']} seed {failure['seed']}: {failure['error']}")
+        print_means(payload["aggregate"])
     return 3 if report.failed else 0
+
+
+def print_means(summary: dict) -> None:
+    """The aggregate's energy and kurtosis, mean ± standard error over the seeds, one line per
+    parameter set and time (what ``--json`` prints in full).
+
+    Parameters
+    ----------
+    summary : dict
+        The aggregate's JSON summary (:func:`particles.ensemble.aggregate`).
+    """
+    time_name = next(k for k in ("tau", "t") if k in summary)
+    for entry in summary["sets"]:
+        params = ", ".join(f"{k}={v}" for k, v in entry["params"].items())
+        print(f"set {entry['index']}: {params} ({entry['n_seeds']} seeds)")
+        if not entry["n_seeds"]:
+            continue
+        print(f"  {time_name:>10}  {'energy':>25}  {'kurtosis':>25}")
+        columns = [entry["observables"].get(name) for name in ("energy", "kurtosis")]
+        for i, time in enumerate(summary[time_name]):
+            cells = []
+            for column in columns:
+                if column is None:
+                    cells.append(f"{'-':>25}")
+                    continue
+                sem = column["sem"][i]
+                error = "-" if sem is None else f"{sem:.2g}"  # one seed: no standard error
+                cells.append(f"{column['mean'][i]:>12.6g} ± {error:<10}")
+            print(f"  {time:>10g}  " + "  ".join(cells).rstrip())

@@ -109,6 +109,21 @@ def test_force_without_workers_exits_2(capsys, tmp_path):
         assert "force=" in err and "workers" in err and not out.exists()
 
 
+def test_ensemble_without_json_prints_the_means_and_their_errors(capsys, tmp_path):
+    # the text output said where the aggregate was and nothing of it
+    out = tmp_path / "e"
+    assert main(["ensemble", "ulam", "--n", "300", "--restitution", "0.5", "--tau", "1,2",
+                 "--seeds", "1-2", "--serial", "--out", str(out), "--no-progress"]) == 0
+    text = capsys.readouterr().out
+    with np.load(out / "ensemble.npz", allow_pickle=False) as saved:
+        energy = saved["set0.energy.mean"].tolist()
+    assert "set 0: n=300, restitution=0.5 (2 seeds)" in text
+    assert "energy" in text and "kurtosis" in text
+    rows = [line.split() for line in text.splitlines() if line.strip()[:1].isdigit()]
+    assert [float(r[0]) for r in rows] == [1.0, 2.0]
+    assert [float(r[1]) for r in rows] == pytest.approx(energy, rel=1e-5)  # 6 digits shown
+
+
 def test_cluster_without_config_names_the_options_not_a_none(capsys, tmp_path):
     # the library's own refusal reads "config=None"; a command-line user never typed a None
     out = tmp_path / "e"
