@@ -161,7 +161,7 @@ def run_engine(engine, args, *, time_key: str = "tau", extend=None) -> int:
     if args.json:
         emit_json(payload)
     else:
-        print(f"{engine.name}: {result.params}  seed {seed}")
+        print(f"{engine.name}: {parameters_in_words(result.params)}, seed {seed}")
         _print_table(time_key, result.times, result.energy, "collisions", result.collisions)
         if result.histogram_note is not None:
             print(f"histogram: {result.histogram_note}")
@@ -368,7 +368,30 @@ def _run_sticky_chunks(engine, args) -> int:
     if args.json:
         emit_json(payload)
     else:
-        print(f"sticky: {result.params}  seed {seed}, {chunks} chunks")
+        print(f"sticky: {parameters_in_words(result.params)}, seed {seed}, {chunks} chunks")
         _print_table("t", result.times, result.energy, "clusters", result.clusters)
         print(f"{result.seconds:.3f} s")
     return 0
+
+
+def parameters_in_words(params: dict) -> str:
+    """``n=1000, restitution=0.5, initial=gaussian``: a run's parameters as the header of the
+    text output shows them (the dict's repr showed quotes and braces).
+
+    Parameters
+    ----------
+    params : dict
+        The engine's parameters (``RunResult.params``).
+
+    Returns
+    -------
+    str
+        ``name=value`` pairs, comma-separated; nested dicts (a kernel) as ``name=value`` inside
+        parentheses.
+    """
+    def word(value) -> str:
+        if isinstance(value, dict):
+            return "(" + parameters_in_words(value) + ")"
+        return f"{value:g}" if isinstance(value, float) else str(value)
+
+    return ", ".join(f"{key}={word(value)}" for key, value in params.items())

@@ -364,3 +364,14 @@ def test_a_reader_that_goes_away_gives_no_traceback():
     proc.stderr.close()
     assert proc.wait(timeout=120) == 141, err
     assert head.startswith(b'{"model": "ulam"') and "Traceback" not in err, err
+
+
+def test_the_text_header_names_the_parameters_in_words_not_a_dict_repr(capsys):
+    assert main(["simulate", "ulam", "--n", "1000", "--restitution", "0.5", "--tau", "1",
+                 "--seed", "3", "--no-progress"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first == "ulam: n=1000, restitution=0.5, initial=gaussian, window=2, seed 3"
+    assert main(["simulate", "sticky", "--n", "1000", "--density", "1", "--t", "1",
+                 "--no-progress"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first.startswith("sticky: n=1000, density=1, initial=gaussian") and "{" not in first
