@@ -156,6 +156,14 @@ class Solution:
     angular_nodes: int = 1  # the scale of the η rule of solve (d = 1: 1, η ≡ 1)
     builtin_law: bool = True  # initial names the built-in law solved (False: a user's law)
 
+    def __repr__(self) -> str:
+        """One line: r, the law, d, the grid and the saved τ."""
+        tau = np.asarray(self.tau)
+        angular = "" if self.dimension == 1 else f", angular={self.angular!r}"
+        return (f"Solution(restitution={self.restitution:g}, initial={self.initial!r}, "
+                f"dimension={self.dimension}{angular}, resolution={self.resolution.name!r}, "
+                f"{tau.size} times tau = {tau[0]:g}..{tau[-1]:g})")
+
     def initial_law(self):
         """The built-in initial law this solution started from, with its CDF and sampler, or
         None for a user's law (known by its characteristic function only, even when its name

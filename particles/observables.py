@@ -242,6 +242,12 @@ class Histogram:
     samples: int
     v0: float
 
+    def __repr__(self) -> str:
+        """One line: the bins, the samples and v0 (the arrays are attributes)."""
+        edges = np.asarray(self.edges)
+        return (f"Histogram({edges.size - 1} bins on [{edges[0]:g}, {edges[-1]:g}], "
+                f"samples={self.samples}, v0={self.v0:.6g})")
+
     def to_dict(self) -> dict:
         """The histogram as JSON-ready lists.
 

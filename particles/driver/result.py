@@ -222,6 +222,17 @@ class RunResult:
     kurtosis: np.ndarray | None = field(default=None, repr=False)
     time_name: str | None = None
 
+    def __repr__(self) -> str:
+        """One line: the model, N, the seed, the saved times and the last energy (the arrays
+        are attributes; printing N velocities helps nobody)."""
+        name = self.time_name or "time"
+        times = np.asarray(self.times)
+        span = f"{times[0]:g}..{times[-1]:g}" if times.size else "none"
+        last = f", energy {float(np.asarray(self.energy)[-1]):.6g} at the last" if (
+            times.size) else ""
+        return (f"RunResult(model={self.model!r}, n={self.params.get('n')}, seed={self.seed}, "
+                f"{times.size} times {name} = {span}{last})")
+
     def __post_init__(self):
         if self.time_name is None:  # a record written before results kept it
             object.__setattr__(self, "time_name", time_name_of(self.model, self.params))
