@@ -57,6 +57,7 @@ import numpy as np
 from particles.validation import check_edges as _check_edges
 
 __all__ = ["check_edges", "free_part", "collided_part", "bin_probabilities", "bin_errors",
+           "XARRAY_DENSITY_X",
            "solution_histogram", "solution_to_xarray"]
 
 
@@ -296,13 +297,19 @@ def solution_histogram(sol, k: int, edges):
                      np.zeros(width.size, dtype=np.int64), 0, v0)
 
 
-def solution_to_xarray(sol):
+#: The default x of :meth:`maxwell_kinetics.solution.Solution.to_xarray`'s density.
+XARRAY_DENSITY_X = np.linspace(-20.0, 20.0, 801)
+
+
+def solution_to_xarray(sol, x=None):
     """``sol`` as an ``xarray.Dataset`` (see :meth:`maxwell_kinetics.solution.Solution.to_xarray`).
 
     Parameters
     ----------
     sol : maxwell_kinetics.solution.Solution
         The solution.
+    x : array_like, optional
+        The rescaled velocities of the density (default :data:`XARRAY_DENSITY_X`).
 
     Returns
     -------
@@ -317,11 +324,12 @@ def solution_to_xarray(sol):
     data = {"G": (("tau", "q"), np.asarray(sol.G)),
             "deviation": (("tau", "q"), np.asarray(sol.deviation))}
     coords = {"tau": np.asarray(sol.tau, dtype=float), "q": np.asarray(sol.q, dtype=float)}
-    x, first = sol.density(tau_index=0)
+    from particles.validation import check_real_array
+
+    x = XARRAY_DENSITY_X if x is None else check_real_array(x, "x", ndim=1, min_size=1)
     density = np.empty((len(sol.tau), x.size))
-    density[0] = first
-    for k in range(1, len(sol.tau)):
-        density[k] = sol.density(tau_index=k)[1]
+    for k in range(len(sol.tau)):
+        density[k] = sol.density(x, tau_index=k)[1]
     coords["x"] = x
     data["density"] = (("tau", "x"), density)
     attrs = {"restitution": float(sol.restitution), "initial": str(sol.initial),

@@ -618,11 +618,18 @@ class Solution:
         edges = check_edges(edges)
         return solution_histogram(self, self.time_index(tau_index, tau), edges)
 
-    def to_xarray(self):
+    def to_xarray(self, x=None):
         """The solution as an ``xarray.Dataset`` (needs the optional ``xarray`` extra):
         ``G`` and ``deviation`` (G − f̂) over (``tau``, ``q``), complex, and ``density``
-        P(x, τ) over (``tau``, ``x``) on the FFT grid of :meth:`density`; attributes
-        ``restitution``, ``initial``, ``dimension``, ``angular`` and ``resolution`` (JSON).
+        P(x, τ) over (``tau``, ``x``); attributes ``restitution``, ``initial``, ``dimension``,
+        ``angular`` and ``resolution`` (JSON).
+
+        Parameters
+        ----------
+        x : array_like, optional
+            The rescaled velocities of ``density`` (finite reals); default 801 points on
+            [−20, 20] (the FFT grid of :meth:`density` holds 16 384 points over ±500, nearly
+            all of them in the far tail).
 
         Returns
         -------
@@ -634,10 +641,12 @@ class Solution:
         ImportError
             When xarray is not installed, naming the extra to install
             (``pip install 'maxwell-kinetics[xarray]'``).
+        particles.validation.InvalidArgumentError
+            Naming ``x`` when it is not an array of finite reals.
         """
         from .kinetic_histogram import solution_to_xarray
 
-        return solution_to_xarray(self)
+        return solution_to_xarray(self, x)
 
     @property
     def kurtosis(self) -> np.ndarray:

@@ -134,8 +134,16 @@ def test_solution_to_xarray(sol):
     assert isinstance(ds, xr.Dataset)
     assert np.array_equal(ds["G"].sel(tau=2.0).values, sol.G[1])
     assert np.array_equal(ds["q"].values, sol.q)
-    x, P = sol.density(tau_index=0)
-    assert np.array_equal(ds["x"].values, x) and np.array_equal(ds["density"][0].values, P)
+    # the density on [−20, 20] by default (the FFT grid is 16 384 points over ±500), or on x
+    x = np.linspace(-20.0, 20.0, 801)
+    assert np.array_equal(ds["x"].values, x)
+    assert np.array_equal(ds["density"][0].values, sol.density(x, tau_index=0)[1])
+    mine = sol.to_xarray(x=[-1.0, 0.0, 2.5])
+    assert mine["density"].shape == (len(sol.tau), 3)
+    np.testing.assert_array_equal(mine["density"][1].values,
+                                  sol.density([-1.0, 0.0, 2.5], tau_index=1)[1])
+    with pytest.raises(InvalidArgumentError, match="argument x="):
+        sol.to_xarray(x=[0.0, np.nan])
 
 
 def test_solution_to_xarray_without_xarray_names_the_extra(sol, monkeypatch):
