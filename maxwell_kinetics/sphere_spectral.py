@@ -1,0 +1,561 @@
+"""A deterministic spectral solver of the homogeneous inelastic Boltzmann equation of smooth hard
+spheres (d = 3) and hard disks (d = 2), and of variable hard spheres, in JAX.
+
+Equation (m = 1, f normalised to 1, density n, physical time t):
+
+    ∂f/∂t = Q(f, f),
+    Q(f, f)(v) = ∫ dw ∫_{S^{d−1}} dn |g·n| [ α⁻² f(v*) f(w*) − f(v) f(w) ],   g = v − w,
+
+n over the whole unit sphere (no step function), post-collision v′ = v − (1+α)/2 (g·n) n,
+w′ = w + (1+α)/2 (g·n) n; weak form d/dt ∫ψ f = ∫∫ f(v) f(w) ∫ dn |g·n| [ψ(v′) − ψ(v)]
+(:class:`particles.sphere_kernels.HardSpheres`; the right side is multiplied by n).
+T = ⟨|v − u|²⟩/d, c = v/√(2T), a₂ = d/(d+2)·⟨c⁴⟩/⟨c²⟩² − 1,
+a₃ = 1 + 3a₂ − d²/((d+2)(d+4))·⟨c⁶⟩/⟨c²⟩³
+(:func:`particles.sphere_observables.sonine_coefficients`).
+:class:`particles.sphere_kernels.VariableHardSpheres` is the same equation with |g·n| replaced by
+B(g, n) = |g|^γ |ĝ·n|^{d−2}/(2π) (isotropic scattering at rate |g|^γ).
+
+Scaled equation.  The unknown is F(c, t) = s^d f(u + s c, t) on a fixed grid of c, u the
+conserved mean and s(t) the thermal scale (⟨|c|²⟩ = d is held: unit variance per component).
+For a kernel homogeneous of degree γ in g,
+
+    ∂F/∂t = n s^γ [Q(F, F) + σ′ ∇·(c F)],   d ln s/dt = n s^γ σ′,
+
+with σ′ = −∫|c|² Q / ∫|c|² ∇·(cF) computed from Q itself, so the grid follows the cooling and
+the homogeneous cooling state (HCS) is a steady F: :func:`cooling_state` marches the scaled
+equation in τ (dτ = n s^γ dt) until it is stationary.  T(t) = s(t)²; the cooling rate
+ζ = −d ln T/dt = −2 n s^γ σ′.
+
+Method: Fourier–Galerkin on the periodic box [−L, L]^d with N modes per axis (Pareschi–Russo,
+Mouhot–Pareschi), the collision kernel truncated to a cylinder about each n: |g·n| ≤ R,
+|g − (g·n)n| ≤ R.  From the weak form with ψ = e^{−ik·v}, writing w = v − g,
+g = s n + g⊥ (s = g·n), and β = (1 + α)/2 (the Jacobian α⁻² never appears: the weak form moves
+the test function to v′ instead):
+
+    Q̂⁺_k = Σ_{l+m=k} f̂_l f̂_m ∫_{S^{d−1}} dn ∫_{−R}^{R} ds e^{i s [β l·n − (1−β) m·n]} Φ(s, |m⊥|),
+
+Φ(s, p) = ∫_{|g⊥|≤R} B(s, |g⊥|) e^{−i g⊥·m⊥} dg⊥ (hard spheres: |s| Ψ(p), Ψ = 2πR J₁(Rp)/p in
+d = 3, 2 sin(Rp)/p in d = 2).  The exponential factors into a function of l times one of m,
+so each quadrature node (n, s) is a product in velocity space:
+F(c + βsn) × IFFT(F̂ e^{−is(1−β)m·n} Φ)(c), 2 FFTs per node
+(:mod:`maxwell_kinetics._sphere_spectral_scheme`); the pairs (n, s) and (−n, −s) are one
+point, so the n-rule covers the whole sphere and s runs over [0, R] (twice the weight).  The
+sphere rule is Lebedev's (d = 3) or equally spaced angles (d = 2), s is Gauss–Legendre: both
+converge spectrally for smooth F (the errors of the grids of
+:data:`maxwell_kinetics.sphere_grid.GRIDS` are measured in benchmarks/README.md, "Spectral
+hard spheres").  The loss is F × IFFT(F̂ L(|k|)), L the Fourier transform of the
+truncated rate, by a one-dimensional radial quadrature.  Cost O(M_n M_s N^d log N) per
+right-hand side (M_n sphere nodes, M_s radial nodes).
+
+Conservation: Q is replaced by Q − F (λ₀ + λ·c + λ_e|c|²) with the λ that make the discrete
+mass and momentum changes zero and keep the discrete energy change (a least-squares correction
+in the norm ∫X²/F, in the spirit of Gamba–Tharkabhushanam and Pareschi–Rey); the dilation
+∇·(cF) = dF + c·∇F (spectral derivatives, advective form) is corrected alike, its energy
+change set to the exact −2Σ|c|²F, and σ′ then holds Σ|c|²F fixed: mass, momentum and
+⟨|c|²⟩ are conserved to round-off, and d⟨|v|²⟩/dt is the collisions' Σ|c|² Q alone.
+
+Edge layer: the dilation carries F outward, and on the periodic box the flows of the two sides
+meet at its faces, where the truncated kernel (relative speeds ≤ √2 R) no longer damps F; an
+instability grows there (measured, d = 2, N = 32: from τ ≈ 2).  An absorbing term −κ(c)F,
+κ = 0 inside the cube |c_a| ≤ R and rising smoothly to the full rate at |g| = R on the faces,
+removes it (:func:`maxwell_kinetics._sphere_spectral_scheme.sponge`); it acts where F is
+below ~1e-12 of its peak on the default grids, and the mass it takes is restored by the
+projection, which keeps the collisions' energy change, not the layer's.
+
+Order: spectral in N (for smooth F; the HCS tail e^{−A|c|} is smooth), spectral in the sphere
+and s rules; the truncation errors in L and R are exponentially small once F is negligible at
+the box edge and at relative speeds beyond R; L ≳ 1.4 R keeps the periodic images apart.
+Time: diffrax's Tsit5 (order 5, embedded order 4) with a PID step-size controller.  Every JAX
+call runs in ``jax.enable_x64(True)``; the right-hand side has no host callback and runs
+unchanged on a GPU.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from particles import kernels as _kernels
+from particles.validation import InvalidArgumentError, check_count, check_positive, check_times
+
+from . import _sphere_spectral_scheme as _scheme
+from .sphere_grid import SphereGrid, sphere_grid
+from .sphere_solution import SphereSolution, sonine
+
+__all__ = ["carries", "kernel_form", "SphereOperator",
+           "solve_spheres", "cooling_state", "CoolingState"]
+
+
+def carries(kernel) -> bool:
+    """Whether this solver carries a kernel (class or instance): a kernel of
+    :mod:`particles.sphere_kernels` (``direction_law`` "hard": hard spheres, "isotropic":
+    variable hard spheres), of physical time t, defined in d = 2 and 3.
+
+    Parameters
+    ----------
+    kernel : type or particles.kernels.Kernel
+        The kernel.
+
+    Returns
+    -------
+    bool
+    """
+    cls = kernel if isinstance(kernel, type) else type(kernel)
+    return (issubclass(cls, _kernels.Kernel) and cls.time_name == "t"
+            and getattr(cls, "direction_law", None) in ("hard", "isotropic")
+            and {2, 3} <= set(cls.dimensions))
+
+
+def kernel_form(kernel, dimension: int) -> _scheme.KernelForm:
+    """The collision kernel B(g, n) = C |g|^{γ−a} |g·n|^a of a carried kernel in d dimensions,
+    checked against the kernel's own rate: ∫ dn B = R(v, w) at |g| = 0.5, 1, 2 (to 1e-12).
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel
+        A kernel :func:`carries` accepts.
+    dimension : int
+        d, 2 or 3.
+
+    Returns
+    -------
+    maxwell_kinetics._sphere_spectral_scheme.KernelForm
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``kernel`` when it is not carried or its rate is not the one its law implies,
+        ``dimension`` when it is not 2 or 3.
+    """
+    if dimension not in (2, 3) or isinstance(dimension, bool):
+        raise InvalidArgumentError("dimension", dimension, "2 or 3")
+    if not isinstance(kernel, _kernels.Kernel) or not carries(kernel):
+        raise InvalidArgumentError("kernel", kernel, "a kernel of particles.sphere_kernels "
+                                   "(hard_spheres or variable_hard_spheres)")
+    gamma = float(kernel.homogeneity)
+    if kernel.direction_law == "hard":
+        form = _scheme.KernelForm(1.0, gamma, 1)
+    else:
+        form = _scheme.KernelForm(1.0 / (2.0 * math.pi), gamma, dimension - 2)
+    probes = np.array([0.5, 1.0, 2.0])
+    v = np.zeros((3, dimension))
+    v[:, 0] = probes
+    got = np.asarray(kernel.rate(v, np.zeros_like(v), np), dtype=float)
+    a = form.angular
+    full = form.constant * (4.0 * math.pi / (a + 1) if dimension == 3
+                            else (4.0 if a == 1 else 2.0 * math.pi))
+    if not (0.0 <= gamma <= 1.0 and np.allclose(got, full * probes**gamma, rtol=1e-12, atol=0)):
+        raise InvalidArgumentError("kernel", kernel, f"a rate {full:.6g} |g|^{gamma:g} as its "
+                                   f"direction law implies in d = {dimension} (got {got})")
+    return form
+
+
+class SphereOperator:
+    """The collision operator of one (kernel, d, grid) on the grid's nodes, with its jitted
+    right-hand sides (the handle of :func:`solve_spheres`, :func:`cooling_state` and the
+    tests).
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel
+        A carried kernel (:func:`kernel_form`).
+    dimension : int
+        d.
+    grid : str or SphereGrid, optional
+        The grid (:func:`sphere_grid`).
+
+    Attributes
+    ----------
+    grid : SphereGrid
+    nodes : numpy.ndarray
+        c at the nodes, shape (N,)*d + (d,).
+    form : maxwell_kinetics._sphere_spectral_scheme.KernelForm
+    tables : maxwell_kinetics._sphere_spectral_scheme.Tables
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        As :func:`kernel_form` and :func:`sphere_grid`.
+    """
+
+    _compiled: dict = {}
+
+    def __init__(self, kernel, dimension: int, grid=None):
+        self.form = kernel_form(kernel, dimension)
+        self.kernel, self.dimension = kernel, dimension
+        self.grid = g = sphere_grid(grid, dimension)
+        self.tables = _scheme.build_tables(dimension, g.points, g.half_width, g.cutoff,
+                                           g.sphere_order, g.radial_nodes, self.form,
+                                           kernel.p)
+        c = self.tables.c
+        self.nodes = np.stack(np.meshgrid(*([c] * dimension), indexing="ij"), axis=-1)
+        self.weight = g.spacing**dimension
+        self._basis = _scheme.moment_basis(c, dimension)
+        self._key = (dimension, self.form.separable())
+
+    def _args(self):
+        import jax.numpy as jnp
+
+        t = self.tables
+        tables = {"axes_k": tuple(jnp.asarray(k) for k in t.axes_k),
+                  "mask": jnp.asarray(t.mask), "directions": jnp.asarray(t.directions),
+                  "weights": jnp.asarray(t.weights), "s": jnp.asarray(t.s),
+                  "s_weights": jnp.asarray(t.s_weights), "cross": jnp.asarray(t.cross),
+                  "loss": jnp.asarray(t.loss), "beta": jnp.asarray(t.beta),
+                  "sponge": jnp.asarray(t.sponge)}
+        grids = tuple(jnp.asarray(self.nodes[..., a]) for a in range(self.dimension))
+        return tables, jnp.asarray(self._basis), grids
+
+    def _functions(self):
+        if self._key not in SphereOperator._compiled:
+            SphereOperator._compiled[self._key] = _Functions(*self._key)
+        return SphereOperator._compiled[self._key]
+
+    def collision(self, F) -> tuple[np.ndarray, np.ndarray]:
+        """The gain and loss of F at the nodes, before the conservative projection.
+
+        Parameters
+        ----------
+        F : array_like
+            F at the nodes, shape (N,)*d.
+
+        Returns
+        -------
+        gain, loss : numpy.ndarray
+        """
+        import jax
+
+        with jax.enable_x64(True):
+            tables, _, _ = self._args()
+            gain, loss = self._functions().collision(jax.numpy.asarray(F, dtype=float), tables)
+            return np.asarray(gain), np.asarray(loss)
+
+    def scaled_rhs(self, F) -> tuple[np.ndarray, float]:
+        """dF/dτ of the scaled equation and σ′ = d ln s/dτ (module docstring).
+
+        Parameters
+        ----------
+        F : array_like
+            Shape (N,)*d.
+
+        Returns
+        -------
+        rhs : numpy.ndarray
+        sigma : float
+        """
+        import jax
+
+        with jax.enable_x64(True):
+            rhs, sigma = self._functions().rhs(jax.numpy.asarray(F, dtype=float), *self._args())
+            return np.asarray(rhs), float(sigma)
+
+    def initial(self, initial="gaussian") -> tuple[np.ndarray, float, np.ndarray]:
+        """F(c, 0) at the nodes with mass 1, mean 0 and ⟨|c|²⟩ = d exactly on the grid (the
+        sampled law times 1 + a + b·c + e|c|²), and the scale s(0) and mean u of f(v, 0).
+
+        Parameters
+        ----------
+        initial : str or callable
+            "gaussian" (the Maxwellian of T = 1) or a density f(v) of d-vectors (last axis),
+            vectorised, with finite mass, mean and temperature on the grid.
+
+        Returns
+        -------
+        F : numpy.ndarray
+        scale : float
+            s(0) = √T(0).
+        mean : numpy.ndarray
+            u, shape (d,).
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``initial`` for another name, or a density that is not finite and positive
+            in mass and temperature on the grid.
+        """
+        d, c = self.dimension, self.nodes
+        if isinstance(initial, str):
+            if initial != "gaussian":
+                raise InvalidArgumentError("initial", initial, "'gaussian' (the Maxwellian "
+                                           "of T = 1) or a density f(v) of d-vectors")
+            scale, mean = 1.0, np.zeros(d)
+            F = np.exp(-0.5 * np.sum(c * c, axis=-1)) / (2.0 * math.pi) ** (d / 2)
+        elif callable(initial):
+            raw = np.asarray(initial(c), dtype=float)
+            mass = raw.sum() * self.weight
+            if raw.shape != c.shape[:-1] or not (np.all(np.isfinite(raw)) and mass > 0):
+                raise InvalidArgumentError("initial", initial, "a density f(v) that returns "
+                                           "finite values of positive mass on the grid")
+            mean = np.tensordot(raw, c, axes=d) * self.weight / mass
+            temp = np.sum(raw * np.sum((c - mean) ** 2, axis=-1)) * self.weight / (mass * d)
+            if not temp > 0:
+                raise InvalidArgumentError("initial", initial, "a density of positive "
+                                           "temperature")
+            scale = math.sqrt(temp)
+            F = np.asarray(initial(mean + scale * c), dtype=float) * scale**d / mass
+        else:
+            raise InvalidArgumentError("initial", initial, "'gaussian' or a density f(v)")
+        basis = self._basis.reshape(d + 2, -1)
+        target = np.zeros(d + 2)
+        target[0], target[-1] = 1.0, float(d)
+        gram = (basis * F.reshape(1, -1)) @ basis.T * self.weight
+        lam = np.linalg.solve(gram, target - basis @ F.reshape(-1) * self.weight)
+        return F * (1.0 + (lam @ basis).reshape(F.shape)), scale, mean
+
+    def integrate(self, F, log_scale: float, times, density: float, rtol: float, atol: float,
+                  max_steps: int, gamma: float | None = None):
+        """diffrax's Tsit5 from (F, ln s) at t = 0 over ``times`` (module docstring).
+
+        Parameters
+        ----------
+        F : array_like
+            F at t = 0, shape (N,)*d.
+        log_scale : float
+            ln s at t = 0.
+        times : array_like
+            The save times.
+        density : float
+            n.
+        rtol, atol : float
+            The step-size controller's tolerances.
+        max_steps : int
+            Most steps.
+        gamma : float, optional
+            The degree γ in the factor n s^γ (default the kernel's; 0 marches in τ).
+
+        Returns
+        -------
+        F : numpy.ndarray
+            Shape (T,) + (N,)*d.
+        log_scale : numpy.ndarray
+            Shape (T,).
+        ok : bool
+            Whether diffrax finished.
+        steps : int
+            Steps taken.
+        """
+        import jax
+        import jax.numpy as jnp
+
+        gamma = self.form.exponent if gamma is None else gamma
+        with jax.enable_x64(True):
+            tables, basis, grids = self._args()
+            args = (tables, basis, grids, jnp.asarray(density), jnp.asarray(gamma))
+            y0 = (jnp.asarray(F, dtype=float), jnp.asarray(log_scale, dtype=float))
+            ys, ok, steps = self._functions().solve(y0, jnp.asarray(times, dtype=float), args,
+                                                    rtol, atol, max_steps)
+            return np.asarray(ys[0]), np.asarray(ys[1]), bool(ok), int(steps)
+
+
+class _Functions:
+    """The jitted functions of one (d, separable) (compiled once per grid shape)."""
+
+    def __init__(self, dimension: int, separable: bool):
+        import diffrax
+        import jax
+        import jax.numpy as jnp
+
+        scheme, d, sep = _scheme, dimension, separable
+
+        def rhs(F, tables, basis, grids):
+            return scheme.scaled_rhs(F, tables, d, sep, basis, grids)
+
+        def field(t, y, args):
+            F, log_scale = y
+            tables, basis, grids, density, gamma = args
+            dF, sigma = rhs(F, tables, basis, grids)
+            rate = density * jnp.exp(gamma * log_scale)
+            return rate * dF, rate * sigma
+
+        def solve(y0, times, args, rtol, atol, max_steps):
+            out = diffrax.diffeqsolve(
+                diffrax.ODETerm(field), diffrax.Tsit5(), 0.0, times[-1], None, y0, args=args,
+                saveat=diffrax.SaveAt(ts=times),
+                stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol),
+                max_steps=max_steps, throw=False)
+            return out.ys, out.result == diffrax.RESULTS.successful, out.stats["num_steps"]
+
+        self.collision = jax.jit(lambda F, tables: scheme.collision(F, tables, d, sep))
+        self.rhs = jax.jit(rhs)
+        self.solve = jax.jit(solve, static_argnums=(5,))
+
+
+def solve_spheres(kernel, t, *, dimension: int = 3, density: float = 1.0, initial="gaussian",
+                  grid=None, rtol: float = 1e-9, atol: float = 1e-12,
+                  max_steps: int = 100_000) -> SphereSolution:
+    """Solve ∂f/∂t = n Q(f, f) for hard spheres or variable hard spheres in d = 2, 3 (module
+    docstring) and save the scaled F(c, t) at the times ``t``.
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel
+        :class:`particles.sphere_kernels.HardSpheres` or
+        :class:`~particles.sphere_kernels.VariableHardSpheres`.
+    t : array_like
+        Increasing times t ≥ 0 (0 allowed: the initial law).
+    dimension : int, default 3
+        d, 2 or 3.
+    density : float, default 1
+        n > 0.
+    initial : str or callable, default "gaussian"
+        The initial law (:meth:`SphereOperator.initial`).
+    grid : str or SphereGrid, optional
+        The grid (:data:`GRIDS`; default "default").
+    rtol, atol : float
+        Tolerances of diffrax's PID controller on F (values ~ (2π)^{−d/2} at the peak);
+        1e-7 leaves a noise of ~1e-5 in dF/dτ, 1e-9 (the default) takes as many steps (their
+        number is set by the stability of the dilation and the loss at the box's edge).
+    max_steps : int
+        Most time steps.
+
+    Returns
+    -------
+    SphereSolution
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``kernel``, ``dimension``, ``grid``, ``initial``, ``t``, ``density``,
+        ``rtol``, ``atol`` or ``max_steps`` when out of range.
+    RuntimeError
+        When the integration fails (too many steps, non-finite values).
+    """
+    times = check_times(t, "t", strictly=False)
+    density = check_positive(density, "density")
+    rtol, atol = check_positive(rtol, "rtol"), check_positive(atol, "atol")
+    max_steps = check_count(max_steps, "max_steps", 1)
+    start = time.perf_counter()
+    operator = SphereOperator(kernel, dimension, grid)
+    F0, scale, mean = operator.initial(initial)
+    F, log_scale, ok, steps = operator.integrate(F0, math.log(scale), times, density, rtol,
+                                                 atol, max_steps)
+    if not ok or not np.all(np.isfinite(F)):
+        raise RuntimeError(f"the spectral hard-sphere solve failed after {steps} steps "
+                           f"(max_steps = {max_steps}, or non-finite values)")
+    sigma = np.array([operator.scaled_rhs(row)[1] for row in F])
+    rate = density * np.exp(operator.form.exponent * log_scale)
+    return SphereSolution(kernel.name, float(kernel.restitution), float(operator.form.exponent),
+                          dimension, density, initial if isinstance(initial, str) else "custom",
+                          operator.grid, times, F, log_scale, mean, -2.0 * rate * sigma, steps,
+                          time.perf_counter() - start)
+
+
+@dataclass(frozen=True)
+class CoolingState:
+    """The homogeneous cooling state of :func:`cooling_state`: the stationary F(c) of the scaled
+    equation (⟨|c|²⟩ = d) and its Sonine coefficients.
+
+    Attributes
+    ----------
+    kernel : str
+        The kernel's name.
+    restitution : float
+        α.
+    dimension : int
+        d.
+    grid : SphereGrid
+        The grid.
+    F : numpy.ndarray
+        F at the nodes, shape (N,)*d.
+    a2, a3 : float
+        The Sonine coefficients of F.
+    cooling_rate : float
+        ζ* = −2σ′: −d ln T/dτ with dτ = n s^γ dt (for hard spheres ζ = ζ* n √T).
+    residual : float
+        max |dF/dτ| / max F at the end.
+    tau : float
+        The scaled time marched.
+    steps : int
+        Time steps taken.
+    seconds : float
+        Wall-clock time.
+    history : numpy.ndarray
+        Rows (τ, a₂, a₃, residual) at the end of each chunk.
+    """
+
+    kernel: str
+    restitution: float
+    dimension: int
+    grid: SphereGrid
+    F: np.ndarray = field(repr=False)
+    a2: float
+    a3: float
+    cooling_rate: float
+    residual: float
+    tau: float
+    steps: int
+    seconds: float
+    history: np.ndarray = field(repr=False)
+
+
+def cooling_state(kernel, *, dimension: int = 3, grid=None, tolerance: float = 1e-6,
+                  chunk: float = 0.25, max_tau: float = 40.0, rtol: float = 1e-9,
+                  atol: float = 1e-12, start=None) -> CoolingState:
+    """The homogeneous cooling state: the scaled equation ∂F/∂τ = Q̃ + σ′ D̃ marched from the
+    Maxwellian (or ``start``) in chunks of τ until max |dF/dτ| / max F < ``tolerance``.
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel
+        A carried kernel (:func:`kernel_form`), α < 1.
+    dimension : int, default 3
+        d.
+    grid : str or SphereGrid, optional
+        The grid.
+    tolerance : float, default 1e-6
+        The residual at which to stop.
+    chunk : float, default 0.25
+        τ between residual checks.
+    max_tau : float, default 40
+        Give up (RuntimeError) past this τ.
+    rtol, atol : float
+        The step-size controller's tolerances.
+    start : numpy.ndarray, optional
+        F to start from (on this grid; default the Maxwellian).
+
+    Returns
+    -------
+    CoolingState
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``kernel`` (not carried, or elastic: the Maxwellian is already steady),
+        ``dimension``, ``grid``, ``tolerance``, ``chunk``, ``max_tau`` or ``start``.
+    RuntimeError
+        When the residual is not reached by ``max_tau`` or the integration fails.
+    """
+    tolerance = check_positive(tolerance, "tolerance")
+    chunk, max_tau = check_positive(chunk, "chunk"), check_positive(max_tau, "max_tau")
+    begin = time.perf_counter()
+    operator = SphereOperator(kernel, dimension, grid)
+    if kernel.restitution == 1.0:
+        raise InvalidArgumentError("kernel", kernel, "a restitution below 1 (elastic spheres "
+                                   "do not cool: every Maxwellian is stationary)")
+    F = operator.initial("gaussian")[0] if start is None else np.asarray(start, dtype=float)
+    if F.shape != operator.nodes.shape[:-1]:
+        raise InvalidArgumentError("start", f"an array of shape {F.shape}",
+                                   f"F on the grid, shape {operator.nodes.shape[:-1]}")
+    tau, steps, history = 0.0, 0, []
+    c = operator.nodes
+    while True:
+        rhs, sigma = operator.scaled_rhs(F)
+        residual = float(np.max(np.abs(rhs)) / np.max(F))
+        a2, a3 = sonine(F, c, operator.weight)
+        history.append((tau, a2, a3, residual))
+        if residual < tolerance:
+            break
+        if tau >= max_tau:
+            raise RuntimeError(f"no cooling state within tau = {max_tau:g}: the residual is "
+                               f"{residual:.3g} > {tolerance:g}")
+        # a march in τ: the field's factor n s^γ is 1 with n = 1 and γ = 0
+        out, _, ok, n = operator.integrate(F, 0.0, [chunk], 1.0, rtol, atol, 100_000, gamma=0.0)
+        if not ok or not np.all(np.isfinite(out)):
+            raise RuntimeError(f"the cooling-state march failed at tau = {tau:g}")
+        F, tau, steps = out[0], tau + chunk, steps + n
+    return CoolingState(kernel.name, float(kernel.restitution), dimension, operator.grid, F,
+                        a2, a3, -2.0 * sigma, residual, tau, steps, time.perf_counter() - begin,
+                        np.array(history))
