@@ -15,8 +15,12 @@ physics), an initial law, the output times and a method (the numerics):
   ``grid`` is a uniform :class:`maxwell_kinetics.velocity_grid.VelocityGrid` or, for γ = 0, a
   :class:`maxwell_kinetics.velocity_grid.MappedGrid` (the mapped grid, wide tails).  Result:
   :class:`maxwell_kinetics.boltzmann_solution.BoltzmannSolution`.
+* :class:`SphereSpectral`: the Fourier–Galerkin (spectral) scheme of
+  :mod:`maxwell_kinetics.sphere_spectral`, for the kernels of smooth hard spheres and variable
+  hard spheres (:mod:`particles.sphere_kernels`) in d = 2, 3, physical time t.  Result:
+  :class:`maxwell_kinetics.sphere_solution.SphereSolution`.
 
-Both results share one contract (:mod:`maxwell_kinetics.kinetic_result`).  A method refuses a
+The results share one contract (:mod:`maxwell_kinetics.kinetic_result`).  A method refuses a
 kernel it cannot carry, by name and with the reason, before any work (:meth:`refusal`).
 """
 
@@ -25,7 +29,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
-__all__ = ["FourierScheme", "VelocitySpace", "METHODS", "method_for", "carrying_methods"]
+__all__ = ["FourierScheme", "VelocitySpace", "SphereSpectral", "METHODS", "method_for",
+           "carrying_methods"]
 
 
 @dataclass(frozen=True)
@@ -127,9 +132,61 @@ class VelocitySpace:
         return None
 
 
+@dataclass(frozen=True)
+class SphereSpectral:
+    """The spectral scheme of hard spheres and disks
+    (:func:`maxwell_kinetics.sphere_spectral.solve_spheres`; its method and order are in
+    :mod:`maxwell_kinetics.sphere_spectral`).
+
+    Attributes
+    ----------
+    dimension : int, default 3
+        d, 2 or 3 (the kernels of :mod:`particles.sphere_kernels` hold no dimension).
+    grid : str or maxwell_kinetics.sphere_grid.SphereGrid, optional
+        A name of :data:`maxwell_kinetics.sphere_grid.GRIDS` ("coarse", "default", "fine") or
+        a grid; default "default".
+    rtol, atol : float
+        Tolerances of the step-size controller (defaults 1e-9 and 1e-12).
+    max_steps : int
+        Most time steps (default 10⁵).
+
+    Checked when a solve starts, before any work.
+    """
+
+    name: ClassVar[str] = "sphere_spectral"
+
+    dimension: int = 3
+    grid: Any = None
+    rtol: float = 1e-9
+    atol: float = 1e-12
+    max_steps: int = 100_000
+
+    @staticmethod
+    def refusal(kernel) -> str | None:
+        """Why this method cannot carry ``kernel`` (None when it can).
+
+        Parameters
+        ----------
+        kernel : particles.kernels.Kernel
+            The kernel.
+
+        Returns
+        -------
+        str or None
+        """
+        from .sphere_spectral import carries
+
+        if not carries(kernel):
+            return (f"the spectral hard-sphere scheme carries the kernels of "
+                    f"particles.sphere_kernels (hard_spheres, variable_hard_spheres) in "
+                    f"d = 2, 3; {kernel.name!r} is not one")
+        return None
+
+
 #: The methods by name (the ``kernels`` listing's ``methods``).
 METHODS: dict[str, type] = {FourierScheme.name: FourierScheme,
-                            VelocitySpace.name: VelocitySpace}
+                            VelocitySpace.name: VelocitySpace,
+                            SphereSpectral.name: SphereSpectral}
 
 
 def carrying_methods(kernel) -> list[str]:
@@ -149,8 +206,8 @@ def carrying_methods(kernel) -> list[str]:
 
 
 def method_for(kernel):
-    """The default method of a kernel: the Fourier scheme where it carries the kernel, the
-    velocity grid otherwise.
+    """The default method of a kernel: the first of :data:`METHODS` that carries it (the
+    Fourier scheme, the velocity grid, the spectral hard-sphere scheme in d = 3).
 
     Parameters
     ----------
@@ -159,7 +216,7 @@ def method_for(kernel):
 
     Returns
     -------
-    FourierScheme or VelocitySpace
+    FourierScheme or VelocitySpace or SphereSpectral
 
     Raises
     ------

@@ -579,6 +579,9 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
       time t whose rate is homogeneous in |v − w|, such as ``RelativeVelocity``): f(v, t) on a
       velocity grid in d = 1 at density n
       (:func:`maxwell_kinetics.inelastic_boltzmann.solve_boltzmann`).
+    * :class:`~maxwell_kinetics.methods.SphereSpectral` (the default for the hard-sphere kernels
+      of :mod:`particles.sphere_kernels`, d = 3; ``dimension=2`` alone chooses it in d = 2):
+      the spectral scheme of :func:`maxwell_kinetics.sphere_spectral.solve_spheres`.
 
     Every result satisfies one contract (:mod:`maxwell_kinetics.kinetic_result`): its time axis
     and the time's name come from the kernel.
@@ -592,7 +595,7 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
     times : array_like, optional
         Increasing times ≥ 0 in the kernel's time (τ or t) at which to save the solution;
         for the Fourier scheme, default (1, 10, 100).
-    method : FourierScheme or VelocitySpace or str, optional
+    method : FourierScheme or VelocitySpace or SphereSpectral or str, optional
         The method (default: :func:`maxwell_kinetics.methods.method_for`); a resolution name
         or :class:`maxwell_kinetics.grid.Resolution` means ``FourierScheme(resolution)``.
     tau, t : array_like, optional
@@ -641,7 +644,7 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
     >>> sol.time_name, sol.sup_error().shape
     ('tau', (2,))
     """
-    from .methods import FourierScheme, VelocitySpace, method_for
+    from .methods import FourierScheme, SphereSpectral, VelocitySpace, method_for
 
     if "restitution" in fourier or "r" in fourier:
         raise TypeError("solve() takes the kernel first, solve(kernel, initial, times, method): "
@@ -671,15 +674,18 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
             fourier = {**fourier, "resolution": method}
         elif not fourier:
             method = method_for(value)
+        elif set(fourier) == {"dimension"} and SphereSpectral.refusal(value) is None:
+            method = SphereSpectral(dimension=fourier.pop("dimension"))
         if fourier or method is None:
             method = FourierScheme(**fourier)
     elif fourier:
         name = sorted(fourier)[0]
         raise InvalidArgumentError(name, fourier[name], "no Fourier-scheme keyword with a "
                                    "method object (set it on the method)")
-    if not isinstance(method, (FourierScheme, VelocitySpace)):
+    if not isinstance(method, (FourierScheme, VelocitySpace, SphereSpectral)):
         raise InvalidArgumentError("method", method, "a method of maxwell_kinetics.methods "
-                                   "(FourierScheme or VelocitySpace) or a resolution name")
+                                   "(FourierScheme or VelocitySpace or SphereSpectral) or a "
+                                   "resolution name")
     reason = method.refusal(value)
     if reason is not None:
         raise InvalidArgumentError("method", method, f"a method that carries the kernel: "
@@ -695,12 +701,19 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
                              dimension=method.dimension, angular=method.angular,
                              angular_nodes=method.angular_nodes,
                              angular_rule=method.angular_rule, force=force)
-    from .inelastic_boltzmann import solve_boltzmann
-
     check_bool(progress, "progress", none=True)
     if chosen is None:
         raise InvalidArgumentError("t", None, "increasing times t >= 0 (the kernel "
                                    f"{value.name!r} has no default times)")
+    if isinstance(method, SphereSpectral):
+        from .sphere_spectral import solve_spheres
+
+        return solve_spheres(value, chosen, dimension=method.dimension,
+                             density=1.0 if density is None else density, initial=initial,
+                             grid=method.grid, rtol=method.rtol, atol=method.atol,
+                             max_steps=method.max_steps)
+    from .inelastic_boltzmann import solve_boltzmann
+
     return solve_boltzmann(value, chosen, density=1.0 if density is None else density,
                            initial=initial, grid=method.grid, rtol=method.rtol,
                            atol=method.atol, max_steps=method.max_steps, force=force)

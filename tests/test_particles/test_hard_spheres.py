@@ -42,7 +42,7 @@ def test_the_kernels_are_registered_and_carried_by_the_ulam_dsmc_only():
     rows = {row["name"]: row for row in kernel_rows()}
     for name in ("hard_spheres", "variable_hard_spheres"):
         assert rows[name]["time"] == "t" and rows[name]["dimensions"] == [2, 3]
-        assert rows[name]["engines"] == ["ulam"] and rows[name]["methods"] == []
+        assert rows[name]["engines"] == ["ulam"] and rows[name]["methods"] == ["sphere_spectral"]
         assert ulam_carries(KERNELS[name])
     gamma = rows["variable_hard_spheres"]["parameters"][1]
     assert (gamma["name"], gamma["low"], gamma["high"]) == ("exponent", 0.0, 1.0)

@@ -54,6 +54,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--half-width", default=None,
                    help="a kernel of time t: grid half-width in units of the standard "
                    "deviation (default 12)")
+    p.add_argument("--grid", default=None,
+                   help="--kernel hard_spheres or variable_hard_spheres (--dimension 2 or 3): "
+                   "the spectral grid of the cooling state, coarse, default or fine")
     p.add_argument("--n", default=None, help="Chebyshev degree (default 64 in 1D, 128 in 2D/3D; "
                    "at most 256 in 1D, where a larger degree is ill-conditioned)")
     p.add_argument("--dimension", default="1",
@@ -71,7 +74,14 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    from .sphere_commands import is_sphere_kernel, run_fixed_point
+
     cls = chosen_kernel(args, _solvable)
+    if is_sphere_kernel(cls):
+        return run_fixed_point(args)
+    if args.grid is not None:
+        raise InvalidArgumentError("grid", args.grid, "--grid with --kernel hard_spheres or "
+                                   "variable_hard_spheres only (the spectral hard-sphere grid)")
     if not cls.fourier_closed:
         return _run_relative_velocity(args)
     kernel_from_args(args, _solvable, 0.0)  # a parameter of another kernel, refused by name

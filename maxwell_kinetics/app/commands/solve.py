@@ -61,6 +61,9 @@ def add_parser(subparsers) -> None:
                    "core and wide in the tails: its spacing at c = 0 (below the uniform "
                    "spacing 2 half-width/(points - 1)); with --exponent 0 only, whose "
                    "|x|^-4 tail outgrows a uniform grid")
+    p.add_argument("--grid", default=None,
+                   help="--kernel hard_spheres or variable_hard_spheres: the spectral grid, "
+                   "coarse, default or fine (maxwell_kinetics.sphere_grid.GRIDS)")
     p.add_argument("--q", default="0.5,1,2,5", help="comma-separated q at which to report G")
     p.add_argument("--speed", default=None,
                    help="comma-separated speeds |v|/v0 >= 0 at which to report the density of "
@@ -126,7 +129,14 @@ RELATIVE_VELOCITY_OPTIONS = ("t", "density", "points", "half_width", "core_spaci
 
 def _run(args, written: list) -> int:
     from ...solver import check_solve_arguments, solve_fourier  # JAX: only when a solve runs
+    from .sphere_commands import is_sphere_kernel, run_solve
+
     cls = chosen_kernel(args, _solvable)
+    if is_sphere_kernel(cls):
+        return run_solve(args, written)
+    if args.grid is not None:
+        raise InvalidArgumentError("grid", args.grid, "--grid with --kernel hard_spheres or "
+                                   "variable_hard_spheres only (the spectral hard-sphere grid)")
     if not cls.fourier_closed:
         return _run_relative_velocity(args, written)
     kernel_from_args(args, _solvable, 0.0)  # a parameter of another kernel, refused by name
