@@ -313,3 +313,34 @@ def test_the_result_keeps_its_contract_and_round_trips(cooling_solution, tmp_pat
     moments = sol.moments((2, 4))
     assert moments.values[:, 0] == pytest.approx(sol.dimension)
     np.testing.assert_allclose(moments.values[:, 1] / sol.dimension**2, sol.kurtosis)
+
+
+@pytest.mark.slow
+def test_the_cooling_state_agrees_with_the_dsmc():
+    # d = 3, α = 0.5: the cooling state's a₂ on the coarse grid against the DSMC of
+    # particles.hard_sphere_dsmc (N = 10⁵, 4 seeds, each the mean of a₂ at 10, 12, 14 and 16
+    # collisions per particle, in the cooling state).  Tolerance: 3 standard errors of the
+    # seeds' mean (the normal law's 3σ; Student's t for 3 degrees of freedom would allow
+    # more).  N = 10⁶ gave 0.048 (benchmarks/README.md, "Hard-sphere DSMC").
+    from maxwell_kinetics.sphere_spectral import cooling_state
+    from particles.hard_sphere_dsmc import SphereDSMC
+    from particles.sphere_observables import sonine_coefficients
+
+    d = 3
+    nu0 = 8 * math.sqrt(math.pi)
+    zeta0 = (1 - ALPHA**2) * nu0 / d
+    seeds = []
+    for seed in range(4):
+        engine = SphereDSMC(100_000, ALPHA, dimension=d)
+        rng = np.random.default_rng(seed)
+        state = engine.initial_state(rng)
+        values = []
+        for per_particle in (10, 12, 14, 16):  # Haff's t of that many collisions per particle
+            t = (2 / zeta0) * math.expm1(zeta0 * per_particle / (2 * nu0))
+            state = engine.advance(state, t, rng)
+            values.append(sonine_coefficients(state.velocities)["a2"])
+        seeds.append(np.mean(values))
+    seeds = np.array(seeds)
+    error = seeds.std(ddof=1) / math.sqrt(seeds.size)
+    state = cooling_state(HardSpheres(ALPHA), dimension=d, grid="coarse")
+    assert abs(state.a2 - seeds.mean()) < 3 * error, (state.a2, seeds.mean(), error)
