@@ -135,9 +135,15 @@ results_dir = os.environ.get("MAXWELL_KINETICS_DOCS_RESULTS") or (
     str(ROOT / "results") if (ROOT / "results" / "summary.json").exists()
     else str(HERE / "figures"))
 
-# The notebooks are copied from notebooks/ so that the tutorials are the same files.
+# The notebooks are copied from notebooks/ so that the tutorials are the same files; a copy
+# whose notebook is gone (renamed or removed) is deleted, so the sidebar lists only the
+# notebooks of notebooks/, in the order of their numbers (tutorials/index.md).
 _tutorials = HERE / "tutorials"
-for _nb in sorted((ROOT / "notebooks").glob("*.ipynb")):
+_notebooks = sorted((ROOT / "notebooks").glob("*.ipynb"))
+for _stale in sorted(_tutorials.glob("*.ipynb")):
+    if _stale.name not in {_nb.name for _nb in _notebooks}:
+        _stale.unlink()
+for _nb in _notebooks:
     _dest = _tutorials / _nb.name
     if not _dest.exists() or _dest.read_bytes() != _nb.read_bytes():
         _dest.write_bytes(_nb.read_bytes())
