@@ -76,6 +76,13 @@ def _gauss_nodes(q_max: float, width: float, nodes_per_panel: int = 16):
 
 #: Most kernel elements (bins × nodes) of :func:`interval_probabilities` built at once.
 _KERNEL_ELEMENTS = 2**18
+#: The most kernel elements (bins × q nodes, summed over the node sets) that one call of
+#: :func:`interval_probabilities` computes.  Each costs a sine and a complex exponential:
+#: 200–430 ns measured on 2 cores under a load of 6–9 (10⁶ bins on [−6, 6], 1.1·10⁹
+#: elements, took 280 s), so this is one to four minutes.
+MAX_KERNEL_WORK = 5e8
+#: Seconds per kernel element that the refusal quotes (the measurement above, loaded).
+SECONDS_PER_KERNEL_ELEMENT = 2.5e-7
 
 
 def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
@@ -106,7 +113,8 @@ def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
         If ``G`` is not callable, ``edges`` are not finite and strictly increasing,
         ``q_max`` is not a finite number > 0, or an edge is so far out that the node set of
         its bin would exceed :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` or the
-        memory available (naming ``edges``, before any work).
+        memory available, or the bins × nodes exceed :data:`MAX_KERNEL_WORK` (naming
+        ``edges``, before any work).
     """
     if not callable(G):
         raise InvalidArgumentError("G", G, "a callable G(q)")
@@ -123,6 +131,14 @@ def interval_probabilities(G: Callable, edges, q_max: float) -> np.ndarray:
     # (panels at least as narrow as each bin needs).  The kernel is built a block of bins at a
     # time, so that memory stays bounded whatever the number of bins.
     level = np.where(reach <= 64.0, 0.0, np.ceil(np.log2(np.maximum(reach, 64.0) / 64.0)))
+    work = sum(np.count_nonzero(level == lv) * 16 * max(1, math.ceil(
+        q_max / min(0.5, math.pi / max(float(reach[level == lv].max()), 1.0))))
+        for lv in np.unique(level))
+    if not work <= MAX_KERNEL_WORK:
+        raise InvalidArgumentError(
+            "edges", f"{a.size} bins on [{edges[0]:g}, {edges[-1]:g}]",
+            f"at most {MAX_KERNEL_WORK:.0e} bins × quadrature nodes (this: {work:.3g}, "
+            f"about {work * SECONDS_PER_KERNEL_ELEMENT:.0f} s); fewer bins")
     for lv in np.unique(level):
         sel = np.flatnonzero(level == lv)
         r = float(reach[sel].max())

@@ -96,3 +96,17 @@ def test_interval_probabilities_wide_bins_match_the_cdf():
     edges = np.array([-3000.0, -700.0, -90.0, -1.0, 0.0, 2.0, 100.0, 150.0, 4000.0])
     prob = st.interval_probabilities(f_hat, edges, 40.0)
     assert np.max(np.abs(prob - np.diff(st.f_cdf(edges)))) < 1e-10
+
+
+def test_a_million_bins_are_refused_before_any_work_and_a_thousand_are_not():
+    # 10⁶ bins on [−6, 6] (1.1·10⁹ kernel elements at q_max = 35) ran for 280 s with no word
+    from maxwell_kinetics.statistics import MAX_KERNEL_WORK, interval_probabilities
+
+    def gaussian(q):
+        return np.exp(-q * q / 2)
+
+    with pytest.raises(InvalidArgumentError, match=r"edges=.*1000000 bins.*fewer bins"):
+        interval_probabilities(gaussian, np.linspace(-6.0, 6.0, 10**6 + 1), 35.0)
+    assert MAX_KERNEL_WORK == 5e8
+    p = interval_probabilities(gaussian, np.linspace(-6.0, 6.0, 1001), 35.0)
+    assert p.sum() == pytest.approx(1.0, abs=1e-8)  # the mass beyond ±6 is 2e-9
