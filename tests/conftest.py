@@ -1,8 +1,8 @@
 """Fixtures shared by the test files; plain helpers live in ``helpers.py``.
 
 * ``comparison(name)``: the comparison ``maxwell_kinetics.app.comparisons.<name>`` at the small
-  size, computed once per test session and shared by every test that reads it (the comparison tests
-  and the notebooks);
+  size, computed once per test session and shared by every test that reads it (the comparison
+  tests);
 * the persistent compilation cache is off during the tests (its own tests turn it on);
 * under pytest-xdist (``make test`` runs ``-n auto``) the tests are dealt to the workers by
   file (module-scoped fixtures such as a built site, executed notebooks or a solved problem
