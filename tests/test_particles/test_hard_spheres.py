@@ -34,7 +34,7 @@ from particles.validation import InvalidArgumentError
 NU0 = {3: 8.0 * math.sqrt(math.pi), 2: 4.0 * math.sqrt(math.pi)}
 
 
-def test_the_kernels_are_registered_and_carried_by_the_ulam_dsmc_only():
+def test_the_kernels_are_registered_carried_by_the_ulam_dsmc_and_solved_spectrally():
     from maxwell_kinetics.app.commands.kernels import kernel_rows
 
     assert KERNELS["hard_spheres"] is HardSpheres
