@@ -51,11 +51,12 @@ def sonine(F, c, weight: float) -> tuple[float, float]:
 
 @dataclass(frozen=True)
 class SphereSolution:
-    """F(c, t) = s^d f(u + s c, t) on the grid of :func:`~maxwell_kinetics.sphere_spectral.
-    solve_spheres` at the saved times (⟨|c|²⟩ = d: unit variance per component), with the
-    contract of :class:`~maxwell_kinetics.kinetic_result.KineticResult` (time name ``"t"``,
-    velocities in units of the initial temperature; ``density`` and ``histogram`` are of one
-    component, x = (v_x − u_x)/√T).
+    """F(c, t) = s^d f(u + s c, t) on the grid of
+    :func:`~maxwell_kinetics.sphere_spectral.solve_spheres` at the saved times (⟨|c|²⟩ = d:
+    unit variance per component), with the contract of
+    :class:`~maxwell_kinetics.kinetic_result.KineticResult` (time name ``"t"``, velocities in
+    units of the initial temperature; ``density`` and ``histogram`` are of one component,
+    x = (v_x − u_x)/√T).
 
     Attributes
     ----------
