@@ -23,7 +23,7 @@ from .kinetic_predictions import (
     solution_bin_probabilities,
 )
 from .particle_runs import ParticleRuns
-from .verdicts import Check, judge, pair, pooled_ratio, with_verdicts
+from .verdicts import CHI2_SIGMA_SOURCE, Check, judge, pair, pooled_ratio, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
@@ -245,9 +245,11 @@ def verdicts(s: dict) -> list:
             f"the kinetic equation is the Ulam model's master equation: particles' P(x, τ) = the "
             f"solver's, r = {c['restitution']:g}, {c['initial']} law",
             Check(f"χ²/(dof·φ) pooled over τ = {taus}", raw, raw_err, 1.0,
-                  "exact: χ² null expectation", sigma_source="χ² law: √(2/Σ dof) of the pooled bins under the null, and the overdispersion φ's own error (seed scatter)"),
+                  "exact: χ² null expectation",
+                  sigma_source=CHI2_SIGMA_SOURCE),
             Check("the same, both laws smoothed by N(0, σ²) (no cut of G at q_max)", smooth,
-                  smooth_err, 1.0, "exact: χ² null expectation", sigma_source="χ² law: √(2/Σ dof) of the pooled bins under the null, and the overdispersion φ's own error (seed scatter)"),
+                  smooth_err, 1.0, "exact: χ² null expectation",
+                  sigma_source=CHI2_SIGMA_SOURCE),
             why="the solver's bin probabilities cut G at q_max; a sharp-edged law's prediction "
                 "errs next to its edge"))
     n_scan = s["n_scan"]

@@ -16,7 +16,7 @@ from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .kinetic_predictions import kinetic_solution, solution_bin_probabilities
 from .particle_runs import ParticleRuns
-from .verdicts import Check, judge, pooled_ratio, with_verdicts
+from .verdicts import CHI2_SIGMA_SOURCE, Check, judge, pooled_ratio, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
@@ -126,9 +126,11 @@ def verdicts(s: dict) -> list:
             f"Fig. 2: Ulam P(v, τ) collapses on f(x) = 2/(π(1 + x²)²), the exact scaling solution, "
             f"r = {row['restitution']:g}",
             Check(f"χ²/(dof·φ) of v/v0 against f at τ = {row['tau']:g}", ratio, err, 1.0,
-                  "exact: χ² null expectation", sigma_source="χ² law: √(2/Σ dof) of the pooled bins under the null, and the overdispersion φ's own error (seed scatter)"),
+                  "exact: χ² null expectation",
+                  sigma_source=CHI2_SIGMA_SOURCE),
             Check("χ²/(dof·φ) of the shape (median |x| rescaled to f's)", shape, shape_err,
-                  1.0, "exact: χ² null expectation", sigma_source="χ² law: √(2/Σ dof) of the pooled bins under the null, and the overdispersion φ's own error (seed scatter)"),
+                  1.0, "exact: χ² null expectation",
+                  sigma_source=CHI2_SIGMA_SOURCE),
             why="a finite sample of an x⁻⁴ law misses part of its variance: v0 is biased "
                 "low and stretches v/v0; the shape alone collapses"))
     return out

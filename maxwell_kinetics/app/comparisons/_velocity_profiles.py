@@ -173,17 +173,20 @@ def verdicts(s: dict) -> list:
     return [
         judge("Fig. 4: MD v(x, t) has large negative gradients (shocks)",
               Check(f"{label}, MD v(x)", vx, vx_err, 0.0, "paper: sign of the shocks",
-                    relation="below", dof=md_dof, sigma_source=from_seeds), why=why, resolution=resolves("md_vx"),
+                    relation="below", dof=md_dof, sigma_source=from_seeds), why=why,
+              resolution=resolves("md_vx"),
               measured_at=where, short="4: MD v(x) negative gradients"),
         judge("Fig. 4: MD v(i, t) has large positive gradients",
               Check(f"{label}, MD v(i)", vi, vi_err, 0.0, "paper: sign in the label frame",
-                    relation="above", dof=md_dof, sigma_source=from_seeds), why=why, resolution=resolves("md_vi"),
+                    relation="above", dof=md_dof, sigma_source=from_seeds), why=why,
+              resolution=resolves("md_vi"),
               measured_at=where, short="4: MD v(i) positive gradients"),
         judge("Fig. 4: the lattice's v(i, τ) compares with MD's v(i, t) at equal energy",
               # an MD value not measured stays None (the check fails), never 0
               Check(f"{label}, lattice v(i)", lat, lat_err, vi, "model: MD v(i)",
                     expected_sigma=vi_err, dof=lat_dof, expected_dof=md_dof,
-                    sigma_source=from_seeds + " (lattice and MD, in quadrature)"), why=why, resolution=resolves("lattice_vi"),
+                    sigma_source=from_seeds + " (lattice and MD, in quadrature)"), why=why,
+              resolution=resolves("lattice_vi"),
               measured_at=where, short="4: lattice v(i) = MD v(i)"),
     ]
 

@@ -53,6 +53,7 @@ from dataclasses import asdict, dataclass
 from particles.validation import InvalidArgumentError
 
 __all__ = [
+    "CHI2_SIGMA_SOURCE",
     "STATUSES",
     "FAILING",
     "Check",
@@ -69,6 +70,10 @@ __all__ = [
     "status_counts",
     "welch_dof",
 ]
+
+#: Where the σ of a pooled χ²/(dof·φ) comes from (the comparisons that judge one say so).
+CHI2_SIGMA_SOURCE = ("χ² law: √(2/Σ dof) of the pooled bins under the null, and the "
+                     "overdispersion φ's own error (seed scatter)")
 
 #: The statuses a verdict can have.
 STATUSES = ("agrees", "disagrees", "explained", "refuted", "not measured")
