@@ -384,12 +384,17 @@ def defines_rate(cls: type[Kernel]) -> bool:
     Parameters
     ----------
     cls : type
-        A kernel class.
+        A kernel class (or a kernel).
 
     Returns
     -------
     bool
+        False for anything that is neither a kernel class nor a kernel (a predicate: it never
+        raises; a kernel is judged by its class).
     """
+    cls = cls if isinstance(cls, type) else type(cls)
+    if not issubclass(cls, Kernel):
+        return False
     return cls.rate is not Kernel.rate and cls.rate_bound is not Kernel.rate_bound
 
 

@@ -294,3 +294,14 @@ def test_a_registered_kernel_that_is_not_carried_is_named_as_such():
                        "carried here") as info:
         kernel_class("relative_velocity", "kernel", among=("constant",))
     assert info.value.name == "kernel" and "a registered kernel" not in str(info.value)
+
+
+def test_defines_rate_is_a_predicate_that_never_raises():
+    # defines_rate(1.0) raised AttributeError ('float' object has no attribute 'rate'); a kernel
+    # instance was always "True" (a bound method is never the class's function)
+    from particles.kernels import ConstantRate, RelativeVelocity, defines_rate
+
+    for value in (1.0, 1 + 1j, None, "relative_velocity", object, int):
+        assert defines_rate(value) is False
+    assert defines_rate(RelativeVelocity) and defines_rate(RelativeVelocity(0.5))
+    assert defines_rate(ConstantRate) == defines_rate(ConstantRate(0.5))
