@@ -243,10 +243,10 @@ def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension:
     per = SECONDS_PER_NODE_WINDOW.get(int(dimension), SECONDS_PER_NODE_WINDOW[3])
     memory = 24.0 * grid.n * (n_times + 64)
     if int(dimension) > 1:
-        from .angular_tiers import angular_nodes_per_state_node as _per_state_node
+        from .angular_tiers import angular_nodes_per_state_node
 
-        count = _per_state_node(grid, angular_rule, angular_nodes)
-        per *= count / _per_state_node(grid, "fast", 16)
+        count = angular_nodes_per_state_node(grid, angular_rule, angular_nodes)
+        per *= count / angular_nodes_per_state_node(grid, "fast", 16)
         memory += 16.0 * grid.n * count  # the gain's shifts and weights per η node
     return {"windows": windows, "seconds": windows * grid.n * per, "memory": memory}
 
@@ -318,7 +318,7 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
     force = check_bool(force, "force")
     from particles.budget import available_memory, format_bytes
 
-    from .angular_tiers import angular_nodes_per_state_node as _per_state_node
+    from .angular_tiers import angular_nodes_per_state_node
 
     estimate = estimate_solve(grid, tau_max, n_times, dimension=dimension,
                               angular_rule=angular_rule, window=window,
@@ -326,7 +326,7 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
     memory, seconds = estimate["memory"], estimate["seconds"]
     available = available_memory()
     if not memory <= available:
-        many_nodes = int(dimension) > 1 and 16.0 * grid.n * _per_state_node(
+        many_nodes = int(dimension) > 1 and 16.0 * grid.n * angular_nodes_per_state_node(
             grid, angular_rule, angular_nodes) > 24.0 * grid.n * n_times
         raise InvalidArgumentError(
             *(("angular_nodes", angular_nodes) if many_nodes
@@ -336,7 +336,7 @@ def check_solve_budget(grid: Resolution, tau_max: float, n_times: int, *, window
         )
     if not force and not seconds <= MAX_SOLVE_SECONDS:
         eta = "" if int(dimension) == 1 else (
-            f" with {_per_state_node(grid, angular_rule, angular_nodes):.3g} η "
+            f" with {angular_nodes_per_state_node(grid, angular_rule, angular_nodes):.3g} η "
             f"nodes each ({angular_rule!r} rule, angular_nodes={angular_nodes})")
         raise InvalidArgumentError(
             name, tau_max,
