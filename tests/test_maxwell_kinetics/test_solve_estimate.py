@@ -83,6 +83,12 @@ def test_estimate_scales_with_the_eta_nodes_of_the_gain():
         4 * angular_nodes_per_state_node(coarse, "fast", 16), rel=1e-12)
     # every state node has at least 2 η nodes and at most angular_nodes
     assert 2 <= angular_nodes_per_state_node(coarse, "accurate", 16) <= 16
+    # by hand, "accurate" at 16 on the coarse grid (q_j = e^{−24 + 0.1 j}, 276 nodes): 2 nodes
+    # below q = 1e-6 (j < ⌈(ln 1e-6 + 24)/0.1⌉ = 102), 16 up to q = 10 (j < ⌈(ln 10 + 24)/0.1⌉
+    # = 264), 12 above: (102·2 + 162·16 + 12·12)/276
+    assert (coarse.n, coarse.s_min, coarse.h) == (276, -24.0, 0.1)
+    assert angular_nodes_per_state_node(coarse, "accurate", 16) == pytest.approx(
+        (102 * 2 + 162 * 16 + 12 * 12) / 276, rel=1e-12)
     assert estimate_solve(coarse, 100.0, 1, dimension=1, angular_nodes=64) == estimate_solve(
         coarse, 100.0, 1)  # d = 1 has no η quadrature
 
