@@ -24,20 +24,12 @@ from collections.abc import Iterable
 
 from particles.validation import InvalidArgumentError
 
+from .verdicts import finite_number
+
 __all__ = ["Z_THRESHOLDS", "p_value", "normal_z", "z_calibration"]
 
 #: The |z| thresholds of :func:`z_calibration`, in normal standard errors.
 Z_THRESHOLDS = (1, 2, 3)
-
-
-def _number(x) -> float | None:
-    if x is None or isinstance(x, bool):
-        return None
-    try:
-        x = float(x)
-    except (TypeError, ValueError):
-        return None
-    return x if math.isfinite(x) else None
 
 
 def p_value(z: float, dof: float | None = None, trials: int = 1) -> float:
@@ -67,9 +59,9 @@ def p_value(z: float, dof: float | None = None, trials: int = 1) -> float:
     """
     from scipy import stats
 
-    if _number(z) is None:
+    if finite_number(z) is None:
         raise InvalidArgumentError("z", z, "a finite number")
-    if dof is not None and (_number(dof) is None or dof <= 0):
+    if dof is not None and (finite_number(dof) is None or dof <= 0):
         raise InvalidArgumentError("dof", dof, "None (infinite) or a finite number > 0")
     if isinstance(trials, bool) or not isinstance(trials, int) or trials < 1:
         raise InvalidArgumentError("trials", trials, "an integer >= 1")
@@ -118,7 +110,7 @@ def _law(v: dict, student: bool) -> tuple[float | None, int]:
     the degrees of freedom: None, normal) and ``trials``; (None, 1) when not ``student``."""
     if not student:
         return None, 1
-    dof = _number(v.get("combined_dof"))
+    dof = finite_number(v.get("combined_dof"))
     trials = v.get("trials", 1)
     return (dof if dof is not None and dof > 0 else None,
             trials if isinstance(trials, int) and trials >= 1 else 1)
@@ -179,7 +171,7 @@ def z_calibration(summary: dict, *, statuses: Iterable[str] | None = None,
         if not isinstance(records, list):
             raise InvalidArgumentError(f"{name}.verdicts", records, "a list of verdict records")
         for v in records:
-            z = _number(v.get("deviation_in_sigma"))
+            z = finite_number(v.get("deviation_in_sigma"))
             if z is None:
                 continue
             if statuses is not None and v.get("status") not in statuses:

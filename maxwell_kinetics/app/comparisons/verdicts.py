@@ -54,6 +54,7 @@ from particles.validation import InvalidArgumentError
 
 __all__ = [
     "CHI2_SIGMA_SOURCE",
+    "finite_number",
     "STATUSES",
     "FAILING",
     "Check",
@@ -83,8 +84,18 @@ FAILING = ("disagrees",)
 _RELATIONS = ("equal", "at_most", "at_least", "below", "above", "differs")
 
 
-def _number(x) -> float | None:
-    """``x`` as a finite float, or None (a missing fit, NaN or infinity)."""
+def finite_number(x) -> float | None:
+    """``x`` as a finite float, or None (a missing fit, NaN or infinity).
+
+    Parameters
+    ----------
+    x : object
+        A number, or anything else.
+
+    Returns
+    -------
+    float or None
+    """
     if x is None or isinstance(x, bool):
         return None
     try:
@@ -163,19 +174,19 @@ class Check:
         if self.relation not in _RELATIONS:
             raise InvalidArgumentError("relation", self.relation, "one of " + ", ".join(_RELATIONS))
         for name in ("n_sigma", "tolerance"):
-            value = _number(getattr(self, name))
+            value = finite_number(getattr(self, name))
             if value is None or value < 0:
                 raise InvalidArgumentError(name, getattr(self, name), "a finite number >= 0")
         for name in ("sigma", "expected_sigma"):
             value = getattr(self, name)
-            if value is not None and (_number(value) is None or value < 0):
+            if value is not None and (finite_number(value) is None or value < 0):
                 raise InvalidArgumentError(name, value, "None or a finite number >= 0")
-        if self.expected is not None and _number(self.expected) is None:
+        if self.expected is not None and finite_number(self.expected) is None:
             raise InvalidArgumentError("expected", self.expected,
                                        "a finite number, or None when not measured")
         for name in ("dof", "expected_dof"):
             value = getattr(self, name)
-            if value is not None and (_number(value) is None or value <= 0):
+            if value is not None and (finite_number(value) is None or value <= 0):
                 raise InvalidArgumentError(name, value, "None (infinite) or a finite number > 0")
         if isinstance(self.trials, bool) or not isinstance(self.trials, int) or self.trials < 1:
             raise InvalidArgumentError("trials", self.trials, "an integer >= 1")
@@ -200,7 +211,7 @@ class Check:
     @property
     def deviation(self) -> float | None:
         """measured − expected (None when either is not measured)."""
-        m = _number(self.measured)
+        m = finite_number(self.measured)
         return None if m is None or self.expected is None else m - float(self.expected)
 
     def holds(self) -> bool:
@@ -239,7 +250,7 @@ class Check:
         """
         parts = []
         # a quantity not measured has no standard error: its tolerance is still nσ
-        if self.combined_sigma > 0 or (self.sigma is None and _number(self.measured) is None):
+        if self.combined_sigma > 0 or (self.sigma is None and finite_number(self.measured) is None):
             parts.append(f"{self.n_sigma:g}σ")
         if self.tolerance > 0:
             parts.append(f"{self.tolerance:.2g}")
@@ -339,7 +350,7 @@ def _chain_dict(checks) -> dict | None:
 
 def _check_dict(c: Check) -> dict:
     d = asdict(c)
-    d["measured"] = _number(c.measured)
+    d["measured"] = finite_number(c.measured)
     sigma = c.combined_sigma
     dev = c.deviation
     d["allowed"] = c.allowed
@@ -457,7 +468,7 @@ def student_sigmas(seeds: int, n_sigma: float = 3.0) -> float:
 
     if isinstance(seeds, bool) or not isinstance(seeds, (int,)) or seeds < 2:
         raise InvalidArgumentError("seeds", seeds, "an integer >= 2")
-    if _number(n_sigma) is None or n_sigma <= 0:
+    if finite_number(n_sigma) is None or n_sigma <= 0:
         raise InvalidArgumentError("n_sigma", n_sigma, "a finite number > 0")
     return float(stats.t.ppf(stats.norm.cdf(n_sigma), seeds - 1))
 
@@ -478,7 +489,7 @@ def welch_dof(*parts) -> float | None:
         None (infinite) when every part with σ > 0 has infinite degrees of freedom, or none
         has σ > 0.
     """
-    parts = [(float(s), nu) for s, nu in parts if _number(s) is not None and s > 0]
+    parts = [(float(s), nu) for s, nu in parts if finite_number(s) is not None and s > 0]
     finite = [(s, nu) for s, nu in parts if nu is not None]
     if not finite:
         return None
@@ -559,7 +570,7 @@ def status_counts(summaries: dict) -> dict:
 
 
 def _fmt(x) -> str:
-    x = _number(x)
+    x = finite_number(x)
     return "—" if x is None else f"{x:.4g}"
 
 
@@ -617,7 +628,7 @@ def _short_claim(v: dict) -> str:
 
 
 def _z_text(v: dict) -> str:
-    z = _number(v.get("deviation_in_sigma"))
+    z = finite_number(v.get("deviation_in_sigma"))
     if z is None:
         return "—"
     return f"{z:+.1f}" if abs(z) < 999.5 else ("> +999" if z > 0 else "< −999")
@@ -698,8 +709,8 @@ def pooled_ratio(rows: Iterable[dict]) -> tuple[float | None, float | None]:
     chi, dof, rel = 0.0, 0, []
     for row in rows:
         phi, phi_err = row["overdispersion"]
-        phi, phi_err = _number(phi), _number(phi_err)
-        if phi is None or phi <= 0 or _number(row.get("chi2_dof")) is None:
+        phi, phi_err = finite_number(phi), finite_number(phi_err)
+        if phi is None or phi <= 0 or finite_number(row.get("chi2_dof")) is None:
             continue
         chi += row["chi2_dof"] * row["dof"] / phi
         dof += row["dof"]
@@ -723,5 +734,5 @@ def pair(entry) -> tuple[float | None, float | None]:
     (float or None, float or None)
     """
     if isinstance(entry, (list, tuple)) and len(entry) == 2:
-        return _number(entry[0]), _number(entry[1])
-    return _number(entry), None
+        return finite_number(entry[0]), finite_number(entry[1])
+    return finite_number(entry), None
