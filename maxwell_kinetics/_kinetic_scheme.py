@@ -404,17 +404,20 @@ def _rhs_isotropic(st: Static, t, y, args):
         for power in range(terms - 1, 1, -1):
             series = series * big_x + moments[power]
         series = gauss * series * big_x * big_x
-        gain = jnp.zeros((st.parts, j1 - j0))
-        both = jnp.zeros_like(q)  # Σ ω_i e^{−(a_i² + b_i²) q²/2}, needed where X ≥ 1/2
-        for i in range(node, node + count):
-            eta, omega = dy.eta[i], dy.eta_weights[i]
-            w_b = _stencil_range(st, padded, dy.first_a[i], dy.weights_a[i], j0, j1)
-            w_a = _stencil_range(st, padded, dy.first_b[i], dy.weights_b[i], j0, j1)
-            g_b = jnp.exp(-0.5 * (p * p * eta) * qq)
-            g_a = jnp.exp(-0.5 * (1.0 - one_minus_q2 * eta) * qq)
-            if x_top >= 0.5:
-                both = both + omega * (g_a * g_b)
-            gain = gain + omega * (g_b[None] * w_a + w_b * g_a[None] + w_b * w_a)
+        # The tier's η nodes as one vectorised batch: a Python loop over them unrolled into
+        # one operation chain per node, which took 2-3 times as long to trace and compile.
+        nodes = slice(node, node + count)
+        eta, omega = dy.eta[nodes], dy.eta_weights[nodes]
+        stencil = jax.vmap(lambda first, weights, j0=j0, j1=j1:
+                           _stencil_range(st, padded, first, weights, j0, j1))
+        w_b = stencil(dy.first_a[nodes], dy.weights_a[nodes])  # (count, parts, j1 − j0)
+        w_a = stencil(dy.first_b[nodes], dy.weights_b[nodes])
+        g_b = jnp.exp(-0.5 * (p * p * eta)[:, None] * qq[None])  # (count, j1 − j0)
+        g_a = jnp.exp(-0.5 * (1.0 - one_minus_q2 * eta)[:, None] * qq[None])
+        # Σ ω_i e^{−(a_i² + b_i²) q²/2}, needed where X ≥ 1/2
+        both = jnp.einsum("i,ij->j", omega, g_a * g_b) if x_top >= 0.5 else None
+        gain = jnp.einsum("i,ipj->pj", omega,
+                          g_b[:, None] * w_a + w_b * g_a[:, None] + w_b * w_a)
         node += count
         if x_top >= 0.5:
             source = jnp.where(big_x < 0.5, series,
