@@ -314,7 +314,39 @@ def test_the_result_keeps_its_contract_and_round_trips(cooling_solution, tmp_pat
     np.testing.assert_allclose(moments.values[:, 1] / sol.dimension**2, sol.kurtosis)
 
 
-@pytest.mark.slow
+def test_the_cooling_solve_agrees_with_the_dsmc(cooling_solution):
+    # α = 0.5, from the unit Maxwellian to t = 0.4 (the fixture's coarse solve; about four
+    # collisions per particle, where a₂ has reached 0.04-0.06): T and a₂ of the solve on the
+    # default grid against the DSMC of particles.hard_sphere_dsmc, N = 10⁵, 16 seeds.
+    # Tolerance: 3 standard errors of the 16 seeds' mean (measured with 64 seeds: the error of
+    # one seed is 1.3e-3 for T and 2.8e-3 for a₂ in d = 3, 1.3e-3 and 3.9e-3 in d = 2), plus
+    # the grid error, taken as the distance between the coarse and the default grid (measured:
+    # 4e-5 and 2.4e-4 in d = 2, 5.7e-4 and 8.4e-4 in d = 3).  A collision rate 1 % off moves
+    # T(0.4) by 0.8 %, about 10 of these tolerances.  The cooling state itself is checked
+    # against the DSMC in the `full` test below.
+    from particles.hard_sphere_dsmc import SphereDSMC
+    from particles.sphere_observables import sonine_coefficients, temperature
+
+    coarse, dimension = cooling_solution, cooling_solution.dimension
+    t = coarse.t[-1]
+    default = solve_spheres(HardSpheres(ALPHA), [t], dimension=dimension, grid="default")
+    temperatures, a2 = [], []
+    for seed in range(16):
+        engine = SphereDSMC(100_000, ALPHA, dimension=dimension)
+        rng = np.random.default_rng(seed)
+        state = engine.advance(engine.initial_state(rng), t, rng)
+        temperatures.append(temperature(state.velocities))
+        a2.append(sonine_coefficients(state.velocities)["a2"])
+    for name, solved, rough, sample in (
+            ("T", default.temperature[-1], coarse.temperature[-1], temperatures),
+            ("a2", default.a2[-1], coarse.a2[-1], a2)):
+        sample = np.asarray(sample)
+        error = sample.std(ddof=1) / math.sqrt(sample.size)
+        tolerance = 3 * error + abs(rough - solved)
+        assert abs(solved - sample.mean()) < tolerance, (name, solved, sample.mean(), error)
+
+
+@pytest.mark.full
 def test_the_cooling_state_agrees_with_the_dsmc():
     # d = 3, α = 0.5: the cooling state's a₂ on the default grid against the DSMC of
     # particles.hard_sphere_dsmc (N = 10⁵, 4 seeds, each the mean of a₂ at 10, 12, 14 and 16
