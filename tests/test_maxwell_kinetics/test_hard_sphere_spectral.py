@@ -319,11 +319,11 @@ def test_the_cooling_solve_agrees_with_the_dsmc(cooling_solution):
     # collisions per particle, where a₂ has reached 0.04-0.06): T and a₂ of the solve on the
     # default grid against the DSMC of particles.hard_sphere_dsmc, N = 10⁵, 16 seeds.
     # Tolerance: 3 standard errors of the 16 seeds' mean (measured with 64 seeds: the error of
-    # one seed is 1.3e-3 for T and 2.8e-3 for a₂ in d = 3, 1.3e-3 and 3.9e-3 in d = 2), plus
+    # one seed is 8.7e-4 for T and 2.8e-3 for a₂ in d = 3, 1.3e-3 and 3.9e-3 in d = 2), plus
     # the grid error, taken as the distance between the coarse and the default grid (measured:
     # 4e-5 and 2.4e-4 in d = 2, 5.7e-4 and 8.4e-4 in d = 3).  A collision rate 1 % off moves
-    # T(0.4) by 0.8 %, about 10 of these tolerances.  The cooling state itself is checked
-    # against the DSMC in the `full` test below.
+    # T(0.4) by 0.8 %, 2.2 (d = 3) and 3.3 (d = 2) of these tolerances.  The cooling state is
+    # checked against the DSMC in the `full` test below.
     from particles.hard_sphere_dsmc import SphereDSMC
     from particles.sphere_observables import sonine_coefficients, temperature
 
