@@ -611,8 +611,8 @@ def expected_text(record: dict) -> str:
     return _value_text(record.get("expected"), record.get("expected_sigma"))
 
 
-#: The width of the verdict table's columns: claim, measured ± σ, expected, z, status.
-_WIDTHS = (36, 19, 17, 6, 17)
+#: The width of the verdict table's columns: claim, measured ± σ, expected, z, dof, status.
+_WIDTHS = (31, 19, 17, 6, 5, 17)
 #: The widest line of the table.
 TABLE_WIDTH = 100
 
@@ -634,10 +634,25 @@ def _z_text(v: dict) -> str:
     return f"{z:+.1f}" if abs(z) < 999.5 else ("> +999" if z > 0 else "< −999")
 
 
+def _dof_text(v: dict) -> str:
+    """The degrees of freedom of a record's z (its ``combined_dof``): ``"3"``, ``"3.6"``, ``"∞"``
+    for a normal law, ``"—"`` without a z or in a record without them; ``"2×11"`` for the
+    largest |z| of 11 values (``trials``)."""
+    if finite_number(v.get("deviation_in_sigma")) is None or "combined_dof" not in v:
+        return "—"
+    dof = finite_number(v.get("combined_dof"))
+    text = "∞" if dof is None else f"{dof:.0f}" if abs(dof - round(dof)) < 0.05 or dof >= 99.5 \
+        else f"{dof:.1f}"
+    trials = v.get("trials", 1)
+    return text + (f"×{trials}" if isinstance(trials, int) and trials > 1 else "")
+
+
 def verdict_table(summaries: dict) -> str:
     """The verdict table for a terminal, no line wider than :data:`TABLE_WIDTH` (100): a
     header, then per comparison its name and one row per claim (the claim in a few words,
-    measured ± σ, expected (± σ when measured), z = deviation / combined σ, status); a status
+    measured ± σ, expected (± σ when measured), z = deviation / combined σ, the degrees of
+    freedom of z's Student's t law (``combined_dof``; ∞: a normal law; ``×k``: the largest |z|
+    of k values), status); a status
     other than ``agrees`` carries a note number, and the notes below the table say why
     (explanation, refutation, the size that measures a claim not measured here).  Every
     detail stays in ``summary.json``.
@@ -653,8 +668,9 @@ def verdict_table(summaries: dict) -> str:
         The table (no trailing newline), ending with the count of each status and what exit
         status 3 means; ``"no verdicts"`` when there are none.
     """
-    wc, wm, we, wz, _ = _WIDTHS  # the status: up to "not measured [99]"
-    head = f"{'claim':<{wc}} {'measured ± σ':>{wm}} {'expected':>{we}} {'z':>{wz}}  status"
+    wc, wm, we, wz, wd, _ = _WIDTHS  # the status: up to "not measured [99]"
+    head = (f"{'claim':<{wc}} {'measured ± σ':>{wm}} {'expected':>{we}} {'z':>{wz}} "
+            f"{'dof':>{wd}}  status")
     lines, notes = [head, "─" * len(head)], []
     for name, s in summaries.items():
         records = s.get("verdicts", [])
@@ -667,11 +683,12 @@ def verdict_table(summaries: dict) -> str:
                 notes.append((len(notes) + 1, v))
                 status = f"{status} [{len(notes)}]"
             if v["status"] == "not measured":
-                measured, z = "—", "—"
+                measured, z, dof = "—", "—", "—"
             else:
-                measured, z = _cut(measured_text(v), wm), _z_text(v)
+                measured, z, dof = _cut(measured_text(v), wm), _z_text(v), _dof_text(v)
             lines.append(f"  {_cut(_short_claim(v), wc - 2):<{wc - 2}} {measured:>{wm}} "
-                         f"{_cut(expected_text(v), we):>{we}} {z:>{wz}}  {status}")
+                         f"{_cut(expected_text(v), we):>{we}} {z:>{wz}} {_cut(dof, wd):>{wd}}  "
+                         f"{status}")
     if len(lines) == 2:
         return "no verdicts"
     lines.append("─" * len(head))
@@ -686,6 +703,7 @@ def verdict_table(summaries: dict) -> str:
         lines.append(_cut(f"[{number}] {v['status']}: {text}", TABLE_WIDTH))
     counts = status_counts(summaries)
     lines.append(", ".join(f"{n} {k}" for k, n in counts.items()))
+    lines.append("dof: of z's Student's t law (∞: normal; ×k: the largest |z| of k values)")
     lines.append("exit 3 when a claim this size resolves disagrees; not measured and refuted "
                  "do not fail")
     return "\n".join(lines)

@@ -202,19 +202,46 @@ def test_the_table_has_one_line_per_claim_and_the_counts():
     table = verdict_table({"first": {"verdicts": [ok, bad]}, "second": {"verdicts": [why]},
                            "none": {}})
     lines = table.splitlines()
-    # header, rule, two groups of claims, rule, two notes, the counts, the exit status
-    assert len(lines) == 12 and lines[0].split() == ["claim", "measured", "±", "σ", "expected",
-                                                     "z", "status"]
+    # header, rule, two groups of claims, rule, two notes, the counts, dof's legend, the exit
+    # status
+    assert len(lines) == 13 and lines[0].split() == ["claim", "measured", "±", "σ", "expected",
+                                                     "z", "dof", "status"]
     assert max(len(line) for line in lines) <= 100
     assert lines[2] == "first:" and lines[5] == "second:"
-    assert lines[3].split()[0] == "one" and lines[3].endswith("+0.0  agrees")
+    assert lines[3].split()[0] == "one" and lines[3].endswith("+0.0     ∞  agrees")
     assert "claim two" in lines[4] and "5 ± 0.125" in lines[4] and "+32.0" in lines[4] \
         and lines[4].endswith("disagrees [1]")
     assert "claim three" in lines[6] and lines[6].endswith("explained [2]")
     assert lines[8].startswith("[1] disagrees: 5 ± 0.125 vs 1 (exact: test)")
     assert lines[9] == "[2] explained: the reason"
     assert lines[10] == "1 agrees, 1 disagrees, 1 explained, 0 refuted, 0 not measured"
+    assert lines[11].startswith("dof: ")
     assert disagreeing({"first": {"verdicts": [ok, bad]}}) == [("first", bad)]
+
+
+def test_the_table_shows_the_degrees_of_freedom_of_each_z():
+    """The dof column: the Welch–Satterthwaite dof of a measured expected value (one decimal),
+    a seed count's (integer), ∞ for a normal law, ×k for the largest of k values, — without
+    a z; the median line stays well inside the 100 columns."""
+    records = [judge("seeds", _check(1.0, dof=3), short="seeds").to_dict(),
+               judge("welch", _check(1.0, dof=3, expected_sigma=0.125, expected_dof=3),
+                     short="welch").to_dict(),
+               judge("welch, unequal", _check(1.0, dof=3, expected_sigma=0.25, expected_dof=7),
+                     short="unequal").to_dict(),
+               judge("scan", _check(1.0, dof=2, trials=11), short="scan").to_dict(),
+               judge("law", _check(1.0), short="law").to_dict(),
+               judge("exact", _check(1.0, sigma=None, tolerance=0.5), short="exact").to_dict()]
+    lines = verdict_table({"x": {"verdicts": records}}).splitlines()
+    rows = {line.split()[0]: line.split() for line in lines[3:9]}
+    dof_column = {name: row[-2] for name, row in rows.items()}
+    assert dof_column == {"seeds": "3", "welch": "6", "unequal": "9.5", "scan": "2×11",
+                          "law": "∞", "exact": "—"}
+    assert records[2]["combined_dof"] == pytest.approx(0.078125**2 / (2**-12 / 3 + 2**-8 / 7))
+    widths = sorted(len(line) for line in lines)
+    assert widths[-1] <= 100 and widths[len(widths) // 2] <= 90
+    # a record of before the degrees of freedom (no combined_dof): no column value
+    old = {k: v for k, v in records[0].items() if k not in ("dof", "combined_dof")}
+    assert verdict_table({"x": {"verdicts": [old]}}).splitlines()[3].split()[-2] == "—"
 
 
 # --------------------------------------------------------------------------- the comparisons
