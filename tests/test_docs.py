@@ -214,3 +214,28 @@ def test_user_pages_hold_no_commit_hash_raw_tex_development_words_or_private_lin
                 context = prose[max(0, m.start() - 40):m.end() + 40].replace("\n", " ")
                 faults.append(f"{page.relative_to(built_site)}: {kind}: ...{context}...")
     assert not faults, "\n".join(faults[:40]) + f"\n({len(faults)} in all)"
+
+
+#: The most words an API page may hold, counted in its rendered text (the page's article as a
+#: reader sees it, signatures and code included): a face with more is split into pages by
+#: concept (``apigen_split`` of docs/conf.py).
+API_PAGE_WORDS = 8000
+
+
+def _rendered_words(page: Path) -> int:
+    from bs4 import BeautifulSoup  # a dependency of the docs' theme
+
+    soup = BeautifulSoup(page.read_text(errors="replace"), "html.parser")
+    article = soup.find("article") or soup.body
+    return len(article.get_text(" ").split())
+
+
+def test_no_api_page_is_longer_than_8000_words(built_site):
+    pages = sorted((built_site / "api").rglob("*.html"))
+    counts = {page.relative_to(built_site).as_posix(): _rendered_words(page) for page in pages}
+    # the count reads the documented names: the faces' pages and their sub-pages are there, and
+    # the longest page holds thousands of words
+    assert {f"api/{face.replace('.', '-')}.html" for face in FACES} <= set(counts)
+    assert max(counts.values()) > 2000, counts
+    too_long = {page: n for page, n in counts.items() if n > API_PAGE_WORDS}
+    assert not too_long, too_long

@@ -6,10 +6,18 @@ forget one; the names of ``apigen_first`` (the most used) lead each page.  Every
 module gets a page of its own under ``api/modules/``.  A name that two faces export
 (``particles.simulate`` is ``particles.driver.simulate``) is documented in full under its home
 face (:func:`_home_face`) and as an alias under the others.
+
+A face listed in ``apigen_split`` (a page too long to read: every API page stays under 8000
+words, which the docs tests check) is split into sub-pages, one per concept: each entry is
+``(page, title, modules)``, and a name goes to the first entry with a pattern
+(:func:`fnmatch.fnmatch`) matching the module that defines it; the face's own page keeps its
+module docstring, a list of the sub-pages with their names, and the names no entry takes (a new
+name lands there until it is given a concept).
 """
 
 from __future__ import annotations
 
+import fnmatch
 import importlib
 import inspect
 import re
@@ -101,6 +109,42 @@ def _home_face(module: str, faces, layers) -> str | None:
     return min(candidates, key=len) if candidates else None
 
 
+def _defining_module(face: str, name: str, obj) -> str:
+    """The module that defines ``obj`` (for a constant, the module whose ``#:`` comment
+    documents it; "" when none is found)."""
+    if inspect.isclass(obj) or inspect.isfunction(obj):
+        return getattr(obj, "__module__", None) or ""
+    return _data_doc(face, name, obj)[0]
+
+
+def _split(face: str, names: list[str], entries) -> list[tuple[str, str, list[str]]]:
+    """``(page, title, names)`` of each sub-page of ``face`` that takes a name, in the order of
+    ``entries``: each name goes to the first entry one of whose patterns matches its defining
+    module (:func:`_defining_module`); names no entry takes are left out (they stay on the
+    face's page)."""
+    module = importlib.import_module(face)
+    taken: dict[str, list[str]] = {page: [] for page, _, _ in entries}
+    for name in names:
+        where = _defining_module(face, name, getattr(module, name))
+        for page, _, patterns in entries:
+            if where and any(fnmatch.fnmatch(where, pattern) for pattern in patterns):
+                taken[page].append(name)
+                break
+    return [(page, title, taken[page]) for page, title, _ in entries if taken[page]]
+
+
+def _entry(face: str, name: str, obj, seen: dict[int, str]) -> list[str]:
+    """The reStructuredText that documents ``face.name``: in full at its home face, else as an
+    alias of the name it is documented under."""
+    simple = inspect.isclass(obj) or inspect.isfunction(obj)
+    if simple and seen[id(obj)] != f"{face}.{name}":
+        return [f".. py:data:: {name}", "",
+                f"   The same object as :py:obj:`{seen[id(obj)]}`.", ""]
+    if _directive(obj) == "autodata":
+        return _data(face, name, obj)
+    return [f".. {_directive(obj)}:: {name}", ""]
+
+
 def write_api(app) -> None:
     out = Path(app.srcdir) / "api"
     (out / "modules").mkdir(parents=True, exist_ok=True)
@@ -126,25 +170,39 @@ def write_api(app) -> None:
                                   app.config.apigen_layers)
                 if home == face or not at_home:
                     seen[id(obj)] = f"{face}.{name}"
+    sub_pages: set[Path] = set()
     for face in app.config.apigen_faces:
         module = importlib.import_module(face)
-        index.append(f"   {face.replace('.', '-')}")
+        stem = face.replace('.', '-')
+        index.append(f"   {stem}")
         title = f"``{face}``"
         lines = [title, "=" * len(title), "", f".. automodule:: {face}", "   :no-members:", "",
                  f".. currentmodule:: {face}", ""]
-        for name in _ordered(module.__all__, app.config.apigen_first):
-            obj = getattr(module, name)
-            key = id(obj)
-            simple = inspect.isclass(obj) or inspect.isfunction(obj)
-            if simple and seen[key] != f"{face}.{name}":
-                lines += [f".. py:data:: {name}", "",
-                          f"   The same object as :py:obj:`{seen[key]}`.", ""]
-                continue
-            if _directive(obj) == "autodata":
-                lines += _data(face, name, obj)
-                continue
-            lines += [f".. {_directive(obj)}:: {name}", ""]
-        _write(out / f"{face.replace('.', '-')}.rst", lines)
+        names = _ordered(module.__all__, app.config.apigen_first)
+        groups = _split(face, names, app.config.apigen_split.get(face, []))
+        if groups:
+            lines += ["The names of this face, by concept, one page each:", ""]
+            toctree = [".. toctree::", "   :hidden:", ""]
+            for page, sub_title, members in groups:
+                refs = ", ".join(f":py:obj:`~{face}.{n}`" for n in members)
+                lines += [f"- :doc:`{sub_title} <{stem}/{page}>`: {refs}", ""]
+                toctree.append(f"   {stem}/{page}")
+                head = f"{sub_title} (``{face}``)"
+                sub = [head, "=" * len(head), "", f".. currentmodule:: {face}", ""]
+                for name in members:
+                    sub += _entry(face, name, getattr(module, name), seen)
+                (out / stem).mkdir(exist_ok=True)
+                _write(out / stem / f"{page}.rst", sub)
+                sub_pages.add(out / stem / f"{page}.rst")
+            lines += toctree + [""]
+            taken = {n for _, _, members in groups for n in members}
+            rest = [n for n in names if n not in taken]
+            if rest:
+                lines += ["Other names", "-----------", ""]
+            names = rest
+        for name in names:
+            lines += _entry(face, name, getattr(module, name), seen)
+        _write(out / f"{stem}.rst", lines)
     index.append("   modules/index")
     mods = ["Modules", "=======", "",
             "Every public module of the two packages, one page each, with its documented "
@@ -171,6 +229,9 @@ def write_api(app) -> None:
             stale.unlink()
     for stale in (out / "modules").glob("*.rst"):
         if stale.name not in written | {"index.rst"}:
+            stale.unlink()
+    for stale in out.glob("*/*.rst"):
+        if stale.parent.name != "modules" and stale not in sub_pages:
             stale.unlink()
 
 
@@ -228,5 +289,6 @@ def setup(app):
     app.add_config_value("apigen_faces", [], "env")
     app.add_config_value("apigen_first", [], "env")
     app.add_config_value("apigen_layers", [], "env")
+    app.add_config_value("apigen_split", {}, "env")
     app.connect("builder-inited", write_api)
     return {"parallel_read_safe": True, "version": "1"}
