@@ -56,6 +56,7 @@ from __future__ import annotations
 from . import (  # noqa: F401
     _driven_steady,
     _energy_decay,
+    _hard_spheres,
     _kinetic_theory,
     _kinetic_vs_ulam,
     _late_stage,

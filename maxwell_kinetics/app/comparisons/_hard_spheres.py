@@ -1,0 +1,489 @@
+"""Comparison 13: the Maxwell model judged against inelastic hard spheres (d = 3) and hard disks
+(d = 2), restitution α, m = 1, density 1, from the unit Maxwellian.
+
+    ∂f/∂t = Q(f, f),   rate |g·n| over the whole unit sphere,
+    v′ = v − (1+α)/2 (g·n) n,
+
+T = ⟨|v − u|²⟩/d and the Sonine coefficients a₂, a₃ of c = (v − u)/√(2T)
+(:mod:`particles.sphere_observables`).  Two independent solutions of the same equation are
+compared: the deterministic spectral solver (:mod:`maxwell_kinetics.sphere_spectral`) and the
+exact DSMC (:mod:`particles.hard_sphere_dsmc`), at early times and in the homogeneous cooling
+state (HCS); the HCS a₂ of hard spheres is set against the Maxwell model's (exact: its moment
+equations close, :func:`maxwell_hcs_a2`), against the first Sonine approximation (van Noije and
+Ernst) and Haff's law is checked with and without the a₂ correction of the cooling rate.
+``run`` computes, ``plot`` draws."""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from particles import hard_sphere_dsmc
+from particles.progress import progress_bar
+from particles.sphere_kernels import HardSpheres
+from particles.sphere_observables import first_sonine_a2, haff_temperature, sonine_coefficients
+
+from ... import sphere_spectral
+from ...sphere_grid import SphereGrid
+from .base import Comparison, ComparisonSpec, jsonable, preset, register
+from .drawing import panels
+from .verdicts import Check, judge, pair, with_verdicts
+
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts", "maxwell_hcs_a2",
+           "maxwell_a2_relaxation", "collision_frequency", "window_times"]
+
+NAME = "hard_spheres"
+
+#: Each size: ``cases`` (d, the reported grid, the second grid whose distance from the first
+#: is the solver's grid error; a name of ``maxwell_kinetics.sphere_grid.GRIDS`` or the fields
+#: of a ``SphereGrid``), the early ``times`` compared with the DSMC, the DSMC's ``n`` and
+#: ``seeds``, the cooling-state ``window`` of the DSMC (collisions per particle, Haff's clock)
+#: and whether the solver computes the cooling state (``hcs``, on both grids).  The small
+#: size's second grid has the coarse grid's array shapes (no second compilation) and a smaller
+#: cutoff R = 6.5: a conservative grid error.
+PRESETS = {
+    "small": {"restitution": 0.5, "cases": ((2, "coarse", (32, 9.0, 6.5, 32, 12)),),
+              "times": (0.1, 0.2, 0.4), "n": 20_000, "seeds": 8, "window": (10, 12, 14, 16),
+              "hcs": False},
+    "default": {"restitution": 0.5, "cases": ((3, "default", "coarse"),
+                                              (2, "default", "coarse")),
+                "times": (0.1, 0.2, 0.4), "n": 100_000, "seeds": 16,
+                "window": (10, 12, 14, 16), "hcs": True},
+    "full": {"restitution": 0.5, "cases": ((3, (32, 11.0, 8.0, 11, 12), "default"),
+                                           (2, "fine", "default")),
+             "times": (0.1, 0.2, 0.4), "n": 100_000, "seeds": 64,
+             "window": (10, 12, 14, 16, 18, 20), "hcs": True},
+}
+
+#: Points of the solver's T(t), a₂(t) curve between 0 and the last early time (figure, Haff).
+_CURVE_POINTS = 33
+
+
+def _grid(spec):
+    """A grid name, or a ``SphereGrid`` from its fields (a tuple or list)."""
+    return spec if isinstance(spec, str) else SphereGrid(*spec)
+
+
+def collision_frequency(dimension: int) -> float:
+    """ν₀: the collision frequency of a particle of a Maxwellian gas of T = 1 at density 1,
+    8√π in d = 3 and 4√π in d = 2 (the rate |g·n| over the whole sphere).
+
+    Parameters
+    ----------
+    dimension : int
+        d, 2 or 3.
+
+    Returns
+    -------
+    float
+    """
+    return (8.0 if dimension == 3 else 4.0) * math.sqrt(math.pi)
+
+
+def window_times(restitution: float, dimension: int, collisions) -> np.ndarray:
+    """The times t at which a gas cooling by Haff's law from T = 1 has had ``collisions``
+    collisions per particle: ∫ν₀√T dt = c gives t = (2/ζ₀)(e^{ζ₀c/(2ν₀)} − 1),
+    ζ₀ = (1 − α²)ν₀/d.
+
+    Parameters
+    ----------
+    restitution : float
+        α < 1.
+    dimension : int
+        d.
+    collisions : array_like
+        Collisions per particle.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
+    nu0 = collision_frequency(dimension)
+    zeta0 = (1.0 - restitution**2) * nu0 / dimension
+    return (2.0 / zeta0) * np.expm1(zeta0 * np.asarray(collisions, dtype=float) / (2.0 * nu0))
+
+
+def _maxwell_moment_rates(restitution: float, dimension: int) -> tuple[float, float, float]:
+    """(k₄, k₀, μ) of the Maxwell model's fourth-moment equation dM₄/dt = k₄M₄ + k₀E², with
+    E² ∝ e^{−μt} (derivation in :func:`maxwell_hcs_a2`)."""
+    d, alpha = dimension, restitution
+    small, big = (1.0 - alpha) / 4.0, (1.0 + alpha) / 4.0
+    u = 0.5 + small  # the weight of v in u = V + (1 − α)/4 g
+    a, b, c = u * u + big * big, 2.0 * big * big, 2.0 * big * (u - big)
+    k4 = a * a + b * b - 1.0 + 4.0 * big * big * (u * u + big * big) / d
+    k0 = (2.0 * a * b + c * c / d + 4.0 * big * big * (u * u + big * big) / d
+          - 16.0 * big**3 * u / d**2)
+    mu = (1.0 - alpha**2) / 2.0
+    return k4, k0, mu
+
+
+def maxwell_hcs_a2(restitution: float, dimension: int) -> float:
+    """The exact a₂ of the homogeneous cooling state of the inelastic Maxwell model of
+    :class:`particles.sphere_kernels.VariableHardSpheres` with exponent 0 (each pair collides
+    at rate 1, σ isotropic: v′ = V + (1 − α)/4 g + (1 + α)/4 |g| σ).
+
+    Its moment equations close.  With E = ⟨|v|²⟩ and M₄ = ⟨|v|⁴⟩ (u = 0):
+    E_σ|v′|² = a|v|² + b|w|² + c v·w (a = u₁² + B², b = 2B², c = 2B(u₁ − B), B = (1 + α)/4,
+    u₁ = (3 − α)/4) and E_σ|v′|⁴ = (E_σ|v′|²)² + 4B²|g|²|u|²/d, so dE/dt = −μE/2 with
+    μ = (1 − α²)/2 and dM₄/dt = k₄M₄ + k₀E² with
+    k₄ = a² + b² − 1 + 4B²(u₁² + B²)/d and
+    k₀ = 2ab + c²/d + 4B²(u₁² + B²)/d − 16B³u₁/d².
+    K = M₄/E² then obeys dK/dt = (k₄ + μ)K + k₀, stable for k₄ + μ < 0, with the fixed point
+    K* = −k₀/(k₄ + μ); a₂ = d/(d + 2) K* − 1 (a Maxwellian has K = (d + 2)/d).  The tests check
+    this against the spectral solver's exponent-0 kernel.
+
+    Parameters
+    ----------
+    restitution : float
+        α ∈ [0, 1).
+    dimension : int
+        d, 2 or 3.
+
+    Returns
+    -------
+    float
+        a₂ of the cooling state (0.4615 in d = 2 and 0.2857 in d = 3 at α = 0.5).
+    """
+    k4, k0, mu = _maxwell_moment_rates(restitution, dimension)
+    return dimension / (dimension + 2.0) * (-k0 / (k4 + mu)) - 1.0
+
+
+def maxwell_a2_relaxation(restitution: float, dimension: int) -> float:
+    """The rate −(k₄ + μ) at which the Maxwell model's a₂ relaxes to its cooling-state value
+    per unit t (:func:`maxwell_hcs_a2`): 0.114 in d = 2 and 0.164 in d = 3 at α = 0.5.
+
+    Parameters
+    ----------
+    restitution : float
+        α ∈ [0, 1).
+    dimension : int
+        d, 2 or 3.
+
+    Returns
+    -------
+    float
+    """
+    k4, _, mu = _maxwell_moment_rates(restitution, dimension)
+    return -(k4 + mu)
+
+
+def _corrected_haff(t: np.ndarray, a2: np.ndarray, restitution: float, dimension: int):
+    """T(t) of dT/dt = −ζ₀(1 + 3a₂(t)/16) T^{3/2} from T = 1, a₂(t) on the times ``t``
+    (trapezoid rule): T^{−1/2} = 1 + (ζ₀/2) ∫(1 + 3a₂/16) dt."""
+    zeta0 = (1.0 - restitution**2) * collision_frequency(dimension) / dimension
+    rate = 1.0 + 3.0 * np.asarray(a2) / 16.0
+    integral = np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1]) * np.diff(t))])
+    return (1.0 + 0.5 * zeta0 * integral) ** -2
+
+
+def _mean_sem(x) -> list:
+    """[mean, standard error over the first axis] of ``x`` (seeds)."""
+    x = np.asarray(x, dtype=float)
+    return [float(np.mean(x)), float(np.std(x, ddof=1) / math.sqrt(x.shape[0]))]
+
+
+def _dsmc(restitution, dimension, n, seeds, times, bar):
+    """T, a₂, a₃ of each seed (rows) at ``times`` (columns): the DSMC from T = 1."""
+    out = np.empty((3, len(seeds), len(times)))
+    for i, seed in enumerate(seeds):
+        engine = hard_sphere_dsmc.SphereDSMC(n, restitution, dimension=dimension)
+        rng = np.random.default_rng(seed)
+        state = engine.initial_state(rng)
+        for j, t in enumerate(times):
+            state = engine.advance(state, float(t), rng)
+            obs = sonine_coefficients(state.velocities)
+            out[:, i, j] = obs["temperature"], obs["a2"], obs["a3"]
+        bar.update(1)
+    return out
+
+
+def _solve(kernel, times, dimension, grid):
+    """T, a₂, a₃, ζ on ``times`` and the last F of one solve on ``grid``."""
+    sol = sphere_spectral.solve_spheres(kernel, times, dimension=dimension, grid=_grid(grid))
+    return {"T": np.asarray(sol.temperature), "a2": np.asarray(sol.a2),
+            "a3": np.asarray(sol.a3), "zeta": np.asarray(sol.cooling_rate),
+            "F": sol.F[-1], "seconds": sol.seconds}
+
+
+def _case(params, dimension, primary, secondary, bar) -> tuple[dict, dict]:
+    """The summary row and the figure data of one dimension."""
+    alpha, d = float(params["restitution"]), int(dimension)
+    kernel = HardSpheres(alpha)
+    early = np.asarray(params["times"], dtype=float)
+    curve = np.union1d(np.linspace(0.0, early[-1], _CURVE_POINTS), early)
+    at = np.searchsorted(curve, early)
+    solves = [_solve(kernel, curve, d, g) for g in (primary, secondary)]
+    late = window_times(alpha, d, params["window"])
+    seeds = tuple(range(int(params["seeds"])))
+    runs = _dsmc(alpha, d, int(params["n"]), seeds, np.concatenate([early, late]), bar)
+    k = early.size
+    row = {"dimension": d, "grid": primary if isinstance(primary, str) else list(primary),
+           "second_grid": secondary if isinstance(secondary, str) else list(secondary),
+           "times": early.tolist(), "window_collisions": list(params["window"]),
+           "window_times": late.tolist(), "solver_seconds": [s["seconds"] for s in solves]}
+    for j, q in enumerate(("T", "a2", "a3")):
+        row[f"solver_{q}"] = solves[0][q][at].tolist()
+        row[f"grid_error_{q}"] = np.abs(solves[0][q][at] - solves[1][q][at]).tolist()
+        row[f"dsmc_{q}"] = [_mean_sem(runs[j][:, i]) for i in range(k)]
+    # the cooling state: per seed the mean of a₂, a₃ over the window, then over the seeds
+    row["dsmc_hcs_a2"] = _mean_sem(runs[1][:, k:].mean(axis=1))
+    row["dsmc_hcs_a3"] = _mean_sem(runs[2][:, k:].mean(axis=1))
+    row["dsmc_window_T"] = [_mean_sem(runs[0][:, k + i]) for i in range(late.size)]
+    haff_early = haff_temperature(early, alpha, d)
+    haff_late = haff_temperature(late, alpha, d)
+    corrected = _corrected_haff(curve, solves[0]["a2"], alpha, d)
+    corrected_2 = _corrected_haff(curve, solves[1]["a2"], alpha, d)
+    ratio_last = runs[0][:, -1] / haff_late[-1]
+    zeta0 = (1.0 - alpha**2) * collision_frequency(d) / d
+    zeta_excess = solves[0]["zeta"][at] / (zeta0 * np.sqrt(solves[0]["T"][at])) - 1.0
+    row.update({
+        "haff_T": haff_early.tolist(), "haff_T_window": haff_late.tolist(),
+        "dsmc_T_over_haff_last": _mean_sem(ratio_last),
+        "corrected_haff_T": corrected[at].tolist(),
+        "corrected_haff_grid_error": np.abs(corrected[at] - corrected_2[at]).tolist(),
+        "solver_T_over_corrected_haff": (solves[0]["T"][at] / corrected[at]).tolist(),
+        "solver_cooling_excess": zeta_excess.tolist(),
+        "first_order_cooling_excess": (3.0 * solves[0]["a2"][at] / 16.0).tolist(),
+        "first_sonine_a2": first_sonine_a2(alpha, d),
+        "maxwell_hcs_a2": maxwell_hcs_a2(alpha, d),
+        "maxwell_a2_relaxation_rate": maxwell_a2_relaxation(alpha, d),
+    })
+    a2_fs = row["first_sonine_a2"]
+    hcs_a2, hcs_err = row["dsmc_hcs_a2"]
+    row["dsmc_hcs_a2_vs_first_sonine"] = [hcs_a2 / a2_fs - 1.0, hcs_err / a2_fs]
+    if params["hcs"]:
+        states = [sphere_spectral.cooling_state(kernel, dimension=d, grid=_grid(g),
+                                                start=s["F"])
+                  for g, s in zip((primary, secondary), solves, strict=True)]
+        row.update({"solver_hcs_a2": states[0].a2, "solver_hcs_a3": states[0].a3,
+                    "hcs_grid_error_a2": abs(states[0].a2 - states[1].a2),
+                    "hcs_grid_error_a3": abs(states[0].a3 - states[1].a3),
+                    "solver_hcs_cooling_rate": states[0].cooling_rate,
+                    "hcs_grids": 2, "hcs_seconds": [s.seconds for s in states]})
+    else:
+        row.update({"solver_hcs_a2": None, "solver_hcs_a3": None, "hcs_grid_error_a2": None,
+                    "hcs_grid_error_a3": None, "solver_hcs_cooling_rate": None,
+                    "hcs_grids": 0, "hcs_seconds": []})
+    data = {"dimension": d, "curve_t": curve, "solver_T": solves[0]["T"],
+            "solver_a2": solves[0]["a2"], "corrected_haff": corrected,
+            "haff": haff_temperature(curve, alpha, d), "times": early,
+            "dsmc_T": runs[0][:, :k], "dsmc_a2": runs[1][:, :k], "window_times": late,
+            "dsmc_window_T": runs[0][:, k:], "haff_window": haff_late}
+    return row, data
+
+
+def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Comparison:
+    """Comparison 13: the spectral solver against the DSMC of hard spheres, and the Maxwell
+    model against hard spheres.
+
+    For each case (d, grid, second grid): the solver from the unit Maxwellian on both grids,
+    T(t), a₂(t), a₃(t) at the early ``times`` (and on a fine time grid for the figure); the
+    DSMC, ``seeds`` runs of ``n`` particles, at the same times and then in the cooling-state
+    window (``window``: collisions per particle on Haff's clock, :func:`window_times`), where
+    each seed's a₂, a₃ is its mean over the window.  Uncertainties are the standard error over
+    the seeds; the solver's grid error is the distance between its two grids.  With ``hcs``
+    the solver's cooling state (:func:`maxwell_kinetics.sphere_spectral.cooling_state`, from
+    the last early F) on both grids.  Also: the Maxwell model's exact cooling-state a₂
+    (:func:`maxwell_hcs_a2`), the first Sonine a₂
+    (:func:`particles.sphere_observables.first_sonine_a2`) and the DSMC's relative difference
+    from it, Haff's law T = (1 + ζ₀t/2)⁻² against the DSMC at the window's last time, and
+    Haff's law with the first-order cooling rate ζ₀√T(1 + 3a₂/16) integrated with the solver's
+    a₂(t).
+
+    Claims tested (:func:`verdicts`): the solver equals the DSMC at early times (T and a₂) and
+    in the cooling state (a₂); the Maxwell model's cooling state differs from hard spheres';
+    the first Sonine approximation against the measured a₂; Haff's law fails once a₂ ≠ 0 and
+    the a₂-corrected law holds at early times.
+
+    Parameters
+    ----------
+    size : str, optional
+        ``"small"``, ``"default"`` or ``"full"`` (the presets of ``PRESETS``); None (default):
+        :func:`maxwell_kinetics.app.comparisons.base.default_size`.
+    progress : bool or None, optional
+        Show progress of the DSMC runs (None, the default: a bar on a terminal or in a
+        notebook, nothing otherwise).
+    runner : object, optional
+        Accepted for ``reproduce``; unused (the DSMC runs are not shared with other
+        comparisons).
+    **overrides
+        Replace single parameters of the size's preset (e.g. ``seeds=4``).
+
+    Returns
+    -------
+    maxwell_kinetics.app.comparisons.base.Comparison
+        ``summary``: the numbers above with their uncertainties, the parameters used and the
+        wall-clock ``seconds``; ``data``: the arrays its figure is drawn from.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        From :func:`maxwell_kinetics.app.comparisons.base.preset`: an unknown ``size`` or an
+        override that is not a parameter of the preset; from the solver or the DSMC for
+        parameters out of range.
+    RuntimeError
+        When a spectral solve or the cooling-state march fails.
+    """
+    start = time.perf_counter()
+    params = preset(PRESETS, size, overrides)
+    cases = params["cases"]
+    rows, data = [], []
+    total = len(cases) * int(params["seeds"])
+    with progress_bar(total, desc="hard-sphere DSMC", unit="run", enabled=progress) as bar:
+        for dimension, primary, secondary in cases:
+            row, curves = _case(params, dimension, primary, secondary, bar)
+            rows.append(row)
+            data.append(curves)
+    summary = {"parameters": jsonable(params), "rows": rows,
+               "seconds": time.perf_counter() - start}
+    return Comparison(NAME, with_verdicts(summary, verdicts), {"rows": rows, "curves": data})
+
+
+def _worst(row, q):
+    """The early time whose solver-vs-DSMC deviation of ``q`` is largest in units of what is
+    allowed (3 standard errors + the grid error): its index."""
+    dev = [abs(s - m[0]) / (3.0 * m[1] + g) if (3.0 * m[1] + g) > 0 else math.inf
+           for s, m, g in zip(row[f"solver_{q}"], row[f"dsmc_{q}"], row[f"grid_error_{q}"],
+                              strict=True)]
+    return int(np.argmax(dev))
+
+
+def verdicts(s: dict) -> list:
+    """The verdicts of comparison 13 from its summary ``s``, per dimension d: the solver's T and
+    a₂ against the DSMC's at the early times (the time of the largest deviation; 3 standard
+    errors of the seeds' mean plus the grid error); the solver's cooling-state a₂ against the
+    DSMC's (not measured without the solver's cooling state); the Maxwell model's cooling-state
+    a₂ differs from hard spheres'; the first Sonine a₂ against the DSMC's (relative
+    difference); Haff's law fails at the window's end (T below it); Haff's law with the
+    first-order a₂ correction holds at the last early time."""
+    out = []
+    params = s.get("parameters", {})
+    seeds, n = int(params.get("seeds", 0)), params.get("n", "?")
+    dof = seeds - 1 if seeds >= 2 else None
+    from_seeds = f"seeds: standard error of the mean over {seeds} DSMC runs of N = {n}"
+    for row in s["rows"]:
+        d = row["dimension"]
+        body = "hard spheres" if d == 3 else "hard disks"
+        grids = f"grids {row['grid']} and {row['second_grid']}"
+        for q, label in (("T", "T(t)"), ("a2", "a₂(t)")):
+            i = _worst(row, q)
+            t = row["times"][i]
+            mean, err = pair(row[f"dsmc_{q}"][i])
+            out.append(judge(
+                f"{body}, d = {d}: the spectral solver's {label} is the DSMC's (early times)",
+                Check(f"solver {label} at t = {t:g} (the largest deviation of "
+                      f"{len(row['times'])} times), grid {row['grid']}", row[f"solver_{q}"][i],
+                      None, mean, "model: DSMC of the same equation", expected_sigma=err,
+                      expected_dof=dof, tolerance=row[f"grid_error_{q}"][i],
+                      sigma_source=f"{from_seeds}; tolerance: the solver's grid error, the "
+                                   f"distance between {grids}",
+                      trials=len(row["times"])),
+                short=f"d={d}: solver {label} = DSMC"))
+        hcs, hcs_err = pair(row["dsmc_hcs_a2"])
+        window = ", ".join(f"{c:g}" for c in row["window_collisions"])
+        out.append(judge(
+            f"{body}, d = {d}: the solver's cooling-state a₂ is the DSMC's",
+            Check("a₂ of the solver's cooling state, grid " + str(row["grid"]),
+                  row["solver_hcs_a2"], None, hcs,
+                  f"model: DSMC, each seed's mean a₂ at {window} collisions per particle",
+                  expected_sigma=hcs_err, expected_dof=dof,
+                  tolerance=row["hcs_grid_error_a2"] or 0.0,
+                  sigma_source=f"{from_seeds}; tolerance: the grid error of the cooling "
+                               f"state, the distance between {grids}"),
+            why="the solver's cooling state is computed at the default and full sizes only",
+            resolution=Check("grids on which the solver's cooling state was computed",
+                             row["hcs_grids"], None, 2, "exact: two grids give the grid error",
+                             relation="at_least"),
+            measured_at="default", short=f"d={d}: HCS a₂ solver = DSMC"))
+        out.append(judge(
+            f"{body}, d = {d}: the Maxwell model's cooling state is not hard spheres' "
+            f"(a₂ differs)",
+            Check("a₂ of the hard-sphere cooling state (DSMC window)", hcs, hcs_err,
+                  row["maxwell_hcs_a2"], "exact: the Maxwell model's closed moment equations",
+                  relation="differs", dof=dof, sigma_source=from_seeds),
+            short=f"d={d}: Maxwell HCS a₂ ≠ hard spheres'"))
+        rel, rel_err = pair(row["dsmc_hcs_a2_vs_first_sonine"])
+        a3, a3_err = pair(row["dsmc_hcs_a3"])
+        out.append(judge(
+            f"{body}, d = {d}: the first Sonine approximation (van Noije–Ernst) gives the "
+            f"cooling state's a₂",
+            Check("relative difference a₂(DSMC)/a₂(first Sonine) − 1", rel, rel_err, 0.0,
+                  f"literature: first Sonine a₂ = {row['first_sonine_a2']:.5f}", dof=dof,
+                  sigma_source=from_seeds + ", divided by the first Sonine a₂"),
+            why="the first Sonine approximation drops the higher Sonine terms (a₃ = 0) and "
+                "the terms of order a₂²; the measured a₃ is not 0",
+            refutation=Check("a₃ of the hard-sphere cooling state (DSMC window)", a3, a3_err,
+                             0.0, "the first Sonine approximation's a₃ = 0",
+                             relation="differs", dof=dof, sigma_source=from_seeds),
+            short=f"d={d}: first Sonine a₂ = measured"))
+        ratio, ratio_err = pair(row["dsmc_T_over_haff_last"])
+        out.append(judge(
+            f"{body}, d = {d}: Haff's law (a₂ = 0) overestimates T once a₂ > 0",
+            Check(f"T(DSMC)/T(Haff) at {row['window_collisions'][-1]:g} collisions per "
+                  f"particle", ratio, ratio_err, 1.0, "exact: Haff's law of a Maxwellian",
+                  relation="below", dof=dof, sigma_source=from_seeds),
+            short=f"d={d}: T below Haff's"))
+        last = len(row["times"]) - 1
+        mean, err = pair(row["dsmc_T"][last])
+        out.append(judge(
+            f"{body}, d = {d}: Haff's law with the cooling rate ζ₀√T(1 + 3a₂/16) holds at "
+            f"early times",
+            Check(f"T at t = {row['times'][last]:g}, Haff's law integrated with the solver's "
+                  f"a₂(t)", row["corrected_haff_T"][last], None, mean,
+                  "model: DSMC of the same equation", expected_sigma=err, expected_dof=dof,
+                  tolerance=row["corrected_haff_grid_error"][last],
+                  sigma_source=f"{from_seeds}; tolerance: the distance between the law "
+                               f"integrated with the a₂(t) of {grids}"),
+            short=f"d={d}: Haff + a₂ correction = DSMC T"))
+    return out
+
+
+def plot(c, ax=None):
+    """Three panels: a₂(t) of the solver (lines) and the DSMC (mean ± standard error) per d;
+    T/T_Haff of the solver, the a₂-corrected Haff law and the DSMC (early and window); the
+    cooling-state a₂ of hard spheres (DSMC, solver) against the Maxwell model's and the first
+    Sonine approximation's."""
+    own = ax is None
+    fig, (ax1, ax2, ax3) = panels(3, ax, width=4.6, height=4.0)
+    rows, curves = c.data["rows"], c.data["curves"]
+    for i, (row, cur) in enumerate(zip(rows, curves, strict=True)):
+        d, col = row["dimension"], f"C{i}"
+        ax1.plot(cur["curve_t"], cur["solver_a2"], "-", color=col, label=f"d = {d}: solver")
+        a2 = np.asarray(row["dsmc_a2"])
+        ax1.errorbar(row["times"], a2[:, 0], yerr=a2[:, 1], fmt="o", ms=4, capsize=2,
+                     color=col, label=f"d = {d}: DSMC ± 1 s.e.")
+        ax2.plot(cur["curve_t"], cur["solver_T"] / cur["haff"], "-", color=col,
+                 label=f"d = {d}: solver")
+        ax2.plot(cur["curve_t"], cur["corrected_haff"] / cur["haff"], ":", color=col,
+                 label=f"d = {d}: Haff with 3a₂/16")
+        ratio = np.concatenate([cur["dsmc_T"] / np.asarray(row["haff_T"]),
+                                cur["dsmc_window_T"] / cur["haff_window"]], axis=1)
+        t = np.concatenate([cur["times"], cur["window_times"]])
+        ax2.errorbar(t, ratio.mean(axis=0), ratio.std(axis=0, ddof=1) / math.sqrt(len(ratio)),
+                     fmt="o", ms=4, capsize=2, color=col, label=f"d = {d}: DSMC")
+        x = np.array([0.0, 1.0, 2.0]) + 3.5 * i
+        hcs = row["dsmc_hcs_a2"]
+        ax3.bar(x, [hcs[0], row["first_sonine_a2"], row["maxwell_hcs_a2"]], width=0.8,
+                yerr=[hcs[1], 0.0, 0.0], color=[col, "0.6", "0.3"], capsize=3)
+        if row["solver_hcs_a2"] is not None:
+            ax3.plot(x[0], row["solver_hcs_a2"], "k_", ms=18, mew=2)
+        for xi, text in zip(x, ("hard\nspheres", "first\nSonine", "Maxwell\nmodel"),
+                            strict=True):
+            ax3.text(xi, -0.02, f"{text}\nd = {d}", ha="center", va="top", fontsize=7)
+    ax1.set(xlabel="t", ylabel="a₂", title="a₂(t) from the unit Maxwellian")
+    ax1.legend(fontsize=7)
+    ax2.set(xscale="symlog", xlabel="t", ylabel="T / T_Haff",
+            title="cooling against Haff's law")
+    ax2.axhline(1.0, color="k", lw=0.5)
+    ax2.legend(fontsize=7)
+    ax3.set(xticks=[], ylabel="a₂ of the cooling state",
+            title="cooling state (black bar: solver)")
+    ax3.set_ylim(bottom=-0.12)
+    if own:
+        fig.tight_layout()
+    return fig
+
+
+COMPARISON = register(ComparisonSpec(NAME, PRESETS, run, plot, verdicts, order=13))
