@@ -22,7 +22,8 @@ the working tree alone and reported without a ratio.  A workload that fails on e
 (any exit status but 0, or 3 for ``reproduce``, whose 3 means "a claim disagrees") stops the
 script with exit 2.  Exit 1 when any ratio passes ``--limit`` (default 1.1), else 0.
 
-Workloads (:data:`WORKLOADS`): the Fourier solve, the hard-rod solve, Ulam, lattice and MD at
+Workloads (:data:`WORKLOADS`): the Fourier solve (d = 1, and d = 2, 3 to τ = 1000 on the
+default grid), the hard-rod solve, Ulam, lattice and MD at
 N = 10⁶, the sticky gas at N = 10⁷ with 20 output times, and ``reproduce --small`` of the
 comparisons both trees have (``--only``; a comparison added since the baseline is new work, not
 a regression).  Its time is judged on the comparisons whose summaries have the same keys in
@@ -58,6 +59,10 @@ STICKY_TIMES = ",".join(f"{t:.6g}" for t in np.logspace(0.0, 3.8, 20))
 WORKLOADS: dict[str, list[str]] = {
     "fourier_solve": ["solve", "--restitution", "0.5", "--tau", "1,10,100", "--json",
                       "--no-progress", "--no-cache"],
+    "isotropic_solve_2d": ["solve", "--restitution", "0.5", "--tau", "1,100,1000",
+                           "--dimension", "2", "--json", "--no-progress", "--no-cache"],
+    "isotropic_solve_3d": ["solve", "--restitution", "0.5", "--tau", "1,100,1000",
+                           "--dimension", "3", "--json", "--no-progress", "--no-cache"],
     "hard_rod_solve": ["solve", "--rate", "relative_velocity", "--restitution", "0.5",
                        "--t", "1,5,20", "--json", "--no-progress", "--no-cache"],
     "ulam_1e6": ["simulate", "ulam", "--n", "1000000", "--restitution", "0.5",
