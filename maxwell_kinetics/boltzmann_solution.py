@@ -205,6 +205,39 @@ class BoltzmannSolution:
         m = self._raw_moments((2, 4))
         return m[:, 1] / m[:, 0] ** 2
 
+    def collisions_per_particle(self) -> np.ndarray:
+        """Collisions per particle τ(t) = ∫₀ᵗ n⟨|v − w|^γ⟩ dt′ at each saved time, by the
+        trapezoid rule over the saved times (which must start at t = 0 and be dense enough for
+        the rule: the rate changes by little between two of them).
+
+        Each particle collides at rate n⟨|v − w|^γ⟩ (γ = 1, hard rods: 2n√(T/π) for a
+        Gaussian of temperature T; γ = 0, the Maxwell model: n, so that τ = n t), with
+        ⟨|v − w|^γ⟩ = s^γ Σᵢⱼ ωᵢ ωⱼ F_i F_j |c_i − c_j|^γ on the solution's grid (v = u + s c,
+        ω the grid's trapezoid weights; the rate is the model's,
+        :meth:`~maxwell_kinetics.model.RelativeVelocityModel.rate`).
+
+        Returns
+        -------
+        numpy.ndarray
+            τ at each saved time, shape (T,), starting at 0 and increasing.
+
+        Raises
+        ------
+        particles.validation.InvalidArgumentError
+            Naming ``t`` if the first saved time is not 0.
+        """
+        if self.t[0] != 0.0:
+            raise InvalidArgumentError("t", float(self.t[0]),
+                                       "saved times starting at t = 0 (the count starts there)")
+        c, model = self.grid.c, self.model
+        pair_rates = model.rate(c[:, None], c[None, :])  # of the rescaled velocities c
+        weighted = self.F * self.grid.weights
+        mean_rate = np.einsum("ti,ij,tj->t", weighted, pair_rates, weighted)
+        # the rate is homogeneous of degree γ in the velocities: v − w = s (c_i − c_j)
+        rate = self.number_density * self.scale ** model.kernel.homogeneity * mean_rate
+        steps = 0.5 * (rate[1:] + rate[:-1]) * np.diff(self.times)
+        return np.concatenate([[0.0], np.cumsum(steps)])
+
     def density(self, x=None, t: float | None = None, *, time: float | None = None):
         """P(x, t) of x = (v − u)/√T(t), T = ⟨(v − u)²⟩, by sixth-order Lagrange interpolation
         of the nodes (zero outside the grid): returns ``(x, P)`` as

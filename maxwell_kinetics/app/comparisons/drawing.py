@@ -7,7 +7,7 @@ import numpy as np
 
 from particles.validation import InvalidArgumentError
 
-from ..plotting import new_figure
+from ...figures import new_figure
 
 __all__ = ["panels", "colors"]
 
