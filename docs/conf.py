@@ -3,7 +3,8 @@
 Generated at build time (never edited by hand, git-ignored):
 
 * ``api/*.rst`` from the ``__all__`` of every package face (:mod:`_ext.apigen`);
-* ``reproducing.md`` from a ``make demo`` results folder (:mod:`_ext.results`);
+* ``reproducing.md`` from a ``make demo`` results folder, and ``_generated/measured_results.md``
+  (the body of ``results.md``) from it and the ``--full`` summary (:mod:`_ext.results`);
 * ``tutorials/*.ipynb``, copies of ``notebooks/``.
 
 Notebooks: ``nb_execution_mode`` is ``cache`` by default (executed once at the small size,
@@ -56,7 +57,8 @@ extensions = [
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
-exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "figures/full/*.json"]
+exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "figures/full/*.json",
+                    "_generated/*.md"]  # generated pages' bodies, included by their page
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence"]
 myst_heading_anchors = 3
 
@@ -173,6 +175,10 @@ apigen_split = {
 results_dir = os.environ.get("MAXWELL_KINETICS_DOCS_RESULTS") or (
     str(ROOT / "results") if (ROOT / "results" / "summary.json").exists()
     else str(HERE / "figures"))
+
+# The paper's sizes on "Measured results" (beside the default size of results_dir): the
+# summary of `reproduce --full`, its figures in the folder full/ next to it.
+results_full = str(HERE / "figures" / "summary_full.json")
 
 # The notebooks are copied from notebooks/ so that the tutorials are the same files; a copy
 # whose notebook is gone (renamed or removed) is deleted, so the sidebar lists only the

@@ -318,7 +318,84 @@ def write_page(app) -> None:
         page.write_text(text)
 
 
+def _summary(path: Path) -> dict:
+    """The summary at ``path`` (a ``summary.json``, or a folder holding one), {} when none."""
+    if path.is_dir():
+        path = next((path / n for n in ("summary.json", "summary_default.json")
+                     if (path / n).exists()), path / "summary.json")
+    return json.loads(path.read_text()) if path.is_file() else {}
+
+
+def render_measured(default: dict, full: dict, full_figures: Path, figures_out: Path) -> str:
+    """The body of "Measured results": every verdict of the default-size summary ``default``
+    beside the same claim's verdict in the ``--full`` summary ``full``, one table per
+    comparison, and the figure of the full run where ``full_figures`` has one.  Every number
+    comes from the two summaries (through the comparisons' own ``verdicts``)."""
+    from maxwell_kinetics.app.comparisons.verdicts import expected_text, measured_text
+
+    sizes = [("default size", default), ("paper's size (`--full`)", full)]
+    records = [{name: _verdicts(name, entry) or []
+                for name, entry in summary.get("comparisons", {}).items()}
+               for _, summary in sizes]
+    lines = []
+    for (label, _), recs in zip(sizes, records, strict=True):
+        counts: dict[str, int] = {}
+        for v in (v for rs in recs.values() for v in rs):
+            counts[v["status"]] = counts.get(v["status"], 0) + 1
+        text = ", ".join(f"{n} {status}" for status, n in counts.items()) or "no verdicts"
+        lines.append(f"- {label}: {len(recs)} comparisons, {text}")
+    lines.append("")
+    names = list(records[0]) + [n for n in records[1] if n not in records[0]]
+    figures_out.mkdir(parents=True, exist_ok=True)
+    for i, name in enumerate(names, 1):
+        lines += [f"## {i}. {name.replace('_', ' ').capitalize()}", ""]
+        claim = _claim(name)
+        if claim:
+            lines += [claim, ""]
+        at_full = {v["claim"]: v for v in records[1].get(name, [])}
+        rows = [(v, at_full.pop(v["claim"], None)) for v in records[0].get(name, [])]
+        rows += [(None, v) for v in at_full.values()]
+        if rows:
+            lines += ["| claim | default size | paper's size | expected |", "|---|---|---|---|"]
+        for small, large in rows:
+            either = small or large
+
+            def cell(v, ran):
+                if v is None:
+                    return "—" if ran else "not run"
+                if v["status"] == "not measured":
+                    return "*not measured*"
+                return f"{_cell(_esc(measured_text(v)))} ({v['status']})"
+
+            lines.append(f"| {_cell(_esc(either.get('short') or either['claim']))} | "
+                         f"{cell(small, name in records[0])} | {cell(large, name in records[1])} | "
+                         f"{_cell(_esc(expected_text(either)))} |")
+        lines.append("")
+        png = full_figures / f"{name}.png"
+        if name in records[1] and png.exists():
+            shutil.copyfile(png, figures_out / f"full_{png.name}")
+            lines += [f"```{{figure}} /_generated/full_{png.name}", f":alt: {name}, --full",
+                      ":width: 100%", "", f"{name.replace('_', ' ')} at the paper's size", "```",
+                      ""]
+    return "\n".join(lines) + "\n"
+
+
+def write_measured(app) -> None:
+    """Write ``_generated/measured_results.md``, the body of "Measured results"
+    (``results.md`` includes it), from the default summary of ``results_dir`` and the
+    ``--full`` summary ``results_full``."""
+    src = Path(app.srcdir)
+    full = Path(app.config.results_full)
+    text = render_measured(_summary(Path(app.config.results_dir)), _summary(full),
+                           full.parent / "full", src / "_generated")
+    page = src / "_generated" / "measured_results.md"
+    if not page.exists() or page.read_text() != text:
+        page.write_text(text)
+
+
 def setup(app):
     app.add_config_value("results_dir", "", "env")
+    app.add_config_value("results_full", "", "env")
     app.connect("builder-inited", write_page)
+    app.connect("builder-inited", write_measured)
     return {"parallel_read_safe": True, "version": "1"}
