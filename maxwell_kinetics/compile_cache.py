@@ -4,7 +4,10 @@ Without it every new process compiles the kinetic solver again (seconds in 1D, a
 and 3D).  With it, the first process writes the solver's two big functions (``advance`` and
 ``output`` of the kinetic scheme), compiled ahead of time, to disk as serialized executables
 (:func:`call`), and the next processes load them instead: a warm process neither traces nor
-compiles them, and does not even import diffrax.  Everything else is compiled by ``jax.jit`` as
+compiles them, and does not even import diffrax.  The velocity-space solver of
+:mod:`maxwell_kinetics.inelastic_boltzmann` keeps its four functions there too (its time
+integration, right-hand side, steady residual and Jacobian:
+:mod:`maxwell_kinetics._boltzmann_compiled`).  Everything else is compiled by ``jax.jit`` as
 usual (small functions, milliseconds each).
 
 The cache is on by default, in Python and on the command line alike: the first solve of a
@@ -322,18 +325,23 @@ def _code_fingerprint() -> str:
 
 
 def _static_token(static) -> str | None:
-    """A text that identifies the static part of the scheme, or None when it cannot (a law
-    with a user's characteristic function: its code is not part of any key)."""
+    """A text that identifies the static part (a dataclass) of a compiled function, or None when
+    it cannot (a ``law`` field with a user's characteristic function: its code is not part of
+    any key)."""
     from dataclasses import fields
 
     from particles.initial import LAWS
 
-    if LAWS.get(static.law.name) is not static.law:
-        return None
     parts = []
     for f in fields(static):
         value = getattr(static, f.name)
-        parts.append(f"{f.name}={'law:' + value.name if f.name == 'law' else repr(value)}")
+        if f.name == "law":
+            if LAWS.get(value.name) is not value:
+                return None
+            value = "law:" + value.name
+        else:
+            value = repr(value)
+        parts.append(f"{f.name}={value}")
     return ";".join(parts)
 
 
@@ -365,6 +373,24 @@ def _exported_key(name: str, token: str, args) -> str:
     return f"aot_{name}-" + hashlib.sha256(text.encode()).hexdigest()
 
 
+def _bind_lapack() -> None:
+    """Bind jaxlib's LAPACK kernels, once per process, before an executable is loaded.
+
+    jaxlib binds them (to SciPy's LAPACK) only when JAX lowers a linear-algebra operation for
+    the CPU; an executable loaded from the cache calls them without any lowering, and in a
+    process that has lowered none it crashes (a segmentation fault: the velocity-space solver's
+    ``jnp.linalg.solve``).  Lowering one small LU (no compilation) binds them, as
+    ``jax.export`` does before it runs a deserialized function.
+    """
+    if _state.get("lapack"):
+        return
+    import jax
+
+    if jax.default_backend() == "cpu":
+        jax.jit(jax.lax.linalg.lu).lower(jax.ShapeDtypeStruct((2, 2), "float32"))
+    _state["lapack"] = True
+
+
 def _load_compiled(blob: bytes):
     """A compiled executable from an entry's content (checked already); None when it fails."""
     import pickle
@@ -372,6 +398,7 @@ def _load_compiled(blob: bytes):
     from jax.experimental import serialize_executable
 
     try:
+        _bind_lapack()
         serialized, in_tree, out_tree = pickle.loads(zlib.decompress(blob))
         return serialize_executable.deserialize_and_load(serialized, in_tree, out_tree)
     except Exception:  # noqa: BLE001 - whatever fails here, the entry is not used

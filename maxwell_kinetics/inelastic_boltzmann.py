@@ -24,7 +24,8 @@ Euler–Maclaurin correction at the non-smooth point v = w (0 < γ < 2); a corre
 F (α + β c + δ c²) then makes the discrete mass and momentum change exactly zero and the energy
 change exactly −λ Σ h² F_i F_j |c_i − c_j|^{γ+2} (the solution's own ⟨|v − w|^{γ+2}⟩).  The
 dilation is an eighth-order central difference in flux form.  Time: diffrax's ``Tsit5`` with a
-PID controller.
+PID controller, from one output time to the next; the compiled solve is kept in the project's
+store of compiled executables (:mod:`maxwell_kinetics._boltzmann_compiled`).
 
 Order.  Interpolation O(h⁶); the trapezoid rule spectral for γ = 0 and 2, O(h^{γ+3}) after the
 correction otherwise (γ = 1: O(h⁴)); dilation O(h⁸).  Measured (benchmarks/README.md,
@@ -310,47 +311,14 @@ def _padded(times: np.ndarray) -> np.ndarray:
 
 
 class _Compiled:
-    """The jitted solve and right-hand side for one (points, stencil) (cached)."""
+    """The compiled solve, right-hand side, steady residual and Jacobian, kept in the store of
+    compiled executables (:class:`maxwell_kinetics._boltzmann_compiled.Functions`)."""
 
-    cache: dict = {}
+    @staticmethod
+    def get():
+        from . import _boltzmann_compiled
 
-    def __init__(self):
-        import diffrax
-        import jax
-        import jax.numpy as jnp
-
-        from . import _boltzmann_scheme as scheme
-
-        def rhs(t, y, args):
-            tables, c, h, density, exponent, lam = args
-            rate = density * jnp.exp(exponent * y[-1])  # n s^γ
-            if "unit" in tables:  # a mapped grid: the unknown is unit · F (_unit)
-                dF, sigma = scheme.grid_rhs(y[:-1] / tables["unit"], tables, c, h, lam)
-                return jnp.concatenate([rate * dF * tables["unit"], (rate * sigma)[None]])
-            F = y[:-1]
-            dF, sigma = scheme.grid_rhs(F, tables, c, h, lam)
-            return jnp.concatenate([rate * dF, (rate * sigma)[None]])
-
-        def solve(y0, times, args, rtol, atol, max_steps):
-            out = diffrax.diffeqsolve(
-                diffrax.ODETerm(rhs), diffrax.Tsit5(), 0.0, times[-1], None, y0, args=args,
-                saveat=diffrax.SaveAt(ts=times),
-                stepsize_controller=diffrax.PIDController(rtol=rtol, atol=atol),
-                max_steps=max_steps, throw=False)
-            return out.ys, out.result == diffrax.RESULTS.successful, out.stats["num_steps"]
-
-        self.solve = jax.jit(solve, static_argnums=(5,))
-        self.rhs = jax.jit(jax.vmap(lambda y, args: rhs(0.0, y, args), in_axes=(0, None)))
-        self.steady = jax.jit(
-            lambda F, tables, c, h, lam: scheme.grid_rhs(F, tables, c, h, lam)[0])
-        self.jacobian = jax.jit(jax.jacfwd(
-            lambda F, tables, c, h, lam: scheme.grid_rhs(F, tables, c, h, lam)[0]))
-
-    @classmethod
-    def get(cls):
-        if "functions" not in cls.cache:
-            cls.cache["functions"] = cls()
-        return cls.cache["functions"]
+        return _boltzmann_compiled.Functions.get()
 
 
 def _unit(grid) -> np.ndarray:
