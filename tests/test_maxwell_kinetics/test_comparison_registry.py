@@ -29,10 +29,12 @@ from maxwell_kinetics.app.comparisons.base import jsonable, preset
 from maxwell_kinetics.app.comparisons.verdicts import Check, Verdict, judge, with_verdicts
 from particles.validation import InvalidArgumentError
 
-#: The comparisons of the paper, in the order ``reproduce`` has always run them.
+#: The comparisons of the paper, in the order ``reproduce`` has always run them, then the ones
+#: added after them (13: hard_spheres).
 PAPER_ORDER = ["kinetic_theory", "kinetic_vs_ulam", "ulam_collapse", "velocity_distributions",
                "energy_decay", "structure_factors", "velocity_profiles", "sticky_vs_md",
-               "late_stage", "tail_exponents", "driven_steady", "rate_vs_correlations"]
+               "late_stage", "tail_exponents", "driven_steady", "rate_vs_correlations",
+               "hard_spheres"]
 
 # --------------------------------------------------------------------------- the toy comparison
 
