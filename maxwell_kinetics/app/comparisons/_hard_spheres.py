@@ -403,7 +403,7 @@ def verdicts(s: dict) -> list:
             Check("a₂ of the hard-sphere cooling state (DSMC window)", hcs, hcs_err,
                   row["maxwell_hcs_a2"], "exact: the Maxwell model's closed moment equations",
                   relation="differs", dof=dof, sigma_source=from_seeds),
-            short=f"d={d}: Maxwell HCS a₂ ≠ hard spheres'"))
+            short=f"d={d}: Maxwell HCS a₂ ≠ HS"))
         rel, rel_err = pair(row["dsmc_hcs_a2_vs_first_sonine"])
         a3, a3_err = pair(row["dsmc_hcs_a3"])
         out.append(judge(
@@ -418,7 +418,7 @@ def verdicts(s: dict) -> list:
             refutation=Check("a₃ of the hard-sphere cooling state (DSMC window)", a3, a3_err,
                              0.0, "model: the first Sonine approximation's a₃ = 0",
                              relation="differs", dof=dof, sigma_source=from_seeds),
-            short=f"d={d}: first Sonine a₂ = measured"))
+            short=f"d={d}: HCS a₂ = first Sonine"))
         ratio, ratio_err = pair(row["dsmc_T_over_haff_last"])
         out.append(judge(
             f"{body}, d = {d}: Haff's law (a₂ = 0) overestimates T once a₂ > 0",
@@ -437,7 +437,7 @@ def verdicts(s: dict) -> list:
                   tolerance=row["corrected_haff_grid_error"][last],
                   sigma_source=f"{from_seeds}; tolerance: the distance between the law "
                                f"integrated with the a₂(t) of {grids}"),
-            short=f"d={d}: Haff + a₂ correction = DSMC T"))
+            short=f"d={d}: Haff+3a₂/16 = DSMC T"))
     return out
 
 

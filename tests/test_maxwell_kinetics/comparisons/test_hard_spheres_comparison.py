@@ -115,10 +115,10 @@ def test_a_wrong_cooling_state_disagrees_and_a_first_sonine_failure_is_refuted(s
     row["dsmc_hcs_a2_vs_first_sonine"] = [-6 * err / fs, err / fs]
     records = {v.short: v.status for v in VERDICTS["hard_spheres"](s)}
     assert records["d=2: HCS a₂ solver = DSMC"] == "disagrees"
-    assert records["d=2: first Sonine a₂ = measured"] == "refuted"
+    assert records["d=2: HCS a₂ = first Sonine"] == "refuted"
     row["dsmc_hcs_a3"] = [0.0, 1e-3]  # no cause shown: a plain disagreement
     records = {v.short: v.status for v in VERDICTS["hard_spheres"](s)}
-    assert records["d=2: first Sonine a₂ = measured"] == "disagrees"
+    assert records["d=2: HCS a₂ = first Sonine"] == "disagrees"
 
 
 def test_save_load_round_trip_and_figure(small, tmp_path):
