@@ -239,3 +239,39 @@ def test_no_api_page_is_longer_than_8000_words(built_site):
     assert max(counts.values()) > 2000, counts
     too_long = {page: n for page, n in counts.items() if n > API_PAGE_WORDS}
     assert not too_long, too_long
+
+
+_NUMBER = re.compile(r"(?<![\w.])[−-]?\d+(?:\.\d+)?(?:e[+−-]?\d+)?(?![\w.])")
+
+
+def test_measured_results_come_from_the_summaries(built_site):
+    """The page "Measured results" types no number by hand: its source has no digit outside the
+    include of its generated body, and every number of the built page is one of the texts of
+    the summaries' verdicts (measured ± σ, expected, counts) or of the comparisons' claims."""
+    import json
+
+    sys.path.insert(0, str(DOCS / "_ext"))
+    try:
+        import results
+    finally:
+        sys.path.remove(str(DOCS / "_ext"))
+    from maxwell_kinetics.app.comparisons.verdicts import expected_text, measured_text
+
+    source = (DOCS / "results.md").read_text()
+    assert "_generated/measured_results.md" in source
+    assert not re.search(r"\d", source.replace("_generated/measured_results.md", ""))
+    page = _prose(built_site / "results.html")
+    allowed = []
+    local = ROOT / "results" / "summary.json"  # the summary the site is built from (conf.py)
+    default = local if local.exists() else DOCS / "figures" / "summary_default.json"
+    for path in (default, DOCS / "figures" / "summary_full.json"):
+        summary = json.loads(path.read_text())
+        for name, entry in summary["comparisons"].items():
+            allowed.append(results._claim(name))
+            for v in results._verdicts(name, entry) or []:
+                allowed += [json.dumps(v, ensure_ascii=False), measured_text(v), expected_text(v)]
+    known = set(_NUMBER.findall(" ".join(allowed)))
+    shown = _NUMBER.findall(page)
+    assert len(shown) > 100
+    typed = sorted({n for n in shown if n not in known and not (n.isdigit() and int(n) <= 200)})
+    assert not typed, typed[:40]
