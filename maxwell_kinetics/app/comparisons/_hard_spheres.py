@@ -447,7 +447,7 @@ def plot(c, ax=None):
     cooling-state a₂ of hard spheres (DSMC, solver) against the Maxwell model's and the first
     Sonine approximation's."""
     own = ax is None
-    fig, (ax1, ax2, ax3) = panels(3, ax, width=4.6, height=4.0)
+    fig, (ax1, ax2, ax3) = panels(3, ax, width=5.2, height=4.6)
     rows, curves = c.data["rows"], c.data["curves"]
     for i, (row, cur) in enumerate(zip(rows, curves, strict=True)):
         d, col = row["dimension"], f"C{i}"
@@ -477,11 +477,11 @@ def plot(c, ax=None):
                             strict=True):
             ax3.text(xi, -0.02, f"{text}\nd = {d}", ha="center", va="top", fontsize=8)
     ax1.set(xlabel="t", ylabel="a₂", title="a₂(t) from the unit Maxwellian")
-    ax1.legend(fontsize=8)
+    ax1.legend()
     ax2.set(xscale="symlog", xlabel="t", ylabel="T / T_Haff",
             title="cooling against Haff's law")
     ax2.axhline(1.0, color="k", lw=0.5)
-    ax2.legend(fontsize=8, loc="lower left")
+    ax2.legend(loc="lower left")
     ax3.set(xticks=[], ylabel="a₂ of the cooling state",
             title="cooling state (black bar: solver)")
     ax3.set_ylim(-0.14, 1.12 * max(r["maxwell_hcs_a2"] for r in rows) + 0.02)
