@@ -117,7 +117,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
 def verdicts(s: dict) -> list:
     """The verdicts of the tail-exponent comparison from its summary ``s``: the paper's α = 5 in
     2D at r = 0 (the transcendental equation, tolerance 1e-6 of its root finding) and each
-    particle case's Hill exponent against the exact one (3σ over seeds)."""
+    particle case's Hill exponent against the exact one (σ over seeds: the quantile of
+    Student's t with seeds − 1 degrees of freedom at the coverage of 3σ, 9.22σ for 4)."""
     out = [judge("Fig. 2 (inset): 2D tails P(c) ∼ c^(−5) at r = 0",
                  Check("speed tail exponent of the 2D hard model at r = 0 (exact equation)",
                        s["paper_2d_r0"]["hard"]["speed"], None, 5.0, "paper: α = 5",
@@ -131,7 +132,7 @@ def verdicts(s: dict) -> list:
                   "exact: transcendental equation",
                   dof=len(p["per_run"]) - 1 if len(p.get("per_run", [])) > 1 else None,
                   sigma_source=f"seeds: standard error over {len(p.get('per_run', []))} runs' "
-                               f"Hill exponents")))
+                               f"Hill exponents", t_law=True)))
     return out
 
 

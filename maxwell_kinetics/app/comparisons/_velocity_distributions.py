@@ -198,10 +198,11 @@ def verdicts(s: dict) -> list:
     paper's constant-rate lattice does not equal MD, and its one collision rate is the cause)
     and against the Ulam model; late, MD against the lattice at r = 0.5 and against a
     Gaussian bulk.  Models are compared by their kurtosis or ⟨|x|⟩ with the seeds' standard
-    errors added in quadrature (3σ).  The Gaussian bulk has no stated tolerance: MD's ⟨|x|⟩
-    against √(2/π) within :func:`.verdicts.student_sigmas` of its standard error (its σ comes
-    from ``md_seeds`` runs only: Student's t with ``md_seeds − 1`` degrees of freedom at the
-    coverage of 3σ, 9.2σ for 4 seeds)."""
+    errors added in quadrature (the quantile of Student's t with their Welch–Satterthwaite
+    degrees of freedom at the coverage of 3σ).  The Gaussian bulk has no stated tolerance:
+    MD's ⟨|x|⟩ against √(2/π) within :func:`.verdicts.student_sigmas` of its standard error
+    (its σ comes from ``md_seeds`` runs only: Student's t with ``md_seeds − 1`` degrees of
+    freedom at the coverage of 3σ, 9.2σ for 4 seeds)."""
     def model(stage, name, q):
         return pair(s["stages"][stage]["models"][name][q])
 
@@ -218,7 +219,7 @@ def verdicts(s: dict) -> list:
         return Check(f"{label} of {a}, {stage}", va, ea, vb, f"model: {b} at equal energy",
                      expected_sigma=eb, relation=relation, dof=_dof(na), expected_dof=_dof(nb),
                      sigma_source=f"seeds: standard errors over {na} ({a}) and {nb} ({b}) "
-                                  f"runs, in quadrature")
+                                  f"runs, in quadrature", t_law=True)
 
     r = s["parameters"]["restitution"]
     r_late = s["parameters"]["lattice_late_restitution"]

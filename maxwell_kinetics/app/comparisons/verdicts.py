@@ -34,14 +34,28 @@ with ``return Comparison(NAME, with_verdicts(summary, verdicts), data)``; ``repr
 disagrees: a claim failed that this size resolves (``not measured`` and ``refuted`` do not
 fail it).
 
-Where a standard error comes from few seeds (3 or 4), its own uncertainty is large: the checks
-that say so allow :func:`student_sigmas` standard errors (Student's t with seeds − 1 degrees of
-freedom at the two-sided coverage of 3 normal σ) instead of 3.  Every check records its
-standard error's degrees of freedom (``dof``: seeds − 1, None where σ is not a scatter of a
-few seeds) and where σ comes from (``sigma_source``); :mod:`.calibration` judges the z of
-the agreeing checks each under its own law.
+Every check records its standard error's degrees of freedom (``dof``: seeds − 1, None where σ
+is not a scatter of a few seeds) and where σ comes from (``sigma_source``); :mod:`.calibration`
+judges the z of the agreeing checks each under its own law.  The tolerance of a statistical
+check has the coverage of 3 normal σ, two-sided 99.73 % (a bound or a resolved difference:
+one-sided 99.865 %, the same quantile), under the law of its own z, by the kind of its σ:
 
-This module imports nothing from the rest of the package.
+σ from a law or known exactly (χ² null, binomial counts, a fit with known errors, many runs)
+    z is normal: 3σ (``dof`` None);
+σ the scatter of R seeds, or a jackknife over them
+    z is Student's t with R − 1 degrees of freedom: the check sets ``t_law`` and allows
+    :attr:`Check.sigmas` = :func:`.tolerances.t_sigmas` of its dof (9.22σ for 4 seeds,
+    4.53σ for 8, 3.59σ for 16);
+both sides measured
+    the same with the Welch–Satterthwaite dof of the combined σ (:attr:`Check.combined_dof`);
+the largest |z| of k values (a scan over times, ``trials`` k)
+    the quantile whose maximum over k values keeps the coverage (Šidák).
+
+A stated absolute ``tolerance`` (a measured systematic, a numerical floor) adds to that
+allowance and never stands in for it.  A check whose σ is a seed scatter without ``t_law``
+allows 3σ: about 94 % coverage at 3 dof.
+
+This module imports nothing from the rest of the package but :mod:`.tolerances`.
 """
 
 from __future__ import annotations
@@ -51,6 +65,8 @@ from collections.abc import Callable, Iterable
 from dataclasses import asdict, dataclass
 
 from particles.validation import InvalidArgumentError
+
+from .tolerances import student_sigmas, t_sigmas
 
 __all__ = [
     "CHI2_SIGMA_SOURCE",
@@ -124,7 +140,8 @@ class Check:
     source : str
         Where ``expected`` comes from: ``"exact: ..."``, ``"paper: ..."``, ``"model: ..."``.
     n_sigma : float
-        Number of combined standard errors allowed (default 3).
+        Number of combined standard errors allowed (default 3); with ``t_law``, the normal
+        standard errors whose coverage is kept (:attr:`sigmas` is what is allowed).
     tolerance : float
         A stated absolute tolerance added to ``n_sigma`` standard errors (default 0): a
         numerical floor, a systematic error stated by the comparison.
@@ -147,11 +164,16 @@ class Check:
     trials : int
         The number of values ``measured`` is the largest |z| of (a scan over times; default
         1): its p-value is that of a maximum (:func:`.calibration.p_value`).
+    t_law : bool
+        Allow the quantile of the check's own law at the coverage of ``n_sigma`` normal σ
+        (:func:`.tolerances.t_sigmas` of :attr:`combined_dof` and ``trials``) instead of
+        ``n_sigma`` itself (default False).
 
     Raises
     ------
     particles.validation.InvalidArgumentError
-        Naming ``relation``, ``n_sigma``, ``tolerance``, ``sigma`` or ``expected`` for a value
+        Naming ``relation``, ``n_sigma``, ``tolerance``, ``sigma``, ``expected``, ``dof``,
+        ``expected_dof``, ``trials`` or ``t_law`` for a value
         outside its domain (a negative or non-finite tolerance, an unknown relation, a
         non-finite expected value; None is not measured, not refused).
     """
@@ -169,6 +191,7 @@ class Check:
     expected_dof: float | None = None
     sigma_source: str = ""
     trials: int = 1
+    t_law: bool = False
 
     def __post_init__(self):
         if self.relation not in _RELATIONS:
@@ -190,6 +213,8 @@ class Check:
                 raise InvalidArgumentError(name, value, "None (infinite) or a finite number > 0")
         if isinstance(self.trials, bool) or not isinstance(self.trials, int) or self.trials < 1:
             raise InvalidArgumentError("trials", self.trials, "an integer >= 1")
+        if not isinstance(self.t_law, bool):
+            raise InvalidArgumentError("t_law", self.t_law, "True or False")
 
     @property
     def combined_dof(self) -> float | None:
@@ -204,9 +229,18 @@ class Check:
         return math.hypot(self.sigma or 0.0, self.expected_sigma or 0.0)
 
     @property
+    def sigmas(self) -> float:
+        """The number of combined standard errors allowed: ``n_sigma``, or with ``t_law`` the
+        quantile of Student's t with :attr:`combined_dof` (the largest of ``trials``) at the
+        two-sided coverage of ``n_sigma`` normal σ."""
+        if not self.t_law:
+            return float(self.n_sigma)
+        return t_sigmas(self.combined_dof, self.n_sigma, self.trials)
+
+    @property
     def allowed(self) -> float:
-        """The largest deviation that still agrees: ``n_sigma · combined_sigma + tolerance``."""
-        return self.n_sigma * self.combined_sigma + self.tolerance
+        """The largest deviation that still agrees: ``sigmas · combined_sigma + tolerance``."""
+        return self.sigmas * self.combined_sigma + self.tolerance
 
     @property
     def deviation(self) -> float | None:
@@ -251,7 +285,7 @@ class Check:
         parts = []
         # a quantity not measured has no standard error: its tolerance is still nσ
         if self.combined_sigma > 0 or (self.sigma is None and finite_number(self.measured) is None):
-            parts.append(f"{self.n_sigma:g}σ")
+            parts.append(f"{self.sigmas:.3g}σ")
         if self.tolerance > 0:
             parts.append(f"{self.tolerance:.2g}")
         if not parts:
@@ -316,8 +350,9 @@ class Verdict:
         """The JSON-able record of the summary: ``claim``, ``short``, ``quantity``,
         ``measured``, ``sigma``, ``expected``, ``expected_sigma``, ``source``, ``n_sigma``,
         ``tolerance``, ``relation``, ``dof``, ``expected_dof``, ``combined_dof``,
-        ``sigma_source``, ``trials``, ``allowed``, ``tolerance_text``, ``deviation_in_sigma``
-        (None without a standard error), ``status``, ``why``, ``measured_at``,
+        ``sigma_source``, ``trials``, ``t_law``, ``sigmas`` (the standard errors allowed),
+        ``allowed``, ``tolerance_text``, ``deviation_in_sigma`` (None without a standard
+        error), ``status``, ``why``, ``measured_at``,
         ``explanation`` (the same fields for the explaining check, with ``holds``, and
         ``requires``: the records of the checks before it that must hold too; None when none),
         ``refutation`` (the same for the refuting checks) and ``resolution`` (the record of the
@@ -354,6 +389,7 @@ def _check_dict(c: Check) -> dict:
     sigma = c.combined_sigma
     dev = c.deviation
     d["allowed"] = c.allowed
+    d["sigmas"] = c.sigmas
     d["tolerance_text"] = c.tolerance_text()
     d["deviation_in_sigma"] = None if dev is None or sigma == 0 else dev / sigma
     d["combined_dof"] = c.combined_dof
@@ -440,37 +476,6 @@ def judge(claim: str, check: Check, explanation=None, why: str = "", *, refutati
                    explained_by[0] if len(explained_by) == 1 else (explained_by or None), why,
                    refuted_by[0] if len(refuted_by) == 1 else (refuted_by or None), resolution,
                    measured_at, short)
-
-
-def student_sigmas(seeds: int, n_sigma: float = 3.0) -> float:
-    """The number of standard errors to allow for a mean over ``seeds`` runs whose standard
-    error is estimated from those runs: the quantile of Student's t with ``seeds − 1``
-    degrees of freedom at the two-sided coverage of ``n_sigma`` normal standard errors
-    (3: 99.73 %).  19.2 for 3 seeds, 9.22 for 4, 6.62 for 5; ``n_sigma`` for many seeds.
-
-    Parameters
-    ----------
-    seeds : int
-        The number of runs (at least 2).
-    n_sigma : float, optional
-        The normal standard errors whose coverage is kept (default 3).
-
-    Returns
-    -------
-    float
-
-    Raises
-    ------
-    particles.validation.InvalidArgumentError
-        Naming ``seeds`` below 2 or ``n_sigma`` not positive.
-    """
-    from scipy import stats
-
-    if isinstance(seeds, bool) or not isinstance(seeds, (int,)) or seeds < 2:
-        raise InvalidArgumentError("seeds", seeds, "an integer >= 2")
-    if finite_number(n_sigma) is None or n_sigma <= 0:
-        raise InvalidArgumentError("n_sigma", n_sigma, "a finite number > 0")
-    return float(stats.t.ppf(stats.norm.cdf(n_sigma), seeds - 1))
 
 
 def welch_dof(*parts) -> float | None:
