@@ -19,9 +19,11 @@ import contextlib
 import signal
 import threading
 
-__all__ = ["deferred_sigint", "check", "requested"]
+__all__ = ["deferred_sigint", "check", "requested", "run_interruptibly", "abandoned"]
 
 _requested = threading.Event()
+#: Worker threads of :func:`run_interruptibly` left running after a Ctrl-C.
+_abandoned: list[threading.Thread] = []
 
 
 def _handler(signum, frame):
@@ -75,3 +77,69 @@ def check() -> None:
     """
     if _requested.is_set():
         raise KeyboardInterrupt
+
+
+def run_interruptibly(work, name: str = "computation"):
+    """``work()`` in a daemon thread while the calling thread waits in steps of 0.1 s, so that
+    a Ctrl-C reaches the caller within about 0.1 s even while ``work`` sits in one long call
+    that Python cannot interrupt (a compiled JAX loop).
+
+    Python's own handler raises KeyboardInterrupt in the waiting thread; under
+    :func:`deferred_sigint` the wait calls :func:`check`.  The abandoned thread runs on until
+    its call returns, its result discarded (it is a daemon: it does not keep the process
+    alive; :func:`abandoned` tells a program that is about to exit that one still runs).
+
+    Parameters
+    ----------
+    work : callable
+        Called with no arguments.
+    name : str, default "computation"
+        The thread's name (seen in debuggers and tracebacks).
+
+    Returns
+    -------
+    object
+        What ``work()`` returned.
+
+    Raises
+    ------
+    KeyboardInterrupt
+        On Ctrl-C while ``work`` runs.
+    BaseException
+        Whatever ``work`` raised, re-raised in the calling thread.
+    """
+    out: dict = {}
+
+    def run():
+        try:
+            out["value"] = work()
+        except BaseException as exc:  # noqa: BLE001 - re-raised in the caller
+            out["error"] = exc
+
+    worker = threading.Thread(target=run, name=name, daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(0.1)
+            check()
+    except BaseException:
+        if worker.is_alive():
+            _abandoned.append(worker)
+        raise
+    if "error" in out:
+        raise out["error"]
+    return out["value"]
+
+
+def abandoned() -> bool:
+    """Whether a worker of :func:`run_interruptibly` left behind by a Ctrl-C still runs.
+
+    A process must not run the interpreter's normal shutdown while one does: the thread is
+    torn down inside a compiled JAX call, which aborts the process (exit status 134 instead of
+    the 130 of an interrupt).  The command line ends such a process with ``os._exit``.
+
+    Returns
+    -------
+    bool
+    """
+    return any(worker.is_alive() for worker in _abandoned)

@@ -82,6 +82,7 @@ from particles import kernels as _kernels
 from particles.validation import InvalidArgumentError, check_count, check_positive, check_times
 
 from . import _sphere_spectral_scheme as _scheme
+from . import interrupt
 from .sphere_grid import SphereGrid, sphere_grid
 from .sphere_solution import SphereSolution, sonine
 
@@ -306,7 +307,7 @@ class SphereOperator:
         return F * (1.0 + (lam @ basis).reshape(F.shape)), scale, mean
 
     def integrate(self, F, log_scale: float, times, density: float, rtol: float, atol: float,
-                  max_steps: int, gamma: float | None = None):
+                  max_steps: int, gamma: float | None = None, interruptible: bool = True):
         """diffrax's Tsit5 from (F, ln s) at t = 0 over ``times`` (module docstring).
 
         Parameters
@@ -325,6 +326,10 @@ class SphereOperator:
             Most steps.
         gamma : float, optional
             The degree γ in the factor n s^γ (default the kernel's; 0 marches in τ).
+        interruptible : bool, default True
+            Run in a worker thread, so that Ctrl-C reaches the caller at once
+            (:func:`maxwell_kinetics.interrupt.run_interruptibly`); False runs in the calling
+            thread (a caller that is itself such a worker).
 
         Returns
         -------
@@ -336,18 +341,29 @@ class SphereOperator:
             Whether diffrax finished.
         steps : int
             Steps taken.
+
+        Raises
+        ------
+        KeyboardInterrupt
+            On Ctrl-C, within about 0.1 s (:func:`maxwell_kinetics.interrupt.run_interruptibly`).
         """
         import jax
         import jax.numpy as jnp
 
         gamma = self.form.exponent if gamma is None else gamma
-        with jax.enable_x64(True):
-            tables, basis, grids = self._args()
-            args = (tables, basis, grids, jnp.asarray(density), jnp.asarray(gamma))
-            y0 = (jnp.asarray(F, dtype=float), jnp.asarray(log_scale, dtype=float))
-            ys, ok, steps = self._functions().solve(y0, jnp.asarray(times, dtype=float), args,
-                                                    rtol, atol, max_steps)
-            return np.asarray(ys[0]), np.asarray(ys[1]), bool(ok), int(steps)
+
+        def work():
+            with jax.enable_x64(True):
+                tables, basis, grids = self._args()
+                args = (tables, basis, grids, jnp.asarray(density), jnp.asarray(gamma))
+                y0 = (jnp.asarray(F, dtype=float), jnp.asarray(log_scale, dtype=float))
+                ys, ok, steps = self._functions().solve(y0, jnp.asarray(times, dtype=float),
+                                                        args, rtol, atol, max_steps)
+                return np.asarray(ys[0]), np.asarray(ys[1]), bool(ok), int(steps)
+
+        if not interruptible:
+            return work()
+        return interrupt.run_interruptibly(work, "spectral hard-sphere solve")
 
 
 class _Functions:
@@ -422,16 +438,23 @@ def solve_spheres(kernel, t, *, dimension: int = 3, density: float = 1.0, initia
         ``rtol``, ``atol`` or ``max_steps`` when out of range.
     RuntimeError
         When the integration fails (too many steps, non-finite values).
+    KeyboardInterrupt
+        On Ctrl-C, within about 0.1 s (the integration runs in a worker thread).
     """
     times = check_times(t, "t", strictly=False)
     density = check_positive(density, "density")
     rtol, atol = check_positive(rtol, "rtol"), check_positive(atol, "atol")
     max_steps = check_count(max_steps, "max_steps", 1)
     start = time.perf_counter()
-    operator = SphereOperator(kernel, dimension, grid)
-    F0, scale, mean = operator.initial(initial)
-    F, log_scale, ok, steps = operator.integrate(F0, math.log(scale), times, density, rtol,
-                                                 atol, max_steps)
+
+    def work():  # the operator's tables take seconds too: all of it where Ctrl-C can wait
+        operator = SphereOperator(kernel, dimension, grid)
+        F0, scale, mean = operator.initial(initial)
+        return operator, mean, *operator.integrate(F0, math.log(scale), times, density, rtol,
+                                                   atol, max_steps, interruptible=False)
+
+    operator, mean, F, log_scale, ok, steps = interrupt.run_interruptibly(
+        work, "spectral hard-sphere solve")
     if not ok or not np.all(np.isfinite(F)):
         raise RuntimeError(f"the spectral hard-sphere solve failed after {steps} steps "
                            f"(max_steps = {max_steps}, or non-finite values)")
@@ -527,11 +550,14 @@ def cooling_state(kernel, *, dimension: int = 3, grid=None, tolerance: float = 1
         ``dimension``, ``grid``, ``tolerance``, ``chunk``, ``max_tau`` or ``start``.
     RuntimeError
         When the residual is not reached by ``max_tau`` or the integration fails.
+    KeyboardInterrupt
+        On Ctrl-C, within about 0.1 s (each march runs in a worker thread).
     """
     tolerance = check_positive(tolerance, "tolerance")
     chunk, max_tau = check_positive(chunk, "chunk"), check_positive(max_tau, "max_tau")
     begin = time.perf_counter()
-    operator = SphereOperator(kernel, dimension, grid)
+    operator = interrupt.run_interruptibly(lambda: SphereOperator(kernel, dimension, grid),
+                                           "spectral operator")
     if kernel.restitution == 1.0:
         raise InvalidArgumentError("kernel", kernel, "a restitution below 1 (elastic spheres "
                                    "do not cool: every Maxwellian is stationary)")

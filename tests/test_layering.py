@@ -276,9 +276,10 @@ def private_uses(name: str, path: Path, modules: dict[str, Path]) -> list[str]:
 #: Private names of other libraries that the project reads on purpose, with the reason.
 THIRD_PARTY_PRIVATE = {
     # the CLI's errors name the option as typed and list a subcommand's choices: argparse keeps
-    # both only in private attributes
+    # both only in private attributes; os._exit is the standard library's exit without the
+    # interpreter's shutdown (a solve's thread still inside JAX would abort it)
     "maxwell_kinetics.app.cli": {"parser._option_string_actions", "parser._actions",
-                             "argparse._SubParsersAction"},
+                                 "argparse._SubParsersAction", "os._exit"},
 }
 
 

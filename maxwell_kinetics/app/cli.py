@@ -49,6 +49,7 @@ try:
 
     from particles.validation import InvalidArgumentError
 
+    from .. import interrupt
     from . import cache_options
     from .commands import (
         convergence,
@@ -263,6 +264,12 @@ def main(argv=None) -> int:
         return getattr(exc, "exit_status", 2)
     except KeyboardInterrupt:  # at any moment, start-up included: one line, no traceback
         print(f"{command}: interrupted", file=sys.stderr)
+        if _PROGRAM and interrupt.abandoned():
+            # a solve's worker thread still runs inside JAX: the interpreter's shutdown would
+            # abort the process (status 134), so leave now, with the streams flushed
+            sys.stdout.flush()
+            sys.stderr.flush()
+            os._exit(130)
         return 130
     except BrokenPipeError:  # stdout closed by its reader: stop quietly, as a shell tool does
         try:  # Python flushes stdout at exit; point it at /dev/null so that this cannot fail
