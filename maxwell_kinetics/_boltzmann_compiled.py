@@ -137,20 +137,60 @@ def solve_unjitted(static: Static, y0, times, args, rtol, atol):
 
 
 def rates_unjitted(static: Static, ys, args):
-    """:func:`rhs` at each row of ``ys`` (``static``: :data:`PLAIN`)."""
+    """:func:`rhs` at each row of ``ys``.
+
+    Parameters
+    ----------
+    static : Static
+        :data:`PLAIN`.
+    ys : jax.Array
+        Shape (K, N + 1).
+    args : tuple
+        As :func:`rhs`.
+
+    Returns
+    -------
+    jax.Array
+        Shape (K, N + 1).
+    """
     TRACES["rates"] += 1
     return jax.vmap(lambda y: rhs(0.0, y, args))(ys)
 
 
 def steady_unjitted(static: Static, F, tables, c, h, lam):
-    """The rescaled equation's right-hand side Q_h(F) + σ′ ∂_c(c F) (``static``:
-    :data:`PLAIN`)."""
+    """The rescaled equation's right-hand side Q_h(F) + σ′ ∂_c(c F).
+
+    Parameters
+    ----------
+    static : Static
+        :data:`PLAIN`.
+    F, tables, c, h, lam
+        As :func:`maxwell_kinetics._boltzmann_scheme.grid_rhs`.
+
+    Returns
+    -------
+    jax.Array
+        Shape (N,).
+    """
     TRACES["steady"] += 1
     return scheme.grid_rhs(F, tables, c, h, lam)[0]
 
 
 def jacobian_unjitted(static: Static, F, tables, c, h, lam):
-    """The Jacobian of :func:`steady_unjitted` in F (forward mode)."""
+    """The Jacobian of :func:`steady_unjitted` in F (forward mode).
+
+    Parameters
+    ----------
+    static : Static
+        :data:`PLAIN`.
+    F, tables, c, h, lam
+        As :func:`maxwell_kinetics._boltzmann_scheme.grid_rhs`.
+
+    Returns
+    -------
+    jax.Array
+        Shape (N, N).
+    """
     TRACES["jacobian"] += 1
     return jax.jacfwd(lambda G: scheme.grid_rhs(G, tables, c, h, lam)[0])(F)
 
