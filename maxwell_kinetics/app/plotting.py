@@ -3,13 +3,11 @@
 
 The figures of the kinetic library moved to :mod:`maxwell_kinetics.figures`: ``new_figure``,
 ``plot_solution``, ``plot_density`` and ``Figure``.  Their old names here still work for a
-while, with a :class:`DeprecationWarning` that names the new home (the application's own modules
-import them without a warning).
+while, with a :class:`DeprecationWarning` that names the new home.
 """
 
 from __future__ import annotations
 
-import inspect
 import warnings
 
 import numpy as np
@@ -23,22 +21,11 @@ __all__ = ["plot_convergence"]
 MOVED = ("new_figure", "plot_solution", "plot_density", "Figure")
 
 
-def _imported_by_the_application() -> bool:
-    """Whether the code that asks for a moved name (the caller of the module's ``__getattr__``)
-    is a module of :mod:`maxwell_kinetics.app` (the frames of the import machinery skipped)."""
-    frame = inspect.currentframe().f_back.f_back
-    while frame is not None and frame.f_globals.get("__name__", "").startswith("importlib"):
-        frame = frame.f_back
-    name = frame.f_globals.get("__name__", "") if frame is not None else ""
-    return name == "maxwell_kinetics.app" or name.startswith("maxwell_kinetics.app.")
-
-
 def __getattr__(name):
     if name in MOVED:
-        if not _imported_by_the_application():
-            warnings.warn(f"maxwell_kinetics.app.plotting.{name} moved to "
-                          f"maxwell_kinetics.figures.{name}; import it from there",
-                          DeprecationWarning, stacklevel=2)
+        warnings.warn(f"maxwell_kinetics.app.plotting.{name} moved to "
+                      f"maxwell_kinetics.figures.{name}; import it from there",
+                      DeprecationWarning, stacklevel=2)
         return getattr(_figures, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 

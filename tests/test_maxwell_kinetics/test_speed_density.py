@@ -241,7 +241,7 @@ def test_distances_to_f_hat_refuse_two_and_three_dimensions(planar, spatial):
 
 
 def test_solution_figure_shows_the_speed_density_in_two_dimensions(planar):
-    from maxwell_kinetics.app.plotting import plot_solution
+    from maxwell_kinetics.figures import plot_solution
 
     fig = plot_solution(planar)
     right = fig.axes[1]

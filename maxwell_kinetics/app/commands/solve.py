@@ -212,7 +212,7 @@ def _run(args, written: list) -> int:
         speed_density = np.array([sol.speed_density(speeds, k)[1] for k in range(len(taus))])
     interrupt.check()  # a Ctrl-C since the solve: write nothing
     if args.plot:
-        from ..plotting import plot_solution
+        from ...figures import plot_solution
 
         figure = plot_solution(sol)
         interrupt.check()

@@ -75,7 +75,7 @@ def run(args) -> int:
                "cumulants": np.asarray(state.cumulants).tolist(),
                "density": {"x": state.velocity.tolist(), "P": state.density.tolist()}}
     if args.plot:
-        from ..plotting import plot_density
+        from ...figures import plot_density
 
         fig = plot_density(state.velocity, state.density, state.variance,
                      title=f"driven steady state, r = {state.restitution:g}, "

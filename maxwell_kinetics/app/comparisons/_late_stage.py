@@ -407,7 +407,7 @@ def _structure_numbers(kb, sb_mean, times, porod_seed, params) -> dict:
 def _grid(ax):
     """Eight axes in two rows of four (a new figure), or the eight axes given."""
     if ax is None:
-        from ..plotting import new_figure
+        from ...figures import new_figure
 
         fig, axes = new_figure(4, width=19.0 / 4, height=9.0 / 2, nrows=2)
         return fig, list(axes.ravel()), True

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.stats import chi2 as chi2_dist
 
-from maxwell_kinetics.app.comparisons import Comparison, sticky_vs_md
+from maxwell_kinetics.app.comparisons import Comparison
 from maxwell_kinetics.app.comparisons.analysis import mass_density, paired_numbers
 from particles.sticky import StickyGas, StickyParams
 from particles.sticky_observables import cluster_mass_distribution
@@ -21,8 +21,9 @@ T_3_SEEDS = 5.0
 
 
 @pytest.fixture(scope="module")
-def paired():
-    return sticky_vs_md("small", progress=False)  # ~25 s: MD N = 1000 to t = 40, 3 seeds
+def paired(comparison):
+    # ~25 s: MD N = 1000 to t = 40, 3 seeds; the session's run (the legend test draws it too)
+    return comparison("sticky_vs_md")
 
 
 @pytest.fixture(scope="module")

@@ -383,12 +383,12 @@ def test_the_constant_rate_lattice_misses_the_two_humps(distributions):
     assert m["lattice_r0.99"]["kurtosis"][0] > 2.6
 
 
-def test_velocity_profiles_report_increment_skewness(tmp_path):
+def test_velocity_profiles_report_increment_skewness(tmp_path, comparison):
     """Comparison 7 runs and reports the increment skewness of the three profiles with seed
     errors, raw and coarse-grained on the scales of ``profile_scales`` (the paper's sign test is
     ``test_md_shock_asymmetry_in_the_coarse_grained_profiles``, at N = 2·10⁴: at this size there
     are too few clusters).  Its result survives save/load."""
-    res = comparisons.velocity_profiles("small")
+    res = comparison("velocity_profiles")  # the session's run (the legend test draws it too)
     for key in ("md_vx", "md_vi", "lattice_vi"):
         value, err = res.summary["increment_skewness"][key]["skewness"]
         assert math.isfinite(value) and err > 0
