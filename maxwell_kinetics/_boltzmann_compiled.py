@@ -1,7 +1,8 @@
-"""The compiled functions of the velocity-space solver (:mod:`maxwell_kinetics.inelastic_boltzmann`):
-its time integration, right-hand side, steady residual and Jacobian, each kept in the project's
-store of compiled executables (:func:`maxwell_kinetics.compile_cache.call`), so that a warm
-process neither traces nor compiles them (nor imports diffrax).
+"""The compiled functions of the velocity-space solver
+(:mod:`maxwell_kinetics.inelastic_boltzmann`): its time integration, right-hand side, steady
+residual and Jacobian, each kept in the project's store of compiled executables
+(:func:`maxwell_kinetics.compile_cache.call`), so that a warm process neither traces nor
+compiles them (nor imports diffrax).
 
 The time integration runs segment by segment between the output times (``lax.scan`` over the
 padded times, each segment one ``diffrax.diffeqsolve`` with ``SaveAt(t1=True)``,

@@ -67,6 +67,7 @@ from particles.validation import (
     check_times,
 )
 
+from . import interrupt
 from . import velocity_grid as _grid
 from .boltzmann_solution import BoltzmannSolution
 from .boltzmann_solution import interpolate_nodes as _interpolate
@@ -275,33 +276,6 @@ def estimate_seconds(kernel, grid, density: float, t_last: float) -> float | Non
         return None
     steps = _steps_per_unit_time(kernel, grid) * density * t_last
     return steps * grid.c.size**2 * SECONDS_PER_STEP_AND_PAIR
-
-
-def _interruptible(work):
-    """``work()`` in a daemon thread while this thread waits in steps of 0.1 s, raising a
-    KeyboardInterrupt as soon as one arrives (Python's handler, or
-    :func:`maxwell_kinetics.interrupt.check` under the command line's deferral); the result, or
-    the exception ``work`` raised."""
-    import threading
-
-    from . import interrupt
-
-    out: dict = {}
-
-    def run():
-        try:
-            out["value"] = work()
-        except BaseException as exc:  # re-raised in the caller
-            out["error"] = exc
-
-    worker = threading.Thread(target=run, name="velocity-space solve", daemon=True)
-    worker.start()
-    while worker.is_alive():
-        worker.join(0.1)
-        interrupt.check()
-    if "error" in out:
-        raise out["error"]
-    return out["value"]
 
 
 def _padded(times: np.ndarray) -> np.ndarray:
@@ -522,7 +496,7 @@ def solve_boltzmann(kernel=None, t=None, *, exponent=None, density=1.0, initial=
                                    f"max_steps={max_steps})")
             return ys, np.asarray(functions.rhs(jnp.asarray(ys), args)), int(steps)
 
-    ys, rates, steps = _interruptible(integrate)
+    ys, rates, steps = interrupt.run_interruptibly(integrate, "velocity-space solve")
     if isinstance(grid, _grid.MappedGrid):
         ys, rates = ys / unit, rates / unit
     seconds = time.perf_counter() - start

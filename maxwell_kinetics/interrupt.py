@@ -19,7 +19,8 @@ import contextlib
 import signal
 import threading
 
-__all__ = ["deferred_sigint", "check", "requested", "run_interruptibly", "abandoned"]
+__all__ = ["deferred_sigint", "check", "requested", "run_interruptibly", "abandoned",
+           "join_abandoned"]
 
 _requested = threading.Event()
 #: Worker threads of :func:`run_interruptibly` left running after a Ctrl-C.
@@ -143,3 +144,27 @@ def abandoned() -> bool:
     bool
     """
     return any(worker.is_alive() for worker in _abandoned)
+
+
+def join_abandoned(timeout: float | None = None) -> bool:
+    """Wait for the workers that :func:`run_interruptibly` left behind to end (their results
+    are discarded): a Python program that goes on, or ends normally, after a Ctrl-C without
+    the JAX computation still running in the background.
+
+    Parameters
+    ----------
+    timeout : float, optional
+        Seconds to wait in all (default: as long as it takes).
+
+    Returns
+    -------
+    bool
+        True when none is left running.
+    """
+    import time
+
+    end = None if timeout is None else time.monotonic() + timeout
+    for worker in list(_abandoned):
+        worker.join(None if end is None else max(0.0, end - time.monotonic()))
+    _abandoned[:] = [worker for worker in _abandoned if worker.is_alive()]
+    return not _abandoned

@@ -133,9 +133,6 @@ def test_the_store_stays_off_under_maxwell_kinetics_cache_off(tmp_path):
     assert not list(tmp_path.rglob("*.entry"))
 
 
-@pytest.mark.xfail(strict=True, reason="the relative-velocity branch of the solve command "
-                   "(maxwell_kinetics/app/commands/solve.py, _run_relative_velocity) never "
-                   "calls cache_options.from_args, so --no-cache is not read there")
 def test_the_command_line_no_cache_keeps_the_store_empty(tmp_path):
     root = tmp_path / "store"
     env = dict(os.environ, MAXWELL_KINETICS_CACHE=str(root))

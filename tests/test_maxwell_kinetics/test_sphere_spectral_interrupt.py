@@ -11,6 +11,7 @@ import time
 
 import pytest
 
+from maxwell_kinetics.interrupt import join_abandoned
 from maxwell_kinetics.sphere_spectral import solve_spheres
 from particles.sphere_kernels import VariableHardSpheres
 
@@ -44,6 +45,9 @@ def test_ctrl_c_stops_a_spectral_solve_within_a_second():
     # end would take the interrupt only after it, seconds later
     taken = time.perf_counter()
     assert fired and taken - fired[0] < 1.0, (fired[0] - start, taken - start)
+    # the abandoned solve ends before the test does (a process that exits while it still
+    # runs inside JAX aborts)
+    assert join_abandoned(120.0)
 
 
 def test_the_command_line_leaves_with_130_while_the_solve_thread_still_runs(monkeypatch, capsys):
@@ -58,15 +62,16 @@ def test_the_command_line_leaves_with_130_while_the_solve_thread_still_runs(monk
     monkeypatch.setattr(cli, "_PROGRAM", True)
     monkeypatch.setattr(cli.os, "_exit", exits.append)
     previous = signal.signal(signal.SIGINT, signal.default_int_handler)
-    timer = threading.Timer(2.0, _thread.interrupt_main)
+    timer = threading.Timer(1.0, _thread.interrupt_main)
     try:
         timer.start()
         code = cli.main(["solve", "--kernel", "variable_hard_spheres", "--exponent", "0",
                          "--restitution", "0.5", "--dimension", "2", "--grid", "coarse",
-                         "--t", "100", "--json", "--no-cache"])
+                         "--t", "40", "--json", "--no-cache"])
     finally:
         timer.cancel()
         signal.signal(signal.SIGINT, previous)
     err = capsys.readouterr().err
     assert code == 130 and exits == [130], (code, exits, err)
     assert err.strip() == "maxwell-kinetics solve: interrupted"
+    assert join_abandoned(120.0)

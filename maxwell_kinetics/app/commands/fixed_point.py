@@ -131,6 +131,7 @@ def _run_relative_velocity(args) -> int:
         kernel = kernel_from_args(args, _solvable, restitution, typed)  # r and its parameters
         grid = VelocityGrid(points, half_width)
         initial_values("gaussian", grid)  # the starting law must fit the grid
+        cache_options.from_args(args)  # the store of compiled executables, unless --no-cache
         state = scaling_state(kernel, grid=grid)
     except InvalidArgumentError as exc:
         value = exc.value

@@ -333,6 +333,7 @@ def _run_relative_velocity(args, written: list) -> int:
     if cost is not None and cost > 60.0 and not args.json:
         print(f"maxwell-kinetics solve: estimated ~{format_seconds(cost)} (Ctrl-C stops it)",
               file=sys.stderr)
+    cache_options.from_args(args)  # the store of compiled executables, unless --no-cache
     try:
         sol = solve(kernel, args.initial, times, VelocitySpace(grid=grid), density=density,
                     force=args.force)
