@@ -711,7 +711,7 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
         return solve_spheres(value, chosen, dimension=method.dimension,
                              density=1.0 if density is None else density, initial=initial,
                              grid=method.grid, rtol=method.rtol, atol=method.atol,
-                             max_steps=method.max_steps)
+                             max_steps=method.max_steps, force=force)
     from .inelastic_boltzmann import solve_boltzmann
 
     return solve_boltzmann(value, chosen, density=1.0 if density is None else density,

@@ -79,14 +79,21 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from particles import kernels as _kernels
-from particles.validation import InvalidArgumentError, check_count, check_positive, check_times
+from particles.validation import (
+    InvalidArgumentError,
+    check_bool,
+    check_count,
+    check_positive,
+    check_times,
+)
 
 from . import _sphere_spectral_scheme as _scheme
 from . import interrupt
+from .grid import FORCE, MAX_SOLVE_SECONDS
 from .sphere_grid import SphereGrid, sphere_grid
 from .sphere_solution import SphereSolution, sonine
 
-__all__ = ["carries", "kernel_form", "SphereOperator",
+__all__ = ["carries", "kernel_form", "SphereOperator", "estimate_solve",
            "solve_spheres", "cooling_state", "CoolingState"]
 
 
@@ -399,9 +406,61 @@ class _Functions:
         self.solve = jax.jit(solve, static_argnums=(5,))
 
 
+#: Time steps per unit of the integrator's time τ = ∫ n s^γ dt (s the thermal scale), as
+#: a + b γ: measured from the Maxwellian at α = 0.5 (2026-11-29, load 1-2 on 2 cores): hard
+#: spheres and disks (γ = 1) 21-36 steps per unit τ beyond 10-15 steps of start ("coarse"
+#: d = 2: 59 steps at τ = 2.0, 137 at 5.4; d = 3: 65 at 1.65, 154 at 4.23; "default" d = 2:
+#: 82 at 2.0, 217 at 5.4), the Maxwell kernel (γ = 0) 4-5 (27, 24 and 21 steps at τ = 5).
+STEPS_PER_TAU = (5.0, 35.0)
+#: Steps before the first unit of τ (the controller's start).
+STEPS_AT_START = 15.0
+#: Seconds per step and per unit of work W = (directions × radial nodes) × N^d log₂ N^d:
+#: measured 7e-9 to 1.3e-8 on the three grids above (0.028 s, 0.25 s and 0.50 s per step on
+#: "coarse" d = 2, "default" d = 2 and "coarse" d = 3); the larger, rounded up.
+SECONDS_PER_STEP_AND_WORK = 1.5e-8
+
+
+def estimate_solve(operator: SphereOperator, F0, density: float, t_last: float) -> dict:
+    """The estimated steps and wall time of a solve from ``F0`` to ``t_last``, before it runs.
+
+    The integrator's time is τ = ∫ n s^γ dt.  From the initial cooling, d ln s/dt = n s^γ σ₀
+    (σ₀ = :meth:`SphereOperator.scaled_rhs`'s rate at ``F0``, < 0 when the gas cools), so
+    τ = ln(1 + γ|σ₀| n t)/(γ|σ₀|) for γ > 0 (n t when γ|σ₀| n t is small) and τ = n t for
+    γ = 0; the steps are :data:`STEPS_AT_START` + (a + b γ) τ (:data:`STEPS_PER_TAU`), each
+    costing :data:`SECONDS_PER_STEP_AND_WORK` per unit of the grid's work.  A hotter gas
+    (σ₀ > 0, a heated start) is counted at σ₀ = 0.
+
+    Parameters
+    ----------
+    operator : SphereOperator
+        The operator of the solve.
+    F0 : numpy.ndarray
+        The initial scaled law on the operator's grid.
+    density : float
+        n.
+    t_last : float
+        The last time t.
+
+    Returns
+    -------
+    dict
+        ``tau``, ``steps`` and ``seconds`` (floats).
+    """
+    gamma = float(operator.form.exponent)
+    sigma = max(0.0, -float(operator.scaled_rhs(F0)[1]))
+    x = gamma * sigma * density * t_last
+    tau = density * t_last if x < 1e-12 else math.log1p(x) / (gamma * sigma)
+    steps = STEPS_AT_START + (STEPS_PER_TAU[0] + STEPS_PER_TAU[1] * gamma) * tau
+    grid, d = operator.grid, operator.dimension
+    directions = len(_scheme.sphere_rule(d, grid.sphere_order)[1])
+    modes = grid.points**d
+    work = directions * grid.radial_nodes * modes * math.log2(modes)
+    return {"tau": tau, "steps": steps, "seconds": steps * work * SECONDS_PER_STEP_AND_WORK}
+
+
 def solve_spheres(kernel, t, *, dimension: int = 3, density: float = 1.0, initial="gaussian",
                   grid=None, rtol: float = 1e-9, atol: float = 1e-12,
-                  max_steps: int = 100_000) -> SphereSolution:
+                  max_steps: int = 100_000, force: bool = False) -> SphereSolution:
     """Solve ∂f/∂t = n Q(f, f) for hard spheres or variable hard spheres in d = 2, 3 (module
     docstring) and save the scaled F(c, t) at the times ``t``.
 
@@ -426,6 +485,9 @@ def solve_spheres(kernel, t, *, dimension: int = 3, density: float = 1.0, initia
         number is set by the stability of the dilation and the loss at the box's edge).
     max_steps : int
         Most time steps.
+    force : bool, default False
+        Run a solve estimated (:func:`estimate_solve`) to take more than
+        :data:`maxwell_kinetics.grid.MAX_SOLVE_SECONDS` (one day) anyway.
 
     Returns
     -------
@@ -438,10 +500,14 @@ def solve_spheres(kernel, t, *, dimension: int = 3, density: float = 1.0, initia
         ``rtol``, ``atol`` or ``max_steps`` when out of range.
     RuntimeError
         When the integration fails (too many steps, non-finite values).
+    particles.validation.InvalidArgumentError
+        Naming ``t`` before the integration when the estimated steps (:func:`estimate_solve`)
+        exceed ``max_steps``, or (unless ``force``) its estimated time exceeds one day.
     KeyboardInterrupt
         On Ctrl-C, within about 0.1 s (the integration runs in a worker thread).
     """
     times = check_times(t, "t", strictly=False)
+    force = check_bool(force, "force")
     density = check_positive(density, "density")
     rtol, atol = check_positive(rtol, "rtol"), check_positive(atol, "atol")
     max_steps = check_count(max_steps, "max_steps", 1)
@@ -450,6 +516,17 @@ def solve_spheres(kernel, t, *, dimension: int = 3, density: float = 1.0, initia
     def work():  # the operator's tables take seconds too: all of it where Ctrl-C can wait
         operator = SphereOperator(kernel, dimension, grid)
         F0, scale, mean = operator.initial(initial)
+        cost = estimate_solve(operator, F0, density, float(times[-1]) if times.size else 0.0)
+        if cost["steps"] > max_steps:
+            raise InvalidArgumentError(
+                "t", float(times[-1]), f"a last time the integrator reaches in max_steps = "
+                f"{max_steps} steps (this one: about {cost['steps']:.3g} steps; raise "
+                "max_steps in Python for longer solves)")
+        if cost["seconds"] > MAX_SOLVE_SECONDS and not force:
+            raise InvalidArgumentError(
+                "t", float(times[-1]), f"a solve estimated to take at most "
+                f"{MAX_SOLVE_SECONDS:g} s (this one: about {cost['seconds']:.3g} s); a coarser "
+                f"grid or an earlier last time, or {FORCE}")
         return operator, mean, *operator.integrate(F0, math.log(scale), times, density, rtol,
                                                    atol, max_steps, interruptible=False)
 

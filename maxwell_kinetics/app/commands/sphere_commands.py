@@ -102,7 +102,7 @@ def run_solve(args, written: list) -> int:
                                    f"with --kernel {kernel.name}")
     check_outputs(save=args.save, images={"plot": args.plot})
     sol = solve(kernel, "gaussian", times, SphereSpectral(dimension=dimension, grid=grid),
-                density=density)
+                density=density, force=args.force)
     interrupt.check()
     if args.plot:
         import matplotlib.figure
