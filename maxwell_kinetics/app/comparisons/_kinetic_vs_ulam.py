@@ -11,6 +11,7 @@ import numpy as np
 from particles.observables import mean_sem, rescaled_histogram
 
 from ... import statistics as st
+from ...grid import Resolution
 from ...kinetic_histogram import bin_errors
 from ...model import MaxwellModel
 from .analysis import bin_edges
@@ -25,7 +26,7 @@ from .kinetic_predictions import (
 from .particle_runs import ParticleRuns
 from .verdicts import CHI2_SIGMA_SOURCE, Check, judge, pair, pooled_ratio, with_verdicts
 
-__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
+__all__ = ["NAME", "PRESETS", "run", "plot", "verdicts", "chi2_with_prediction_error"]
 
 NAME = "kinetic_vs_ulam"
 
@@ -49,7 +50,60 @@ PRESETS = {
 
 #: The asymmetric law has a jump; at the coarse resolution the interpolation of its oscillating
 #: G (period 2π in q) misplaced bin probabilities by up to 4e-3 at τ = 0, at "fine" by 1e-6.
+#: The figure's curve and the FFT-against-quadrature diagnostics use this solve.
 _VS_ULAM_RESOLUTION = "fine"
+
+#: The χ²'s prediction: the grid of "finest" (h = 0.0125) carried to q_max ≈ 1000 instead of
+#: 35.  The collided part of the asymmetric law has a kink at the support edge (|H| ~ q⁻²), and
+#: its cut at q ≈ 35 moved bins next to the edge by up to 4.8 (r = 0.5) and 7.7 (r = 0.9)
+#: bin standard errors at 16 seeds of 10⁵ particles (τ = 0.5): the pooled χ²/(dof·φ) was
+#: +3.15σ and +24.1σ from 1 there, −1.55σ and −0.13σ on this grid (benchmarks/README.md,
+#: "Missing σ terms").
+_CHI2_RESOLUTION = Resolution("vs_ulam_chi2", h=0.0125, s_max=math.log(1000.0))
+
+#: The same range at twice the spacing: |P(h) − P(2h)| is the prediction's numerical error
+#: per bin, added to the χ²'s variance (:func:`chi2_with_prediction_error`).
+_CHI2_CHECK_RESOLUTION = Resolution("vs_ulam_chi2_2h", h=0.025, s_max=math.log(1000.0))
+
+
+def chi2_with_prediction_error(comparison, edges, probabilities, error) -> tuple[float, float]:
+    """χ²/(dof·φ) of a pooled histogram against a prediction with a numerical error per bin.
+
+    Each bin used by the Pearson χ² of :func:`maxwell_kinetics.statistics.compare_histograms`
+    (expected count T p ≥ 5 with T the pooled samples) gets the variance φ T p (1 − p) + (T δ)²:
+    the sample's, with the runs' overdispersion φ, and the prediction's numerical error δ (a
+    probability) in quadrature; φ multiplies only the first.  With δ = 0 this is the
+    comparison's own χ²/dof / φ.
+
+    Parameters
+    ----------
+    comparison : maxwell_kinetics.statistics.HistogramComparison
+        The pooled histogram against ``probabilities``.
+    edges : array_like
+        Its bin edges.
+    probabilities : array_like
+        The predicted bin probabilities the comparison was made with.
+    error : array_like
+        The numerical error δ of each predicted probability (≥ 0).
+
+    Returns
+    -------
+    (float, float)
+        χ²/(dof·φ) with the prediction's error, and the largest δ over the sample's binomial
+        standard error √(T p (1 − p))/T in the bins used.
+    """
+    p = np.clip(np.asarray(probabilities, dtype=float), 0.0, 1.0)
+    delta = np.asarray(error, dtype=float)
+    total = comparison.runs * comparison.samples
+    width = np.diff(np.asarray(edges, dtype=float))
+    observed = comparison.density * width * total
+    binomial = total * p * (1.0 - p)
+    use = (total * p >= 5.0) & (binomial > 0)
+    phi = comparison.overdispersion
+    variance = phi * binomial[use] + (total * delta[use]) ** 2
+    chi2 = float(np.sum((observed[use] - total * p[use]) ** 2 / variance))
+    worst = float(np.max(total * delta[use] / np.sqrt(binomial[use]))) if use.any() else 0.0
+    return chi2 / comparison.dof, worst
 
 
 def _kinetic_scaled(v: np.ndarray, restitution: float, tau: float) -> np.ndarray:
@@ -83,6 +137,17 @@ def _smoothed_comparison(sol, tau_index, x, edges, width, seed):
     return st.compare_histograms(x + width * noise, edges, prob)
 
 
+def _chi2_prediction(wide, wide_2h, k, edges):
+    """The χ²'s bin probabilities at ``wide.tau[k]`` (grid ``_CHI2_RESOLUTION``) and their
+    numerical error |P(h) − P(2h)| against ``wide_2h`` (zeros when ``wide_2h`` is None).  The
+    mass below the first edge is not used: its quadrature starts just below that edge."""
+    far = abs(float(edges[0])) + 1.0
+    prob, _ = solution_bin_probabilities(wide, k, edges, far=far)
+    if wide_2h is None:
+        return prob, np.zeros_like(prob)
+    return prob, np.abs(prob - solution_bin_probabilities(wide_2h, k, edges, far=far)[0])
+
+
 #: Seed of the smoothing noise (one stream per τ index), fixed for reproducible summaries.
 _SMOOTHING_SEED = 2026
 
@@ -97,6 +162,13 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     expected).  Then the N scan: the mean KS
     distance at ``scan_tau`` for each N in ``scan_n`` and the fitted slope of log D against
     log N (−1/2 expected), its standard error from the seed scatter of each point.
+
+    The χ²'s prediction is solved on q ≤ 1000 (``_CHI2_RESOLUTION``; the figure's solve stops at
+    q ≈ 35, where the cut of the asymmetric law's kink moved bins next to its support edge by
+    several standard errors at the default size), and a second solve at twice the spacing gives
+    each bin's numerical error |P(h) − P(2h)|: each row's ``prediction_error`` has χ²/(dof·φ)
+    with that error in each bin's variance (:func:`chi2_with_prediction_error`; what the
+    verdict pools) and the largest error in bin standard errors.
 
     Each row also has ``smoothed``: the same comparison for the laws convolved with a Gaussian
     of width σ = ``smoothing`` (the samples get independent N(0, σ²) noise from a fixed seed;
@@ -162,15 +234,19 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     cases = []
     for r, law in params["cases"]:
         sol = kinetic_solution(r, law, taus, _VS_ULAM_RESOLUTION, progress=progress)
+        wide, wide_2h = (kinetic_solution(r, law, taus, grid, progress=progress)
+                         for grid in (_CHI2_RESOLUTION, _CHI2_CHECK_RESOLUTION))
         snaps = runner.ulam_snapshots(r, law, params["n"], taus, seeds, progress=progress)
         rows = []
         for k, tau in enumerate(taus):
             x = _kinetic_scaled(snaps[k], r, tau)
-            prob, _ = solution_bin_probabilities(sol, k, edges)
+            prob, error = _chi2_prediction(wide, wide_2h, k, edges)
             cmp = st.compare_histograms(x, edges, prob)
+            with_error, worst = chi2_with_prediction_error(cmp, edges, prob, error)
             smoothed = _smoothed_comparison(sol, k, x, edges, params["smoothing"], seed=k)
+            fine_prob, _ = solution_bin_probabilities(sol, k, edges)
             fft_prob, fft_x, fft_p = fft_bin_probabilities(sol, k, edges)
-            diff = fft_prob - prob
+            diff = fft_prob - fine_prob
             cut = never_collided_cut(sol, k, edges)
             sigma = cmp.error * np.diff(edges)  # standard error of the pooled bin probability
             numerical = bin_errors(sol, sol.time_index(k), edges)
@@ -183,6 +259,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
                          "max_cut_removed_beyond_numerical_error":
                              float(np.max(np.abs(diff - cut) - numerical))}
             rows.append({"tau": tau, **cmp.summary(), "comparison": cmp,
+                         "prediction_error": {"chi2_over_overdispersion": with_error,
+                                              "max_in_sigma": worst},
                          "smoothed": {"width": params["smoothing"], **smoothed.summary()},
                          "fft_vs_quadrature": fft_check,
                          "fft": {"x": fft_x, "density": fft_p}})
@@ -190,8 +268,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     # The N scan.
     r, law = params["scan_case"]
     tau = float(params["scan_tau"])
-    sol = kinetic_solution(r, law, [tau], _VS_ULAM_RESOLUTION, progress=progress)
-    kinetic = st.law_histogram(edges, solution_bin_probabilities(sol, 0, edges)[0])
+    sol = kinetic_solution(r, law, [tau], _CHI2_RESOLUTION, progress=progress)
+    kinetic = st.law_histogram(edges, _chi2_prediction(sol, None, 0, edges)[0])
     ks_mean, ks_err = [], []
     for n in params["scan_n"]:
         snaps = runner.ulam_snapshots(r, law, n, [tau], list(range(int(params["scan_seeds"]))))
@@ -238,7 +316,7 @@ def verdicts(s: dict) -> list:
     q_max, agrees), and the slope of the KS distance against N (−1/2, 3σ)."""
     out = []
     for c in s["cases"]:
-        raw, raw_err = pooled_ratio(c["rows"])
+        raw, raw_err = pooled_ratio([_with_prediction_error(row) for row in c["rows"]])
         smooth, smooth_err = pooled_ratio([row["smoothed"] for row in c["rows"]])
         taus = ", ".join(f"{row['tau']:g}" for row in c["rows"])
         out.append(judge(
@@ -246,7 +324,9 @@ def verdicts(s: dict) -> list:
             f"solver's, r = {c['restitution']:g}, {c['initial']} law",
             Check(f"χ²/(dof·φ) pooled over τ = {taus}", raw, raw_err, 1.0,
                   "exact: χ² null expectation",
-                  sigma_source=CHI2_SIGMA_SOURCE),
+                  sigma_source=CHI2_SIGMA_SOURCE + "; each bin's variance also holds the "
+                  "prediction's numerical error |P(h) − P(2h)| (solves on q ≤ 1000 at spacings "
+                  "h and 2h in ln q) in quadrature"),
             Check("the same, both laws smoothed by N(0, σ²) (no cut of G at q_max)", smooth,
                   smooth_err, 1.0, "exact: χ² null expectation",
                   sigma_source=CHI2_SIGMA_SOURCE),
@@ -261,6 +341,17 @@ def verdicts(s: dict) -> list:
               sigma_source=f"weighted fit over {len(n_scan['n'])} N, each KS distance's error "
                            f"from {s['parameters'].get('scan_seeds', '?')} seeds")))
     return out
+
+
+def _with_prediction_error(row: dict) -> dict:
+    """A row of the summary as :func:`.verdicts.pooled_ratio` reads it, its χ² the one with the
+    prediction's numerical error (:func:`chi2_with_prediction_error`); a summary written before
+    that entry existed keeps its plain χ²."""
+    extra = row.get("prediction_error")
+    if not extra:
+        return row
+    phi = row["overdispersion"][0]
+    return {**row, "chi2_dof": extra["chi2_over_overdispersion"] * phi}
 
 
 def plot(c, ax=None):
