@@ -34,31 +34,32 @@ PRESETS = {
     "small": {"cases": ((0.5, "bimodal"), (0.9, "asymmetric")), "tau": (0.5, 2.0, 8.0),
               "n": 20_000, "smoothing": 0.15, "seeds": 6, "edges": (-4.0, 4.0, 0.25),
               "scan_case": (0.5, "asymmetric"), "scan_tau": 2.0,
-              "scan_n": (500, 2000, 8000, 32000), "scan_seeds": 8},
+              "scan_n": (500, 2000, 8000, 32000), "scan_seeds": 8,
+              "prediction_error": False},
     "default": {"cases": ((0.5, "bimodal"), (0.5, "asymmetric"), (0.9, "bimodal"),
                           (0.9, "asymmetric")),
                 "tau": (0.5, 2.0, 8.0, 32.0), "n": 100_000, "smoothing": 0.15, "seeds": 8,
                 "edges": (-4.0, 4.0, 0.2), "scan_case": (0.5, "asymmetric"), "scan_tau": 2.0,
-                "scan_n": (500, 2000, 8000, 32000, 128000), "scan_seeds": 12},
+                "scan_n": (500, 2000, 8000, 32000, 128000), "scan_seeds": 12,
+                "prediction_error": True},
     "full": {"cases": ((0.5, "bimodal"), (0.5, "asymmetric"), (0.9, "bimodal"),
                        (0.9, "asymmetric")),
              "tau": (0.5, 2.0, 8.0, 32.0, 128.0), "n": 1_000_000, "smoothing": 0.15, "seeds": 8,
              "edges": (-4.0, 4.0, 0.1), "scan_case": (0.5, "asymmetric"), "scan_tau": 2.0,
-             "scan_n": (1000, 4000, 16000, 64000, 256000, 1024000), "scan_seeds": 16},
+             "scan_n": (1000, 4000, 16000, 64000, 256000, 1024000), "scan_seeds": 16,
+             "prediction_error": True},
 }
 
 
-#: The asymmetric law has a jump; at the coarse resolution the interpolation of its oscillating
-#: G (period 2π in q) misplaced bin probabilities by up to 4e-3 at τ = 0, at "fine" by 1e-6.
-#: The figure's curve and the FFT-against-quadrature diagnostics use this solve.
-_VS_ULAM_RESOLUTION = "fine"
-
-#: The χ²'s prediction: the grid of "finest" (h = 0.0125) carried to q_max ≈ 1000 instead of
-#: 35.  The collided part of the asymmetric law has a kink at the support edge (|H| ~ q⁻²), and
-#: its cut at q ≈ 35 moved bins next to the edge by up to 4.8 (r = 0.5) and 7.7 (r = 0.9)
-#: bin standard errors at 16 seeds of 10⁵ particles (τ = 0.5): the pooled χ²/(dof·φ) was
-#: +3.15σ and +24.1σ from 1 there, −1.55σ and −0.13σ on this grid (benchmarks/README.md,
-#: "Missing σ terms").
+#: The solve of the comparison (χ², figure, diagnostics): the grid of "finest" (h = 0.0125)
+#: carried to q_max ≈ 1000 instead of 35.  The asymmetric law has a jump; at the coarse
+#: resolution the interpolation of its oscillating G (period 2π in q) misplaced bin
+#: probabilities by up to 4e-3 at τ = 0, at "fine" by 1e-6.  The particles that collided have
+#: a kink at the support edge (|H| ~ q⁻²), and the cut at q ≈ 35 moved bins next to the edge
+#: by up to 4.8 (r = 0.5, against q ≈ 195) and 7.7 (r = 0.9, against h = 0.00625) binomial
+#: standard errors at 16 seeds of 10⁵ particles (τ = 0.5): the pooled χ²/(dof·φ) was +3.15σ
+#: and +24.1σ from 1 there, −1.55σ and −0.13σ on this grid (benchmarks/README.md, "Missing σ
+#: terms").
 _CHI2_RESOLUTION = Resolution("vs_ulam_chi2", h=0.0125, s_max=math.log(1000.0))
 
 #: The same range at twice the spacing: |P(h) − P(2h)| is the prediction's numerical error
@@ -124,10 +125,14 @@ def _kinetic_scaled(v: np.ndarray, restitution: float, tau: float) -> np.ndarray
     return v / math.exp(-lam * tau)
 
 
+#: Largest q of the smoothed comparison's transform: e^{−σ²q²/2} < 5e-7 beyond it for σ = 0.15.
+_SMOOTHED_Q_MAX = 36.0
+
+
 def _smoothed_comparison(sol, tau_index, x, edges, width, seed):
     """Samples ``x`` (R, M) plus N(0, width²) noise against G(q) e^{−width² q²/2} (see
     :func:`run`)."""
-    q_max = sol.resolution.q_max
+    q_max = min(sol.resolution.q_max, _SMOOTHED_Q_MAX)
     noise = np.random.default_rng(_SMOOTHING_SEED + seed).standard_normal(x.shape)
 
     def G(q):
@@ -163,20 +168,24 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     distance at ``scan_tau`` for each N in ``scan_n`` and the fitted slope of log D against
     log N (−1/2 expected), its standard error from the seed scatter of each point.
 
-    The χ²'s prediction is solved on q ≤ 1000 (``_CHI2_RESOLUTION``; the figure's solve stops at
-    q ≈ 35, where the cut of the asymmetric law's kink moved bins next to its support edge by
-    several standard errors at the default size), and a second solve at twice the spacing gives
-    each bin's numerical error |P(h) − P(2h)|: each row's ``prediction_error`` has χ²/(dof·φ)
-    with that error in each bin's variance (:func:`chi2_with_prediction_error`; what the
-    verdict pools) and the largest error in bin standard errors.
+    The solver runs on q ≤ 1000 (``_CHI2_RESOLUTION``; a grid ending at q ≈ 35 cut the
+    asymmetric law's kink and moved bins next to its support edge by several standard errors at
+    the default size).  With ``prediction_error`` (a preset parameter: on at the default and
+    full sizes; at the small size it stays below one bin standard error, measured at most 0.86
+    with 16 seeds, and the second compilation would cost seconds) a second solve at twice the
+    spacing gives each bin's numerical error |P(h) − P(2h)|: each row's ``prediction_error``
+    has χ²/(dof·φ) with that error in each bin's variance (:func:`chi2_with_prediction_error`;
+    what the verdict pools) and the largest error in binomial standard errors (0 when not
+    measured, and ``measured`` False).
 
     Each row also has ``smoothed``: the same comparison for the laws convolved with a Gaussian
     of width σ = ``smoothing`` (the samples get independent N(0, σ²) noise from a fixed seed;
     the prediction is G(q) e^{−σ²q²/2}).  A Gaussian's characteristic function has no zeros, so
     equal smoothed laws mean equal laws; what the smoothing removes is the prediction's error
-    from cutting G at q_max ≈ 35, which matters for laws with sharp edges (the asymmetric law at
-    r = 0.9 and early τ: raw χ²/(dof·φ) 8.2 at the default size, the bins next to its support
-    edge), while e^{−σ²q_max²/2} ≈ 1e-6 for σ = 0.15, below the bin width 0.2.
+    from cutting G at a finite q, which mattered for laws with sharp edges when the grid ended
+    at q_max ≈ 35 (the asymmetric law at r = 0.9 and early τ: raw χ²/(dof·φ) 8.2 at the default
+    size, the bins next to its support edge); its transform stops at q = 36
+    (``_SMOOTHED_Q_MAX``), where e^{−σ²q²/2} < 5e-7 for σ = 0.15.
 
     The kinetic-theory curve of the figure is the solver's own P(x, τ), the pyfftw inverse FFT
     of G (:meth:`Solution.density`).  The χ² uses the quadrature bin probabilities instead,
@@ -233,20 +242,19 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     seeds = list(range(int(params["seeds"])))
     cases = []
     for r, law in params["cases"]:
-        sol = kinetic_solution(r, law, taus, _VS_ULAM_RESOLUTION, progress=progress)
-        wide, wide_2h = (kinetic_solution(r, law, taus, grid, progress=progress)
-                         for grid in (_CHI2_RESOLUTION, _CHI2_CHECK_RESOLUTION))
+        sol = kinetic_solution(r, law, taus, _CHI2_RESOLUTION, progress=progress)
+        sol_2h = (kinetic_solution(r, law, taus, _CHI2_CHECK_RESOLUTION, progress=progress)
+                  if params["prediction_error"] else None)
         snaps = runner.ulam_snapshots(r, law, params["n"], taus, seeds, progress=progress)
         rows = []
         for k, tau in enumerate(taus):
             x = _kinetic_scaled(snaps[k], r, tau)
-            prob, error = _chi2_prediction(wide, wide_2h, k, edges)
+            prob, error = _chi2_prediction(sol, sol_2h, k, edges)
             cmp = st.compare_histograms(x, edges, prob)
             with_error, worst = chi2_with_prediction_error(cmp, edges, prob, error)
             smoothed = _smoothed_comparison(sol, k, x, edges, params["smoothing"], seed=k)
-            fine_prob, _ = solution_bin_probabilities(sol, k, edges)
             fft_prob, fft_x, fft_p = fft_bin_probabilities(sol, k, edges)
-            diff = fft_prob - fine_prob
+            diff = fft_prob - prob
             cut = never_collided_cut(sol, k, edges)
             sigma = cmp.error * np.diff(edges)  # standard error of the pooled bin probability
             numerical = bin_errors(sol, sol.time_index(k), edges)
@@ -259,7 +267,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
                          "max_cut_removed_beyond_numerical_error":
                              float(np.max(np.abs(diff - cut) - numerical))}
             rows.append({"tau": tau, **cmp.summary(), "comparison": cmp,
-                         "prediction_error": {"chi2_over_overdispersion": with_error,
+                         "prediction_error": {"measured": sol_2h is not None,
+                                              "chi2_over_overdispersion": with_error,
                                               "max_in_sigma": worst},
                          "smoothed": {"width": params["smoothing"], **smoothed.summary()},
                          "fft_vs_quadrature": fft_check,
@@ -324,9 +333,11 @@ def verdicts(s: dict) -> list:
             f"solver's, r = {c['restitution']:g}, {c['initial']} law",
             Check(f"χ²/(dof·φ) pooled over τ = {taus}", raw, raw_err, 1.0,
                   "exact: χ² null expectation",
-                  sigma_source=CHI2_SIGMA_SOURCE + "; each bin's variance also holds the "
-                  "prediction's numerical error |P(h) − P(2h)| (solves on q ≤ 1000 at spacings "
-                  "h and 2h in ln q) in quadrature"),
+                  sigma_source=CHI2_SIGMA_SOURCE + (
+                      "; each bin's variance also holds the prediction's numerical error "
+                      "|P(h) − P(2h)| (solves on q ≤ 1000 at spacings h and 2h in ln q) in "
+                      "quadrature" if all((row.get("prediction_error") or {}).get("measured")
+                                          for row in c["rows"]) else "")),
             Check("the same, both laws smoothed by N(0, σ²) (no cut of G at q_max)", smooth,
                   smooth_err, 1.0, "exact: χ² null expectation",
                   sigma_source=CHI2_SIGMA_SOURCE),

@@ -54,8 +54,9 @@ def kinetic_solution(restitution: float, law: str, taus, resolution: str = "coar
         Name of a built-in initial law (zero mean, unit variance), e.g. ``"gaussian"``.
     taus : sequence of float
         Times τ (collisions per particle) at which the solution is recorded.
-    resolution : str, optional
-        Name of the solver's grid resolution (default ``"coarse"``).
+    resolution : str or maxwell_kinetics.grid.Resolution, optional
+        Name of the solver's grid resolution (default ``"coarse"``), or a grid (hashable: it is
+        part of the cache key).
     progress : bool or None, optional
         Show the solver's progress (first solve only; None, the default: a bar on a terminal or
         in a notebook, nothing otherwise).

@@ -47,7 +47,8 @@ def test_verdict_pools_the_chi2_with_the_prediction_error():
     (dof 30, φ 1) but 1 with the prediction's error agree; its σ source names the term."""
     row = {"tau": 0.5, "chi2_dof": 3.0, "dof": 30, "overdispersion": [1.0, 0.1],
            "chi2_over_overdispersion": 3.0,
-           "prediction_error": {"chi2_over_overdispersion": 1.0, "max_in_sigma": 5.0},
+           "prediction_error": {"measured": True, "chi2_over_overdispersion": 1.0,
+                                "max_in_sigma": 5.0},
            "smoothed": {"chi2_dof": 1.0, "dof": 30, "overdispersion": [1.0, 0.1]}}
     summary = {"cases": [{"restitution": 0.5, "initial": "asymmetric", "rows": [row] * 4}],
                "n_scan": {"slope": [-0.5, 0.02], "slope_expected": -0.5, "n": [1, 2, 3]},
@@ -119,9 +120,9 @@ class _BrokenTailRuns:
 
 def test_hill_bias_is_a_stated_systematic():
     """16 runs of 20 000 speeds with the power law above c₀ only (about 500 per run), top 600:
-    the mean Hill exponent is biased (high here) by many of its seed σ, so the seed σ alone disagrees; the
-    k-dependence |α(top) − α(top/3)| as a systematic σ covers the bias and the verdict agrees,
-    its σ source saying so."""
+    the mean Hill exponent is biased (high here) by many of its seed σ, so the seed σ alone
+    disagrees; the k-dependence |α(top) − α(top/3)| as a systematic σ covers the bias and the
+    verdict agrees, its σ source saying so."""
     c = _tail_exponents.run("small", progress=False, runner=_BrokenTailRuns(),
                             particle_cases=((2, "hard", 0.0),), n=20_000, seeds=16, top=600)
     p = c.summary["particles"][0]
