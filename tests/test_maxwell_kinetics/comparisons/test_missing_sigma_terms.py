@@ -88,18 +88,6 @@ def test_phi_jackknife_holds_the_common_scale():
     assert 0.5 < bins / spread < 2.0 and 0.5 < jack / spread < 2.0
 
 
-def test_collapse_summary_carries_the_jackknife():
-    """The comparison's φ error is the larger of the two, both recorded, and the σ source says
-    so (a tiny run: 3 seeds of 2000 particles, one r)."""
-    c = _ulam_collapse.run("small", progress=False, restitutions=(0.5,), tau=(150.0,), n=2000,
-                           seeds=3)
-    for key in ("v0_scaled", "median_scaled"):
-        entry = c.summary["rows"][0][key]
-        jack, bins = entry["overdispersion_error_jackknife"], entry["overdispersion_error_bins"]
-        assert entry["overdispersion"][1] == pytest.approx(max(jack, bins))
-    assert "jackknife" in _ulam_collapse.verdicts(c.summary)[0].check.sigma_source
-
-
 class _BrokenTailRuns:
     """A stand-in particle runner: 2D velocities whose speeds have an exact c⁻⁴ tail above
     c₀ = 3 carrying 2.5 % of the mass (the 2D hard model's exponent at r = 0) and a uniform

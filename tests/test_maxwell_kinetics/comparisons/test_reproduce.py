@@ -131,6 +131,20 @@ def test_ulam_collapse_within_statistical_error(collapse):
         assert shape["chi2_over_overdispersion"] < _chi2_tolerance(shape), row["restitution"]
 
 
+def test_ulam_collapse_phi_error_holds_the_jackknife(collapse):
+    """φ's error in the summary is the larger of the independent-bin one and the jackknife over
+    seeds (both recorded: the run's own rescaling moves all bins together), and the verdicts'
+    σ source says so."""
+    for row in collapse.summary["rows"]:
+        for key in ("v0_scaled", "median_scaled"):
+            entry = row[key]
+            larger = max(entry["overdispersion_error_jackknife"],
+                         entry["overdispersion_error_bins"])
+            assert entry["overdispersion"][1] == pytest.approx(larger), (row["restitution"], key)
+    for verdict in comparisons.VERDICTS["ulam_collapse"](collapse.summary):
+        assert "jackknife" in verdict.check.sigma_source
+
+
 def test_lattice_energy_exponents(energy):
     """Lattice, N = 2·10⁴, 4 seeds, τ ≤ 400 (small preset), r = 0.5.
 
