@@ -267,8 +267,8 @@ def test_measured_results_come_from_the_summaries(built_site):
     for path in (default, DOCS / "figures" / "summary_full.json"):
         summary = json.loads(path.read_text())
         for name, entry in summary["comparisons"].items():
-            allowed.append(results._claim(name))
-            for v in results._verdicts(name, entry) or []:
+            allowed.append(results.claim_text(name))
+            for v in results.summary_verdicts(name, entry) or []:
                 allowed += [json.dumps(v, ensure_ascii=False), measured_text(v), expected_text(v)]
     known = set(_NUMBER.findall(" ".join(allowed)))
     shown = _NUMBER.findall(page)

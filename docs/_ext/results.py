@@ -77,7 +77,7 @@ def _cell(text: str) -> str:
     return str(text).replace("|", "\\|")
 
 
-def _verdicts(name: str, entry: dict) -> list[dict] | None:
+def summary_verdicts(name: str, entry: dict) -> list[dict] | None:
     """The verdict records of a comparison's summary; computed with the comparison's own
     ``verdicts`` when the summary predates them; None when they cannot be had."""
     recorded = entry.get("verdicts")
@@ -228,7 +228,7 @@ def _calibration(records: dict) -> list[str]:
     return lines
 
 
-def _claim(name: str) -> str:
+def claim_text(name: str) -> str:
     try:
         module = importlib.import_module(f"maxwell_kinetics.app.comparisons._{name}")
     except ImportError:
@@ -268,7 +268,7 @@ def render(results: Path, figures_out: Path) -> str:
     lines.append("")
     figures_out.mkdir(parents=True, exist_ok=True)
     comparisons = summary.get("comparisons", {})
-    records = {name: _verdicts(name, entry) for name, entry in comparisons.items()}
+    records = {name: summary_verdicts(name, entry) for name, entry in comparisons.items()}
     counts = {}
     for recs in records.values():
         for v in recs or []:
@@ -280,7 +280,7 @@ def render(results: Path, figures_out: Path) -> str:
         lines += _calibration(records)
     for i, (name, entry) in enumerate(comparisons.items(), 1):
         lines += [f"## {i}. {name.replace('_', ' ').capitalize()}", ""]
-        claim = _claim(name)
+        claim = claim_text(name)
         if claim:
             lines += [claim, ""]
         if records[name]:
@@ -334,7 +334,7 @@ def render_measured(default: dict, full: dict, full_figures: Path, figures_out: 
     from maxwell_kinetics.app.comparisons.verdicts import expected_text, measured_text
 
     sizes = [("default size", default), ("paper's size (`--full`)", full)]
-    records = [{name: _verdicts(name, entry) or []
+    records = [{name: summary_verdicts(name, entry) or []
                 for name, entry in summary.get("comparisons", {}).items()}
                for _, summary in sizes]
     lines = []
@@ -349,7 +349,7 @@ def render_measured(default: dict, full: dict, full_figures: Path, figures_out: 
     figures_out.mkdir(parents=True, exist_ok=True)
     for i, name in enumerate(names, 1):
         lines += [f"## {i}. {name.replace('_', ' ').capitalize()}", ""]
-        claim = _claim(name)
+        claim = claim_text(name)
         if claim:
             lines += [claim, ""]
         at_full = {v["claim"]: v for v in records[1].get(name, [])}
