@@ -549,7 +549,19 @@ def enable(path: str | os.PathLike | None = None) -> Path | None:
     -------
     pathlib.Path or None
         The folder of entries in use, or None when the cache stays off.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``path`` when it is neither None nor a non-empty path (a number, a bool, ``""``,
+        which would put the cache in the working folder), before anything changes.
     """
+    if path is not None and (not isinstance(path, (str, os.PathLike))
+                             or not str(os.fspath(path)).strip()):
+        from particles.validation import InvalidArgumentError
+
+        raise InvalidArgumentError("path", path, "a folder path (a non-empty str or "
+                                   "os.PathLike) or None")
     _state["decided"] = True
     root = Path(path).expanduser() if path is not None else configured_path()
     if root is None:

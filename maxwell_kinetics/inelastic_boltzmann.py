@@ -77,7 +77,7 @@ from .model import RelativeVelocityModel
 __all__ = ["solve_boltzmann", "scaling_state", "ScalingState",
            "SCALING_GRID", "check_reach", "SMALLEST_SCALE", "STEPS_PER_TAU_AND_STIFFNESS",
            "carries", "grid_kernel", "kernel_of", "EDGE_TOLERANCE", "estimate_seconds",
-           "SECONDS_PER_STEP_AND_PAIR"]
+           "SECONDS_PER_STEP_AND_PAIR", "relaxation_steps", "RELAXATION_MAX_STEPS"]
 
 
 def carries(kernel) -> bool:
@@ -629,9 +629,38 @@ class ScalingState:
         return scale * _interpolate(self.F, self.grid, x * scale)
 
 
+#: Most time steps of :func:`scaling_state`'s relaxation.
+RELAXATION_MAX_STEPS = 1_000_000
+
+
+def relaxation_steps(kernel, grid, relaxation: float) -> float:
+    """The estimated time steps of :func:`scaling_state`'s relaxation to τ′ = ``relaxation``,
+    before any work: (1 + γ) τ′ times :func:`_steps_per_unit_time` (measured on its default
+    grid, r = 0.5, γ = 1: 29 steps per unit of τ′, estimated 36; r = 0.9, γ = 2: 55, estimated
+    54); times N² :data:`SECONDS_PER_STEP_AND_PAIR` it is the estimated wall time.
+
+    Parameters
+    ----------
+    kernel : particles.kernels.Kernel
+        The kernel (:func:`grid_kernel`).
+    grid : maxwell_kinetics.velocity_grid.VelocityGrid
+        The grid.
+    relaxation : float
+        τ′ (collision time units).
+
+    Returns
+    -------
+    float
+        Time steps.
+    """
+    kernel = grid_kernel(kernel)
+    return (1.0 + kernel.homogeneity) * _steps_per_unit_time(kernel, grid) * relaxation
+
+
 def scaling_state(kernel=None, *, exponent=None, grid: _grid.VelocityGrid | None = None,
                   tolerance: float = 1e-11, max_iterations: int = 30,
-                  relaxation: float | None = None, restitution=None) -> ScalingState:
+                  relaxation: float | None = None, restitution=None,
+                  force: bool = False) -> ScalingState:
     """The scaling state of the rescaled equation: relaxed in τ′ from the Gaussian, then
     Newton's method on Q_h(F) + σ′ ∂_c(c F) = 0 with ∫F = 1, ⟨c⟩ = 0 and ⟨c²⟩ = 1 (least
     squares on the N + 3 equations).
@@ -656,6 +685,9 @@ def scaling_state(kernel=None, *, exponent=None, grid: _grid.VelocityGrid | None
         τ′ integrated before Newton (default min(2000, 5/λ)).
     restitution : float, optional
         The former name of the first argument, still accepted by keyword.
+    force : bool, default False
+        Run a relaxation estimated (:func:`relaxation_steps`) to take more than
+        :data:`maxwell_kinetics.grid.MAX_SOLVE_SECONDS` (one day) anyway.
 
     Returns
     -------
@@ -670,7 +702,10 @@ def scaling_state(kernel=None, *, exponent=None, grid: _grid.VelocityGrid | None
         Naming ``kernel`` (:func:`kernel_of`), ``restitution`` (r = 1 has no cooling state),
         ``exponent`` (γ = 0 or out of range), ``points`` or ``half_width``; ``grid`` for a
         :class:`maxwell_kinetics.velocity_grid.MappedGrid` or not a grid; ``tolerance`` or
-        ``relaxation`` (not a finite number > 0), ``max_iterations`` (not an integer >= 0).
+        ``relaxation`` (not a finite number > 0), ``max_iterations`` (not an integer >= 0);
+        ``relaxation`` again, before any work, for one whose estimated steps pass the
+        integrator's 1000000 or (unless ``force``) whose estimated time passes a day;
+        ``force`` if not a bool.
     """
     given = kernel if restitution is None else restitution
     kernel = kernel_of(kernel, exponent, restitution)
@@ -694,6 +729,19 @@ def scaling_state(kernel=None, *, exponent=None, grid: _grid.VelocityGrid | None
     F0 = _grid.initial_values("gaussian", grid)
     if relaxation is None:
         relaxation = min(2000.0, 5.0 / lam)
+    force = check_bool(force, "force")
+    steps = relaxation_steps(kernel, grid, relaxation)
+    if steps > RELAXATION_MAX_STEPS:
+        raise InvalidArgumentError(
+            "relaxation", relaxation, f"a relaxation tau' <= "
+            f"{relaxation * RELAXATION_MAX_STEPS / steps:.3g} on this grid (about {steps:.3g} "
+            f"time steps estimated, at most {RELAXATION_MAX_STEPS} in all)")
+    cost = steps * grid.c.size**2 * SECONDS_PER_STEP_AND_PAIR
+    if cost > MAX_SOLVE_SECONDS and not force:
+        raise InvalidArgumentError(
+            "relaxation", relaxation, f"a relaxation estimated to take at most "
+            f"{MAX_SOLVE_SECONDS:g} s (this one: about {cost:.3g} s); a shorter relaxation or "
+            f"fewer points, or {FORCE}")
     import jax
     import jax.numpy as jnp
 
@@ -706,10 +754,11 @@ def scaling_state(kernel=None, *, exponent=None, grid: _grid.VelocityGrid | None
         args = (tables, cj, h, 1.0, 0.0, lam)  # s^γ ≡ 1: time is τ′
         ys, ok, steps = functions.solve(jnp.asarray(np.append(F0, 0.0)),
                                         jnp.asarray(_padded(np.array([float(relaxation)]))),
-                                        args, 1e-8, 1e-12, 1_000_000)
+                                        args, 1e-8, 1e-12, RELAXATION_MAX_STEPS)
         if not bool(ok):  # Newton from a half-relaxed state could "converge" elsewhere
             raise RuntimeError(f"the relaxation to tau' = {relaxation:g} failed (steps: "
-                               f"{int(steps)} of at most 1000000); pass a shorter relaxation")
+                               f"{int(steps)} of at most {RELAXATION_MAX_STEPS}); pass a shorter "
+                               "relaxation")
         F = np.asarray(ys[-1, :-1])
         constraints = h * np.array([np.ones_like(c), c, c * c])
         iterations = 0

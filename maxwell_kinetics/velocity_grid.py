@@ -29,7 +29,8 @@ from particles.validation import (
 )
 
 __all__ = ["VelocityGrid", "MappedGrid", "check_grid", "default_grid", "initial_values", "grid_sum",
-           "EXTENT_TOLERANCE", "RESOLUTION_TOLERANCE", "MAX_SPACING", "MAX_POINTS"]
+           "EXTENT_TOLERANCE", "RESOLUTION_TOLERANCE", "MAX_SPACING", "MAX_POINTS",
+           "MAX_MAPPED_HALF_WIDTH"]
 
 #: Largest mass fraction of the initial law that may lie outside the grid (its moments of order
 #: ≤ 6 then change by less than ~1e-6; the nodes inside are renormalised).
@@ -42,6 +43,9 @@ RESOLUTION_TOLERANCE = 1e-3
 MAX_SPACING = 0.25
 #: Most grid points (the collision tables hold N² M numbers).
 MAX_POINTS = 1601
+#: Largest half-width of a :class:`MappedGrid` (c⁶ and the weights a h_s cosh s stay finite
+#: with a wide margin; the widest measured grid is ±2·10⁵).
+MAX_MAPPED_HALF_WIDTH = 1e30
 
 
 @dataclass(frozen=True)
@@ -135,7 +139,8 @@ class MappedGrid:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        Naming ``points``, ``half_width`` or ``core_spacing`` for a value out of range.
+        Naming ``points``, ``half_width`` or ``core_spacing`` for a value out of range
+        (``half_width`` above :data:`MAX_MAPPED_HALF_WIDTH` too).
     """
 
     points: int
@@ -148,6 +153,10 @@ class MappedGrid:
         n = VelocityGrid(self.points, self.half_width).points  # the same checks
         object.__setattr__(self, "points", n)
         L = check_positive(self.half_width, "half_width")
+        if L > MAX_MAPPED_HALF_WIDTH:
+            raise InvalidArgumentError("half_width", self.half_width, f"a half-width <= "
+                                       f"{MAX_MAPPED_HALF_WIDTH:g} (beyond, the powers of c the "
+                                       "solver forms overflow)")
         object.__setattr__(self, "half_width", L)
         h0 = check_positive(self.core_spacing, "core_spacing")
         object.__setattr__(self, "core_spacing", h0)
