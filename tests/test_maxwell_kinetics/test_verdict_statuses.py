@@ -13,6 +13,7 @@ import pytest
 
 from maxwell_kinetics.app.commands.reproduce import exit_status
 from maxwell_kinetics.app.comparisons import VERDICTS
+from maxwell_kinetics.app.comparisons.tolerances import t_sigmas
 from maxwell_kinetics.app.comparisons.verdicts import (
     STATUSES,
     Check,
@@ -288,7 +289,9 @@ def _sticky_summary(differences, seeds=3):
 def test_sticky_vs_md_is_judged_from_the_paired_sigma_with_students_t():
     ok = _records("sticky_vs_md", _sticky_summary([(-0.03, 0.008), (0.002, 0.004)]))[0]
     assert ok["status"] == "agrees" and ok["tolerance"] == 0.0
-    assert ok["n_sigma"] == pytest.approx(student_sigmas(3)) and ok["measured"] == -0.03
+    # the t law of the largest of 2 values at 2 dof (Šidák), not one value's 19.2σ
+    assert ok["t_law"] and ok["sigmas"] == pytest.approx(t_sigmas(2, 3.0, 2))
+    assert ok["n_sigma"] == 3.0 and ok["measured"] == -0.03
     off = _records("sticky_vs_md", _sticky_summary([(0.0, 0.01), (0.3, 0.01)]))[0]
     assert off["status"] == "disagrees" and off["measured"] == 0.3
 

@@ -430,11 +430,13 @@ def _seed_dof(values) -> int | None:
 
 
 def verdicts(s: dict) -> list:
-    """The verdicts of comparison 9 from its summary ``s``: E ∝ t^{−2/3} (3σ plus the window
-    drift), the Porod tail (3σ), the cluster-mass exponent (3σ), Chernoff's displacement
-    variance (3σ), the exact velocity law at the latest time (χ²/dof, 3√(2/dof)), and the
-    exp(−w³) tail: the local exponent at the deepest w against 3, explained when it equals the
-    exact law's β(w) at that w (3σ)."""
+    """The verdicts of comparison 9 from its summary ``s``.  Seed-based σ under the t law
+    (Student's t with seeds − 1 dof at the coverage of 3σ: 19.2σ for 3 seeds, 9.22σ for 4):
+    E ∝ t^{−2/3} (plus the window drift as a stated tolerance), the Porod tail and Chernoff's
+    displacement variance.  σ from a law, 3σ: the cluster-mass exponent (a weighted fit with
+    the counts' errors), the exact velocity law at the latest time (χ²/dof, 3√(2/dof)), and
+    the exp(−w³) tail (the survival's counts): the local exponent at the deepest w against 3,
+    explained when it equals the exact law's β(w) at that w."""
     e = s["energy"]
     seeds = int(s.get("parameters", {}).get("seeds", 0))  # 0: not recorded
     slope, err = pair(e["exponent"])
@@ -442,15 +444,17 @@ def verdicts(s: dict) -> list:
                  Check(f"slope of ln E against ln t on [{e['fit_range'][0]:g}, "
                        f"{e['fit_range'][1]:g}]", slope, err, e["expected"], "paper: t^(−2/3)",
                        tolerance=e.get("drift") or 0.0, dof=_seed_dof(e.get("per_seed")),
-                       sigma_source="seeds: standard error of the per-seed slopes; tolerance: "
-                                    "the window drift (half the slopes' difference on its "
-                                    "halves)"))]
+                       t_law=True,
+                       sigma_source="seeds: standard error of the per-seed slopes, Student's "
+                                    "t law; tolerance: the window drift (half the slopes' "
+                                    "difference on its halves)"))]
     st = s["structure"]
     slope, err = pair(st["porod_slope_last_fitted_time"])
     out.append(judge("Porod's law S(k) ∼ k⁻² of the sticky gas",
                      Check("slope of log S(k), last fitted time", slope, err, st["expected"],
-                           "paper: Porod's law", dof=_seed_dof(range(seeds)),
-                           sigma_source="seeds: standard error of the per-seed fits")))
+                           "paper: Porod's law", dof=_seed_dof(range(seeds)), t_law=True,
+                           sigma_source="seeds: standard error of the per-seed fits, "
+                                        "Student's t law")))
     tail = s["tail"]["engine"]
     if tail["beta"]:
         beta, beta_err = tail["beta"][-1], tail["beta_error"][-1]
@@ -473,8 +477,9 @@ def verdicts(s: dict) -> list:
     out.append(judge("displacements follow Chernoff's law (exact sticky gas)",
                      Check(f"variance of D/t^(2/3) at t = {d['time']:g}", var, var_err,
                            d["chernoff_variance"], "exact: Chernoff's distribution",
-                           dof=_seed_dof(d.get("per_seed")),
-                           sigma_source="seeds: standard error over the runs")))
+                           dof=_seed_dof(d.get("per_seed")), t_law=True,
+                           sigma_source="seeds: standard error over the runs, Student's t "
+                                        "law")))
     last = s["exact"]["per_time"][-1]
     vel = last["velocity"]
     out.append(judge("the sticky gas reaches its exact late-time velocity law",

@@ -15,7 +15,7 @@ from .analysis import paired_numbers
 from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import colors, panels
 from .particle_runs import ParticleRuns, md_record_times
-from .verdicts import Check, judge, pair, student_sigmas, with_verdicts
+from .verdicts import Check, judge, pair, with_verdicts
 
 __all__ = ["NAME", "PRESETS", "run", "plot", "verdicts"]
 
@@ -165,13 +165,13 @@ def verdicts(s: dict) -> list:
     """The verdict of comparison 8 from its summary ``s``: MD and the sticky gas from the same
     initial state have the same E t^{2/3}.  At each time of the window the paired relative
     difference E_MD/E_sticky − 1 of the same seed has a mean and a standard error over the
-    seeds; the check is the time of the largest |mean/σ|, against 0 within
-    :func:`.verdicts.student_sigmas` standard errors (σ from ``seeds`` runs only: Student's t
-    with ``seeds − 1`` degrees of freedom at the coverage of 3σ, 19.2σ for 3 seeds).  No stated
-    tolerance: the pairing removes the seed-to-seed scatter, so the paired σ is what is left.
-    The check is the largest of the window's |z|, one per time: its record says so
-    (``trials``, the number of times), and the calibration of the verdicts judges its z as the
-    largest of that many Student's t values, not as one."""
+    seeds; the check is the time of the largest |mean/σ|, against 0 under the t law (σ from
+    ``seeds`` runs only: Student's t with ``seeds − 1`` degrees of freedom, and the largest of
+    the window's |z|, one per time, ``trials``: the Šidák quantile at the coverage of 3σ, so
+    the allowance is that of a maximum, not of one value; 19.2σ for one value of 3 seeds,
+    more for several times).  No stated tolerance: the pairing removes the seed-to-seed
+    scatter, so the paired σ is what is left.  The calibration of the verdicts judges its z
+    as the largest of that many Student's t values, as the tolerance does."""
     p = s["paired"]
     seeds = int(s["parameters"]["seeds"])
     rows = [(t, *pair(entry)) for t, entry in zip(p["times"], p["relative_difference"],
@@ -183,10 +183,11 @@ def verdicts(s: dict) -> list:
         "late MD is a sticky gas (Ben-Naim et al., quoted by the paper): paired runs agree",
         Check(f"E_MD/E_sticky − 1 of paired seeds at t = {t:g} (the window's largest |z|)",
               value, sigma, 0.0,
-              f"model: the sticky gas; Student's t, {seeds - 1} degrees of freedom",
-              n_sigma=student_sigmas(seeds), dof=seeds - 1, trials=max(len(rows), 1),
+              f"model: the sticky gas; Student's t, {seeds - 1} degrees of freedom, the "
+              f"largest of {max(len(rows), 1)}",
+              dof=seeds - 1 if seeds > 1 else None, trials=max(len(rows), 1), t_law=True,
               sigma_source=f"seeds: standard error over {seeds} paired runs, at the time of "
-                           f"the largest |z| of {len(rows)}"),
+                           f"the largest |z| of {len(rows)}; Student's t law"),
         short="late MD = sticky gas, paired")]
 
 

@@ -378,3 +378,31 @@ def test_sticky_gas_at_a_million_particles():
     exact = exact_moments()["velocity_variance"]
     assert abs(np.mean(et) - exact) < 5 * 0.008 / math.sqrt(seeds), (np.mean(et), exact)
     assert abs(np.mean(kurt) - _exact_kurtosis()) < 5 * 0.043 / math.sqrt(seeds), np.mean(kurt)
+
+
+def test_seed_based_verdicts_allow_the_t_quantile_and_law_based_ones_three_sigma(late):
+    """E's exponent, the Porod slope and Chernoff's variance have σ from the 3 seeds: each
+    allows t's quantile at 2 dof (19.2σ, the energy plus its drift as a stated tolerance);
+    the mass exponent (a fit with the counts' errors) and the χ² keep 3σ."""
+    import copy
+
+    from maxwell_kinetics.app.comparisons import VERDICTS
+    from maxwell_kinetics.app.comparisons.tolerances import t_sigmas
+
+    s = copy.deepcopy(late.summary)
+    records = [v.to_dict() for v in VERDICTS["late_stage"](s)]
+    seed_based = [v for v in records if v["sigma_source"].startswith("seeds")]
+    assert len(seed_based) == 3
+    for v in seed_based:
+        assert v["t_law"] is True and v["combined_dof"] == 2
+        assert v["sigmas"] == pytest.approx(t_sigmas(2))
+    law = [v for v in records if not v["sigma_source"].startswith("seeds")]
+    assert law and all(v["sigmas"] == 3.0 and not v["t_law"] for v in law)
+    # Chernoff's variance 6σ off: 3 normal σ called it "disagrees", t (2 dof) does not
+    var, se = s["displacement"]["variance"]
+    s["displacement"]["variance"] = [s["displacement"]["chernoff_variance"] + 6 * se, se]
+    (chernoff,) = [v for v in VERDICTS["late_stage"](s) if "Chernoff" in v.claim]
+    assert chernoff.status == "agrees"
+    s["displacement"]["variance"] = [s["displacement"]["chernoff_variance"] + 25 * se, se]
+    (chernoff,) = [v for v in VERDICTS["late_stage"](s) if "Chernoff" in v.claim]
+    assert chernoff.status == "disagrees"
