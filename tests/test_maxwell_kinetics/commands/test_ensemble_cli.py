@@ -145,10 +145,19 @@ echo "$!" > "{jobs}/job-$$.group"
 echo "{answer} $!"
 """
 _FAKE_CANCEL = """#!/bin/sh
-# A stand-in cancel command: note the ids it was given, then end each job's process group.
-for id in "$@"; do echo "$id" >> "{jobs}/cancelled"; kill -TERM -- "-$id" 2>/dev/null; done
+# A stand-in cancel command: note the ids it was given, then end each job's process group as
+# the real commands do: SIGTERM at once, SIGKILL to what is left after a grace period (Slurm's
+# KillWait, 30 s by default; {grace} s here).  A dask worker still starting when its scheduler
+# closed can ignore the SIGTERM until its own --death-timeout (60 s): the SIGKILL ends it.
+for id in "$@"; do
+  echo "$id" >> "{jobs}/cancelled"
+  kill -TERM -- "-$id" 2>/dev/null
+  ( sleep {grace}; kill -KILL -- "-$id" 2>/dev/null ) > /dev/null 2>&1 < /dev/null &
+done
 exit 0
 """
+#: The stand-in cancel command's grace between SIGTERM and SIGKILL, in seconds.
+_CANCEL_GRACE = 5
 
 
 def _live_members(group):
@@ -188,7 +197,7 @@ def test_ensemble_on_a_batch_cluster_from_the_command_line(capsys, tmp_path, mon
     jobs.mkdir()
     bin_dir.mkdir()
     for name, text in ((submit, _FAKE_SUBMIT.format(jobs=jobs, answer=answer)),
-                       (cancel, _FAKE_CANCEL.format(jobs=jobs))):
+                       (cancel, _FAKE_CANCEL.format(jobs=jobs, grace=_CANCEL_GRACE))):
         (bin_dir / name).write_text(text)
         (bin_dir / name).chmod(stat.S_IRWXU)
     monkeypatch.setenv("PATH", f"{bin_dir}{os.pathsep}{os.environ['PATH']}")
@@ -219,8 +228,8 @@ def test_ensemble_on_a_batch_cluster_from_the_command_line(capsys, tmp_path, mon
     text = scripts[0].read_text()
     assert directive in text and "--nworkers 2" in text and "--nthreads 1" in text, text
     # the job was cancelled when the run closed its cluster: the batch system's cancel command
-    # was called with the job's id, and the job's processes end (a dask worker shuts down
-    # gracefully on SIGTERM, which takes seconds on a loaded machine: up to 60 s are allowed)
+    # was called with the job's id, and the job's processes end (within the stand-in's grace
+    # and its SIGKILL; 60 s are allowed for a loaded machine)
     group = int(scripts[0].with_suffix(".group").read_text())
     assert (jobs / "cancelled").read_text().split() == [str(group)]
     if os.path.isdir("/proc"):
