@@ -433,7 +433,11 @@ class Solution:
         ``x=None``: on the grid of the FFT of :func:`maxwell_kinetics.velocity.inverse_transform`
         (a trapezoid sum with spacing dq, period L = 2π/dq = 1000 in x).  Given x, P is computed
         there by Gauss–Legendre quadrature (no aliasing).  Error sources
-        (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.
+        (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.  In
+        d = 1 with a built-in initial law the never-collided particles (weight e^{−τ}, the law
+        stretched by e^{λτ}) are added exactly and only the rest is transformed, as in
+        :meth:`histogram` (:func:`maxwell_kinetics.kinetic_histogram.solution_density`): at
+        τ = 0 P is the initial law's density to round-off away from its jumps.
 
         Parameters
         ----------
@@ -461,11 +465,10 @@ class Solution:
             work); naming ``tau_index`` if it is out of range; naming ``time`` when ``tau`` is
             given too.
         """
-        from .velocity import invert
+        from .kinetic_histogram import solution_density
 
         tau = pick_time("tau", tau, time)
-        return invert(self._truncated(self.time_index(tau_index, tau)), q_max=self.resolution.q_max,
-                      x=x)
+        return solution_density(self, self.time_index(tau_index, tau), x)
 
     def _truncated(self, tau_index: int):
         """G(q) at saved time ``tau_index`` as a callable, zero beyond the grid's end q_max
