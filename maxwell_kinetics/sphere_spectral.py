@@ -73,7 +73,9 @@ unchanged on a GPU.
 from __future__ import annotations
 
 import math
+import threading
 import time
+from collections import OrderedDict
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -83,6 +85,7 @@ from particles.validation import (
     InvalidArgumentError,
     check_bool,
     check_count,
+    check_nonnegative,
     check_positive,
     check_times,
 )
@@ -93,7 +96,7 @@ from .grid import FORCE, MAX_SOLVE_SECONDS
 from .sphere_grid import SphereGrid, sphere_grid
 from .sphere_solution import SphereSolution, sonine
 
-__all__ = ["carries", "kernel_form", "SphereOperator", "estimate_solve",
+__all__ = ["carries", "kernel_form", "SphereOperator", "clear_operator_cache", "estimate_solve",
            "solve_spheres", "cooling_state", "CoolingState"]
 
 
@@ -161,6 +164,47 @@ def kernel_form(kernel, dimension: int) -> _scheme.KernelForm:
     return form
 
 
+#: How many operators' tables :class:`SphereOperator` keeps (least recently used first out):
+#: a process that solves a few (kernel, d, grid) again and again builds each once.
+OPERATOR_CACHE_SIZE = 6
+_TABLE_CACHE: OrderedDict = OrderedDict()
+_CACHE_LOCK = threading.RLock()
+
+
+def _shared_tables(dimension: int, grid: SphereGrid, form, transfer: float) -> dict:
+    """The tables, nodes and moment basis of one (d, grid, kernel form, β), built by
+    :func:`maxwell_kinetics._sphere_spectral_scheme.build_tables` on the first call and
+    taken from a bounded cache (:data:`OPERATOR_CACHE_SIZE`) afterwards: the key holds every
+    argument the tables depend on (the grid's five fields, C, γ and a of the form, β)."""
+    key = (dimension, grid, form, transfer)
+    with _CACHE_LOCK:
+        if key in _TABLE_CACHE:
+            _TABLE_CACHE.move_to_end(key)
+            return _TABLE_CACHE[key]
+    g = grid
+    tables = _scheme.build_tables(dimension, g.points, g.half_width, g.cutoff, g.sphere_order,
+                                  g.radial_nodes, form, transfer)
+    c = tables.c
+    entry = {"tables": tables,
+             "nodes": np.stack(np.meshgrid(*([c] * dimension), indexing="ij"), axis=-1),
+             "basis": _scheme.moment_basis(c, dimension)}
+    for array in (entry["nodes"], entry["basis"]):
+        array.setflags(write=False)
+    with _CACHE_LOCK:
+        entry = _TABLE_CACHE.setdefault(key, entry)
+        _TABLE_CACHE.move_to_end(key)
+        while len(_TABLE_CACHE) > OPERATOR_CACHE_SIZE:
+            _TABLE_CACHE.popitem(last=False)
+    return entry
+
+
+def clear_operator_cache() -> None:
+    """Forget every cached operator table (:data:`OPERATOR_CACHE_SIZE`); the next
+    :class:`SphereOperator` of each kind builds its tables again."""
+    with _CACHE_LOCK:
+        _TABLE_CACHE.clear()
+
+
 class SphereOperator:
     """The collision operator of one (kernel, d, grid) on the grid's nodes, with its jitted
     right-hand sides (the handle of :func:`solve_spheres`, :func:`cooling_state` and the
@@ -187,6 +231,13 @@ class SphereOperator:
     ------
     particles.validation.InvalidArgumentError
         As :func:`kernel_form` and :func:`sphere_grid`.
+
+    Notes
+    -----
+    The tables (about a second on the default grids) are built once per (d, grid, kernel
+    form, β = (1 + α)/2) in a process and shared, read-only, by every operator of the same
+    key (:data:`OPERATOR_CACHE_SIZE` keys, least recently used dropped first;
+    :func:`clear_operator_cache`); any other grid field, α or kernel builds its own.
     """
 
     _compiled: dict = {}
@@ -195,16 +246,20 @@ class SphereOperator:
         self.form = kernel_form(kernel, dimension)
         self.kernel, self.dimension = kernel, dimension
         self.grid = g = sphere_grid(grid, dimension)
-        self.tables = _scheme.build_tables(dimension, g.points, g.half_width, g.cutoff,
-                                           g.sphere_order, g.radial_nodes, self.form,
-                                           kernel.p)
-        c = self.tables.c
-        self.nodes = np.stack(np.meshgrid(*([c] * dimension), indexing="ij"), axis=-1)
+        self._shared = _shared_tables(dimension, g, self.form, float(kernel.p))
+        self.tables, self.nodes, self._basis = (self._shared[k] for k in
+                                                ("tables", "nodes", "basis"))
         self.weight = g.spacing**dimension
-        self._basis = _scheme.moment_basis(c, dimension)
         self._key = (dimension, self.form.separable())
 
     def _args(self):
+        # the device copies, made once per cached entry (every caller runs in enable_x64)
+        with _CACHE_LOCK:
+            if "args" not in self._shared:
+                self._shared["args"] = self._device_args()
+            return self._shared["args"]
+
+    def _device_args(self):
         import jax.numpy as jnp
 
         t = self.tables
@@ -565,15 +620,21 @@ class CoolingState:
     cooling_rate : float
         ζ* = −2σ′: −d ln T/dτ with dτ = n s^γ dt (for hard spheres ζ = ζ* n √T).
     residual : float
-        max |dF/dτ| / max F at the end.
+        max |dF/dτ| / max F at the end (with "newton", or the largest error of the d + 2
+        conserved moments if larger).
     tau : float
-        The scaled time marched.
+        The scaled time marched (before Newton, with "newton").
     steps : int
         Time steps taken.
     seconds : float
         Wall-clock time.
     history : numpy.ndarray
-        Rows (τ, a₂, a₃, residual) at the end of each chunk.
+        Rows (τ, a₂, a₃, residual) at the end of each chunk ("march"), or at the end of the
+        march and after Newton ("newton").
+    method : str
+        "newton" or "march" (:func:`cooling_state`).
+    newton_steps, krylov_steps : int
+        Newton steps and Jacobian-vector products ("newton"; 0 for "march").
     """
 
     kernel: str
@@ -589,13 +650,24 @@ class CoolingState:
     steps: int
     seconds: float
     history: np.ndarray = field(repr=False)
+    method: str = "march"
+    newton_steps: int = 0
+    krylov_steps: int = 0
 
 
-def cooling_state(kernel, *, dimension: int = 3, grid=None, tolerance: float = 1e-6,
-                  chunk: float = 0.25, max_tau: float = 40.0, rtol: float = 1e-9,
-                  atol: float = 1e-12, start=None) -> CoolingState:
-    """The homogeneous cooling state: the scaled equation ∂F/∂τ = Q̃ + σ′ D̃ marched from the
-    Maxwellian (or ``start``) in chunks of τ until max |dF/dτ| / max F < ``tolerance``.
+def cooling_state(kernel, *, dimension: int = 3, grid=None, method: str = "newton",
+                  tolerance: float | None = None, chunk: float = 0.25, max_tau: float = 40.0,
+                  march_tau: float = 1.0, rtol: float = 1e-9, atol: float = 1e-12,
+                  start=None) -> CoolingState:
+    """The homogeneous cooling state: the steady F of the scaled equation ∂F/∂τ = Q̃ + σ′ D̃,
+    from the Maxwellian (or ``start``).
+
+    ``method="newton"`` (the default) marches τ = ``march_tau`` and then solves the steady
+    equation by Newton–Krylov (:func:`maxwell_kinetics.sphere_steady.steady_state`) to the
+    residual max |dF/dτ| / max F < ``tolerance`` (default 1e-10); ``method="march"`` marches
+    in chunks of τ until the residual is below ``tolerance`` (default 1e-6).  Both reach the
+    same state on the same grid: measured on "coarse", d = 2, α = 0.5, the march stopped at
+    1e-6 leaves a₂ 1.0e-7 from Newton's, one stopped at 1e-8 1.2e-9 (a₃: 1.8e-7, 3.7e-9).
 
     Parameters
     ----------
@@ -605,12 +677,16 @@ def cooling_state(kernel, *, dimension: int = 3, grid=None, tolerance: float = 1
         d.
     grid : str or SphereGrid, optional
         The grid.
-    tolerance : float, default 1e-6
-        The residual at which to stop.
+    method : {"newton", "march"}, default "newton"
+        The steady solve after a short march, or the march alone.
+    tolerance : float, optional
+        The residual at which to stop (default 1e-10 for "newton", 1e-6 for "march").
     chunk : float, default 0.25
-        τ between residual checks.
+        τ between residual checks of the march ("march").
     max_tau : float, default 40
-        Give up (RuntimeError) past this τ.
+        Give up (RuntimeError) past this τ ("march").
+    march_tau : float, default 1
+        τ marched before Newton ("newton"; 0: Newton from ``start`` itself).
     rtol, atol : float
         The step-size controller's tolerances.
     start : numpy.ndarray, optional
@@ -624,14 +700,24 @@ def cooling_state(kernel, *, dimension: int = 3, grid=None, tolerance: float = 1
     ------
     particles.validation.InvalidArgumentError
         Naming ``kernel`` (not carried, or elastic: the Maxwellian is already steady),
-        ``dimension``, ``grid``, ``tolerance``, ``chunk``, ``max_tau`` or ``start``.
+        ``dimension``, ``grid``, ``method``, ``tolerance``, ``chunk``, ``max_tau``,
+        ``march_tau`` or ``start``.
+    maxwell_kinetics.sphere_steady.SteadyStateError
+        ("newton", a RuntimeError) When Newton–Krylov does not reach ``tolerance``; the
+        message names the residual reached.
     RuntimeError
-        When the residual is not reached by ``max_tau`` or the integration fails.
+        ("march") When the residual is not reached by ``max_tau``, or the integration fails.
     KeyboardInterrupt
-        On Ctrl-C, within about 0.1 s (each march runs in a worker thread).
+        On Ctrl-C, within about 0.1 s (each march and the Newton solve run in a worker
+        thread).
     """
+    if method not in ("newton", "march"):
+        raise InvalidArgumentError("method", method, "'newton' or 'march'")
+    if tolerance is None:
+        tolerance = 1e-10 if method == "newton" else 1e-6
     tolerance = check_positive(tolerance, "tolerance")
     chunk, max_tau = check_positive(chunk, "chunk"), check_positive(max_tau, "max_tau")
+    march_tau = check_nonnegative(march_tau, "march_tau")
     begin = time.perf_counter()
     operator = interrupt.run_interruptibly(lambda: SphereOperator(kernel, dimension, grid),
                                            "spectral operator")
@@ -644,21 +730,42 @@ def cooling_state(kernel, *, dimension: int = 3, grid=None, tolerance: float = 1
                                    f"F on the grid, shape {operator.nodes.shape[:-1]}")
     tau, steps, history = 0.0, 0, []
     c = operator.nodes
-    while True:
-        rhs, sigma = operator.scaled_rhs(F)
-        residual = float(np.max(np.abs(rhs)) / np.max(F))
-        a2, a3 = sonine(F, c, operator.weight)
-        history.append((tau, a2, a3, residual))
-        if residual < tolerance:
-            break
-        if tau >= max_tau:
-            raise RuntimeError(f"no cooling state within tau = {max_tau:g}: the residual is "
-                               f"{residual:.3g} > {tolerance:g}")
+
+    def march(F, length):
         # a march in τ: the field's factor n s^γ is 1 with n = 1 and γ = 0
-        out, _, ok, n = operator.integrate(F, 0.0, [chunk], 1.0, rtol, atol, 100_000, gamma=0.0)
+        out, _, ok, n = operator.integrate(F, 0.0, [length], 1.0, rtol, atol, 100_000,
+                                           gamma=0.0)
         if not ok or not np.all(np.isfinite(out)):
             raise RuntimeError(f"the cooling-state march failed at tau = {tau:g}")
-        F, tau, steps = out[0], tau + chunk, steps + n
+        return out[0], n
+
+    newton = krylov = 0
+    if method == "newton":
+        from .sphere_steady import steady_state
+
+        if march_tau > 0:
+            F, steps = march(F, march_tau)
+            tau = march_tau
+        solved = interrupt.run_interruptibly(
+            lambda: steady_state(operator, F, tolerance=tolerance), "spectral steady solve")
+        F, sigma, residual = solved.F, solved.sigma, solved.residual
+        newton, krylov = solved.newton_steps, solved.krylov_steps
+        a2, a3 = sonine(F, c, operator.weight)
+        history = [(tau, *sonine(F, c, operator.weight), solved.history[0]),
+                   (tau, a2, a3, residual)]
+    else:
+        while True:
+            rhs, sigma = operator.scaled_rhs(F)
+            residual = float(np.max(np.abs(rhs)) / np.max(F))
+            a2, a3 = sonine(F, c, operator.weight)
+            history.append((tau, a2, a3, residual))
+            if residual < tolerance:
+                break
+            if tau >= max_tau:
+                raise RuntimeError(f"no cooling state within tau = {max_tau:g}: the residual "
+                                   f"is {residual:.3g} > {tolerance:g}")
+            F, n = march(F, chunk)
+            tau, steps = tau + chunk, steps + n
     return CoolingState(kernel.name, float(kernel.restitution), dimension, operator.grid, F,
                         a2, a3, -2.0 * sigma, residual, tau, steps, time.perf_counter() - begin,
-                        np.array(history))
+                        np.array(history), method, newton, krylov)

@@ -1,0 +1,142 @@
+"""a₂(α) and a₃(α) of the homogeneous cooling state of smooth inelastic hard disks (d = 2) and
+spheres (d = 3), deterministic: the steady solve of the scaled spectral equation
+(:func:`maxwell_kinetics.sphere_spectral.cooling_state`, Newton–Krylov), against the first
+Sonine approximation (van Noije and Ernst, :func:`particles.sphere_observables.first_sonine_a2`)
+and the exact a₂ of the inelastic Maxwell model in the same d
+(:func:`maxwell_kinetics.app.comparisons._hard_spheres.maxwell_hcs_a2`); a few α against the
+DSMC (:class:`particles.hard_sphere_dsmc.SphereDSMC`); and the wall time of each.  Results in
+benchmarks/README.md ("Hard-sphere HCS sweep").
+
+    python benchmarks/hard_sphere_hcs_sweep.py sweep --dimension 2      # α = 0.1 … 1.0
+    python benchmarks/hard_sphere_hcs_sweep.py sweep --dimension 3
+    python benchmarks/hard_sphere_hcs_sweep.py dsmc --alphas 0.5 0.2 --seeds 4
+    python benchmarks/hard_sphere_hcs_sweep.py speed                    # d = 3, α = 0.5
+
+The sweep runs α downward: α = 1 is the steady solve (:func:`maxwell_kinetics.sphere_steady.
+steady_state`) from the Maxwellian (its a₂, a₃ are the scheme's error), and each lower α starts
+Newton from the previous α's state (continuation; a march of τ = 1 first if Newton fails from
+there).  The DSMC's cooling-state a₂ of a seed is its mean over 10, 12, 14 and 16 collisions
+per particle (Haff's clock), as in :mod:`maxwell_kinetics.app.comparisons._hard_spheres`; σ is
+the standard error of the seeds' mean.  Each line of output is one JSON row.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+
+import numpy as np
+
+from maxwell_kinetics.app.comparisons._hard_spheres import maxwell_hcs_a2, window_times
+from maxwell_kinetics.sphere_solution import sonine
+from maxwell_kinetics.sphere_spectral import SphereOperator, cooling_state
+from maxwell_kinetics.sphere_steady import SteadyStateError, steady_state
+from particles.sphere_kernels import HardSpheres
+from particles.sphere_observables import first_sonine_a2
+
+WINDOW = (10, 12, 14, 16)
+
+
+def sweep(dimension: int, grid: str, alphas) -> None:
+    """One JSON row per α (downward from 1), each with its wall time."""
+    previous = None
+    for alpha in sorted(alphas, reverse=True):
+        start = time.perf_counter()
+        if alpha == 1.0:
+            operator = SphereOperator(HardSpheres(1.0), dimension, grid)
+            solved = steady_state(operator, operator.initial("gaussian")[0])
+            F, residual = solved.F, solved.residual
+            a2, a3 = sonine(F, operator.nodes, operator.weight)
+            how = {"newton_steps": solved.newton_steps, "krylov_steps": solved.krylov_steps,
+                   "march_tau": 0.0}
+        else:
+            kernel = HardSpheres(alpha)
+            try:
+                state = cooling_state(kernel, dimension=dimension, grid=grid, start=previous,
+                                      march_tau=0.0 if previous is not None else 1.0)
+            except SteadyStateError:
+                state = cooling_state(kernel, dimension=dimension, grid=grid, start=previous,
+                                      march_tau=1.0)
+            F, residual, a2, a3 = state.F, state.residual, state.a2, state.a3
+            how = {"newton_steps": state.newton_steps, "krylov_steps": state.krylov_steps,
+                   "march_tau": state.tau}
+        previous = F
+        print(json.dumps({"part": "sweep", "dimension": dimension, "grid": grid,
+                          "alpha": alpha, "a2": a2, "a3": a3, "residual": residual,
+                          "first_sonine_a2": first_sonine_a2(alpha, dimension),
+                          "maxwell_a2": (maxwell_hcs_a2(alpha, dimension) if alpha < 1
+                                         else 0.0),
+                          "seconds": time.perf_counter() - start, **how}), flush=True)
+
+
+def dsmc(dimension: int, alphas, seeds: int, n: int) -> None:
+    """One JSON row per α: the seeds' window means of a₂, a₃, their mean and σ, seconds."""
+    from particles.hard_sphere_dsmc import SphereDSMC
+    from particles.sphere_observables import sonine_coefficients
+
+    for alpha in alphas:
+        times = window_times(alpha, dimension, WINDOW)
+        per_seed, seconds = [], []
+        for seed in range(seeds):
+            start = time.perf_counter()
+            engine = SphereDSMC(n, alpha, dimension=dimension)
+            rng = np.random.default_rng(seed)
+            state = engine.initial_state(rng)
+            values = []
+            for t in times:
+                state = engine.advance(state, float(t), rng)
+                obs = sonine_coefficients(state.velocities)
+                values.append((obs["a2"], obs["a3"]))
+            per_seed.append(np.mean(values, axis=0))
+            seconds.append(time.perf_counter() - start)
+        per_seed = np.array(per_seed)
+        mean = per_seed.mean(axis=0)
+        sem = per_seed.std(axis=0, ddof=1) / math.sqrt(seeds)
+        print(json.dumps({"part": "dsmc", "dimension": dimension, "alpha": alpha, "n": n,
+                          "seeds": seeds, "a2": mean[0], "a2_sigma": sem[0], "a3": mean[1],
+                          "a3_sigma": sem[1], "a2_per_seed": per_seed[:, 0].tolist(),
+                          "seconds_per_seed": seconds}), flush=True)
+
+
+def speed(grid: str) -> None:
+    """d = 3, α = 0.5: the wall time of the deterministic HCS from the Maxwellian, twice in one
+    process (the first with compilation and the tables, the second warm), and how far its a₂
+    is from a steady state to 1e-12."""
+    kernel = HardSpheres(0.5)
+    for label in ("first call", "second call"):
+        start = time.perf_counter()
+        state = cooling_state(kernel, dimension=3, grid=grid)
+        seconds = time.perf_counter() - start
+        print(json.dumps({"part": "speed", "call": label, "grid": grid, "a2": state.a2,
+                          "a3": state.a3, "residual": state.residual, "tau": state.tau,
+                          "march_steps": state.steps, "newton_steps": state.newton_steps,
+                          "krylov_steps": state.krylov_steps, "seconds": seconds}), flush=True)
+    operator = SphereOperator(kernel, 3, grid)
+    tight = steady_state(operator, state.F, tolerance=1e-12)
+    a2 = sonine(tight.F, operator.nodes, operator.weight)[0]
+    print(json.dumps({"part": "speed", "a2_to_1e-12": a2, "a2_change": abs(a2 - state.a2)}),
+          flush=True)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("part", choices=("sweep", "dsmc", "speed"))
+    parser.add_argument("--dimension", type=int, default=3)
+    parser.add_argument("--grid", default="default")
+    parser.add_argument("--alphas", type=float, nargs="+",
+                        default=[round(0.1 * k, 1) for k in range(1, 11)])
+    parser.add_argument("--seeds", type=int, default=4)
+    parser.add_argument("--n", type=int, default=100_000)
+    args = parser.parse_args()
+    if args.part == "sweep":
+        sweep(args.dimension, args.grid, args.alphas)
+    elif args.part == "dsmc":
+        dsmc(args.dimension, args.alphas, args.seeds, args.n)
+    else:
+        speed(args.grid)
+
+
+if __name__ == "__main__":
+    main()
