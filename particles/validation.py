@@ -200,7 +200,7 @@ def check_restitution(r, name: str = "restitution") -> float:
     Returns
     -------
     float
-        ``r`` as a float.
+        ``r`` as a float (``-0.0`` as ``0.0``).
 
     Raises
     ------
@@ -210,7 +210,7 @@ def check_restitution(r, name: str = "restitution") -> float:
     x = _as_float(name, r)
     if not 0.0 <= x <= 1.0:
         raise InvalidArgumentError(name, r, "a number in [0, 1]")
-    return x
+    return x + 0.0  # -0.0 is r = 0, and is written as 0.0 in every output
 
 
 def check_positive(value, name: str) -> float:

@@ -65,8 +65,8 @@ def add_parser(subparsers) -> None:
                    help="angular model, only with --dimension 2 or 3: uniform (default) or hard")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.add_argument("--force", action="store_true",
-                   help="run even when the Gauss-Newton solve is estimated to take more than "
-                   "one day")
+                   help="run even when the Gauss-Newton solve (with a kernel of time t: the "
+                   "relaxation before it) is estimated to take more than one day")
     cache_options.add_option(p)
     p.set_defaults(handler=run)
 
@@ -132,8 +132,11 @@ def _run_relative_velocity(args) -> int:
         grid = VelocityGrid(points, half_width)
         initial_values("gaussian", grid)  # the starting law must fit the grid
         cache_options.from_args(args)  # the store of compiled executables, unless --no-cache
-        state = scaling_state(kernel, grid=grid)
+        state = scaling_state(kernel, grid=grid, force=args.force)
     except InvalidArgumentError as exc:
+        if exc.name == "relaxation":  # its default, set by the kernel: the grid is the choice
+            raise InvalidArgumentError("points", points if args.points is None else args.points,
+                                       f"fewer points: {exc.expected}") from None
         value = exc.value
         read, text = typed.get(exc.name, (None, None))
         if text is not None and isinstance(value, float) and value == read:

@@ -280,11 +280,11 @@ def _run_relative_velocity(args, written: list) -> int:
         raise InvalidArgumentError("tau", args.tau, f"--t T1,T2,... with --kernel {name} "
                                    "(its time is the physical time t, not collisions per "
                                    "particle)")
-    for name in ("q", "speed", "angular", "angular_rule"):
-        value = getattr(args, name)
-        default = {"q": "0.5,1,2,5"}.get(name)
+    for dest in ("q", "speed", "angular", "angular_rule"):
+        value = getattr(args, dest)
+        default = {"q": "0.5,1,2,5"}.get(dest)
         if value is not None and value != default:
-            option = name.replace("_", "-")
+            option = dest.replace("_", "-")
             raise InvalidArgumentError(option, value, f"no --{option} with --kernel "
                                        f"{name} (a Fourier-solver option)")
     if args.resolution != "default" or args.dimension != "1":
