@@ -153,13 +153,15 @@ def weighted_kurtosis(values, counts) -> float:
     ------
     particles.InvalidArgumentError
         Naming ``values`` or ``counts`` when it is not a one-dimensional array of real numbers,
-        or when the two differ in length.
+        or when the two differ in length; ``counts`` when one is negative or all are 0.
     """
     values = check_real_array(values, "values", ndim=1, finite=False, copy=False)
     counts = check_real_array(counts, "counts", ndim=1, copy=False)
     if counts.shape != values.shape:
         raise InvalidArgumentError("counts", f"array of shape {counts.shape}",
                                    f"one count per value (shape {values.shape})")
+    if values.size and not (np.all(counts >= 0.0) and np.any(counts > 0.0)):
+        raise InvalidArgumentError("counts", counts.tolist()[:50], "counts >= 0, not all 0")
     if not values.size:
         return math.nan
     scale = max(float(np.max(values)), -float(np.min(values)))
@@ -418,7 +420,8 @@ def histogram_from_counts(edges, count, n: int, v0: float) -> Histogram:
     ------
     particles.InvalidArgumentError
         If ``edges`` are not finite and strictly increasing, ``count`` is not one non-negative
-        finite number per bin, ``n`` is not a count >= 1, or ``v0`` is not a finite number > 0.
+        finite number per bin or they add up to more than ``n``, ``n`` is not a count >= 1, or
+        ``v0`` is not a finite number > 0.
     """
     edges = check_edges(edges, "edges")
     count = check_real_array(count, "count", ndim=1)
@@ -426,6 +429,9 @@ def histogram_from_counts(edges, count, n: int, v0: float) -> Histogram:
         raise InvalidArgumentError("count", count.tolist()[:50], f"{edges.size - 1} "
                                    "non-negative counts, one per bin")
     n = check_count(n, "n", 1)
+    if float(np.sum(count)) > n:
+        raise InvalidArgumentError("count", count.tolist()[:50], f"at most n = {n} samples in "
+                                   "all (n counts those outside the edges too)")
     v0 = check_positive(v0, "v0")
     width = np.diff(edges)
     prob = count / n
@@ -710,10 +716,12 @@ def mean_sem_json(values) -> list:
     Returns
     -------
     list
-        ``[mean, sem]`` as floats or ``None``.
+        ``[mean, sem]`` as floats, or ``None`` where one is not finite (a NaN kurtosis).
     """
     a = np.asarray(values, dtype=float).ravel()
     if a.size == 0:
         return [None, None]
     mean, sem = mean_sem(a)
-    return [mean, sem if a.size > 1 else None]
+    # NaN and ±inf are not JSON numbers (json.dumps would write the non-standard NaN)
+    return [mean if math.isfinite(mean) else None,
+            sem if a.size > 1 and math.isfinite(sem) else None]

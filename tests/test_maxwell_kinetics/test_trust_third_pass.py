@@ -118,3 +118,28 @@ def test_density_after_collisions_agrees_with_a_fine_resolution(uniform_solves):
     coarse, fine = (uniform_solves[name].density(_X, tau=0.5)[1] for name in ("coarse", "fine"))
     # measured: 8.2e-3 with the exact free part, 2.2e-2 when it was transformed with the rest
     assert np.max(np.abs(coarse - fine)) < 0.012
+
+
+@pytest.mark.parametrize("counts", [[1, -1], [0, 0], [2, -1]])
+def test_weighted_kurtosis_refuses_negative_or_no_counts(counts):
+    from particles.observables import weighted_kurtosis
+
+    with pytest.raises(InvalidArgumentError, match="argument counts="):
+        weighted_kurtosis([1.0, 2.0], counts)
+
+
+def test_histogram_from_counts_refuses_more_samples_than_n():
+    from particles.observables import histogram_from_counts
+
+    with pytest.raises(InvalidArgumentError, match=r"argument count=\[5\.0, 5\.0\].*n = 3"):
+        histogram_from_counts([0.0, 1.0, 2.0], [5, 5], 3, 1.0)
+
+
+def test_mean_sem_json_writes_no_nan():
+    import json
+
+    from particles.observables import mean_sem_json
+
+    payload = mean_sem_json([float("nan"), 1.0])
+    assert payload == [None, None]
+    json.dumps(payload, allow_nan=False)
