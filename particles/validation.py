@@ -499,7 +499,7 @@ def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarra
     Returns
     -------
     numpy.ndarray
-        The times as a one-dimensional float array.
+        The times as a one-dimensional float array (``-0.0`` as ``0.0``).
 
     Raises
     ------
@@ -529,7 +529,7 @@ def check_times(times, name: str = "tau", *, strictly: bool = True) -> np.ndarra
     steps = np.diff(arr)
     if np.any(steps <= 0 if strictly else steps < 0):
         raise InvalidArgumentError(name, given, "increasing times")
-    return arr
+    return arr + 0.0  # -0.0 is the time 0, saved and written as 0.0
 
 
 #: Seeds are any integer in [0, 2**64 - 1], stored exactly: the one bound of the library

@@ -143,3 +143,10 @@ def test_mean_sem_json_writes_no_nan():
     payload = mean_sem_json([float("nan"), 1.0])
     assert payload == [None, None]
     json.dumps(payload, allow_nan=False)
+
+
+def test_a_negative_zero_time_is_the_time_zero():
+    from particles.validation import check_times
+
+    assert not np.any(np.signbit(check_times([-0.0, 1.0], "t")))
+    assert not np.signbit(check_times(-0.0, "t")[0])
