@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from particles import persistence
-from particles.validation import InvalidArgumentError, check_positive, check_real
+from particles.validation import InvalidArgumentError, check_positive, check_real, check_real_array
 
 from .deviation import reference
 from .exact import f_hat
@@ -287,11 +287,11 @@ class Solution:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``q`` if a value is not finite or beyond the grid's end, or ``tau_index`` if
-            it is out of range.
+            Naming ``q`` if a value is not a finite real number or beyond the grid's end, or
+            ``tau_index`` if it is out of range.
         """
         grid = self.resolution
-        q = np.asarray(q, dtype=float)
+        q = check_real_array(q, "q", finite=False)  # no bool, complex or string
         a = np.abs(q)
         if np.any(~np.isfinite(a)) or np.any(a > grid.q_max * (1 + 1e-12)):
             bad = q[~(np.isfinite(a) & (a <= grid.q_max * (1 + 1e-12)))].ravel()[:3]
@@ -388,8 +388,8 @@ class Solution:
         ------
         particles.validation.InvalidArgumentError
             Naming ``dimension`` when d ≥ 2, ``s`` or ``q_low`` when not a finite real number
-            (a bool or a complex number included), ``q_low`` at or beyond the grid's end
-            q_max, or ``tau_index`` when out of range.
+            (a bool or a complex number included; ``s`` also when q^s overflows there),
+            ``q_low`` at or beyond the grid's end q_max, or ``tau_index`` when out of range.
         """
         self._require_one_dimension("fourier_distance")
         s = check_real(s, "s")
@@ -398,6 +398,10 @@ class Solution:
             if not q_low < self.resolution.q_max:
                 raise InvalidArgumentError(
                     "q_low", q_low, f"q_low < q_max={self.resolution.q_max:.6g} (the grid's end)")
+        low = max(self.resolution.q_min, self.resolution.q_min if q_low is None else q_low)
+        if not abs(s) * max(-math.log(low), math.log(self.resolution.q_max)) < 700.0:
+            raise InvalidArgumentError("s", s, f"an exponent with q^s finite and non-zero on "
+                                       f"[{low:.3g}, {self.resolution.q_max:.3g}]")
         if tau_index is None and tau is None:
             return np.array([self.fourier_distance(s, k, q_low) for k in range(len(self.tau))])
         q_low = self.resolution.q_min if q_low is None else q_low

@@ -150,3 +150,18 @@ def test_a_negative_zero_time_is_the_time_zero():
 
     assert not np.any(np.signbit(check_times([-0.0, 1.0], "t")))
     assert not np.signbit(check_times(-0.0, "t")[0])
+
+
+@pytest.mark.parametrize("q", [[True], [1j], "1", [[1.0, 2.0], [1j, 0.0]]])
+def test_evaluate_refuses_what_is_not_a_real_q(q):
+    sol, _, _ = _built_uniform(0.0)
+    with pytest.raises(InvalidArgumentError, match="argument q="):
+        sol.evaluate(q)
+
+
+@pytest.mark.parametrize("s", [1e300, 300.0, -300.0])
+def test_fourier_distance_refuses_an_exponent_whose_power_overflows(s):
+    sol, _, _ = _built_uniform(0.0)
+    with pytest.raises(InvalidArgumentError, match="argument s="):
+        sol.fourier_distance(s)
+    assert np.isfinite(sol.fourier_distance(2.5, 0))
