@@ -19,7 +19,7 @@ from . import velocity_grid as _grid
 from .kinetic_result import pick_time, plot_densities
 from .model import RelativeVelocityModel
 
-__all__ = ["BoltzmannSolution", "interpolate_nodes"]
+__all__ = ["BoltzmannSolution", "interpolate_nodes", "moment_order"]
 
 
 @dataclass(frozen=True)
@@ -147,7 +147,7 @@ class BoltzmannSolution:
 
     def _raw_moments(self, orders) -> np.ndarray:
         """⟨(v − u)^k⟩ for k in ``orders`` (checked), shape (T, len(orders))."""
-        orders = _check_orders(orders, "orders")
+        orders = _check_orders(orders, "orders", self.grid)
         c = self.grid.c
         out = np.array([[_grid.grid_sum(self.grid, row, c**k) for k in orders] for row in self.F])
         return out * self.scale[:, None] ** np.asarray(orders)
@@ -173,11 +173,12 @@ class BoltzmannSolution:
         ------
         particles.validation.InvalidArgumentError
             Naming ``orders`` when it is not a sequence, or holds an order that is not an
-            integer >= 0 (2.5, a bool, a string, NaN: c^2.5 is not real for c < 0).
+            integer >= 0 (2.5, a bool, a string, NaN: c^2.5 is not real for c < 0) or whose
+            power overflows on the grid (:func:`moment_order`).
         """
         from .moments import Moments
 
-        orders = tuple(_check_orders(orders, "orders"))
+        orders = tuple(_check_orders(orders, "orders", self.grid))
         c = self.grid.c
         sums = np.array([[_grid.grid_sum(self.grid, row, c**k) for k in orders]
                          for row in self.F])
@@ -479,9 +480,9 @@ def _grid_record(grid) -> dict:
     return {"kind": "uniform", "points": int(grid.points), "half_width": float(grid.half_width)}
 
 
-def _check_orders(orders, name: str) -> list[int]:
+def _check_orders(orders, name: str, grid=None) -> list[int]:
     """The moment orders as ints >= 0 (:func:`particles.validation.check_count` each), naming
-    ``name`` for a value that is not a sequence of them."""
+    ``name`` for a value that is not a sequence of them (:func:`moment_order`)."""
     if isinstance(orders, (str, bytes)) or np.ndim(orders) != 1:
         raise InvalidArgumentError(name, orders, "a sequence of integers >= 0")
     out = []
@@ -490,7 +491,41 @@ def _check_orders(orders, name: str) -> list[int]:
             out.append(check_count(k, name, 0))
         except InvalidArgumentError:
             raise InvalidArgumentError(name, orders, "a sequence of integers >= 0") from None
+        if grid is not None:
+            moment_order(out[-1], name, grid)
     return out
+
+
+def moment_order(order, name: str, grid) -> int:
+    """A moment order k: an integer >= 0 for which c^k stays finite on the whole grid (k ln
+    max|c| below 700: up to 189 on ±40, 58 on ±2·10⁵).
+
+    Parameters
+    ----------
+    order : int
+        k.
+    name : str
+        The argument's name in errors.
+    grid : VelocityGrid or MappedGrid (:mod:`maxwell_kinetics.velocity_grid`)
+        The grid.
+
+    Returns
+    -------
+    int
+        ``order``.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``name`` when ``order`` is not an integer >= 0, or c^k overflows on the grid.
+    """
+    k = check_count(order, name, 0)
+    top = math.log(max(float(grid.half_width), 1.0))
+    if not k * top < 700.0:
+        raise InvalidArgumentError(name, order, f"an order <= {int(700.0 / top)} (c^k "
+                                   f"overflows beyond on a grid of half-width "
+                                   f"{grid.half_width:g})")
+    return k
 
 
 def interpolate_nodes(values: np.ndarray, grid, x: np.ndarray, order: int = 6):

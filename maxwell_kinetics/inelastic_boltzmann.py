@@ -69,7 +69,7 @@ from particles.validation import (
 
 from . import interrupt
 from . import velocity_grid as _grid
-from .boltzmann_solution import BoltzmannSolution
+from .boltzmann_solution import BoltzmannSolution, moment_order
 from .boltzmann_solution import interpolate_nodes as _interpolate
 from .grid import FORCE, MAX_SOLVE_SECONDS
 from .model import RelativeVelocityModel
@@ -594,9 +594,10 @@ class ScalingState:
         Raises
         ------
         particles.validation.InvalidArgumentError
-            Naming ``order`` when it is not an integer >= 0 (2.5, a bool, a string, NaN).
+            Naming ``order`` when it is not an integer >= 0 (2.5, a bool, a string, NaN) or
+            c^k overflows on the grid.
         """
-        order = check_count(order, "order", 0)
+        order = moment_order(order, "order", self.grid)
         c = self.grid.c
         return float(_grid.grid_sum(self.grid, self.F, c**order))
 

@@ -165,3 +165,24 @@ def test_fourier_distance_refuses_an_exponent_whose_power_overflows(s):
     with pytest.raises(InvalidArgumentError, match="argument s="):
         sol.fourier_distance(s)
     assert np.isfinite(sol.fourier_distance(2.5, 0))
+
+
+def _built_boltzmann():
+    """A BoltzmannSolution built by hand (a Gaussian on ±40, one time), not solved."""
+    from maxwell_kinetics.boltzmann_solution import BoltzmannSolution
+
+    grid = vg.VelocityGrid(321, 40.0)
+    F = np.exp(-grid.c**2 / 2)[None, :] / np.sqrt(2 * np.pi)
+    return BoltzmannSolution(0.5, 0.0, 1.0, "gaussian", grid, np.array([0.0]), F, np.zeros(1),
+                             0.0, np.zeros(1), np.zeros(1), 0, 0.0)
+
+
+@pytest.mark.parametrize("order", [190, 1000, 10**6])
+def test_a_moment_order_whose_power_overflows_is_refused(order):
+    sol = _built_boltzmann()
+    with pytest.raises(InvalidArgumentError, match=f"argument orders=.*{order}"):
+        sol.moments([2, order])
+    state = ib.ScalingState(0.5, 1.0, sol.grid, sol.F[0])
+    with pytest.raises(InvalidArgumentError, match=f"argument order={order}"):
+        state.moment(order)
+    assert sol.moments([4]).values[0, 0] == pytest.approx(3.0, rel=1e-9)
