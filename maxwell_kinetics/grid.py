@@ -26,7 +26,26 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from particles.validation import InvalidArgumentError, check_bool
+from particles.validation import (
+    InvalidArgumentError,
+    check_bool,
+    check_count,
+    check_dimension,
+    check_nonnegative,
+    check_positive,
+    check_real,
+)
+
+
+def _is_bool(value) -> bool:
+    return isinstance(value, (bool, np.bool_))
+
+
+def _number(value, name: str) -> float:
+    """A real number given as a number (a bool or a text is refused, naming ``name``)."""
+    if isinstance(value, (str, bytes)):
+        raise InvalidArgumentError(name, value, "a real number")
+    return check_real(value, name)
 
 __all__ = ["Resolution", "RESOLUTIONS", "get_resolution", "lagrange_weights", "estimate_solve",
            "check_solve_budget", "format_seconds", "MAX_SOLVE_SECONDS"]
@@ -70,11 +89,11 @@ class Resolution:
     s_max: float = math.log(36.0)
 
     def __post_init__(self):
-        if not (self.h > 0 and math.isfinite(self.h)):
+        if not _number(self.h, "h") > 0:
             raise InvalidArgumentError("h", self.h, "a finite spacing > 0")
-        if self.order < 2 or self.order % 2:
+        if _is_bool(self.order) or check_count(self.order, "order", 2) % 2:
             raise InvalidArgumentError("order", self.order, "an even number of points >= 2")
-        if not self.s_min < self.s_max:
+        if not _number(self.s_min, "s_min") < _number(self.s_max, "s_max"):
             raise InvalidArgumentError("s_min", self.s_min, f"a value below s_max={self.s_max}")
 
     @property
@@ -229,6 +248,12 @@ def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension:
     dict
         ``{"windows": float, "seconds": float, "memory": float}`` (memory in bytes).
 
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``tau`` (not a finite number >= 0), ``window`` (not > 0), ``n_times`` (not an integer
+        >= 1) or ``dimension`` (not 1, 2 or 3).
+
     Notes
     -----
     In d ≥ 2 the cost per node is that of the "fast" rule at 16 η nodes
@@ -239,7 +264,9 @@ def estimate_solve(grid: Resolution, tau_max: float, n_times: int, *, dimension:
     the gain's sum over η is the bulk of a step, so the time is proportional to that count
     (measured: "accurate" at 16 nodes, 2.25 times the count, took 2.3 times the time).
     """
-    windows = float(tau_max) / float(window)
+    tau_max, window = check_nonnegative(tau_max, "tau"), check_positive(window, "window")
+    n_times, dimension = check_count(n_times, "n_times", 1), check_dimension(dimension)
+    windows = tau_max / window
     per = SECONDS_PER_NODE_WINDOW.get(int(dimension), SECONDS_PER_NODE_WINDOW[3])
     memory = 24.0 * grid.n * (n_times + 64)
     if int(dimension) > 1:

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from particles import persistence
+from particles import persistence, validation
 from particles.validation import InvalidArgumentError, check_positive, check_real, check_real_array
 
 from .deviation import reference
@@ -53,8 +53,8 @@ class SolverOptions:
     Raises
     ------
     particles.validation.InvalidArgumentError
-        If ``rtol``, ``atol`` or ``window`` is not a positive number, or ``rtol`` is not
-        below 1.
+        If ``rtol``, ``atol`` or ``window`` is not a positive number, ``rtol`` or ``atol`` not
+        below 1, or ``max_steps_per_window`` not an integer >= 1.
     """
 
     rtol: float = 1e-11
@@ -65,8 +65,10 @@ class SolverOptions:
     def __post_init__(self):
         if not check_positive(self.rtol, "rtol") < 1.0:
             raise InvalidArgumentError("rtol", self.rtol, "a relative tolerance in (0, 1)")
-        check_positive(self.atol, "atol")
+        if not check_positive(self.atol, "atol") < 1.0:  # G is O(1): atol >= 1 controls nothing
+            raise InvalidArgumentError("atol", self.atol, "an absolute tolerance in (0, 1)")
         check_positive(self.window, "window")
+        validation.check_count(self.max_steps_per_window, "max_steps_per_window", 1)
 
 
 #: Version of the saved Solution format (2: particles.persistence, hashed; 1 still loads).

@@ -356,7 +356,9 @@ angular_rule, force
     else:
         angular, angular_nodes, angular_rule = "uniform", 1, "accurate"
     grid = get_resolution(resolution)
-    opts = options or SolverOptions()
+    if options is not None and not isinstance(options, SolverOptions):
+        raise InvalidArgumentError("options", options, "a SolverOptions or None")
+    opts = SolverOptions() if options is None else options
     estimate = check_solve_budget(grid, float(taus[-1]), len(taus), window=opts.window,
                                   force=force, dimension=dimension, angular_rule=angular_rule,
                                   angular_nodes=angular_nodes)

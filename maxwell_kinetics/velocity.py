@@ -206,9 +206,13 @@ def check_quadrature(q_max: float, values, name: str, nodes_per_panel: int = 16,
 def _evaluate(G: Callable, q: np.ndarray) -> np.ndarray:
     if not callable(G):
         raise InvalidArgumentError("G", G, "a callable G(q) of an array of q >= 0")
-    values = np.asarray(G(q), dtype=complex)
-    if values.shape != q.shape:
-        values = np.broadcast_to(values, q.shape).astype(complex)
+    try:
+        values = np.asarray(G(q), dtype=complex)
+        if values.shape != q.shape:
+            values = np.broadcast_to(values, q.shape).astype(complex)
+    except (TypeError, ValueError):  # a string, a wrong shape: not one number per q
+        raise InvalidArgumentError("G", G, "a callable returning one number G(q) per q (an "
+                                   "array of the shape of q, or a scalar)") from None
     if not np.all(np.isfinite(values)):
         raise InvalidArgumentError("G", G, "finite values G(q) for q >= 0")
     return values
@@ -244,7 +248,8 @@ def inverse_transform(
     ------
     particles.validation.InvalidArgumentError
         If ``q_max`` or ``period`` is not positive, if M would exceed 2**24 (naming ``q_max``),
-        or if ``G`` is not callable or returns non-finite values.
+        if ``period`` is below 16π/q_max (fewer than 8 nodes of q below q_max), or if ``G`` is
+        not callable or does not return one finite value per q.
     """
     q_max = check_positive(q_max, "q_max")
     period = check_positive(period, "period")
@@ -254,6 +259,10 @@ def inverse_transform(
         raise InvalidArgumentError(
             "q_max", q_max, f"q_max * period / pi <= 2**24 (got {q_max * period / math.pi:.3g})"
         )
+    if not q_max * period / math.pi >= 16.0:  # else no node of q inside [0, q_max] but 0
+        raise InvalidArgumentError("period", period, f"a period >= 16 pi / q_max = "
+                                   f"{16.0 * math.pi / q_max:.3g} (at least 8 nodes of q in "
+                                   "[0, q_max])")
     q = dq * np.arange(m // 2 + 1)
     half = np.conj(_evaluate(G, q))
     plan = _irfft_plan(m)

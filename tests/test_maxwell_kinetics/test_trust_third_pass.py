@@ -186,3 +186,56 @@ def test_a_moment_order_whose_power_overflows_is_refused(order):
     with pytest.raises(InvalidArgumentError, match=f"argument order={order}"):
         state.moment(order)
     assert sol.moments([4]).values[0, 0] == pytest.approx(3.0, rel=1e-9)
+
+
+@pytest.mark.parametrize("G", [lambda q: "a", lambda q: np.ones(3)])
+def test_invert_refuses_a_G_that_is_not_one_number_per_q(G):
+    from maxwell_kinetics.velocity import invert
+
+    with pytest.raises(InvalidArgumentError, match="argument G="):
+        invert(G, x=[0.0])
+
+
+def test_inverse_transform_refuses_a_period_with_no_node_below_q_max():
+    from maxwell_kinetics.velocity import inverse_transform
+
+    with pytest.raises(InvalidArgumentError, match=r"argument period=1e-300"):
+        inverse_transform(lambda q: np.exp(-q * q / 2), period=1e-300)
+
+
+@pytest.mark.parametrize("kwargs,name", [(dict(h=True), "h"), (dict(h=0.1, order="8"), "order"),
+                                         (dict(h="0.1"), "h"), (dict(h=0.1, s_min="x"), "s_min")])
+def test_a_resolution_refuses_booleans_and_text(kwargs, name):
+    from maxwell_kinetics.grid import Resolution
+
+    with pytest.raises(InvalidArgumentError, match=f"argument {name}="):
+        Resolution("mine", **kwargs)
+
+
+@pytest.mark.parametrize("args,kwargs,name", [
+    ((float("nan"), 2), {}, "tau"), ((1.0, True), {}, "n_times"),
+    ((1.0, 2), dict(dimension=7), "dimension"), ((1.0, 2), dict(window=0.0), "window")])
+def test_estimate_solve_checks_its_arguments(args, kwargs, name):
+    from maxwell_kinetics.grid import estimate_solve
+
+    with pytest.raises(InvalidArgumentError, match=f"argument {name}="):
+        estimate_solve(RESOLUTIONS["coarse"], *args, **kwargs)
+
+
+@pytest.mark.parametrize("kwargs,name", [(dict(atol=1e300), "atol"),
+                                         (dict(max_steps_per_window=0), "max_steps_per_window"),
+                                         (dict(max_steps_per_window=True),
+                                          "max_steps_per_window")])
+def test_solver_options_refuse_what_controls_nothing(kwargs, name):
+    from maxwell_kinetics.solution import SolverOptions
+
+    with pytest.raises(InvalidArgumentError, match=f"argument {name}="):
+        SolverOptions(**kwargs)
+
+
+def test_solve_fourier_refuses_options_that_are_not_solver_options():
+    from maxwell_kinetics.solver import solve_fourier
+
+    with pytest.raises(InvalidArgumentError, match="argument options='fast'"):
+        solve_fourier(0.5, "gaussian", tau=[1.0], resolution="coarse", progress=False,
+                      options="fast")
