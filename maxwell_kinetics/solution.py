@@ -259,8 +259,10 @@ class Solution:
             return n - 1
         if (isinstance(tau_index, (bool, np.bool_))
                 or not isinstance(tau_index, (int, np.integer))):
+            hint = (f" (a time goes by keyword: tau={tau_index!r})"  # BoltzmannSolution's slot
+                    if isinstance(tau_index, (float, np.floating)) else "")
             raise InvalidArgumentError("tau_index", tau_index,
-                                       f"an integer index into {n} saved times")
+                                       f"an integer index into {n} saved times{hint}")
         if not -n <= tau_index < n:
             raise InvalidArgumentError("tau_index", tau_index, f"an index into {n} saved times")
         return tau_index % n

@@ -239,3 +239,9 @@ def test_solve_fourier_refuses_options_that_are_not_solver_options():
     with pytest.raises(InvalidArgumentError, match="argument options='fast'"):
         solve_fourier(0.5, "gaussian", tau=[1.0], resolution="coarse", progress=False,
                       options="fast")
+
+
+def test_a_time_in_the_index_slot_is_refused_with_the_keyword_to_use():
+    sol, _, _ = _built_uniform(0.5)
+    with pytest.raises(InvalidArgumentError, match=r"tau_index=0\.5 .*tau=0\.5"):
+        sol.histogram([-1.0, 0.0, 1.0], 0.5)
