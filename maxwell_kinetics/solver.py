@@ -719,3 +719,13 @@ def solve(kernel=None, initial="gaussian", times=None, method=None, *, tau=None,
     return solve_boltzmann(value, chosen, density=1.0 if density is None else density,
                            initial=initial, grid=method.grid, rtol=method.rtol,
                            atol=method.atol, max_steps=method.max_steps, force=force)
+
+
+#: Names that lived here and moved (an import from here names the new home).
+_MOVED = {"source": "maxwell_kinetics.deviation"}
+
+
+def __getattr__(name: str):
+    if name in _MOVED:
+        raise ImportError(f"maxwell_kinetics.solver.{name} moved to {_MOVED[name]}.{name}")
+    raise AttributeError(f"module 'maxwell_kinetics.solver' has no attribute {name!r}")
