@@ -607,7 +607,19 @@ def restore_choice(choice: tuple) -> None:
     ----------
     choice : tuple
         What :func:`current_choice` returned.
+
+    Raises
+    ------
+    particles.validation.InvalidArgumentError
+        Naming ``choice`` for anything but such a pair (a root folder or None, and a bool),
+        before anything changes.
     """
+    if not (isinstance(choice, tuple) and len(choice) == 2 and isinstance(choice[1], bool)
+            and (choice[0] is None or isinstance(choice[0], (str, os.PathLike)))):
+        from particles.validation import InvalidArgumentError
+
+        raise InvalidArgumentError("choice", choice, "what current_choice() returned: (a root "
+                                   "folder or None, a bool)")
     root, decided = choice
     if root is None:
         disable()

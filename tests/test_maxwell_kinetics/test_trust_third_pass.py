@@ -250,3 +250,11 @@ def test_a_time_in_the_index_slot_is_refused_with_the_keyword_to_use():
 def test_a_name_moved_out_of_the_solver_names_its_new_home():
     with pytest.raises(ImportError, match=r"maxwell_kinetics\.deviation\.source"):
         from maxwell_kinetics.solver import source  # noqa: F401
+
+
+@pytest.mark.parametrize("choice", ["garbage", (None,), (None, "yes"), (123, True), None])
+def test_compile_cache_restore_choice_refuses_what_current_choice_never_returns(choice):
+    before = compile_cache.current_choice()
+    with pytest.raises(InvalidArgumentError, match="argument choice="):
+        compile_cache.restore_choice(choice)
+    assert compile_cache.current_choice() == before
