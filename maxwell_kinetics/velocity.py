@@ -441,7 +441,7 @@ def check_speeds(s, name: str) -> np.ndarray:
     bad = ~(np.isfinite(out) & (out >= 0.0))
     if np.any(bad):
         raise InvalidArgumentError(name, out[bad].ravel()[:3].tolist(), "finite speeds >= 0")
-    return out
+    return out + 0.0  # -0.0 is the speed 0
 
 
 def _check_dimension(dimension) -> int:

@@ -258,3 +258,9 @@ def test_compile_cache_restore_choice_refuses_what_current_choice_never_returns(
     with pytest.raises(InvalidArgumentError, match="argument choice="):
         compile_cache.restore_choice(choice)
     assert compile_cache.current_choice() == before
+
+
+def test_a_negative_zero_speed_is_returned_as_zero():
+    sol, _, _ = _built_uniform(0.0)
+    s, _ = sol.speed_density([-0.0, 1.0])
+    assert not np.any(np.signbit(s))
