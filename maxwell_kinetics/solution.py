@@ -504,7 +504,7 @@ class Solution:
         E[e^{ik·v/v0}], and P(s) = S_d s^{d−1} f(s) with f its radial inverse transform, G cut
         at the grid's end q_max as in :meth:`density` (Gauss–Legendre panels, no aliasing; the
         formulas and the errors: :func:`maxwell_kinetics.velocity.speed_density_at`).  In
-        d = 1 it is the density of |x|.
+        d = 1 it is the density of |x|, P(s) + P(−s) of :meth:`density` (its exact free part).
 
         Parameters
         ----------
@@ -528,11 +528,13 @@ class Solution:
             :data:`maxwell_kinetics.velocity.MAX_QUADRATURE_NODES` nodes or the memory
             available (about 9e4; checked before any work), or ``tau_index`` when out of range.
         """
-        from .velocity import check_speeds, speed_density_at
+        from .velocity import check_quadrature, check_speeds, speed_density_at
 
-        s = check_speeds(s, "s")
-        G = self._truncated(self.time_index(tau_index, tau))
-        return s, speed_density_at(G, s, self.dimension, q_max=self.resolution.q_max)
+        s, k = check_speeds(s, "s"), self.time_index(tau_index, tau)
+        if self.dimension == 1 and check_quadrature(self.resolution.q_max, s, "s"):  # names s
+            return s, self.density(s, k)[1] + self.density(-s, k)[1]
+        return s, speed_density_at(self._truncated(k), s, self.dimension,
+                                   q_max=self.resolution.q_max)
 
     def moments(self, orders=(2, 4, 6), tau_index: int | None = None, *,
                 tau: float | None = None, time: float | None = None):

@@ -264,3 +264,11 @@ def test_a_negative_zero_speed_is_returned_as_zero():
     sol, _, _ = _built_uniform(0.0)
     s, _ = sol.speed_density([-0.0, 1.0])
     assert not np.any(np.signbit(s))
+
+
+def test_the_one_dimensional_speed_density_counts_the_free_part_exactly_too():
+    sol, _, _ = _built_uniform(0.0)
+    s, P = sol.speed_density([0.0, 0.5, 1.5, 1.8, 3.0])
+    assert np.max(np.abs(P - [3**-0.5, 3**-0.5, 3**-0.5, 0.0, 0.0])) < 1e-12
+    with pytest.raises(InvalidArgumentError, match="argument s="):
+        sol.speed_density([1e300])
