@@ -11,6 +11,7 @@ benchmarks/README.md ("Hard-sphere HCS sweep").
     python benchmarks/hard_sphere_hcs_sweep.py sweep --dimension 3
     python benchmarks/hard_sphere_hcs_sweep.py dsmc --alphas 0.5 0.2 --seeds 4
     python benchmarks/hard_sphere_hcs_sweep.py speed                    # d = 3, α = 0.5
+    python benchmarks/hard_sphere_hcs_sweep.py tail --alphas 0.5       # d = 2, wide grid
 
 The sweep runs α downward: α = 1 is the steady solve (:func:`maxwell_kinetics.sphere_steady.
 steady_state`) from the Maxwellian (its a₂, a₃ are the scheme's error), and each lower α starts
@@ -30,6 +31,7 @@ import time
 import numpy as np
 
 from maxwell_kinetics.app.comparisons._hard_spheres import maxwell_hcs_a2, window_times
+from maxwell_kinetics.sphere_grid import SphereGrid
 from maxwell_kinetics.sphere_solution import sonine
 from maxwell_kinetics.sphere_spectral import SphereOperator, cooling_state
 from maxwell_kinetics.sphere_steady import SteadyStateError, steady_state
@@ -120,9 +122,35 @@ def speed(grid: str) -> None:
           flush=True)
 
 
+def tail(alpha: float, grid) -> None:
+    """d = 2: the local slope −d ln F/d|c| of the steady F along the c_x axis on a wide grid,
+    against the large-|c| balance of loss and dilation, −d ln F/d|c| ≈ A + d/|c| with
+    A = 2K/ζ* (K = ∫dn |ĝ·n| = 4 in d = 2, ζ* = −2σ′ the solver's own cooling rate; in the
+    reduced c̃ = c/√2 of the Sonine convention the tail is exp(−√2 A c̃))."""
+    grid = SphereGrid(*grid)
+    start = time.perf_counter()
+    try:
+        state = cooling_state(HardSpheres(alpha), dimension=2, grid=grid, march_tau=0.0)
+    except SteadyStateError:
+        state = cooling_state(HardSpheres(alpha), dimension=2, grid=grid)
+    operator = SphereOperator(HardSpheres(alpha), 2, grid)
+    c = operator.nodes[:, grid.points // 2, 0]  # the c_x axis at c_y = 0
+    line = state.F[:, grid.points // 2]
+    a = 2.0 * 4.0 / state.cooling_rate
+    rows = []
+    for lo, hi in ((3.0, 4.0), (4.0, 5.0), (5.0, 6.0), (6.0, 7.0)):
+        pick = (c >= lo) & (c <= hi) & (line > 0)
+        slope = -np.polyfit(c[pick], np.log(line[pick]), 1)[0]
+        rows.append({"window": [lo, hi], "slope": slope,
+                     "A_plus_d_over_c": a + 2.0 / (0.5 * (lo + hi))})
+    print(json.dumps({"part": "tail", "alpha": alpha, "grid": grid.to_dict(), "a2": state.a2,
+                      "cooling_rate": state.cooling_rate, "A": a, "residual": state.residual,
+                      "rows": rows, "seconds": time.perf_counter() - start}), flush=True)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("part", choices=("sweep", "dsmc", "speed"))
+    parser.add_argument("part", choices=("sweep", "dsmc", "speed", "tail"))
     parser.add_argument("--dimension", type=int, default=3)
     parser.add_argument("--grid", default="default")
     parser.add_argument("--alphas", type=float, nargs="+",
@@ -134,6 +162,8 @@ def main() -> None:
         sweep(args.dimension, args.grid, args.alphas)
     elif args.part == "dsmc":
         dsmc(args.dimension, args.alphas, args.seeds, args.n)
+    elif args.part == "tail":
+        tail(args.alphas[0], (64, 14.0, 10.0, 64, 16))
     else:
         speed(args.grid)
 

@@ -324,7 +324,7 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
         override that is not a parameter of the preset; from the solver or the DSMC for
         parameters out of range.
     RuntimeError
-        When a spectral solve or the cooling-state march fails.
+        When a spectral solve, the cooling-state march or its Newton solve fails.
     """
     start = time.perf_counter()
     params = preset(PRESETS, size, overrides)
