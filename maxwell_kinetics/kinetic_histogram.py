@@ -133,14 +133,13 @@ def law_density(law, v: np.ndarray) -> np.ndarray:
 
 
 def solution_density(sol, k: int, x=None):
-    """P(x) at ``sol.tau[k]``: in d = 1 with a built-in law, the never-collided particles
-    exactly, e^{−τ} times the initial law's density stretched by e^{λτ} (:func:`free_part`,
-    :func:`law_density`), plus the transform of the collided part H = G − G_free
-    (:func:`collided_part`) cut at q_max, so that a law with a jump does not ring (Gibbs): at
-    the given x the law's density (:func:`law_density`), on the FFT grid its cell averages
-    corrected to fourth order, which keep ∫P dx of the grid exact; otherwise the
-    transform of G cut at q_max
-    (:meth:`maxwell_kinetics.solution.Solution.density`).
+    """P(x) at ``sol.tau[k]``: at the given x in d = 1 with a built-in law, the never-collided
+    particles exactly, e^{−τ} times the initial law's density stretched by e^{λτ}
+    (:func:`free_part`, :func:`law_density`), plus the transform of the collided part
+    H = G − G_free (:func:`collided_part`) cut at q_max, so that a law with a jump does not
+    ring (Gibbs); otherwise, and on the FFT grid (``x`` None, whose P stays a trigonometric
+    polynomial with no frequency above q_max, which spectral refinement relies on), the
+    transform of G cut at q_max (:meth:`maxwell_kinetics.solution.Solution.density`).
 
     Parameters
     ----------
@@ -160,7 +159,7 @@ def solution_density(sol, k: int, x=None):
     from .velocity import invert
 
     q_max = sol.resolution.q_max
-    free = free_part(sol, k)
+    free = None if x is None else free_part(sol, k)
     G = collided_part(sol, k) if free is not None else (lambda q: sol.evaluate(q, k))
 
     def cut(q):
@@ -170,24 +169,11 @@ def solution_density(sol, k: int, x=None):
         out[inside] = G(q[inside])
         return out
 
-    on_grid = x is None
     x, P = invert(cut, q_max=q_max, x=x)
     if free is None:
         return x, P
     weight, stretch, law = free
-    if not on_grid:
-        return x, P + weight * law_density(law, x / stretch) / stretch
-    # On the FFT grid (spacing dx): the law's mass in each cell [x − dx/2, x + dx/2] over dx,
-    # less 1/24 of its second difference.  The sum of P dx stays exact (the second difference
-    # sums to 0) and the correction takes back the cell average's dx²/12 from the variance;
-    # the error is O(dx⁴) where the density is smooth, 0 where it is constant (the uniform
-    # law), and a jump leaves 1/24 of its height in the cells beside it (measured on the
-    # "default" grid at τ = 0: ⟨x²⟩ = 0.99975 for the asymmetric and uniform laws).
-    dx = float(x[1] - x[0])
-    cells = np.diff(law.cdf(np.append(x - 0.5 * dx, x[-1] + 0.5 * dx) / stretch)) / dx
-    padded = np.pad(cells, 1, mode="edge")
-    free_values = cells - (padded[2:] - 2.0 * cells + padded[:-2]) / 24.0
-    return x, P + weight * free_values
+    return x, P + weight * law_density(law, x / stretch) / stretch
 
 
 def _interpolate(values: np.ndarray, s_min: float, h: float, order: int, q: np.ndarray):

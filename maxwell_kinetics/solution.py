@@ -441,8 +441,8 @@ class Solution:
         ``x=None``: on the grid of the FFT of :func:`maxwell_kinetics.velocity.inverse_transform`
         (a trapezoid sum with spacing dq, period L = 2π/dq = 1000 in x).  Given x, P is computed
         there by Gauss–Legendre quadrature (no aliasing).  Error sources
-        (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.  In
-        d = 1 with a built-in initial law the never-collided particles (weight e^{−τ}, the law
+        (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.  Given
+        x, in d = 1 with a built-in law, the never-collided particles (weight e^{−τ}, the law
         stretched by e^{λτ}) are added exactly and only the rest is transformed, as in
         :meth:`histogram` (:func:`maxwell_kinetics.kinetic_histogram.solution_density`): at
         τ = 0 P is the initial law's density to round-off away from its jumps.
