@@ -226,6 +226,9 @@ class SphereOperator:
         c at the nodes, shape (N,)*d + (d,).
     form : maxwell_kinetics._sphere_spectral_scheme.KernelForm
     tables : maxwell_kinetics._sphere_spectral_scheme.Tables
+    basis : numpy.ndarray
+        The collision invariants 1, c, |c|² at the nodes, shape (d + 2,) + (N,)*d (shared,
+        read-only).
 
     Raises
     ------
@@ -247,10 +250,16 @@ class SphereOperator:
         self.kernel, self.dimension = kernel, dimension
         self.grid = g = sphere_grid(grid, dimension)
         self._shared = _shared_tables(dimension, g, self.form, float(kernel.p))
-        self.tables, self.nodes, self._basis = (self._shared[k] for k in
+        self.tables, self.nodes, self.basis = (self._shared[k] for k in
                                                 ("tables", "nodes", "basis"))
         self.weight = g.spacing**dimension
         self._key = (dimension, self.form.separable())
+
+    def device_arguments(self):
+        """The operator's tables, its basis of the collision invariants and the grid's axes as
+        JAX arrays, ``(tables, basis, grids)``: what the compiled right-hand sides take.  Made
+        once per cached entry of the tables; call it inside ``jax.enable_x64(True)``."""
+        return self._args()
 
     def _args(self):
         # the device copies, made once per cached entry (every caller runs in enable_x64)
@@ -270,7 +279,7 @@ class SphereOperator:
                   "loss": jnp.asarray(t.loss), "beta": jnp.asarray(t.beta),
                   "sponge": jnp.asarray(t.sponge)}
         grids = tuple(jnp.asarray(self.nodes[..., a]) for a in range(self.dimension))
-        return tables, jnp.asarray(self._basis), grids
+        return tables, jnp.asarray(self.basis), grids
 
     def _functions(self):
         if self._key not in SphereOperator._compiled:
@@ -361,7 +370,7 @@ class SphereOperator:
             F = np.asarray(initial(mean + scale * c), dtype=float) * scale**d / mass
         else:
             raise InvalidArgumentError("initial", initial, "'gaussian' or a density f(v)")
-        basis = self._basis.reshape(d + 2, -1)
+        basis = self.basis.reshape(d + 2, -1)
         target = np.zeros(d + 2)
         target[0], target[-1] = 1.0, float(d)
         gram = (basis * F.reshape(1, -1)) @ basis.T * self.weight

@@ -142,14 +142,14 @@ def steady_state(operator, start, *, tolerance: float = 1e-10, max_newton: int =
         raise InvalidArgumentError("start", f"an array of shape {F0.shape}",
                                    f"finite F on the grid, shape {shape}")
     residual_fn, product_fn = _functions(d, operator.form.separable())
-    modes = np.asarray(operator._basis, dtype=float).reshape(d + 2, -1)
+    modes = np.asarray(operator.basis, dtype=float).reshape(d + 2, -1)
     maxwellian = np.exp(-0.5 * modes[-1]) / (2.0 * math.pi) ** (d / 2)
     phi = modes * maxwellian
     shifts = np.linalg.solve((phi @ modes.T) * operator.weight, phi)
     target = np.zeros(d + 2)
     target[0], target[-1] = 1.0, float(d)
     with jax.enable_x64(True):
-        tables, basis, grids = operator._args()
+        tables, basis, grids = operator.device_arguments()
         args = (tables, basis, grids, jnp.asarray(modes), jnp.asarray(shifts),
                 jnp.asarray(target), jnp.asarray(operator.weight))
 
