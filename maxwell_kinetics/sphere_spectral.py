@@ -257,8 +257,18 @@ class SphereOperator:
 
     def device_arguments(self):
         """The operator's tables, its basis of the collision invariants and the grid's axes as
-        JAX arrays, ``(tables, basis, grids)``: what the compiled right-hand sides take.  Made
-        once per cached entry of the tables; call it inside ``jax.enable_x64(True)``."""
+        JAX arrays: what the compiled right-hand sides take.  Made once per cached entry of the
+        tables; call it inside ``jax.enable_x64(True)``.
+
+        Returns
+        -------
+        tables : dict
+            The tables (:attr:`tables`) as JAX arrays.
+        basis : jax.Array
+            :attr:`basis`.
+        grids : tuple of jax.Array
+            The d components of c at the nodes.
+        """
         return self._args()
 
     def _args(self):

@@ -127,8 +127,11 @@ def test_weighted_kurtosis_refuses_negative_or_no_counts(counts):
 def test_histogram_from_counts_refuses_more_samples_than_n():
     from particles.observables import histogram_from_counts
 
-    with pytest.raises(InvalidArgumentError, match=r"argument count=\[5\.0, 5\.0\].*n = 3"):
-        histogram_from_counts([0.0, 1.0, 2.0], [5, 5], 3, 1.0)
+    with pytest.raises(InvalidArgumentError, match=r"argument count=\[5\.0, 1\.0\].*n = 3"):
+        histogram_from_counts([0.0, 1.0, 2.0], [5, 1], 3, 1.0)
+    # expected counts of a prediction may add up to more than n; each bin stays within n
+    hist = histogram_from_counts([0.0, 1.0, 2.0], [2.0, 1.5], 3, 1.0)
+    assert np.all(np.isfinite(hist.error))
 
 
 def test_mean_sem_json_writes_no_nan():
