@@ -26,9 +26,10 @@ Workloads (:data:`WORKLOADS`): the Fourier solve (d = 1, and d = 2, 3 to τ = 10
 default grid), the hard-rod solve, Ulam, lattice and MD at
 N = 10⁶, the sticky gas at N = 10⁷ with 20 output times, and ``reproduce --small`` of the
 comparisons both trees have (``--only``; a comparison added since the baseline is new work, not
-a regression).  Its time is judged on the comparisons whose summaries have the same keys in
-both trees, verdicts and timings aside (a comparison that gained outputs does more work: shown,
-not judged; with none alike, the whole run's time); each comparison's own time comes from
+a regression).  Its time is judged on the comparisons whose summaries have the same keys and
+the same parameters in both trees, verdicts and timings aside (a comparison that gained outputs
+or whose preset changed, more seeds say, does more work: shown, not judged; with none alike,
+the whole run's time); each comparison's own time comes from
 ``summary.json``.  The solves run with ``--no-cache`` (each
 call compiles: the baseline's compile store is not this tree's).
 """
@@ -132,8 +133,8 @@ def check_imports(tree: Path) -> None:
 def measure(tree: Path, args: list[str], common: str) -> tuple[int, float, float, str, dict]:
     """Run the tree's command line with ``args`` in a new empty folder: (exit status, wall
     seconds, peak resident memory in GB, the last lines of stderr, and for ``reproduce`` each
-    comparison's ``(seconds, sorted keys of its summary)``).  ``common``: the comparisons both
-    trees have, comma-separated."""
+    comparison's ``(seconds, sorted keys of its summary, its parameters as JSON)``).
+    ``common``: the comparisons both trees have, comma-separated."""
     with tempfile.TemporaryDirectory(prefix="mk-regression-") as cwd:
         argv = [a.replace("{out}", str(Path(cwd) / "out"))
                 .replace("{common_comparisons}", common) for a in args]
@@ -153,8 +154,11 @@ def measure(tree: Path, args: list[str], common: str) -> tuple[int, float, float
             for key, entry in json.loads(summary.read_text())["comparisons"].items():
                 # its outputs, less the verdicts (judged from the others, in microseconds;
                 # every comparison gained them since 0.2.0) and the timing
+                # and its parameters (a preset that changed, more seeds say, does more work:
+                # not a regression either)
                 parts[key] = (float(entry["seconds"]),
-                              sorted(set(entry) - {"verdicts", "seconds", "solver_seconds"}))
+                              sorted(set(entry) - {"verdicts", "seconds", "solver_seconds"}),
+                              json.dumps(entry.get("parameters"), sort_keys=True))
     return child.returncode, seconds, usage.ru_maxrss * 1024 / 1e9, "\n".join(tail), parts
 
 
@@ -226,7 +230,7 @@ def main(argv: list[str] | None = None) -> int:
             judged = row["time_ratio"]
             if new["parts"]:  # reproduce: judge the comparisons whose outputs are the same
                 same = [k for k in new["parts"] if k in old["parts"]
-                        and new["parts"][k][1] == old["parts"][k][1]]
+                        and new["parts"][k][1:] == old["parts"][k][1:]]
                 row["comparisons"] = {
                     k: {"seconds": new["parts"][k][0], "baseline_seconds": old["parts"][k][0],
                         "same_outputs": k in same} for k in new["parts"] if k in old["parts"]}
@@ -262,7 +266,8 @@ def main(argv: list[str] | None = None) -> int:
                       f"{r['time_ratio']:6.3f} {r['peak_gb']:8.2f} {r['baseline_peak_gb']:8.2f} "
                       f"{r['memory_ratio']:6.3f}")
                 for key, part in r.get("comparisons", {}).items():
-                    note = "" if part["same_outputs"] else "   (outputs changed: not judged)"
+                    note = ("" if part["same_outputs"]
+                            else "   (outputs or preset changed: not judged)")
                     print(f"  {key:14.14s} {part['seconds']:8.2f} {part['baseline_seconds']:8.2f} "
                           f"{part['seconds'] / part['baseline_seconds']:6.3f}{note}")
                 if r.get("same_output_time_ratio") is not None:
