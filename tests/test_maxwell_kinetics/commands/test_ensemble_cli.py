@@ -149,10 +149,11 @@ _FAKE_CANCEL = """#!/bin/sh
 # the real commands do: SIGTERM at once, SIGKILL to what is left after a grace period (Slurm's
 # KillWait, 30 s by default; {grace} s here).  A dask worker still starting when its scheduler
 # closed can ignore the SIGTERM until its own --death-timeout (60 s): the SIGKILL ends it.
+# (No "--" before the negative id: dash's kill refuses it, "Illegal number".)
 for id in "$@"; do
   echo "$id" >> "{jobs}/cancelled"
-  kill -TERM -- "-$id" 2>/dev/null
-  ( sleep {grace}; kill -KILL -- "-$id" 2>/dev/null ) > /dev/null 2>&1 < /dev/null &
+  kill -TERM "-$id" 2>/dev/null
+  ( sleep {grace}; kill -KILL "-$id" 2>/dev/null ) > /dev/null 2>&1 < /dev/null &
 done
 exit 0
 """
