@@ -156,20 +156,12 @@ def solution_density(sol, k: int, x=None):
     x, P : numpy.ndarray
         The velocities and the density there.
     """
-    from .velocity import invert
+    from .velocity import cut_at, invert
 
     q_max = sol.resolution.q_max
     free = None if x is None else free_part(sol, k)
     G = collided_part(sol, k) if free is not None else (lambda q: sol.evaluate(q, k))
-
-    def cut(q):
-        q = np.asarray(q, dtype=float)
-        out = np.zeros(q.shape, dtype=complex)
-        inside = np.abs(q) <= q_max
-        out[inside] = G(q[inside])
-        return out
-
-    x, P = invert(cut, q_max=q_max, x=x)
+    x, P = invert(cut_at(G, q_max), q_max=q_max, x=x)
     if free is None:
         return x, P
     weight, stretch, law = free

@@ -481,17 +481,10 @@ class Solution:
     def _truncated(self, tau_index: int):
         """G(q) at saved time ``tau_index`` as a callable, zero beyond the grid's end q_max
         (|G| < 1e-13 there once near the scaling solution)."""
-        q_max = self.resolution.q_max
+        from .velocity import cut_at
+
         k = self.time_index(tau_index)
-
-        def G(q):
-            q = np.asarray(q, dtype=float)
-            out = np.zeros(q.shape, dtype=complex)
-            inside = np.abs(q) <= q_max
-            out[inside] = self.evaluate(q[inside], k)
-            return out
-
-        return G
+        return cut_at(lambda q: self.evaluate(q, k), self.resolution.q_max)
 
     def speed_density(self, s, tau_index: int | None = None, *, tau: float | None = None):
         """Density of the rescaled speed |v| / v0 in d = ``dimension``: returns ``(s, P)``.

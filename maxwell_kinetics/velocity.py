@@ -77,6 +77,7 @@ __all__ = [
     "inverse_transform",
     "density_at",
     "invert",
+    "cut_at",
     "tail_exponent",
     "radial_density_at",
     "speed_density_at",
@@ -374,6 +375,32 @@ def tail_exponent(x, P, window: tuple[float, float]) -> float:
         raise InvalidArgumentError("P", "non-positive values in the window", "P > 0 to fit ln P")
     slope, _ = np.polyfit(np.log(x[sel]), np.log(P[sel]), 1)
     return float(slope)
+
+
+def cut_at(G: Callable, q_max: float) -> Callable:
+    """``G`` cut at the grid's end: a callable equal to ``G(q)`` where |q| ≤ ``q_max`` and 0
+    beyond (complex values), ``G`` called on the q inside only.
+
+    Parameters
+    ----------
+    G : callable
+        A characteristic function G(q) on |q| ≤ ``q_max``.
+    q_max : float
+        The cut.
+
+    Returns
+    -------
+    callable
+        q ↦ G(q) inside the cut, 0 beyond, as a complex array of the shape of q.
+    """
+    def cut(q):
+        q = np.asarray(q, dtype=float)
+        out = np.zeros(q.shape, dtype=complex)
+        inside = np.abs(q) <= q_max
+        out[inside] = G(q[inside])
+        return out
+
+    return cut
 
 
 def invert(
