@@ -3,7 +3,7 @@ spheres (d = 3), deterministic: the steady solve of the scaled spectral equation
 (:func:`maxwell_kinetics.sphere_spectral.cooling_state`, Newton–Krylov), against the first
 Sonine approximation (van Noije and Ernst, :func:`particles.sphere_observables.first_sonine_a2`)
 and the exact a₂ of the inelastic Maxwell model in the same d
-(:func:`maxwell_kinetics.app.comparisons._hard_spheres.maxwell_hcs_a2`); a few α against the
+(:func:`particles.sphere_observables.maxwell_hcs_a2`); a few α against the
 DSMC (:class:`particles.hard_sphere_dsmc.SphereDSMC`); and the wall time of each.  Results in
 benchmarks/README.md ("Hard-sphere HCS sweep").
 
@@ -30,13 +30,12 @@ import time
 
 import numpy as np
 
-from maxwell_kinetics.app.comparisons._hard_spheres import maxwell_hcs_a2, window_times
 from maxwell_kinetics.sphere_grid import SphereGrid
 from maxwell_kinetics.sphere_solution import sonine
 from maxwell_kinetics.sphere_spectral import SphereOperator, cooling_state
 from maxwell_kinetics.sphere_steady import SteadyStateError, steady_state
 from particles.sphere_kernels import HardSpheres
-from particles.sphere_observables import first_sonine_a2
+from particles.sphere_observables import first_sonine_a2, maxwell_hcs_a2, window_times
 
 WINDOW = (10, 12, 14, 16)
 

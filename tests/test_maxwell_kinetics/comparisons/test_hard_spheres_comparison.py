@@ -12,7 +12,7 @@ import pytest
 from maxwell_kinetics import sphere_spectral
 from maxwell_kinetics.app.comparisons import VERDICTS, Comparison
 from maxwell_kinetics.app.comparisons import _hard_spheres as hard_spheres
-from particles import hard_sphere_dsmc
+from particles import hard_sphere_dsmc, sphere_observables
 from particles.sphere_kernels import VariableHardSpheres
 
 
@@ -74,10 +74,10 @@ def test_the_maxwell_cooling_state_a2_is_its_moment_equations_fixed_point():
         draws = rng.standard_normal((2000, 2)) * [r[1] for r in rhs] + [r[0] for r in rhs]
         ks = np.linalg.solve(A, draws.T)
         spread = np.std(d / (d + 2) * (-ks[1] / (ks[0] + mu)) - 1)
-        assert abs(a2 - hard_spheres.maxwell_hcs_a2(alpha, d)) < 4 * spread, (d, a2, spread)
-        assert -(k4 + mu) == pytest.approx(hard_spheres.maxwell_a2_relaxation(alpha, d),
+        assert abs(a2 - sphere_observables.maxwell_hcs_a2(alpha, d)) < 4 * spread, (d, a2, spread)
+        assert -(k4 + mu) == pytest.approx(sphere_observables.maxwell_a2_relaxation(alpha, d),
                                            abs=4 * spread)
-    assert hard_spheres.maxwell_hcs_a2(alpha, 3) == pytest.approx(2 / 7, rel=1e-12)
+    assert sphere_observables.maxwell_hcs_a2(alpha, 3) == pytest.approx(2 / 7, rel=1e-12)
 
 
 def _planted(monkeypatch, solver=1.0, dsmc=1.0):
