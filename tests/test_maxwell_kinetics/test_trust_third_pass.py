@@ -129,6 +129,9 @@ def test_histogram_from_counts_refuses_more_samples_than_n():
 
     with pytest.raises(InvalidArgumentError, match=r"argument count=\[5\.0, 1\.0\].*n = 3"):
         histogram_from_counts([0.0, 1.0, 2.0], [5, 1], 3, 1.0)
+    with pytest.raises(InvalidArgumentError, match="at most n = 3 samples in each bin"):
+        histogram_from_counts([0.0, 1.0, 2.0], [3.02, 0.0], 3, 1.0)  # 0.7 % above n
+    assert histogram_from_counts([0.0, 1.0, 2.0], [3.0, 0.0], 3, 1.0).error[0] == 0.0  # n: p = 1
     # expected counts of a prediction may add up to more than n; each bin stays within n
     hist = histogram_from_counts([0.0, 1.0, 2.0], [2.0, 1.5], 3, 1.0)
     assert np.all(np.isfinite(hist.error))
