@@ -57,7 +57,7 @@ import numpy as np
 from particles.validation import check_edges as _check_edges
 
 __all__ = ["check_edges", "free_part", "collided_part", "bin_probabilities", "bin_errors",
-           "law_density", "solution_density",
+           "law_density", "solution_density", "band_limited_density",
            "XARRAY_DENSITY_X",
            "solution_histogram", "solution_to_xarray"]
 
@@ -111,9 +111,14 @@ def free_part(sol, k: int):
 
 
 def law_density(law, v: np.ndarray) -> np.ndarray:
-    """A built-in law's density at ``v``: the sixth-order central difference of its CDF, step
-    0.01 (exact to round-off for a piecewise-linear CDF farther than 0.03 from its kinks, error
-    about 1e-12 for the smooth laws).
+    """A built-in law's density at ``v``, from its CDF F: the sixth-order central difference
+    of F with step 0.01 (error about 1e-12 for the smooth laws), or, within 0.03 of a kink of
+    F (the jump of the uniform or the asymmetric law), where that difference is wrong and can
+    be negative, the same difference with the largest of the steps 1e-3, 1e-4, 1e-5 that agrees
+    with the next smaller one to 1e-9 (a difference of a piecewise-linear F is exact farther
+    than 3 steps from its kinks, so the error there is below about 1e-9); failing that (within
+    about 3e-5 of a kink), (F(v + δ) − F(v − δ))/2δ with δ = 1e-6, never negative because F
+    increases.  The result is never negative.
 
     Parameters
     ----------
@@ -125,21 +130,32 @@ def law_density(law, v: np.ndarray) -> np.ndarray:
     Returns
     -------
     numpy.ndarray
-        The density, of the shape of ``v``.
+        The density, of the shape of ``v``, ≥ 0.
     """
-    d = 0.01
-    diff = [law.cdf(v + j * d) - law.cdf(v - j * d) for j in (1, 2, 3)]
-    return (45.0 * diff[0] - 9.0 * diff[1] + diff[2]) / (60.0 * d)
+    v = np.asarray(v, dtype=float)
+
+    def sixth(d):
+        diff = [law.cdf(v + j * d) - law.cdf(v - j * d) for j in (1, 2, 3)]
+        return (45.0 * diff[0] - 9.0 * diff[1] + diff[2]) / (60.0 * d)
+
+    steps = (1e-2, 1e-3, 1e-4, 1e-5)
+    estimates = [sixth(d) for d in steps]
+    out = (law.cdf(v + 1e-6) - law.cdf(v - 1e-6)) / 2e-6
+    for coarse, fine in reversed(list(zip(estimates, estimates[1:]))):  # the largest step wins
+        out = np.where(np.abs(coarse - fine) <= 1e-9, coarse, out)
+    return np.maximum(out, 0.0)
 
 
 def solution_density(sol, k: int, x=None):
-    """P(x) at ``sol.tau[k]``: at the given x in d = 1 with a built-in law, the never-collided
-    particles exactly, e^{−τ} times the initial law's density stretched by e^{λτ}
-    (:func:`free_part`, :func:`law_density`), plus the transform of the collided part
-    H = G − G_free (:func:`collided_part`) cut at q_max, so that a law with a jump does not
-    ring (Gibbs); otherwise, and on the FFT grid (``x`` None, whose P stays a trigonometric
-    polynomial with no frequency above q_max, which spectral refinement relies on), the
-    transform of G cut at q_max (:meth:`maxwell_kinetics.solution.Solution.density`).
+    """P(x) at ``sol.tau[k]``: in d = 1 with a built-in law, the never-collided particles
+    exactly, e^{−τ} times the initial law's density stretched by e^{λτ} (:func:`free_part`,
+    :func:`law_density`), plus the transform of the collided part H = G − G_free
+    (:func:`collided_part`) cut at q_max, so that a law with a jump does not ring (Gibbs) nor
+    go negative; otherwise the transform of G cut at q_max
+    (:meth:`maxwell_kinetics.solution.Solution.density`).  At the given x, or on the FFT grid
+    (``x`` None) of :func:`maxwell_kinetics.velocity.inverse_transform`; there the exact free
+    part has frequencies above q_max: the band-limited transform of all of G is
+    :func:`band_limited_density`.
 
     Parameters
     ----------
@@ -159,13 +175,38 @@ def solution_density(sol, k: int, x=None):
     from .velocity import cut_at, invert
 
     q_max = sol.resolution.q_max
-    free = None if x is None else free_part(sol, k)
-    G = collided_part(sol, k) if free is not None else (lambda q: sol.evaluate(q, k))
-    x, P = invert(cut_at(G, q_max), q_max=q_max, x=x)
+    free = free_part(sol, k)
     if free is None:
-        return x, P
+        return invert(cut_at(lambda q: sol.evaluate(q, k), q_max), q_max=q_max, x=x)
+    x, P = invert(cut_at(collided_part(sol, k), q_max), q_max=q_max, x=x)
     weight, stretch, law = free
     return x, P + weight * law_density(law, x / stretch) / stretch
+
+
+def band_limited_density(sol, k: int):
+    """The inverse FFT of all of G(q, ``sol.tau[k]``) cut at the grid's end q_max, on the FFT
+    grid of :func:`maxwell_kinetics.velocity.inverse_transform` (period 1000 in x): a
+    trigonometric polynomial with no frequency above q_max, of mass G(0) = 1 on that grid,
+    which spectral refinement (zero padding of its spectrum) interpolates exactly.  It rings
+    (Gibbs) and can go negative near the jump of a law; the density itself is
+    :func:`solution_density` (:meth:`maxwell_kinetics.solution.Solution.density`).
+
+    Parameters
+    ----------
+    sol : maxwell_kinetics.solution.Solution
+        The solution.
+    k : int
+        Non-negative index of the saved time.
+
+    Returns
+    -------
+    x, P : numpy.ndarray
+        The FFT grid and the band-limited density there.
+    """
+    from .velocity import cut_at, invert
+
+    q_max = sol.resolution.q_max
+    return invert(cut_at(lambda q: sol.evaluate(q, k), q_max), q_max=q_max)
 
 
 def _interpolate(values: np.ndarray, s_min: float, h: float, order: int, q: np.ndarray):

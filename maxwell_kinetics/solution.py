@@ -441,11 +441,14 @@ class Solution:
         ``x=None``: on the grid of the FFT of :func:`maxwell_kinetics.velocity.inverse_transform`
         (a trapezoid sum with spacing dq, period L = 2π/dq = 1000 in x).  Given x, P is computed
         there by Gauss–Legendre quadrature (no aliasing).  Error sources
-        (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.  Given
-        x, in d = 1 with a built-in law, the never-collided particles (weight e^{−τ}, the law
-        stretched by e^{λτ}) are added exactly and only the rest is transformed, as in
-        :meth:`histogram` (:func:`maxwell_kinetics.kinetic_histogram.solution_density`): at
-        τ = 0 P is the initial law's density to round-off away from its jumps.
+        (aliasing of the x⁻⁴ tail, the cut at q_max): :mod:`maxwell_kinetics.velocity`.  In
+        d = 1 with a built-in law, on the grid and at x alike, the never-collided particles
+        (weight e^{−τ}, the law stretched by e^{λτ}) are added exactly and only the rest is
+        transformed, as in :meth:`histogram`
+        (:func:`~maxwell_kinetics.kinetic_histogram.solution_density`): at τ = 0 P is the
+        initial law's density to round-off away from its jumps, never negative, no Gibbs
+        ringing.  The band-limited transform of all of G (no frequency above q_max):
+        :func:`~maxwell_kinetics.kinetic_histogram.band_limited_density`.
 
         Parameters
         ----------

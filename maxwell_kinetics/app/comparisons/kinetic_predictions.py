@@ -137,10 +137,12 @@ def solution_bin_probabilities(sol, tau_index: int, edges, far: float = 200.0):
 
 
 def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):
-    """The solver's inverse-FFT density and its integral over the bins ``edges``.
+    """The solver's band-limited inverse-FFT density and its integral over the bins ``edges``.
 
-    Returns ``(prob, x, P)``: ``(x, P)`` is :meth:`Solution.density` (pyfftw inverse FFT of G
-    cut at q_max; spacing dx ≈ 0.061 for the "fine" grid) restricted to [edges[0], edges[-1]],
+    Returns ``(prob, x, P)``: ``(x, P)`` is
+    :func:`maxwell_kinetics.kinetic_histogram.band_limited_density` (pyfftw inverse FFT of all
+    of G cut at q_max, not :meth:`Solution.density`, whose never-collided part is exact; spacing
+    dx ≈ 0.061 for the "fine" grid) restricted to [edges[0], edges[-1]],
     what the figure draws; ``prob`` its integral over each bin.  P is a trigonometric polynomial
     (no frequency above q_max), so it is first interpolated exactly onto a grid ``refine`` times
     finer (zero padding of its spectrum) and then integrated with a cubic spline: a spline
@@ -167,7 +169,9 @@ def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):
     """
     from scipy.interpolate import CubicSpline
 
-    x, P = sol.density(None, tau_index)
+    from ...kinetic_histogram import band_limited_density
+
+    x, P = band_limited_density(sol, sol.time_index(tau_index))
     m = P.size
     spec = np.fft.rfft(np.fft.ifftshift(P))
     fine = np.zeros(refine * m // 2 + 1, dtype=complex)
