@@ -16,7 +16,7 @@ from particles import persistence
 from particles.validation import InvalidArgumentError, check_count, check_real_array
 
 from . import velocity_grid as _grid
-from .kinetic_result import pick_time, plot_densities
+from .kinetic_result import pick_time, plot_densities, time_by_keyword
 from .model import RelativeVelocityModel
 
 __all__ = ["BoltzmannSolution", "interpolate_nodes", "moment_order"]
@@ -273,7 +273,8 @@ class BoltzmannSolution:
             return c / scale, scale * self.F[k]
         return x, scale * interpolate_nodes(self.F[k], self.grid, x * scale)
 
-    def histogram(self, edges, t: float | None = None, *, time: float | None = None):
+    @time_by_keyword("t={value} or time={value} (a saved time)")
+    def histogram(self, edges, *, t: float | None = None, time: float | None = None):
         """The solution's prediction on bins of x = (v − u)/√T as the
         :class:`particles.observables.Histogram` particle runs return (``density`` = bin
         probability / width, ``error`` and ``count`` 0, ``samples`` 0, ``v0`` = √T).
@@ -296,6 +297,8 @@ class BoltzmannSolution:
         ------
         particles.validation.InvalidArgumentError
             Naming ``edges``, ``t``, or ``time`` when ``t`` is given too.
+        TypeError
+            For a second positional argument (the time is keyword-only), naming ``t=``.
         """
         from particles.observables import Histogram
 

@@ -44,7 +44,7 @@ import numpy as np
 
 from particles.validation import InvalidArgumentError
 
-__all__ = ["KineticResult", "pick_time", "plot_densities"]
+__all__ = ["KineticResult", "pick_time", "plot_densities", "time_by_keyword"]
 
 
 @runtime_checkable
@@ -225,3 +225,38 @@ def plot_densities(result, ax=None, limit: float = 8.0):
     ax.set(xlabel="x = (v − u) / v0", ylabel="P(x)")
     ax.legend(fontsize=7)
     return ax
+
+
+def time_by_keyword(keywords: str):
+    """Decorator of a method ``method(self, first, *, ...)`` whose time is keyword-only: a
+    second positional argument, which reads differently on different results (an index into
+    ``tau`` for :meth:`maxwell_kinetics.solution.Solution.histogram`, a time ``t`` for
+    :meth:`maxwell_kinetics.boltzmann_solution.BoltzmannSolution.histogram`), is refused with a
+    TypeError naming the keywords to use, instead of Python's bare count of arguments.
+
+    Parameters
+    ----------
+    keywords : str
+        The keywords to use, with ``{value}`` standing for the value received, e.g.
+        ``"tau_index={value} (an index into tau) or tau={value} (a saved time)"``.
+
+    Returns
+    -------
+    callable
+        The decorator (the method keeps its name, docstring and signature).
+    """
+    import functools
+
+    def decorate(method):
+        @functools.wraps(method)
+        def keyword_time(self, *args, **kwargs):
+            if len(args) > 1:
+                value = args[1]
+                raise TypeError(f"{type(self).__name__}.{method.__name__}() takes its time by "
+                                f"keyword only: {keywords.format(value=repr(value))}; got "
+                                f"{value!r} as a second positional argument")
+            return method(self, *args, **kwargs)
+
+        return keyword_time
+
+    return decorate

@@ -21,7 +21,7 @@ from particles.validation import InvalidArgumentError, check_positive, check_rea
 from .deviation import reference
 from .exact import f_hat
 from .grid import Resolution
-from .kinetic_result import pick_time, plot_densities
+from .kinetic_result import pick_time, plot_densities, time_by_keyword
 from .model import MaxwellModel
 
 __all__ = ["Solution", "SolverOptions"]
@@ -578,7 +578,8 @@ class Solution:
         return moments_of(q, rows, self.tau[list(idx)], self.dimension, orders,
                           self.velocity_scale[list(idx)])
 
-    def histogram(self, edges, tau_index: int | None = None, *, tau: float | None = None,
+    @time_by_keyword("tau_index={value} (an index into tau) or tau={value} (a saved time)")
+    def histogram(self, edges, *, tau_index: int | None = None, tau: float | None = None,
                   time: float | None = None):
         """The kinetic prediction on the bins ``edges`` at one saved time, as the
         :class:`particles.observables.Histogram` that particle runs return: ``density`` = the
@@ -620,6 +621,8 @@ class Solution:
         particles.validation.InvalidArgumentError
             Naming ``edges`` (not increasing, not finite, fewer than 2), ``tau`` (not a saved
             time), ``tau_index`` (out of range) or ``time`` (given with ``tau``).
+        TypeError
+            For a second positional argument (the time is keyword-only), naming the keywords.
         """
         from .kinetic_histogram import check_edges, solution_histogram
 

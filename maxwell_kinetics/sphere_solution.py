@@ -15,7 +15,7 @@ import numpy as np
 from particles import persistence
 from particles.validation import InvalidArgumentError, check_count, check_real_array
 
-from .kinetic_result import pick_time, plot_densities
+from .kinetic_result import pick_time, plot_densities, time_by_keyword
 from .sphere_grid import SphereGrid
 
 __all__ = ["SphereSolution", "sonine"]
@@ -323,7 +323,8 @@ class SphereSolution:
         inside = (y >= c[0]) & (y <= -c[0])
         return x, np.where(inside, values * v0, 0.0)
 
-    def histogram(self, edges, t: float | None = None, *, time: float | None = None):
+    @time_by_keyword("t={value} or time={value} (a saved time)")
+    def histogram(self, edges, *, t: float | None = None, time: float | None = None):
         """The prediction on bins of x = (v_x − u_x)/√T as a
         :class:`particles.observables.Histogram` (bin probability / width from the exact
         integral of the marginal's Fourier series, zero errors, ``v0`` = √T).
@@ -345,6 +346,8 @@ class SphereSolution:
         ------
         particles.validation.InvalidArgumentError
             Naming ``edges``, ``t``, or ``time`` with ``t``.
+        TypeError
+            For a second positional argument (the time is keyword-only), naming ``t=``.
         """
         from particles.observables import Histogram
 

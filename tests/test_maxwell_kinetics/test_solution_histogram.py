@@ -63,7 +63,7 @@ def test_histogram_in_d_2_and_3_is_the_marginal_of_one_component(d, angular):
     edges = np.array([-6.0, -3.0, -1.5, -0.4, 0.0, 0.3, 1.0, 2.2, 4.0, 7.5])
     width = np.diff(edges)
     for k in range(2):
-        h = sol.histogram(edges, k)
+        h = sol.histogram(edges, tau_index=k)
         assert np.max(np.abs(h.density * width - _direct_bins(sol, edges, k))) < 1e-10
     # Against the exact marginals: f's CDF to round-off (G = f̂ is stored exactly, its deviation
     # is 0); N(0, 1) to the interpolation of G − f̂ on the coarse grid (measured 3.1e-8).
@@ -103,7 +103,7 @@ def test_tau_and_tau_index_give_identical_results(sol):
         assert sol.fourier_distance(2.5, k) == sol.fourier_distance(2.5, tau=tau)
         assert np.array_equal(sol.moments(tau_index=k).values, sol.moments(tau=tau).values,
                               equal_nan=True)
-        assert np.array_equal(sol.histogram(edges, k).density,
+        assert np.array_equal(sol.histogram(edges, tau_index=k).density,
                               sol.histogram(edges, tau=tau).density)
     assert np.array_equal(sol.density(x)[1], sol.density(x, tau=float(sol.tau[-1]))[1])
 

@@ -247,7 +247,7 @@ def test_solve_fourier_refuses_options_that_are_not_solver_options():
 def test_a_time_in_the_index_slot_is_refused_with_the_keyword_to_use():
     sol, _, _ = _built_uniform(0.5)
     with pytest.raises(InvalidArgumentError, match=r"tau_index=0\.5 .*tau=0\.5"):
-        sol.histogram([-1.0, 0.0, 1.0], 0.5)
+        sol.histogram([-1.0, 0.0, 1.0], tau_index=0.5)
 
 
 def test_a_name_moved_out_of_the_solver_names_its_new_home():
