@@ -3,6 +3,7 @@ final histogram).  It calls nothing of an engine outside :class:`particles.drive
 
 from __future__ import annotations
 
+import inspect
 import math
 import time as _time
 
@@ -185,7 +186,8 @@ def simulate(
         neither a bool nor None), or a run refused by its estimates: one that cannot fit in the
         memory available, or one of more than 10¹³ events without ``force=True`` (an engine
         without the estimates is refused, naming it), or one whose ``stop_step`` makes more
-        than :data:`MAX_STOPS` stops up to the last time (naming ``stop_step``); and an
+        than :data:`MAX_STOPS` stops up to the last time (naming ``stop_step`` where it is a
+        keyword of the engine, as MD's, and ``times`` where the model fixes it); and an
         engine that breaks the contract of ``advance`` during the run, naming it, before the
         offending state is recorded or saved: a state past the stop it was asked for, or one
         whose time does not move forward (or is not a number), refused at the first such step.
@@ -201,7 +203,8 @@ def simulate(
     (3,)
     """
     _check_engine(engine)
-    times = check_times(times, engine.time_name)
+    given_times, given_structure, given_snapshots = times, structure_factor, snapshots
+    times = check_times(times, "times")  # the keyword typed (the command line checks --tau/--t)
     seed = _run_seed(seed)
     progress = check_bool(progress, "progress", none=True)
     force = check_bool(force, "force")
@@ -213,9 +216,11 @@ def simulate(
     if checkpoint is not None:
         checkpoint = check_output_file(checkpoint, "checkpoint")
     if int(engine.to_dict().get("dimension", 1)) != 1 and (structure_factor or snapshots):
+        name, value, option = (("structure_factor", given_structure, "--structure-factor")
+                               if structure_factor else ("snapshots", given_snapshots, None))
         raise InvalidArgumentError(
-            "structure_factor" if structure_factor else "snapshots", True,
-            "a one-dimensional model (S(k) and snapshots are recorded in d = 1 only)",
+            name, value, f"{name}=False{f' (no {option})' if option else ''} for a model of "
+            "dimension > 1 (S(k) and snapshots are recorded in d = 1 only)",
         )
     identity = run_identity(engine, times, seed, hist_edges, structure_factor, snapshots,
                             histograms)
@@ -224,7 +229,7 @@ def simulate(
                             structure=structure_factor, snapshots=snapshots),
         force=force, time_name=engine.time_name,
     )
-    _check_stops(engine, float(times[-1]), force)
+    _check_stops(engine, float(times[-1]), given_times, force)
     n = int(engine.to_dict()["n"])
     with CheckpointLock(checkpoint):
         fields = tuple(engine.snapshot_fields) if snapshots else ()
@@ -247,16 +252,39 @@ def simulate(
 MAX_STOPS = 1e7
 
 
-def _check_stops(engine, last: float, force: bool) -> None:
-    """Refuse, naming ``stop_step``, a stop grid of more than :data:`MAX_STOPS` stops up to
-    ``last`` (unless ``force``)."""
+def _check_stops(engine, last: float, given_times, force: bool) -> None:
+    """Refuse a stop grid of more than :data:`MAX_STOPS` stops up to ``last`` (unless
+    ``force``), naming what the user typed: ``stop_step`` (``--stop-step``) where it is a
+    keyword of the engine (MD, the sticky gas), otherwise ``times`` (``--tau``/``--t``), with
+    the times received (Ulam's and the lattice's stop grid follow from the model)."""
     step = float(engine.stop_step)
-    stops = last / step if math.isfinite(step) else 0.0
-    if not force and not stops <= MAX_STOPS:
+    if math.isfinite(step) and step <= 0.0:  # an engine's own grid: 0 would divide by zero
+        raise InvalidArgumentError("engine", engine_label(engine), "an engine whose stop_step "
+                                   f"is > 0 or inf (it is {shown(engine.stop_step)})")
+    stops = last / step if math.isfinite(step) else 0.0  # not finite: no stops (next_stop)
+    if force or stops <= MAX_STOPS:
+        return
+    time, most = engine.time_name, f"{MAX_STOPS:.0e}"
+    if _stop_step_is_a_keyword(engine):
         raise InvalidArgumentError(
             "stop_step", engine.stop_step,
-            f"a step that makes at most {MAX_STOPS:.0e} stops up to {engine.time_name} = "
-            f"{last:g} (this one: {stops:.3g}); pass force=True (--force) to run it anyway")
+            f"a stop_step (--stop-step) that makes at most {most} stops up to {time} = "
+            f"{last:g} (this one makes {stops:.3g}); pass force=True (--force) to run it anyway")
+    if isinstance(given_times, np.ndarray):  # the command line's parsed --tau: shown as a list
+        given_times = given_times.tolist()
+    raise InvalidArgumentError(
+        "times", given_times,
+        f"times (--{time}) up to {MAX_STOPS * step:g}: {engine.name} stops every {step:g} of "
+        f"{time} (its own stop grid), so {time} = {last:g} makes {stops:.3g} stops, more than "
+        f"{most}; pass force=True (--force) to run it anyway")
+
+
+def _stop_step_is_a_keyword(engine) -> bool:
+    """Whether ``stop_step`` is a keyword of the engine's constructor (the user chose it)."""
+    try:
+        return "stop_step" in inspect.signature(type(engine)).parameters
+    except (TypeError, ValueError):  # no signature to read
+        return False
 
 
 _SEED_EXPECTED = "an integer in [0, 2**64 - 1] or a numpy.random.SeedSequence"

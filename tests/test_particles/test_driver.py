@@ -253,7 +253,8 @@ def test_record_round_trip_and_final_state(tmp_path):
 
 
 @pytest.mark.parametrize(
-    "times, match", [([1.0, 0.5], "tau"), ([-1.0], "tau"), ([], "tau"), ([np.nan], "tau")]
+    "times, match", [([1.0, 0.5], r"argument times=\[1\.0"), ([-1.0], r"argument times=\[-1"),
+                     ([], r"argument times=\[\]"), ([np.nan], r"argument times=\[nan")]
 )
 def test_bad_times_are_rejected(times, match):
     with pytest.raises(InvalidArgumentError, match=match):

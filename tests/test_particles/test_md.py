@@ -627,7 +627,7 @@ def test_bad_parameters(kwargs, match):
 def test_bad_times_and_states(tmp_path):
     params = MDParams(100, 1.0, 0.5, delta=1e-3)
     for times in ([1.0, 0.5], [-1.0]):
-        with pytest.raises(InvalidArgumentError, match=r"argument t=\["):
+        with pytest.raises(InvalidArgumentError, match=r"argument times=\["):
             simulate(MDEngine(params), times, 0, progress=False)
     engine = MDEngine(params)
     s = engine.advance(engine.initial_state(np.random.default_rng(0)), 2.0)
