@@ -403,7 +403,7 @@ def test_velocity_profiles_report_increment_skewness(tmp_path, comparison):
     ``test_md_shock_asymmetry_in_the_coarse_grained_profiles``, at N = 2·10⁴: at this size there
     are too few clusters).  Its result survives save/load."""
     res = comparison("velocity_profiles")  # the session's run (the legend test draws it too)
-    for key in ("md_vx", "md_vi", "lattice_vi"):
+    for key in ("md_vx", "md_vi", "lattice_vi", "lattice_rv_vi"):
         value, err = res.summary["increment_skewness"][key]["skewness"]
         assert math.isfinite(value) and err > 0
         coarse = res.summary["coarse_skewness"][key]
