@@ -27,8 +27,9 @@ NAME = "velocity_profiles"
 #: 4's presets (same MD and lattice runs, shared through the run cache within one
 #: process); ``full`` is the paper's Fig. 4 size, N = 2·10⁴ for MD and the lattice, with 32 seeds
 #: each, the seeds that resolve the signs of the shocks under the t law (:data:`_SIGN_SEEDS`;
-#: measured: 1060 s on a shared 2-core machine at load 8 to 13) (comparison 4's ``full`` uses
-#: N = 10⁵ and 10⁶).
+#: measured: 1060 s on a shared 2-core machine at load 8 to 13; with the rate-matched lattice,
+#: 201.5 s at load 6.5 to 6.9, of which that lattice took 77.5 s in a separate run at the same
+#: load) (comparison 4's ``full`` uses N = 10⁵ and 10⁶).
 PRESETS = {
     "small": {"restitution": 0.99, "delta": 1e-4, "md_n": 2000, "md_seeds": 4,
               "md_t_early": 400.0, "md_t_late": 3000.0, "lattice_n": 2000, "lattice_seeds": 4},
