@@ -71,6 +71,11 @@ except BaseException:
 finally:
     if _PROGRAM:
         _signal.signal(_signal.SIGINT, _signal.default_int_handler)
+if _PROGRAM and _START_SIGNALS:
+    # The imports went on: the KeyboardInterrupt was swallowed on the way (a library's bare
+    # ``except`` around an optional import, seen on a loaded machine), but Ctrl-C was pressed.
+    print("maxwell-kinetics: interrupted", file=sys.stderr)
+    raise SystemExit(130)
 
 __all__ = ["main", "build_parser", "emit_json", "join_negative_values", "refuse_repeated_options"]
 
