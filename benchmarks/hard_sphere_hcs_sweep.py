@@ -10,7 +10,7 @@ benchmarks/README.md ("Hard-sphere HCS sweep").
     python benchmarks/hard_sphere_hcs_sweep.py sweep --dimension 2      # α = 0.1 … 1.0
     python benchmarks/hard_sphere_hcs_sweep.py sweep --dimension 3
     python benchmarks/hard_sphere_hcs_sweep.py dsmc --alphas 0.5 0.2 --seeds 4
-    python benchmarks/hard_sphere_hcs_sweep.py speed                    # d = 3, α = 0.5
+    python benchmarks/hard_sphere_hcs_sweep.py speed --seeds 32         # d = 3, α = 0.5
     python benchmarks/hard_sphere_hcs_sweep.py tail --alphas 0.5       # d = 2, wide grid
 
 The sweep runs α downward: α = 1 is the steady solve (:func:`maxwell_kinetics.sphere_steady.
@@ -26,6 +26,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import time
 
 import numpy as np
@@ -101,20 +102,61 @@ def dsmc(dimension: int, alphas, seeds: int, n: int) -> None:
                           "seconds_per_seed": seconds}), flush=True)
 
 
-def speed(grid: str) -> None:
-    """d = 3, α = 0.5: the wall time of the deterministic HCS from the Maxwellian, twice in one
-    process (the first with compilation and the tables, the second warm), and how far its a₂
-    is from a steady state to 1e-12."""
-    kernel = HardSpheres(0.5)
-    for label in ("first call", "second call"):
+def _dsmc_seeds(alpha: float, dimension: int, seeds: int, n: int):
+    """(per-seed window means of a₂, seconds of each seed) of the DSMC at N = ``n``."""
+    from particles.hard_sphere_dsmc import SphereDSMC
+    from particles.sphere_observables import sonine_coefficients
+
+    times = window_times(alpha, dimension, WINDOW)
+    values, seconds = [], []
+    for seed in range(seeds):
         start = time.perf_counter()
-        state = cooling_state(kernel, dimension=3, grid=grid)
-        seconds = time.perf_counter() - start
-        print(json.dumps({"part": "speed", "call": label, "grid": grid, "a2": state.a2,
-                          "a3": state.a3, "residual": state.residual, "tau": state.tau,
-                          "march_steps": state.steps, "newton_steps": state.newton_steps,
-                          "krylov_steps": state.krylov_steps, "seconds": seconds}), flush=True)
-    operator = SphereOperator(kernel, 3, grid)
+        engine = SphereDSMC(n, alpha, dimension=dimension)
+        rng = np.random.default_rng(seed)
+        state = engine.initial_state(rng)
+        window = []
+        for t in times:
+            state = engine.advance(state, float(t), rng)
+            window.append(sonine_coefficients(state.velocities)["a2"])
+        values.append(float(np.mean(window)))
+        seconds.append(time.perf_counter() - start)
+    return np.array(values), np.array(seconds)
+
+
+def speed(grid: str, march_taus, seeds: int, n: int, target: float) -> None:
+    """d = 3, α = 0.5, side by side in one process: the wall time of the deterministic HCS from
+    the Maxwellian for each march τ before Newton (twice each: the first call of the process
+    compiles; the second is warm), and ``seeds`` DSMC runs of N = ``n`` (the window means of
+    a₂, as in ``dsmc``), whose spread σ₁ of one seed sets the seeds needed for σ(a₂) =
+    ``target``: (σ₁/target)², assuming σ ∝ 1/√seeds.  The ratio is that DSMC's time (the
+    seeds × the mean seconds of one) over the deterministic time.  Then how far the last a₂ is
+    from a steady state to 1e-12."""
+    kernel, dimension = HardSpheres(0.5), 3
+    rows = []
+    for march_tau in march_taus:
+        for label in ("first call", "second call"):
+            start = time.perf_counter()
+            state = cooling_state(kernel, dimension=dimension, grid=grid, march_tau=march_tau)
+            seconds = time.perf_counter() - start
+            rows.append({"part": "speed", "call": label, "grid": grid, "march_tau": march_tau,
+                         "a2": state.a2, "a3": state.a3, "residual": state.residual,
+                         "march_steps": state.steps, "newton_steps": state.newton_steps,
+                         "krylov_steps": state.krylov_steps, "seconds": seconds,
+                         "loadavg": os.getloadavg()})
+            print(json.dumps(rows[-1]), flush=True)
+    values, seconds = _dsmc_seeds(0.5, dimension, seeds, n)
+    sigma1 = float(values.std(ddof=1))
+    needed = (sigma1 / target) ** 2
+    dsmc_seconds = needed * float(seconds.mean())
+    print(json.dumps({"part": "speed", "dsmc_n": n, "seeds": seeds, "a2": float(values.mean()),
+                      "a2_sigma": sigma1 / math.sqrt(seeds), "sigma_one_seed": sigma1,
+                      "seconds_per_seed": float(seconds.mean()), "target": target,
+                      "seeds_needed": needed, "dsmc_seconds": dsmc_seconds,
+                      "loadavg": os.getloadavg()}), flush=True)
+    for row in rows:
+        print(json.dumps({"part": "speed", "call": row["call"], "march_tau": row["march_tau"],
+                          "ratio": dsmc_seconds / row["seconds"]}), flush=True)
+    operator = SphereOperator(kernel, dimension, grid)
     tight = steady_state(operator, state.F, tolerance=1e-12)
     a2 = sonine(tight.F, operator.nodes, operator.weight)[0]
     print(json.dumps({"part": "speed", "a2_to_1e-12": a2, "a2_change": abs(a2 - state.a2)}),
@@ -156,6 +198,10 @@ def main() -> None:
                         default=[round(0.1 * k, 1) for k in range(1, 11)])
     parser.add_argument("--seeds", type=int, default=4)
     parser.add_argument("--n", type=int, default=100_000)
+    parser.add_argument("--march-tau", type=float, nargs="+", default=[0.5],
+                        help="speed: the march τ before Newton, each timed (default 0.5)")
+    parser.add_argument("--target", type=float, default=1e-4,
+                        help="speed: the DSMC's σ(a₂) to reach")
     args = parser.parse_args()
     if args.part == "sweep":
         sweep(args.dimension, args.grid, args.alphas)
@@ -164,7 +210,7 @@ def main() -> None:
     elif args.part == "tail":
         tail(args.alphas[0], (64, 14.0, 10.0, 64, 16))
     else:
-        speed(args.grid)
+        speed(args.grid, args.march_tau, args.seeds, args.n, args.target)
 
 
 if __name__ == "__main__":

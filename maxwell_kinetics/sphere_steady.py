@@ -17,7 +17,7 @@ tolerance ``krylov_rtol``), each product J_G v one forward-mode JVP of the jitte
 (:func:`jax.jvp`, about two right-hand sides); a step that does not lower max|G| is halved
 (at most four times).  Newton converges quadratically from a state near the cooling state,
 such as a short march from the Maxwellian (:func:`maxwell_kinetics.sphere_spectral.cooling_state`
-marches τ = 1 by default first).
+marches τ = 0.5 by default first).
 
 The residual is the march's, max |dF/dτ| / max F, or the largest error of the d + 2 moments
 if that is larger.

@@ -100,3 +100,18 @@ def test_an_operator_of_the_same_parameters_does_not_rebuild_its_tables(monkeypa
     sphere_spectral.clear_operator_cache()
     SphereOperator(HardSpheres(0.7), 2, grid)
     assert len(builds) == 5
+
+
+def test_a_cold_start_at_small_alpha_reaches_the_state_of_the_longer_march():
+    # α = 0.1 from the Maxwellian, the hardest start (a₂ = 0.21 on the default grid, against
+    # 0 at the start): the default march before Newton (τ = 0.5) and the longer march of
+    # τ = 1 reach the same cooling state.  Tolerance 1e-8 in a₂ and a₃: Newton stops at the
+    # residual 1e-10, and the two starts' a₂, a₃ agreed to 4e-11 and 7e-10 on the default grid
+    # (benchmarks/README.md, "Hard-sphere HCS: the march before Newton").
+    short = cooling_state(HardSpheres(0.1), dimension=2, grid="coarse")
+    longer = cooling_state(HardSpheres(0.1), dimension=2, grid="coarse", march_tau=1.0)
+    assert short.tau == 0.5 and longer.tau == 1.0
+    assert short.residual < 1e-10 and longer.residual < 1e-10
+    assert abs(short.a2 - longer.a2) < 1e-8, (short.a2, longer.a2)
+    assert abs(short.a3 - longer.a3) < 1e-8, (short.a3, longer.a3)
+    assert short.a2 > 0.15  # far from the Maxwellian's 0: the march did not end near it
