@@ -141,7 +141,8 @@ def law_density(law, v: np.ndarray) -> np.ndarray:
     steps = (1e-2, 1e-3, 1e-4, 1e-5)
     estimates = [sixth(d) for d in steps]
     out = (law.cdf(v + 1e-6) - law.cdf(v - 1e-6)) / 2e-6
-    for coarse, fine in reversed(list(zip(estimates, estimates[1:]))):  # the largest step wins
+    pairs = zip(estimates[:-1], estimates[1:], strict=True)
+    for coarse, fine in reversed(list(pairs)):  # the largest step wins
         out = np.where(np.abs(coarse - fine) <= 1e-9, coarse, out)
     return np.maximum(out, 0.0)
 
