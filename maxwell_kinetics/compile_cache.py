@@ -450,7 +450,7 @@ def call(name: str, function, jitted, static, args: tuple):
     Parameters
     ----------
     name : str
-        Name of the function in the cache key (e.g. ``"advance"``).
+        Name of the function in the cache key (e.g. ``"step"``).
     function : callable
         The Python function ``function(static, *args)`` that ``jitted`` wraps.
     jitted : callable

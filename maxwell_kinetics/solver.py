@@ -221,10 +221,7 @@ class Stepper:
             The state at the start of window ``i_start + count`` (dispatched asynchronously:
             :meth:`wait` blocks until it is computed).
         """
-        with self._x64(True):
-            scheme = self._scheme
-            return compile_cache.call("advance", scheme.advance_unjitted, scheme.advance,
-                                      self.static, (self.dynamic, y, i_start, count))
+        return self._step(y, i_start, count, 0.0)[0]
 
     def wait(self, y) -> None:
         """Block until the (asynchronously dispatched) state ``y`` is computed.
@@ -255,10 +252,15 @@ class Stepper:
         jax.Array
             w = G − g at the grid's nodes, shape (parts, n): parts 2 (Re, Im) for a complex G.
         """
+        return self._step(y, i_window, 0, tau - i_window * self.dtau)[1]
+
+    def _step(self, y, i_start: int, count: int, t: float):
+        """The scheme's one compiled function (``_kinetic_scheme.step``): ``count`` windows
+        from ``i_start``, then w at local time ``t`` of the window they end at."""
         with self._x64(True):
             scheme = self._scheme
-            return compile_cache.call("output", scheme.output_unjitted, scheme.output,
-                                      self.static, (self.dynamic, y, i_window, tau))
+            return compile_cache.call("step", scheme.step_unjitted, scheme.step, self.static,
+                                      (self.dynamic, y, i_start, count, t))
 
 
 class SolveArguments(NamedTuple):

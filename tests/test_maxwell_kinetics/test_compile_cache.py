@@ -2,8 +2,10 @@
 
 Fresh processes are the point of the cache, so the main checks run the solver in subprocesses
 (1D, coarse grid, τ ≤ 3: a few seconds cold, about one and a half warm).  Whether a process
-traced the scheme is read from ``_kinetic_scheme.TRACES``: a process that loads the executables
-from the cache traces nothing.
+traced the scheme is read from ``_kinetic_scheme.TRACES``: a process that loads the executable
+from the cache traces nothing.  A solve compiles one function (``step``); the warm cache also
+holds the executable of a second configuration (the asymmetric law: a complex G, so arrays of
+another shape), which the damage tests swap with the first one's.
 """
 
 from __future__ import annotations
@@ -36,7 +38,10 @@ for option in sys.argv[2:]:
         jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.0)
 folder = compile_cache.enable(sys.argv[1])
 sol = solve(0.5, "gaussian", (1.0, 3.0), "coarse")
-print(json.dumps({"folder": str(folder), "traces": dict(_kinetic_scheme.TRACES),
+own = sorted(p.name for p in folder.glob("*.entry")) if folder else []
+if "also-complex" in sys.argv[2:]:
+    solve(0.5, "asymmetric", (1.0,), "coarse")
+print(json.dumps({"folder": str(folder), "traces": dict(_kinetic_scheme.TRACES), "own": own,
                   "G": hashlib.sha256(np.ascontiguousarray(sol.G).tobytes()).hexdigest()}))
 """
 
@@ -92,26 +97,29 @@ def _copy_of(warm, tmp_path) -> tuple[Path, Path]:
     return root, root / warm[1].name
 
 
-def _entry(folder: Path, name: str) -> Path:
-    (path,) = folder.glob(f"aot_{name}-*.entry")
-    return path
+def _entries_of(warm, folder: Path) -> tuple[Path, Path]:
+    """(the entry of the solve of ``_SOLVE``, the entry of the second configuration) in
+    ``folder``, a copy of the warm cache's folder."""
+    (own,) = warm[2]["own"]
+    (other,) = {p.name for p in folder.glob("*.entry")} - {own}
+    return folder / own, folder / other
 
 
 @pytest.fixture(scope="module")
 def warm(tmp_path_factory):
     """A cache filled by one fresh process: (root, folder of entries, that process's report)."""
     root = tmp_path_factory.mktemp("warm") / "cache"
-    cold = _solve_in_fresh_process(root)
+    cold = _solve_in_fresh_process(root, "also-complex")
     return root, Path(cold["folder"]), cold
 
 
 def test_a_fresh_process_fills_the_cache_and_the_next_one_loads_it(warm):
     root, folder, cold = warm
     assert folder.parent == root
-    assert cold["traces"] == {"advance": 1, "output": 1}
+    assert cold["traces"] == {"step": 2}  # one function, compiled for each configuration
     before = _entries(folder)
-    names = {name.split("-")[0] for name in before}
-    assert {"aot_advance", "aot_output"} <= names  # the executables compiled ahead of time
+    assert len(cold["own"]) == 1 and len(before) == 2
+    assert {name.split("-")[0] for name in before} == {"aot_step"}  # compiled ahead of time
     assert all(_valid(name, data) for name, data in before.items())
 
     again = _solve_in_fresh_process(root)
@@ -139,9 +147,9 @@ def test_damaged_entries_are_never_trusted_and_are_rebuilt(warm, tmp_path):
         damaged[path.name] = data
     assert damaged and not any(_valid(n, d) for n, d in damaged.items())
 
-    report = _solve_in_fresh_process(root)
+    report = _solve_in_fresh_process(root, "also-complex")  # both configurations
     assert report["G"] == warm[2]["G"]
-    assert report["traces"] == {"advance": 1, "output": 1}  # compiled again, not loaded
+    assert report["traces"] == {"step": 2}  # compiled again, not loaded
     rebuilt = _entries(folder)
     assert set(damaged) <= set(rebuilt)
     assert all(_valid(name, data) for name, data in rebuilt.items())
@@ -161,29 +169,29 @@ def test_two_processes_starting_at_once_on_an_empty_cache(tmp_path):
 
 
 #: ``delete`` and ``truncate`` run in ``make test-full`` only: in ``make test`` the FIFO test
-#: below checks a missing (unreadable) entry of ``advance`` and the damaged-entries test above
+#: below checks a missing (unreadable) entry of the solve and the damaged-entries test above
 #: truncated ones, each compiled again, stored whole and loaded by the next run.
 @pytest.mark.parametrize("damage", [pytest.param("delete", marks=pytest.mark.full),
                                     pytest.param("truncate", marks=pytest.mark.full),
                                     "swap", "edit"])
 def test_an_executable_compiled_again_is_whole_and_every_later_run_is_right(
         warm, tmp_path, reference, damage):
-    # The entry of `advance` is gone (deleted, truncated, swapped with another entry's file),
+    # The solve's entry is gone (deleted, truncated, swapped with another entry's file),
     # or the key changed (an edit of the sources, an upgrade of a library): the run compiles
     # again and stores the new executable, and the NEXT run loads it.  Both runs must give the
     # numbers of the cache-off solve (once, a stored executable lacked its code: every later
     # run failed with "Function ... not found" until the folder was deleted).
     root, folder = _copy_of(warm, tmp_path)
-    advance, output = _entry(folder, "advance"), _entry(folder, "output")
+    own, other = _entries_of(warm, folder)
     options = ()
     if damage == "delete":
-        advance.unlink()
+        own.unlink()
     elif damage == "truncate":
-        advance.write_bytes(advance.read_bytes()[:1000])
+        own.write_bytes(own.read_bytes()[:1000])
     elif damage == "swap":
-        data = advance.read_bytes()
-        advance.write_bytes(output.read_bytes())
-        output.write_bytes(data)
+        data = own.read_bytes()
+        own.write_bytes(other.read_bytes())
+        other.write_bytes(data)
     else:
         options = ("edit",)
     first = _solve_in_fresh_process(root, *options)
@@ -194,22 +202,23 @@ def test_an_executable_compiled_again_is_whole_and_every_later_run_is_right(
 
 def test_an_entry_that_fails_when_it_runs_is_dropped_and_the_solve_is_right(
         warm, tmp_path, reference):
-    # Each executable sealed under the other's key: both pass the checksum and load, and fail
-    # when called.  The solve compiles afresh, replaces both entries, and is right.
+    # Each executable sealed under the other's key (the two configurations' arrays differ in
+    # shape): both pass the checksum and load, and fail when called.  The solves compile
+    # afresh, replace both entries, and are right.
     root, folder = _copy_of(warm, tmp_path)
-    advance, output = _entry(folder, "advance"), _entry(folder, "output")
+    own, other = _entries_of(warm, folder)
     contents = {path: compile_cache._open(path.name.removesuffix(".entry"), path.read_bytes())
-                for path in (advance, output)}
-    for path, other in ((advance, output), (output, advance)):
-        path.write_bytes(compile_cache._seal(path.name.removesuffix(".entry"), contents[other]))
+                for path in (own, other)}
+    for path, source in ((own, other), (other, own)):
+        path.write_bytes(compile_cache._seal(path.name.removesuffix(".entry"), contents[source]))
     swapped = _entries(folder)
     assert all(_valid(name, data) for name, data in swapped.items())
-    report = _solve_in_fresh_process(root)
+    report = _solve_in_fresh_process(root, "also-complex")
     assert report["G"] == reference
-    assert report["traces"] == {"advance": 1, "output": 1}  # compiled again
+    assert report["traces"] == {"step": 2}  # compiled again, both
     rebuilt = _entries(folder)  # both replaced by fresh executables...
     assert set(rebuilt) == set(swapped)
-    assert all(rebuilt[name] != swapped[name] for name in (advance.name, output.name))
+    assert all(rebuilt[name] != swapped[name] for name in (own.name, other.name))
     again = _solve_in_fresh_process(root)
     assert again["G"] == reference and again["traces"] == {}  # ...and loaded by the next
 
@@ -217,13 +226,13 @@ def test_an_entry_that_fails_when_it_runs_is_dropped_and_the_solve_is_right(
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this system")
 def test_a_fifo_in_the_folder_is_skipped_not_opened(warm, tmp_path, reference):
     root, folder = _copy_of(warm, tmp_path)
-    advance = _entry(folder, "advance")
-    advance.unlink()
-    os.mkfifo(advance)  # opened for reading, it would block until a writer comes: never
+    own, _ = _entries_of(warm, folder)
+    own.unlink()
+    os.mkfifo(own)  # opened for reading, it would block until a writer comes: never
     os.mkfifo(folder / "a-fifo-of-no-entry")
     report = _finish(_start(root), timeout=120)
     assert report["G"] == reference
-    assert advance.is_file() and _valid(advance.name, advance.read_bytes())  # replaced
+    assert own.is_file() and _valid(own.name, own.read_bytes())  # replaced
     again = _finish(_start(root), timeout=120)  # the next run loads what this one stored
     assert again["traces"] == {} and again["G"] == reference
 
@@ -241,7 +250,7 @@ def test_with_jax_own_cache_on_only_whole_executables_are_stored(tmp_path, refer
     assert first["G"] == second["G"] == third["G"] == reference
     after = _entries(Path(third["folder"]))
     assert all(after[name] == data for name, data in stored.items())  # none failed, none dropped
-    assert {name.split("-")[0] for name in after} == {"aot_advance", "aot_output"}
+    assert {name.split("-")[0] for name in after} == {"aot_step"}
 
 
 # -- the store itself ------------------------------------------------------------------------
