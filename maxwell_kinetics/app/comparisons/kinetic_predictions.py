@@ -188,10 +188,14 @@ def fft_bin_probabilities(sol, tau_index: int, edges, refine: int = 8):
 
 def never_collided_cut(sol, tau_index: int, edges) -> np.ndarray:
     """What cutting the never-collided part G_free(q) = e^{−τ} φ(q e^{λτ}) at q_max does to the
-    bin probabilities: its bins from ∫_0^{q_max} minus its exact bins.  This is the only term
-    that :func:`fft_bin_probabilities` (all of G cut at q_max) and
+    bin probabilities: its bins from ∫_0^{q_max} minus its exact bins.  This is the term that
+    :func:`fft_bin_probabilities` (all of G cut at q_max) and
     :func:`solution_bin_probabilities` (G − G_free cut at q_max, G_free exact) treat
-    differently; it is ≈ 0 (< 1e-16) for smooth laws and carries the Gibbs ringing of a jump.
+    differently by design; it is ≈ 0 (< 1e-16) for smooth laws and carries the Gibbs ringing
+    of a jump.  The rest of their difference is their quadratures of G − G_free (a refined
+    inverse FFT against :func:`maxwell_kinetics.statistics.interval_probabilities`): measured
+    at r = 0.5, τ = 0.5 on 40 bins of [−4, 4], up to 1.5e-3 per bin on the "coarse" grid and
+    1.2e-4 on the default grid for the uniform and asymmetric laws, 1e-8 for the Gaussian.
 
     Parameters
     ----------
