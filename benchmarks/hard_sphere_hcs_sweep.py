@@ -123,20 +123,23 @@ def _dsmc_seeds(alpha: float, dimension: int, seeds: int, n: int):
     return np.array(values), np.array(seconds)
 
 
-def speed(grid: str, march_taus, seeds: int, n: int, target: float) -> None:
+def speed(grid: str, march_taus, seeds: int, n: int, target: float,
+          tolerance: float | None = None) -> None:
     """d = 3, α = 0.5, side by side in one process: the wall time of the deterministic HCS from
     the Maxwellian for each march τ before Newton (twice each: the first call of the process
     compiles; the second is warm), and ``seeds`` DSMC runs of N = ``n`` (the window means of
     a₂, as in ``dsmc``), whose spread σ₁ of one seed sets the seeds needed for σ(a₂) =
     ``target``: (σ₁/target)², assuming σ ∝ 1/√seeds.  The ratio is that DSMC's time (the
-    seeds × the mean seconds of one) over the deterministic time.  Then how far the last a₂ is
-    from a steady state to 1e-12."""
+    seeds × the mean seconds of one) over the deterministic time.  Newton stops at the residual
+    ``tolerance`` (None: cooling_state's 1e-10).  Then how far the last a₂ and a₃ are from a
+    steady state to 1e-12."""
     kernel, dimension = HardSpheres(0.5), 3
     rows = []
     for march_tau in march_taus:
         for label in ("first call", "second call"):
             start = time.perf_counter()
-            state = cooling_state(kernel, dimension=dimension, grid=grid, march_tau=march_tau)
+            state = cooling_state(kernel, dimension=dimension, grid=grid, march_tau=march_tau,
+                                  tolerance=tolerance)
             seconds = time.perf_counter() - start
             rows.append({"part": "speed", "call": label, "grid": grid, "march_tau": march_tau,
                          "a2": state.a2, "a3": state.a3, "residual": state.residual,
@@ -158,8 +161,9 @@ def speed(grid: str, march_taus, seeds: int, n: int, target: float) -> None:
                           "ratio": dsmc_seconds / row["seconds"]}), flush=True)
     operator = SphereOperator(kernel, dimension, grid)
     tight = steady_state(operator, state.F, tolerance=1e-12)
-    a2 = sonine(tight.F, operator.nodes, operator.weight)[0]
-    print(json.dumps({"part": "speed", "a2_to_1e-12": a2, "a2_change": abs(a2 - state.a2)}),
+    a2, a3 = sonine(tight.F, operator.nodes, operator.weight)
+    print(json.dumps({"part": "speed", "tolerance": tolerance, "a2_to_1e-12": a2,
+                      "a2_change": abs(a2 - state.a2), "a3_change": abs(a3 - state.a3)}),
           flush=True)
 
 
@@ -200,6 +204,8 @@ def main() -> None:
     parser.add_argument("--n", type=int, default=100_000)
     parser.add_argument("--march-tau", type=float, nargs="+", default=[0.5],
                         help="speed: the march τ before Newton, each timed (default 0.5)")
+    parser.add_argument("--tolerance", type=float, default=None,
+                        help="speed: Newton's residual (default cooling_state's 1e-10)")
     parser.add_argument("--target", type=float, default=1e-4,
                         help="speed: the DSMC's σ(a₂) to reach")
     args = parser.parse_args()
@@ -210,7 +216,7 @@ def main() -> None:
     elif args.part == "tail":
         tail(args.alphas[0], (64, 14.0, 10.0, 64, 16))
     else:
-        speed(args.grid, args.march_tau, args.seeds, args.n, args.target)
+        speed(args.grid, args.march_tau, args.seeds, args.n, args.target, args.tolerance)
 
 
 if __name__ == "__main__":
