@@ -688,7 +688,7 @@ def cooling_state(kernel, *, dimension: int = 3, grid=None, method: str = "newto
     same state on the same grid: measured on "coarse", d = 2, α = 0.5, the march stopped at
     1e-6 leaves a₂ 1.0e-7 from Newton's, one stopped at 1e-8 1.2e-9 (a₃: 1.8e-7, 3.7e-9).
     From the Maxwellian, Newton after τ = 0.5 reaches the state of τ = 1 (α = 0.1, 0.2, 0.5,
-    0.9, d = 2, 3, default grids: a₂ within 6e-10, a₃ within 1e-8); in d = 3 it is cheaper
+    0.9, d = 2, 3, default grids: a₂ within 6e-10, a₃ within 1.1e-8); in d = 3 it is cheaper
     at α ≥ 0.5 (half the march, 2 Newton steps) and dearer at α ≤ 0.2 (3 Newton steps).
 
     Parameters

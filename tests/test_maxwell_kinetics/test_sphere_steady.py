@@ -107,7 +107,7 @@ def test_a_cold_start_at_small_alpha_reaches_the_state_of_the_longer_march():
     # 0 at the start): the default march before Newton (τ = 0.5) and the longer march of
     # τ = 1 reach the same cooling state.  Tolerance 1e-8 in a₂ and a₃: Newton stops at the
     # residual 1e-10, and the two starts' a₂, a₃ agreed to 4e-11 and 7e-10 on the default grid
-    # (benchmarks/README.md, "Hard-sphere HCS: the march before Newton").
+    # (benchmarks/README.md, "The march before Newton").
     short = cooling_state(HardSpheres(0.1), dimension=2, grid="coarse")
     longer = cooling_state(HardSpheres(0.1), dimension=2, grid="coarse", march_tau=1.0)
     assert short.tau == 0.5 and longer.tau == 1.0
