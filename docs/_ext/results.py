@@ -8,6 +8,11 @@ claim: status, measured ± σ, expected and its source, tolerance), its figure a
 uncertainty and the expected value.  Nothing is typed by hand, so the page cannot disagree with
 the run it shows: a summary written before the verdicts existed gets them from the same
 ``verdicts(summary)`` function that ``reproduce`` uses.
+
+Each comparison's section also gives its "Resolving power" (:func:`power_table`): per engine
+parameter, the smallest relative error planted in it (``benchmarks/power.py``) that turns a
+verdict to ``disagrees`` at ``--small`` (``figures/power_small.json``) and, where recorded, at
+the default size (``figures/power_default.json``).
 """
 
 from __future__ import annotations
@@ -228,6 +233,105 @@ def _calibration(records: dict) -> list[str]:
     return lines
 
 
+def _percent(eps: float) -> str:
+    return f"{100 * eps:.3g} %"
+
+
+def _z_text(row: dict) -> str:
+    """"claim" z = … (allowed …σ) of a power record's verdict."""
+    text = f"“{_esc(row['claim'])}”"
+    if isinstance(row.get("z"), (int, float)):
+        text += f" z = {row['z']:+.3g}"
+        if isinstance(row.get("allowance"), (int, float)):
+            text += f" (allowed {row['allowance']:.3g}σ)"
+    elif isinstance(row.get("ratio"), (int, float)):
+        text += f" at {row['ratio']:.2g} of its tolerance"
+    return text
+
+
+def _moved_most(before: list[dict], after: list[dict]) -> tuple[dict, dict] | None:
+    """Of the verdicts that agree without the error, the one (before, after) whose use of its
+    allowance (``ratio``) the planted error changed most; None when none changed."""
+    was = {r["claim"]: r for r in before
+           if r.get("status") == "agrees" and isinstance(r.get("ratio"), (int, float))}
+    pairs = [(was[r["claim"]], r) for r in after if r["claim"] in was
+             and isinstance(r.get("ratio"), (int, float))]
+    best = max(pairs, key=lambda p: abs(p[1]["ratio"] - p[0]["ratio"]), default=None)
+    return best if best and best[1]["ratio"] != best[0]["ratio"] else None
+
+
+def _changed(out: dict) -> str:
+    """"; “claim” turns refuted (z = …)" for each other status change."""
+    return "".join(f"; {_z_text(r)} turns {_esc(r['status'])}" for r in out.get("changed", [])
+                   if r.get("status") in ("refuted", "explained"))
+
+
+def _power_cell(runs: dict) -> str:
+    """The smallest planted ε of ``runs`` (str(ε) → outcome) that turns a verdict to
+    ``disagrees``; else, for the largest ε, the verdict it moved most (before and after,
+    against its allowance).  Other status changes (to refuted, explained) are named."""
+    planted = sorted((float(e), out) for e, out in runs.items() if float(e) > 0)
+    if not planted:
+        return "not run"
+    for eps, out in planted:
+        if out.get("disagrees"):
+            note = f" ({_esc(out['planted'])})" if out.get("planted") else ""
+            return (f"{_percent(eps)}{note}: "
+                    + "; ".join(_z_text(r) for r in out["disagrees"]) + _changed(out))
+    eps, out = planted[-1]
+    note = f" ({_esc(out['planted'])})" if out.get("planted") else ""
+    text = f"not at {_percent(eps)}{note}"
+    after = out.get("verdicts") or []
+    if after and all(r.get("status") == "not measured" for r in after):
+        return text + ": every verdict is *not measured* at this size"
+    moved = _moved_most((runs.get("0") or {}).get("verdicts", []), after)
+    if moved and isinstance(moved[0].get("z"), (int, float)) and moved[1].get("allowance") \
+            and isinstance(moved[1].get("z"), (int, float)):
+        (b, a), name = moved, _esc(moved[1]["claim"])
+        text += (f": it moves “{name}” most, from z = {b['z']:+.3g} to {a['z']:+.3g}, "
+                 f"against {a['allowance']:.3g}σ allowed")
+    elif moved:
+        (b, a), name = moved, _esc(moved[1]["claim"])
+        text += (f": it moves “{name}” most, from {b['ratio']:.2g} to {a['ratio']:.2g} of its "
+                 f"tolerance")
+    elif (runs.get("0") or {}).get("verdicts"):
+        text += ": no verdict moves"
+    elif out.get("largest"):
+        text += ": closest " + _z_text(out["largest"])
+    return text + _changed(out)
+
+
+def power_table(name: str, small: dict, default: dict | None = None) -> list[str]:
+    """The "Resolving power" table of comparison ``name``: per planted error, the smallest
+    relative error that turns a verdict to ``disagrees`` at ``--small`` (from ``small``, the
+    JSON of ``benchmarks/power.py``) and at the default size where ``default`` records one."""
+    entry = (small or {}).get("comparisons", {}).get(name)
+    if not entry:
+        return []
+    lines = ["**Resolving power.** A relative error ε planted in one engine parameter; the "
+             "smallest ε that turns a verdict to **disagrees**.", ""]
+    if entry.get("no_plant"):
+        return lines + [_esc(entry["no_plant"]), ""]
+    names = (small or {}).get("plants", {})
+    at_default = ((default or {}).get("comparisons", {}).get(name) or {}).get("plants", {})
+    rows = []
+    for plant, runs in entry.get("plants", {}).items():
+        if not any(float(e) > 0 for e in runs):
+            continue
+        other = _power_cell(at_default[plant]) if plant in at_default else "—"
+        rows.append(f"| {_cell(_esc(names.get(plant, plant)))} | {_cell(_power_cell(runs))} "
+                    f"| {_cell(other)} |")
+    if not rows:
+        return []
+    return lines + ["| planted error | `--small` | default size |", "|---|---|---|", *rows, ""]
+
+
+def _power(figures: Path) -> tuple[dict, dict]:
+    """The power JSONs of ``figures`` (small, default; {} where absent)."""
+    return tuple(json.loads(p.read_text()) if p.is_file() else {}
+                 for p in (figures / "power_small.json", figures / "power_default.json"))
+
+
 def claim_text(name: str) -> str:
     try:
         module = importlib.import_module(f"maxwell_kinetics.app.comparisons._{name}")
@@ -237,7 +341,7 @@ def claim_text(name: str) -> str:
     return " ".join(doc.split()).replace("``run`` computes, ``plot`` draws.", "").strip()
 
 
-def render(results: Path, figures_out: Path) -> str:
+def render(results: Path, figures_out: Path, power: tuple[dict, dict] | None = None) -> str:
     summary_path = next((results / n for n in ("summary.json", "summary_default.json")
                          if (results / n).exists()), None)
     lines = ["# Reproducing the paper", "",
@@ -287,6 +391,8 @@ def render(results: Path, figures_out: Path) -> str:
             lines += _verdict_rows(records[name]) + [""]
         else:
             lines += ["No verdicts: this summary does not hold the numbers they are made of.", ""]
+        if power:
+            lines += power_table(name, *power)
         png = results / f"{name}.png"
         if png.exists():
             shutil.copyfile(png, figures_out / png.name)
@@ -312,7 +418,7 @@ def render(results: Path, figures_out: Path) -> str:
 
 def write_page(app) -> None:
     src = Path(app.srcdir)
-    text = render(Path(app.config.results_dir), src / "_generated")
+    text = render(Path(app.config.results_dir), src / "_generated", _power(src / "figures"))
     page = src / "reproducing.md"
     if not page.exists() or page.read_text() != text:
         page.write_text(text)
