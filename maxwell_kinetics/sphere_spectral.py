@@ -676,7 +676,7 @@ class CoolingState:
 
 def cooling_state(kernel, *, dimension: int = 3, grid=None, method: str = "newton",
                   tolerance: float | None = None, chunk: float = 0.25, max_tau: float = 40.0,
-                  march_tau: float = 0.5, rtol: float = 1e-9, atol: float = 1e-12,
+                  march_tau: float | None = None, rtol: float = 1e-9, atol: float = 1e-12,
                   start=None) -> CoolingState:
     """The homogeneous cooling state: the steady F of the scaled equation ∂F/∂τ = Q̃ + σ′ D̃,
     from the Maxwellian (or ``start``).
@@ -687,9 +687,8 @@ def cooling_state(kernel, *, dimension: int = 3, grid=None, method: str = "newto
     in chunks of τ until the residual is below ``tolerance`` (default 1e-6).  Both reach the
     same state on the same grid: measured on "coarse", d = 2, α = 0.5, the march stopped at
     1e-6 leaves a₂ 1.0e-7 from Newton's, one stopped at 1e-8 1.2e-9 (a₃: 1.8e-7, 3.7e-9).
-    From the Maxwellian, Newton after τ = 0.5 reaches the state of τ = 1 (α = 0.1, 0.2, 0.5,
-    0.9, d = 2, 3, default grids: a₂ within 6e-10, a₃ within 1.1e-8); in d = 3 it is cheaper
-    at α ≥ 0.5 (half the march, 2 Newton steps) and dearer at α ≤ 0.2 (3 Newton steps).
+    From the Maxwellian, Newton after τ = 0.5 reaches the state of τ = 1; the default march
+    is the cheaper of the two (:func:`maxwell_kinetics.sphere_steady.default_march_tau`).
 
     Parameters
     ----------
@@ -707,8 +706,9 @@ def cooling_state(kernel, *, dimension: int = 3, grid=None, method: str = "newto
         τ between residual checks of the march ("march").
     max_tau : float, default 40
         Give up (RuntimeError) past this τ ("march").
-    march_tau : float, default 0.5
-        τ marched before Newton ("newton"; 0: Newton from ``start`` itself).
+    march_tau : float, optional
+        τ marched before Newton ("newton"; 0: Newton from ``start`` itself); default 1 for
+        α ≤ 0.3, 0.5 above.
     rtol, atol : float
         The step-size controller's tolerances.
     start : numpy.ndarray, optional
@@ -739,6 +739,10 @@ def cooling_state(kernel, *, dimension: int = 3, grid=None, method: str = "newto
         tolerance = 1e-10 if method == "newton" else 1e-6
     tolerance = check_positive(tolerance, "tolerance")
     chunk, max_tau = check_positive(chunk, "chunk"), check_positive(max_tau, "max_tau")
+    if march_tau is None:
+        from .sphere_steady import default_march_tau
+
+        march_tau = default_march_tau(kernel.restitution)
     march_tau = check_nonnegative(march_tau, "march_tau")
     begin = time.perf_counter()
     operator = interrupt.run_interruptibly(lambda: SphereOperator(kernel, dimension, grid),

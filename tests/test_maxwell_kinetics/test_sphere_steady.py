@@ -104,14 +104,25 @@ def test_an_operator_of_the_same_parameters_does_not_rebuild_its_tables(monkeypa
 
 def test_a_cold_start_at_small_alpha_reaches_the_state_of_the_longer_march():
     # α = 0.1 from the Maxwellian, the hardest start (a₂ = 0.21 on the default grid, against
-    # 0 at the start): the default march before Newton (τ = 0.5) and the longer march of
-    # τ = 1 reach the same cooling state.  Tolerance 1e-8 in a₂ and a₃: Newton stops at the
-    # residual 1e-10, and the two starts' a₂, a₃ agreed to 4e-11 and 7e-10 on the default grid
+    # 0 at the start): the shorter march before Newton (τ = 0.5, the default above α = 0.3)
+    # and the longer march of τ = 1 (the default at α ≤ 0.3) reach the same cooling state.
+    # Tolerance 1e-8 in a₂ and a₃: Newton stops at the residual 1e-10, and the two starts'
+    # a₂, a₃ agreed to 4e-11 and 7e-10 on the default grid
     # (benchmarks/README.md, "The march before Newton").
-    short = cooling_state(HardSpheres(0.1), dimension=2, grid="coarse")
-    longer = cooling_state(HardSpheres(0.1), dimension=2, grid="coarse", march_tau=1.0)
+    short = cooling_state(HardSpheres(0.1), dimension=2, grid="coarse", march_tau=0.5)
+    longer = cooling_state(HardSpheres(0.1), dimension=2, grid="coarse")
     assert short.tau == 0.5 and longer.tau == 1.0
     assert short.residual < 1e-10 and longer.residual < 1e-10
     assert abs(short.a2 - longer.a2) < 1e-8, (short.a2, longer.a2)
     assert abs(short.a3 - longer.a3) < 1e-8, (short.a3, longer.a3)
     assert short.a2 > 0.15  # far from the Maxwellian's 0: the march did not end near it
+
+
+def test_the_default_march_is_longer_at_small_alpha(newton):
+    # τ = 1 where the shorter march cost Newton twice the Jacobian products (α ≤ 0.3), τ = 0.5
+    # above; the module's fixture at α = 0.5 marched 0.5
+    from maxwell_kinetics.sphere_steady import default_march_tau
+
+    assert [default_march_tau(a) for a in (0.05, 0.1, 0.2, 0.3)] == [1.0] * 4
+    assert [default_march_tau(a) for a in (0.31, 0.5, 0.9, 0.99)] == [0.5] * 4
+    assert newton.tau == 0.5
