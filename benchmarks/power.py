@@ -60,8 +60,6 @@ PLANTS = {
     "lattice_p": ("the lattice's p: the inelasticity (1 − r)/2 made ε too small",
                   ("energy_decay", "structure_factors", "velocity_distributions",
                    "velocity_profiles")),
-    "ulam_p": ("the Ulam particles' p: the inelasticity (1 − r)/2 made ε too small",
-               ("kinetic_vs_ulam", "ulam_collapse", "tail_exponents", "driven_steady")),
     "ulam_rate": ("the Ulam model's constant pair rate × (1 + ε)",
                   ("kinetic_vs_ulam", "ulam_collapse", "velocity_distributions",
                    "rate_vs_correlations")),
@@ -73,6 +71,8 @@ PLANTS = {
                            ("kinetic_theory", "tail_exponents", "kinetic_vs_ulam",
                             "ulam_collapse")),
     "dsmc_alpha": ("the hard-sphere DSMC's α: (1 − α) made ε too small", ("hard_spheres",)),
+    "ulam_p": ("the Ulam particles' p: the inelasticity (1 − r)/2 made ε too small",
+               ("kinetic_vs_ulam", "ulam_collapse", "tail_exponents", "driven_steady")),
 }
 
 

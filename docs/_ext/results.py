@@ -294,7 +294,7 @@ def _power_cell(runs: dict) -> str:
         (b, a), name = moved, _esc(moved[1]["claim"])
         text += (f": it moves “{name}” most, from {b['ratio']:.2g} to {a['ratio']:.2g} of its "
                  f"tolerance")
-    elif (runs.get("0") or {}).get("verdicts"):
+    elif after and (runs.get("0") or {}).get("verdicts"):
         text += ": no verdict moves"
     elif out.get("largest"):
         text += ": closest " + _z_text(out["largest"])
