@@ -134,14 +134,14 @@ DEFAULT = {"size": "default", "comparisons": {"demo": {"plants": {"ulam_rate": {
 
 def test_the_table_has_a_row_per_planted_error(results):
     lines = results.power_table("demo", SMALL, DEFAULT)
-    rows = [line for line in lines if line.startswith("| ") and "---" not in line]
+    rows = [line for line in lines if line.startswith("- ")]
     assert rows == [
-        "| planted error | `--small` | default size |",
-        "| the rate × (1 + ε) | 1 %: “E at the end” z = -11.2 (allowed 3σ) "
-        "| 1 %: “E at the end” z = -114 |",
-        "| MD's p | not at 5 %: it moves “Haff slope” most, from z = +0.75 to -0.09, "
-        "against 19.2σ allowed | — |",
-        "| lattice_p | not at 5 %: every verdict is *not measured* at this size | — |",
+        "- **the rate × (1 + ε).** `--small`: 1 %: “E at the end” z = -11.2 (allowed 3σ); "
+        "default size: 1 %: “E at the end” z = -114",
+        "- **MD's p.** `--small`: not at 5 %: it moves “Haff slope” most, from z = +0.75 to "
+        "-0.09, against 19.2σ allowed; default size: —",
+        "- **lattice_p.** `--small`: not at 5 %: every verdict is *not measured* at this size; "
+        "default size: —",
     ]
     assert results.power_table("bare", SMALL) [-2] == (
         "No engine parameter: the comparison is exact arithmetic.")
@@ -153,5 +153,6 @@ def test_the_reproducing_page_shows_the_table(results, tmp_path):
     (tmp_path / "summary.json").write_text(json.dumps(summary))
     page = results.render(tmp_path, tmp_path / "out", (SMALL, DEFAULT))
     assert "**Resolving power.**" in page
-    assert "| MD's p | not at 5 %" in page and "| 1 %: “E at the end” z = -114 |" in page
+    assert "- **MD's p.** `--small`: not at 5 %" in page
+    assert "default size: 1 %: “E at the end” z = -114" in page
     assert "Resolving power" not in results.render(tmp_path, tmp_path / "out")

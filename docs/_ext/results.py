@@ -302,9 +302,11 @@ def _power_cell(runs: dict) -> str:
 
 
 def power_table(name: str, small: dict, default: dict | None = None) -> list[str]:
-    """The "Resolving power" table of comparison ``name``: per planted error, the smallest
+    """The "Resolving power" list of comparison ``name``: per planted error, the smallest
     relative error that turns a verdict to ``disagrees`` at ``--small`` (from ``small``, the
-    JSON of ``benchmarks/power.py``) and at the default size where ``default`` records one."""
+    JSON of ``benchmarks/power.py``) and at the default size where ``default`` records one.
+    A list, not a table: its entries are sentences, which a table's cells did not wrap (they
+    ran off an 800 px page)."""
     entry = (small or {}).get("comparisons", {}).get(name)
     if not entry:
         return []
@@ -319,11 +321,11 @@ def power_table(name: str, small: dict, default: dict | None = None) -> list[str
         if not any(float(e) > 0 for e in runs):
             continue
         other = _power_cell(at_default[plant]) if plant in at_default else "—"
-        rows.append(f"| {_cell(_esc(names.get(plant, plant)))} | {_cell(_power_cell(runs))} "
-                    f"| {_cell(other)} |")
+        rows.append(f"- **{_esc(names.get(plant, plant))}.** `--small`: {_power_cell(runs)}; "
+                    f"default size: {other}")
     if not rows:
         return []
-    return lines + ["| planted error | `--small` | default size |", "|---|---|---|", *rows, ""]
+    return lines + [*rows, ""]
 
 
 def _power(figures: Path) -> tuple[dict, dict]:
