@@ -75,35 +75,19 @@ def sweep(dimension: int, grid: str, alphas) -> None:
 
 def dsmc(dimension: int, alphas, seeds: int, n: int) -> None:
     """One JSON row per α: the seeds' window means of a₂, a₃, their mean and σ, seconds."""
-    from particles.hard_sphere_dsmc import SphereDSMC
-    from particles.sphere_observables import sonine_coefficients
-
     for alpha in alphas:
-        times = window_times(alpha, dimension, WINDOW)
-        per_seed, seconds = [], []
-        for seed in range(seeds):
-            start = time.perf_counter()
-            engine = SphereDSMC(n, alpha, dimension=dimension)
-            rng = np.random.default_rng(seed)
-            state = engine.initial_state(rng)
-            values = []
-            for t in times:
-                state = engine.advance(state, float(t), rng)
-                obs = sonine_coefficients(state.velocities)
-                values.append((obs["a2"], obs["a3"]))
-            per_seed.append(np.mean(values, axis=0))
-            seconds.append(time.perf_counter() - start)
-        per_seed = np.array(per_seed)
+        per_seed, seconds = _dsmc_seeds(alpha, dimension, seeds, n)
         mean = per_seed.mean(axis=0)
         sem = per_seed.std(axis=0, ddof=1) / math.sqrt(seeds)
         print(json.dumps({"part": "dsmc", "dimension": dimension, "alpha": alpha, "n": n,
                           "seeds": seeds, "a2": mean[0], "a2_sigma": sem[0], "a3": mean[1],
                           "a3_sigma": sem[1], "a2_per_seed": per_seed[:, 0].tolist(),
-                          "seconds_per_seed": seconds}), flush=True)
+                          "seconds_per_seed": seconds.tolist()}), flush=True)
 
 
 def _dsmc_seeds(alpha: float, dimension: int, seeds: int, n: int):
-    """(per-seed window means of a₂, seconds of each seed) of the DSMC at N = ``n``."""
+    """(per-seed window means of (a₂, a₃), shape (seeds, 2); seconds of each seed) of the
+    DSMC at N = ``n``."""
     from particles.hard_sphere_dsmc import SphereDSMC
     from particles.sphere_observables import sonine_coefficients
 
@@ -117,8 +101,9 @@ def _dsmc_seeds(alpha: float, dimension: int, seeds: int, n: int):
         window = []
         for t in times:
             state = engine.advance(state, float(t), rng)
-            window.append(sonine_coefficients(state.velocities)["a2"])
-        values.append(float(np.mean(window)))
+            obs = sonine_coefficients(state.velocities)
+            window.append((obs["a2"], obs["a3"]))
+        values.append(np.mean(window, axis=0))
         seconds.append(time.perf_counter() - start)
     return np.array(values), np.array(seconds)
 
@@ -148,6 +133,7 @@ def speed(grid: str, march_taus, seeds: int, n: int, target: float,
                          "loadavg": os.getloadavg()})
             print(json.dumps(rows[-1]), flush=True)
     values, seconds = _dsmc_seeds(0.5, dimension, seeds, n)
+    values = values[:, 0]  # a₂
     sigma1 = float(values.std(ddof=1))
     needed = (sigma1 / target) ** 2
     dsmc_seconds = needed * float(seconds.mean())

@@ -175,18 +175,18 @@ def solution_density(sol, k: int, x=None):
     """
     from .velocity import cut_at, invert
 
-    q_max = sol.resolution.q_max
     free = free_part(sol, k)
     if free is None:
-        return invert(cut_at(lambda q: sol.evaluate(q, k), q_max), q_max=q_max, x=x)
+        return band_limited_density(sol, k, x)
+    q_max = sol.resolution.q_max
     x, P = invert(cut_at(collided_part(sol, k), q_max), q_max=q_max, x=x)
     weight, stretch, law = free
     return x, P + weight * law_density(law, x / stretch) / stretch
 
 
-def band_limited_density(sol, k: int):
-    """The inverse FFT of all of G(q, ``sol.tau[k]``) cut at the grid's end q_max, on the FFT
-    grid of :func:`maxwell_kinetics.velocity.inverse_transform` (period 1000 in x): a
+def band_limited_density(sol, k: int, x=None):
+    """The inverse FFT of all of G(q, ``sol.tau[k]``) cut at the grid's end q_max, at ``x`` or
+    on the FFT grid of :func:`maxwell_kinetics.velocity.inverse_transform` (period 1000 in x): a
     trigonometric polynomial with no frequency above q_max, of mass G(0) = 1 on that grid,
     which spectral refinement (zero padding of its spectrum) interpolates exactly.  It rings
     (Gibbs) and can go negative near the jump of a law; the density itself is
@@ -198,16 +198,19 @@ def band_limited_density(sol, k: int):
         The solution.
     k : int
         Non-negative index of the saved time.
+    x : array_like, optional
+        Rescaled velocities (checked by :func:`maxwell_kinetics.velocity.invert`, naming
+        ``x``); None (the default) for the FFT grid.
 
     Returns
     -------
     x, P : numpy.ndarray
-        The FFT grid and the band-limited density there.
+        The velocities (the FFT grid for ``x`` None) and the band-limited density there.
     """
     from .velocity import cut_at, invert
 
     q_max = sol.resolution.q_max
-    return invert(cut_at(lambda q: sol.evaluate(q, k), q_max), q_max=q_max)
+    return invert(cut_at(lambda q: sol.evaluate(q, k), q_max), q_max=q_max, x=x)
 
 
 def _interpolate(values: np.ndarray, s_min: float, h: float, order: int, q: np.ndarray):
