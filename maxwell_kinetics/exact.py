@@ -12,7 +12,7 @@ from particles.validation import InvalidArgumentError, check_real_array, check_t
 
 from .model import MaxwellModel
 
-__all__ = ["f_hat", "f_density", "moment_hierarchy", "rescaled_moments"]
+__all__ = ["f_hat", "f_density", "f_samples", "moment_hierarchy", "rescaled_moments"]
 
 
 def f_hat(q) -> np.ndarray:
@@ -63,6 +63,48 @@ def f_density(x) -> np.ndarray:
     x = _real_no_nan(x, "x")
     with np.errstate(over="ignore"):  # |x| > 1e77: (1 + x²)² is inf and f is 0
         return 2.0 / (np.pi * (1.0 + x * x) ** 2)
+
+
+def f_samples(rng: np.random.Generator, shape) -> np.ndarray:
+    """Independent draws of the scaling solution f(x) = 2 / (π (1 + x²)²).
+
+    With x = tan θ, f(x) dx = (2/π) cos²θ dθ on (−π/2, π/2): θ is drawn uniformly and kept
+    with probability cos²θ (rejection, exact; half the draws are kept), then x = tan θ.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+        The random generator (the draws are a function of its state).
+    shape : int or tuple of int
+        The shape of the result.
+
+    Returns
+    -------
+    numpy.ndarray
+        Float array of ``shape``.
+
+    Raises
+    ------
+    particles.InvalidArgumentError
+        (argument ``rng``) if ``rng`` is not a ``numpy.random.Generator``; (argument ``shape``)
+        if it has a negative size.
+    """
+    if not isinstance(rng, np.random.Generator):
+        raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
+    try:
+        size = int(np.prod(shape, dtype=np.int64))
+        if size < 0 or np.any(np.asarray(shape) < 0):
+            raise ValueError
+    except (TypeError, ValueError):
+        raise InvalidArgumentError("shape", shape, "a non-negative int or tuple of them") from None
+    out = np.empty(size)
+    filled = 0
+    while filled < size:
+        theta = rng.uniform(-0.5 * np.pi, 0.5 * np.pi, 2 * (size - filled) + 64)
+        theta = theta[rng.random(theta.size) < np.cos(theta) ** 2][: size - filled]
+        out[filled:filled + theta.size] = np.tan(theta)
+        filled += theta.size
+    return out.reshape(shape)
 
 
 def _real_no_nan(values, name: str) -> np.ndarray:

@@ -321,12 +321,17 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
 
 def verdicts(s: dict) -> list:
     """The verdicts of comparison 2 from its summary ``s``: per case, χ²/(dof·φ) pooled over
-    τ against 1 (3σ; explained when the smoothed comparison, free of the prediction's cut at
-    q_max, agrees), and the slope of the KS distance against N (−1/2, 3σ)."""
+    τ against 1 (3σ), and the slope of the KS distance against N (−1/2, 3σ).
+
+    The per-case check has no explanation.  The artefact one could name, the solver's cut of
+    G at q_max next to a law's support edge, is in the check's σ where it is measured (each
+    bin's |P(h) − P(2h)| at the default and full sizes) and below one bin's standard error at
+    the small size.  The smoothed comparison (``smoothed`` in each row) stays a diagnostic: it
+    is the same check with less power, and it held under a 1 % error in the solver's
+    restitution, whose largest effect is next to the edge, where the support moves."""
     out = []
     for c in s["cases"]:
         raw, raw_err = pooled_ratio([_with_prediction_error(row) for row in c["rows"]])
-        smooth, smooth_err = pooled_ratio([row["smoothed"] for row in c["rows"]])
         taus = ", ".join(f"{row['tau']:g}" for row in c["rows"])
         out.append(judge(
             f"the kinetic equation is the Ulam model's master equation: particles' P(x, τ) = the "
@@ -337,12 +342,7 @@ def verdicts(s: dict) -> list:
                       "; each bin's variance also holds the prediction's numerical error "
                       "|P(h) − P(2h)| (solves on q ≤ 1000 at spacings h and 2h in ln q) in "
                       "quadrature" if all((row.get("prediction_error") or {}).get("measured")
-                                          for row in c["rows"]) else "")),
-            Check("the same, both laws smoothed by N(0, σ²) (no cut of G at q_max)", smooth,
-                  smooth_err, 1.0, "exact: χ² null expectation",
-                  sigma_source=CHI2_SIGMA_SOURCE),
-            why="the solver's bin probabilities cut G at q_max; a sharp-edged law's prediction "
-                "errs next to its edge"))
+                                          for row in c["rows"]) else ""))))
     n_scan = s["n_scan"]
     slope, err = pair(n_scan["slope"])
     out.append(judge(

@@ -133,16 +133,22 @@ def test_ulam_collapse_within_statistical_error(collapse):
 
 def test_ulam_collapse_phi_error_holds_the_jackknife(collapse):
     """φ's error in the summary is the larger of the independent-bin one and the jackknife over
-    seeds (both recorded: the run's own rescaling moves all bins together), and the verdicts'
+    seeds (both recorded: the run's own rescaling moves all bins together); the verdicts' σ is
+    the scatter of the same statistic over the null's replicas of exact samples, and their
     σ source says so."""
     for row in collapse.summary["rows"]:
-        for key in ("v0_scaled", "median_scaled"):
+        for key in ("v0_scaled", "median_scaled", "v0_scaled_vs_kinetic"):
             entry = row[key]
             larger = max(entry["overdispersion_error_jackknife"],
                          entry["overdispersion_error_bins"])
             assert entry["overdispersion"][1] == pytest.approx(larger), (row["restitution"], key)
-    for verdict in comparisons.VERDICTS["ulam_collapse"](collapse.summary):
-        assert "jackknife" in verdict.check.sigma_source
+    null = collapse.summary["iid_null"]
+    verdicts = comparisons.VERDICTS["ulam_collapse"](collapse.summary)
+    assert len(verdicts) == 2 * len(collapse.summary["rows"])
+    for verdict in verdicts:
+        assert f"{null['replicas']} replicas" in verdict.check.sigma_source
+        kind = "median_scaled" if "median" in verdict.check.quantity else "v0_scaled"
+        assert verdict.check.sigma == null[kind][1]
 
 
 def test_lattice_energy_exponents(energy):
