@@ -115,3 +115,17 @@ def test_a_summary_without_the_null_is_judged_against_one():
     got = uc.verdicts(_collapse_summary(1.7, 1.0, 1.0, null=False))
     assert got[0].check.expected == 1.0 and got[0].status == "disagrees"
     assert got[0].check.sigma == pytest.approx(math.sqrt(2.0 / 50 + 0.05**2))
+
+
+def test_the_seeds_jackknife_widens_the_null_when_larger():
+    """A shape statistic of 2.3 against the null 1.0 ± 0.2 is 6.5σ off; when the jackknife of
+    the statistic over the run's 8 seeds is 0.9 (one run dominates), σ is 0.9 (7 dof) and it
+    agrees (1.4σ); a jackknife below the null's scatter leaves the null's σ."""
+    s = _collapse_summary(2.3, 2.0, 1.9)
+    s["rows"][0]["median_scaled"].update({"chi2_over_overdispersion_jackknife": 0.9, "runs": 8})
+    shape = uc.verdicts(s)[0]
+    assert shape.status == "agrees" and shape.check.sigma == 0.9 and shape.check.dof == 7
+    assert "jackknife" in shape.check.sigma_source
+    s["rows"][0]["median_scaled"]["chi2_over_overdispersion_jackknife"] = 0.1
+    shape = uc.verdicts(s)[0]
+    assert shape.status == "disagrees" and shape.check.sigma == 0.2 and shape.check.dof == 31
