@@ -342,7 +342,8 @@ def verdicts(s: dict) -> list:
                       "; each bin's variance also holds the prediction's numerical error "
                       "|P(h) − P(2h)| (solves on q ≤ 1000 at spacings h and 2h in ln q) in "
                       "quadrature" if all((row.get("prediction_error") or {}).get("measured")
-                                          for row in c["rows"]) else ""))))
+                                          for row in c["rows"]) else "")),
+            short=f"P(x, τ) = solver's, r = {c['restitution']:g}, {c['initial']}"))
     n_scan = s["n_scan"]
     slope, err = pair(n_scan["slope"])
     out.append(judge(
@@ -350,7 +351,8 @@ def verdicts(s: dict) -> list:
         Check("slope of log KS distance against log N", slope, err, n_scan["slope_expected"],
               "exact: KS ~ N^(−1/2)",
               sigma_source=f"weighted fit over {len(n_scan['n'])} N, each KS distance's error "
-                           f"from {s['parameters'].get('scan_seeds', '?')} seeds")))
+                           f"from {s['parameters'].get('scan_seeds', '?')} seeds"),
+        short="KS distance ∝ N^(−1/2)"))
     return out
 
 
