@@ -8,7 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from particles.validation import InvalidArgumentError, check_real_array, check_times
+from particles.validation import (
+    InvalidArgumentError,
+    check_count,
+    check_real_array,
+    check_times,
+)
 
 from .model import MaxwellModel
 
@@ -91,12 +96,12 @@ def f_samples(rng: np.random.Generator, shape) -> np.ndarray:
     """
     if not isinstance(rng, np.random.Generator):
         raise InvalidArgumentError("rng", rng, "a numpy.random.Generator")
+    dims = shape if isinstance(shape, (tuple, list)) else (shape,)
     try:
-        size = int(np.prod(shape, dtype=np.int64))
-        if size < 0 or np.any(np.asarray(shape) < 0):
-            raise ValueError
-    except (TypeError, ValueError):
+        shape = tuple(check_count(n, "shape", 0) for n in dims)
+    except InvalidArgumentError:
         raise InvalidArgumentError("shape", shape, "a non-negative int or tuple of them") from None
+    size = int(np.prod(shape, dtype=np.int64))
     out = np.empty(size)
     filled = 0
     while filled < size:

@@ -9,7 +9,7 @@ import time
 import numpy as np
 
 from particles.observables import mean_sem
-from particles.validation import InvalidArgumentError
+from particles.validation import check_count
 
 from ... import statistics as st
 from ...exact import f_density, f_samples
@@ -167,21 +167,21 @@ def iid_null(n: int, runs: int, edges, replicas: int, seed: int = NULL_SEED) -> 
     Raises
     ------
     particles.validation.InvalidArgumentError
-        Naming ``replicas`` if it is below 2.
+        Naming ``n`` or ``runs`` if not an integer ≥ 1, or ``replicas`` if not one ≥ 2.
     """
-    if int(replicas) < 2:
-        raise InvalidArgumentError("replicas", replicas, "at least 2 (a standard deviation)")
+    n, runs = check_count(n, "n", 1), check_count(runs, "runs", 1)
+    replicas = check_count(replicas, "replicas", 2)
     edges = np.asarray(edges, dtype=float)
     prob_f = st.f_interval_probabilities(edges)
     rng = np.random.default_rng(seed)
     v0, median = [], []
-    for _ in range(int(replicas)):
+    for _ in range(replicas):
         x = rescaled(f_samples(rng, (runs, n)))
         v0.append(st.compare_histograms(x, edges, prob_f).chi2_over_phi)
         median.append(st.compare_histograms(_median_scaled(x), edges, prob_f).chi2_over_phi)
     return {"v0_scaled": [float(np.mean(v0)), float(np.std(v0, ddof=1))],
             "median_scaled": [float(np.mean(median)), float(np.std(median, ddof=1))],
-            "replicas": int(replicas), "seed": int(seed)}
+            "replicas": replicas, "seed": int(seed)}
 
 
 def overdispersion_jackknife(samples, edges, probabilities) -> float:

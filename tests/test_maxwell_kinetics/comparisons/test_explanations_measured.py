@@ -59,12 +59,33 @@ def test_f_samples_follow_f():
     assert stats.kstest(1.05 * x.ravel(), st.f_cdf).pvalue < 1e-10
 
 
-@pytest.mark.parametrize("rng, shape, name", [(5, 3, "rng"), (np.random.default_rng(0), -1,
-                                                                 "shape"),
-                                              (np.random.default_rng(0), (2, -3), "shape")])
-def test_f_samples_refuses_bad_arguments(rng, shape, name):
+@pytest.mark.parametrize("rng", [5, None, "gen", np.random.RandomState(0)])
+def test_f_samples_refuses_a_bad_generator(rng):
     with pytest.raises(InvalidArgumentError) as info:
-        f_samples(rng, shape)
+        f_samples(rng, 3)
+    assert info.value.name == "rng"
+
+
+@pytest.mark.parametrize("shape", [-1, (2, -3), True, (2, True), 2.5, (2.5,), float("nan"),
+                                   "a", None])
+def test_f_samples_refuses_a_shape_that_is_not_counts(shape):
+    with pytest.raises(InvalidArgumentError) as info:
+        f_samples(np.random.default_rng(0), shape)
+    assert info.value.name == "shape"
+
+
+def test_f_samples_takes_empty_and_list_shapes():
+    rng = np.random.default_rng(0)
+    assert f_samples(rng, 0).shape == (0,) and f_samples(rng, (3, 0)).shape == (3, 0)
+    assert f_samples(rng, [2, 3]).shape == (2, 3) and f_samples(rng, np.int64(3)).shape == (3,)
+
+
+@pytest.mark.parametrize("n, runs, replicas, name", [
+    (0, 3, 3, "n"), (10, 0, 3, "runs"), (10, 3, 1, "replicas"), (10, 3, 2.5, "replicas"),
+    (10, 3, True, "replicas"), (10.5, 3, 3, "n")])
+def test_the_null_refuses_bad_sizes(n, runs, replicas, name):
+    with pytest.raises(InvalidArgumentError) as info:
+        uc.iid_null(n, runs, np.linspace(-3.0, 3.0, 13), replicas)
     assert info.value.name == name
 
 
@@ -78,8 +99,6 @@ def test_the_null_is_reproducible_and_centred():
     assert null != uc.iid_null(2000, 4, edges, 60, seed=2)
     mean, sd = null["median_scaled"]
     assert abs(mean - 1.0) < 4.0 * sd / math.sqrt(60) + 2.0 / (3 * 40)
-    with pytest.raises(InvalidArgumentError):
-        uc.iid_null(2000, 4, edges, 1)
 
 
 def _collapse_summary(shape, v0, vs_kinetic, null=True):
