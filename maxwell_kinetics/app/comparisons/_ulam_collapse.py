@@ -81,7 +81,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     ------
     particles.validation.InvalidArgumentError
         From :func:`maxwell_kinetics.app.comparisons.base.preset`: an unknown ``size`` or an
-        override that is not a parameter of the preset.
+        override that is not a parameter of the preset; naming ``n`` or ``null_replicas`` for
+        an override that is not a count (at least 1, at least 2).
     """
     runner = ParticleRuns() if runner is None else runner
     start = time.perf_counter()
@@ -89,7 +90,8 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     edges = bin_edges(params["edges"])
     prob_f = st.f_interval_probabilities(edges)
     seeds = list(range(int(params["seeds"])))
-    null = iid_null(int(params["n"]), len(seeds), edges, int(params["null_replicas"]))
+    null = iid_null(check_count(params["n"], "n", 1), len(seeds), edges,
+                    check_count(params["null_replicas"], "null_replicas", 2))
     rows, hists, shapes, tails = [], [], [], []
     for r, tau in zip(params["restitutions"], params["tau"], strict=True):
         snaps = runner.ulam_snapshots(r, params["law"], params["n"], [float(tau)], seeds,

@@ -148,3 +148,10 @@ def test_the_seeds_jackknife_widens_the_null_when_larger():
     s["rows"][0]["median_scaled"]["chi2_over_overdispersion_jackknife"] = 0.1
     shape = uc.verdicts(s)[0]
     assert shape.status == "disagrees" and shape.check.sigma == 0.2 and shape.check.dof == 31
+
+
+def test_an_override_of_the_null_is_refused_by_its_own_name():
+    """``run(..., null_replicas=1)`` is refused before any particle runs, naming the override."""
+    with pytest.raises(InvalidArgumentError) as info:
+        uc.run("small", progress=False, null_replicas=1)
+    assert info.value.name == "null_replicas"
