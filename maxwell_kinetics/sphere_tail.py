@@ -41,11 +41,12 @@ partners at |c − w| ≤ R only: the loss is exact for c ≲ R − 4) and insid
 
 Measurement.  :func:`radial_profile` averages ln F over shells of |c| at the grid's nodes
 (each shell kept only when every node in it is above the round-off floor and the shell lies
-inside the box); :func:`fit_tail` fits ln F = a + μ ln c − A c to the nodes of the shells
-whose mean |c| lies in a window, by least squares with every shell weighted once (exact for an
-F of that form), with the standard errors of the fit (from the scatter about it, n − 3 degrees
-of freedom for n shells) and a window systematic: the largest change of A when the window
-moves by ± ``shift``.
+inside the kernel's cutoff R < L, beyond which the truncated kernel and the absorbing layer at
+the box's faces make F unphysical); :func:`fit_tail` fits ln F = a + μ ln c − A c to the nodes
+of the shells whose mean |c| lies in a window, by least squares with every shell weighted once
+(exact for an F of that form), with the standard errors of the fit (from the scatter about it,
+n − 3 degrees of freedom for n shells) and a window systematic: the largest change of A when
+the window moves by ± ``shift``.
 """
 
 from __future__ import annotations
@@ -128,7 +129,7 @@ class RadialProfile:
         The floor F had to exceed at every node of a kept shell.
     resolved : float
         The outer edge of the last shell before the first one dropped (by the floor or the
-        box): the profile is complete on [0, resolved).
+        cutoff R): the profile is complete on [0, resolved).
     node_speed, node_log_density : numpy.ndarray
         |c| and ln F at every node of the kept shells.
     node_shell : numpy.ndarray
@@ -161,10 +162,11 @@ def radial_profile(F, grid, *, width: float | None = None, floor: float = 1e-12,
                    noise_factor: float = 100.0) -> RadialProfile:
     """The shell average of ln F on a spectral grid.
 
-    The shells are [k w, (k + 1) w) in |c|; a shell is kept when it lies inside the box
-    ((k + 1) w ≤ L) and F exceeds the floor at every one of its nodes; the floor is the larger
-    of ``floor`` × max F and ``noise_factor`` × the largest negative excursion of F (the
-    round-off and Gibbs level of the FFTs).
+    The shells are [k w, (k + 1) w) in |c|; a shell is kept when it lies inside the kernel's
+    cutoff ((k + 1) w ≤ R) and F exceeds the floor at every one of its nodes; the floor is the
+    larger of ``floor`` × max F and ``noise_factor`` × the largest negative excursion of F at
+    |c| < R (the round-off and Gibbs level of the FFTs; beyond R, in the absorbing layer at
+    the box's faces, F is not the solution's).
 
     Parameters
     ----------
@@ -177,7 +179,7 @@ def radial_profile(F, grid, *, width: float | None = None, floor: float = 1e-12,
     floor : float, default 1e-12
         The floor relative to max F, > 0.
     noise_factor : float, default 100
-        The floor's multiple of max(0, −min F), ≥ 0.
+        The floor's multiple of max(0, −min F) over |c| < R, ≥ 0.
 
     Returns
     -------
@@ -203,13 +205,14 @@ def radial_profile(F, grid, *, width: float | None = None, floor: float = 1e-12,
     floor = check_positive(floor, "floor")
     if not (math.isfinite(noise_factor) and noise_factor >= 0):
         raise InvalidArgumentError("noise_factor", noise_factor, "a finite number >= 0")
-    threshold = max(floor * float(np.max(F)), noise_factor * max(0.0, -float(np.min(F))))
     axis = g.nodes()
     r = np.sqrt(sum(x**2 for x in np.meshgrid(*([axis] * d), indexing="ij"))).ravel()
     values = F.ravel()
+    noise = max(0.0, -float(np.min(values[r < g.cutoff])))
+    threshold = max(floor * float(np.max(F)), noise_factor * noise)
     shell = np.floor(r / w).astype(int)
     rows, nodes, resolved = [], [], 0.0
-    for k in range(int(g.half_width // w)):
+    for k in range(int(g.cutoff // w)):
         pick = shell == k
         if not np.any(pick):
             continue

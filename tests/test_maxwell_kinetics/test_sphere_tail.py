@@ -78,7 +78,7 @@ def test_a_power_law_tail_like_the_maxwell_models_is_fitted_as_not_exponential(d
     assert fit.power == pytest.approx(-law.exponents["density"], abs=1e-9)
 
 
-def test_the_profile_stops_at_the_floor_and_the_round_off():
+def test_the_profile_stops_at_the_floor_the_round_off_and_the_cutoff():
     grid = GRIDS[2]
     r = _radius(grid, 2)
     F = np.exp(-0.5 * r**2)
@@ -90,9 +90,13 @@ def test_the_profile_stops_at_the_floor_and_the_round_off():
     assert profile.log_density == pytest.approx(-0.5 * profile.speed**2, abs=0.05)
     # a negative excursion of 1e-9 (round-off, Gibbs) raises the floor to 100 times it
     noisy = F.copy()
-    noisy[0, 0] = -1e-9
+    noisy[0, 0] = -1e-3  # a corner, beyond R: the absorbing layer's, not counted
+    assert radial_profile(noisy, grid).threshold == 1e-12
+    noisy[grid.points // 2, 20] = -1e-9  # |c| = 5.25 < R
     assert radial_profile(noisy, grid).threshold == pytest.approx(1e-7)
     assert radial_profile(noisy, grid).resolved < profile.resolved
+    flat = radial_profile(np.exp(-0.1 * r), grid)  # resolved everywhere: up to R, not L
+    assert flat.resolved == pytest.approx(grid.cutoff - grid.cutoff % grid.spacing)
 
 
 def test_windows_out_of_reach_are_refused():
