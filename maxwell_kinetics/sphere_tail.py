@@ -159,14 +159,17 @@ class RadialProfile:
 
 
 def radial_profile(F, grid, *, width: float | None = None, floor: float = 1e-12,
-                   noise_factor: float = 100.0) -> RadialProfile:
+                   noise_factor: float = 100.0, axis_gap: float = 0.0) -> RadialProfile:
     """The shell average of ln F on a spectral grid.
 
     The shells are [k w, (k + 1) w) in |c|; a shell is kept when it lies inside the kernel's
     cutoff ((k + 1) w ≤ R) and F exceeds the floor at every one of its nodes; the floor is the
     larger of ``floor`` × max F and ``noise_factor`` × the largest negative excursion of F at
     |c| < R (the round-off and Gibbs level of the FFTs; beyond R, in the absorbing layer at
-    the box's faces, F is not the solution's).
+    the box's faces, F is not the solution's).  With ``axis_gap`` > 0 the nodes within that
+    angle of a coordinate axis are left out, the noise included: the ringing of the Fourier
+    cutoff (a cube in k) gathers along the axes (measured, d = 2, α = 0.5, h = 0.44: ±1.5e-8
+    of the peak along the axes from |c| ≈ 7 on, off them F stays positive to |c| ≈ 10).
 
     Parameters
     ----------
@@ -180,6 +183,8 @@ def radial_profile(F, grid, *, width: float | None = None, floor: float = 1e-12,
         The floor relative to max F, > 0.
     noise_factor : float, default 100
         The floor's multiple of max(0, −min F) over |c| < R, ≥ 0.
+    axis_gap : float, default 0
+        Leave out the nodes within this angle (degrees, in [0, 45)) of a coordinate axis.
 
     Returns
     -------
@@ -190,7 +195,7 @@ def radial_profile(F, grid, *, width: float | None = None, floor: float = 1e-12,
     particles.validation.InvalidArgumentError
         Naming ``F`` (not of shape (N,)*d on the grid, d = 2 or 3, not positive anywhere, or
         below the floor in the first shell),
-        ``grid``, ``width``, ``floor`` or ``noise_factor``.
+        ``grid``, ``width``, ``floor``, ``noise_factor`` or ``axis_gap``.
     """
     F = np.asarray(F, dtype=float)
     d = F.ndim
@@ -205,9 +210,16 @@ def radial_profile(F, grid, *, width: float | None = None, floor: float = 1e-12,
     floor = check_positive(floor, "floor")
     if not (math.isfinite(noise_factor) and noise_factor >= 0):
         raise InvalidArgumentError("noise_factor", noise_factor, "a finite number >= 0")
-    axis = g.nodes()
-    r = np.sqrt(sum(x**2 for x in np.meshgrid(*([axis] * d), indexing="ij"))).ravel()
+    if not (math.isfinite(axis_gap) and 0 <= axis_gap < 45):
+        raise InvalidArgumentError("axis_gap", axis_gap, "an angle in degrees in [0, 45)")
+    axes = np.meshgrid(*([g.nodes()] * d), indexing="ij")
+    r = np.sqrt(sum(x**2 for x in axes)).ravel()
     values = F.ravel()
+    if axis_gap > 0:  # the angle to the nearest axis: cos = max |c_a| / |c|
+        largest = np.max(np.abs(np.stack([x.ravel() for x in axes])), axis=0)
+        keep = largest <= math.cos(math.radians(axis_gap)) * r
+        keep[r == 0] = True
+        r, values = r[keep], values[keep]
     noise = max(0.0, -float(np.min(values[r < g.cutoff])))
     threshold = max(floor * float(np.max(F)), noise_factor * noise)
     shell = np.floor(r / w).astype(int)
