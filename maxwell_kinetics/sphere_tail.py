@@ -80,8 +80,8 @@ def tail_rate(kernel, dimension: int, cooling_rate: float) -> float:
     dimension : int
         d, 2 or 3.
     cooling_rate : float
-        ζ* = −d ln T/dτ of the cooling state (:attr:`maxwell_kinetics.sphere_spectral.
-        CoolingState.cooling_rate`), > 0.
+        ζ* = −d ln T/dτ of the cooling state
+        (:attr:`maxwell_kinetics.sphere_spectral.CoolingState.cooling_rate`), > 0.
 
     Returns
     -------
