@@ -120,7 +120,8 @@ class RadialProfile:
         The mean ln F of each shell.
     spread : numpy.ndarray
         The rms of ln F about a straight line in |c| within each shell (the grid's anisotropy;
-        0 for shells of fewer than three nodes).
+        about its mean where the shell's nodes lie at one radius to 1e-9 of the width; 0 for
+        shells of fewer than three nodes).
     counts : numpy.ndarray
         Nodes per shell.
     width : float
@@ -233,9 +234,11 @@ def radial_profile(F, grid, *, width: float | None = None, floor: float = 1e-12,
             break
         x, y = r[pick], np.log(values[pick])
         spread = 0.0
-        if x.size >= 3 and np.ptp(x) > 0:
+        if x.size >= 3 and np.ptp(x) > 1e-9 * w:
             residual = y - np.polyval(np.polyfit(x, y, 1), x)
             spread = float(np.sqrt(np.mean(residual**2)))
+        elif x.size >= 3:  # one radius, to round-off (a spacing that is no binary fraction)
+            spread = float(np.std(y))
         nodes.append((x, y, np.full(x.size, len(rows))))
         rows.append((x.mean(), y.mean(), spread, x.size))
         resolved = (k + 1) * w

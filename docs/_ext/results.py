@@ -151,7 +151,8 @@ def _detail_rows(v: dict) -> list[tuple[str, str]]:
         rows.append((key, _esc(f"{e['quantity']} = {measured_text(e)} against "
                                 f"{expected_text(e)} ({e['source']}), {e['tolerance_text']}")))
     if v["status"] == "not measured" and v.get("measured_at"):
-        rows.append(("measured at", _esc(f"--{v['measured_at']}")))
+        where = v["measured_at"]
+        rows.append(("measured at", _esc(f"on {where}" if " " in where.strip() else f"--{where}")))
     return rows
 
 

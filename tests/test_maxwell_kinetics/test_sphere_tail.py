@@ -138,3 +138,28 @@ def test_windows_out_of_reach_are_refused():
                         ).predicted is None
     with pytest.raises(InvalidArgumentError, match="window"):
         measure_tail(state, (3.0, 6.0), margin=4.0)  # 6 + 0.75 > R − 4 = 6
+
+
+def test_a_spacing_that_is_no_binary_fraction_gives_one_radius_shells_without_a_warning():
+    # h = 22/48 (the default d = 2 grid): a shell's nodes at ±x lie at one radius only to
+    # round-off, where a straight line in |c| is ill-posed (NumPy's RankWarning, an error in
+    # this suite); such a shell's spread is the rms of ln F about its mean.  An F that is not
+    # even in x makes that spread nonzero: it must equal the nodes' standard deviation.  (Off
+    # the axes, the four nodes (±h, ±h) make such a shell.)
+    grid = SphereGrid(48, 11.0, 7.5, 48, 16)
+    axis = grid.nodes()
+    x, y = np.meshgrid(axis, axis, indexing="ij")
+    r = np.hypot(x, y)
+    F = np.exp(-0.5 * r**2) * (1.0 + 0.01 * x)
+    profile = radial_profile(F, grid, axis_gap=20.0)
+    off = np.max(np.abs(np.stack([x, y])), axis=0) <= math.cos(math.radians(20.0)) * r
+    width = profile.width
+    for k, speed in enumerate(profile.speed):
+        pick = off & (np.floor(r / width).astype(int) == int(speed // width))
+        radii = r[pick]
+        if radii.size >= 3 and np.ptp(radii) <= 1e-9 * width:
+            assert profile.spread[k] == pytest.approx(np.std(np.log(F[pick])), rel=1e-12)
+            assert profile.spread[k] > 1e-4
+            break
+    else:
+        pytest.fail("no one-radius shell on this grid")

@@ -11,6 +11,8 @@ exact DSMC (:mod:`particles.hard_sphere_dsmc`), at early times and in the homoge
 state (HCS); the HCS a₂ of hard spheres is set against the Maxwell model's (exact: its moment
 equations close, :func:`maxwell_hcs_a2`), against the first Sonine approximation (van Noije and
 Ernst) and Haff's law is checked with and without the a₂ correction of the cooling rate.
+Where the solver's cooling state is computed, its overpopulated tail is set against the Maxwell
+model's power law (:mod:`._hard_spheres_tail`: conventions, the window rule, the statistic).
 ``run`` computes, ``plot`` draws."""
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ from particles.sphere_observables import (
 
 from ... import sphere_spectral
 from ...sphere_grid import SphereGrid
+from . import _hard_spheres_tail as hs_tail
 from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
 from .verdicts import Check, judge, pair, with_verdicts
@@ -166,15 +169,17 @@ def _case(params, dimension, primary, secondary, bar) -> tuple[dict, dict]:
                     "hcs_grid_error_a3": abs(states[0].a3 - states[1].a3),
                     "solver_hcs_cooling_rate": states[0].cooling_rate,
                     "hcs_grids": 2, "hcs_seconds": [s.seconds for s in states]})
+        row["tail"], tail_data = hs_tail.measure(states, kernel, d)
     else:
         row.update({"solver_hcs_a2": None, "solver_hcs_a3": None, "hcs_grid_error_a2": None,
                     "hcs_grid_error_a3": None, "solver_hcs_cooling_rate": None,
                     "hcs_grids": 0, "hcs_seconds": []})
+        row["tail"], tail_data = hs_tail.not_computed(d), None
     data = {"dimension": d, "curve_t": curve, "solver_T": solves[0]["T"],
             "solver_a2": solves[0]["a2"], "corrected_haff": corrected,
             "haff": haff_temperature(curve, alpha, d), "times": early,
             "dsmc_T": runs[0][:, :k], "dsmc_a2": runs[1][:, :k], "window_times": late,
-            "dsmc_window_T": runs[0][:, k:], "haff_window": haff_late}
+            "dsmc_window_T": runs[0][:, k:], "haff_window": haff_late, "tail": tail_data}
     return row, data
 
 
@@ -199,7 +204,9 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     Claims tested (:func:`verdicts`): the solver equals the DSMC at early times (T and a₂) and
     in the cooling state (a₂); the Maxwell model's cooling state differs from hard spheres';
     the first Sonine approximation against the measured a₂; Haff's law fails once a₂ ≠ 0 and
-    the a₂-corrected law holds at early times.
+    the a₂-corrected law holds at early times.  With ``hcs``, the tail
+    (:func:`._hard_spheres_tail.measure`, row ``tail``): the Maxwell model's power law against
+    the fitted exponential rate A, and A against 2K/ζ* (:func:`._hard_spheres_tail.verdicts`).
 
     Parameters
     ----------
@@ -261,7 +268,8 @@ def verdicts(s: dict) -> list:
     DSMC's (not measured without the solver's cooling state); the Maxwell model's cooling-state
     a₂ differs from hard spheres'; the first Sonine a₂ against the DSMC's (relative
     difference); Haff's law fails at the window's end (T below it); Haff's law with the
-    first-order a₂ correction holds at the last early time."""
+    first-order a₂ correction holds at the last early time; where the cooling state's tail was
+    measured, :func:`._hard_spheres_tail.verdicts`."""
     out = []
     params = s.get("parameters", {})
     seeds, n = int(params.get("seeds", 0)), params.get("n", "?")
@@ -342,6 +350,7 @@ def verdicts(s: dict) -> list:
                   sigma_source=f"{from_seeds}; tolerance: the distance between the law "
                                f"integrated with the a₂(t) of {grids}"),
             short=f"d={d}: Haff+3a₂/16 = DSMC T"))
+        out.extend(hs_tail.verdicts(row))
     return out
 
 
@@ -349,10 +358,28 @@ def plot(c, ax=None):
     """Three panels: a₂(t) of the solver (lines) and the DSMC (mean ± standard error) per d;
     T/T_Haff of the solver, the a₂-corrected Haff law and the DSMC (early and window); the
     cooling-state a₂ of hard spheres (DSMC, solver) against the Maxwell model's and the first
-    Sonine approximation's."""
+    Sonine approximation's.  A fourth where a tail was measured
+    (:func:`._hard_spheres_tail.draw`): ln F off the axes, the fit, the predicted rate and the
+    Maxwell model's state and power law.
+
+    Parameters
+    ----------
+    c : maxwell_kinetics.app.comparisons.base.Comparison
+        The comparison.
+    ax : sequence of matplotlib.axes.Axes, optional
+        One axis per panel (3, or 4 with a measured tail); default a new figure.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     own = ax is None
-    fig, (ax1, ax2, ax3) = panels(3, ax, width=5.2, height=4.6)
     rows, curves = c.data["rows"], c.data["curves"]
+    tails = any((r.get("tail") or {}).get("measured") for r in rows)
+    fig, axes = panels(4 if tails else 3, ax, width=5.2, height=4.6)
+    ax1, ax2, ax3 = axes[:3]
+    if tails:
+        hs_tail.draw(axes[3], rows, curves)
     for i, (row, cur) in enumerate(zip(rows, curves, strict=True)):
         d, col = row["dimension"], f"C{i}"
         ax1.plot(cur["curve_t"], cur["solver_a2"], "-", color=col, label=f"d = {d}: solver")

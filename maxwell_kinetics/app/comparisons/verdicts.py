@@ -652,6 +652,25 @@ def _dof_text(v: dict) -> str:
     return text + (f"×{trials}" if isinstance(trials, int) and trials > 1 else "")
 
 
+def _where_measured(measured_at: str) -> str:
+    """Where a claim not measured at a size is measured, in words: "measured at --full" for a
+    size of ``reproduce`` (one word), else "measured on <measured_at>" (a description, e.g. a
+    grid that no size uses yet).
+
+    Parameters
+    ----------
+    measured_at : str
+        A verdict's ``measured_at``.
+
+    Returns
+    -------
+    str
+    """
+    if " " not in measured_at.strip():
+        return f"measured at --{measured_at.strip()}"
+    return f"measured on {measured_at}"
+
+
 def verdict_table(summaries: dict) -> str:
     """The verdict table for a terminal, no line wider than :data:`TABLE_WIDTH` (100): a
     header, then per comparison its name and one row per claim (the claim in a few words,
@@ -699,7 +718,7 @@ def verdict_table(summaries: dict) -> str:
     lines.append("─" * len(head))
     for number, v in notes:
         if v["status"] == "not measured":
-            text = f"measured at --{v['measured_at']}, not at this size: {v['why']}"
+            text = f"{_where_measured(v['measured_at'])}, not at this size: {v['why']}"
         elif v["status"] == "disagrees":
             text = f"{measured_text(v)} vs {expected_text(v)} ({v['source']}), " \
                    f"{v['tolerance_text']}: {v['quantity']}"
