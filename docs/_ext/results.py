@@ -151,8 +151,9 @@ def _detail_rows(v: dict) -> list[tuple[str, str]]:
         rows.append((key, _esc(f"{e['quantity']} = {measured_text(e)} against "
                                 f"{expected_text(e)} ({e['source']}), {e['tolerance_text']}")))
     if v["status"] == "not measured" and v.get("measured_at"):
-        where = v["measured_at"]
-        rows.append(("measured at", _esc(f"on {where}" if " " in where.strip() else f"--{where}")))
+        where = v["measured_at"].strip()
+        rows.append(("measured", _esc(f"on {where}")) if " " in where
+                    else ("measured at", _esc(f"--{where}")))
     return rows
 
 

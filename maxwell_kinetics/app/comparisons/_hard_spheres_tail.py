@@ -373,7 +373,8 @@ def verdicts(row: dict) -> list:
     grids = f"grids {row['grid']} and {row['second_grid']}"
     measured = bool(tail.get("measured"))
     lo, hi = tail["window"]
-    window = f"|c| ∈ [{lo:.2f}, {hi:.2f}]"
+    window = (f"|c| ∈ [{lo:.2f}, {hi:.2f}]" if lo >= TAIL_START
+              else f"the rule's outermost window (none from |c| ≥ {TAIL_START:g})")
     placed = Check(f"start of the outermost window of {WINDOW_SHELLS:g} shells off the axes "
                    f"(resolved on both grids to |c| = {min(tail['resolved']):.2f})", lo, None,
                    TAIL_START, "exact: the window rule (three thermal speeds)",

@@ -165,6 +165,9 @@ def test_no_window_and_no_cooling_state_are_not_measured(exponential):
     statuses = _statuses(_row(record, 3))
     assert statuses == {"d=3: Maxwell tail = HS tail": "not measured",
                         "d=3: HS tail A = 2K/ζ*": "not measured"}
+    # the records name no window that starts below the rule's first |c| (here a negative one)
+    for v in hs_tail.verdicts(_row(record, 3)):
+        assert "none from |c| ≥ 3" in v.check.quantity and "[-" not in v.check.quantity
 
 
 def test_the_panel_draws_the_fit_the_prediction_and_the_maxwell_model(exponential):
