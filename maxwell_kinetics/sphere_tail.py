@@ -60,8 +60,8 @@ from particles.validation import InvalidArgumentError, check_positive
 
 from .sphere_grid import SphereGrid, sphere_grid
 
-__all__ = ["tail_rate", "RadialProfile", "radial_profile", "TailFit", "fit_tail",
-           "measure_tail", "MIN_SHELLS"]
+__all__ = ["tail_rate", "node_speeds", "RadialProfile", "radial_profile", "TailFit",
+           "fit_tail", "measure_tail", "MIN_SHELLS"]
 
 #: The fewest shells a fit takes (three parameters: at least two degrees of freedom).
 MIN_SHELLS = 5
@@ -106,6 +106,35 @@ def tail_rate(kernel, dimension: int, cooling_rate: float) -> float:
     v[0, 0] = 1.0
     k = float(np.asarray(kernel.rate(v, np.zeros_like(v), np))[0])  # the rate at |g| = 1
     return 2.0 * k / zeta
+
+
+def node_speeds(grid, dimension: int, axis_gap: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """|c| at the grid's nodes, and which nodes lie at least ``axis_gap`` degrees from every
+    coordinate axis (the angle to the nearest axis has cos = max_a |c_a| / |c|; the origin
+    counts as off the axes).
+
+    Parameters
+    ----------
+    grid : str or SphereGrid
+        The grid (:func:`maxwell_kinetics.sphere_grid.sphere_grid`).
+    dimension : int
+        d, 2 or 3.
+    axis_gap : float, default 0
+        The angle in degrees (0: every node is kept).
+
+    Returns
+    -------
+    speed : numpy.ndarray
+        |c|, shape (N,)*d.
+    keep : numpy.ndarray of bool
+        The nodes off the axes, shape (N,)*d.
+    """
+    g = sphere_grid(grid, dimension)
+    axes = np.meshgrid(*([g.nodes()] * dimension), indexing="ij")
+    r = np.sqrt(sum(x**2 for x in axes))
+    largest = np.max(np.abs(np.stack(axes)), axis=0)
+    keep = (largest <= math.cos(math.radians(axis_gap)) * r) | (r == 0)
+    return r, keep
 
 
 @dataclass(frozen=True)
@@ -214,13 +243,9 @@ def radial_profile(F, grid, *, width: float | None = None, floor: float = 1e-12,
         raise InvalidArgumentError("noise_factor", noise_factor, "a finite number >= 0")
     if not (math.isfinite(axis_gap) and 0 <= axis_gap < 45):
         raise InvalidArgumentError("axis_gap", axis_gap, "an angle in degrees in [0, 45)")
-    axes = np.meshgrid(*([g.nodes()] * d), indexing="ij")
-    r = np.sqrt(sum(x**2 for x in axes)).ravel()
+    r, keep = (a.ravel() for a in node_speeds(g, d, axis_gap))
     values = F.ravel()
-    if axis_gap > 0:  # the angle to the nearest axis: cos = max |c_a| / |c|
-        largest = np.max(np.abs(np.stack([x.ravel() for x in axes])), axis=0)
-        keep = largest <= math.cos(math.radians(axis_gap)) * r
-        keep[r == 0] = True
+    if axis_gap > 0:
         r, values = r[keep], values[keep]
     noise = max(0.0, -float(np.min(values[r < g.cutoff])))
     threshold = max(floor * float(np.max(F)), noise_factor * noise)

@@ -64,7 +64,7 @@ from particles.validation import InvalidArgumentError
 
 from ...sphere_grid import sphere_grid
 from ...sphere_spectral import SphereOperator
-from ...sphere_tail import MIN_SHELLS, fit_tail, radial_profile, tail_rate
+from ...sphere_tail import MIN_SHELLS, fit_tail, node_speeds, radial_profile, tail_rate
 from ...stationary import fixed_point
 from ...tails import tail_exponent
 from ...velocity import radial_density_at
@@ -163,8 +163,7 @@ def _profile(F, grid, width):
 
 def _maxwell_profile(alpha, d, grid, width, degree, nodes):
     """The profile of the Maxwell model's F on the nodes of ``grid`` (the same shells)."""
-    axes = np.meshgrid(*([grid.nodes()] * d), indexing="ij")
-    r = np.sqrt(sum(x**2 for x in axes))
+    r, _ = node_speeds(grid, d)
     unique, inverse = np.unique(np.round(r, 12), return_inverse=True)
     inside = unique <= grid.cutoff + width
     values = np.full(unique.shape, 1e-300)  # outside the kept shells: never read
@@ -189,10 +188,7 @@ def _collision_rates(states, grids, kernel, d, width, profile, window, loss) -> 
     k = float(np.asarray(kernel.rate(np.eye(1, d), np.zeros((1, d)), np))[0])  # K
     rates = []
     for state, grid in zip(states, grids, strict=True):
-        axes = np.meshgrid(*([grid.nodes()] * d), indexing="ij")
-        r = np.sqrt(sum(x**2 for x in axes))
-        largest = np.max(np.abs(np.stack(axes)), axis=0)
-        off = largest <= math.cos(math.radians(AXIS_GAP)) * r
+        r, off = node_speeds(grid, d, AXIS_GAP)
         gone, F = np.asarray(loss(state), dtype=float), np.asarray(state.F, dtype=float)
         shell = np.floor(r / width).astype(int)
         picks = [off & (shell == j) for j in shells]  # F > 0 there: resolved shells
