@@ -723,7 +723,8 @@ class LatticeDiscreteReference(Lattice):
     def __post_init__(self):
         super().__post_init__()
         if self.relative_velocity_rate:
-            raise InvalidArgumentError("rate", self.rate, "'constant' (the discrete reference)")
+            raise InvalidArgumentError("rate", self.rate,
+                                       f"{ConstantRate.name!r} (the discrete reference)")
 
     def advance(self, state: LatticeState, until: float, rng: np.random.Generator) -> LatticeState:
         """Pick round(until · N) − ``state.attempts`` uniform bonds one by one and collide them.

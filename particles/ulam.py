@@ -60,7 +60,7 @@ import numpy as np
 from .collision import collide_arrays, collide_scalar, transfer_fraction
 from .driver import EngineBase, initial_velocities, next_grid_point
 from .initial import get_law
-from .kernels import ConstantRate, Kernel, kernel_class, make_kernel
+from .kernels import ConstantRate, Kernel, RelativeVelocity, kernel_class, make_kernel
 from .pair_schedule import (
     BLOCK_WINDOWS,
     draw_pairs_unchecked,
@@ -333,13 +333,14 @@ class Ulam(EngineBase):
             raise InvalidArgumentError("rate", rate, "a kernel defined in d = 1")
         if rate != ConstantRate.name:
             if self.dimension != 1:
-                raise InvalidArgumentError("rate", rate, "'constant' when dimension > 1")
+                raise InvalidArgumentError("rate", rate,
+                                           f"{ConstantRate.name!r} when dimension > 1")
             if driving != 0.0:
-                raise InvalidArgumentError("rate", rate, "'constant' with driving > 0")
+                raise InvalidArgumentError("rate", rate, f"{ConstantRate.name!r} with driving > 0")
         elif density != 1.0:
             raise InvalidArgumentError(
-                "density", self.density, "1 with rate 'constant' (the density sets the rate "
-                "(n/N)|v_i - v_j| of rate 'relative_velocity' only)")
+                "density", self.density, f"1 with rate {ConstantRate.name!r} (the density sets the "
+                f"rate (n/N)|v_i - v_j| of rate {RelativeVelocity.name!r} only)")
         object.__setattr__(self, "density", density)
 
     @property

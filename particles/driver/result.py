@@ -49,11 +49,11 @@ def time_name_of(model: str, params: dict) -> str:
     -------
     str
     """
-    from ..kernels import KERNELS
+    from ..kernels import KERNELS, ConstantRate
 
     if model in _TIME_NAMES:
         return _TIME_NAMES[model]
-    kernel = KERNELS.get(params.get("rate", "constant"))
+    kernel = KERNELS.get(params.get("rate", ConstantRate.name))
     return kernel.time_name if kernel is not None else "tau"
 
 
