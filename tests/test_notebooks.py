@@ -108,7 +108,8 @@ def test_parameters_lead_and_honour_the_small_size_switch(path, monkeypatch):
 #: The functions of the API that draw a progress bar unless told not to (``progress=None``, their
 #: default, shows one per call in a notebook).
 PROGRESS_CALLS = {"simulate", "solve", "solve_fourier", "lattice_at_energy", "lattice_runs",
-                  "md_runs", "sticky_runs", "ulam_snapshots", "run_ensemble"}
+                  "md_runs", "sticky_runs", "ulam_snapshots", "run_ensemble",
+                  "sample_cooling_state"}
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])

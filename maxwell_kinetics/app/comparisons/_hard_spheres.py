@@ -23,6 +23,7 @@ import time
 import numpy as np
 
 from particles import hard_sphere_dsmc
+from particles.cooling_state_sample import sample_cooling_state
 from particles.progress import progress_bar
 from particles.sphere_kernels import HardSpheres
 from particles.sphere_observables import (
@@ -37,6 +38,7 @@ from particles.sphere_observables import (
 
 from ... import sphere_spectral
 from ...sphere_grid import SphereGrid
+from . import _hard_spheres_dsmc_tail as dsmc_tail
 from . import _hard_spheres_tail as hs_tail
 from .base import Comparison, ComparisonSpec, jsonable, preset, register
 from .drawing import panels
@@ -50,21 +52,25 @@ NAME = "hard_spheres"
 #: is the solver's grid error; a name of ``maxwell_kinetics.sphere_grid.GRIDS`` or the fields
 #: of a ``SphereGrid``), the early ``times`` compared with the DSMC, the DSMC's ``n`` and
 #: ``seeds``, the cooling-state ``window`` of the DSMC (collisions per particle, Haff's clock)
-#: and whether the solver computes the cooling state (``hcs``, on both grids).  The small
+#: and whether the solver computes the cooling state (``hcs``, on both grids); the cooling
+#: state's tail sampled by the DSMC in rescaled chunks (``tail_n`` particles, ``tail_seeds``
+#: runs of ``tail_snapshots`` snapshots, :mod:`particles.cooling_state_sample`).  The small
 #: size's second grid has the coarse grid's array shapes (no second compilation) and a smaller
 #: cutoff R = 6.5: a conservative grid error.
 PRESETS = {
     "small": {"restitution": 0.5, "cases": ((2, "coarse", (32, 9.0, 6.5, 32, 12)),),
               "times": (0.1, 0.2, 0.4), "n": 20_000, "seeds": 8, "window": (10, 12, 14, 16),
-              "hcs": False},
+              "hcs": False, "tail_n": 20_000, "tail_seeds": 8, "tail_snapshots": 10},
     "default": {"restitution": 0.5, "cases": ((3, "default", "coarse"),
                                               (2, "default", "coarse")),
                 "times": (0.1, 0.2, 0.4), "n": 100_000, "seeds": 16,
-                "window": (10, 12, 14, 16), "hcs": True},
+                "window": (10, 12, 14, 16), "hcs": True, "tail_n": 100_000,
+                "tail_seeds": 16, "tail_snapshots": 40},
     "full": {"restitution": 0.5, "cases": ((3, (32, 11.0, 8.0, 11, 12), "default"),
                                            (2, "fine", "default")),
              "times": (0.1, 0.2, 0.4), "n": 100_000, "seeds": 64,
-             "window": (10, 12, 14, 16, 18, 20), "hcs": True},
+             "window": (10, 12, 14, 16, 18, 20), "hcs": True, "tail_n": 100_000,
+             "tail_seeds": 64, "tail_snapshots": 80},
 }
 
 #: Points of the solver's T(t), a₂(t) curve between 0 and the last early time (figure, Haff).
@@ -112,6 +118,10 @@ def _solve(kernel, times, dimension, grid):
     return {"T": np.asarray(sol.temperature), "a2": np.asarray(sol.a2),
             "a3": np.asarray(sol.a3), "zeta": np.asarray(sol.cooling_rate),
             "F": sol.F[-1], "seconds": sol.seconds}
+
+
+#: The tail's DSMC runs use the seeds from here on (independent of the early runs' 0, 1, …).
+TAIL_SEED_START = 10_000
 
 
 def _case(params, dimension, primary, secondary, bar) -> tuple[dict, dict]:
@@ -168,18 +178,27 @@ def _case(params, dimension, primary, secondary, bar) -> tuple[dict, dict]:
                     "hcs_grid_error_a2": abs(states[0].a2 - states[1].a2),
                     "hcs_grid_error_a3": abs(states[0].a3 - states[1].a3),
                     "solver_hcs_cooling_rate": states[0].cooling_rate,
+                    "hcs_grid_error_cooling_rate": abs(states[0].cooling_rate
+                                                       - states[1].cooling_rate),
                     "hcs_grids": 2, "hcs_seconds": [s.seconds for s in states]})
         row["tail"], tail_data = hs_tail.measure(states, kernel, d)
     else:
         row.update({"solver_hcs_a2": None, "solver_hcs_a3": None, "hcs_grid_error_a2": None,
                     "hcs_grid_error_a3": None, "solver_hcs_cooling_rate": None,
-                    "hcs_grids": 0, "hcs_seconds": []})
+                    "hcs_grid_error_cooling_rate": None, "hcs_grids": 0, "hcs_seconds": []})
         row["tail"], tail_data = hs_tail.not_computed(d), None
+    seeds = int(params["tail_seeds"])
+    sample = sample_cooling_state(
+        int(params["tail_n"]), alpha, dimension=d, snapshots=int(params["tail_snapshots"]),
+        seeds=range(TAIL_SEED_START, TAIL_SEED_START + seeds), progress=False)
+    bar.update(seeds)
+    row["dsmc_tail"], dsmc_data = dsmc_tail.measure(sample, kernel)
     data = {"dimension": d, "curve_t": curve, "solver_T": solves[0]["T"],
             "solver_a2": solves[0]["a2"], "corrected_haff": corrected,
             "haff": haff_temperature(curve, alpha, d), "times": early,
             "dsmc_T": runs[0][:, :k], "dsmc_a2": runs[1][:, :k], "window_times": late,
-            "dsmc_window_T": runs[0][:, k:], "haff_window": haff_late, "tail": tail_data}
+            "dsmc_window_T": runs[0][:, k:], "haff_window": haff_late, "tail": tail_data,
+            "dsmc_tail": dsmc_data}
     return row, data
 
 
@@ -241,7 +260,7 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     params = preset(PRESETS, size, overrides)
     cases = params["cases"]
     rows, data = [], []
-    total = len(cases) * int(params["seeds"])
+    total = len(cases) * (int(params["seeds"]) + int(params["tail_seeds"]))
     with progress_bar(total, desc="hard-sphere DSMC", unit="run", enabled=progress) as bar:
         for dimension, primary, secondary in cases:
             row, curves = _case(params, dimension, primary, secondary, bar)
@@ -351,6 +370,7 @@ def verdicts(s: dict) -> list:
                                f"integrated with the a₂(t) of {grids}"),
             short=f"d={d}: Haff+3a₂/16 = DSMC T"))
         out.extend(hs_tail.verdicts(row))
+        out.extend(dsmc_tail.verdicts(row))
     return out
 
 
@@ -358,16 +378,19 @@ def plot(c, ax=None):
     """Three panels: a₂(t) of the solver (lines) and the DSMC (mean ± standard error) per d;
     T/T_Haff of the solver, the a₂-corrected Haff law and the DSMC (early and window); the
     cooling-state a₂ of hard spheres (DSMC, solver) against the Maxwell model's and the first
-    Sonine approximation's.  A fourth where a tail was measured
-    (:func:`._hard_spheres_tail.draw`): ln F off the axes, the fit, the predicted rate and the
-    Maxwell model's state and power law.
+    Sonine approximation's.  One more where the solver's tail was measured
+    (:func:`._hard_spheres_tail.draw`: ln F off the axes, the fit, the predicted rate and the
+    Maxwell model's state and power law), and one more where the DSMC's was
+    (:func:`._hard_spheres_dsmc_tail.draw`: ln F over its shells, its fit and the Maxwell
+    model on the same shells).
 
     Parameters
     ----------
     c : maxwell_kinetics.app.comparisons.base.Comparison
         The comparison.
     ax : sequence of matplotlib.axes.Axes, optional
-        One axis per panel (3, or 4 with a measured tail); default a new figure.
+        One axis per panel (3, plus one per measured tail: the solver's, the DSMC's); default
+        a new figure.
 
     Returns
     -------
@@ -375,11 +398,15 @@ def plot(c, ax=None):
     """
     own = ax is None
     rows, curves = c.data["rows"], c.data["curves"]
-    tails = any((r.get("tail") or {}).get("measured") for r in rows)
-    fig, axes = panels(4 if tails else 3, ax, width=5.2, height=4.6)
+    tails = [any((r.get(key) or {}).get("measured") for r in rows)
+             for key in ("tail", "dsmc_tail")]
+    fig, axes = panels(3 + sum(tails), ax, width=5.2, height=4.6)
     ax1, ax2, ax3 = axes[:3]
-    if tails:
-        hs_tail.draw(axes[3], rows, curves)
+    extra = iter(axes[3:])
+    if tails[0]:
+        hs_tail.draw(next(extra), rows, curves)
+    if tails[1]:
+        dsmc_tail.draw(next(extra), rows, curves)
     for i, (row, cur) in enumerate(zip(rows, curves, strict=True)):
         d, col = row["dimension"], f"C{i}"
         ax1.plot(cur["curve_t"], cur["solver_a2"], "-", color=col, label=f"d = {d}: solver")

@@ -33,6 +33,8 @@ def test_the_small_run_agrees_and_leaves_the_cooling_state_to_the_default_size(s
     assert "disagrees" not in statuses.values(), statuses
     assert _status(s, "d=2: HCS a₂ solver = DSMC")["status"] == "not measured"
     for v in s["verdicts"]:  # every check says where its σ comes from and its dof
+        if v["measured"] is None and v["sigma"] is None:  # a tail not measured: no σ at all
+            continue
         assert "seeds" in v["sigma_source"] and v["combined_dof"] == 7, v
     row = s["rows"][0]
     # the solver's T and a₂ at the three early times: the grid error (the distance to the
