@@ -13,6 +13,9 @@ equations close, :func:`maxwell_hcs_a2`), against the first Sonine approximation
 Ernst) and Haff's law is checked with and without the a₂ correction of the cooling rate.
 Where the solver's cooling state is computed, its overpopulated tail is set against the Maxwell
 model's power law (:mod:`._hard_spheres_tail`: conventions, the window rule, the statistic).
+The DSMC samples the cooling state far into its tail at every size
+(:mod:`._hard_spheres_dsmc_tail`): its fitted rate against the Maxwell model's, against 2K/ζ*,
+and its cooling rate ζ* against the solver's.
 ``run`` computes, ``plot`` draws."""
 
 from __future__ import annotations
@@ -226,6 +229,12 @@ def run(size=None, progress: bool | None = None, runner=None, **overrides) -> Co
     the a₂-corrected law holds at early times.  With ``hcs``, the tail
     (:func:`._hard_spheres_tail.measure`, row ``tail``): the Maxwell model's power law against
     the fitted exponential rate A, and A against 2K/ζ* (:func:`._hard_spheres_tail.verdicts`).
+    At every size, the tail sampled by the DSMC in rescaled chunks
+    (:func:`particles.cooling_state_sample.sample_cooling_state`, ``tail_seeds`` runs of
+    ``tail_n`` particles, ``tail_snapshots`` snapshots each; row ``dsmc_tail``,
+    :func:`._hard_spheres_dsmc_tail.measure`): the Maxwell model's power law against its fitted
+    A, A against 2K/ζ* with the DSMC's own ζ*, and the solver's ζ* against the DSMC's
+    (:func:`._hard_spheres_dsmc_tail.verdicts`).
 
     Parameters
     ----------
