@@ -318,7 +318,8 @@ def sample_cooling_state(n: int, restitution: float, *, dimension: int = 3, seed
         argument of :class:`particles.hard_sphere_dsmc.SphereDSMC`.
     """
     engine = SphereDSMC(n, restitution, dimension=dimension, rate=rate, density=density)
-    if isinstance(seeds, (int, np.integer)) or not hasattr(seeds, "__len__") or not len(seeds):
+    if (isinstance(seeds, (int, np.integer, str, bytes)) or not hasattr(seeds, "__len__")
+            or not len(seeds)):
         raise InvalidArgumentError("seeds", seeds, "a non-empty sequence of seeds")
     seeds = [check_seed(s, "seeds") for s in seeds]
     snapshots = check_count(snapshots, "snapshots", 1)

@@ -153,6 +153,7 @@ def test_the_same_seed_gives_the_same_sample_and_it_reloads(tmp_path):
 
 @pytest.mark.parametrize(("kwargs", "name"), [
     ({"seeds": []}, "seeds"), ({"seeds": 3}, "seeds"), ({"seeds": [-1]}, "seeds"),
+    ({"seeds": "12"}, "seeds"),
     ({"snapshots": 0}, "snapshots"), ({"spacing": -1.0}, "spacing"),
     ({"spacing": math.nan}, "spacing"), ({"warmup": -1}, "warmup"),
     ({"dimension": 4}, "dimension"), ({"restitution": 1.5}, "restitution"),
