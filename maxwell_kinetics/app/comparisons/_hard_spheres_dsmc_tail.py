@@ -306,7 +306,9 @@ def verdicts(row: dict) -> list:
       seeds (seeds − 1 dof) and the Maxwell fit's error (n − 3 dof), Student's t; tolerance the
       window systematic of the difference and the Maxwell state's numerical error; refuted
       when it fails and ν(c) = K⟨|c − w|⟩ of the sampled state differs between the window's
-      ends (the Maxwell model's is the same at every c);
+      ends (the Maxwell model's is the same at every c); ``not measured`` when the deviation
+      its check allows is not below |2K/ζ* − A_Maxwell|
+      (:func:`._hard_spheres_tail.tells_apart`);
     * "A = 2K/ζ* (DSMC)": the fitted A against 2K/ζ* with the sample's ζ*, tolerance the window
       systematic; ``not measured`` while the window systematic exceeds the jackknife error;
     * "the solver's cooling rate ζ* is the DSMC's": tolerance the solver's grid difference of
@@ -343,7 +345,7 @@ def verdicts(row: dict) -> list:
                    None, hs_tail.TAIL_START, "exact: the window rule (three thermal speeds)",
                    relation="at_least")
     quantity = f"fitted A of ln F = a + μ ln c − A c, DSMC shells, {window}"
-    bigger = "a larger sample than any size's (none yet)"
+    bigger = "a larger sample than this size's"
     rate = tail.get("rate") if measured else None
     sigma = tail.get("rate_error") if measured else None
     jack = f"seeds: jackknife over the {sample}"
@@ -370,15 +372,21 @@ def verdicts(row: dict) -> list:
         why = (f"a fast particle's collision frequency grows like |c| under the hard-sphere "
                f"rate |g| (ν rises by {rates['ratio']:.3f} across the window), so the tail "
                f"falls exponentially; the Maxwell model's constant rate leaves a power law")
+        resolves = hs_tail.tells_apart(claim, tail["predicted_rate"], maxwell["rate"])
+        if not resolves.holds():
+            why = (f"this sample cannot tell the two tails apart: it allows a deviation of "
+                   f"{claim.allowed:.3f}, more than the gap {resolves.expected:.3f} between "
+                   f"2K/ζ* and the Maxwell model's A on the window")
     else:
         claim = Check(quantity, None, None, 0.0,
                       "model: the Maxwell model's power law (A = 0 in this fit)", dof=dof,
                       sigma_source=jack)
-        refutation, why = None, tail.get("reason") or ""
+        refutation, why, resolves = None, tail.get("reason") or "", placed
     out = [judge(
         f"{body}, d = {d}: the Maxwell model's power-law tail c^(−d−2s*) is the {name} "
         f"cooling state's tail (measured by the DSMC)", claim, why=why, refutation=refutation,
-        resolution=placed, measured_at="default", short=f"d={d}: Maxwell tail = HS tail (DSMC)")]
+        resolution=resolves, measured_at="default",
+        short=f"d={d}: Maxwell tail = HS tail (DSMC)")]
     drift = Check(f"window systematic of the fitted A (window moved by ±{tail['shift']:.2f})",
                   tail.get("window_systematic") if measured else None, None,
                   sigma if sigma is not None else 0.0,
@@ -400,7 +408,7 @@ def verdicts(row: dict) -> list:
               sigma_source=f"{jack}; ζ*: seeds; tolerance: the window systematic (window "
                            f"moved by ±{tail['shift']:.2f})"),
         why=why_rate, resolution=drift if measured else placed,
-        measured_at=bigger if measured and not drift.holds() else "default",
+        measured_at=bigger if measured else "default",
         short=f"d={d}: HS tail A = 2K/ζ* (DSMC)"))
     zeta, zeta_err = tail["cooling_rate"]
     solver = row.get("solver_hcs_cooling_rate")

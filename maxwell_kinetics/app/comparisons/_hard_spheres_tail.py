@@ -71,7 +71,7 @@ from ...velocity import radial_density_at
 from .verdicts import Check, judge
 
 __all__ = ["AXIS_GAP", "WINDOW_SHELLS", "TAIL_START", "MAXWELL_DEGREES", "tail_window",
-           "maxwell_density", "measure", "not_computed", "verdicts", "draw"]
+           "maxwell_density", "measure", "not_computed", "verdicts", "tells_apart", "draw"]
 
 #: Leave out the nodes within this angle (degrees) of a coordinate axis.
 AXIS_GAP = 20.0
@@ -348,7 +348,9 @@ def verdicts(row: dict) -> list:
       fitted A drifts with the window by more than its error (window systematic > fit
       error: the fit is not yet in the exponential regime).
 
-    Both are ``not measured`` where no window is accepted.
+    Both are ``not measured`` where no window is accepted; the first also where the deviation
+    its check allows is not below the gap between 2K/ζ* and the Maxwell model's A
+    (:func:`tells_apart`: the check could not tell the two tails apart).
 
     Parameters
     ----------
@@ -409,14 +411,19 @@ def verdicts(row: dict) -> list:
                f"c (measured: ν/(K(c + (d − 1)/(2c))) = {near} at |c| = {a:.2f}, {b:.2f}), so "
                f"the log-log slope of the tail keeps rising (an exponential); the Maxwell "
                f"model's constant rate leaves a power law")
+        resolves = tells_apart(claim_check, tail["predicted_rate"], maxwell["rate"])
+        if not resolves.holds():
+            why = (f"this size cannot tell the two tails apart: it allows a deviation of "
+                   f"{claim_check.allowed:.3f}, more than the gap {resolves.expected:.3f} "
+                   f"between 2K/ζ* and the Maxwell model's A on the window")
     else:
         claim_check = Check(quantity, None, None, 0.0, "model: the Maxwell model's power law "
                             "(A = 0 in this fit)")
-        refutation, why = None, tail.get("reason") or ""
+        refutation, why, resolves = None, tail.get("reason") or "", placed
     out = [judge(
         f"{body}, d = {d}: the Maxwell model's power-law tail c^(−d−2s*) is the {name} "
         f"cooling state's tail", claim_check, why=why, refutation=refutation,
-        resolution=placed, measured_at="default" if measured else not_yet,
+        resolution=resolves, measured_at="default" if measured else not_yet,
         short=f"d={d}: Maxwell tail = HS tail")]
     drift = Check(f"window systematic of the fitted A (window moved by ±{tail['shift']:.2f})",
                   tail.get("window_systematic") if measured else None, None,
@@ -444,6 +451,32 @@ def verdicts(row: dict) -> list:
         why=why_rate, resolution=drift if measured else placed, measured_at=not_yet,
         short=f"d={d}: HS tail A = 2K/ζ*"))
     return out
+
+
+def tells_apart(check: Check, predicted: float, maxwell: float) -> Check:
+    """The resolution of a claim "the Maxwell model's tail is the hard-sphere tail": the
+    deviation that ``check`` allows (its standard errors of the t law and its tolerance) must
+    lie below the gap |2K/ζ* − A_Maxwell| between the predicted hard-sphere rate and the
+    Maxwell model's fitted A on the same window; a larger allowance would let the two tails
+    agree whatever they are, and the claim is then not measured.
+
+    Parameters
+    ----------
+    check : maxwell_kinetics.app.comparisons.verdicts.Check
+        The claim's check (the hard-sphere fitted A against the Maxwell model's).
+    predicted : float
+        2K/ζ*.
+    maxwell : float
+        The Maxwell model's fitted A on the window.
+
+    Returns
+    -------
+    maxwell_kinetics.app.comparisons.verdicts.Check
+    """
+    return Check("the deviation this check allows (its t-law standard errors + tolerance)",
+                 check.allowed, None, abs(predicted - maxwell),
+                 "exact: below the gap between 2K/ζ* and the Maxwell model's A on the window "
+                 "(else the check cannot tell the two tails apart)", relation="below")
 
 
 def draw(ax, rows, curves) -> bool:

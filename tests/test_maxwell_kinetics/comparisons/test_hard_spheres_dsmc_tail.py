@@ -102,7 +102,7 @@ def test_the_maxwell_models_own_state_agrees_with_the_maxwell_claim():
     def law(c):
         return dsmc_tail.hs_tail.maxwell_density(ALPHA, 2, c.ravel()).reshape(c.shape)
 
-    record, figure = dsmc_tail.measure(_sample(law, 2, per_seed=2e6), HardSpheres(ALPHA))
+    record, figure = dsmc_tail.measure(_sample(law, 2), HardSpheres(ALPHA))
     assert record["measured"], record["reason"]
     assert figure["speed"].size == figure["log_density"].size
     assert _statuses(_row(record))["d=2: Maxwell tail = HS tail (DSMC)"] == "agrees"
@@ -155,6 +155,18 @@ def test_the_rate_claim_is_judged_only_when_the_fit_is_stable():
     verdict = next(v for v in dsmc_tail.verdicts(_row(_planted(systematic=0.3)))
                    if v.short == claim)
     assert "drifts with the window" in verdict.why
+
+
+def test_a_sample_too_small_to_tell_the_tails_apart_is_not_measured():
+    # an allowance (3.1σ of a jackknife error 0.7, plus the systematic 0.3) above the gap
+    # 2K/ζ* − A_Maxwell = 2.3: the Maxwell claim is not measured, never agrees
+    claim = "d=2: Maxwell tail = HS tail (DSMC)"
+    loose = _planted(rate=2.5, error=0.7)
+    loose["maxwell"]["difference_systematic"] = 0.3
+    verdict = next(v for v in dsmc_tail.verdicts(_row(loose)) if v.short == claim)
+    assert verdict.check.holds() and verdict.status == "not measured"
+    assert "cannot tell the two tails apart" in verdict.why
+    assert _statuses(_row(_planted(rate=2.5)))[claim] == "refuted"
 
 
 def test_the_solvers_cooling_rate_is_judged_against_the_dsmcs():

@@ -138,6 +138,27 @@ def test_a_drifting_rate_is_not_measured_and_a_wrong_one_disagrees(exponential):
     assert _statuses(wrong)["d=2: HS tail A = 2K/ζ*"] == "disagrees"
 
 
+def test_a_check_too_loose_to_tell_the_tails_apart_is_not_measured(exponential):
+    # the full size's d = 2 grids (fine, default): the second grid's cutoff bends F inside the
+    # window, a grid difference of 0.74 in A and 3 dof each let the check allow 2.8, more
+    # than the gap 2K/ζ* − A_Maxwell: the claim must not agree, it is not measured
+    record = exponential[0]
+    loose = _planted(exponential, rate=2.55, rate_error=0.135, rate_dof=3,
+                     grid_difference=0.74,
+                     maxwell={**record["maxwell"], "rate": 0.26, "rate_error": 0.017,
+                              "rate_dof": 3, "difference_systematic": 0.87})
+    verdict = next(v for v in hs_tail.verdicts(loose)
+                   if v.short == "d=2: Maxwell tail = HS tail")
+    assert verdict.check.allowed > 3.0 - 0.26 and verdict.check.holds()
+    assert verdict.status == "not measured" and "cannot tell the two tails apart" in verdict.why
+    # the same record with the default size's grid difference is resolved again (refuted)
+    tight = _planted(exponential, rate=2.55, rate_error=0.135, rate_dof=3,
+                     grid_difference=0.0,
+                     maxwell={**record["maxwell"], "rate": 0.26, "rate_error": 0.017,
+                              "rate_dof": 3, "difference_systematic": 0.2})
+    assert _statuses(tight)["d=2: Maxwell tail = HS tail"] == "refuted"
+
+
 def test_a_failure_without_the_rising_collision_rate_is_not_refuted():
     # the same exponential with the Maxwell model's constant collision rate: the check fails
     # as before, but the cause is not shown, so the verdict is a plain disagreement
