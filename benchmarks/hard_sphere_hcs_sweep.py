@@ -35,6 +35,7 @@ from maxwell_kinetics.sphere_grid import SphereGrid
 from maxwell_kinetics.sphere_solution import sonine
 from maxwell_kinetics.sphere_spectral import SphereOperator, cooling_state
 from maxwell_kinetics.sphere_steady import SteadyStateError, steady_state
+from particles.cooling_state_sample import sample_cooling_state
 from particles.sphere_kernels import HardSpheres
 from particles.sphere_observables import first_sonine_a2, maxwell_hcs_a2, window_times
 
@@ -109,15 +110,17 @@ def _dsmc_seeds(alpha: float, dimension: int, seeds: int, n: int):
 
 
 def speed(grid: str, march_taus, seeds: int, n: int, target: float,
-          tolerance: float | None = None) -> None:
+          tolerance: float | None = None, snapshots: int = 40) -> None:
     """d = 3, α = 0.5, side by side in one process: the wall time of the deterministic HCS from
     the Maxwellian for each march τ before Newton (twice each: the first call of the process
     compiles; the second is warm), and ``seeds`` DSMC runs of N = ``n`` (the window means of
     a₂, as in ``dsmc``), whose spread σ₁ of one seed sets the seeds needed for σ(a₂) =
     ``target``: (σ₁/target)², assuming σ ∝ 1/√seeds.  The ratio is that DSMC's time (the
-    seeds × the mean seconds of one) over the deterministic time.  Newton stops at the residual
-    ``tolerance`` (None: cooling_state's 1e-10).  Then how far the last a₂ and a₃ are from a
-    steady state to 1e-12."""
+    seeds × the mean seconds of one) over the deterministic time; the same for the DSMC in
+    rescaled chunks (:func:`particles.cooling_state_sample.sample_cooling_state`, ``seeds``
+    runs of ``snapshots`` snapshots), which pays for one warm-up per seed.  Newton stops at the
+    residual ``tolerance`` (None: cooling_state's 1e-10).  Then how far the last a₂ and a₃ are
+    from a steady state to 1e-12."""
     kernel, dimension = HardSpheres(0.5), 3
     rows = []
     for march_tau in march_taus:
@@ -142,9 +145,24 @@ def speed(grid: str, march_taus, seeds: int, n: int, target: float,
                       "seconds_per_seed": float(seconds.mean()), "target": target,
                       "seeds_needed": needed, "dsmc_seconds": dsmc_seconds,
                       "loadavg": os.getloadavg()}), flush=True)
+    # the DSMC in rescaled chunks: one warm-up per seed, then `snapshots` snapshots one chunk
+    # apart; σ(a₂) of the seeds' mean assumed ∝ 1/√snapshots (snapshots farther apart than
+    # a₂'s correlation time), so σ = target takes snapshots × (σ/target)² per seed
+    sample = sample_cooling_state(n, 0.5, dimension=dimension, seeds=range(seeds),
+                                  snapshots=snapshots, progress=False)
+    a2, a2_sigma = sample.seed_values("a2")
+    longer = snapshots * (a2_sigma / target) ** 2
+    per_chunk = sample.seconds / (seeds * (sample.parameters["warmup"] + snapshots))
+    sampler_seconds = seeds * (sample.parameters["warmup"] + longer) * per_chunk
+    print(json.dumps({"part": "speed", "sampler_n": n, "seeds": seeds, "snapshots": snapshots,
+                      "a2": a2, "a2_sigma": a2_sigma, "seconds": sample.seconds,
+                      "seconds_per_chunk": per_chunk, "snapshots_needed": longer,
+                      "sampler_seconds": sampler_seconds, "loadavg": os.getloadavg()}),
+          flush=True)
     for row in rows:
         print(json.dumps({"part": "speed", "call": row["call"], "march_tau": row["march_tau"],
-                          "ratio": dsmc_seconds / row["seconds"]}), flush=True)
+                          "ratio": dsmc_seconds / row["seconds"],
+                          "sampler_ratio": sampler_seconds / row["seconds"]}), flush=True)
     operator = SphereOperator(kernel, dimension, grid)
     tight = steady_state(operator, state.F, tolerance=1e-12)
     a2, a3 = sonine(tight.F, operator.nodes, operator.weight)
@@ -194,6 +212,8 @@ def main() -> None:
                         help="speed: Newton's residual (default cooling_state's 1e-10)")
     parser.add_argument("--target", type=float, default=1e-4,
                         help="speed: the DSMC's σ(a₂) to reach")
+    parser.add_argument("--snapshots", type=int, default=40,
+                        help="speed: snapshots per run of the DSMC in rescaled chunks")
     args = parser.parse_args()
     if args.part == "sweep":
         sweep(args.dimension, args.grid, args.alphas)
@@ -202,7 +222,8 @@ def main() -> None:
     elif args.part == "tail":
         tail(args.alphas[0], (64, 14.0, 10.0, 64, 16))
     else:
-        speed(args.grid, args.march_tau, args.seeds, args.n, args.target, args.tolerance)
+        speed(args.grid, args.march_tau, args.seeds, args.n, args.target, args.tolerance,
+              args.snapshots)
 
 
 if __name__ == "__main__":
