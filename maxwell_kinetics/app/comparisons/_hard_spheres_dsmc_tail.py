@@ -22,7 +22,9 @@ same shells and fitted on the same window; its two resolutions give its numerica
 
 The cause shown when the Maxwell claim fails: the collision frequency ν(c) = K⟨|c − w|⟩ of a
 particle at |c| in the sampled state (the hard-sphere rate; w over the sample's speeds, their
-directions uniform), at the window's ends; the Maxwell model's is the same at every c.
+directions uniform), at the window's ends; the Maxwell model's is the same at every c.  That
+claim is judged only where its check can tell the two tails apart
+(:func:`._hard_spheres_tail.tells_apart`).
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ from . import _hard_spheres_tail as hs_tail
 from .verdicts import Check, judge
 
 __all__ = ["BIN", "MIN_COUNTS", "WINDOW_BINS", "resolved_speed", "dsmc_profile",
-           "maxwell_shells", "collision_frequency_ratio", "measure", "verdicts"]
+           "maxwell_shells", "collision_frequency_ratio", "measure", "verdicts", "draw"]
 
 #: The shells' width in |c|.
 BIN = 0.25
