@@ -29,7 +29,8 @@ The planted errors (:data:`PLANTS`; ε > 0 throughout):
     The restitution handed to the kinetic solver and to the exact tail exponents, r' = r + ε(1 − r)
     (the particles keep r): the deterministic comparisons' key parameter.
 ``dsmc_alpha``
-    The hard-sphere DSMC's restitution α, α' = α + ε(1 − α).
+    The hard-sphere DSMC's restitution α, α' = α + ε(1 − α), in the early runs and in the
+    cooling state's tail sampler.
 
 ``--json FILE`` merges the run into FILE: ``comparisons[name]["plants"][plant][str(ε)]`` holds
 every verdict (claim, status, relation, z, allowance in σ, ratio: how much of its allowance it
@@ -167,11 +168,13 @@ def planted(plant: str | None, eps: float):
         patch(_tail_exponents, "tail_exponent",
               lambda d, r, *a, **k: exponent(d, less_inelastic(r, eps), *a, **k))
     elif plant == "dsmc_alpha":
-        from particles import hard_sphere_dsmc
+        from particles import cooling_state_sample, hard_sphere_dsmc
 
         dsmc = hard_sphere_dsmc.SphereDSMC
-        patch(hard_sphere_dsmc, "SphereDSMC",
-              lambda n, alpha, *a, **k: dsmc(n, less_inelastic(alpha, eps), *a, **k))
+        planted_dsmc = lambda n, alpha, *a, **k: dsmc(n, less_inelastic(alpha, eps), *a, **k)  # noqa: E731
+        # the early runs and the cooling state's tail sampler (which holds its own name)
+        patch(hard_sphere_dsmc, "SphereDSMC", planted_dsmc)
+        patch(cooling_state_sample, "SphereDSMC", planted_dsmc)
     try:
         yield
     finally:

@@ -312,7 +312,9 @@ def verdicts(row: dict) -> list:
       its check allows is not below |2K/ζ* − A_Maxwell|
       (:func:`._hard_spheres_tail.tells_apart`);
     * "A = 2K/ζ* (DSMC)": the fitted A against 2K/ζ* with the sample's ζ*, tolerance the window
-      systematic; ``not measured`` while the window systematic exceeds the jackknife error;
+      systematic; ``not measured`` while the window starts before the crossover 2A
+      (:func:`._hard_spheres_tail.beyond_crossover`: the fit measures the crossover there,
+      and a noisy fit can look stable) or the window systematic exceeds the jackknife error;
     * "the solver's cooling rate ζ* is the DSMC's": tolerance the solver's grid difference of
       ζ*; ``not measured`` without the solver's cooling state.
 
@@ -400,6 +402,10 @@ def verdicts(row: dict) -> list:
                     f"±{tail['shift']:.2f} changes A by {tail['window_systematic']:.3f}, more "
                     f"than its error {sigma:.3f} (A = {rate:.3f} on {window} against "
                     f"2K/ζ* = {tail['predicted_rate']:.3f})")
+        asymptotic = hs_tail.beyond_crossover(lo, tail["predicted_rate"])
+        if not asymptotic.holds():
+            why_rate = hs_tail.crossover_reason(lo, tail["predicted_rate"], rate, window)
+            drift = asymptotic  # the first resolution that fails is the one shown
     out.append(judge(
         f"{body}, d = {d}: the cooling state's tail is exp(−A c) with A = 2K/ζ* "
         f"(Esipov–Pöschel, van Noije–Ernst; measured by the DSMC)",

@@ -71,7 +71,8 @@ from ...velocity import radial_density_at
 from .verdicts import Check, judge
 
 __all__ = ["AXIS_GAP", "WINDOW_SHELLS", "TAIL_START", "MAXWELL_DEGREES", "tail_window",
-           "maxwell_density", "measure", "not_computed", "verdicts", "tells_apart", "draw"]
+           "maxwell_density", "measure", "not_computed", "verdicts", "tells_apart",
+           "beyond_crossover", "crossover_reason", "draw"]
 
 #: Leave out the nodes within this angle (degrees) of a coordinate axis.
 AXIS_GAP = 20.0
@@ -345,8 +346,9 @@ def verdicts(row: dict) -> list:
       same at every c), beyond the grid difference of that ratio;
     * "A = 2K/ζ*": the fitted A against the prediction, σ the fit's standard error,
       tolerance the window systematic and the grid difference; ``not measured`` while the
-      fitted A drifts with the window by more than its error (window systematic > fit
-      error: the fit is not yet in the exponential regime).
+      window starts before the crossover 2A (:func:`beyond_crossover`) or the fitted A
+      drifts with the window by more than its error (window systematic > fit error: the fit
+      is not yet in the exponential regime).
 
     Both are ``not measured`` where no window is accepted; the first also where the deviation
     its check allows is not below the gap between 2K/ζ* and the Maxwell model's A
@@ -431,6 +433,7 @@ def verdicts(row: dict) -> list:
                   "exact: at most the fit's own standard error (the fit is stable under the "
                   "window's move)", relation="at_most")
     why_rate = tail.get("reason") or ""
+    asymptotic = beyond_crossover(lo, tail["predicted_rate"])
     if measured:
         why_rate = (f"the fitted A still drifts with the window: moving it by "
                     f"±{tail['shift']:.2f} changes A by {tail['window_systematic']:.3f}, more "
@@ -438,6 +441,9 @@ def verdicts(row: dict) -> list:
                     f"{window} against {tail['predicted_rate']:.3f}; exp(−A c) overtakes the "
                     f"Gaussian core only beyond c ≈ 2A = {tail['crossover']:.2f}, the profile "
                     f"is resolved to |c| = {min(tail['resolved']):.2f})")
+        if not asymptotic.holds():
+            why_rate = crossover_reason(lo, tail["predicted_rate"], tail["rate"], window)
+            drift = asymptotic  # the first resolution that fails is the one shown
     out.append(judge(
         f"{body}, d = {d}: the cooling state's tail is exp(−A c) with A = 2K/ζ* "
         f"(Esipov–Pöschel, van Noije–Ernst)",
@@ -451,6 +457,48 @@ def verdicts(row: dict) -> list:
         why=why_rate, resolution=drift if measured else placed, measured_at=not_yet,
         short=f"d={d}: HS tail A = 2K/ζ*"))
     return out
+
+
+def beyond_crossover(start: float, predicted: float) -> Check:
+    """The first resolution of a claim "A = 2K/ζ*": the window starts beyond the crossover
+    c = 2A at which exp(−A c) overtakes the Gaussian core exp(−c²/2).  Before it, the fitted A
+    measures the crossover, not the asymptote (it is larger), and a stable fit there would
+    judge the theory outside its domain.
+
+    Parameters
+    ----------
+    start : float
+        The window's first |c|.
+    predicted : float
+        A = 2K/ζ*.
+
+    Returns
+    -------
+    maxwell_kinetics.app.comparisons.verdicts.Check
+    """
+    return Check("start of the fit's window", float(start), None, 2.0 * float(predicted),
+                 "exact: at least the crossover c = 2A where exp(−A c) overtakes the Gaussian "
+                 "core exp(−c²/2) (the asymptotic law's domain)", relation="at_least")
+
+
+def crossover_reason(start: float, predicted: float, rate: float, window: str) -> str:
+    """Why a claim "A = 2K/ζ*" is not measured when its window starts before the crossover.
+
+    Parameters
+    ----------
+    start, predicted, rate : float
+        The window's first |c|, 2K/ζ* and the fitted A.
+    window : str
+        The window in words.
+
+    Returns
+    -------
+    str
+    """
+    return (f"the window starts at |c| = {start:.2f}, before the crossover 2A = "
+            f"{2.0 * predicted:.2f} where exp(−A c) overtakes the Gaussian core: the fit "
+            f"(A = {rate:.3f} on {window}, against 2K/ζ* = {predicted:.3f}) measures the "
+            f"crossover, not the asymptote")
 
 
 def tells_apart(check: Check, predicted: float, maxwell: float) -> Check:

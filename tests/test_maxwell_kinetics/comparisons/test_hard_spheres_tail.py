@@ -126,16 +126,23 @@ def _planted(exponential, **changes):
 
 
 def test_a_drifting_rate_is_not_measured_and_a_wrong_one_disagrees(exponential):
-    # A's theory is judged only when the window systematic is at most the fit error
+    # A's theory is judged only when the window starts beyond the crossover 2A (= 6 here) and
+    # the window systematic is at most the fit error
+    far = [6.2, 8.8]
     drifting = _planted(exponential, rate=3.3, rate_error=0.04, window_systematic=0.2,
-                        grid_difference=0.01)
+                        grid_difference=0.01, window=far)
     assert _statuses(drifting)["d=2: HS tail A = 2K/ζ*"] == "not measured"
     stable = _planted(exponential, rate=3.01, rate_error=0.02, rate_dof=3,
-                      window_systematic=0.01, grid_difference=0.0)
+                      window_systematic=0.01, grid_difference=0.0, window=far)
     assert _statuses(stable)["d=2: HS tail A = 2K/ζ*"] == "agrees"
     wrong = _planted(exponential, rate=3.6, rate_error=0.02, rate_dof=3,
-                     window_systematic=0.01, grid_difference=0.0)
+                     window_systematic=0.01, grid_difference=0.0, window=far)
     assert _statuses(wrong)["d=2: HS tail A = 2K/ζ*"] == "disagrees"
+    # the same stable fit on a window before the crossover measures the crossover
+    early = _planted(exponential, rate=3.6, rate_error=0.02, rate_dof=3,
+                     window_systematic=0.01, grid_difference=0.0, window=[3.7, 6.2])
+    verdict = next(v for v in hs_tail.verdicts(early) if v.short == "d=2: HS tail A = 2K/ζ*")
+    assert verdict.status == "not measured" and "before the crossover 2A = 6.00" in verdict.why
 
 
 def test_a_check_too_loose_to_tell_the_tails_apart_is_not_measured(exponential):
