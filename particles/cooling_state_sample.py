@@ -40,7 +40,9 @@ from pathlib import Path
 import numpy as np
 
 from .hard_sphere_dsmc import SphereDSMC
+from .persistence import write_text
 from .progress import progress_bar
+from .sphere_kernels import HardSpheres
 from .sphere_observables import sonine_coefficients
 from .ulam import UlamState
 from .validation import InvalidArgumentError, check_count, check_positive, check_seed
@@ -142,7 +144,8 @@ class CoolingStateSample:
         dict
             ``lower``, ``upper`` (the bins' edges), ``counts`` (pooled over the seeds),
             ``speed`` (the mean |c| of the bin's speeds; NaN where empty), ``density`` (F:
-            counts / (samples × shell volume)) and ``seed_density`` (seeds, bins).
+            counts / (samples × shell volume)), ``seed_counts`` and ``seed_density`` (seeds,
+            bins) and ``seed_samples`` (the speeds of each seed).
 
         Raises
         ------
@@ -161,6 +164,7 @@ class CoolingStateSample:
             speed = sums.sum(axis=0) / pooled
         return {"lower": edges[:-1], "upper": edges[1:], "counts": pooled, "speed": speed,
                 "density": pooled / (self.samples * volume),
+                "seed_counts": per_seed, "seed_samples": seed_samples,
                 "seed_density": per_seed / (seed_samples[:, None] * volume)}
 
     def seed_values(self, name: str) -> tuple[float, float]:
@@ -236,9 +240,7 @@ class CoolingStateSample:
         -------
         pathlib.Path
         """
-        path = Path(path)
-        path.write_text(json.dumps(self.to_dict()))
-        return path
+        return write_text(path, json.dumps(self.to_dict()))
 
     @classmethod
     def load(cls, path) -> CoolingStateSample:
@@ -276,7 +278,7 @@ def _neighbour_rate(engine: SphereDSMC, c: np.ndarray) -> float:
 
 def sample_cooling_state(n: int, restitution: float, *, dimension: int = 3, seeds=(0,),
                          snapshots: int = 40, spacing: float = 1.0, warmup: int = 16,
-                         rate="hard_spheres", density: float = 1.0,
+                         rate=HardSpheres.name, density: float = 1.0,
                          progress: bool | None = None) -> CoolingStateSample:
     """Sample the scaled speeds of the cooling state with the exact DSMC (module docstring).
 

@@ -42,7 +42,8 @@ from . import _hard_spheres_tail as hs_tail
 from .verdicts import Check, judge
 
 __all__ = ["BIN", "MIN_COUNTS", "WINDOW_BINS", "resolved_speed", "dsmc_profile",
-           "maxwell_shells", "collision_frequency_ratio", "measure", "verdicts", "draw"]
+           "maxwell_shells", "mean_distance_over_directions", "collision_frequency_ratio",
+           "measure", "verdicts", "draw"]
 
 #: The shells' width in |c|.
 BIN = 0.25
@@ -140,8 +141,24 @@ def maxwell_shells(restitution: float, dimension: int, lower, upper, degree: int
             "lower": a, "upper": b}
 
 
-def _angular_mean_distance(c: float, s: np.ndarray, dimension: int) -> np.ndarray:
-    """⟨|c ê − s ŵ|⟩ over directions ŵ uniform on the sphere, for |c| = c and speeds s."""
+def mean_distance_over_directions(c: float, s, dimension: int) -> np.ndarray:
+    """⟨|c ê − s ŵ|⟩ over directions ŵ uniform on the unit sphere (d = 2: the trapezoid rule on
+    2049 angles; d = 3: ((c + s)³ − |c − s|³)/(6cs)), for |c| = c > 0 and speeds s > 0.
+
+    Parameters
+    ----------
+    c : float
+        |c| > 0.
+    s : array_like
+        Speeds > 0.
+    dimension : int
+        d, 2 or 3.
+
+    Returns
+    -------
+    numpy.ndarray
+        One mean distance per speed.
+    """
     s = np.asarray(s, dtype=float)
     if dimension == 3:
         return ((c + s) ** 3 - np.abs(c - s) ** 3) / (6.0 * c * s)
@@ -173,22 +190,16 @@ def collision_frequency_ratio(counts, speeds, dimension: int, low: float,
     counts, speeds = np.asarray(counts, float), np.asarray(speeds, float)
     full = counts > 0
     p, s = counts[full] / counts[full].sum(), speeds[full]
-    low_rate, high_rate = (float(np.sum(p * _angular_mean_distance(c, s, dimension)))
+    low_rate, high_rate = (float(np.sum(p * mean_distance_over_directions(c, s, dimension)))
                            for c in (low, high))
     return high_rate / low_rate
 
 
-def _seed_counts(sample: CoolingStateSample, merge: int) -> np.ndarray:
-    """(seeds, shells) speeds per shell of ``merge`` fine bins."""
-    bins = (sample.counts.shape[1] // merge) * merge
-    return sample.counts[:, :bins].reshape(len(sample.counts), -1, merge).sum(axis=2)
-
-
-def _jackknife(sample, merge, density, resolved, window, shift) -> float:
-    """The jackknife standard error over the seeds of the fitted A on ``window``."""
-    per_seed = _seed_counts(sample, merge)
-    volume = shell_volume(density["lower"], density["upper"], sample.parameters["dimension"])
-    totals = sample.counts.sum(axis=1) + sample.beyond
+def _jackknife(density, dimension, resolved, window, shift) -> float:
+    """The jackknife standard error over the seeds of the fitted A on ``window``
+    (``density``: :meth:`particles.cooling_state_sample.CoolingStateSample.density`)."""
+    per_seed, totals = density["seed_counts"], density["seed_samples"]
+    volume = shell_volume(density["lower"], density["upper"], dimension)
     rates = []
     for i in range(per_seed.shape[0]):
         counts = per_seed.sum(axis=0) - per_seed[i]
@@ -268,10 +279,10 @@ def measure(sample: CoolingStateSample, kernel) -> tuple[dict, dict | None]:
             f"±W/4 starts at {lo:.3g}, below |c| = {hs_tail.TAIL_START:g}"))
     profile = dsmc_profile(density, resolved)
     fit = fit_tail(profile, (lo, hi), shift=shift, predicted=predicted)
-    jack = _jackknife(sample, merge, density, resolved, (lo, hi), shift)
+    jack = _jackknife(density, d, resolved, (lo, hi), shift)
     inside = np.flatnonzero((profile.speed >= lo) & (profile.speed <= hi))
     ends = profile.speed[inside[[0, -1]]]
-    per_seed = _seed_counts(sample, merge)
+    per_seed = density["seed_counts"]
     ratios = np.array([collision_frequency_ratio(row, density["speed"], d, *ends)
                        for row in per_seed])
     kept = np.asarray(density["upper"]) <= resolved + 1e-12
@@ -376,11 +387,8 @@ def verdicts(row: dict) -> list:
         why = (f"a fast particle's collision frequency grows like |c| under the hard-sphere "
                f"rate |g| (ν rises by {rates['ratio']:.3f} across the window), so the tail "
                f"falls exponentially; the Maxwell model's constant rate leaves a power law")
-        resolves = hs_tail.tells_apart(claim, tail["predicted_rate"], maxwell["rate"])
-        if not resolves.holds():
-            why = (f"this sample cannot tell the two tails apart: it allows a deviation of "
-                   f"{claim.allowed:.3f}, more than the gap {resolves.expected:.3f} between "
-                   f"2K/ζ* and the Maxwell model's A on the window")
+        resolves, why = hs_tail.maxwell_claim_resolution(claim, tail["predicted_rate"],
+                                                         maxwell["rate"], why, "this sample")
     else:
         claim = Check(quantity, None, None, 0.0,
                       "model: the Maxwell model's power law (A = 0 in this fit)", dof=dof,
@@ -402,10 +410,8 @@ def verdicts(row: dict) -> list:
                     f"±{tail['shift']:.2f} changes A by {tail['window_systematic']:.3f}, more "
                     f"than its error {sigma:.3f} (A = {rate:.3f} on {window} against "
                     f"2K/ζ* = {tail['predicted_rate']:.3f})")
-        asymptotic = hs_tail.beyond_crossover(lo, tail["predicted_rate"])
-        if not asymptotic.holds():
-            why_rate = hs_tail.crossover_reason(lo, tail["predicted_rate"], rate, window)
-            drift = asymptotic  # the first resolution that fails is the one shown
+        drift, why_rate = hs_tail.rate_claim_resolution(lo, tail["predicted_rate"], rate,
+                                                        window, drift, why_rate)
     out.append(judge(
         f"{body}, d = {d}: the cooling state's tail is exp(−A c) with A = 2K/ζ* "
         f"(Esipov–Pöschel, van Noije–Ernst; measured by the DSMC)",

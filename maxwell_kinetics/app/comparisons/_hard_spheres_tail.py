@@ -72,7 +72,7 @@ from .verdicts import Check, judge
 
 __all__ = ["AXIS_GAP", "WINDOW_SHELLS", "TAIL_START", "MAXWELL_DEGREES", "tail_window",
            "maxwell_density", "measure", "not_computed", "verdicts", "tells_apart",
-           "beyond_crossover", "crossover_reason", "draw"]
+           "beyond_crossover", "rate_claim_resolution", "maxwell_claim_resolution", "draw"]
 
 #: Leave out the nodes within this angle (degrees) of a coordinate axis.
 AXIS_GAP = 20.0
@@ -413,11 +413,8 @@ def verdicts(row: dict) -> list:
                f"c (measured: ν/(K(c + (d − 1)/(2c))) = {near} at |c| = {a:.2f}, {b:.2f}), so "
                f"the log-log slope of the tail keeps rising (an exponential); the Maxwell "
                f"model's constant rate leaves a power law")
-        resolves = tells_apart(claim_check, tail["predicted_rate"], maxwell["rate"])
-        if not resolves.holds():
-            why = (f"this size cannot tell the two tails apart: it allows a deviation of "
-                   f"{claim_check.allowed:.3f}, more than the gap {resolves.expected:.3f} "
-                   f"between 2K/ζ* and the Maxwell model's A on the window")
+        resolves, why = maxwell_claim_resolution(claim_check, tail["predicted_rate"],
+                                                 maxwell["rate"], why, "this size")
     else:
         claim_check = Check(quantity, None, None, 0.0, "model: the Maxwell model's power law "
                             "(A = 0 in this fit)")
@@ -433,7 +430,6 @@ def verdicts(row: dict) -> list:
                   "exact: at most the fit's own standard error (the fit is stable under the "
                   "window's move)", relation="at_most")
     why_rate = tail.get("reason") or ""
-    asymptotic = beyond_crossover(lo, tail["predicted_rate"])
     if measured:
         why_rate = (f"the fitted A still drifts with the window: moving it by "
                     f"±{tail['shift']:.2f} changes A by {tail['window_systematic']:.3f}, more "
@@ -441,9 +437,8 @@ def verdicts(row: dict) -> list:
                     f"{window} against {tail['predicted_rate']:.3f}; exp(−A c) overtakes the "
                     f"Gaussian core only beyond c ≈ 2A = {tail['crossover']:.2f}, the profile "
                     f"is resolved to |c| = {min(tail['resolved']):.2f})")
-        if not asymptotic.holds():
-            why_rate = crossover_reason(lo, tail["predicted_rate"], tail["rate"], window)
-            drift = asymptotic  # the first resolution that fails is the one shown
+        drift, why_rate = rate_claim_resolution(lo, tail["predicted_rate"], tail["rate"],
+                                                window, drift, why_rate)
     out.append(judge(
         f"{body}, d = {d}: the cooling state's tail is exp(−A c) with A = 2K/ζ* "
         f"(Esipov–Pöschel, van Noije–Ernst)",
@@ -481,8 +476,11 @@ def beyond_crossover(start: float, predicted: float) -> Check:
                  "core exp(−c²/2) (the asymptotic law's domain)", relation="at_least")
 
 
-def crossover_reason(start: float, predicted: float, rate: float, window: str) -> str:
-    """Why a claim "A = 2K/ζ*" is not measured when its window starts before the crossover.
+def rate_claim_resolution(start: float, predicted: float, rate: float, window: str,
+                          drift: Check, why: str) -> tuple[Check, str]:
+    """The resolution of a measured claim "A = 2K/ζ*" and its reason: :func:`beyond_crossover`
+    first (the one shown when it fails), then ``drift`` (the fit stable under the window's
+    move) with ``why``.
 
     Parameters
     ----------
@@ -490,15 +488,51 @@ def crossover_reason(start: float, predicted: float, rate: float, window: str) -
         The window's first |c|, 2K/ζ* and the fitted A.
     window : str
         The window in words.
+    drift : maxwell_kinetics.app.comparisons.verdicts.Check
+        The stability check of the fit.
+    why : str
+        The reason shown when ``drift`` fails.
 
     Returns
     -------
-    str
+    tuple of (maxwell_kinetics.app.comparisons.verdicts.Check, str)
     """
-    return (f"the window starts at |c| = {start:.2f}, before the crossover 2A = "
-            f"{2.0 * predicted:.2f} where exp(−A c) overtakes the Gaussian core: the fit "
-            f"(A = {rate:.3f} on {window}, against 2K/ζ* = {predicted:.3f}) measures the "
-            f"crossover, not the asymptote")
+    asymptotic = beyond_crossover(start, predicted)
+    if asymptotic.holds():
+        return drift, why
+    return asymptotic, (f"the window starts at |c| = {start:.2f}, before the crossover 2A = "
+                        f"{2.0 * predicted:.2f} where exp(−A c) overtakes the Gaussian core: "
+                        f"the fit (A = {rate:.3f} on {window}, against 2K/ζ* = "
+                        f"{predicted:.3f}) measures the crossover, not the asymptote")
+
+
+def maxwell_claim_resolution(check: Check, predicted: float, maxwell: float, why: str,
+                             who: str) -> tuple[Check, str]:
+    """The resolution of a measured claim "the Maxwell model's tail is the hard-sphere tail"
+    (:func:`tells_apart`) and the reason shown: ``why`` when it holds, else that ``who``
+    ("this size", "this sample") cannot tell the two tails apart.
+
+    Parameters
+    ----------
+    check : maxwell_kinetics.app.comparisons.verdicts.Check
+        The claim's check.
+    predicted, maxwell : float
+        2K/ζ* and the Maxwell model's fitted A on the window.
+    why : str
+        The claim's reason (its refutation's cause).
+    who : str
+        What measured it, in words.
+
+    Returns
+    -------
+    tuple of (maxwell_kinetics.app.comparisons.verdicts.Check, str)
+    """
+    resolves = tells_apart(check, predicted, maxwell)
+    if resolves.holds():
+        return resolves, why
+    return resolves, (f"{who} cannot tell the two tails apart: it allows a deviation of "
+                      f"{check.allowed:.3f}, more than the gap {resolves.expected:.3f} "
+                      f"between 2K/ζ* and the Maxwell model's A on the window")
 
 
 def tells_apart(check: Check, predicted: float, maxwell: float) -> Check:

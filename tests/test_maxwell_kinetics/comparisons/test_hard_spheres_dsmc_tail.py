@@ -31,7 +31,7 @@ def _sample(law, d, *, seeds=8, per_seed=1e9, zeta=8.0 / 3.0, rng_seed=1):
     p, mean_speed = mass / mass.sum(), np.sum(weight * law(c) * c, axis=1) / mass
     rng = np.random.default_rng(rng_seed)
     counts = rng.poisson(per_seed * p, size=(seeds, p.size)).astype(np.int64)
-    parameters = {"n": 10**6, "restitution": ALPHA, "dimension": d, "rate": "hard_spheres",
+    parameters = {"n": 10**6, "restitution": ALPHA, "dimension": d, "rate": HardSpheres.name,
                   "density": 1.0, "seeds": list(range(seeds)), "snapshots": 1000,
                   "warmup": 16, "spacing": 1.0, "chunks": [0.1] * seeds,
                   "bin_width": BIN_WIDTH}
@@ -55,7 +55,7 @@ def _statuses(row):
 def test_the_mean_distance_over_directions_is_the_elliptic_integral_in_d2(c):
     s = np.array([0.1, 1.0, 2.0, 5.9, 6.0, 9.0])
     exact = 2.0 / math.pi * (c + s) * ellipe(4.0 * c * s / (c + s) ** 2)
-    np.testing.assert_allclose(dsmc_tail._angular_mean_distance(c, s, 2), exact, rtol=2e-6)
+    np.testing.assert_allclose(dsmc_tail.mean_distance_over_directions(c, s, 2), exact, rtol=2e-6)
 
 
 def test_the_mean_distance_over_directions_in_d3_is_the_monte_carlo_mean():
@@ -65,7 +65,7 @@ def test_the_mean_distance_over_directions_in_d3_is_the_monte_carlo_mean():
     for c, s in ((0.5, 2.0), (4.0, 1.0), (3.0, 3.0)):
         dist = np.linalg.norm(np.array([c, 0.0, 0.0]) - s * u, axis=1)
         err = dist.std() / math.sqrt(dist.size)
-        assert abs(dsmc_tail._angular_mean_distance(c, np.array([s]), 3)[0]
+        assert abs(dsmc_tail.mean_distance_over_directions(c, np.array([s]), 3)[0]
                    - dist.mean()) < 4 * err
 
 
